@@ -1,0 +1,101 @@
+//! The one error type of this crate.
+
+use thiserror::Error;
+
+/// Everything that can go wrong between a scene file and a floor map.
+///
+/// Every variant names the offending field and value so that a user can fix the
+/// scene file without reading the code.
+#[derive(Debug, Error, Clone, PartialEq)]
+#[non_exhaustive]
+pub enum MetrologyError {
+    /// The scene file is not valid JSON or does not have the expected shape.
+    #[error("scene file is malformed: {0}")]
+    Json(String),
+    /// The scene file declares a format version this library does not read.
+    #[error("scene field `version` is {0}; this vpmap reads version 1")]
+    UnsupportedVersion(u64),
+    /// A number is NaN or infinite.
+    #[error("scene field `{field}` is not a finite number ({value})")]
+    NonFinite {
+        /// Dotted path of the field, e.g. `objects[2].base.near[0]`.
+        field: String,
+        /// The value found.
+        value: f64,
+    },
+    /// A field holds a value outside its valid range.
+    #[error("scene field `{field}` is invalid: {reason}")]
+    InvalidField {
+        /// Dotted path of the field.
+        field: String,
+        /// What is wrong with it, with the value.
+        reason: String,
+    },
+    /// Two or three vanishing points are required.
+    #[error(
+        "scene field `vanishing_points` has {0} entries; give 2 (two-point perspective) or 3 (three-point perspective)"
+    )]
+    VanishingPointCount(usize),
+    /// A vanishing point given by segments whose lines do not meet in a finite point.
+    #[error(
+        "vanishing point {index}: its lines are parallel in the image (they meet at infinity){hint}"
+    )]
+    ParallelLines {
+        /// 1-based index of the vanishing point.
+        index: usize,
+        /// Extra advice for the user.
+        hint: String,
+    },
+    /// Two vanishing points coincide (or nearly so).
+    #[error("vanishing points {first} and {second} coincide at ({x:.3}, {y:.3})")]
+    CoincidentVanishingPoints {
+        /// 1-based index of the first point.
+        first: usize,
+        /// 1-based index of the second point.
+        second: usize,
+        /// Image x of the shared location, pixels.
+        x: f64,
+        /// Image y of the shared location, pixels.
+        y: f64,
+    },
+    /// The vanishing points do not give a real, positive focal length.
+    #[error("no real focal length: {0}")]
+    NoRealFocalLength(String),
+    /// An annotated floor point lies on or above the horizon, so its floor position is at or beyond infinity.
+    #[error(
+        "`{field}` at ({x:.3}, {y:.3}) is {distance_px:.3} px {side} the horizon; a point on the floor must lie below it"
+    )]
+    NotBelowHorizon {
+        /// Dotted path of the point.
+        field: String,
+        /// Image x, pixels.
+        x: f64,
+        /// Image y, pixels.
+        y: f64,
+        /// Distance to the horizon, pixels.
+        distance_px: f64,
+        /// "on" or "above".
+        side: &'static str,
+    },
+    /// The `scale` names an object that the scene does not have.
+    #[error(
+        "scene field `scale.object` names \"{name}\", but the scene has no object of that name (objects: {known})"
+    )]
+    UnknownScaleObject {
+        /// The name given.
+        name: String,
+        /// The names that exist, comma separated.
+        known: String,
+    },
+    /// A geometric construction has no solution for the given input.
+    #[error("degenerate geometry at `{field}`: {reason}")]
+    Degenerate {
+        /// Dotted path of the input that caused it.
+        field: String,
+        /// What went wrong, with values.
+        reason: String,
+    },
+}
+
+/// Result alias of this crate.
+pub type Result<T, E = MetrologyError> = std::result::Result<T, E>;

@@ -1,0 +1,404 @@
+//! The floor map: the result of `vpmap build`, as written to `map.json`.
+//!
+//! Frame: origin at the station point, `+x` right, `+y` forward along the camera's horizontal
+//! viewing direction, `+z` up. Units: metres when the scene gives a scale, else camera heights.
+//! The format is documented for users in `docs/map-format.md`.
+
+use geo::{Area, BooleanOps, Centroid, Coord, LineString, MultiPolygon, Polygon};
+use nalgebra::Vector2;
+use serde::{Deserialize, Serialize};
+
+use crate::calibration::{Calibration, Perspective};
+use crate::error::{MetrologyError, Result};
+use crate::projective::Projective;
+use crate::reconstruct::{FloorProjection, Method, ObjectKind, Reconstruction, reconstruct};
+use crate::scene::{Dimension, ImageSize, Scale, Scene};
+use crate::sideview::SideView;
+
+/// A floor position `[x, y]` in the map frame.
+pub type MapPoint = [f64; 2];
+
+/// Length unit of a map.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Units {
+    /// Metres (the scene gave a scale).
+    #[serde(rename = "m")]
+    Meters,
+    /// Camera heights (no scale given; the camera height is 1).
+    #[serde(rename = "camera_heights")]
+    CameraHeights,
+}
+
+/// The camera as reported in a map.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct CameraReport {
+    /// "2pp" or "3pp".
+    pub perspective: Perspective,
+    /// Focal length, pixels.
+    pub focal_px: f64,
+    /// Principal point used, pixels.
+    pub principal_point: [f64; 2],
+    /// Pitch, degrees, positive when the camera looks down.
+    pub pitch_deg: f64,
+    /// Roll, degrees: the horizon's angle in the image, positive when it falls to the right.
+    pub roll_deg: f64,
+    /// Camera height above the floor, in the map's units.
+    pub height: f64,
+    /// Position of the camera `[x, y, z]` in the map frame (always `[0, 0, height]`).
+    pub position: [f64; 3],
+    /// The photo's size.
+    pub image: ImageSize,
+    /// Vanishing points used, pixels.
+    pub vanishing_points: Vec<[f64; 2]>,
+    /// Horizontal field of view: angles of the image's left and right extent, degrees from
+    /// `+y`, negative to the left.
+    pub horizontal_fov_deg: [f64; 2],
+}
+
+/// Footprint side lengths of a box.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BoxSize {
+    /// Longer side.
+    pub length: f64,
+    /// Shorter side.
+    pub breadth: f64,
+}
+
+/// One object of the map.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MapObject {
+    /// Name from the scene.
+    pub name: String,
+    /// "box" or "footprint".
+    pub kind: ObjectKind,
+    /// Floor corners: a box's near, right, far, left; a footprint's vertices in scene order.
+    pub footprint: Vec<MapPoint>,
+    /// Height above the floor (`null` when the scene gives no top point).
+    pub height: Option<f64>,
+    /// A box's side lengths.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub size: Option<BoxSize>,
+    /// Footprint centroid.
+    pub centroid: MapPoint,
+    /// Footprint area.
+    pub area: f64,
+}
+
+/// A polygon with holes.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PolygonWithHoles {
+    /// Outer ring (not repeated at the end).
+    pub exterior: Vec<MapPoint>,
+    /// Inner rings.
+    pub holes: Vec<Vec<MapPoint>>,
+}
+
+/// A floor map (`map.json`, version 1).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FloorMap {
+    /// Format version: 1.
+    pub version: u32,
+    /// Length unit of every coordinate and length.
+    pub units: Units,
+    /// Reconstruction method used.
+    pub method: Method,
+    /// The camera.
+    pub camera: CameraReport,
+    /// The objects, in scene order.
+    pub objects: Vec<MapObject>,
+    /// The floor outline (may be empty).
+    pub floor: Vec<MapPoint>,
+    /// The floor minus every footprint.
+    pub free_space: Vec<PolygonWithHoles>,
+    /// Notes for the user.
+    pub warnings: Vec<String>,
+}
+
+/// Options of [`build_map`].
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct BuildOptions {
+    /// Reconstruction method.
+    pub method: Method,
+}
+
+/// Calibrate the camera of a validated scene.
+///
+/// # Errors
+/// As [`Scene::resolve_vanishing_points`] and [`Calibration::from_vanishing_points`].
+pub fn calibrate(scene: &Scene) -> Result<Calibration> {
+    let vps = scene.resolve_vanishing_points()?;
+    let pp = scene.principal_point.map(|p| Vector2::new(p[0], p[1]));
+    let mut cal = Calibration::from_vanishing_points(&vps, pp, scene.image)?;
+    if let Some(f) = scene.focal_px
+        && (f - cal.focal_px).abs() > 0.02 * cal.focal_px
+    {
+        cal.warnings.push(format!(
+            "the scene's focal_px {f:.1} disagrees with the {:.1} px the vanishing points give; the vanishing points were used",
+            cal.focal_px
+        ));
+    }
+    Ok(cal)
+}
+
+/// Reconstruct a validated scene with one method, in camera heights.
+///
+/// # Errors
+/// As [`calibrate`] and [`reconstruct`].
+pub fn reconstruct_scene(scene: &Scene, method: Method) -> Result<(Calibration, Reconstruction)> {
+    let cal = calibrate(scene)?;
+    let rec = match method {
+        Method::Sideview => reconstruct(scene, method, &SideView::new(&cal, scene))?,
+        Method::Projective => reconstruct(scene, method, &Projective::new(&cal))?,
+    };
+    Ok((cal, rec))
+}
+
+fn box_size(footprint: &[Vector2<f64>]) -> Option<BoxSize> {
+    if footprint.len() != 4 {
+        return None;
+    }
+    let a = (footprint[1] - footprint[0]).norm();
+    let b = (footprint[3] - footprint[0]).norm();
+    Some(BoxSize {
+        length: a.max(b),
+        breadth: a.min(b),
+    })
+}
+
+/// Metres per camera height implied by the scene's scale, or `None` without a scale.
+///
+/// # Errors
+/// When the scale refers to a length that the reconstruction cannot measure (an object
+/// without a top, a footprint object's length, a floor point above the horizon).
+pub fn meters_per_camera_height(
+    scene: &Scene,
+    cal: &Calibration,
+    rec: &Reconstruction,
+) -> Result<Option<f64>> {
+    let Some(scale) = scene.scale()? else {
+        return Ok(None);
+    };
+    let (measured, field) = match scale {
+        Scale::CameraHeight(h) => return Ok(Some(h)),
+        Scale::FloorDistance(fd) => {
+            let proj: Box<dyn FloorProjection> = match rec.method {
+                Method::Sideview => Box::new(SideView::new(cal, scene)),
+                Method::Projective => Box::new(Projective::new(cal)),
+            };
+            let a = proj.floor_point("scale.floor_distance.from", fd.from)?;
+            let b = proj.floor_point("scale.floor_distance.to", fd.to)?;
+            ((a - b).norm() / fd.meters, "scale.floor_distance")
+        }
+        Scale::Object {
+            name,
+            dimension,
+            meters,
+        } => {
+            let obj = rec.objects.iter().find(|o| o.name == name).ok_or_else(|| {
+                MetrologyError::UnknownScaleObject {
+                    name: name.clone(),
+                    known: String::new(),
+                }
+            })?;
+            let value = match dimension {
+                Dimension::Height => obj.height.ok_or_else(|| MetrologyError::InvalidField {
+                    field: "scale.dimension".to_owned(),
+                    reason: format!(
+                        "is \"height\", but object \"{name}\" has no top point to measure it"
+                    ),
+                })?,
+                Dimension::Length | Dimension::Breadth => {
+                    let size = match obj.kind {
+                        ObjectKind::Box => box_size(&obj.footprint),
+                        ObjectKind::Footprint => None,
+                    }
+                    .ok_or_else(|| MetrologyError::InvalidField {
+                        field: "scale.dimension".to_owned(),
+                        reason: format!(
+                            "length and breadth are defined for boxes only; object \"{name}\" is a footprint (use \"height\" or a floor distance)"
+                        ),
+                    })?;
+                    if dimension == Dimension::Length {
+                        size.length
+                    } else {
+                        size.breadth
+                    }
+                }
+            };
+            (value / meters, "scale.meters")
+        }
+    };
+    if !(measured.is_finite() && measured > 0.0) {
+        return Err(MetrologyError::Degenerate {
+            field: field.to_owned(),
+            reason: format!(
+                "the known length measures {measured} camera heights per metre in the reconstruction; it must be positive"
+            ),
+        });
+    }
+    Ok(Some(1.0 / measured))
+}
+
+fn ring(points: &[Vector2<f64>]) -> LineString<f64> {
+    LineString::from(
+        points
+            .iter()
+            .map(|p| Coord { x: p.x, y: p.y })
+            .collect::<Vec<_>>(),
+    )
+}
+
+fn unclosed(ls: &LineString<f64>) -> Vec<MapPoint> {
+    let mut pts: Vec<MapPoint> = ls.coords().map(|c| [c.x, c.y]).collect();
+    if pts.len() > 1 && pts.first() == pts.last() {
+        pts.pop();
+    }
+    pts
+}
+
+/// The floor outline minus the object footprints, as polygons with holes.
+#[must_use]
+pub fn free_space(floor: &[Vector2<f64>], footprints: &[Vec<Vector2<f64>>]) -> MultiPolygon<f64> {
+    if floor.len() < 3 {
+        return MultiPolygon::new(Vec::new());
+    }
+    let floor_poly = MultiPolygon::new(vec![Polygon::new(ring(floor), vec![])]);
+    let obstacles: Vec<Polygon<f64>> = footprints
+        .iter()
+        .filter(|f| f.len() >= 3)
+        .map(|f| Polygon::new(ring(f), vec![]))
+        .collect();
+    if obstacles.is_empty() {
+        return floor_poly;
+    }
+    let union = geo::unary_union(&obstacles);
+    floor_poly.difference(&union)
+}
+
+/// Everything `vpmap build` computes, from a validated scene to a [`FloorMap`].
+///
+/// # Errors
+/// Any calibration, reconstruction or scale error, naming the scene field and value.
+///
+/// # Example
+/// ```
+/// use vpmap_metrology::map::{build_map, BuildOptions, Units};
+/// use vpmap_metrology::synth::{SynthOptions, synthesize};
+/// let (scene, truth) = synthesize(&SynthOptions { seed: 7, ..SynthOptions::default() });
+/// let map = build_map(&scene, &BuildOptions::default()).unwrap();
+/// assert_eq!(map.units, Units::Meters);
+/// assert!((map.objects[0].footprint[0][1] - truth.objects[0].footprint[0][1]).abs() < 1e-9);
+/// ```
+pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
+    scene.validate()?;
+    let (cal, rec) = reconstruct_scene(scene, options.method)?;
+    let factor = meters_per_camera_height(scene, &cal, &rec)?;
+    let (k, units) = match factor {
+        Some(f) => (f, Units::Meters),
+        None => (1.0, Units::CameraHeights),
+    };
+    let scaled = |v: &Vector2<f64>| v * k;
+    let mut objects = Vec::with_capacity(rec.objects.len());
+    let mut footprints = Vec::with_capacity(rec.objects.len());
+    for o in &rec.objects {
+        let fp: Vec<Vector2<f64>> = o.footprint.iter().map(scaled).collect();
+        let poly = Polygon::new(ring(&fp), vec![]);
+        let centroid = poly.centroid().map_or([f64::NAN; 2], |c| [c.x(), c.y()]);
+        objects.push(MapObject {
+            name: o.name.clone(),
+            kind: o.kind,
+            footprint: fp.iter().map(|p| [p.x, p.y]).collect(),
+            height: o.height.map(|h| h * k),
+            size: match o.kind {
+                ObjectKind::Box => box_size(&fp),
+                ObjectKind::Footprint => None,
+            },
+            centroid,
+            area: poly.unsigned_area(),
+        });
+        footprints.push(fp);
+    }
+    let floor: Vec<Vector2<f64>> = rec.floor.iter().map(scaled).collect();
+    let free = free_space(&floor, &footprints)
+        .0
+        .iter()
+        .map(|p| PolygonWithHoles {
+            exterior: unclosed(p.exterior()),
+            holes: p.interiors().iter().map(unclosed).collect(),
+        })
+        .collect();
+    let corners = [
+        Vector2::new(0.0, 0.0),
+        Vector2::new(f64::from(scene.image.width), 0.0),
+        Vector2::new(0.0, f64::from(scene.image.height)),
+        Vector2::new(f64::from(scene.image.width), f64::from(scene.image.height)),
+    ];
+    let xs = corners.map(|c| cal.frame.coords(c).x);
+    let d0 = cal.top_view_distance_px();
+    let fov = [
+        xs.iter().copied().fold(f64::INFINITY, f64::min),
+        xs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+    ]
+    .map(|x| x.atan2(d0).to_degrees());
+    let o = cal.principal_point_px();
+    Ok(FloorMap {
+        version: 1,
+        units,
+        method: options.method,
+        camera: CameraReport {
+            perspective: cal.perspective,
+            focal_px: cal.focal_px,
+            principal_point: [o.x, o.y],
+            pitch_deg: cal.pitch_rad.to_degrees(),
+            roll_deg: cal.roll_rad.to_degrees(),
+            height: k,
+            position: [0.0, 0.0, k],
+            image: scene.image,
+            vanishing_points: cal.vanishing_points_px.iter().map(|v| [v.x, v.y]).collect(),
+            horizontal_fov_deg: fov,
+        },
+        objects,
+        floor: floor.iter().map(|p| [p.x, p.y]).collect(),
+        free_space: free,
+        warnings: cal.warnings.clone(),
+    })
+}
+
+impl FloorMap {
+    /// Parse a map from JSON text.
+    ///
+    /// # Errors
+    /// [`MetrologyError::Json`] when the text is not a version-1 map.
+    pub fn from_json_str(text: &str) -> Result<Self> {
+        let map: FloorMap =
+            serde_json::from_str(text).map_err(|e| MetrologyError::Json(e.to_string()))?;
+        if map.version != 1 {
+            return Err(MetrologyError::UnsupportedVersion(u64::from(map.version)));
+        }
+        Ok(map)
+    }
+
+    /// The map as pretty-printed JSON.
+    #[must_use]
+    pub fn to_json_string(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// Axis-aligned bounds `(min, max)` of the floor, the objects and the station point.
+    #[must_use]
+    pub fn bounds(&self) -> (MapPoint, MapPoint) {
+        let mut lo = [0.0f64, 0.0];
+        let mut hi = [0.0f64, 0.0];
+        let all = self
+            .floor
+            .iter()
+            .chain(self.objects.iter().flat_map(|o| o.footprint.iter()));
+        for p in all {
+            for i in 0..2 {
+                lo[i] = lo[i].min(p[i]);
+                hi[i] = hi[i].max(p[i]);
+            }
+        }
+        (lo, hi)
+    }
+}

@@ -1,0 +1,605 @@
+//! The scene file: what a user annotates on one photo (format version 1).
+//!
+//! Pixel coordinates, origin at the image's top-left corner, x right, y down.
+//! The format is documented for users in `docs/scene-format.md`; this module is its
+//! reference implementation. [`Scene::from_json_str`] parses and validates in one step,
+//! so every later stage can rely on finite numbers and well-formed objects.
+
+use nalgebra::{Matrix3, Vector2, Vector3};
+use serde::{Deserialize, Serialize};
+
+use crate::error::{MetrologyError, Result};
+
+/// A pixel position `[x, y]`.
+pub type PixelPoint = [f64; 2];
+
+/// Image size in pixels.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ImageSize {
+    /// Width, pixels.
+    pub width: u32,
+    /// Height, pixels.
+    pub height: u32,
+}
+
+impl ImageSize {
+    /// The image centre `(width / 2, height / 2)`.
+    #[must_use]
+    pub fn centre(&self) -> Vector2<f64> {
+        Vector2::new(f64::from(self.width) / 2.0, f64::from(self.height) / 2.0)
+    }
+
+    /// Length of the image diagonal, pixels.
+    #[must_use]
+    pub fn diagonal(&self) -> f64 {
+        f64::from(self.width).hypot(f64::from(self.height))
+    }
+}
+
+/// One vanishing point: a point, or two or more image segments whose lines meet there.
+///
+/// When both are present, `point` wins and `lines` are kept as the evidence a person can check
+/// (that is how `vpmap detect` writes them).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct VanishingPointSpec {
+    /// The vanishing point itself, pixels.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub point: Option<PixelPoint>,
+    /// Segments `[x1, y1, x2, y2]` whose lines meet at the vanishing point (least squares).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub lines: Vec<[f64; 4]>,
+}
+
+/// The visible base corners of a box (the thesis's p, q, r).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct BoxBase {
+    /// The base corner nearest the camera (p).
+    pub near: PixelPoint,
+    /// The base corner at the right end of the visible bottom edges (q).
+    pub right: PixelPoint,
+    /// The base corner at the left end of the visible bottom edges (r).
+    pub left: PixelPoint,
+}
+
+/// The top annotation of an object.
+///
+/// A box gives `near` (the thesis's v, above the near base corner) and optionally `left`
+/// (s, above the left base corner). A footprint object gives `above` (index of the footprint
+/// vertex under the top point) and `point`.
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct TopSpec {
+    /// Box: top corner above the near base corner.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub near: Option<PixelPoint>,
+    /// Box: top corner above the left base corner.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub left: Option<PixelPoint>,
+    /// Footprint object: index of the footprint vertex below `point`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub above: Option<usize>,
+    /// Footprint object: the top point above vertex `above`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub point: Option<PixelPoint>,
+}
+
+/// One object on the floor: a box (`base`) or a general footprint polygon (`footprint`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ObjectSpec {
+    /// A name, unique in the scene.
+    pub name: String,
+    /// Box objects: the three visible base corners.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub base: Option<BoxBase>,
+    /// Footprint objects: the visible base polygon, in order.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub footprint: Option<Vec<PixelPoint>>,
+    /// The top annotation (optional: without it the object has no height).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub top: Option<TopSpec>,
+}
+
+/// Which dimension of an object a known length refers to.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum Dimension {
+    /// The longer side of a box's footprint.
+    Length,
+    /// The shorter side of a box's footprint.
+    Breadth,
+    /// The object's height.
+    Height,
+}
+
+/// A known distance between two floor points in the image.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct FloorDistance {
+    /// First floor point, pixels.
+    pub from: PixelPoint,
+    /// Second floor point, pixels.
+    pub to: PixelPoint,
+    /// Their distance on the floor, metres.
+    pub meters: f64,
+}
+
+/// One known length that fixes the map's scale (exactly one form is given).
+#[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
+pub struct ScaleSpec {
+    /// The camera's height above the floor, metres.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub camera_height_m: Option<f64>,
+    /// Name of the object whose dimension is known.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub object: Option<String>,
+    /// Which dimension of `object` is known.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub dimension: Option<Dimension>,
+    /// The known dimension of `object`, metres.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub meters: Option<f64>,
+    /// A known distance between two floor points.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub floor_distance: Option<FloorDistance>,
+}
+
+/// The validated meaning of a [`ScaleSpec`].
+#[derive(Debug, Clone, PartialEq)]
+pub enum Scale {
+    /// The camera height is known, metres.
+    CameraHeight(f64),
+    /// One dimension of a named object is known, metres.
+    Object {
+        /// The object's name.
+        name: String,
+        /// Which dimension.
+        dimension: Dimension,
+        /// Its length, metres.
+        meters: f64,
+    },
+    /// The floor distance between two image points is known.
+    FloorDistance(FloorDistance),
+}
+
+/// A scene file, version 1.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Scene {
+    /// Format version; must be 1.
+    pub version: u64,
+    /// The photo's size.
+    pub image: ImageSize,
+    /// Two horizontal vanishing points (any order), then optionally the vertical one.
+    pub vanishing_points: Vec<VanishingPointSpec>,
+    /// The principal point, pixels (default: image centre in 2PP, orthocentre in 3PP).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub principal_point: Option<PixelPoint>,
+    /// A focal length from elsewhere (e.g. `vpmap detect`), pixels: checked against the
+    /// vanishing points, which win.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub focal_px: Option<f64>,
+    /// Objects standing on the floor.
+    #[serde(default)]
+    pub objects: Vec<ObjectSpec>,
+    /// Visible floor corners in order around the floor outline.
+    #[serde(default)]
+    pub floor: Vec<PixelPoint>,
+    /// One known length (optional; without it lengths are in camera heights).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub scale: Option<ScaleSpec>,
+}
+
+/// The kind of an object, after validation.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ObjectShape<'a> {
+    /// A box: base corners and top corners (near, optional left).
+    Box {
+        /// Base corners.
+        base: &'a BoxBase,
+        /// Top corner above `base.near`.
+        top_near: Option<PixelPoint>,
+        /// Top corner above `base.left`.
+        top_left: Option<PixelPoint>,
+    },
+    /// A footprint polygon with an optional top point above one vertex.
+    Footprint {
+        /// Base polygon.
+        polygon: &'a [PixelPoint],
+        /// `(vertex index, top point)`.
+        top: Option<(usize, PixelPoint)>,
+    },
+}
+
+fn check_point(field: &str, p: PixelPoint) -> Result<()> {
+    for (i, v) in p.iter().enumerate() {
+        if !v.is_finite() {
+            return Err(MetrologyError::NonFinite {
+                field: format!("{field}[{i}]"),
+                value: *v,
+            });
+        }
+    }
+    Ok(())
+}
+
+fn check_positive(field: &str, v: f64) -> Result<()> {
+    if !v.is_finite() {
+        return Err(MetrologyError::NonFinite {
+            field: field.to_owned(),
+            value: v,
+        });
+    }
+    if v <= 0.0 {
+        return Err(MetrologyError::InvalidField {
+            field: field.to_owned(),
+            reason: format!("must be positive, got {v}"),
+        });
+    }
+    Ok(())
+}
+
+impl ObjectSpec {
+    /// The object's shape, or an error naming what is missing.
+    ///
+    /// # Errors
+    /// When the object has neither or both of `base` and `footprint`, or a top annotation
+    /// that does not fit its kind. `index` is used in the error's field path.
+    pub fn shape(&self, index: usize) -> Result<ObjectShape<'_>> {
+        let field = format!("objects[{index}]");
+        let top = self.top.unwrap_or_default();
+        match (&self.base, &self.footprint) {
+            (Some(base), None) => {
+                if top.above.is_some() || top.point.is_some() {
+                    return Err(MetrologyError::InvalidField {
+                        field: format!("{field}.top"),
+                        reason: format!(
+                            "object \"{}\" is a box (it has `base`): give `top.near` (and optionally `top.left`), not `above`/`point`",
+                            self.name
+                        ),
+                    });
+                }
+                if top.near.is_none() && top.left.is_some() {
+                    return Err(MetrologyError::InvalidField {
+                        field: format!("{field}.top"),
+                        reason: format!(
+                            "object \"{}\" gives `top.left` without `top.near`",
+                            self.name
+                        ),
+                    });
+                }
+                Ok(ObjectShape::Box {
+                    base,
+                    top_near: top.near,
+                    top_left: top.left,
+                })
+            }
+            (None, Some(polygon)) => {
+                if polygon.len() < 3 {
+                    return Err(MetrologyError::InvalidField {
+                        field: format!("{field}.footprint"),
+                        reason: format!(
+                            "needs at least 3 vertices, got {} (object \"{}\")",
+                            polygon.len(),
+                            self.name
+                        ),
+                    });
+                }
+                if top.near.is_some() || top.left.is_some() {
+                    return Err(MetrologyError::InvalidField {
+                        field: format!("{field}.top"),
+                        reason: format!(
+                            "object \"{}\" has a `footprint`: give `top.above` and `top.point`, not `near`/`left`",
+                            self.name
+                        ),
+                    });
+                }
+                let top = match (top.above, top.point) {
+                    (Some(i), Some(p)) => {
+                        if i >= polygon.len() {
+                            return Err(MetrologyError::InvalidField {
+                                field: format!("{field}.top.above"),
+                                reason: format!(
+                                    "is {i}, but the footprint has only {} vertices (indices 0..={})",
+                                    polygon.len(),
+                                    polygon.len() - 1
+                                ),
+                            });
+                        }
+                        Some((i, p))
+                    }
+                    (None, None) => None,
+                    _ => {
+                        return Err(MetrologyError::InvalidField {
+                            field: format!("{field}.top"),
+                            reason: "give both `above` and `point`".to_owned(),
+                        });
+                    }
+                };
+                Ok(ObjectShape::Footprint { polygon, top })
+            }
+            (Some(_), Some(_)) => Err(MetrologyError::InvalidField {
+                field: field.clone(),
+                reason: format!(
+                    "object \"{}\" has both `base` and `footprint`; give one",
+                    self.name
+                ),
+            }),
+            (None, None) => Err(MetrologyError::InvalidField {
+                field,
+                reason: format!(
+                    "object \"{}\" has neither `base` (a box) nor `footprint`",
+                    self.name
+                ),
+            }),
+        }
+    }
+}
+
+impl Scene {
+    /// Parse and validate a scene from JSON text.
+    ///
+    /// # Errors
+    /// [`MetrologyError::Json`] for malformed JSON or missing fields (with line and column),
+    /// and any error of [`Scene::validate`].
+    pub fn from_json_str(text: &str) -> Result<Self> {
+        let scene: Scene =
+            serde_json::from_str(text).map_err(|e| MetrologyError::Json(e.to_string()))?;
+        scene.validate()?;
+        Ok(scene)
+    }
+
+    /// The scene as pretty-printed JSON.
+    #[must_use]
+    pub fn to_json_string(&self) -> String {
+        serde_json::to_string_pretty(self).unwrap_or_default()
+    }
+
+    /// Check everything that does not need the camera: version, finiteness, object shapes,
+    /// unique names, the scale's form.
+    ///
+    /// # Errors
+    /// The first problem found, naming the field and the value.
+    pub fn validate(&self) -> Result<()> {
+        if self.version != 1 {
+            return Err(MetrologyError::UnsupportedVersion(self.version));
+        }
+        if self.image.width == 0 || self.image.height == 0 {
+            return Err(MetrologyError::InvalidField {
+                field: "image".to_owned(),
+                reason: format!(
+                    "size must be positive, got {}x{}",
+                    self.image.width, self.image.height
+                ),
+            });
+        }
+        let n = self.vanishing_points.len();
+        if !(2..=3).contains(&n) {
+            return Err(MetrologyError::VanishingPointCount(n));
+        }
+        for (i, vp) in self.vanishing_points.iter().enumerate() {
+            let field = format!("vanishing_points[{i}]");
+            if let Some(p) = vp.point {
+                check_point(&format!("{field}.point"), p)?;
+            } else if vp.lines.len() < 2 {
+                return Err(MetrologyError::InvalidField {
+                    field,
+                    reason: format!(
+                        "give `point` or at least 2 `lines` (got {} lines)",
+                        vp.lines.len()
+                    ),
+                });
+            }
+            for (j, l) in vp.lines.iter().enumerate() {
+                for (k, v) in l.iter().enumerate() {
+                    if !v.is_finite() {
+                        return Err(MetrologyError::NonFinite {
+                            field: format!("{field}.lines[{j}][{k}]"),
+                            value: *v,
+                        });
+                    }
+                }
+                if (l[0] - l[2]).hypot(l[1] - l[3]) < 1e-9 {
+                    return Err(MetrologyError::InvalidField {
+                        field: format!("{field}.lines[{j}]"),
+                        reason: format!(
+                            "segment has zero length: both ends at ({}, {})",
+                            l[0], l[1]
+                        ),
+                    });
+                }
+            }
+        }
+        if let Some(p) = self.principal_point {
+            check_point("principal_point", p)?;
+        }
+        if let Some(f) = self.focal_px {
+            check_positive("focal_px", f)?;
+        }
+        let mut names = std::collections::BTreeSet::new();
+        for (i, obj) in self.objects.iter().enumerate() {
+            if obj.name.trim().is_empty() {
+                return Err(MetrologyError::InvalidField {
+                    field: format!("objects[{i}].name"),
+                    reason: "is empty".to_owned(),
+                });
+            }
+            if !names.insert(obj.name.as_str()) {
+                return Err(MetrologyError::InvalidField {
+                    field: format!("objects[{i}].name"),
+                    reason: format!("\"{}\" is used by an earlier object", obj.name),
+                });
+            }
+            let field = format!("objects[{i}]");
+            match obj.shape(i)? {
+                ObjectShape::Box {
+                    base,
+                    top_near,
+                    top_left,
+                } => {
+                    check_point(&format!("{field}.base.near"), base.near)?;
+                    check_point(&format!("{field}.base.right"), base.right)?;
+                    check_point(&format!("{field}.base.left"), base.left)?;
+                    if let Some(p) = top_near {
+                        check_point(&format!("{field}.top.near"), p)?;
+                    }
+                    if let Some(p) = top_left {
+                        check_point(&format!("{field}.top.left"), p)?;
+                    }
+                }
+                ObjectShape::Footprint { polygon, top } => {
+                    for (j, p) in polygon.iter().enumerate() {
+                        check_point(&format!("{field}.footprint[{j}]"), *p)?;
+                    }
+                    if let Some((_, p)) = top {
+                        check_point(&format!("{field}.top.point"), p)?;
+                    }
+                }
+            }
+        }
+        if !self.floor.is_empty() && self.floor.len() < 3 {
+            return Err(MetrologyError::InvalidField {
+                field: "floor".to_owned(),
+                reason: format!(
+                    "needs at least 3 corners for an outline (or none), got {}",
+                    self.floor.len()
+                ),
+            });
+        }
+        for (i, p) in self.floor.iter().enumerate() {
+            check_point(&format!("floor[{i}]"), *p)?;
+        }
+        self.scale()?;
+        Ok(())
+    }
+
+    /// The validated scale, if any.
+    ///
+    /// # Errors
+    /// When the `scale` object gives none or more than one form, or a non-positive length, or
+    /// names an object that does not exist.
+    pub fn scale(&self) -> Result<Option<Scale>> {
+        let Some(s) = &self.scale else {
+            return Ok(None);
+        };
+        let forms = usize::from(s.camera_height_m.is_some())
+            + usize::from(s.object.is_some())
+            + usize::from(s.floor_distance.is_some());
+        if forms != 1 {
+            return Err(MetrologyError::InvalidField {
+                field: "scale".to_owned(),
+                reason: format!(
+                    "give exactly one of `camera_height_m`, `object` (with `dimension` and `meters`) or `floor_distance`; got {forms}"
+                ),
+            });
+        }
+        if let Some(h) = s.camera_height_m {
+            check_positive("scale.camera_height_m", h)?;
+            return Ok(Some(Scale::CameraHeight(h)));
+        }
+        if let Some(fd) = s.floor_distance {
+            check_point("scale.floor_distance.from", fd.from)?;
+            check_point("scale.floor_distance.to", fd.to)?;
+            check_positive("scale.floor_distance.meters", fd.meters)?;
+            return Ok(Some(Scale::FloorDistance(fd)));
+        }
+        let name = s.object.clone().unwrap_or_default();
+        let Some(dimension) = s.dimension else {
+            return Err(MetrologyError::InvalidField {
+                field: "scale.dimension".to_owned(),
+                reason: "missing: give \"length\", \"breadth\" or \"height\"".to_owned(),
+            });
+        };
+        let Some(meters) = s.meters else {
+            return Err(MetrologyError::InvalidField {
+                field: "scale.meters".to_owned(),
+                reason: "missing: the known length in metres".to_owned(),
+            });
+        };
+        check_positive("scale.meters", meters)?;
+        if !self.objects.iter().any(|o| o.name == name) {
+            return Err(MetrologyError::UnknownScaleObject {
+                name,
+                known: self
+                    .objects
+                    .iter()
+                    .map(|o| o.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            });
+        }
+        Ok(Some(Scale::Object {
+            name,
+            dimension,
+            meters,
+        }))
+    }
+
+    /// The vanishing points as image points: given points as they are, segments by their
+    /// least-squares intersection ([`intersect_segments`]).
+    ///
+    /// # Errors
+    /// [`MetrologyError::ParallelLines`] when a set of segments meets at infinity.
+    pub fn resolve_vanishing_points(&self) -> Result<Vec<Vector2<f64>>> {
+        let n = self.vanishing_points.len();
+        self.vanishing_points
+            .iter()
+            .enumerate()
+            .map(|(i, vp)| {
+                if let Some(p) = vp.point {
+                    return Ok(Vector2::new(p[0], p[1]));
+                }
+                intersect_segments(&vp.lines, self.image).ok_or_else(|| {
+                    MetrologyError::ParallelLines {
+                        index: i + 1,
+                        hint: if i == 2 && n == 3 {
+                            "; for a two-point-perspective photo (vertical edges parallel) give only the two horizontal vanishing points".to_owned()
+                        } else {
+                            String::new()
+                        },
+                    }
+                })
+            })
+            .collect()
+    }
+}
+
+/// The least-squares intersection of the lines through two or more segments.
+///
+/// Each segment `[x1, y1, x2, y2]` gives a homogeneous line, normalised so that its value at a
+/// point is the point's distance to it; the intersection minimises the sum of squared
+/// distances in homogeneous form (smallest eigenvector of the 3x3 normal matrix), computed in
+/// coordinates centred on the image and scaled by its diagonal for conditioning. Returns `None`
+/// when the lines meet at infinity (further than 1e7 image diagonals away).
+///
+/// # Example
+/// ```
+/// use vpmap_metrology::scene::{intersect_segments, ImageSize};
+/// let image = ImageSize { width: 100, height: 100 };
+/// let vp = intersect_segments(&[[0.0, 0.0, 1.0, 1.0], [10.0, 0.0, 9.0, 1.0]], image).unwrap();
+/// assert!((vp.x - 5.0).abs() < 1e-9 && (vp.y - 5.0).abs() < 1e-9);
+/// ```
+#[must_use]
+pub fn intersect_segments(segments: &[[f64; 4]], image: ImageSize) -> Option<Vector2<f64>> {
+    let c = image.centre();
+    let s = image.diagonal();
+    let mut m = Matrix3::<f64>::zeros();
+    for seg in segments {
+        let a = Vector3::new((seg[0] - c.x) / s, (seg[1] - c.y) / s, 1.0);
+        let b = Vector3::new((seg[2] - c.x) / s, (seg[3] - c.y) / s, 1.0);
+        let l = a.cross(&b);
+        let norm = l.x.hypot(l.y);
+        if norm <= f64::EPSILON {
+            continue;
+        }
+        let l = l / norm;
+        m += l * l.transpose();
+    }
+    let eig = m.symmetric_eigen();
+    let (k, _) = eig
+        .eigenvalues
+        .iter()
+        .enumerate()
+        .min_by(|a, b| a.1.total_cmp(b.1))?;
+    let v = eig.eigenvectors.column(k);
+    if v.z.abs() < 1e-7 * v.x.hypot(v.y) {
+        return None;
+    }
+    Some(Vector2::new(v.x / v.z * s + c.x, v.y / v.z * s + c.y))
+}

@@ -1,0 +1,642 @@
+//! A synthetic pinhole camera: Manhattan scenes with known truth.
+//!
+//! This is the test oracle of the reconstruction (and the evaluation's data source). It shares
+//! nothing with the reconstruction code but the scene and map types: it projects known 3D
+//! points through a textbook pinhole camera (`u = o + f [x/z, y/z]` in a camera frame with `x`
+//! right, `y` down, `z` forward), so an error in the reconstruction's geometry shows up as a
+//! mismatch against [`Truth`].
+//!
+//! World frame = map frame: origin at the station point, `x` right, `y` forward (the camera's
+//! horizontal viewing direction), `z` up; lengths in metres. The camera stands at
+//! `(0, 0, height_m)`, pitched down by `pitch` about `x`, then rolled by `roll` about its
+//! viewing direction (positive roll makes the horizon fall to the right in the image, as in
+//! `../shared/data/synthetic-scenes`).
+
+use nalgebra::{Vector2, Vector3};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rand_distr::{Distribution, Normal};
+use serde::{Deserialize, Serialize};
+
+use crate::scene::{
+    BoxBase, ImageSize, ObjectSpec, PixelPoint, ScaleSpec, Scene, TopSpec, VanishingPointSpec,
+};
+
+/// A pinhole camera above a flat floor.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PinholeCamera {
+    /// Image size.
+    pub image: ImageSize,
+    /// Focal length, pixels.
+    pub focal_px: f64,
+    /// Principal point, pixels.
+    pub principal_point_px: Vector2<f64>,
+    /// Height above the floor, metres.
+    pub height_m: f64,
+    /// Pitch, radians, positive looking down.
+    pub pitch_rad: f64,
+    /// Roll, radians.
+    pub roll_rad: f64,
+}
+
+impl PinholeCamera {
+    /// The camera axes in the world: `(right, down, forward)`.
+    #[must_use]
+    pub fn axes(&self) -> (Vector3<f64>, Vector3<f64>, Vector3<f64>) {
+        let (s, c) = self.pitch_rad.sin_cos();
+        let forward = Vector3::new(0.0, c, -s);
+        let right0 = Vector3::new(1.0, 0.0, 0.0);
+        let down0 = Vector3::new(0.0, -s, -c);
+        let (sr, cr) = (-self.roll_rad).sin_cos();
+        let right = right0 * cr + down0 * sr;
+        let down = -right0 * sr + down0 * cr;
+        (right, down, forward)
+    }
+
+    /// Depth of a world point along the viewing direction (positive in front).
+    #[must_use]
+    pub fn depth(&self, world: Vector3<f64>) -> f64 {
+        let (_, _, f) = self.axes();
+        (world - self.centre()).dot(&f)
+    }
+
+    /// The camera centre in the world.
+    #[must_use]
+    pub fn centre(&self) -> Vector3<f64> {
+        Vector3::new(0.0, 0.0, self.height_m)
+    }
+
+    /// Project a world point to pixels (`None` behind the camera).
+    #[must_use]
+    pub fn project(&self, world: Vector3<f64>) -> Option<Vector2<f64>> {
+        let (r, d, f) = self.axes();
+        let v = world - self.centre();
+        let z = v.dot(&f);
+        if z <= 1e-12 {
+            return None;
+        }
+        Some(self.principal_point_px + Vector2::new(v.dot(&r), v.dot(&d)) * (self.focal_px / z))
+    }
+
+    /// Vanishing point of a world direction (`None` when parallel to the image plane).
+    #[must_use]
+    pub fn vanishing_point(&self, direction: Vector3<f64>) -> Option<Vector2<f64>> {
+        let (r, d, f) = self.axes();
+        let z = direction.dot(&f);
+        if z.abs() <= 1e-12 {
+            return None;
+        }
+        Some(
+            self.principal_point_px
+                + Vector2::new(direction.dot(&r), direction.dot(&d)) * (self.focal_px / z),
+        )
+    }
+
+    /// The floor point seen at a pixel (`None` at or above the horizon).
+    #[must_use]
+    pub fn floor_point(&self, pixel: Vector2<f64>) -> Option<Vector2<f64>> {
+        let (r, d, f) = self.axes();
+        let q = (pixel - self.principal_point_px) / self.focal_px;
+        let ray = r * q.x + d * q.y + f;
+        if ray.z >= -1e-12 {
+            return None;
+        }
+        let t = -self.height_m / ray.z;
+        Some(Vector2::new(ray.x * t, ray.y * t))
+    }
+
+    /// Whether a pixel lies inside the image.
+    #[must_use]
+    pub fn in_image(&self, p: Vector2<f64>) -> bool {
+        p.x >= 0.0
+            && p.y >= 0.0
+            && p.x <= f64::from(self.image.width)
+            && p.y <= f64::from(self.image.height)
+    }
+}
+
+/// A box standing on the floor.
+#[derive(Debug, Clone, PartialEq)]
+pub struct SynthBox {
+    /// Name.
+    pub name: String,
+    /// One base corner, metres.
+    pub corner: Vector2<f64>,
+    /// First edge from `corner` (along one room axis), metres.
+    pub edge_a: Vector2<f64>,
+    /// Second edge from `corner` (along the other room axis), metres.
+    pub edge_b: Vector2<f64>,
+    /// Height, metres.
+    pub height_m: f64,
+}
+
+impl SynthBox {
+    /// The four base corners in order around the box.
+    #[must_use]
+    pub fn corners(&self) -> [Vector2<f64>; 4] {
+        [
+            self.corner,
+            self.corner + self.edge_a,
+            self.corner + self.edge_a + self.edge_b,
+            self.corner + self.edge_b,
+        ]
+    }
+}
+
+/// A prism with a polygonal footprint standing on the floor (the thesis's chair).
+#[derive(Debug, Clone, PartialEq)]
+pub struct SynthPrism {
+    /// Name.
+    pub name: String,
+    /// Footprint vertices in order, metres.
+    pub footprint: Vec<Vector2<f64>>,
+    /// Height, metres.
+    pub height_m: f64,
+}
+
+/// The truth of a synthetic scene, in the map frame (metres).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Truth {
+    /// The camera.
+    pub camera: TruthCamera,
+    /// Objects in scene order: a box's footprint is near, right, far, left.
+    pub objects: Vec<TruthObject>,
+    /// Floor outline in scene order.
+    pub floor: Vec<[f64; 2]>,
+}
+
+/// The true camera.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TruthCamera {
+    /// Focal length, pixels.
+    pub focal_px: f64,
+    /// Principal point, pixels (absent: the image centre).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub principal_point: Option<[f64; 2]>,
+    /// Pitch, degrees, positive looking down.
+    pub pitch_deg: f64,
+    /// Roll, degrees.
+    pub roll_deg: f64,
+    /// Height, metres.
+    pub height: f64,
+}
+
+/// One true object.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TruthObject {
+    /// Name.
+    pub name: String,
+    /// Footprint corners, metres.
+    pub footprint: Vec<[f64; 2]>,
+    /// Height, metres.
+    pub height: f64,
+}
+
+/// How the vanishing points are written into the scene.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum VanishingPointForm {
+    /// As exact points.
+    #[default]
+    Points,
+    /// As the (possibly noisy) annotated box edges that meet there, as a user would click them.
+    Lines,
+}
+
+/// Options of [`synthesize`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct SynthOptions {
+    /// Random seed (the scene is a pure function of the options).
+    pub seed: u64,
+    /// Image size.
+    pub image: ImageSize,
+    /// Focal length, pixels.
+    pub focal_px: f64,
+    /// Camera height, metres.
+    pub height_m: f64,
+    /// Pitch, degrees (0 gives a two-point-perspective scene).
+    pub pitch_deg: f64,
+    /// Roll, degrees.
+    pub roll_deg: f64,
+    /// Number of boxes.
+    pub boxes: usize,
+    /// Number of pentagonal prisms.
+    pub prisms: usize,
+    /// Gaussian noise on every annotated point, pixels (standard deviation).
+    pub noise_px: f64,
+    /// How vanishing points are given.
+    pub vanishing_points: VanishingPointForm,
+    /// Write `scale.camera_height_m` into the scene.
+    pub with_scale: bool,
+    /// Give the principal point in the scene (else the reader's default applies).
+    pub with_principal_point: bool,
+}
+
+impl Default for SynthOptions {
+    fn default() -> Self {
+        Self {
+            seed: 0,
+            image: ImageSize {
+                width: 1600,
+                height: 1200,
+            },
+            focal_px: 1100.0,
+            height_m: 1.5,
+            pitch_deg: 20.0,
+            roll_deg: 3.0,
+            boxes: 4,
+            prisms: 1,
+            noise_px: 0.0,
+            vanishing_points: VanishingPointForm::Points,
+            with_scale: true,
+            with_principal_point: false,
+        }
+    }
+}
+
+fn arr(p: Vector2<f64>) -> PixelPoint {
+    [p.x, p.y]
+}
+
+/// Render boxes, prisms and a floor outline through a camera into a scene and its truth.
+///
+/// Box annotations follow the scene format: the base corner nearest the station point, its
+/// neighbours at the image-right and image-left ends, the top above the near corner and the
+/// top above the left corner. Returns `None` when an annotated point falls behind the camera.
+#[must_use]
+pub fn render_scene(
+    camera: &PinholeCamera,
+    room_axes: [Vector3<f64>; 2],
+    boxes: &[SynthBox],
+    prisms: &[SynthPrism],
+    floor: &[Vector2<f64>],
+) -> Option<(Scene, Truth)> {
+    let floor3 = |p: Vector2<f64>| Vector3::new(p.x, p.y, 0.0);
+    let up = |p: Vector2<f64>, h: f64| Vector3::new(p.x, p.y, h);
+    let mut objects = Vec::new();
+    let mut truth_objects = Vec::new();
+    for b in boxes {
+        let c = b.corners();
+        let near = (0..4).min_by(|&i, &j| c[i].norm().total_cmp(&c[j].norm()))?;
+        let n1 = (near + 1) % 4;
+        let n3 = (near + 3) % 4;
+        let p1 = camera.project(floor3(c[n1]))?;
+        let p3 = camera.project(floor3(c[n3]))?;
+        let (right, left) = if p1.x >= p3.x { (n1, n3) } else { (n3, n1) };
+        let far = (near + 2) % 4;
+        objects.push(ObjectSpec {
+            name: b.name.clone(),
+            base: Some(BoxBase {
+                near: arr(camera.project(floor3(c[near]))?),
+                right: arr(camera.project(floor3(c[right]))?),
+                left: arr(camera.project(floor3(c[left]))?),
+            }),
+            footprint: None,
+            top: Some(TopSpec {
+                near: Some(arr(camera.project(up(c[near], b.height_m))?)),
+                left: Some(arr(camera.project(up(c[left], b.height_m))?)),
+                above: None,
+                point: None,
+            }),
+        });
+        truth_objects.push(TruthObject {
+            name: b.name.clone(),
+            footprint: [near, right, far, left]
+                .iter()
+                .map(|&i| arr(c[i]))
+                .collect(),
+            height: b.height_m,
+        });
+    }
+    for p in prisms {
+        let pts = p
+            .footprint
+            .iter()
+            .map(|v| camera.project(floor3(*v)).map(arr))
+            .collect::<Option<Vec<_>>>()?;
+        objects.push(ObjectSpec {
+            name: p.name.clone(),
+            base: None,
+            footprint: Some(pts),
+            top: Some(TopSpec {
+                near: None,
+                left: None,
+                above: Some(0),
+                point: Some(arr(camera.project(up(p.footprint[0], p.height_m))?)),
+            }),
+        });
+        truth_objects.push(TruthObject {
+            name: p.name.clone(),
+            footprint: p.footprint.iter().map(|v| arr(*v)).collect(),
+            height: p.height_m,
+        });
+    }
+    let floor_px = floor
+        .iter()
+        .map(|p| camera.project(floor3(*p)).map(arr))
+        .collect::<Option<Vec<_>>>()?;
+    let mut vps = vec![
+        VanishingPointSpec {
+            point: Some(arr(camera.vanishing_point(room_axes[0])?)),
+            lines: Vec::new(),
+        },
+        VanishingPointSpec {
+            point: Some(arr(camera.vanishing_point(room_axes[1])?)),
+            lines: Vec::new(),
+        },
+    ];
+    if camera.pitch_rad.abs() > 1e-12 {
+        vps.push(VanishingPointSpec {
+            point: Some(arr(camera.vanishing_point(Vector3::new(0.0, 0.0, 1.0))?)),
+            lines: Vec::new(),
+        });
+    }
+    let scene = Scene {
+        version: 1,
+        image: camera.image,
+        vanishing_points: vps,
+        principal_point: None,
+        focal_px: None,
+        objects,
+        floor: floor_px,
+        scale: None,
+    };
+    let truth = Truth {
+        camera: TruthCamera {
+            focal_px: camera.focal_px,
+            principal_point: Some(arr(camera.principal_point_px)),
+            pitch_deg: camera.pitch_rad.to_degrees(),
+            roll_deg: camera.roll_rad.to_degrees(),
+            height: camera.height_m,
+        },
+        objects: truth_objects,
+        floor: floor.iter().map(|p| arr(*p)).collect(),
+    };
+    Some((scene, truth))
+}
+
+/// Rewrite the vanishing points of a scene as the box edges that meet there (two or more per
+/// vanishing point), as a user clicking edges would give them. Uses the scene's (possibly
+/// noisy) annotated corners, so noise reaches the vanishing points the way it would in use.
+pub fn vanishing_points_as_lines(scene: &mut Scene) {
+    let mut lines: Vec<Vec<[f64; 4]>> = vec![Vec::new(); scene.vanishing_points.len()];
+    let points: Vec<Vector2<f64>> = scene
+        .vanishing_points
+        .iter()
+        .map(|v| {
+            v.point
+                .map_or(Vector2::zeros(), |p| Vector2::new(p[0], p[1]))
+        })
+        .collect();
+    let seg = |a: PixelPoint, b: PixelPoint| [a[0], a[1], b[0], b[1]];
+    for obj in &scene.objects {
+        let Some(base) = obj.base else { continue };
+        let p = Vector2::new(base.near[0], base.near[1]);
+        // Which horizontal VP does near->right run to? The one closer in direction.
+        let dir = |q: PixelPoint, v: Vector2<f64>| {
+            let a = Vector2::new(q[0], q[1]) - p;
+            let b = v - p;
+            (a.x * b.y - a.y * b.x).abs() / (a.norm() * b.norm()).max(1e-300)
+        };
+        let (kr, kl) = if dir(base.right, points[0]) + dir(base.left, points[1])
+            <= dir(base.right, points[1]) + dir(base.left, points[0])
+        {
+            (0, 1)
+        } else {
+            (1, 0)
+        };
+        lines[kr].push(seg(base.near, base.right));
+        lines[kl].push(seg(base.near, base.left));
+        if let Some(top) = obj.top {
+            if let Some(tl) = top.left {
+                lines[kl].push(seg(top.near.unwrap_or(base.near), tl));
+                if lines.len() > 2 {
+                    lines[2].push(seg(base.left, tl));
+                }
+            }
+            if let (Some(tn), true) = (top.near, lines.len() > 2) {
+                lines[2].push(seg(base.near, tn));
+            }
+        }
+    }
+    for (vp, l) in scene.vanishing_points.iter_mut().zip(lines) {
+        if l.len() >= 2 {
+            vp.point = None;
+            vp.lines = l;
+        }
+    }
+}
+
+/// Add Gaussian noise of standard deviation `sigma_px` to every annotated point of a scene
+/// (vanishing points given as points and as lines included).
+pub fn add_noise(scene: &mut Scene, sigma_px: f64, rng: &mut impl Rng) {
+    if sigma_px <= 0.0 {
+        return;
+    }
+    let Ok(normal) = Normal::new(0.0, sigma_px) else {
+        return;
+    };
+    let mut jitter = |p: &mut [f64]| {
+        for v in p {
+            *v += normal.sample(rng);
+        }
+    };
+    for o in &mut scene.objects {
+        if let Some(b) = &mut o.base {
+            jitter(&mut b.near);
+            jitter(&mut b.right);
+            jitter(&mut b.left);
+        }
+        if let Some(f) = &mut o.footprint {
+            for p in f {
+                jitter(p);
+            }
+        }
+        if let Some(t) = &mut o.top {
+            for p in [&mut t.near, &mut t.left, &mut t.point]
+                .into_iter()
+                .flatten()
+            {
+                jitter(p);
+            }
+        }
+    }
+    for p in &mut scene.floor {
+        jitter(p);
+    }
+}
+
+/// A random Manhattan room seen by a camera as set in the options: boxes of random size and
+/// height (some taller than the camera, so their tops lie above the horizon), pentagonal
+/// prisms, and the room's floor outline cut at the nearest floor line the image shows. Every
+/// object base corner lies inside the image; floor corners may lie outside it (a user would
+/// extrapolate them), but always in front of the camera.
+///
+/// The scene is a pure function of the options.
+#[must_use]
+pub fn synthesize(options: &SynthOptions) -> (Scene, Truth) {
+    let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
+    loop {
+        if let Some(out) = try_synthesize(options, &mut rng) {
+            return out;
+        }
+    }
+}
+
+fn try_synthesize(options: &SynthOptions, rng: &mut ChaCha8Rng) -> Option<(Scene, Truth)> {
+    let camera = PinholeCamera {
+        image: options.image,
+        focal_px: options.focal_px,
+        principal_point_px: options.image.centre()
+            + if options.with_principal_point {
+                Vector2::new(rng.random_range(-20.0..20.0), rng.random_range(-20.0..20.0))
+            } else {
+                Vector2::zeros()
+            },
+        height_m: options.height_m,
+        pitch_rad: options.pitch_deg.to_radians(),
+        roll_rad: options.roll_deg.to_radians(),
+    };
+    let yaw = rng.random_range(20f64..70.0).to_radians();
+    let a = Vector2::new(yaw.cos(), yaw.sin());
+    let b = Vector2::new(-yaw.sin(), yaw.cos());
+    let axes = [Vector3::new(a.x, a.y, 0.0), Vector3::new(b.x, b.y, 0.0)];
+    let w = f64::from(options.image.width);
+    let h = f64::from(options.image.height);
+    // The floor region the image shows: the horizon's image row, clamped into the image.
+    let horizon_y = camera
+        .vanishing_point(axes[0])
+        .map_or(0.0, |v| v.y)
+        .clamp(0.0, h);
+    let sample_floor = |rng: &mut ChaCha8Rng| -> Option<Vector2<f64>> {
+        let top = horizon_y + 0.25 * (h - horizon_y);
+        let px = Vector2::new(
+            rng.random_range(0.1 * w..0.9 * w),
+            rng.random_range(top..0.95 * h),
+        );
+        camera.floor_point(px)
+    };
+    let inside = |p: Vector2<f64>| {
+        camera
+            .project(Vector3::new(p.x, p.y, 0.0))
+            .is_some_and(|q| camera.in_image(q))
+    };
+    let mut boxes: Vec<SynthBox> = Vec::new();
+    let mut tries = 0;
+    while boxes.len() < options.boxes {
+        tries += 1;
+        if tries > 2000 {
+            return None;
+        }
+        let c = sample_floor(rng)?;
+        let s = options.height_m;
+        let bx = SynthBox {
+            name: format!("box{}", boxes.len()),
+            corner: c,
+            edge_a: a * rng.random_range(0.15 * s..0.8 * s),
+            edge_b: b * rng.random_range(0.15 * s..0.8 * s),
+            height_m: rng.random_range(0.1 * s..1.4 * s),
+        };
+        if bx.corners().iter().all(|p| inside(*p))
+            && bx
+                .corners()
+                .iter()
+                .all(|p| camera.depth(Vector3::new(p.x, p.y, bx.height_m)) > 0.05 * s)
+        {
+            boxes.push(bx);
+        }
+    }
+    let mut prisms: Vec<SynthPrism> = Vec::new();
+    tries = 0;
+    while prisms.len() < options.prisms {
+        tries += 1;
+        if tries > 2000 {
+            return None;
+        }
+        let c = sample_floor(rng)?;
+        let s = options.height_m;
+        let radius = rng.random_range(0.1 * s..0.35 * s);
+        let turn = rng.random_range(0.0..std::f64::consts::TAU);
+        let mut footprint: Vec<Vector2<f64>> = (0..5)
+            .map(|k| {
+                let t = turn + f64::from(k) * std::f64::consts::TAU / 5.0;
+                c + Vector2::new(t.cos(), t.sin()) * radius
+            })
+            .collect();
+        // Start at the vertex nearest the camera, as a user would.
+        let near = (0..5).min_by(|&i, &j| footprint[i].norm().total_cmp(&footprint[j].norm()))?;
+        footprint.rotate_left(near);
+        let prism = SynthPrism {
+            name: format!("chair{}", prisms.len()),
+            footprint,
+            height_m: rng.random_range(0.3 * s..0.9 * s),
+        };
+        if prism.footprint.iter().all(|p| inside(*p)) {
+            prisms.push(prism);
+        }
+    }
+    // Floor: the room rectangle around every object, cut at the image's bottom row.
+    let all: Vec<Vector2<f64>> = boxes
+        .iter()
+        .flat_map(SynthBox::corners)
+        .chain(prisms.iter().flat_map(|p| p.footprint.clone()))
+        .collect();
+    let (mut lo_a, mut hi_a, mut lo_b, mut hi_b) = (
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    );
+    for p in &all {
+        lo_a = lo_a.min(p.dot(&a));
+        hi_a = hi_a.max(p.dot(&a));
+        lo_b = lo_b.min(p.dot(&b));
+        hi_b = hi_b.max(p.dot(&b));
+    }
+    let margin = rng.random_range(0.3..1.0) * options.height_m;
+    let rect = [
+        a * (lo_a - margin) + b * (lo_b - margin),
+        a * (hi_a + margin) + b * (lo_b - margin),
+        a * (hi_a + margin) + b * (hi_b + margin),
+        a * (lo_a - margin) + b * (hi_b + margin),
+    ];
+    let near_y = camera
+        .floor_point(Vector2::new(w / 2.0, 0.98 * h))
+        .map_or(0.5 * options.height_m, |p| p.y.max(0.05 * options.height_m));
+    let floor = clip_forward(&rect, near_y);
+    if floor.len() < 3 {
+        return None;
+    }
+    let (mut scene, truth) = render_scene(&camera, axes, &boxes, &prisms, &floor)?;
+    if options.with_principal_point {
+        scene.principal_point = Some(arr(camera.principal_point_px));
+    }
+    if options.with_scale {
+        scene.scale = Some(ScaleSpec {
+            camera_height_m: Some(options.height_m),
+            ..ScaleSpec::default()
+        });
+    }
+    add_noise(&mut scene, options.noise_px, rng);
+    if options.vanishing_points == VanishingPointForm::Lines {
+        vanishing_points_as_lines(&mut scene);
+    }
+    Some((scene, truth))
+}
+
+/// Clip a convex polygon to the half-plane `y >= y_min`.
+fn clip_forward(poly: &[Vector2<f64>], y_min: f64) -> Vec<Vector2<f64>> {
+    let mut out = Vec::new();
+    for i in 0..poly.len() {
+        let p = poly[i];
+        let q = poly[(i + 1) % poly.len()];
+        let (pin, qin) = (p.y >= y_min, q.y >= y_min);
+        if pin {
+            out.push(p);
+        }
+        if pin != qin {
+            let t = (y_min - p.y) / (q.y - p.y);
+            out.push(p + (q - p) * t);
+        }
+    }
+    out
+}

@@ -1,0 +1,39 @@
+//! Integration tests of vpmap-metrology: geometry against independent pinhole cameras.
+
+mod bad_input;
+mod errata_cases;
+mod random_scenes;
+mod shared_data;
+
+use vpmap_metrology::map::FloorMap;
+use vpmap_metrology::synth::Truth;
+
+/// Largest coordinate error of a map against the truth, relative to the scene's extent
+/// (largest distance of any true point from the station point), plus the largest relative
+/// height error. Objects are compared corner by corner in order.
+pub fn max_relative_error(map: &FloorMap, truth: &Truth) -> f64 {
+    let extent = truth
+        .objects
+        .iter()
+        .flat_map(|o| o.footprint.iter())
+        .chain(truth.floor.iter())
+        .map(|p| p[0].hypot(p[1]))
+        .fold(0.0f64, f64::max)
+        .max(truth.camera.height);
+    let mut worst = 0.0f64;
+    assert_eq!(map.objects.len(), truth.objects.len());
+    for (m, t) in map.objects.iter().zip(&truth.objects) {
+        assert_eq!(m.name, t.name);
+        assert_eq!(m.footprint.len(), t.footprint.len(), "{}", t.name);
+        for (a, b) in m.footprint.iter().zip(&t.footprint) {
+            worst = worst.max((a[0] - b[0]).hypot(a[1] - b[1]) / extent);
+        }
+        let h = m.height.expect("height");
+        worst = worst.max((h - t.height).abs() / t.height);
+    }
+    assert_eq!(map.floor.len(), truth.floor.len());
+    for (a, b) in map.floor.iter().zip(&truth.floor) {
+        worst = worst.max((a[0] - b[0]).hypot(a[1] - b[1]) / extent);
+    }
+    worst
+}

@@ -1,0 +1,148 @@
+//! The shared data sets: scenes from an independent simulator, and York Urban Database photos.
+
+use std::path::PathBuf;
+
+use nalgebra::Vector2;
+use vpmap_metrology::calibration::Calibration;
+use vpmap_metrology::map::{BuildOptions, build_map};
+use vpmap_metrology::reconstruct::Method;
+use vpmap_metrology::scene::{ImageSize, Scene};
+use vpmap_metrology::synth::Truth;
+
+fn shared(sub: &str) -> Option<PathBuf> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("../../../shared/data")
+        .join(sub);
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        eprintln!(
+            "SKIPPED: shared data {} is absent (expected beside the project)",
+            dir.display()
+        );
+        None
+    }
+}
+
+#[test]
+fn independent_synthetic_scenes_reconstruct_to_1e_9_m() {
+    let Some(dir) = shared("synthetic-scenes") else {
+        return;
+    };
+    let mut seen = 0;
+    let mut names: Vec<_> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| {
+            p.extension().is_some_and(|e| e == "json")
+                && !p.to_string_lossy().ends_with(".truth.json")
+        })
+        .collect();
+    names.sort();
+    for path in names {
+        let scene = Scene::from_json_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        let truth_path = path.with_extension("truth.json");
+        let truth: Truth = serde_json::from_str(&std::fs::read_to_string(&truth_path).unwrap())
+            .unwrap_or_else(|e| panic!("{}: {e}", truth_path.display()));
+        for method in [Method::Sideview, Method::Projective] {
+            let map = build_map(&scene, &BuildOptions { method }).unwrap();
+            let name = path.file_name().unwrap().to_string_lossy();
+            assert!(
+                (map.camera.focal_px - truth.camera.focal_px).abs() < 1e-6,
+                "{name} {method}: focal {} vs {}",
+                map.camera.focal_px,
+                truth.camera.focal_px
+            );
+            assert!(
+                (map.camera.pitch_deg - truth.camera.pitch_deg).abs() < 1e-9,
+                "{name} {method}: pitch {} vs {}",
+                map.camera.pitch_deg,
+                truth.camera.pitch_deg
+            );
+            assert!(
+                (map.camera.roll_deg - truth.camera.roll_deg).abs() < 1e-9,
+                "{name} {method}: roll {} vs {}",
+                map.camera.roll_deg,
+                truth.camera.roll_deg
+            );
+            for (m, t) in map.objects.iter().zip(&truth.objects) {
+                for (a, b) in m.footprint.iter().zip(&t.footprint) {
+                    let e = (a[0] - b[0]).hypot(a[1] - b[1]);
+                    assert!(
+                        e < 1e-9,
+                        "{name} {method} {}: corner {a:?} vs {b:?}",
+                        m.name
+                    );
+                }
+                let e = (m.height.unwrap() - t.height).abs();
+                assert!(
+                    e < 1e-9,
+                    "{name} {method} {}: height {:?} vs {}",
+                    m.name,
+                    m.height,
+                    t.height
+                );
+            }
+            for (a, b) in map.floor.iter().zip(&truth.floor) {
+                let e = (a[0] - b[0]).hypot(a[1] - b[1]);
+                assert!(e < 1e-9, "{name} {method}: floor {a:?} vs {b:?}");
+            }
+            assert_eq!(map.objects.len(), truth.objects.len());
+            assert_eq!(map.floor.len(), truth.floor.len());
+        }
+        seen += 1;
+    }
+    assert_eq!(seen, 8, "expected the eight shared synthetic scenes");
+}
+
+#[derive(serde::Deserialize)]
+struct Yud {
+    width: u32,
+    height: u32,
+    #[serde(rename = "K")]
+    k: [[f64; 3]; 3],
+    vp_orthogonal_px: [[f64; 2]; 3],
+    most_vertical_vp_index: usize,
+}
+
+#[test]
+fn york_urban_orthogonal_vanishing_points_give_back_the_calibration() {
+    let Some(dir) = shared("yud-train") else {
+        return;
+    };
+    let mut seen = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        if path.extension().is_none_or(|e| e != "json") {
+            continue;
+        }
+        let yud: Yud = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        let v = yud.most_vertical_vp_index;
+        let mut vps: Vec<Vector2<f64>> = (0..3)
+            .filter(|&i| i != v)
+            .map(|i| Vector2::new(yud.vp_orthogonal_px[i][0], yud.vp_orthogonal_px[i][1]))
+            .collect();
+        vps.push(Vector2::new(
+            yud.vp_orthogonal_px[v][0],
+            yud.vp_orthogonal_px[v][1],
+        ));
+        let image = ImageSize {
+            width: yud.width,
+            height: yud.height,
+        };
+        let cal = Calibration::from_vanishing_points(&vps, None, image)
+            .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let o = cal.principal_point_px();
+        let name = path.display();
+        assert!(
+            (cal.focal_px - 674.918).abs() < 1e-3,
+            "{name}: f = {}",
+            cal.focal_px
+        );
+        assert!((o.x - 307.551).abs() < 1e-3, "{name}: ox = {}", o.x);
+        assert!((o.y - 251.454).abs() < 1e-3, "{name}: oy = {}", o.y);
+        assert!((cal.focal_px - yud.k[0][0]).abs() < 1e-6, "{name}: f vs K");
+        seen += 1;
+    }
+    assert!(seen >= 50, "expected the YUD training images, found {seen}");
+}
