@@ -1,0 +1,1 @@
+//! vpmap-plan (in progress)

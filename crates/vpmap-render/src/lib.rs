@@ -1,0 +1,1 @@
+//! vpmap-render (in progress)
