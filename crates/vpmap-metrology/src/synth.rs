@@ -503,10 +503,11 @@ fn try_synthesize(options: &SynthOptions, rng: &mut ChaCha8Rng) -> Option<(Scene
     let w = f64::from(options.image.width);
     let h = f64::from(options.image.height);
     // The floor region the image shows: the horizon's image row, clamped into the image.
+    // The horizon's row straight ahead of the camera.
     let horizon_y = camera
-        .vanishing_point(axes[0])
+        .vanishing_point(Vector3::new(0.0, 1.0, 0.0))
         .map_or(0.0, |v| v.y)
-        .clamp(0.0, h);
+        .clamp(0.0, 0.9 * h);
     let sample_floor = |rng: &mut ChaCha8Rng| -> Option<Vector2<f64>> {
         let top = horizon_y + 0.25 * (h - horizon_y);
         let px = Vector2::new(
