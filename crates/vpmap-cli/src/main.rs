@@ -1,1 +1,78 @@
-fn main() {}
+//! The `vpmap` command: one photo's annotations to a metric floor map.
+
+mod build;
+mod output;
+mod synth;
+
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+use clap::{Parser, Subcommand};
+use vpmap_metrology::reconstruct::Method;
+
+/// One ordinary photo of a room in, a metric floor map a robot can use out.
+#[derive(Parser)]
+#[command(name = "vpmap", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+/// Options shared by `build` and `demo`.
+#[derive(clap::Args, Clone)]
+pub struct BuildArgs {
+    /// Output folder (created if missing).
+    #[arg(long, short)]
+    pub out: PathBuf,
+    /// Reconstruction method: the thesis's side-view method or the camera-matrix form.
+    #[arg(long, default_value = "sideview", value_parser = parse_method)]
+    pub method: Method,
+    /// Occupancy-grid cell size, metres (map units when the scene has no scale).
+    #[arg(long, default_value_t = 0.05)]
+    pub resolution: f64,
+    /// Robot radius: obstacles in the occupancy grid are inflated by it, metres.
+    #[arg(long, default_value_t = 0.0)]
+    pub robot_radius: f64,
+}
+
+fn parse_method(s: &str) -> Result<Method, String> {
+    s.parse()
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Build a floor map, picture, 3D model and occupancy grid from a scene file.
+    Build {
+        /// The scene file (JSON, version 1; see docs/scene-format.md).
+        scene: PathBuf,
+        #[command(flatten)]
+        args: BuildArgs,
+    },
+    /// Build the bundled example end to end and compare it with its known truth.
+    Demo {
+        /// Output folder.
+        #[arg(long, short, default_value = "out/demo")]
+        out: PathBuf,
+        /// Reconstruction method.
+        #[arg(long, default_value = "sideview", value_parser = parse_method)]
+        method: Method,
+    },
+    /// Write a random synthetic scene (and its truth) from the built-in pinhole camera.
+    Synth(synth::SynthArgs),
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Command::Build { scene, args } => build::run_build(&scene, &args),
+        Command::Demo { out, method } => build::run_demo(&out, method),
+        Command::Synth(args) => synth::run(&args),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(err) => {
+            eprintln!("error: {err:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,76 @@
+//! All-or-nothing output: every file is rendered in memory first, then written to temporary
+//! files in the target folder and renamed into place, so a failure never leaves half a file
+//! (or half a set of files) behind.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+
+/// Files to write into one folder.
+#[derive(Default)]
+pub struct OutputSet {
+    files: Vec<(String, Vec<u8>)>,
+}
+
+impl OutputSet {
+    /// Queue a file.
+    pub fn add(&mut self, name: &str, bytes: impl Into<Vec<u8>>) {
+        self.files.push((name.to_owned(), bytes.into()));
+    }
+
+    /// Write every file into `dir` (created if missing). Returns the paths written.
+    pub fn write_all(self, dir: &Path) -> Result<Vec<PathBuf>> {
+        let created_dir = !dir.exists();
+        std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create output folder {}", dir.display()))?;
+        let result = write_files(dir, self.files);
+        if result.is_err() && created_dir {
+            // Remove the folder we created if it is empty; ignore failures.
+            let _ = std::fs::remove_dir(dir);
+        }
+        result
+    }
+}
+
+fn write_files(dir: &Path, files: Vec<(String, Vec<u8>)>) -> Result<Vec<PathBuf>> {
+    use std::io::Write;
+    let mut staged = Vec::with_capacity(files.len());
+    for (name, bytes) in files {
+        let mut tmp = tempfile::Builder::new()
+            .prefix(&format!(".{name}."))
+            .suffix(".tmp")
+            .tempfile_in(dir)
+            .with_context(|| format!("cannot write into output folder {}", dir.display()))?;
+        tmp.write_all(&bytes)
+            .and_then(|()| tmp.flush())
+            .with_context(|| format!("cannot write {}", dir.join(&name).display()))?;
+        staged.push((tmp, dir.join(name)));
+    }
+    let mut done: Vec<PathBuf> = Vec::with_capacity(staged.len());
+    for (tmp, target) in staged {
+        if let Err(e) = tmp.persist(&target) {
+            for p in &done {
+                let _ = std::fs::remove_file(p);
+            }
+            return Err(e.error).with_context(|| format!("cannot write {}", target.display()));
+        }
+        done.push(target);
+    }
+    Ok(done)
+}
+
+/// Write one file atomically (temporary file in the same folder, then rename).
+pub fn write_file(path: &Path, bytes: impl Into<Vec<u8>>) -> Result<()> {
+    let dir = match path.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    let name = path
+        .file_name()
+        .with_context(|| format!("{} is not a file path", path.display()))?
+        .to_string_lossy()
+        .into_owned();
+    let mut set = OutputSet::default();
+    set.add(&name, bytes);
+    set.write_all(&dir).map(|_| ())
+}

@@ -1,0 +1,121 @@
+//! `vpmap synth`: a random synthetic scene and its truth.
+
+use std::path::PathBuf;
+
+use anyhow::{Context, Result, bail};
+use vpmap_metrology::synth::{SynthOptions, VanishingPointForm, synthesize};
+
+use crate::output::write_file;
+
+/// Arguments of `vpmap synth`.
+#[derive(clap::Args)]
+pub struct SynthArgs {
+    /// Random seed.
+    #[arg(long, default_value_t = 0)]
+    seed: u64,
+    /// Camera pitch, degrees down (0 gives two-point perspective).
+    #[arg(long, default_value_t = 20.0, allow_hyphen_values = true)]
+    pitch: f64,
+    /// Camera roll, degrees.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    roll: f64,
+    /// Camera height, metres.
+    #[arg(long, default_value_t = 1.5)]
+    height: f64,
+    /// Focal length, pixels.
+    #[arg(long, default_value_t = 1100.0)]
+    focal_px: f64,
+    /// Number of boxes.
+    #[arg(long, default_value_t = 4)]
+    boxes: usize,
+    /// Number of pentagonal (chair-like) objects.
+    #[arg(long, default_value_t = 1)]
+    prisms: usize,
+    /// Gaussian noise on every annotated point, pixels.
+    #[arg(long, default_value_t = 0.0)]
+    noise: f64,
+    /// Give vanishing points as the clicked box edges instead of points.
+    #[arg(long)]
+    lines: bool,
+    /// Leave out the scale (lengths then come out in camera heights).
+    #[arg(long)]
+    no_scale: bool,
+    /// Scene file to write.
+    #[arg(long, short)]
+    out: PathBuf,
+    /// Truth file to write (default: beside the scene, `.truth.json`).
+    #[arg(long)]
+    truth: Option<PathBuf>,
+}
+
+pub fn run(args: &SynthArgs) -> Result<()> {
+    for (name, v) in [
+        ("--pitch", args.pitch),
+        ("--roll", args.roll),
+        ("--height", args.height),
+        ("--focal-px", args.focal_px),
+        ("--noise", args.noise),
+    ] {
+        if !v.is_finite() {
+            bail!("{name} must be a finite number, got {v}");
+        }
+    }
+    if !(-30.0..=60.0).contains(&args.pitch) {
+        bail!(
+            "--pitch {} is outside the supported range -30..=60 degrees",
+            args.pitch
+        );
+    }
+    if args.roll.abs() > 30.0 {
+        bail!(
+            "--roll {} is outside the supported range -30..=30 degrees",
+            args.roll
+        );
+    }
+    if args.height <= 0.0 || args.focal_px <= 0.0 || args.noise < 0.0 {
+        bail!(
+            "--height ({}) and --focal-px ({}) must be positive and --noise ({}) non-negative",
+            args.height,
+            args.focal_px,
+            args.noise
+        );
+    }
+    if args.boxes + args.prisms > 100 {
+        bail!(
+            "--boxes + --prisms is {}; at most 100 objects fit a synthetic room",
+            args.boxes + args.prisms
+        );
+    }
+    let (scene, truth) = synthesize(&SynthOptions {
+        seed: args.seed,
+        focal_px: args.focal_px,
+        height_m: args.height,
+        pitch_deg: args.pitch,
+        roll_deg: args.roll,
+        boxes: args.boxes,
+        prisms: args.prisms,
+        noise_px: args.noise,
+        vanishing_points: if args.lines {
+            VanishingPointForm::Lines
+        } else {
+            VanishingPointForm::Points
+        },
+        with_scale: !args.no_scale,
+        ..SynthOptions::default()
+    });
+    let truth_path = args.truth.clone().unwrap_or_else(|| {
+        let stem = args.out.with_extension("");
+        PathBuf::from(format!("{}.truth.json", stem.display()))
+    });
+    write_file(&args.out, scene.to_json_string())?;
+    write_file(
+        &truth_path,
+        serde_json::to_string_pretty(&truth).context("serialising the truth")?,
+    )?;
+    println!(
+        "wrote {} and {}",
+        args.out.display(),
+        truth_path.display()
+    );
+    Ok(())
+}
