@@ -34,6 +34,7 @@ fn check(pitch_deg: f64, roll_deg: f64, seed_base: u64) {
             ..SynthOptions::default()
         };
         let (scene, truth) = synthesize(&options);
+        let mut maps = Vec::new();
         for (k, method) in [Method::Sideview, Method::Projective]
             .into_iter()
             .enumerate()
