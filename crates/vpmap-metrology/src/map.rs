@@ -4,7 +4,10 @@
 //! viewing direction, `+z` up. Units: metres when the scene gives a scale, else camera heights.
 //! The format is documented for users in `docs/map-format.md`.
 
-use geo::{Area, BooleanOps, Centroid, Coord, LineString, MultiPolygon, Polygon};
+use geo::{
+    Area, BooleanOps, Centroid, ConvexHull, Coord, LineString, MultiPoint, MultiPolygon, Point,
+    Polygon,
+};
 use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
 
@@ -110,6 +113,11 @@ pub struct FloorMap {
     pub floor: Vec<MapPoint>,
     /// The floor minus every footprint.
     pub free_space: Vec<PolygonWithHoles>,
+    /// The parts of the free space the camera cannot see because objects stand in the way
+    /// (each object's occlusion shadow as seen from the camera, clipped to the free space).
+    /// The occupancy grid marks them unknown.
+    #[serde(default)]
+    pub hidden: Vec<PolygonWithHoles>,
     /// Notes for the user.
     pub warnings: Vec<String>,
 }
@@ -275,6 +283,48 @@ pub fn free_space(floor: &[Vector2<f64>], footprints: &[Vec<Vector2<f64>>]) -> M
     floor_poly.difference(&union)
 }
 
+/// The floor hidden behind one object, seen from a camera at `camera_height` above the
+/// station point (the origin): the convex hull of the footprint and of the top outline
+/// projected from the camera onto the floor (`v -> v H / (H - h)`). An object as tall as the
+/// camera or taller hides everything behind it; its shadow is cut at `reach` from the station
+/// point. Objects without a height hide nothing (their height is unknown).
+#[must_use]
+pub fn occlusion_shadow(
+    footprint: &[Vector2<f64>],
+    height: Option<f64>,
+    camera_height: f64,
+    reach: f64,
+) -> Option<Polygon<f64>> {
+    let h = height?;
+    if footprint.len() < 3 || h <= 0.0 {
+        return None;
+    }
+    let mut points: Vec<Point<f64>> = footprint.iter().map(|p| Point::new(p.x, p.y)).collect();
+    for p in footprint {
+        let r = p.norm();
+        if r == 0.0 {
+            continue;
+        }
+        let stretch = if h < camera_height {
+            (camera_height / (camera_height - h)).min(reach / r)
+        } else {
+            reach / r
+        };
+        let q = p * stretch.max(1.0);
+        points.push(Point::new(q.x, q.y));
+    }
+    Some(MultiPoint::new(points).convex_hull())
+}
+
+fn to_polygons(mp: &MultiPolygon<f64>) -> Vec<PolygonWithHoles> {
+    mp.0.iter()
+        .map(|p| PolygonWithHoles {
+            exterior: unclosed(p.exterior()),
+            holes: p.interiors().iter().map(unclosed).collect(),
+        })
+        .collect()
+}
+
 /// Everything `vpmap build` computes, from a validated scene to a [`FloorMap`].
 ///
 /// # Errors
@@ -319,14 +369,24 @@ pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
         footprints.push(fp);
     }
     let floor: Vec<Vector2<f64>> = rec.floor.iter().map(scaled).collect();
-    let free = free_space(&floor, &footprints)
-        .0
+    let free_mp = free_space(&floor, &footprints);
+    let reach = 2.0
+        * floor
+            .iter()
+            .chain(footprints.iter().flatten())
+            .map(|p| p.norm())
+            .fold(k, f64::max);
+    let shadows: Vec<Polygon<f64>> = footprints
         .iter()
-        .map(|p| PolygonWithHoles {
-            exterior: unclosed(p.exterior()),
-            holes: p.interiors().iter().map(unclosed).collect(),
-        })
+        .zip(&objects)
+        .filter_map(|(fp, o)| occlusion_shadow(fp, o.height, k, reach))
         .collect();
+    let hidden = if shadows.is_empty() || free_mp.0.is_empty() {
+        Vec::new()
+    } else {
+        to_polygons(&free_mp.intersection(&geo::unary_union(&shadows)))
+    };
+    let free = to_polygons(&free_mp);
     let corners = [
         Vector2::new(0.0, 0.0),
         Vector2::new(f64::from(scene.image.width), 0.0),
@@ -360,6 +420,7 @@ pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
         objects,
         floor: floor.iter().map(|p| [p.x, p.y]).collect(),
         free_space: free,
+        hidden,
         warnings: cal.warnings.clone(),
     })
 }
@@ -400,5 +461,64 @@ impl FloorMap {
             }
         }
         (lo, hi)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use geo::Contains;
+    use rand::{Rng, SeedableRng};
+
+    /// Does the segment from the camera to a floor point pass through the axis-aligned box?
+    /// (Slab test: independent of the convex-hull construction.)
+    fn ray_hits_box(camera_h: f64, p: Vector2<f64>, lo: [f64; 3], hi: [f64; 3]) -> bool {
+        let origin = [0.0, 0.0, camera_h];
+        let dir = [p.x, p.y, -camera_h];
+        let (mut t0, mut t1) = (0.0f64, 1.0f64);
+        for k in 0..3 {
+            if dir[k].abs() < 1e-15 {
+                if origin[k] < lo[k] || origin[k] > hi[k] {
+                    return false;
+                }
+                continue;
+            }
+            let (a, b) = ((lo[k] - origin[k]) / dir[k], (hi[k] - origin[k]) / dir[k]);
+            t0 = t0.max(a.min(b));
+            t1 = t1.min(a.max(b));
+        }
+        t0 <= t1
+    }
+
+    #[test]
+    fn occlusion_shadow_matches_ray_casting() {
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+        for &(h, camera_h) in &[(0.8, 1.5), (2.0, 1.5), (0.3, 1.0)] {
+            let (lo, hi) = ([0.5, 2.0, 0.0], [1.3, 2.6, h]);
+            let fp = [
+                Vector2::new(lo[0], lo[1]),
+                Vector2::new(hi[0], lo[1]),
+                Vector2::new(hi[0], hi[1]),
+                Vector2::new(lo[0], hi[1]),
+            ];
+            let shadow = occlusion_shadow(&fp, Some(h), camera_h, 100.0).unwrap();
+            let footprint = Polygon::new(ring(&fp), vec![]);
+            let mut hidden_seen = 0;
+            for _ in 0..4000 {
+                let p = Vector2::new(rng.random_range(-3.0..5.0), rng.random_range(0.1..12.0));
+                let pt = Point::new(p.x, p.y);
+                if footprint.contains(&pt) {
+                    continue;
+                }
+                let expected = ray_hits_box(camera_h, p, lo, hi);
+                hidden_seen += usize::from(expected);
+                assert_eq!(
+                    shadow.contains(&pt),
+                    expected,
+                    "h {h}, camera {camera_h}: point {p:?}"
+                );
+            }
+            assert!(hidden_seen > 20, "the test must see hidden points");
+        }
     }
 }

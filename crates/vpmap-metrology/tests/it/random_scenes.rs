@@ -68,11 +68,19 @@ fn check(pitch_deg: f64, roll_deg: f64, seed_base: u64) {
             maps.push(map);
         }
         // The two methods agree with each other, corner by corner.
-        let extent = truth.floor.iter().map(|p| p[0].hypot(p[1])).fold(1.0, f64::max);
+        let extent = truth
+            .floor
+            .iter()
+            .map(|p| p[0].hypot(p[1]))
+            .fold(1.0, f64::max);
         for (a, b) in maps[0].objects.iter().zip(&maps[1].objects) {
             for (p, q) in a.footprint.iter().zip(&b.footprint) {
                 let gap = (p[0] - q[0]).hypot(p[1] - q[1]) / extent;
-                assert!(gap < 1e-9, "seed {seed}: methods disagree by {gap:e} on {}", a.name);
+                assert!(
+                    gap < 1e-9,
+                    "seed {seed}: methods disagree by {gap:e} on {}",
+                    a.name
+                );
             }
         }
     }
