@@ -61,15 +61,13 @@ fn build_outputs(scene: &Scene, args: &BuildArgs) -> Result<Built> {
     let png = svg_to_png(&svg).context("rendering map.png")?;
     files.add("map.svg", svg);
     files.add("map.png", png);
-    files.add(
-        "model.glb",
-        model_glb(&map).context("building model.glb")?,
-    );
+    files.add("model.glb", model_glb(&map).context("building model.glb")?);
     let grid = rasterize_map(
         &map,
         &RasterOptions {
             resolution_m: args.resolution,
             robot_radius_m: args.robot_radius,
+            hidden_free: args.hidden_free,
             ..RasterOptions::default()
         },
     )
@@ -124,9 +122,10 @@ fn print_summary(map: &FloorMap, grid_summary: &str) {
             || format!("area {:.3} {u}^2", o.area),
             |s| format!("{:.3} x {:.3} {u}", s.length, s.breadth),
         );
-        let height = o
-            .height
-            .map_or_else(|| "height unknown".to_owned(), |h| format!("height {h:.3} {u}"));
+        let height = o.height.map_or_else(
+            || "height unknown".to_owned(),
+            |h| format!("height {h:.3} {u}"),
+        );
         println!(
             "  {:<12} at ({:.3}, {:.3}) {u}: {size}, {height}",
             o.name, o.centroid[0], o.centroid[1]
@@ -216,6 +215,7 @@ pub fn run_demo(out: &Path, method: Method) -> Result<()> {
         method,
         resolution: 0.05,
         robot_radius: 0.2,
+        hidden_free: false,
     };
     let built = build_outputs(&scene, &args)?;
     let paths = built.files.write_all(out)?;

@@ -33,6 +33,9 @@ pub struct BuildArgs {
     /// Robot radius: obstacles in the occupancy grid are inflated by it, metres.
     #[arg(long, default_value_t = 0.0)]
     pub robot_radius: f64,
+    /// Mark floor hidden behind objects as free in the occupancy grid (default: unknown).
+    #[arg(long)]
+    pub hidden_free: bool,
 }
 
 fn parse_method(s: &str) -> Result<Method, String> {

@@ -112,10 +112,6 @@ pub fn run(args: &SynthArgs) -> Result<()> {
         &truth_path,
         serde_json::to_string_pretty(&truth).context("serialising the truth")?,
     )?;
-    println!(
-        "wrote {} and {}",
-        args.out.display(),
-        truth_path.display()
-    );
+    println!("wrote {} and {}", args.out.display(), truth_path.display());
     Ok(())
 }

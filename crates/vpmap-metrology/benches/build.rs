@@ -1,5 +1,6 @@
 //! Building a 20-object scene: the side-view method against the projective form (the
 //! reference), calibration and reconstruction alone, and the whole map with free space.
+#![allow(missing_docs)]
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;

@@ -374,7 +374,7 @@ pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
         * floor
             .iter()
             .chain(footprints.iter().flatten())
-            .map(|p| p.norm())
+            .map(Vector2::norm)
             .fold(k, f64::max);
     let shadows: Vec<Polygon<f64>> = footprints
         .iter()

@@ -1,1 +1,43 @@
-//! vpmap-render (in progress)
+//! Pictures and models of vpmap floor maps.
+//!
+//! Input is a [`FloorMap`](vpmap_metrology::map::FloorMap) (map frame: origin at the station
+//! point, `+x` right, `+y` forward, `+z` up; metres or camera heights).
+//!
+//! | function | output | how |
+//! |---|---|---|
+//! | [`floor_plan_svg`] | an SVG floor plan, `+y` up the page: free space, floor outline, labelled objects, station point, field of view, grid, axes, scale bar, legend, title | hand-written SVG, greedy label placement |
+//! | [`svg_to_png`] | PNG bytes of any SVG | resvg / tiny-skia, system fonts with `sans-serif` mapped to DejaVu Sans |
+//! | [`model_glb`] | a glTF 2.0 binary model: floor mesh, one prism per object, camera pyramid | ear-cut triangulation (`earcutr`), `gltf-json`, GLB chunks written here; glTF `(X, Y, Z)` = map `(x, z, -y)` |
+//!
+//! # Example
+//! ```
+//! use vpmap_metrology::map::{build_map, BuildOptions};
+//! use vpmap_metrology::synth::{synthesize, SynthOptions};
+//! use vpmap_render::{floor_plan_svg, model_glb, svg_to_png, FloorPlanStyle};
+//! let (scene, _) = synthesize(&SynthOptions::default());
+//! let map = build_map(&scene, &BuildOptions::default()).unwrap();
+//! let svg = floor_plan_svg(&map, &FloorPlanStyle::default());
+//! let png = svg_to_png(&svg).unwrap();
+//! let glb = model_glb(&map).unwrap();
+//! assert!(png.starts_with(b"\x89PNG") && glb.starts_with(b"glTF"));
+//! ```
+//!
+//! # References
+//! - glTF 2.0 specification, Khronos Group: <https://registry.khronos.org/glTF/specs/2.0/glTF-2.0.html>
+//!   (GLB layout, accessor bounds, Y-up right-handed frame).
+//! - SVG 1.1, W3C: `fill-rule="evenodd"` for free space with holes.
+//! - M. Held, *FIST: Fast industrial-strength triangulation of polygons*, 2001 (ear cutting).
+#![deny(missing_docs)]
+#![cfg_attr(test, allow(clippy::unwrap_used, clippy::expect_used))]
+
+pub mod error;
+mod geometry;
+mod metrics;
+pub mod model;
+pub mod raster;
+pub mod svg;
+
+pub use error::RenderError;
+pub use model::model_glb;
+pub use raster::svg_to_png;
+pub use svg::{FloorPlanStyle, floor_plan_svg};

@@ -1,4 +1,5 @@
 //! Integration tests of vpmap-metrology: geometry against independent pinhole cameras.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::missing_panics_doc)]
 
 mod bad_input;
 mod errata_cases;

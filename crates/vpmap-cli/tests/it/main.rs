@@ -1,0 +1,227 @@
+//! End-to-end tests of the `vpmap` binary.
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::missing_panics_doc)]
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn vpmap(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_vpmap"))
+        .args(args)
+        .output()
+        .expect("run vpmap")
+}
+
+fn example() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../examples/office.json")
+}
+
+fn files_in(dir: &Path) -> Vec<String> {
+    let mut names: Vec<String> = std::fs::read_dir(dir)
+        .map(|rd| {
+            rd.map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    names.sort();
+    names
+}
+
+const OUTPUTS: [&str; 6] = [
+    "map.json",
+    "map.png",
+    "map.svg",
+    "model.glb",
+    "occupancy.pgm",
+    "occupancy.yaml",
+];
+
+#[test]
+fn build_writes_every_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = vpmap(&[
+        "build",
+        example().to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--robot-radius",
+        "0.1",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(files_in(&out), OUTPUTS);
+    let map: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("map.json")).unwrap()).unwrap();
+    assert_eq!(map["units"], "m");
+    assert_eq!(map["camera"]["perspective"], "3pp");
+    assert_eq!(map["objects"].as_array().unwrap().len(), 5);
+    let yaml = std::fs::read_to_string(out.join("occupancy.yaml")).unwrap();
+    for key in [
+        "image: occupancy.pgm",
+        "resolution:",
+        "origin:",
+        "negate:",
+        "occupied_thresh:",
+        "free_thresh:",
+    ] {
+        assert!(yaml.contains(key), "occupancy.yaml lacks {key}:\n{yaml}");
+    }
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("wardrobe") && stdout.contains("pitch"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn demo_reports_its_error_against_the_truth() {
+    let dir = tempfile::tempdir().unwrap();
+    for method in ["sideview", "projective"] {
+        let out = dir.path().join(method);
+        let o = vpmap(&["demo", "--out", out.to_str().unwrap(), "--method", method]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let stdout = String::from_utf8_lossy(&o.stdout);
+        let line = stdout
+            .lines()
+            .find(|l| l.starts_with("error against the known truth"))
+            .unwrap_or_else(|| panic!("no error line in:\n{stdout}"));
+        // "... corners and floor 1.23e-15 m, heights ..."
+        let pos: f64 = line
+            .split("corners and floor ")
+            .nth(1)
+            .and_then(|s| s.split(' ').next())
+            .and_then(|s| s.parse().ok())
+            .unwrap_or_else(|| panic!("cannot parse {line}"));
+        assert!(pos < 1e-9, "{method}: demo error {pos} m");
+        assert_eq!(files_in(&out), OUTPUTS);
+    }
+}
+
+fn assert_fails_cleanly(args: &[&str], out: &Path, needle: &str) {
+    let o = vpmap(args);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success(), "expected failure for {args:?}");
+    assert!(stderr.starts_with("error: "), "{stderr}");
+    assert!(stderr.contains(needle), "expected {needle:?} in: {stderr}");
+    assert_eq!(
+        stderr.trim_end().lines().count(),
+        1,
+        "one-line error expected: {stderr}"
+    );
+    assert!(!stderr.contains("panicked"), "{stderr}");
+    assert!(
+        files_in(out).is_empty(),
+        "no output may be left behind, found {:?}",
+        files_in(out)
+    );
+}
+
+#[test]
+fn bad_scenes_leave_no_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let scene = dir.path().join("scene.json");
+    let o = out.to_str().unwrap();
+    let s = scene.to_str().unwrap();
+
+    std::fs::write(&scene, "{ not json").unwrap();
+    assert_fails_cleanly(&["build", s, "--out", o], &out, "malformed");
+
+    let good = std::fs::read_to_string(example()).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&good).unwrap();
+    v["objects"][0]["base"]["near"] = serde_json::json!([800.0, 10.0]);
+    std::fs::write(&scene, v.to_string()).unwrap();
+    assert_fails_cleanly(&["build", s, "--out", o], &out, "objects[0].base.near");
+
+    let mut v: serde_json::Value = serde_json::from_str(&good).unwrap();
+    v["scale"] = serde_json::json!({"object": "sofa", "dimension": "height", "meters": 1.0});
+    std::fs::write(&scene, v.to_string()).unwrap();
+    assert_fails_cleanly(&["build", s, "--out", o], &out, "\"sofa\"");
+
+    assert_fails_cleanly(
+        &[
+            "build",
+            dir.path().join("missing.json").to_str().unwrap(),
+            "--out",
+            o,
+        ],
+        &out,
+        "cannot read scene file",
+    );
+    assert_fails_cleanly(
+        &[
+            "build",
+            example().to_str().unwrap(),
+            "--out",
+            o,
+            "--resolution",
+            "0",
+        ],
+        &out,
+        "--resolution",
+    );
+    assert_fails_cleanly(
+        &[
+            "build",
+            example().to_str().unwrap(),
+            "--out",
+            o,
+            "--robot-radius",
+            "NaN",
+        ],
+        &out,
+        "--robot-radius",
+    );
+}
+
+#[test]
+fn unwritable_output_folder_is_a_clear_error() {
+    let dir = tempfile::tempdir().unwrap();
+    // A regular file where the output folder should be.
+    let blocker = dir.path().join("blocker");
+    std::fs::write(&blocker, "x").unwrap();
+    let out = blocker.join("out");
+    let o = vpmap(&[
+        "build",
+        example().to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success());
+    assert!(stderr.contains("cannot create output folder"), "{stderr}");
+    assert_eq!(std::fs::read_to_string(&blocker).unwrap(), "x");
+}
+
+#[test]
+fn synth_then_build_round_trip() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("s.json");
+    let o = vpmap(&[
+        "synth",
+        "--seed",
+        "3",
+        "--pitch",
+        "0",
+        "--roll",
+        "-4",
+        "--lines",
+        "--out",
+        scene.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(dir.path().join("s.truth.json").exists());
+    let out = dir.path().join("out");
+    let o = vpmap(&[
+        "build",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--method",
+        "projective",
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let map: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("map.json")).unwrap()).unwrap();
+    assert_eq!(map["camera"]["perspective"], "2pp");
+    assert_eq!(map["method"], "projective");
+}

@@ -1,0 +1,133 @@
+//! The one error type of this crate.
+
+use std::path::PathBuf;
+
+use thiserror::Error;
+
+/// Everything that can go wrong when building, reading or writing an occupancy grid.
+///
+/// Every variant carries the offending values (field, value, file path) so that a user can
+/// fix the input without reading the code.
+#[derive(Debug, Error)]
+#[non_exhaustive]
+pub enum PlanError {
+    /// A numeric parameter (an option field or a grid property) is outside its valid range.
+    #[error("`{field}` is {value}; it {requirement}")]
+    InvalidParameter {
+        /// Name of the parameter, e.g. `RasterOptions.resolution_m`.
+        field: &'static str,
+        /// The value given.
+        value: f64,
+        /// What the value must satisfy, e.g. "must be finite and positive".
+        requirement: &'static str,
+    },
+    /// A grid would have more cells than [`crate::grid::MAX_CELLS`].
+    #[error(
+        "a grid of {width} x {height} cells exceeds the limit of {max} cells (use a coarser resolution or a smaller map)"
+    )]
+    GridTooLarge {
+        /// Requested width, cells (saturated at `usize::MAX`).
+        width: usize,
+        /// Requested height, cells (saturated at `usize::MAX`).
+        height: usize,
+        /// The limit, cells.
+        max: usize,
+    },
+    /// A grid needs at least one row and one column.
+    #[error("a grid of {width} x {height} cells is empty; it needs at least one row and column")]
+    EmptyGrid {
+        /// Requested width, cells.
+        width: usize,
+        /// Requested height, cells.
+        height: usize,
+    },
+    /// A cell vector does not have `width * height` entries.
+    #[error("a {width} x {height} grid needs {expected} cells, but {found} were given")]
+    CellCount {
+        /// Grid width, cells.
+        width: usize,
+        /// Grid height, cells.
+        height: usize,
+        /// `width * height`.
+        expected: usize,
+        /// Length of the vector given.
+        found: usize,
+    },
+    /// A cell index outside the grid.
+    #[error("cell ({x}, {y}) is outside the {width} x {height} grid")]
+    CellOutOfBounds {
+        /// Column of the cell.
+        x: usize,
+        /// Row of the cell, from the top.
+        y: usize,
+        /// Grid width, cells.
+        width: usize,
+        /// Grid height, cells.
+        height: usize,
+    },
+    /// A coordinate of the floor map is NaN or infinite.
+    #[error("floor map coordinate `{field}` is not finite ({value})")]
+    NonFiniteMap {
+        /// Path of the coordinate, e.g. `objects[2].footprint[1][0]`.
+        field: String,
+        /// The value found.
+        value: f64,
+    },
+    /// A file could not be read or written.
+    #[error("cannot {action} `{}`: {source}", path.display())]
+    Io {
+        /// "read", "write" or "rename to".
+        action: &'static str,
+        /// The file.
+        path: PathBuf,
+        /// The operating system's error.
+        source: std::io::Error,
+    },
+    /// A map YAML file is not valid YAML or a field has the wrong type.
+    #[error("map file `{}` is malformed: {message}", path.display())]
+    Yaml {
+        /// The YAML file.
+        path: PathBuf,
+        /// The parser's message, with line and column.
+        message: String,
+    },
+    /// A required field of a map YAML file is missing.
+    #[error("map file `{}` has no `{field}` field", path.display())]
+    MissingField {
+        /// The YAML file.
+        path: PathBuf,
+        /// The missing field.
+        field: &'static str,
+    },
+    /// A field of a map YAML file has an invalid value.
+    #[error("map file `{}`: `{field}` is {value}; {reason}", path.display())]
+    InvalidField {
+        /// The YAML file.
+        path: PathBuf,
+        /// The field.
+        field: &'static str,
+        /// The value found, as text.
+        value: String,
+        /// What is wrong with it.
+        reason: String,
+    },
+    /// A map image is malformed (truncated, bad header, value above the maximum).
+    #[error("map image `{}` is malformed: {reason}", path.display())]
+    MalformedImage {
+        /// The image file.
+        path: PathBuf,
+        /// What is wrong, with the values.
+        reason: String,
+    },
+    /// A map image is in a format or variant this crate does not read.
+    #[error("map image `{}` is not supported: {reason}", path.display())]
+    UnsupportedImage {
+        /// The image file.
+        path: PathBuf,
+        /// Which format or variant it is.
+        reason: String,
+    },
+}
+
+/// Result alias of this crate.
+pub type Result<T, E = PlanError> = std::result::Result<T, E>;

@@ -1,0 +1,784 @@
+//! ROS `map_server` map files: a YAML description beside a greyscale image.
+//!
+//! Writing ([`encode_ros_map`], [`write_ros_map`]) produces a binary PGM (`P5`, maxval 255)
+//! with free cells 254, occupied cells 0 and unknown cells 205, and a YAML file with
+//! `negate: 0`, `occupied_thresh: 0.65`, `free_thresh: 0.196` and `mode: trinary`, the
+//! values `map_saver` writes. Image row 0 is the grid's row 0: the top, highest world `y`.
+//!
+//! Reading ([`read_ros_map`]) follows `map_server` (ROS 2 `nav2_map_server`):
+//! - YAML fields: `image` (a path relative to the YAML file's folder, or absolute),
+//!   `resolution` and `origin: [x, y, yaw]` are required; `negate` (0/1 or a boolean,
+//!   default 0), `occupied_thresh` (default 0.65), `free_thresh` (default 0.196) and `mode`
+//!   (`trinary`, `scale` or `raw`, default `trinary`) are optional. Other keys are ignored.
+//!   A non-zero yaw is refused: the grid is axis-aligned.
+//! - Images: PGM (`P5` binary and `P2` ASCII, maxval up to 255) and PNG (8-bit or less grey,
+//!   grey with alpha, RGB and RGBA; 16-bit samples are reduced to 8 bits; colour is the mean
+//!   of the red, green and blue channels, as ROS 1 `map_server`).
+//! - A pixel of value `v` with maximum `m` has the occupancy `p = (m - v) / m`, or `v / m`
+//!   with `negate`. `trinary`: occupied if `p > occupied_thresh`, free if
+//!   `p < free_thresh`, else unknown. `scale`: the same, except that a pixel that is not
+//!   fully opaque is unknown; the intermediate probabilities that `map_server` keeps are
+//!   unknown here, since the grid has three states. `raw`: the pixel value (scaled to
+//!   0-255, `negate` ignored as in `nav2_map_server`) is the occupancy in percent;
+//!   values above 100 are unknown, others are thresholded as `p = value / 100`.
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use serde::Deserialize;
+
+use crate::error::{PlanError, Result};
+use crate::grid::{Cell, MAX_CELLS, OccupancyGrid, checked_cell_count};
+
+/// Pixel value written for a free cell.
+pub const FREE_PIXEL: u8 = 254;
+/// Pixel value written for an occupied cell.
+pub const OCCUPIED_PIXEL: u8 = 0;
+/// Pixel value written for an unknown cell.
+pub const UNKNOWN_PIXEL: u8 = 205;
+/// `occupied_thresh` written, and the default when a YAML file has none.
+pub const OCCUPIED_THRESH: f64 = 0.65;
+/// `free_thresh` written, and the default when a YAML file has none.
+pub const FREE_THRESH: f64 = 0.196;
+
+/// A float as YAML text that reads back to the same value, with a `.` so that YAML 1.1
+/// readers see a float.
+fn yaml_float(value: f64) -> String {
+    let s = format!("{value}");
+    if s.contains(['.', 'e', 'E', 'i', 'N']) {
+        s
+    } else {
+        s + ".0"
+    }
+}
+
+/// A string as a YAML scalar: plain when unambiguous, else double-quoted.
+fn yaml_string(value: &str) -> String {
+    const RESERVED: [&str; 11] = [
+        "true", "false", "yes", "no", "on", "off", "null", "y", "n", "inf", "nan",
+    ];
+    let plain = value
+        .chars()
+        .next()
+        .is_some_and(|c| c.is_ascii_alphabetic() || c == '_' || c == '/')
+        && value
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '.' | '_' | '/' | '-'))
+        && !RESERVED.contains(&value.to_ascii_lowercase().as_str());
+    if plain {
+        return value.to_owned();
+    }
+    let mut out = String::from("\"");
+    for c in value.chars() {
+        match c {
+            '"' => out.push_str("\\\""),
+            '\\' => out.push_str("\\\\"),
+            c if c.is_control() => {
+                let _ = write!(out, "\\u{:04X}", u32::from(c));
+            }
+            c => out.push(c),
+        }
+    }
+    out.push('"');
+    out
+}
+
+/// The `map_server` YAML text and the binary PGM image of a grid.
+///
+/// `image_file_name` is written as the YAML's `image` field: store the image under that
+/// name in the YAML file's folder (or use [`write_ros_map`], which does).
+///
+/// # Example
+/// ```
+/// use vpmap_plan::{encode_ros_map, Cell, OccupancyGrid};
+/// let mut grid = OccupancyGrid::new(3, 2, 0.05, [-1.0, 0.5], Cell::Free).unwrap();
+/// grid.set(0, 0, Cell::Occupied).unwrap();
+/// grid.set(2, 1, Cell::Unknown).unwrap();
+/// let (yaml, pgm) = encode_ros_map(&grid, "room.pgm");
+/// assert!(yaml.contains("image: room.pgm\n"));
+/// assert!(yaml.contains("origin: [-1.0, 0.5, 0.0]\n"));
+/// let header = b"P5\n3 2\n255\n";
+/// assert_eq!(&pgm[..header.len()], header);
+/// assert_eq!(&pgm[header.len()..], &[0, 254, 254, 254, 254, 205]);
+/// ```
+#[must_use]
+pub fn encode_ros_map(grid: &OccupancyGrid, image_file_name: &str) -> (String, Vec<u8>) {
+    let [ox, oy] = grid.origin_m();
+    let yaml = format!(
+        "image: {}\nresolution: {}\norigin: [{}, {}, 0.0]\nnegate: 0\noccupied_thresh: {}\nfree_thresh: {}\nmode: trinary\n",
+        yaml_string(image_file_name),
+        yaml_float(grid.resolution_m()),
+        yaml_float(ox),
+        yaml_float(oy),
+        yaml_float(OCCUPIED_THRESH),
+        yaml_float(FREE_THRESH),
+    );
+    let header = format!("P5\n{} {}\n255\n", grid.width(), grid.height());
+    let mut pgm = Vec::with_capacity(header.len() + grid.cells().len());
+    pgm.extend_from_slice(header.as_bytes());
+    pgm.extend(grid.cells().iter().map(|c| match c {
+        Cell::Free => FREE_PIXEL,
+        Cell::Occupied => OCCUPIED_PIXEL,
+        Cell::Unknown => UNKNOWN_PIXEL,
+    }));
+    (yaml, pgm)
+}
+
+/// Write `bytes` to `path` through a temporary file in the same folder, renamed into place,
+/// so that a failure never leaves half a file.
+fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
+    let io = |action, path: &Path| {
+        let path = path.to_path_buf();
+        move |source| PlanError::Io {
+            action,
+            path,
+            source,
+        }
+    };
+    let name = path.file_name().ok_or_else(|| PlanError::Io {
+        action: "write",
+        path: path.to_path_buf(),
+        source: std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "the path has no file name",
+        ),
+    })?;
+    let mut tmp_name = std::ffi::OsString::from(".");
+    tmp_name.push(name);
+    tmp_name.push(format!(".{}.tmp", std::process::id()));
+    let tmp = path.with_file_name(tmp_name);
+    std::fs::write(&tmp, bytes).map_err(io("write", &tmp))?;
+    std::fs::rename(&tmp, path).map_err(|e| {
+        let _ = std::fs::remove_file(&tmp);
+        io("rename to", path)(e)
+    })
+}
+
+/// Write a grid as `map_server` files: the YAML at `yaml_path` and the PGM image beside it,
+/// named after it with the extension `pgm`. Returns the image's path.
+///
+/// # Errors
+/// [`PlanError::Io`] naming the file that could not be written, or `yaml_path` when it
+/// ends in `.pgm`.
+///
+/// # Example
+/// ```
+/// use vpmap_plan::{read_ros_map, write_ros_map, Cell, OccupancyGrid};
+/// let dir = tempfile::tempdir().unwrap();
+/// let grid = OccupancyGrid::new(4, 2, 0.1, [0.0, -0.2], Cell::Unknown).unwrap();
+/// let image = write_ros_map(&grid, &dir.path().join("room.yaml")).unwrap();
+/// assert_eq!(image, dir.path().join("room.pgm"));
+/// assert_eq!(read_ros_map(&dir.path().join("room.yaml")).unwrap(), grid);
+/// ```
+pub fn write_ros_map(grid: &OccupancyGrid, yaml_path: &Path) -> Result<PathBuf> {
+    let image_path = yaml_path.with_extension("pgm");
+    if image_path == yaml_path {
+        return Err(PlanError::Io {
+            action: "write",
+            path: yaml_path.to_path_buf(),
+            source: std::io::Error::new(
+                std::io::ErrorKind::InvalidInput,
+                "the map YAML file must not have the image's extension `.pgm`",
+            ),
+        });
+    }
+    let image_name = image_path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let (yaml, pgm) = encode_ros_map(grid, &image_name);
+    write_atomically(&image_path, &pgm)?;
+    write_atomically(yaml_path, yaml.as_bytes())?;
+    Ok(image_path)
+}
+
+/// How pixel values map to occupancy (`mode` of the YAML file).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum MapMode {
+    Trinary,
+    Scale,
+    Raw,
+}
+
+/// `negate` as `map_server` accepts it: an integer or a boolean.
+#[derive(Deserialize)]
+#[serde(untagged)]
+enum Negate {
+    Bool(bool),
+    Int(i64),
+}
+
+/// The YAML file as written; every field optional so that a missing one is reported by name.
+#[derive(Deserialize)]
+struct RawMapYaml {
+    image: Option<String>,
+    resolution: Option<f64>,
+    origin: Option<Vec<f64>>,
+    negate: Option<Negate>,
+    occupied_thresh: Option<f64>,
+    free_thresh: Option<f64>,
+    mode: Option<String>,
+}
+
+/// A validated map YAML file.
+#[derive(Debug, Clone, PartialEq)]
+struct MapYaml {
+    image: PathBuf,
+    resolution_m: f64,
+    origin_m: [f64; 2],
+    negate: bool,
+    occupied_thresh: f64,
+    free_thresh: f64,
+    mode: MapMode,
+}
+
+fn parse_map_yaml(text: &str, yaml_path: &Path) -> Result<MapYaml> {
+    let raw: Option<RawMapYaml> = serde_saphyr::from_str(text).map_err(|e| PlanError::Yaml {
+        path: yaml_path.to_path_buf(),
+        message: e.to_string(),
+    })?;
+    let raw = raw.ok_or_else(|| PlanError::MissingField {
+        path: yaml_path.to_path_buf(),
+        field: "image",
+    })?;
+    let missing = |field| PlanError::MissingField {
+        path: yaml_path.to_path_buf(),
+        field,
+    };
+    let invalid = |field, value: String, reason: &str| PlanError::InvalidField {
+        path: yaml_path.to_path_buf(),
+        field,
+        value,
+        reason: reason.to_owned(),
+    };
+    let image = raw.image.ok_or_else(|| missing("image"))?;
+    if image.is_empty() {
+        return Err(invalid(
+            "image",
+            "\"\"".to_owned(),
+            "it must name the image file",
+        ));
+    }
+    let resolution_m = raw.resolution.ok_or_else(|| missing("resolution"))?;
+    if !(resolution_m.is_finite() && resolution_m > 0.0) {
+        return Err(invalid(
+            "resolution",
+            resolution_m.to_string(),
+            "it must be finite and positive",
+        ));
+    }
+    let origin = raw.origin.ok_or_else(|| missing("origin"))?;
+    let &[ox, oy, yaw] = origin.as_slice() else {
+        return Err(invalid(
+            "origin",
+            format!("{origin:?}"),
+            "it must have 3 elements [x, y, yaw]",
+        ));
+    };
+    if !(ox.is_finite() && oy.is_finite() && yaw.is_finite()) {
+        return Err(invalid(
+            "origin",
+            format!("{origin:?}"),
+            "its elements must be finite",
+        ));
+    }
+    if yaw != 0.0 {
+        return Err(invalid(
+            "origin",
+            format!("{origin:?}"),
+            "rotated maps are not supported: the yaw (third element) must be 0",
+        ));
+    }
+    let negate = match raw.negate {
+        None | Some(Negate::Bool(false) | Negate::Int(0)) => false,
+        Some(Negate::Bool(true) | Negate::Int(_)) => true,
+    };
+    let occupied_thresh = raw.occupied_thresh.unwrap_or(OCCUPIED_THRESH);
+    let free_thresh = raw.free_thresh.unwrap_or(FREE_THRESH);
+    for (field, value) in [
+        ("occupied_thresh", occupied_thresh),
+        ("free_thresh", free_thresh),
+    ] {
+        if !(0.0..=1.0).contains(&value) {
+            return Err(invalid(field, value.to_string(), "it must be in [0, 1]"));
+        }
+    }
+    if free_thresh > occupied_thresh {
+        return Err(invalid(
+            "free_thresh",
+            free_thresh.to_string(),
+            &format!("it must not exceed occupied_thresh ({occupied_thresh})"),
+        ));
+    }
+    let mode = match raw.mode.as_deref() {
+        None | Some("trinary") => MapMode::Trinary,
+        Some("scale") => MapMode::Scale,
+        Some("raw") => MapMode::Raw,
+        Some(other) => {
+            return Err(invalid(
+                "mode",
+                format!("\"{other}\""),
+                "it must be \"trinary\", \"scale\" or \"raw\"",
+            ));
+        }
+    };
+    let image = Path::new(&image);
+    let image = if image.is_absolute() {
+        image.to_path_buf()
+    } else {
+        yaml_path
+            .parent()
+            .unwrap_or_else(|| Path::new(""))
+            .join(image)
+    };
+    Ok(MapYaml {
+        image,
+        resolution_m,
+        origin_m: [ox, oy],
+        negate,
+        occupied_thresh,
+        free_thresh,
+        mode,
+    })
+}
+
+/// A decoded greyscale image, rows from the top.
+#[derive(Debug, Clone, PartialEq)]
+struct GreyImage {
+    width: usize,
+    height: usize,
+    /// Largest possible sample value (PGM maxval; 255 for PNG).
+    max_value: u8,
+    grey: Vec<u8>,
+    /// Alpha per pixel, when the image has an alpha channel.
+    alpha: Option<Vec<u8>>,
+}
+
+/// A cursor over a PGM header.
+struct PgmHeader<'a> {
+    bytes: &'a [u8],
+    pos: usize,
+}
+
+impl PgmHeader<'_> {
+    /// Skip whitespace and `#` comments.
+    fn skip_space(&mut self) {
+        while let Some(&b) = self.bytes.get(self.pos) {
+            if b == b'#' {
+                while self
+                    .bytes
+                    .get(self.pos)
+                    .is_some_and(|&c| c != b'\n' && c != b'\r')
+                {
+                    self.pos += 1;
+                }
+            } else if b.is_ascii_whitespace() {
+                self.pos += 1;
+            } else {
+                break;
+            }
+        }
+    }
+
+    /// The next unsigned decimal number, or `None` when the next token is not one.
+    fn number(&mut self) -> Option<u64> {
+        self.skip_space();
+        let start = self.pos;
+        let mut value: u64 = 0;
+        while let Some(&b) = self.bytes.get(self.pos) {
+            if !b.is_ascii_digit() {
+                break;
+            }
+            value = value.saturating_mul(10).saturating_add(u64::from(b - b'0'));
+            self.pos += 1;
+        }
+        (self.pos > start).then_some(value)
+    }
+}
+
+fn decode_pgm(bytes: &[u8], path: &Path) -> Result<GreyImage> {
+    let malformed = |reason: String| PlanError::MalformedImage {
+        path: path.to_path_buf(),
+        reason,
+    };
+    let ascii = match bytes.get(..2) {
+        Some(b"P5") => false,
+        Some(b"P2") => true,
+        _ => return Err(malformed("not a PGM file (no P2 or P5 magic)".to_owned())),
+    };
+    let mut header = PgmHeader { bytes, pos: 2 };
+    let mut field = |name: &str| {
+        header
+            .number()
+            .ok_or_else(|| malformed(format!("the header has no {name}")))
+    };
+    let width = field("width")?;
+    let height = field("height")?;
+    let maxval = field("maxval")?;
+    let width = usize::try_from(width).unwrap_or(usize::MAX);
+    let height = usize::try_from(height).unwrap_or(usize::MAX);
+    let n = checked_cell_count(width, height)?;
+    let max_value = match u8::try_from(maxval) {
+        Ok(0) => return Err(malformed("maxval is 0".to_owned())),
+        Ok(m) => m,
+        Err(_) => {
+            return Err(PlanError::UnsupportedImage {
+                path: path.to_path_buf(),
+                reason: format!("PGM maxval {maxval} (16-bit samples); maxval must be at most 255"),
+            });
+        }
+    };
+    let grey = if ascii {
+        let mut grey = Vec::with_capacity(n);
+        for i in 0..n {
+            let v = header.number().ok_or_else(|| {
+                malformed(format!(
+                    "the ASCII raster ends after {i} of {n} values, or holds a non-number"
+                ))
+            })?;
+            match u8::try_from(v) {
+                Ok(v) if v <= max_value => grey.push(v),
+                _ => {
+                    return Err(malformed(format!(
+                        "value {v} of pixel {i} exceeds maxval {max_value}"
+                    )));
+                }
+            }
+        }
+        grey
+    } else {
+        // Exactly one whitespace byte separates maxval from the raster.
+        let start = header.pos + 1;
+        let raster = bytes
+            .get(start..)
+            .and_then(|rest| rest.get(..n))
+            .ok_or_else(|| {
+                malformed(format!(
+                    "the raster has {} bytes; {width} x {height} pixels need {n}",
+                    bytes.len().saturating_sub(start)
+                ))
+            })?;
+        if let Some((i, v)) = raster.iter().enumerate().find(|(_, v)| **v > max_value) {
+            return Err(malformed(format!(
+                "value {v} of pixel {i} exceeds maxval {max_value}"
+            )));
+        }
+        raster.to_vec()
+    };
+    Ok(GreyImage {
+        width,
+        height,
+        max_value,
+        grey,
+        alpha: None,
+    })
+}
+
+fn decode_png(bytes: &[u8], path: &Path) -> Result<GreyImage> {
+    let malformed = |e: png::DecodingError| PlanError::MalformedImage {
+        path: path.to_path_buf(),
+        reason: e.to_string(),
+    };
+    let limits = png::Limits {
+        bytes: MAX_CELLS.saturating_mul(4),
+    };
+    let mut decoder = png::Decoder::new_with_limits(std::io::Cursor::new(bytes), limits);
+    decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
+    let mut reader = decoder.read_info().map_err(malformed)?;
+    let (w, h) = reader.info().size();
+    let width = usize::try_from(w).unwrap_or(usize::MAX);
+    let height = usize::try_from(h).unwrap_or(usize::MAX);
+    let n = checked_cell_count(width, height)?;
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).map_err(malformed)?;
+    let channels = match info.color_type {
+        png::ColorType::Grayscale => 1,
+        png::ColorType::GrayscaleAlpha => 2,
+        png::ColorType::Rgb => 3,
+        png::ColorType::Rgba => 4,
+        png::ColorType::Indexed => {
+            return Err(PlanError::UnsupportedImage {
+                path: path.to_path_buf(),
+                reason: "an indexed-colour PNG that did not expand to RGB".to_owned(),
+            });
+        }
+    };
+    let has_alpha = channels % 2 == 0;
+    let mut grey = Vec::with_capacity(n);
+    let mut alpha = Vec::with_capacity(if has_alpha { n } else { 0 });
+    for row in buf.chunks(info.line_size.max(1)).take(height) {
+        for px in row.chunks_exact(channels).take(width) {
+            let colour = if channels >= 3 { &px[..3] } else { &px[..1] };
+            let sum: u32 = colour.iter().map(|&v| u32::from(v)).sum();
+            let mean = (sum + colour.len() as u32 / 2) / colour.len() as u32;
+            grey.push(u8::try_from(mean).unwrap_or(u8::MAX));
+            if has_alpha {
+                alpha.push(px.last().copied().unwrap_or(u8::MAX));
+            }
+        }
+    }
+    if grey.len() != n {
+        return Err(PlanError::MalformedImage {
+            path: path.to_path_buf(),
+            reason: format!("decoded {} of {n} pixels", grey.len()),
+        });
+    }
+    Ok(GreyImage {
+        width,
+        height,
+        max_value: u8::MAX,
+        grey,
+        alpha: has_alpha.then_some(alpha),
+    })
+}
+
+fn decode_image(bytes: &[u8], path: &Path) -> Result<GreyImage> {
+    match bytes.get(..2) {
+        Some(b"P2" | b"P5") => decode_pgm(bytes, path),
+        _ if bytes.starts_with(b"\x89PNG\r\n\x1a\n") => decode_png(bytes, path),
+        Some([b'P', b'1' | b'3' | b'4' | b'6']) => Err(PlanError::UnsupportedImage {
+            path: path.to_path_buf(),
+            reason: "a PBM or PPM file; use a greyscale PGM (P2 or P5) or PNG".to_owned(),
+        }),
+        _ => Err(PlanError::UnsupportedImage {
+            path: path.to_path_buf(),
+            reason: "neither PGM nor PNG (by its first bytes)".to_owned(),
+        }),
+    }
+}
+
+/// The cell of an occupancy probability `p`.
+fn threshold(p: f64, meta: &MapYaml) -> Cell {
+    if p > meta.occupied_thresh {
+        Cell::Occupied
+    } else if p < meta.free_thresh {
+        Cell::Free
+    } else {
+        Cell::Unknown
+    }
+}
+
+/// The cell of a pixel (rules in the [module docs](self)).
+fn cell_from_pixel(value: u8, alpha: u8, max_value: u8, meta: &MapYaml) -> Cell {
+    let m = f64::from(max_value);
+    let v = f64::from(value);
+    match meta.mode {
+        MapMode::Raw => {
+            let percent = (v * 255.0 / m).round();
+            if percent <= 100.0 {
+                threshold(percent / 100.0, meta)
+            } else {
+                Cell::Unknown
+            }
+        }
+        MapMode::Scale if alpha < u8::MAX => Cell::Unknown,
+        MapMode::Trinary | MapMode::Scale => {
+            let p = if meta.negate { v / m } else { (m - v) / m };
+            threshold(p, meta)
+        }
+    }
+}
+
+/// Read a `map_server` map: the YAML file and the image it names (rules in the
+/// [module docs](self)).
+///
+/// # Errors
+/// [`PlanError::Io`] naming a file that cannot be read (the YAML or its image),
+/// [`PlanError::Yaml`] for malformed YAML, [`PlanError::MissingField`] and
+/// [`PlanError::InvalidField`] naming the field, [`PlanError::MalformedImage`] and
+/// [`PlanError::UnsupportedImage`] for the image, [`PlanError::GridTooLarge`] above
+/// [`MAX_CELLS`] pixels.
+///
+/// # Example
+/// ```
+/// use vpmap_plan::{read_ros_map, Cell};
+/// let dir = tempfile::tempdir().unwrap();
+/// std::fs::write(dir.path().join("m.pgm"), b"P2 2 1 255\n0 254\n").unwrap();
+/// std::fs::write(dir.path().join("m.yaml"), "image: m.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n").unwrap();
+/// let grid = read_ros_map(&dir.path().join("m.yaml")).unwrap();
+/// assert_eq!(grid.cells(), &[Cell::Occupied, Cell::Free]);
+/// ```
+pub fn read_ros_map(yaml_path: &Path) -> Result<OccupancyGrid> {
+    let text = std::fs::read_to_string(yaml_path).map_err(|source| PlanError::Io {
+        action: "read",
+        path: yaml_path.to_path_buf(),
+        source,
+    })?;
+    let meta = parse_map_yaml(&text, yaml_path)?;
+    let bytes = std::fs::read(&meta.image).map_err(|source| PlanError::Io {
+        action: "read",
+        path: meta.image.clone(),
+        source,
+    })?;
+    let image = decode_image(&bytes, &meta.image)?;
+    let cells = match &image.alpha {
+        Some(alpha) => image
+            .grey
+            .iter()
+            .zip(alpha)
+            .map(|(&v, &a)| cell_from_pixel(v, a, image.max_value, &meta))
+            .collect(),
+        None => image
+            .grey
+            .iter()
+            .map(|&v| cell_from_pixel(v, u8::MAX, image.max_value, &meta))
+            .collect(),
+    };
+    OccupancyGrid::from_cells(
+        image.width,
+        image.height,
+        meta.resolution_m,
+        meta.origin_m,
+        cells,
+    )
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used, clippy::float_cmp)]
+mod tests {
+    use super::*;
+
+    fn meta(mode: MapMode, negate: bool) -> MapYaml {
+        MapYaml {
+            image: PathBuf::from("m.pgm"),
+            resolution_m: 0.05,
+            origin_m: [0.0; 2],
+            negate,
+            occupied_thresh: OCCUPIED_THRESH,
+            free_thresh: FREE_THRESH,
+            mode,
+        }
+    }
+
+    #[test]
+    fn written_pixel_values_read_back_as_their_cells() {
+        let m = meta(MapMode::Trinary, false);
+        assert_eq!(cell_from_pixel(FREE_PIXEL, 255, 255, &m), Cell::Free);
+        assert_eq!(
+            cell_from_pixel(OCCUPIED_PIXEL, 255, 255, &m),
+            Cell::Occupied
+        );
+        assert_eq!(cell_from_pixel(UNKNOWN_PIXEL, 255, 255, &m), Cell::Unknown);
+    }
+
+    #[test]
+    fn negate_swaps_black_and_white() {
+        let m = meta(MapMode::Trinary, true);
+        assert_eq!(cell_from_pixel(0, 255, 255, &m), Cell::Free);
+        assert_eq!(cell_from_pixel(255, 255, 255, &m), Cell::Occupied);
+    }
+
+    #[test]
+    fn scale_mode_makes_transparent_pixels_unknown() {
+        let m = meta(MapMode::Scale, false);
+        assert_eq!(cell_from_pixel(0, 254, 255, &m), Cell::Unknown);
+        assert_eq!(cell_from_pixel(0, 255, 255, &m), Cell::Occupied);
+        let t = meta(MapMode::Trinary, false);
+        assert_eq!(cell_from_pixel(0, 0, 255, &t), Cell::Occupied);
+    }
+
+    #[test]
+    fn raw_mode_reads_percentages() {
+        let m = meta(MapMode::Raw, false);
+        assert_eq!(cell_from_pixel(0, 255, 255, &m), Cell::Free);
+        assert_eq!(cell_from_pixel(100, 255, 255, &m), Cell::Occupied);
+        assert_eq!(cell_from_pixel(50, 255, 255, &m), Cell::Unknown);
+        assert_eq!(cell_from_pixel(101, 255, 255, &m), Cell::Unknown);
+        assert_eq!(cell_from_pixel(255, 255, 255, &m), Cell::Unknown);
+    }
+
+    #[test]
+    fn smaller_maxval_scales_values() {
+        let m = meta(MapMode::Trinary, false);
+        assert_eq!(cell_from_pixel(1, 255, 1, &m), Cell::Free);
+        assert_eq!(cell_from_pixel(0, 255, 1, &m), Cell::Occupied);
+    }
+
+    #[test]
+    fn pgm_header_comments_and_ascii_raster() {
+        let p = Path::new("x.pgm");
+        let img = decode_pgm(b"P2\n# made by hand\n3 # width\n1\n9\n0 9\n5\n", p).unwrap();
+        assert_eq!((img.width, img.height, img.max_value), (3, 1, 9));
+        assert_eq!(img.grey, vec![0, 9, 5]);
+        let img = decode_pgm(b"P5 2 1 255\n\x00\x0a", p).unwrap();
+        assert_eq!(img.grey, vec![0, 10]);
+    }
+
+    #[test]
+    fn malformed_pgm_is_reported() {
+        let p = Path::new("x.pgm");
+        let e = decode_pgm(b"P5 2 2 255\n\x00\x00", p).unwrap_err();
+        assert!(e.to_string().contains("raster has 2 bytes"), "{e}");
+        let e = decode_pgm(b"P2 2 1 9\n0 10\n", p).unwrap_err();
+        assert!(e.to_string().contains("exceeds maxval 9"), "{e}");
+        let e = decode_pgm(b"P5 2 1 65535\n", p).unwrap_err();
+        assert!(matches!(e, PlanError::UnsupportedImage { .. }), "{e}");
+        let e = decode_pgm(b"P5 2 2\n", p).unwrap_err();
+        assert!(e.to_string().contains("no maxval"), "{e}");
+        let e = decode_pgm(b"P5 100000 100000 255\n", p).unwrap_err();
+        assert!(matches!(e, PlanError::GridTooLarge { .. }), "{e}");
+        let e = decode_image(b"P6 1 1 255\n\0\0\0", p).unwrap_err();
+        assert!(e.to_string().contains("PPM"), "{e}");
+    }
+
+    #[test]
+    fn yaml_scalars_are_quoted_when_needed() {
+        assert_eq!(yaml_string("map.pgm"), "map.pgm");
+        assert_eq!(yaml_string("yes"), "\"yes\"");
+        assert_eq!(yaml_string("my map: 1.pgm"), "\"my map: 1.pgm\"");
+        assert_eq!(yaml_string("a\"b"), "\"a\\\"b\"");
+        assert_eq!(yaml_float(2.0), "2.0");
+        assert_eq!(yaml_float(-0.05), "-0.05");
+        assert_eq!(yaml_float(1e-7).parse::<f64>().unwrap(), 1e-7);
+    }
+
+    #[test]
+    fn yaml_defaults_and_errors() {
+        let p = Path::new("/maps/room.yaml");
+        let m = parse_map_yaml("image: a.pgm\nresolution: 0.1\norigin: [1, 2, 0]\n", p).unwrap();
+        assert_eq!(
+            m,
+            MapYaml {
+                image: PathBuf::from("/maps/a.pgm"),
+                resolution_m: 0.1,
+                origin_m: [1.0, 2.0],
+                negate: false,
+                occupied_thresh: OCCUPIED_THRESH,
+                free_thresh: FREE_THRESH,
+                mode: MapMode::Trinary,
+            }
+        );
+        let m = parse_map_yaml(
+            "image: /abs/a.pgm\nresolution: 0.1\norigin: [1, 2, 0.0]\nnegate: true\nmode: raw\n",
+            p,
+        )
+        .unwrap();
+        assert_eq!(m.image, PathBuf::from("/abs/a.pgm"));
+        assert!(m.negate);
+        assert_eq!(m.mode, MapMode::Raw);
+        let e =
+            parse_map_yaml("image: a.pgm\nresolution: 0.1\norigin: [1, 2, 0.5]\n", p).unwrap_err();
+        assert!(e.to_string().contains("yaw"), "{e}");
+        let e = parse_map_yaml("image: a.pgm\nresolution: 0.1\norigin: [1, 2]\n", p).unwrap_err();
+        assert!(e.to_string().contains("3 elements"), "{e}");
+        let e = parse_map_yaml(
+            "image: a.pgm\nresolution: 0.1\norigin: [1, 2, 0]\nmode: fancy\n",
+            p,
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("fancy"), "{e}");
+        let e = parse_map_yaml(
+            "image: a.pgm\nresolution: 0.1\norigin: [1, 2, 0]\nfree_thresh: 0.9\n",
+            p,
+        )
+        .unwrap_err();
+        assert!(e.to_string().contains("free_thresh"), "{e}");
+        let e = parse_map_yaml("image: a.pgm\nresolution: -1\norigin: [1, 2, 0]\n", p).unwrap_err();
+        assert!(e.to_string().contains("`resolution` is -1"), "{e}");
+        let e =
+            parse_map_yaml("image: a.pgm\nresolution: fine\norigin: [1, 2, 0]\n", p).unwrap_err();
+        assert!(matches!(e, PlanError::Yaml { .. }), "{e}");
+        let e = parse_map_yaml("", p).unwrap_err();
+        assert!(e.to_string().contains("image"), "{e}");
+    }
+}

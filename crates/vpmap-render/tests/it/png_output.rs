@@ -1,0 +1,65 @@
+//! The PNG, decoded with the png crate.
+
+use vpmap_render::{FloorPlanStyle, floor_plan_svg, svg_to_png};
+
+use crate::{awkward_map, default_map, save_for_review};
+
+/// Width, height and RGBA pixels of a PNG.
+fn decode(bytes: &[u8]) -> (u32, u32, Vec<[u8; 4]>) {
+    let mut decoder = png::Decoder::new(bytes);
+    decoder.set_transformations(png::Transformations::EXPAND);
+    let mut reader = decoder.read_info().unwrap();
+    let mut buf = vec![0; reader.output_buffer_size()];
+    let info = reader.next_frame(&mut buf).unwrap();
+    assert_eq!(info.color_type, png::ColorType::Rgba);
+    assert_eq!(info.bit_depth, png::BitDepth::Eight);
+    let pixels = buf[..info.buffer_size()]
+        .chunks_exact(4)
+        .map(|c| [c[0], c[1], c[2], c[3]])
+        .collect();
+    (info.width, info.height, pixels)
+}
+
+fn dark(p: [u8; 4]) -> bool {
+    p[3] > 200 && p[0] < 90 && p[1] < 90 && p[2] < 90
+}
+
+#[test]
+fn plan_png_has_the_svg_size_and_visible_text() {
+    let map = default_map();
+    let svg = floor_plan_svg(&map, &FloorPlanStyle::default());
+    let bytes = svg_to_png(&svg).unwrap();
+    save_for_review("render-check.png", &bytes);
+    let (w, h, pixels) = decode(&bytes);
+    assert_eq!(w, 1000);
+    let svg_height: f64 = roxmltree::Document::parse(&svg)
+        .unwrap()
+        .root_element()
+        .attribute("height")
+        .unwrap()
+        .parse()
+        .unwrap();
+    assert_eq!(f64::from(h), svg_height);
+    let distinct: std::collections::BTreeSet<[u8; 4]> = pixels.iter().copied().collect();
+    assert!(distinct.len() > 50, "only {} colours", distinct.len());
+    // The title band (top 40 px, left half) holds only text: it must have dark pixels.
+    let title_dark = (0..40)
+        .flat_map(|y| (0..500).map(move |x| (x, y)))
+        .filter(|&(x, y)| dark(pixels[(y * w + x) as usize]))
+        .count();
+    assert!(title_dark > 300, "{title_dark} dark pixels in the title");
+    // Object labels are drawn too: dark pixels near the first object's centroid label.
+    assert!(pixels.iter().filter(|p| dark(**p)).count() > 3000);
+}
+
+#[test]
+fn small_and_awkward_plan_rasterises() {
+    let style = FloorPlanStyle {
+        width_px: 320,
+        ..FloorPlanStyle::default()
+    };
+    let bytes = svg_to_png(&floor_plan_svg(&awkward_map(), &style)).unwrap();
+    let (w, _, pixels) = decode(&bytes);
+    assert_eq!(w, 320);
+    assert!(pixels.iter().any(|p| dark(*p)));
+}

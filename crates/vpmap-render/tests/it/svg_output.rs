@@ -1,0 +1,220 @@
+//! The SVG floor plan, parsed back with roxmltree.
+
+use roxmltree::{Document, Node};
+use vpmap_render::{FloorPlanStyle, floor_plan_svg};
+
+use crate::{awkward_map, default_map, map_with, save_for_review};
+
+fn by_id<'a>(doc: &'a Document, id: &str) -> Node<'a, 'a> {
+    doc.descendants()
+        .find(|n| n.attribute("id") == Some(id))
+        .unwrap_or_else(|| panic!("no element with id {id}"))
+}
+
+fn texts(doc: &Document) -> Vec<String> {
+    doc.descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .map(|n| n.text().unwrap_or_default().to_owned())
+        .collect()
+}
+
+fn num(n: Node, attr: &str) -> f64 {
+    n.attribute(attr).unwrap().parse().unwrap()
+}
+
+/// Pixel y of every vertex of a path's `d` ("M x y L x y ... Z").
+fn path_ys(d: &str) -> Vec<f64> {
+    d.split(['M', 'L', 'Z'])
+        .filter_map(|s| s.split_whitespace().nth(1).map(|y| y.parse().unwrap()))
+        .collect()
+}
+
+#[test]
+fn default_plan_is_xml_with_every_part() {
+    let map = default_map();
+    let svg = floor_plan_svg(&map, &FloorPlanStyle::default());
+    save_for_review("render-check.svg", svg.as_bytes());
+    let doc = Document::parse(&svg).unwrap();
+    let root = doc.root_element();
+    assert_eq!(root.attribute("width"), Some("1000"));
+    let height = num(root, "height");
+    assert_eq!(
+        root.attribute("viewBox").unwrap(),
+        format!("0 0 1000 {height:.0}")
+    );
+    assert_eq!(
+        root.attribute("font-family"),
+        Some("DejaVu Sans, sans-serif")
+    );
+    for id in [
+        "free-space",
+        "field-of-view",
+        "grid",
+        "floor",
+        "objects",
+        "labels",
+        "station-point",
+        "axes",
+        "title",
+        "scale-bar",
+        "legend",
+    ] {
+        by_id(&doc, id);
+    }
+    let free = by_id(&doc, "free-space");
+    assert!(
+        free.descendants()
+            .any(|n| n.attribute("fill-rule") == Some("evenodd"))
+    );
+    let all_text = texts(&doc).join("\n");
+    for o in &map.objects {
+        assert!(all_text.contains(&o.name), "label of {}", o.name);
+    }
+    assert!(all_text.contains("pitch 20.0°"), "{all_text}");
+    assert!(all_text.contains("units: metres"));
+    assert!(all_text.contains(" m, h "), "box sizes with height");
+    let scale_bar_text: Vec<&str> = by_id(&doc, "scale-bar")
+        .descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter_map(|n| n.text())
+        .collect();
+    assert_eq!(scale_bar_text.len(), 2);
+    assert_eq!(scale_bar_text[0], "0");
+    assert!(scale_bar_text[1].ends_with(" m"), "{scale_bar_text:?}");
+}
+
+#[test]
+fn forward_points_up_the_page() {
+    let map = default_map();
+    let svg = floor_plan_svg(&map, &FloorPlanStyle::default());
+    let doc = Document::parse(&svg).unwrap();
+    let station = by_id(&doc, "station-point")
+        .descendants()
+        .find(|n| n.has_tag_name("circle"))
+        .unwrap();
+    let station_y = num(station, "cy");
+    // Every object is in front of the camera, so above the station point on the page.
+    for (i, o) in map.objects.iter().enumerate() {
+        assert!(o.footprint.iter().all(|p| p[1] > 0.0));
+        let path = by_id(&doc, &format!("object-{i}"));
+        for y in path_ys(path.attribute("d").unwrap()) {
+            assert!(
+                y < station_y,
+                "{}: {y} below the station at {station_y}",
+                o.name
+            );
+        }
+    }
+    // And the farthest object is highest.
+    let far = (0..map.objects.len())
+        .max_by(|&a, &b| map.objects[a].centroid[1].total_cmp(&map.objects[b].centroid[1]))
+        .unwrap();
+    let near = (0..map.objects.len())
+        .min_by(|&a, &b| map.objects[a].centroid[1].total_cmp(&map.objects[b].centroid[1]))
+        .unwrap();
+    let mean = |i: usize| {
+        let ys = path_ys(by_id(&doc, &format!("object-{i}")).attribute("d").unwrap());
+        ys.iter().sum::<f64>() / ys.len() as f64
+    };
+    assert!(mean(far) < mean(near));
+}
+
+#[test]
+fn names_with_xml_specials_are_escaped() {
+    let map = awkward_map();
+    let svg = floor_plan_svg(&map, &FloorPlanStyle::default());
+    assert!(svg.contains("desk &lt;A&amp;B&gt; &quot;left&quot;"));
+    assert!(!svg.contains("<A&B>"));
+    let doc = Document::parse(&svg).unwrap();
+    let all_text = texts(&doc).join("\n");
+    assert!(all_text.contains(r#"desk <A&B> "left""#));
+    assert!(all_text.contains("h unknown"));
+    assert!(all_text.contains("height unknown"), "legend entry");
+}
+
+/// Absolute bounding boxes `(x0, y0, x1, y1)` and contents of every text of an SVG, laid out
+/// by usvg with the system fonts (the glyph outlines resvg will paint).
+fn text_boxes(svg: &str) -> Vec<(String, [f32; 4])> {
+    use resvg::usvg::{self, fontdb};
+    fn walk(group: &usvg::Group, out: &mut Vec<(String, [f32; 4])>) {
+        for node in group.children() {
+            match node {
+                usvg::Node::Group(g) => walk(g, out),
+                usvg::Node::Text(t) => {
+                    let b = t.abs_bounding_box();
+                    let text = t.chunks().iter().map(usvg::TextChunk::text).collect();
+                    out.push((text, [b.left(), b.top(), b.right(), b.bottom()]));
+                }
+                _ => {}
+            }
+        }
+    }
+    let mut db = fontdb::Database::new();
+    db.load_system_fonts();
+    db.set_sans_serif_family("DejaVu Sans");
+    let options = usvg::Options {
+        fontdb: std::sync::Arc::new(db),
+        ..usvg::Options::default()
+    };
+    let tree = usvg::Tree::from_str(svg, &options).unwrap();
+    let mut out = Vec::new();
+    walk(tree.root(), &mut out);
+    out
+}
+
+#[test]
+fn text_stays_inside_the_picture() {
+    let mut map = awkward_map();
+    map.objects[2].name = "a very long object name that goes on and on and on and on".repeat(3);
+    for width_px in [320, 1000, 2400] {
+        let style = FloorPlanStyle {
+            width_px,
+            title: Some("W".repeat(300)),
+            ..FloorPlanStyle::default()
+        };
+        let svg = floor_plan_svg(&map, &style);
+        let doc = Document::parse(&svg).unwrap();
+        let root = doc.root_element();
+        let (w, h) = (num(root, "width") as f32, num(root, "height") as f32);
+        let boxes = text_boxes(&svg);
+        assert!(boxes.len() > 20, "texts are laid out (fonts found)");
+        for (text, [x0, y0, x1, y1]) in boxes {
+            assert!(
+                x0 >= 0.0 && y0 >= 0.0 && x1 <= w && y1 <= h,
+                "{width_px}px: {text:?} at ({x0:.0}, {y0:.0})..({x1:.0}, {y1:.0}) outside {w}x{h}"
+            );
+        }
+    }
+}
+
+#[test]
+fn grid_step_follows_units_and_size() {
+    // Camera heights: grid labelled in ch, title says so.
+    let map = map_with(&vpmap_metrology::synth::SynthOptions {
+        with_scale: false,
+        ..vpmap_metrology::synth::SynthOptions::default()
+    });
+    let svg = floor_plan_svg(&map, &FloorPlanStyle::default());
+    let doc = Document::parse(&svg).unwrap();
+    let all_text = texts(&doc).join("\n");
+    assert!(all_text.contains("camera heights"));
+    assert!(all_text.contains("x (ch)"));
+    // Every map gets 4..=21 grid lines across its larger side.
+    for scale in [1e-3, 1.0, 1e3] {
+        let mut m = default_map();
+        for o in &mut m.objects {
+            o.footprint.iter_mut().flatten().for_each(|v| *v *= scale);
+        }
+        m.floor.iter_mut().flatten().for_each(|v| *v *= scale);
+        m.free_space.clear();
+        let svg = floor_plan_svg(&m, &FloorPlanStyle::default());
+        let doc = Document::parse(&svg).unwrap();
+        let grid = by_id(&doc, "grid");
+        let (v, h): (Vec<Node>, Vec<Node>) = grid
+            .children()
+            .filter(|n| n.has_tag_name("line"))
+            .partition(|n| n.attribute("x1") == n.attribute("x2"));
+        let most = v.len().max(h.len());
+        assert!((4..=22).contains(&most), "scale {scale}: {most} lines");
+    }
+}
