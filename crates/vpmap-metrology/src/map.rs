@@ -56,6 +56,11 @@ pub struct CameraReport {
     /// Horizontal field of view: angles of the image's left and right extent, degrees from
     /// `+y`, negative to the left.
     pub horizontal_fov_deg: [f64; 2],
+    /// The floor the photo shows: the image rectangle projected onto the floor, cut where it
+    /// reaches 1.5 times the farthest mapped point (the part near the horizon runs to
+    /// infinity). A convex polygon, counter-clockwise.
+    #[serde(default)]
+    pub view_on_floor: Vec<MapPoint>,
 }
 
 /// Footprint side lengths of a box.
@@ -316,6 +321,64 @@ pub fn occlusion_shadow(
     Some(MultiPoint::new(points).convex_hull())
 }
 
+/// The image rectangle's floor footprint, cut at forward distance `reach` (in units where the
+/// camera height is `camera_height`), by the closed form of the errata: a point at
+/// horizon-frame offset `(x, y)` from `O` lies on the floor at
+/// `X = H x / (d sin(theta) - y cos(theta))`, `Y = H (d cos(theta) + y sin(theta)) / (d sin(theta) - y cos(theta))`.
+fn view_on_floor(
+    cal: &Calibration,
+    image: ImageSize,
+    camera_height: f64,
+    reach: f64,
+) -> Vec<MapPoint> {
+    let (d, th) = (cal.focal_px, cal.pitch_rad);
+    let (s, c) = th.sin_cos();
+    // The image row (horizon frame) whose floor points lie `reach` ahead on the centre line.
+    let y_far = d * (reach * s - camera_height * c) / (reach * c + camera_height * s);
+    let (w, h) = (f64::from(image.width), f64::from(image.height));
+    let corners = [
+        Vector2::new(0.0, 0.0),
+        Vector2::new(w, 0.0),
+        Vector2::new(w, h),
+        Vector2::new(0.0, h),
+    ]
+    .map(|p| cal.frame.coords(p));
+    // Clip the rectangle (horizon frame) to y <= y_far.
+    let mut clipped: Vec<Vector2<f64>> = Vec::new();
+    for i in 0..4 {
+        let (p, q) = (corners[i], corners[(i + 1) % 4]);
+        if p.y <= y_far {
+            clipped.push(p);
+        }
+        if (p.y <= y_far) != (q.y <= y_far) {
+            clipped.push(p + (q - p) * ((y_far - p.y) / (q.y - p.y)));
+        }
+    }
+    let mut out: Vec<MapPoint> = clipped
+        .iter()
+        .filter_map(|v| {
+            let den = d * s - v.y * c;
+            (den > 0.0).then(|| {
+                [
+                    camera_height * v.x / den,
+                    camera_height * (d * c + v.y * s) / den,
+                ]
+            })
+        })
+        .collect();
+    // Counter-clockwise in the map frame.
+    let twice_area: f64 = (0..out.len())
+        .map(|i| {
+            let (a, b) = (out[i], out[(i + 1) % out.len()]);
+            a[0] * b[1] - a[1] * b[0]
+        })
+        .sum();
+    if twice_area < 0.0 {
+        out.reverse();
+    }
+    out
+}
+
 fn to_polygons(mp: &MultiPolygon<f64>) -> Vec<PolygonWithHoles> {
     mp.0.iter()
         .map(|p| PolygonWithHoles {
@@ -401,6 +464,7 @@ pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
     ]
     .map(|x| x.atan2(d0).to_degrees());
     let o = cal.principal_point_px();
+    let view = view_on_floor(&cal, scene.image, k, 0.75 * reach.max(3.0 * k));
     Ok(FloorMap {
         version: 1,
         units,
@@ -416,6 +480,7 @@ pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
             image: scene.image,
             vanishing_points: cal.vanishing_points_px.iter().map(|v| [v.x, v.y]).collect(),
             horizontal_fov_deg: fov,
+            view_on_floor: view,
         },
         objects,
         floor: floor.iter().map(|p| [p.x, p.y]).collect(),

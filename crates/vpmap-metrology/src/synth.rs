@@ -538,6 +538,7 @@ fn try_synthesize(options: &SynthOptions, rng: &mut ChaCha8Rng) -> Option<(Scene
             height_m: rng.random_range(0.1 * s..1.4 * s),
         };
         if bx.corners().iter().all(|p| inside(*p))
+            && clear_of(&bx.corners(), &boxes, &[], 0.1 * s)
             && bx
                 .corners()
                 .iter()
@@ -571,7 +572,9 @@ fn try_synthesize(options: &SynthOptions, rng: &mut ChaCha8Rng) -> Option<(Scene
             footprint,
             height_m: rng.random_range(0.3 * s..0.9 * s),
         };
-        if prism.footprint.iter().all(|p| inside(*p)) {
+        if prism.footprint.iter().all(|p| inside(*p))
+            && clear_of(&prism.footprint, &boxes, &prisms, 0.1 * s)
+        {
             prisms.push(prism);
         }
     }
@@ -600,10 +603,8 @@ fn try_synthesize(options: &SynthOptions, rng: &mut ChaCha8Rng) -> Option<(Scene
         a * (hi_a + margin) + b * (hi_b + margin),
         a * (lo_a - margin) + b * (hi_b + margin),
     ];
-    let near_y = camera
-        .floor_point(Vector2::new(w / 2.0, 0.98 * h))
-        .map_or(0.5 * options.height_m, |p| p.y.max(0.05 * options.height_m));
-    let floor = clip_forward(&rect, near_y);
+    // ... cut to the floor the image shows (2 % inside its borders), as a user would click it.
+    let floor = clip_to_view(&camera, &rect, 0.02);
     if floor.len() < 3 {
         return None;
     }
@@ -624,19 +625,80 @@ fn try_synthesize(options: &SynthOptions, rng: &mut ChaCha8Rng) -> Option<(Scene
     Some((scene, truth))
 }
 
-/// Clip a convex polygon to the half-plane `y >= y_min`.
-fn clip_forward(poly: &[Vector2<f64>], y_min: f64) -> Vec<Vector2<f64>> {
+/// Whether a footprint keeps at least `gap` from every box and prism placed so far.
+fn clear_of(
+    footprint: &[Vector2<f64>],
+    boxes: &[SynthBox],
+    prisms: &[SynthPrism],
+    gap: f64,
+) -> bool {
+    use geo::{Distance, Euclidean, LineString, Polygon};
+    let poly = |pts: &[Vector2<f64>]| {
+        Polygon::new(
+            LineString::from(pts.iter().map(|p| (p.x, p.y)).collect::<Vec<_>>()),
+            vec![],
+        )
+    };
+    let me = poly(footprint);
+    boxes
+        .iter()
+        .map(|b| poly(&b.corners()))
+        .chain(prisms.iter().map(|p| poly(&p.footprint)))
+        .all(|other| Euclidean.distance(&me, &other) > gap)
+}
+
+/// Clip a convex polygon to the half-plane on `inside`'s side of the line through `a`, `b`.
+fn clip_halfplane(
+    poly: &[Vector2<f64>],
+    a: Vector2<f64>,
+    b: Vector2<f64>,
+    inside: Vector2<f64>,
+) -> Vec<Vector2<f64>> {
+    let side = |p: Vector2<f64>| {
+        let (d, e) = (b - a, p - a);
+        d.x * e.y - d.y * e.x
+    };
+    let sign = side(inside).signum();
     let mut out = Vec::new();
     for i in 0..poly.len() {
         let p = poly[i];
         let q = poly[(i + 1) % poly.len()];
-        let (pin, qin) = (p.y >= y_min, q.y >= y_min);
-        if pin {
+        let (sp, sq) = (side(p) * sign, side(q) * sign);
+        if sp >= 0.0 {
             out.push(p);
         }
-        if pin != qin {
-            let t = (y_min - p.y) / (q.y - p.y);
-            out.push(p + (q - p) * t);
+        if (sp >= 0.0) != (sq >= 0.0) {
+            out.push(p + (q - p) * (sp / (sp - sq)));
+        }
+    }
+    out
+}
+
+/// Clip a convex floor polygon to the floor the camera's image shows, `inset` (a fraction of
+/// the image size) inside its borders: each border is a line on the floor (through the floor
+/// points of two of its pixels below the horizon).
+fn clip_to_view(camera: &PinholeCamera, poly: &[Vector2<f64>], inset: f64) -> Vec<Vector2<f64>> {
+    let w = f64::from(camera.image.width);
+    let h = f64::from(camera.image.height);
+    let (x0, x1, y0, y1) = (inset * w, (1.0 - inset) * w, inset * h, (1.0 - inset) * h);
+    let Some(inside) = camera.floor_point(Vector2::new(w / 2.0, 0.9 * h)) else {
+        return poly.to_vec();
+    };
+    let borders = [
+        (Vector2::new(x0, y0), Vector2::new(x0, y1)),
+        (Vector2::new(x1, y0), Vector2::new(x1, y1)),
+        (Vector2::new(x0, y0), Vector2::new(x1, y0)),
+        (Vector2::new(x0, y1), Vector2::new(x1, y1)),
+    ];
+    let mut out = poly.to_vec();
+    for (from, to) in borders {
+        let on_floor: Vec<Vector2<f64>> = (0..=64)
+            .filter_map(|k| camera.floor_point(from + (to - from) * (f64::from(k) / 64.0)))
+            .collect();
+        if let (Some(a), Some(b)) = (on_floor.first(), on_floor.last())
+            && on_floor.len() >= 2
+        {
+            out = clip_halfplane(&out, *a, *b, inside);
         }
     }
     out

@@ -143,3 +143,66 @@ fn check_few(pitch_deg: f64, roll_deg: f64) {
         }
     }
 }
+
+#[test]
+fn view_on_floor_is_the_image_rectangle_on_the_floor() {
+    use nalgebra::Vector3;
+    use vpmap_metrology::synth::PinholeCamera;
+    for (seed, pitch, roll) in [
+        (1u64, 0.0, 0.0),
+        (2, 10.0, -5.0),
+        (3, 30.0, 4.0),
+        (4, 45.0, 0.0),
+    ] {
+        let options = SynthOptions {
+            seed,
+            pitch_deg: pitch,
+            roll_deg: roll,
+            ..SynthOptions::default()
+        };
+        let (scene, truth) = synthesize(&options);
+        let map = build_map(&scene, &BuildOptions::default()).unwrap();
+        let camera = PinholeCamera {
+            image: options.image,
+            focal_px: options.focal_px,
+            principal_point_px: options.image.centre(),
+            height_m: options.height_m,
+            pitch_rad: pitch.to_radians(),
+            roll_rad: roll.to_radians(),
+        };
+        let view = &map.camera.view_on_floor;
+        assert!(view.len() >= 3, "seed {seed}: {view:?}");
+        let (w, h) = (
+            f64::from(options.image.width),
+            f64::from(options.image.height),
+        );
+        let mut on_border = 0;
+        for v in view {
+            let p = camera.project(Vector3::new(v[0], v[1], 0.0)).unwrap();
+            let border = [p.x.abs(), (p.x - w).abs(), p.y.abs(), (p.y - h).abs()]
+                .into_iter()
+                .fold(f64::INFINITY, f64::min);
+            assert!(
+                p.x > -1e-6 && p.x < w + 1e-6 && p.y > -1e-6 && p.y < h + 1e-6,
+                "seed {seed}: {p:?}"
+            );
+            on_border += usize::from(border < 1e-6);
+        }
+        assert!(
+            on_border >= 2,
+            "seed {seed}: vertices must lie on the image border"
+        );
+        // Every object corner (all inside the image) lies inside the view polygon.
+        let inside = |q: [f64; 2]| {
+            (0..view.len()).all(|i| {
+                let (a, b) = (view[i], view[(i + 1) % view.len()]);
+                (b[0] - a[0]) * (q[1] - a[1]) - (b[1] - a[1]) * (q[0] - a[0]) >= -1e-9
+            })
+        };
+        for o in &truth.objects {
+            for c in &o.footprint {
+                assert!(inside(*c), "seed {seed}: {c:?} outside the view");
+            }
+        }
+    }
+}
