@@ -16,7 +16,9 @@
 //!   one) get a nominal height of 1% of the map's size; their mesh name ends in
 //!   `(nominal height)` and the node's extras say `"height_known": false`.
 //! - `camera`: a small pyramid with its apex at the camera centre `(0, 0, height)`, looking
-//!   forward and down by the pitch (roll is not drawn), as wide as the horizontal field of view.
+//!   forward and down by the pitch and turned about its viewing axis by the roll (a positive
+//!   roll, the horizon falling to the right in the photo, lifts the camera's right side), as
+//!   wide as the horizontal field of view.
 //!
 //! Normals are flat (each face has its own vertices), indices are `u32`, materials are one per
 //! category (floor grey, boxes blue, footprints orange, camera red), all data lives in the GLB's
@@ -397,14 +399,31 @@ fn units_name(units: Units) -> &'static str {
     }
 }
 
-/// The camera pyramid: apex at the camera centre, base `depth` ahead along the viewing
-/// direction (forward, tilted down by the pitch), spanning the horizontal field of view.
-fn camera_pyramid(map: &FloorMap, height: f64, depth: f64) -> MeshData {
-    let pitch = if map.camera.pitch_deg.is_finite() {
-        map.camera.pitch_deg.to_radians()
-    } else {
-        0.0
+/// The camera's axes in the map frame: `(right, up, forward)`. Pitched down by `pitch_deg`
+/// about `x`, then turned about the viewing direction by `roll_deg` (positive: the horizon
+/// falls to the right in the image, so the camera's right side is tilted up). Non-finite
+/// angles count as 0.
+fn camera_axes(pitch_deg: f64, roll_deg: f64) -> ([f64; 3], [f64; 3], [f64; 3]) {
+    let radians = |deg: f64| {
+        if deg.is_finite() {
+            deg.to_radians()
+        } else {
+            0.0
+        }
     };
+    let (sp, cp) = radians(pitch_deg).sin_cos();
+    let (sr, cr) = radians(roll_deg).sin_cos();
+    let forward = [0.0, cp, -sp];
+    let up0 = [0.0, sp, cp];
+    let right = [cr, sr * up0[1], sr * up0[2]];
+    let up = [-sr, cr * up0[1], cr * up0[2]];
+    (right, up, forward)
+}
+
+/// The camera pyramid's apex and base corners (map frame): apex at the camera centre, base
+/// `depth` ahead along the viewing direction, spanning the horizontal field of view and the
+/// image's aspect; corners bottom-left, bottom-right, top-right, top-left in the image.
+fn camera_frustum(map: &FloorMap, height: f64, depth: f64) -> ([f64; 3], [[f64; 3]; 4]) {
     let [left, right] = map.camera.horizontal_fov_deg.map(|a| {
         if a.is_finite() {
             a.clamp(-MAX_HALF_FOV_DEG, MAX_HALF_FOV_DEG)
@@ -427,14 +446,9 @@ fn camera_pyramid(map: &FloorMap, height: f64, depth: f64) -> MeshData {
     };
     let half_v = (right - left) / 2.0 * aspect;
     let apex = [0.0, 0.0, height];
-    let forward = [0.0, pitch.cos(), -pitch.sin()];
-    let up = [0.0, pitch.sin(), pitch.cos()];
+    let (right_axis, up, forward) = camera_axes(map.camera.pitch_deg, map.camera.roll_deg);
     let corner = |h: f64, v: f64| -> [f64; 3] {
-        [
-            depth * h,
-            apex[1] + depth * (forward[1] + v * up[1]),
-            apex[2] + depth * (forward[2] + v * up[2]),
-        ]
+        std::array::from_fn(|k| apex[k] + depth * (forward[k] + h * right_axis[k] + v * up[k]))
     };
     let base = [
         corner(left, -half_v),
@@ -442,6 +456,12 @@ fn camera_pyramid(map: &FloorMap, height: f64, depth: f64) -> MeshData {
         corner(right, half_v),
         corner(left, half_v),
     ];
+    (apex, base)
+}
+
+/// The camera pyramid of [`camera_frustum`] as a closed mesh with outward faces.
+fn camera_pyramid(map: &FloorMap, height: f64, depth: f64) -> MeshData {
+    let (apex, base) = camera_frustum(map, height, depth);
     let inside = [
         (apex[0] + base.iter().map(|c| c[0]).sum::<f64>()) / 5.0,
         (apex[1] + base.iter().map(|c| c[1]).sum::<f64>()) / 5.0,
@@ -650,6 +670,89 @@ mod tests {
         let mean_z: f32 = m.positions.iter().map(|p| p[2]).sum::<f32>() / m.positions.len() as f32;
         let mean_y: f32 = m.positions.iter().map(|p| p[1]).sum::<f32>() / m.positions.len() as f32;
         assert!(mean_z < 0.0 && mean_y < 1.5);
+    }
+
+    #[test]
+    fn camera_axes_match_the_synthetic_pinhole_camera() {
+        use vpmap_metrology::scene::ImageSize;
+        use vpmap_metrology::synth::PinholeCamera;
+        let image = ImageSize {
+            width: 1600,
+            height: 1200,
+        };
+        for pitch_deg in [0.0, 12.0, 35.0] {
+            for roll_deg in [-25.0, -4.0, 0.0, 3.0, 30.0] {
+                let truth = PinholeCamera {
+                    image,
+                    focal_px: 1200.0,
+                    principal_point_px: image.centre(),
+                    height_m: 1.5,
+                    pitch_rad: f64::to_radians(pitch_deg),
+                    roll_rad: f64::to_radians(roll_deg),
+                };
+                let (r, d, f) = truth.axes();
+                let (right, up, forward) = camera_axes(pitch_deg, roll_deg);
+                for (ours, theirs) in [
+                    (right, [r.x, r.y, r.z]),
+                    (up, [-d.x, -d.y, -d.z]),
+                    (forward, [f.x, f.y, f.z]),
+                ] {
+                    for k in 0..3 {
+                        assert_relative_eq!(ours[k], theirs[k], epsilon = 1e-12);
+                    }
+                }
+                // Positive roll: the camera's right side is tilted up.
+                assert_eq!(right[2] > 1e-12, roll_deg > 0.0, "roll {roll_deg}");
+            }
+        }
+    }
+
+    #[test]
+    fn camera_pyramid_shows_the_roll() {
+        let (scene, _) =
+            vpmap_metrology::synth::synthesize(&vpmap_metrology::synth::SynthOptions::default());
+        let mut map =
+            vpmap_metrology::map::build_map(&scene, &vpmap_metrology::map::BuildOptions::default())
+                .unwrap();
+        let (sp, cp) = map.camera.pitch_deg.to_radians().sin_cos();
+        let forward = [0.0, cp, -sp];
+        let mut lifts = Vec::new();
+        for roll_deg in [-20.0, 0.0, 20.0] {
+            map.camera.roll_deg = roll_deg;
+            let (apex, base) = camera_frustum(&map, 1.5, 0.45);
+            // The bottom edge of the image (corner 0 to 1) runs along the rolled right axis:
+            // perpendicular to the viewing direction, at the roll angle from the image's
+            // unrolled horizontal (map x) within the image plane.
+            let e = sub(base[1], base[0]);
+            assert_relative_eq!(dot(e, forward), 0.0, epsilon = 1e-12);
+            let up0 = [0.0, sp, cp];
+            let angle = dot(e, up0).atan2(e[0]).to_degrees();
+            assert_relative_eq!(angle, roll_deg, epsilon = 1e-9);
+            // The image's right side (corners 1, 2) is raised by a positive roll.
+            let side_lift = base[1][2] + base[2][2] - base[0][2] - base[3][2];
+            assert_eq!(side_lift > 1e-9, roll_deg > 0.0, "roll {roll_deg}");
+            assert_eq!(side_lift < -1e-9, roll_deg < 0.0, "roll {roll_deg}");
+            // The roll turns the pyramid about its viewing axis: the base stays `depth` ahead.
+            for c in base {
+                assert_relative_eq!(dot(sub(c, apex), forward), 0.45, epsilon = 1e-12);
+            }
+            // The mesh (glTF +Y up, +X right): the right half is higher for a positive roll.
+            let m = camera_pyramid(&map, 1.5, 0.45);
+            assert!(volume(&m) > 0.0);
+            let mean_y = |right: bool| {
+                let ys: Vec<f32> = m
+                    .positions
+                    .iter()
+                    .filter(|p| if right { p[0] > 1e-6 } else { p[0] < -1e-6 })
+                    .map(|p| p[1])
+                    .collect();
+                ys.iter().sum::<f32>() / ys.len() as f32
+            };
+            lifts.push(mean_y(true) - mean_y(false));
+        }
+        // (The field of view need not be centred, so compare with no roll.)
+        assert!(lifts[0] < lifts[1] - 0.05, "{lifts:?}");
+        assert!(lifts[2] > lifts[1] + 0.05, "{lifts:?}");
     }
 
     #[test]

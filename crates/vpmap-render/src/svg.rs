@@ -12,7 +12,7 @@
 
 use std::fmt::Write as _;
 
-use vpmap_metrology::map::{FloorMap, MapObject, MapPoint, Units};
+use vpmap_metrology::map::{FloorMap, MapObject, MapPoint, PolygonWithHoles, Units};
 use vpmap_metrology::reconstruct::ObjectKind;
 
 use crate::geometry::{Bounds, is_finite};
@@ -32,6 +32,12 @@ const MAX_NAME_CHARS: usize = 40;
 const MAX_PX: f64 = 1.0e6;
 /// Smallest font size, pixels, before text is cut instead of shrunk.
 const MIN_FONT_PX: f64 = 8.0;
+/// Id of the hatch pattern of the hidden floor (defined only when the map has some).
+const HIDDEN_PATTERN_ID: &str = "hidden-hatch";
+/// Legend text of the hidden floor.
+const HIDDEN_LEGEND: &str = "hidden from the camera";
+/// Paint of the hidden floor: the hatch pattern.
+const HIDDEN_PATTERN_FILL: &str = "url(#hidden-hatch)";
 
 /// Colours of the drawing (also used in the legend).
 mod colour {
@@ -39,6 +45,9 @@ mod colour {
     pub const PLOT: &str = "#fafafa";
     pub const FREE_FILL: &str = "#dcefd7";
     pub const FREE_STROKE: &str = "#8fbf85";
+    pub const HIDDEN_FILL: &str = "#e3e3e3";
+    pub const HIDDEN_HATCH: &str = "#8c8c8c";
+    pub const HIDDEN_STROKE: &str = "#9a9a9a";
     pub const FLOOR: &str = "#333333";
     pub const GRID: &str = "#9a9a9a";
     pub const FOV_FILL: &str = "#ffe8a3";
@@ -317,6 +326,19 @@ fn ring_path(frame: &Frame, ring: &[MapPoint]) -> Option<String> {
     Some(d)
 }
 
+/// SVG path data of a polygon with holes (to be filled with `fill-rule="evenodd"`), or `None`
+/// when its outer ring has fewer than 3 finite points.
+fn polygon_path(frame: &Frame, poly: &PolygonWithHoles) -> Option<String> {
+    let mut d = ring_path(frame, &poly.exterior)?;
+    for hole in &poly.holes {
+        if let Some(h) = ring_path(frame, hole) {
+            d.push(' ');
+            d.push_str(&h);
+        }
+    }
+    Some(d)
+}
+
 /// The label of an object: name line and sizes line.
 fn object_label(o: &MapObject, u: &UnitNames, decimals: usize) -> (String, String) {
     let name = truncate(o.name.trim(), MAX_NAME_CHARS);
@@ -414,7 +436,9 @@ fn plot_frame(map: &FloorMap, style: &FloorPlanStyle, left: f64, width: f64, top
 
 /// Draw a floor map as an SVG floor plan.
 ///
-/// Shows the free space (shaded, holes cut with `fill-rule="evenodd"`), the floor outline, each
+/// Shows the free space (shaded, holes cut with `fill-rule="evenodd"`), the parts of it hidden
+/// from the camera behind objects (hatched with thin grey diagonal lines on light grey, legend
+/// entry "hidden from the camera"; only when the map has some), the floor outline, each
 /// object as a filled polygon labelled with its name and sizes (a box's length × breadth and
 /// height; a footprint's area and height), the station point, the camera's horizontal field
 /// of view, a grid with labelled axes, a scale bar, a legend and a title with the camera's
@@ -478,6 +502,11 @@ pub fn floor_plan_svg(map: &FloorMap, style: &FloorPlanStyle) -> String {
     let fov_ok = fov_deg.iter().all(|a| a.is_finite())
         && fov_deg[1] > fov_deg[0]
         && fov_deg[1] - fov_deg[0] < 360.0;
+    let hidden_paths: Vec<String> = map
+        .hidden
+        .iter()
+        .filter_map(|p| polygon_path(&frame, p))
+        .collect();
     let mut legend: Vec<(Swatch, String)> = Vec::new();
     if style.show_legend {
         if !map.free_space.is_empty() {
@@ -488,6 +517,16 @@ pub fn floor_plan_svg(map: &FloorMap, style: &FloorPlanStyle) -> String {
                     dashed: false,
                 },
                 "free space".to_owned(),
+            ));
+        }
+        if !hidden_paths.is_empty() {
+            legend.push((
+                Swatch::Fill {
+                    fill: HIDDEN_PATTERN_FILL,
+                    stroke: colour::HIDDEN_STROKE,
+                    dashed: false,
+                },
+                HIDDEN_LEGEND.to_owned(),
             ));
         }
         if map.floor.len() >= 3 {
@@ -536,7 +575,14 @@ pub fn floor_plan_svg(map: &FloorMap, style: &FloorPlanStyle) -> String {
                     stroke: colour::FOV_RAY,
                     dashed: true,
                 },
-                format!("field of view {:.0}°", fov_deg[1] - fov_deg[0]),
+                if map.camera.view_on_floor.len() >= 3 {
+                    format!(
+                        "floor in view (field of view {:.0}°)",
+                        fov_deg[1] - fov_deg[0]
+                    )
+                } else {
+                    format!("field of view {:.0}°", fov_deg[1] - fov_deg[0])
+                },
             ));
         }
         if style.show_grid {
@@ -580,11 +626,26 @@ pub fn floor_plan_svg(map: &FloorMap, style: &FloorPlanStyle) -> String {
         "<desc>Floor plan drawn by vpmap-render: +y forward points up, +x right, units {}.</desc>",
         u.long
     );
-    let _ = writeln!(
+    let _ = write!(
         out,
-        r#"<defs><clipPath id="plot-clip"><rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}"/></clipPath></defs>"#,
+        r#"<defs><clipPath id="plot-clip"><rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}"/></clipPath>"#,
         frame.left, frame.top, frame.width, frame.height
     );
+    if !hidden_paths.is_empty() {
+        // Thin grey lines at 45° on a light grey ground, in page pixels (the same spacing in
+        // the plot and in the legend swatch).
+        let tile = 7.0 * f;
+        let _ = write!(
+            out,
+            r#"<pattern id="{HIDDEN_PATTERN_ID}" patternUnits="userSpaceOnUse" x="0" y="0" width="{tile:.2}" height="{tile:.2}" patternTransform="rotate(45)"><rect x="0" y="0" width="{tile:.2}" height="{tile:.2}" fill="{}"/><line x1="{:.2}" y1="0" x2="{:.2}" y2="{tile:.2}" stroke="{}" stroke-width="{:.2}"/></pattern>"#,
+            colour::HIDDEN_FILL,
+            tile / 2.0,
+            tile / 2.0,
+            colour::HIDDEN_HATCH,
+            1.1 * f
+        );
+    }
+    let _ = writeln!(out, "</defs>");
     let _ = writeln!(
         out,
         r#"<rect x="0" y="0" width="{width:.0}" height="{height:.0}" fill="{}"/>"#,
@@ -604,16 +665,11 @@ pub fn floor_plan_svg(map: &FloorMap, style: &FloorPlanStyle) -> String {
     );
 
     let _ = writeln!(out, r#"<g id="free-space">"#);
-    for poly in &map.free_space {
-        let Some(mut d) = ring_path(&frame, &poly.exterior) else {
-            continue;
-        };
-        for hole in &poly.holes {
-            if let Some(h) = ring_path(&frame, hole) {
-                d.push(' ');
-                d.push_str(&h);
-            }
-        }
+    for d in map
+        .free_space
+        .iter()
+        .filter_map(|p| polygon_path(&frame, p))
+    {
         let _ = writeln!(
             out,
             r#"<path d="{d}" fill="{}" fill-rule="evenodd" stroke="{}" stroke-width="{:.2}"/>"#,
@@ -625,7 +681,29 @@ pub fn floor_plan_svg(map: &FloorMap, style: &FloorPlanStyle) -> String {
     let _ = writeln!(out, "</g>");
 
     let station = frame.px([0.0, 0.0]);
-    if style.show_field_of_view && fov_ok {
+    let view: Vec<MapPoint> = map
+        .camera
+        .view_on_floor
+        .iter()
+        .copied()
+        .filter(|p| p[0].is_finite() && p[1].is_finite())
+        .collect();
+    if style.show_field_of_view && view.len() >= 3 {
+        // The floor the photo shows: the image rectangle projected onto the floor.
+        if let Some(d) = ring_path(&frame, &view) {
+            let _ = writeln!(out, r#"<g id="field-of-view">"#);
+            let _ = writeln!(
+                out,
+                r#"<path d="{d}" fill="{}" fill-opacity="0.3" stroke="{}" stroke-width="{:.2}" stroke-dasharray="{:.1} {:.1}"/>"#,
+                colour::FOV_FILL,
+                colour::FOV_RAY,
+                1.2 * f,
+                6.0 * f,
+                4.0 * f
+            );
+            let _ = writeln!(out, "</g>");
+        }
+    } else if style.show_field_of_view && fov_ok {
         let reach = 3.0 * span;
         let arc_steps = 32;
         let mut d = format!("M{:.2} {:.2} ", station.0, station.1);
@@ -654,6 +732,21 @@ pub fn floor_plan_svg(map: &FloorMap, style: &FloorPlanStyle) -> String {
                 1.2 * f,
                 6.0 * f,
                 4.0 * f
+            );
+        }
+        let _ = writeln!(out, "</g>");
+    }
+
+    // Hidden floor: above the free space and the field of view (so its hatching is not tinted),
+    // below the grid and the objects.
+    if !hidden_paths.is_empty() {
+        let _ = writeln!(out, r#"<g id="hidden">"#);
+        for d in &hidden_paths {
+            let _ = writeln!(
+                out,
+                r#"<path class="hidden" d="{d}" fill="{HIDDEN_PATTERN_FILL}" fill-rule="evenodd" stroke="{}" stroke-width="{:.2}" stroke-linejoin="round"/>"#,
+                colour::HIDDEN_STROKE,
+                0.6 * f
             );
         }
         let _ = writeln!(out, "</g>");

@@ -63,3 +63,42 @@ fn small_and_awkward_plan_rasterises() {
     assert_eq!(w, 320);
     assert!(pixels.iter().any(|p| dark(*p)));
 }
+
+/// Neutral grey pixels (the hatch and its ground), opaque.
+fn neutral_grey(p: [u8; 4]) -> bool {
+    p[3] == 255 && p[0] == p[1] && p[1] == p[2] && (100..=235).contains(&p[0])
+}
+
+#[test]
+fn hidden_floor_hatch_is_rasterised() {
+    let mut map = crate::map_with(&vpmap_metrology::synth::SynthOptions {
+        seed: 10,
+        pitch_deg: 25.0,
+        roll_deg: 3.0,
+        height_m: 1.6,
+        ..vpmap_metrology::synth::SynthOptions::default()
+    });
+    assert!(!map.hidden.is_empty());
+    let bytes = svg_to_png(&floor_plan_svg(&map, &FloorPlanStyle::default())).unwrap();
+    save_for_review("render-check-hidden.png", &bytes);
+    let (_, _, pixels) = decode(&bytes);
+    let with = pixels.iter().filter(|p| neutral_grey(**p)).count();
+    // The hatch lines are darker than their ground: both colours are painted.
+    let lines = pixels
+        .iter()
+        .filter(|p| neutral_grey(**p) && p[0] < 180)
+        .count();
+    map.hidden.clear();
+    let bytes = svg_to_png(&floor_plan_svg(&map, &FloorPlanStyle::default())).unwrap();
+    let (_, _, pixels) = decode(&bytes);
+    let without = pixels.iter().filter(|p| neutral_grey(**p)).count();
+    let lines_without = pixels
+        .iter()
+        .filter(|p| neutral_grey(**p) && p[0] < 180)
+        .count();
+    assert!(with > without + 20_000, "{with} vs {without} grey pixels");
+    assert!(
+        lines > lines_without + 2_000,
+        "{lines} vs {lines_without} line pixels"
+    );
+}

@@ -218,3 +218,114 @@ fn grid_step_follows_units_and_size() {
         assert!((4..=22).contains(&most), "scale {scale}: {most} lines");
     }
 }
+
+/// A room where objects hide parts of the floor from the camera.
+fn map_with_hidden_floor() -> vpmap_metrology::map::FloorMap {
+    let map = map_with(&vpmap_metrology::synth::SynthOptions {
+        seed: 10,
+        pitch_deg: 25.0,
+        roll_deg: 3.0,
+        height_m: 1.6,
+        ..vpmap_metrology::synth::SynthOptions::default()
+    });
+    assert!(map.hidden.len() >= 2, "the test needs hidden floor");
+    map
+}
+
+/// Position of an element among all elements, in document order.
+fn order(doc: &Document, id: &str) -> usize {
+    doc.descendants()
+        .filter(Node::is_element)
+        .position(|n| n.attribute("id") == Some(id))
+        .unwrap_or_else(|| panic!("no element with id {id}"))
+}
+
+#[test]
+fn hidden_floor_is_hatched_between_free_space_and_objects() {
+    let map = map_with_hidden_floor();
+    let svg = floor_plan_svg(&map, &FloorPlanStyle::default());
+    save_for_review("render-check-hidden.svg", svg.as_bytes());
+    let doc = Document::parse(&svg).unwrap();
+    // The hatch: a pattern of thin grey diagonal lines on a light grey ground.
+    let pattern = by_id(&doc, "hidden-hatch");
+    assert!(pattern.has_tag_name("pattern"));
+    assert!(pattern.ancestors().any(|n| n.has_tag_name("defs")));
+    assert_eq!(pattern.attribute("patternUnits"), Some("userSpaceOnUse"));
+    assert_eq!(pattern.attribute("patternTransform"), Some("rotate(45)"));
+    let line = pattern
+        .children()
+        .find(|n| n.has_tag_name("line"))
+        .expect("hatch line");
+    assert!(num(line, "stroke-width") < 2.0, "thin lines");
+    assert!(pattern.children().any(|n| n.has_tag_name("rect")));
+    // One hatched path per hidden polygon.
+    let hidden = by_id(&doc, "hidden");
+    let paths: Vec<Node> = hidden
+        .children()
+        .filter(|n| n.has_tag_name("path"))
+        .collect();
+    assert_eq!(paths.len(), map.hidden.len());
+    for p in &paths {
+        assert_eq!(p.attribute("class"), Some("hidden"));
+        assert_eq!(p.attribute("fill"), Some("url(#hidden-hatch)"));
+        assert_eq!(p.attribute("fill-rule"), Some("evenodd"));
+    }
+    let hidden_rings: usize = map
+        .hidden
+        .iter()
+        .map(|p| 1 + p.holes.iter().filter(|h| h.len() >= 3).count())
+        .sum();
+    let subpaths: usize = paths
+        .iter()
+        .map(|p| p.attribute("d").unwrap().matches('M').count())
+        .sum();
+    assert_eq!(subpaths, hidden_rings);
+    assert_eq!(svg.matches(r#"class="hidden""#).count(), map.hidden.len());
+    // Drawing order: on the free space, under the objects.
+    assert!(order(&doc, "free-space") < order(&doc, "hidden"));
+    assert!(order(&doc, "hidden") < order(&doc, "objects"));
+    // Legend entry with a hatched swatch.
+    let legend = by_id(&doc, "legend");
+    assert!(
+        legend
+            .descendants()
+            .any(|n| n.text() == Some("hidden from the camera"))
+    );
+    assert!(
+        legend
+            .descendants()
+            .any(|n| n.has_tag_name("rect") && n.attribute("fill") == Some("url(#hidden-hatch)"))
+    );
+    // Labels are still drawn for every object.
+    let all_text = texts(&doc).join("\n");
+    for o in &map.objects {
+        assert!(all_text.contains(&o.name), "label of {}", o.name);
+    }
+}
+
+#[test]
+fn no_hatch_or_legend_entry_without_hidden_floor() {
+    let mut map = map_with_hidden_floor();
+    map.hidden.clear();
+    let svg = floor_plan_svg(&map, &FloorPlanStyle::default());
+    assert!(!svg.contains("<pattern"));
+    assert!(!svg.contains("hidden-hatch"));
+    assert!(!svg.contains("hidden from the camera"));
+    assert!(!svg.contains(r#"class="hidden""#));
+    let doc = Document::parse(&svg).unwrap();
+    assert!(
+        doc.descendants()
+            .all(|n| n.attribute("id") != Some("hidden"))
+    );
+    by_id(&doc, "legend");
+    // Without a legend the hidden floor is still hatched, with no legend text.
+    let map = map_with_hidden_floor();
+    let style = FloorPlanStyle {
+        show_legend: false,
+        ..FloorPlanStyle::default()
+    };
+    let svg = floor_plan_svg(&map, &style);
+    assert!(svg.contains(r#"<pattern id="hidden-hatch""#));
+    assert_eq!(svg.matches(r#"class="hidden""#).count(), map.hidden.len());
+    assert!(!svg.contains("hidden from the camera"));
+}
