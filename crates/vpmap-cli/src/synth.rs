@@ -102,7 +102,7 @@ pub fn run(args: &SynthArgs) -> Result<()> {
         },
         with_scale: !args.no_scale,
         ..SynthOptions::default()
-    });
+    })?;
     let truth_path = args.truth.clone().unwrap_or_else(|| {
         let stem = args.out.with_extension("");
         PathBuf::from(format!("{}.truth.json", stem.display()))

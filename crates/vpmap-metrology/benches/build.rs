@@ -1,6 +1,6 @@
 //! Building a 20-object scene: the side-view method against the projective form (the
 //! reference), calibration and reconstruction alone, and the whole map with free space.
-#![allow(missing_docs)]
+#![allow(missing_docs, clippy::unwrap_used)]
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
@@ -17,6 +17,7 @@ fn scene_20() -> vpmap_metrology::scene::Scene {
         roll_deg: 4.0,
         ..SynthOptions::default()
     })
+    .unwrap()
     .0
 }
 

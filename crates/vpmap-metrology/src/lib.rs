@@ -16,7 +16,7 @@
 //! # Example
 //! ```
 //! use vpmap_metrology::{map::{build_map, BuildOptions}, synth::{synthesize, SynthOptions}};
-//! let (scene, truth) = synthesize(&SynthOptions::default());
+//! let (scene, truth) = synthesize(&SynthOptions::default()).unwrap();
 //! let map = build_map(&scene, &BuildOptions::default()).unwrap();
 //! let err = (map.objects[0].height.unwrap() - truth.objects[0].height).abs();
 //! assert!(err < 1e-9);

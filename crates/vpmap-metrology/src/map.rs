@@ -397,7 +397,7 @@ fn to_polygons(mp: &MultiPolygon<f64>) -> Vec<PolygonWithHoles> {
 /// ```
 /// use vpmap_metrology::map::{build_map, BuildOptions, Units};
 /// use vpmap_metrology::synth::{SynthOptions, synthesize};
-/// let (scene, truth) = synthesize(&SynthOptions { seed: 7, ..SynthOptions::default() });
+/// let (scene, truth) = synthesize(&SynthOptions { seed: 7, ..SynthOptions::default() }).unwrap();
 /// let map = build_map(&scene, &BuildOptions::default()).unwrap();
 /// assert_eq!(map.units, Units::Meters);
 /// assert!((map.objects[0].footprint[0][1] - truth.objects[0].footprint[0][1]).abs() < 1e-9);

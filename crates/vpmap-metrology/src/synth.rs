@@ -18,6 +18,7 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use serde::{Deserialize, Serialize};
 
+use crate::error::{MetrologyError, Result};
 use crate::scene::{
     BoxBase, ImageSize, ObjectSpec, PixelPoint, ScaleSpec, Scene, TopSpec, VanishingPointSpec,
 };
@@ -472,14 +473,57 @@ pub fn add_noise(scene: &mut Scene, sigma_px: f64, rng: &mut impl Rng) {
 /// extrapolate them), but always in front of the camera.
 ///
 /// The scene is a pure function of the options.
-#[must_use]
-pub fn synthesize(options: &SynthOptions) -> (Scene, Truth) {
-    let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
-    loop {
-        if let Some(out) = try_synthesize(options, &mut rng) {
-            return out;
+///
+/// # Errors
+/// [`MetrologyError::InvalidField`] for options out of range, and
+/// [`MetrologyError::Degenerate`] when the objects cannot be placed apart from each other in
+/// the camera's view (too many, or a camera that sees too little floor) within 200 attempts.
+pub fn synthesize(options: &SynthOptions) -> Result<(Scene, Truth)> {
+    let bad = |field: &str, reason: String| {
+        Err(MetrologyError::InvalidField {
+            field: field.to_owned(),
+            reason,
+        })
+    };
+    for (field, v) in [
+        ("focal_px", options.focal_px),
+        ("height_m", options.height_m),
+    ] {
+        if !(v.is_finite() && v > 0.0) {
+            return bad(field, format!("must be positive, got {v}"));
         }
     }
+    if !(options.pitch_deg.is_finite() && options.pitch_deg.abs() < 80.0) {
+        return bad(
+            "pitch_deg",
+            format!("must lie in (-80, 80) degrees, got {}", options.pitch_deg),
+        );
+    }
+    if !(options.roll_deg.is_finite() && options.roll_deg.abs() < 45.0) {
+        return bad(
+            "roll_deg",
+            format!("must lie in (-45, 45) degrees, got {}", options.roll_deg),
+        );
+    }
+    if !(options.noise_px.is_finite() && options.noise_px >= 0.0) {
+        return bad(
+            "noise_px",
+            format!("must be a non-negative number, got {}", options.noise_px),
+        );
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(options.seed);
+    for _ in 0..200 {
+        if let Some(out) = try_synthesize(options, &mut rng) {
+            return Ok(out);
+        }
+    }
+    Err(MetrologyError::Degenerate {
+        field: "synth".to_owned(),
+        reason: format!(
+            "could not place {} boxes and {} prisms apart from each other in the camera's view in 200 attempts; ask for fewer objects",
+            options.boxes, options.prisms
+        ),
+    })
 }
 
 fn try_synthesize(options: &SynthOptions, rng: &mut ChaCha8Rng) -> Option<(Scene, Truth)> {

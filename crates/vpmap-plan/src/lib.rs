@@ -11,7 +11,7 @@
 //! ```
 //! use vpmap_metrology::{map::{build_map, BuildOptions}, synth::{synthesize, SynthOptions}};
 //! use vpmap_plan::{rasterize_map, read_ros_map, write_ros_map, RasterOptions};
-//! let (scene, _) = synthesize(&SynthOptions::default());
+//! let (scene, _) = synthesize(&SynthOptions::default()).unwrap();
 //! let map = build_map(&scene, &BuildOptions::default()).unwrap();
 //! let opts = RasterOptions { resolution_m: 0.1, robot_radius_m: 0.2, ..RasterOptions::default() };
 //! let grid = rasterize_map(&map, &opts).unwrap();

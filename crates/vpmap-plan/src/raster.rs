@@ -294,7 +294,7 @@ fn check_map(map: &FloorMap) -> Result<()> {
 /// use vpmap_metrology::map::{build_map, BuildOptions};
 /// use vpmap_metrology::synth::{synthesize, SynthOptions};
 /// use vpmap_plan::{rasterize_map, Cell, RasterOptions};
-/// let (scene, _) = synthesize(&SynthOptions::default());
+/// let (scene, _) = synthesize(&SynthOptions::default()).unwrap();
 /// let map = build_map(&scene, &BuildOptions::default()).unwrap();
 /// let grid = rasterize_map(&map, &RasterOptions::default()).unwrap();
 /// let (x, y) = grid.cell_from_world(map.objects[0].centroid).unwrap();

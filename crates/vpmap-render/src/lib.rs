@@ -14,7 +14,7 @@
 //! use vpmap_metrology::map::{build_map, BuildOptions};
 //! use vpmap_metrology::synth::{synthesize, SynthOptions};
 //! use vpmap_render::{floor_plan_svg, model_glb, svg_to_png, FloorPlanStyle};
-//! let (scene, _) = synthesize(&SynthOptions::default());
+//! let (scene, _) = synthesize(&SynthOptions::default()).unwrap();
 //! let map = build_map(&scene, &BuildOptions::default()).unwrap();
 //! let svg = floor_plan_svg(&map, &FloorPlanStyle::default());
 //! let png = svg_to_png(&svg).unwrap();

@@ -490,7 +490,7 @@ fn camera_pyramid(map: &FloorMap, height: f64, depth: f64) -> MeshData {
 /// ```
 /// use vpmap_metrology::map::{build_map, BuildOptions};
 /// use vpmap_metrology::synth::{synthesize, SynthOptions};
-/// let (scene, _) = synthesize(&SynthOptions::default());
+/// let (scene, _) = synthesize(&SynthOptions::default()).unwrap();
 /// let map = build_map(&scene, &BuildOptions::default()).unwrap();
 /// let glb = vpmap_render::model_glb(&map).unwrap();
 /// assert_eq!(&glb[0..4], b"glTF");
@@ -660,7 +660,8 @@ mod tests {
     #[test]
     fn camera_pyramid_is_closed_and_looks_forward_and_down() {
         let (scene, _) =
-            vpmap_metrology::synth::synthesize(&vpmap_metrology::synth::SynthOptions::default());
+            vpmap_metrology::synth::synthesize(&vpmap_metrology::synth::SynthOptions::default())
+                .unwrap();
         let map =
             vpmap_metrology::map::build_map(&scene, &vpmap_metrology::map::BuildOptions::default())
                 .unwrap();
@@ -710,7 +711,8 @@ mod tests {
     #[test]
     fn camera_pyramid_shows_the_roll() {
         let (scene, _) =
-            vpmap_metrology::synth::synthesize(&vpmap_metrology::synth::SynthOptions::default());
+            vpmap_metrology::synth::synthesize(&vpmap_metrology::synth::SynthOptions::default())
+                .unwrap();
         let mut map =
             vpmap_metrology::map::build_map(&scene, &vpmap_metrology::map::BuildOptions::default())
                 .unwrap();

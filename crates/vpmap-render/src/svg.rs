@@ -451,7 +451,7 @@ fn plot_frame(map: &FloorMap, style: &FloorPlanStyle, left: f64, width: f64, top
 /// use vpmap_metrology::map::{build_map, BuildOptions};
 /// use vpmap_metrology::synth::{synthesize, SynthOptions};
 /// use vpmap_render::{floor_plan_svg, FloorPlanStyle};
-/// let (scene, _) = synthesize(&SynthOptions::default());
+/// let (scene, _) = synthesize(&SynthOptions::default()).unwrap();
 /// let map = build_map(&scene, &BuildOptions::default()).unwrap();
 /// let svg = floor_plan_svg(&map, &FloorPlanStyle::default());
 /// assert!(svg.starts_with("<?xml") && svg.contains(r#"width="1000""#));

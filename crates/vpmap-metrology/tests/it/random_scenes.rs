@@ -33,7 +33,7 @@ fn check(pitch_deg: f64, roll_deg: f64, seed_base: u64) {
             height_m: 0.2 + (i % 10) as f64 * 0.2,
             ..SynthOptions::default()
         };
-        let (scene, truth) = synthesize(&options);
+        let (scene, truth) = synthesize(&options).unwrap();
         let mut maps = Vec::new();
         for (k, method) in [Method::Sideview, Method::Projective]
             .into_iter()
@@ -135,7 +135,8 @@ fn check_few(pitch_deg: f64, roll_deg: f64) {
             boxes: 2,
             prisms: 0,
             ..SynthOptions::default()
-        });
+        })
+        .unwrap();
         for method in [Method::Sideview, Method::Projective] {
             let map = build_map(&scene, &BuildOptions { method }).unwrap();
             let err = max_relative_error(&map, &truth);
@@ -160,7 +161,7 @@ fn view_on_floor_is_the_image_rectangle_on_the_floor() {
             roll_deg: roll,
             ..SynthOptions::default()
         };
-        let (scene, truth) = synthesize(&options);
+        let (scene, truth) = synthesize(&options).unwrap();
         let map = build_map(&scene, &BuildOptions::default()).unwrap();
         let camera = PinholeCamera {
             image: options.image,

@@ -79,7 +79,8 @@ fn synthetic_map(seed: u64) -> FloorMap {
     let (scene, _) = synthesize(&SynthOptions {
         seed,
         ..SynthOptions::default()
-    });
+    })
+    .unwrap();
     build_map(&scene, &BuildOptions::default()).unwrap()
 }
 

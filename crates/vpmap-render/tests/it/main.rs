@@ -18,7 +18,7 @@ pub(crate) fn default_map() -> FloorMap {
 
 /// A synthetic map with the given options.
 pub(crate) fn map_with(options: &SynthOptions) -> FloorMap {
-    let (scene, _) = synthesize(options);
+    let (scene, _) = synthesize(options).unwrap();
     build_map(&scene, &BuildOptions::default()).unwrap()
 }
 
