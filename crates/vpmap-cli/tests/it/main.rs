@@ -67,7 +67,7 @@ fn build_writes_every_output() {
     }
     let stdout = String::from_utf8_lossy(&o.stdout);
     assert!(
-        stdout.contains("cabinet") && stdout.contains("pitch"),
+        stdout.contains("bookcase") && stdout.contains("pitch"),
         "{stdout}"
     );
 }
