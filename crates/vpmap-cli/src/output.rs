@@ -44,6 +44,14 @@ fn write_files(dir: &Path, files: Vec<(String, Vec<u8>)>) -> Result<Vec<PathBuf>
         tmp.write_all(&bytes)
             .and_then(|()| tmp.flush())
             .with_context(|| format!("cannot write {}", dir.join(&name).display()))?;
+        // Temporary files are created private (0600); outputs are ordinary files (0644), so that
+        // a ROS node or web server running as another user can read them.
+        #[cfg(unix)]
+        {
+            use std::os::unix::fs::PermissionsExt;
+            std::fs::set_permissions(tmp.path(), std::fs::Permissions::from_mode(0o644))
+                .with_context(|| format!("cannot write {}", dir.join(&name).display()))?;
+        }
         staged.push((tmp, dir.join(name)));
     }
     let mut done: Vec<PathBuf> = Vec::with_capacity(staged.len());

@@ -225,3 +225,20 @@ fn synth_then_build_round_trip() {
     assert_eq!(map["camera"]["perspective"], "2pp");
     assert_eq!(map["method"], "projective");
 }
+
+#[cfg(unix)]
+#[test]
+fn outputs_are_readable_by_others() {
+    use std::os::unix::fs::PermissionsExt;
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = vpmap(&["demo", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success());
+    for name in OUTPUTS {
+        let mode = std::fs::metadata(out.join(name))
+            .unwrap()
+            .permissions()
+            .mode();
+        assert_eq!(mode & 0o044, 0o044, "{name} has mode {mode:o}");
+    }
+}
