@@ -47,6 +47,13 @@ pub struct CameraReport {
     pub roll_deg: f64,
     /// Camera height above the floor, in the map's units.
     pub height: f64,
+    /// The intrinsic matrix `K = [[f, 0, cx], [0, f, cy], [0, 0, 1]]` (pixels; square pixels,
+    /// no skew), row by row.
+    pub k_matrix: [[f64; 3]; 3],
+    /// Rotation from the camera frame (x right, y down, z along the optical axis, as in
+    /// OpenCV) to the map frame, row by row: a ray `K^-1 (u, v, 1)` in camera coordinates
+    /// points along `R` times it in the map frame.
+    pub rotation_map_from_camera: [[f64; 3]; 3],
     /// Position of the camera `[x, y, z]` in the map frame (always `[0, 0, height]`).
     pub position: [f64; 3],
     /// The photo's size.
@@ -321,6 +328,25 @@ pub fn occlusion_shadow(
     Some(MultiPoint::new(points).convex_hull())
 }
 
+/// The rotation from camera coordinates (x right, y down, z forward) to the map frame for a
+/// camera pitched down by `pitch` and rolled by `roll` (positive: the horizon falls to the
+/// right in the image). Its columns are the camera's right, down and forward axes in the map.
+#[must_use]
+pub fn rotation_map_from_camera(pitch_rad: f64, roll_rad: f64) -> [[f64; 3]; 3] {
+    let (sp, cp) = pitch_rad.sin_cos();
+    let (sr, cr) = roll_rad.sin_cos();
+    // Unrolled axes: right (1, 0, 0), down (0, -sin p, -cos p), forward (0, cos p, -sin p);
+    // roll turns right and down about forward.
+    let right = [cr, sr * sp, sr * cp];
+    let down = [sr, -cr * sp, -cr * cp];
+    let forward = [0.0, cp, -sp];
+    [
+        [right[0], down[0], forward[0]],
+        [right[1], down[1], forward[1]],
+        [right[2], down[2], forward[2]],
+    ]
+}
+
 /// The image rectangle's floor footprint, cut at forward distance `reach` (in units where the
 /// camera height is `camera_height`), by the closed form of the errata: a point at
 /// horizon-frame offset `(x, y)` from `O` lies on the floor at
@@ -476,6 +502,12 @@ pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
             pitch_deg: cal.pitch_rad.to_degrees(),
             roll_deg: cal.roll_rad.to_degrees(),
             height: k,
+            k_matrix: [
+                [cal.focal_px, 0.0, o.x],
+                [0.0, cal.focal_px, o.y],
+                [0.0, 0.0, 1.0],
+            ],
+            rotation_map_from_camera: rotation_map_from_camera(cal.pitch_rad, cal.roll_rad),
             position: [0.0, 0.0, k],
             image: scene.image,
             vanishing_points: cal.vanishing_points_px.iter().map(|v| [v.x, v.y]).collect(),

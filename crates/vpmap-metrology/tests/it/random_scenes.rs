@@ -207,3 +207,32 @@ fn view_on_floor_is_the_image_rectangle_on_the_floor() {
         }
     }
 }
+
+#[test]
+fn camera_matrices_send_pixels_along_their_true_rays() {
+    use nalgebra::{Matrix3, Vector3};
+    for seed in 0..100 {
+        let options = SynthOptions {
+            seed,
+            pitch_deg: (seed % 5) as f64 * 10.0,
+            roll_deg: (seed % 7) as f64 * 3.0 - 9.0,
+            ..SynthOptions::default()
+        };
+        let (scene, truth) = synthesize(&options).unwrap();
+        let map = build_map(&scene, &BuildOptions::default()).unwrap();
+        let k = Matrix3::from_fn(|r, c| map.camera.k_matrix[r][c]);
+        let rot = Matrix3::from_fn(|r, c| map.camera.rotation_map_from_camera[r][c]);
+        let k_inv = k.try_inverse().unwrap();
+        let camera = Vector3::new(0.0, 0.0, truth.camera.height);
+        for (px, world) in scene.floor.iter().zip(&truth.floor) {
+            let ray = rot * k_inv * Vector3::new(px[0], px[1], 1.0);
+            let truth_dir = Vector3::new(world[0], world[1], 0.0) - camera;
+            let sin = ray.normalize().cross(&truth_dir.normalize()).norm();
+            assert!(sin < 1e-9, "seed {seed}: ray off by {sin:e}");
+            assert!(
+                ray.dot(&truth_dir) > 0.0,
+                "seed {seed}: ray points backwards"
+            );
+        }
+    }
+}
