@@ -38,3 +38,27 @@ pub fn max_relative_error(map: &FloorMap, truth: &Truth) -> f64 {
     }
     worst
 }
+
+/// The map's camera matches the truth: focal length to `1e-9` relative, pitch and roll to
+/// `1e-9` degrees. `context` names the case in the failure message.
+pub fn assert_camera_matches(map: &FloorMap, truth: &Truth, context: &str) {
+    let (m, t) = (&map.camera, &truth.camera);
+    assert!(
+        (m.focal_px - t.focal_px).abs() < 1e-9 * t.focal_px,
+        "{context}: focal {} vs {}",
+        m.focal_px,
+        t.focal_px
+    );
+    assert!(
+        (m.pitch_deg - t.pitch_deg).abs() < 1e-9,
+        "{context}: pitch {} vs {}",
+        m.pitch_deg,
+        t.pitch_deg
+    );
+    assert!(
+        (m.roll_deg - t.roll_deg).abs() < 1e-9,
+        "{context}: roll {} vs {}",
+        m.roll_deg,
+        t.roll_deg
+    );
+}

@@ -5,7 +5,7 @@ use vpmap_metrology::map::{BuildOptions, build_map};
 use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::synth::{SynthOptions, VanishingPointForm, synthesize};
 
-use crate::max_relative_error;
+use crate::{assert_camera_matches, max_relative_error};
 
 const SCENES: u64 = 1000;
 
@@ -46,24 +46,7 @@ fn check(pitch_deg: f64, roll_deg: f64, seed_base: u64) {
                 err < 1e-9,
                 "seed {seed}, pitch {pitch_deg}, {method}: relative error {err:e}"
             );
-            assert!(
-                (map.camera.pitch_deg - truth.camera.pitch_deg).abs() < 1e-9,
-                "seed {seed}: pitch {} vs {}",
-                map.camera.pitch_deg,
-                truth.camera.pitch_deg
-            );
-            assert!(
-                (map.camera.roll_deg - truth.camera.roll_deg).abs() < 1e-9,
-                "seed {seed}: roll {} vs {}",
-                map.camera.roll_deg,
-                truth.camera.roll_deg
-            );
-            assert!(
-                (map.camera.focal_px - truth.camera.focal_px).abs() < 1e-9 * truth.camera.focal_px,
-                "seed {seed}: focal {} vs {}",
-                map.camera.focal_px,
-                truth.camera.focal_px
-            );
+            assert_camera_matches(&map, &truth, &format!("seed {seed} {method}"));
             worst[k] = worst[k].max(err);
             maps.push(map);
         }

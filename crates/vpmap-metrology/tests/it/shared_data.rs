@@ -47,24 +47,7 @@ fn independent_synthetic_scenes_reconstruct_to_1e_9_m() {
         for method in [Method::Sideview, Method::Projective] {
             let map = build_map(&scene, &BuildOptions { method }).unwrap();
             let name = path.file_name().unwrap().to_string_lossy();
-            assert!(
-                (map.camera.focal_px - truth.camera.focal_px).abs() < 1e-6,
-                "{name} {method}: focal {} vs {}",
-                map.camera.focal_px,
-                truth.camera.focal_px
-            );
-            assert!(
-                (map.camera.pitch_deg - truth.camera.pitch_deg).abs() < 1e-9,
-                "{name} {method}: pitch {} vs {}",
-                map.camera.pitch_deg,
-                truth.camera.pitch_deg
-            );
-            assert!(
-                (map.camera.roll_deg - truth.camera.roll_deg).abs() < 1e-9,
-                "{name} {method}: roll {} vs {}",
-                map.camera.roll_deg,
-                truth.camera.roll_deg
-            );
+            crate::assert_camera_matches(&map, &truth, &format!("{name} {method}"));
             for (m, t) in map.objects.iter().zip(&truth.objects) {
                 for (a, b) in m.footprint.iter().zip(&t.footprint) {
                     let e = (a[0] - b[0]).hypot(a[1] - b[1]);
