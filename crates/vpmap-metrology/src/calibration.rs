@@ -220,7 +220,7 @@ impl Calibration {
         let product = og * oc;
         if product <= 0.0 || !product.is_finite() {
             return Err(MetrologyError::NoRealFocalLength(format!(
-                "OG * OC = {og:.6} * {oc:.6} px^2 is not positive: the orthocentre ({:.3}, {:.3}) of the vanishing-point triangle must lie between the horizon and the vertical vanishing point (the triangle must be acute)",
+                "OG * OC = {og:.6} * {oc:.6} px^2 is not positive: the orthocentre ({:.3}, {:.3}) of the vanishing-point triangle must lie between the horizon and the vertical vanishing point (the triangle must be acute). If the camera was nearly level (vertical edges almost parallel), give only the two horizontal vanishing points",
                 o.x, o.y
             )));
         }

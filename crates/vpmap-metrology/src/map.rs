@@ -170,7 +170,66 @@ pub fn reconstruct_scene(scene: &Scene, method: Method) -> Result<(Calibration, 
         Method::Sideview => reconstruct(scene, method, &SideView::new(&cal, scene))?,
         Method::Projective => reconstruct(scene, method, &Projective::new(&cal))?,
     };
+    check_plausible(&cal, &rec)?;
     Ok((cal, rec))
+}
+
+/// Farthest a mapped point may lie from the station point, in camera heights. A point farther
+/// out sits within a fraction of a pixel of the horizon, where its position is meaningless.
+pub const MAX_RANGE_CAMERA_HEIGHTS: f64 = 1e4;
+
+/// Reject reconstructions no camera could have seen: points beyond [`MAX_RANGE_CAMERA_HEIGHTS`],
+/// footprint corners behind the camera (a box completed from corners that disagree with the
+/// vanishing points), and footprints of zero area.
+fn check_plausible(cal: &Calibration, rec: &Reconstruction) -> Result<()> {
+    let (sin, cos) = cal.pitch_rad.sin_cos();
+    let check = |field: String, p: &Vector2<f64>| -> Result<()> {
+        if !(p.x.is_finite() && p.y.is_finite()) || p.norm() > MAX_RANGE_CAMERA_HEIGHTS {
+            return Err(MetrologyError::Degenerate {
+                field,
+                reason: format!(
+                    "the point lands {:.3e} camera heights from the camera, too close to the horizon to measure",
+                    p.norm()
+                ),
+            });
+        }
+        // Depth along the optical axis of a floor point, camera height 1.
+        if p.y * cos + sin <= 0.0 {
+            return Err(MetrologyError::Degenerate {
+                field,
+                reason: format!(
+                    "the footprint corner comes out at ({:.3}, {:.3}) camera heights, behind the camera: the annotated corners disagree with the vanishing points",
+                    p.x, p.y
+                ),
+            });
+        }
+        Ok(())
+    };
+    for (i, o) in rec.objects.iter().enumerate() {
+        for (j, p) in o.footprint.iter().enumerate() {
+            check(format!("objects[{i}] ({:?}) corner {j}", o.name), p)?;
+        }
+        let twice_area: f64 = (0..o.footprint.len())
+            .map(|j| {
+                let (a, b) = (o.footprint[j], o.footprint[(j + 1) % o.footprint.len()]);
+                a.x * b.y - a.y * b.x
+            })
+            .sum();
+        let size = o.footprint.iter().map(|p| p.norm()).fold(0.0, f64::max);
+        if twice_area.abs() <= 1e-12 * size * size {
+            return Err(MetrologyError::Degenerate {
+                field: format!("objects[{i}]"),
+                reason: format!(
+                    "object {:?} has a footprint of zero area: its corners lie on one line",
+                    o.name
+                ),
+            });
+        }
+    }
+    for (i, p) in rec.floor.iter().enumerate() {
+        check(format!("floor[{i}]"), p)?;
+    }
+    Ok(())
 }
 
 fn box_size(footprint: &[Vector2<f64>]) -> Option<BoxSize> {

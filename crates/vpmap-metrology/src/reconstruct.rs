@@ -132,6 +132,15 @@ pub fn require_below_horizon(cal: &Calibration, field: &str, p: PixelPoint) -> R
     Ok(below)
 }
 
+fn negative_height(field: &str, name: &str, h: f64) -> MetrologyError {
+    MetrologyError::Degenerate {
+        field: field.to_owned(),
+        reason: format!(
+            "object {name:?} comes out with a negative height ({h:.6} camera heights): the top point lies below its base in the image"
+        ),
+    }
+}
+
 /// Reconstruct every object and the floor of a scene with one method.
 ///
 /// Heights: a box's height is the mean of the estimates from its near vertical edge and, when
@@ -155,19 +164,14 @@ pub fn reconstruct(
             } => {
                 let corners = projection.box_footprint(&field, base.near, base.right, base.left)?;
                 let mut estimates = Vec::new();
-                if let Some(t) = top_near {
-                    estimates.push(projection.edge_height(
-                        &format!("{field}.top.near"),
-                        base.near,
-                        t,
-                    )?);
-                }
-                if let Some(t) = top_left {
-                    estimates.push(projection.edge_height(
-                        &format!("{field}.top.left"),
-                        base.left,
-                        t,
-                    )?);
+                for (name, base_px, top) in [("near", base.near, top_near), ("left", base.left, top_left)] {
+                    let Some(t) = top else { continue };
+                    let top_field = format!("{field}.top.{name}");
+                    let h = projection.edge_height(&top_field, base_px, t)?;
+                    if h < 0.0 {
+                        return Err(negative_height(&top_field, &obj.name, h));
+                    }
+                    estimates.push(h);
                 }
                 let height = if estimates.is_empty() {
                     None
@@ -196,13 +200,7 @@ pub fn reconstruct(
         if let Some(h) = height
             && h < 0.0
         {
-            return Err(MetrologyError::Degenerate {
-                field: format!("{field}.top"),
-                reason: format!(
-                    "object \"{}\" comes out with a negative height ({h:.6} camera heights): its top point lies below its base in the image",
-                    obj.name
-                ),
-            });
+            return Err(negative_height(&format!("{field}.top.point"), &obj.name, h));
         }
         objects.push(ReconstructedObject {
             name: obj.name.clone(),

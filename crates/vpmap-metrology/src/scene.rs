@@ -207,7 +207,16 @@ pub enum ObjectShape<'a> {
     },
 }
 
-fn check_point(field: &str, p: PixelPoint) -> Result<()> {
+/// Largest magnitude of an annotated image coordinate, pixels: points are clicked in (or near)
+/// the photo.
+pub const MAX_POINT_PX: f64 = 1e7;
+/// Largest magnitude of a vanishing point's coordinate, pixels (nearly parallel edges put it
+/// far away; beyond this it is at infinity for any real camera).
+pub const MAX_VANISHING_POINT_PX: f64 = 1e12;
+/// Largest known length in a `scale`, metres.
+pub const MAX_SCALE_M: f64 = 1e6;
+
+fn check_coords(field: &str, p: &[f64], limit: f64) -> Result<()> {
     for (i, v) in p.iter().enumerate() {
         if !v.is_finite() {
             return Err(MetrologyError::NonFinite {
@@ -215,8 +224,18 @@ fn check_point(field: &str, p: PixelPoint) -> Result<()> {
                 value: *v,
             });
         }
+        if v.abs() > limit {
+            return Err(MetrologyError::InvalidField {
+                field: format!("{field}[{i}]"),
+                reason: format!("{v:e} px is outside the supported range of +-{limit:e} px"),
+            });
+        }
     }
     Ok(())
+}
+
+fn check_point(field: &str, p: PixelPoint) -> Result<()> {
+    check_coords(field, &p, MAX_POINT_PX)
 }
 
 fn check_positive(field: &str, v: f64) -> Result<()> {
@@ -230,6 +249,17 @@ fn check_positive(field: &str, v: f64) -> Result<()> {
         return Err(MetrologyError::InvalidField {
             field: field.to_owned(),
             reason: format!("must be positive, got {v}"),
+        });
+    }
+    Ok(())
+}
+
+fn check_length_m(field: &str, v: f64) -> Result<()> {
+    check_positive(field, v)?;
+    if v > MAX_SCALE_M {
+        return Err(MetrologyError::InvalidField {
+            field: field.to_owned(),
+            reason: format!("{v:e} m is beyond the supported {MAX_SCALE_M:e} m"),
         });
     }
     Ok(())
@@ -376,7 +406,7 @@ impl Scene {
         for (i, vp) in self.vanishing_points.iter().enumerate() {
             let field = format!("vanishing_points[{i}]");
             if let Some(p) = vp.point {
-                check_point(&format!("{field}.point"), p)?;
+                check_coords(&format!("{field}.point"), &p, MAX_VANISHING_POINT_PX)?;
             } else if vp.lines.len() < 2 {
                 return Err(MetrologyError::InvalidField {
                     field,
@@ -387,14 +417,7 @@ impl Scene {
                 });
             }
             for (j, l) in vp.lines.iter().enumerate() {
-                for (k, v) in l.iter().enumerate() {
-                    if !v.is_finite() {
-                        return Err(MetrologyError::NonFinite {
-                            field: format!("{field}.lines[{j}][{k}]"),
-                            value: *v,
-                        });
-                    }
-                }
+                check_coords(&format!("{field}.lines[{j}]"), l, MAX_POINT_PX)?;
                 if (l[0] - l[2]).hypot(l[1] - l[3]) < 1e-9 {
                     return Err(MetrologyError::InvalidField {
                         field: format!("{field}.lines[{j}]"),
@@ -490,13 +513,13 @@ impl Scene {
             });
         }
         if let Some(h) = s.camera_height_m {
-            check_positive("scale.camera_height_m", h)?;
+            check_length_m("scale.camera_height_m", h)?;
             return Ok(Some(Scale::CameraHeight(h)));
         }
         if let Some(fd) = s.floor_distance {
             check_point("scale.floor_distance.from", fd.from)?;
             check_point("scale.floor_distance.to", fd.to)?;
-            check_positive("scale.floor_distance.meters", fd.meters)?;
+            check_length_m("scale.floor_distance.meters", fd.meters)?;
             return Ok(Some(Scale::FloorDistance(fd)));
         }
         let name = s.object.clone().unwrap_or_default();
@@ -512,7 +535,7 @@ impl Scene {
                 reason: "missing: the known length in metres".to_owned(),
             });
         };
-        check_positive("scale.meters", meters)?;
+        check_length_m("scale.meters", meters)?;
         if !self.objects.iter().any(|o| o.name == name) {
             return Err(MetrologyError::UnknownScaleObject {
                 name,
@@ -545,15 +568,19 @@ impl Scene {
                 if let Some(p) = vp.point {
                     return Ok(Vector2::new(p[0], p[1]));
                 }
-                intersect_segments(&vp.lines, self.image).ok_or_else(|| {
-                    MetrologyError::ParallelLines {
+                intersect_segments(&vp.lines, self.image).map_err(|fit| match fit {
+                    SegmentFit::Parallel => MetrologyError::ParallelLines {
                         index: i + 1,
                         hint: if i == 2 && n == 3 {
                             "; for a two-point-perspective photo (vertical edges parallel) give only the two horizontal vanishing points".to_owned()
                         } else {
                             String::new()
                         },
-                    }
+                    },
+                    SegmentFit::Collinear => MetrologyError::InvalidField {
+                        field: format!("vanishing_points[{i}].lines"),
+                        reason: "the segments lie on one line, so they do not fix a point: click edges on different lines that run to the vanishing point".to_owned(),
+                    },
                 })
             })
             .collect()
@@ -565,8 +592,11 @@ impl Scene {
 /// Each segment `[x1, y1, x2, y2]` gives a homogeneous line, normalised so that its value at a
 /// point is the point's distance to it; the intersection minimises the sum of squared
 /// distances in homogeneous form (smallest eigenvector of the 3x3 normal matrix), computed in
-/// coordinates centred on the image and scaled by its diagonal for conditioning. Returns `None`
-/// when the lines meet at infinity (further than 1e7 image diagonals away).
+/// coordinates centred on the image and scaled by its diagonal for conditioning.
+///
+/// # Errors
+/// [`SegmentFit::Parallel`] when the lines meet at infinity (further than 1e7 image diagonals
+/// away), [`SegmentFit::Collinear`] when they all lie on one line (no single point).
 ///
 /// # Example
 /// ```
@@ -575,8 +605,10 @@ impl Scene {
 /// let vp = intersect_segments(&[[0.0, 0.0, 1.0, 1.0], [10.0, 0.0, 9.0, 1.0]], image).unwrap();
 /// assert!((vp.x - 5.0).abs() < 1e-9 && (vp.y - 5.0).abs() < 1e-9);
 /// ```
-#[must_use]
-pub fn intersect_segments(segments: &[[f64; 4]], image: ImageSize) -> Option<Vector2<f64>> {
+pub fn intersect_segments(
+    segments: &[[f64; 4]],
+    image: ImageSize,
+) -> std::result::Result<Vector2<f64>, SegmentFit> {
     let c = image.centre();
     let s = image.diagonal();
     let mut m = Matrix3::<f64>::zeros();
@@ -592,14 +624,24 @@ pub fn intersect_segments(segments: &[[f64; 4]], image: ImageSize) -> Option<Vec
         m += l * l.transpose();
     }
     let eig = m.symmetric_eigen();
-    let (k, _) = eig
-        .eigenvalues
-        .iter()
-        .enumerate()
-        .min_by(|a, b| a.1.total_cmp(b.1))?;
-    let v = eig.eigenvectors.column(k);
-    if v.z.abs() < 1e-7 * v.x.hypot(v.y) {
-        return None;
+    let mut order = [0usize, 1, 2];
+    order.sort_by(|&a, &b| eig.eigenvalues[a].total_cmp(&eig.eigenvalues[b]));
+    // Two vanishing eigenvalues: every line is the same line.
+    if eig.eigenvalues[order[1]] <= 1e-12 * eig.eigenvalues.sum().max(f64::MIN_POSITIVE) {
+        return Err(SegmentFit::Collinear);
     }
-    Some(Vector2::new(v.x / v.z * s + c.x, v.y / v.z * s + c.y))
+    let v = eig.eigenvectors.column(order[0]);
+    if v.z.abs() < 1e-7 * v.x.hypot(v.y) {
+        return Err(SegmentFit::Parallel);
+    }
+    Ok(Vector2::new(v.x / v.z * s + c.x, v.y / v.z * s + c.y))
+}
+
+/// Why a set of segments fixes no vanishing point.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum SegmentFit {
+    /// The lines are parallel: they meet only at infinity.
+    Parallel,
+    /// The segments all lie on one line.
+    Collinear,
 }

@@ -219,3 +219,78 @@ fn empty_objects_and_floor_still_calibrate() {
     assert!(map.objects.is_empty() && map.free_space.is_empty());
     assert!(map.camera.focal_px > 0.0);
 }
+
+#[test]
+fn identical_or_collinear_segments_fix_no_point() {
+    for lines in [
+        serde_json::json!([[0, 0, 10, 1], [0, 0, 10, 1]]),
+        serde_json::json!([[0, 0, 10, 1], [20, 2, 30, 3]]),
+    ] {
+        let mut v = base_scene();
+        v["vanishing_points"][0] = serde_json::json!({ "lines": lines });
+        let e = err_text(&v);
+        assert!(e.contains("vanishing_points[0].lines") && e.contains("one line"), "{e}");
+    }
+}
+
+#[test]
+fn huge_numbers_are_errors_not_panics() {
+    // Regressions: these reached geo's convex hull and union and panicked there.
+    let mut v = base_scene();
+    v["scale"] = serde_json::json!({"camera_height_m": 3e154});
+    assert!(err_text(&v).contains("scale.camera_height_m"));
+    let mut v = base_scene();
+    v["floor"][2] = serde_json::json!([1300.0, 1e307]);
+    let e = err_text(&v);
+    assert!(e.contains("floor[2][1]") && e.contains("outside the supported range"), "{e}");
+    let mut v = base_scene();
+    v["vanishing_points"][0]["point"] = serde_json::json!([-1e200, 600.0]);
+    assert!(err_text(&v).contains("vanishing_points[0].point[0]"));
+}
+
+#[test]
+fn top_below_base_on_one_edge_is_named() {
+    // The near edge's top lies below its base; the left edge is fine. Averaging the two
+    // estimates must not hide it.
+    let mut v = base_scene();
+    v["objects"][0]["top"] = serde_json::json!({"near": [800.0, 1000.0], "left": [600.0, 600.0]});
+    let e = err_text(&v);
+    assert!(e.contains("objects[0].top.near") && e.contains("negative height"), "{e}");
+}
+
+#[test]
+fn floor_point_a_hair_below_the_horizon_is_out_of_range() {
+    let mut v = base_scene();
+    v["floor"][2] = serde_json::json!([1300.0, 600.0001]);
+    let e = err_text(&v);
+    assert!(e.contains("floor[2]") && e.contains("too close to the horizon"), "{e}");
+}
+
+#[test]
+fn noisy_box_completed_behind_the_camera_is_an_error() {
+    // Found by sweeping noisy synthetic scenes: 2 px of noise on a far box's corners put its
+    // completed corner 1.9 km behind the camera, and the map was written anyway.
+    use vpmap_metrology::synth::{SynthOptions, VanishingPointForm, synthesize};
+    let (scene, _) = synthesize(&SynthOptions {
+        seed: 39,
+        pitch_deg: 15.0,
+        roll_deg: 0.0,
+        noise_px: 2.0,
+        vanishing_points: VanishingPointForm::Lines,
+        ..SynthOptions::default()
+    })
+    .unwrap();
+    match build_map(&scene, &BuildOptions::default()) {
+        Ok(map) => {
+            for o in &map.objects {
+                for p in &o.footprint {
+                    assert!(p[1] > 0.0 && p[0].hypot(p[1]) < 1e3, "{}: {p:?}", o.name);
+                }
+            }
+        }
+        Err(e) => {
+            let e = e.to_string();
+            assert!(e.contains("objects[") || e.contains("floor["), "{e}");
+        }
+    }
+}
