@@ -11,8 +11,8 @@ use vpmap_plan::raster::{RasterOptions, rasterize_map};
 use vpmap_plan::ros::encode_ros_map;
 use vpmap_render::{FloorPlanStyle, floor_plan_svg, model_glb, svg_to_png};
 
-use crate::BuildArgs;
 use crate::output::OutputSet;
+use crate::{BuildArgs, num};
 
 /// The bundled example: a synthetic office seen at 25 degrees pitch, with its truth.
 const EXAMPLE_SCENE: &str = include_str!("../../../examples/office.json");
@@ -21,7 +21,72 @@ const EXAMPLE_TRUTH: &str = include_str!("../../../examples/office.truth.json");
 fn read_scene(path: &Path) -> Result<Scene> {
     let text = std::fs::read_to_string(path)
         .with_context(|| format!("cannot read scene file {}", path.display()))?;
-    Scene::from_json_str(&text).with_context(|| format!("{}", path.display()))
+    // Editors on Windows may start the file with a byte-order mark; it is not JSON.
+    let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
+    if !text.trim_start().starts_with('{') {
+        bail!(
+            "{}: scene file is malformed: it must be a JSON object ({{ ... }})",
+            path.display()
+        );
+    }
+    for field in unknown_fields(text) {
+        eprintln!(
+            "warning: {}: unknown field {field} is ignored (see docs/scene-format.md)",
+            path.display()
+        );
+    }
+    Scene::from_json_str(text).with_context(|| format!("{}", path.display()))
+}
+
+/// Fields of a scene file that vpmap does not read (often typos such as `scael`).
+fn unknown_fields(text: &str) -> Vec<String> {
+    const TOP: [&str; 9] = [
+        "version",
+        "image",
+        "vanishing_points",
+        "principal_point",
+        "focal_px",
+        "objects",
+        "floor",
+        "scale",
+        "perspective",
+    ];
+    const OBJECT: [&str; 4] = ["name", "base", "footprint", "top"];
+    const SCALE: [&str; 5] = [
+        "camera_height_m",
+        "object",
+        "dimension",
+        "meters",
+        "floor_distance",
+    ];
+    let Ok(serde_json::Value::Object(top)) = serde_json::from_str::<serde_json::Value>(text) else {
+        return Vec::new();
+    };
+    let mut out: Vec<String> = top
+        .keys()
+        .filter(|k| !TOP.contains(&k.as_str()))
+        .map(|k| format!("{k:?}"))
+        .collect();
+    if let Some(serde_json::Value::Array(objects)) = top.get("objects") {
+        for (i, o) in objects.iter().enumerate() {
+            if let serde_json::Value::Object(o) = o {
+                out.extend(
+                    o.keys()
+                        .filter(|k| !OBJECT.contains(&k.as_str()))
+                        .map(|k| format!("objects[{i}].{k:?}")),
+                );
+            }
+        }
+    }
+    if let Some(serde_json::Value::Object(scale)) = top.get("scale") {
+        out.extend(
+            scale
+                .keys()
+                .filter(|k| !SCALE.contains(&k.as_str()))
+                .map(|k| format!("scale.{k:?}")),
+        );
+    }
+    out
 }
 
 /// Everything `build` writes, rendered in memory.
@@ -32,16 +97,16 @@ struct Built {
 }
 
 fn check_args(args: &BuildArgs) -> Result<()> {
-    if !(args.resolution.is_finite() && args.resolution > 0.0) {
+    if !(args.resolution.is_finite() && args.resolution > 0.0 && args.resolution <= 100.0) {
         bail!(
-            "--resolution must be a positive number of metres, got {}",
-            args.resolution
+            "--resolution must be a positive number of metres, at most 100, got {}",
+            num(args.resolution)
         );
     }
-    if !(args.robot_radius.is_finite() && args.robot_radius >= 0.0) {
+    if !(args.robot_radius.is_finite() && args.robot_radius >= 0.0 && args.robot_radius <= 1e3) {
         bail!(
-            "--robot-radius must be a non-negative number of metres, got {}",
-            args.robot_radius
+            "--robot-radius must be a non-negative number of metres, at most 1000, got {}",
+            num(args.robot_radius)
         );
     }
     Ok(())

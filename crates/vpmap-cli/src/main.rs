@@ -12,7 +12,7 @@ use vpmap_metrology::reconstruct::Method;
 
 /// One ordinary photo of a room in, a metric floor map a robot can use out.
 #[derive(Parser)]
-#[command(name = "vpmap", version, about, long_about = None)]
+#[command(name = "vpmap", version, about, long_about = None, allow_negative_numbers = true)]
 struct Cli {
     #[command(subcommand)]
     command: Command,
@@ -28,14 +28,24 @@ pub struct BuildArgs {
     #[arg(long, default_value = "sideview", value_parser = parse_method)]
     pub method: Method,
     /// Occupancy-grid cell size, metres (map units when the scene has no scale).
-    #[arg(long, default_value_t = 0.05)]
+    #[arg(long, default_value_t = 0.05, allow_negative_numbers = true)]
     pub resolution: f64,
     /// Robot radius: obstacles in the occupancy grid are inflated by it, metres.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     pub robot_radius: f64,
     /// Mark floor hidden behind objects as free in the occupancy grid (default: unknown).
     #[arg(long)]
     pub hidden_free: bool,
+}
+
+/// A number for an error message: plain when readable, scientific when huge or tiny.
+#[must_use]
+pub fn num(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e7).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
 }
 
 fn parse_method(s: &str) -> Result<Method, String> {
@@ -64,8 +74,42 @@ enum Command {
     Synth(synth::SynthArgs),
 }
 
+/// Parse the command line; usage errors become one line (`error: ...`) and exit code 2.
+fn parse_cli() -> Result<Cli, ExitCode> {
+    match Cli::try_parse() {
+        Ok(cli) => Ok(cli),
+        Err(e) => {
+            use clap::error::ErrorKind;
+            if matches!(
+                e.kind(),
+                ErrorKind::DisplayHelp
+                    | ErrorKind::DisplayVersion
+                    | ErrorKind::DisplayHelpOnMissingArgumentOrSubcommand
+            ) {
+                let _ = e.print();
+                return Err(if e.use_stderr() {
+                    ExitCode::from(2)
+                } else {
+                    ExitCode::SUCCESS
+                });
+            }
+            let text = e.to_string();
+            let first = text
+                .lines()
+                .find(|l| !l.trim().is_empty())
+                .unwrap_or("invalid arguments")
+                .trim_start_matches("error: ");
+            eprintln!("error: {first} (see vpmap --help)");
+            Err(ExitCode::from(2))
+        }
+    }
+}
+
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match parse_cli() {
+        Ok(cli) => cli,
+        Err(code) => return code,
+    };
     let result = match cli.command {
         Command::Build { scene, args } => build::run_build(&scene, &args),
         Command::Demo { out, method } => build::run_demo(&out, method),

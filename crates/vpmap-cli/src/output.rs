@@ -20,13 +20,31 @@ impl OutputSet {
 
     /// Write every file into `dir` (created if missing). Returns the paths written.
     pub fn write_all(self, dir: &Path) -> Result<Vec<PathBuf>> {
-        let created_dir = !dir.exists();
-        std::fs::create_dir_all(dir)
-            .with_context(|| format!("cannot create output folder {}", dir.display()))?;
-        let result = write_files(dir, self.files);
-        if result.is_err() && created_dir {
-            // Remove the folder we created if it is empty; ignore failures.
-            let _ = std::fs::remove_dir(dir);
+        // The folders this call creates, deepest last, to remove again on failure.
+        let mut created: Vec<PathBuf> = dir
+            .ancestors()
+            .take_while(|a| !a.as_os_str().is_empty() && !a.exists())
+            .map(Path::to_path_buf)
+            .collect();
+        created.reverse();
+        let result = std::fs::create_dir_all(dir)
+            .with_context(|| format!("cannot create output folder {}", dir.display()))
+            .and_then(|()| {
+                // Refuse before touching anything if an output name is taken by a folder, so
+                // a failed run leaves an earlier run's files intact.
+                for (name, _) in &self.files {
+                    let target = dir.join(name);
+                    if target.is_dir() {
+                        anyhow::bail!("cannot write {}: it is a folder", target.display());
+                    }
+                }
+                write_files(dir, self.files)
+            });
+        if result.is_err() {
+            // Remove the (empty) folders we created; ignore failures.
+            for d in created.iter().rev() {
+                let _ = std::fs::remove_dir(d);
+            }
         }
         result
     }

@@ -5,6 +5,7 @@ use std::path::PathBuf;
 use anyhow::{Context, Result, bail};
 use vpmap_metrology::synth::{SynthOptions, VanishingPointForm, synthesize};
 
+use crate::num;
 use crate::output::write_file;
 
 /// Arguments of `vpmap synth`.
@@ -20,10 +21,10 @@ pub struct SynthArgs {
     #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
     roll: f64,
     /// Camera height, metres.
-    #[arg(long, default_value_t = 1.5)]
+    #[arg(long, default_value_t = 1.5, allow_negative_numbers = true)]
     height: f64,
     /// Focal length, pixels.
-    #[arg(long, default_value_t = 1100.0)]
+    #[arg(long, default_value_t = 1100.0, allow_negative_numbers = true)]
     focal_px: f64,
     /// Number of boxes.
     #[arg(long, default_value_t = 4)]
@@ -32,7 +33,7 @@ pub struct SynthArgs {
     #[arg(long, default_value_t = 1)]
     prisms: usize,
     /// Gaussian noise on every annotated point, pixels.
-    #[arg(long, default_value_t = 0.0)]
+    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     noise: f64,
     /// Give vanishing points as the clicked box edges instead of points.
     #[arg(long)]
@@ -75,15 +76,34 @@ pub fn run(args: &SynthArgs) -> Result<()> {
     if args.height <= 0.0 || args.focal_px <= 0.0 || args.noise < 0.0 {
         bail!(
             "--height ({}) and --focal-px ({}) must be positive and --noise ({}) non-negative",
-            args.height,
-            args.focal_px,
-            args.noise
+            num(args.height),
+            num(args.focal_px),
+            num(args.noise)
         );
     }
-    if args.boxes + args.prisms > 100 {
+    if args.boxes.saturating_add(args.prisms) > 100 {
         bail!(
-            "--boxes + --prisms is {}; at most 100 objects fit a synthetic room",
-            args.boxes + args.prisms
+            "--boxes ({}) + --prisms ({}) is more than 100 objects; at most 100 fit a synthetic room",
+            args.boxes,
+            args.prisms
+        );
+    }
+    if !(100.0..=20_000.0).contains(&args.focal_px) {
+        bail!(
+            "--focal-px {} is outside the supported range 100..=20000 px",
+            num(args.focal_px)
+        );
+    }
+    if !(0.05..=100.0).contains(&args.height) {
+        bail!(
+            "--height {} is outside the supported range 0.05..=100 m",
+            num(args.height)
+        );
+    }
+    if args.out.to_string_lossy().ends_with('/') || args.out.is_dir() {
+        bail!(
+            "--out {} is a folder; give a file name such as scene.json",
+            args.out.display()
         );
     }
     let (scene, truth) = synthesize(&SynthOptions {
@@ -107,11 +127,15 @@ pub fn run(args: &SynthArgs) -> Result<()> {
         let stem = args.out.with_extension("");
         PathBuf::from(format!("{}.truth.json", stem.display()))
     });
-    write_file(&args.out, scene.to_json_string())?;
     write_file(
         &truth_path,
         serde_json::to_string_pretty(&truth).context("serialising the truth")?,
     )?;
+    if let Err(e) = write_file(&args.out, scene.to_json_string()) {
+        // Both files or neither.
+        let _ = std::fs::remove_file(&truth_path);
+        return Err(e);
+    }
     println!("wrote {} and {}", args.out.display(), truth_path.display());
     Ok(())
 }

@@ -79,7 +79,7 @@ pub enum MetrologyError {
     },
     /// The `scale` names an object that the scene does not have.
     #[error(
-        "scene field `scale.object` names \"{name}\", but the scene has no object of that name (objects: {known})"
+        "scene field `scale.object` names {name:?}, but the scene has no object of that name (objects: {known})"
     )]
     UnknownScaleObject {
         /// The name given.

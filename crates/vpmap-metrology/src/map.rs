@@ -215,7 +215,7 @@ fn check_plausible(cal: &Calibration, rec: &Reconstruction) -> Result<()> {
                 a.x * b.y - a.y * b.x
             })
             .sum();
-        let size = o.footprint.iter().map(|p| p.norm()).fold(0.0, f64::max);
+        let size = o.footprint.iter().map(Vector2::norm).fold(0.0, f64::max);
         if twice_area.abs() <= 1e-12 * size * size {
             return Err(MetrologyError::Degenerate {
                 field: format!("objects[{i}]"),
@@ -283,7 +283,7 @@ pub fn meters_per_camera_height(
                 Dimension::Height => obj.height.ok_or_else(|| MetrologyError::InvalidField {
                     field: "scale.dimension".to_owned(),
                     reason: format!(
-                        "is \"height\", but object \"{name}\" has no top point to measure it"
+                        "is \"height\", but object {name:?} has no top point to measure it"
                     ),
                 })?,
                 Dimension::Length | Dimension::Breadth => {
@@ -294,7 +294,7 @@ pub fn meters_per_camera_height(
                     .ok_or_else(|| MetrologyError::InvalidField {
                         field: "scale.dimension".to_owned(),
                         reason: format!(
-                            "length and breadth are defined for boxes only; object \"{name}\" is a footprint (use \"height\" or a floor distance)"
+                            "length and breadth are defined for boxes only; object {name:?} is a footprint (use \"height\" or a floor distance)"
                         ),
                     })?;
                     if dimension == Dimension::Length {

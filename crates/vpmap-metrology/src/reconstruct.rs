@@ -164,7 +164,9 @@ pub fn reconstruct(
             } => {
                 let corners = projection.box_footprint(&field, base.near, base.right, base.left)?;
                 let mut estimates = Vec::new();
-                for (name, base_px, top) in [("near", base.near, top_near), ("left", base.left, top_left)] {
+                for (name, base_px, top) in
+                    [("near", base.near, top_near), ("left", base.left, top_left)]
+                {
                     let Some(t) = top else { continue };
                     let top_field = format!("{field}.top.{name}");
                     let h = projection.edge_height(&top_field, base_px, t)?;

@@ -280,7 +280,7 @@ impl ObjectSpec {
                     return Err(MetrologyError::InvalidField {
                         field: format!("{field}.top"),
                         reason: format!(
-                            "object \"{}\" is a box (it has `base`): give `top.near` (and optionally `top.left`), not `above`/`point`",
+                            "object {:?} is a box (it has `base`): give `top.near` (and optionally `top.left`), not `above`/`point`",
                             self.name
                         ),
                     });
@@ -289,7 +289,7 @@ impl ObjectSpec {
                     return Err(MetrologyError::InvalidField {
                         field: format!("{field}.top"),
                         reason: format!(
-                            "object \"{}\" gives `top.left` without `top.near`",
+                            "object {:?} gives `top.left` without `top.near`",
                             self.name
                         ),
                     });
@@ -305,7 +305,7 @@ impl ObjectSpec {
                     return Err(MetrologyError::InvalidField {
                         field: format!("{field}.footprint"),
                         reason: format!(
-                            "needs at least 3 vertices, got {} (object \"{}\")",
+                            "needs at least 3 vertices, got {} (object {:?})",
                             polygon.len(),
                             self.name
                         ),
@@ -315,7 +315,7 @@ impl ObjectSpec {
                     return Err(MetrologyError::InvalidField {
                         field: format!("{field}.top"),
                         reason: format!(
-                            "object \"{}\" has a `footprint`: give `top.above` and `top.point`, not `near`/`left`",
+                            "object {:?} has a `footprint`: give `top.above` and `top.point`, not `near`/`left`",
                             self.name
                         ),
                     });
@@ -347,14 +347,14 @@ impl ObjectSpec {
             (Some(_), Some(_)) => Err(MetrologyError::InvalidField {
                 field: field.clone(),
                 reason: format!(
-                    "object \"{}\" has both `base` and `footprint`; give one",
+                    "object {:?} has both `base` and `footprint`; give one",
                     self.name
                 ),
             }),
             (None, None) => Err(MetrologyError::InvalidField {
                 field,
                 reason: format!(
-                    "object \"{}\" has neither `base` (a box) nor `footprint`",
+                    "object {:?} has neither `base` (a box) nor `footprint`",
                     self.name
                 ),
             }),
@@ -446,7 +446,7 @@ impl Scene {
             if !names.insert(obj.name.as_str()) {
                 return Err(MetrologyError::InvalidField {
                     field: format!("objects[{i}].name"),
-                    reason: format!("\"{}\" is used by an earlier object", obj.name),
+                    reason: format!("{:?} is used by an earlier object", obj.name),
                 });
             }
             let field = format!("objects[{i}]");

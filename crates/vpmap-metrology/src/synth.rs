@@ -520,7 +520,7 @@ pub fn synthesize(options: &SynthOptions) -> Result<(Scene, Truth)> {
     Err(MetrologyError::Degenerate {
         field: "synth".to_owned(),
         reason: format!(
-            "could not place {} boxes and {} prisms apart from each other in the camera's view in 200 attempts; ask for fewer objects",
+            "could not place {} boxes and {} prisms apart from each other in the camera's view in 200 attempts: ask for fewer objects, or a camera that sees more floor (looking down, not up)",
             options.boxes, options.prisms
         ),
     })

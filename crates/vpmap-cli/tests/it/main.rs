@@ -242,3 +242,101 @@ fn outputs_are_readable_by_others() {
         assert_eq!(mode & 0o044, 0o044, "{name} has mode {mode:o}");
     }
 }
+
+#[test]
+fn usage_errors_are_one_line() {
+    for args in [
+        vec!["build", "x.json", "--out", "o", "--resolution"],
+        vec!["build", "--bogus"],
+        vec!["frobnicate"],
+    ] {
+        let o = vpmap(&args);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(2), "{args:?}: {stderr}");
+        assert!(stderr.starts_with("error: "), "{stderr}");
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{args:?}: {stderr}");
+    }
+    // A negative number reaches the range check instead of confusing the parser.
+    let o = vpmap(&[
+        "build",
+        example().to_str().unwrap(),
+        "--out",
+        "o",
+        "--resolution",
+        "-1",
+    ]);
+    assert!(String::from_utf8_lossy(&o.stderr).contains("--resolution must be a positive"));
+}
+
+#[test]
+fn byte_order_mark_and_unknown_fields() {
+    let dir = tempfile::tempdir().unwrap();
+    let scene = dir.path().join("bom.json");
+    let mut text = std::fs::read_to_string(example()).unwrap();
+    text = text.replacen('{', "{\"scael\": {\"camera_height_m\": 2},", 1);
+    std::fs::write(&scene, format!("\u{feff}{text}")).unwrap();
+    let out = dir.path().join("out");
+    let o = vpmap(&[
+        "build",
+        scene.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(o.status.success(), "{stderr}");
+    assert!(stderr.contains("unknown field \"scael\""), "{stderr}");
+    // A JSON array is not a scene, even though serde could read one positionally.
+    std::fs::write(&scene, "[1, {\"width\": 10, \"height\": 10}, []]").unwrap();
+    let out2 = dir.path().join("out2");
+    assert_fails_cleanly(
+        &[
+            "build",
+            scene.to_str().unwrap(),
+            "--out",
+            out2.to_str().unwrap(),
+        ],
+        &out2,
+        "must be a JSON object",
+    );
+}
+
+#[test]
+fn a_failed_build_keeps_the_previous_outputs_and_creates_no_folders() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = vpmap(&[
+        "build",
+        example().to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success());
+    let before = std::fs::read(out.join("map.json")).unwrap();
+    std::fs::remove_file(out.join("model.glb")).unwrap();
+    std::fs::create_dir(out.join("model.glb")).unwrap();
+    let o = vpmap(&[
+        "build",
+        example().to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && stderr.contains("is a folder"),
+        "{stderr}"
+    );
+    assert_eq!(std::fs::read(out.join("map.json")).unwrap(), before);
+    assert!(out.join("occupancy.pgm").exists() && out.join("map.png").exists());
+    // Nested folders that a failed run created are removed again.
+    let bad = dir.path().join("bad.json");
+    std::fs::write(&bad, "{\"version\": 2}").unwrap();
+    let nested = dir.path().join("a/b/c");
+    let o = vpmap(&[
+        "build",
+        bad.to_str().unwrap(),
+        "--out",
+        nested.to_str().unwrap(),
+    ]);
+    assert!(!o.status.success());
+    assert!(!dir.path().join("a").exists());
+}

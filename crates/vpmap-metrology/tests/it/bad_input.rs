@@ -229,7 +229,10 @@ fn identical_or_collinear_segments_fix_no_point() {
         let mut v = base_scene();
         v["vanishing_points"][0] = serde_json::json!({ "lines": lines });
         let e = err_text(&v);
-        assert!(e.contains("vanishing_points[0].lines") && e.contains("one line"), "{e}");
+        assert!(
+            e.contains("vanishing_points[0].lines") && e.contains("one line"),
+            "{e}"
+        );
     }
 }
 
@@ -242,7 +245,10 @@ fn huge_numbers_are_errors_not_panics() {
     let mut v = base_scene();
     v["floor"][2] = serde_json::json!([1300.0, 1e307]);
     let e = err_text(&v);
-    assert!(e.contains("floor[2][1]") && e.contains("outside the supported range"), "{e}");
+    assert!(
+        e.contains("floor[2][1]") && e.contains("outside the supported range"),
+        "{e}"
+    );
     let mut v = base_scene();
     v["vanishing_points"][0]["point"] = serde_json::json!([-1e200, 600.0]);
     assert!(err_text(&v).contains("vanishing_points[0].point[0]"));
@@ -255,7 +261,10 @@ fn top_below_base_on_one_edge_is_named() {
     let mut v = base_scene();
     v["objects"][0]["top"] = serde_json::json!({"near": [800.0, 1000.0], "left": [600.0, 600.0]});
     let e = err_text(&v);
-    assert!(e.contains("objects[0].top.near") && e.contains("negative height"), "{e}");
+    assert!(
+        e.contains("objects[0].top.near") && e.contains("negative height"),
+        "{e}"
+    );
 }
 
 #[test]
@@ -263,7 +272,10 @@ fn floor_point_a_hair_below_the_horizon_is_out_of_range() {
     let mut v = base_scene();
     v["floor"][2] = serde_json::json!([1300.0, 600.0001]);
     let e = err_text(&v);
-    assert!(e.contains("floor[2]") && e.contains("too close to the horizon"), "{e}");
+    assert!(
+        e.contains("floor[2]") && e.contains("too close to the horizon"),
+        "{e}"
+    );
 }
 
 #[test]
