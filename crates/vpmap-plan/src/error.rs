@@ -1,8 +1,10 @@
 //! The one error type of this crate.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use thiserror::Error;
+
+use crate::grid::Cell;
 
 /// Everything that can go wrong when building, reading or writing an occupancy grid.
 ///
@@ -127,6 +129,58 @@ pub enum PlanError {
         /// Which format or variant it is.
         reason: String,
     },
+    /// A Moving AI `.map` or `.scen` text is malformed.
+    #[error("Moving AI {kind} {}line {line}: {reason}", file_prefix(file.as_deref()))]
+    MovingAi {
+        /// `"map"` or `"scenario"`.
+        kind: &'static str,
+        /// The file, when the text was read from one.
+        file: Option<PathBuf>,
+        /// 1-based line number of the offending line (one past the last line when the text
+        /// ends too early).
+        line: usize,
+        /// What is wrong, with the values found.
+        reason: String,
+    },
+    /// A planner's start or goal cell is outside the grid.
+    #[error("{endpoint} ({x}, {y}) is outside the {width} x {height} grid")]
+    EndpointOutsideGrid {
+        /// `"start"` or `"goal"`.
+        endpoint: &'static str,
+        /// Column of the cell.
+        x: usize,
+        /// Row of the cell, from the top.
+        y: usize,
+        /// Grid width, cells.
+        width: usize,
+        /// Grid height, cells.
+        height: usize,
+    },
+    /// A planner's start or goal cell is not traversable.
+    #[error("{endpoint} ({x}, {y}) is an {} cell, which is not traversable", cell_name(*cell))]
+    EndpointBlocked {
+        /// `"start"` or `"goal"`.
+        endpoint: &'static str,
+        /// Column of the cell.
+        x: usize,
+        /// Row of the cell, from the top.
+        y: usize,
+        /// What the cell holds.
+        cell: Cell,
+    },
+}
+
+fn file_prefix(file: Option<&Path>) -> String {
+    file.map(|p| format!("`{}` ", p.display()))
+        .unwrap_or_default()
+}
+
+fn cell_name(cell: Cell) -> &'static str {
+    match cell {
+        Cell::Free => "free",
+        Cell::Occupied => "occupied",
+        Cell::Unknown => "unknown",
+    }
 }
 
 /// Result alias of this crate.

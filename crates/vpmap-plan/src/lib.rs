@@ -1,4 +1,5 @@
-//! Occupancy grids from vpmap floor maps, and their ROS `map_server` files.
+//! Occupancy grids from vpmap floor maps, their ROS `map_server` and Moving AI files, line
+//! of sight and path planning on them.
 //!
 //! | step | module | method |
 //! |---|---|---|
@@ -6,6 +7,10 @@
 //! | obstacle inflation | [`grid`] | exact Euclidean distance transform to the obstacles' squares (Felzenszwalb and Huttenlocher 2012), thresholded at the robot radius |
 //! | floor map to grid | [`raster`] | scanline fill of free-space polygons by cell centre; conservative obstacles (every cell a footprint touches) |
 //! | map files | [`ros`] | `map_server` YAML + PGM writer; reader for PGM (P2, P5) and PNG with `negate`, thresholds and the `trinary`, `scale` and `raw` modes |
+//! | benchmark files | [`movingai`] | Moving AI `.map` grids and `.scen` problem lists (Sturtevant 2012) |
+//! | collision rule | [`los`] | a cell-sized square swept between cell centres may touch but not overlap blocked cells; exact integer walk over the swept cells |
+//! | path check | [`validate`] | the same rule decided independently, by the separating axis theorem per cell |
+//! | grid path | [`astar`](mod@astar) | A*, 8-connected, octile costs, no corner cutting, octile heuristic (Hart, Nilsson and Raphael 1968) |
 //!
 //! # Example
 //! ```
@@ -24,14 +29,28 @@
 //! - P. F. Felzenszwalb, D. P. Huttenlocher, "Distance Transforms of Sampled Functions",
 //!   Theory of Computing 8 (2012).
 //! - ROS `map_server` / `nav2_map_server` map format (YAML fields, pixel thresholds).
+//! - N. Sturtevant, "Benchmarks for Grid-Based Pathfinding", IEEE Transactions on
+//!   Computational Intelligence and AI in Games 4(2), 2012.
+//! - P. E. Hart, N. J. Nilsson, B. Raphael, "A Formal Basis for the Heuristic Determination
+//!   of Minimum Cost Paths", IEEE Transactions on Systems Science and Cybernetics 4(2), 1968.
 #![deny(missing_docs)]
 
+pub mod astar;
 pub mod error;
 pub mod grid;
+pub mod los;
+pub mod movingai;
+pub mod plan;
 pub mod raster;
 pub mod ros;
+pub mod validate;
 
+pub use astar::{AstarOptions, AstarSearch, astar};
 pub use error::{PlanError, Result};
 pub use grid::{Cell, MAX_CELLS, OccupancyGrid};
+pub use los::{LosCounter, Passable, Traversable, line_of_sight, line_of_sight_counted};
+pub use movingai::{Scenario, parse_movingai_map, parse_scen, read_movingai_map, read_scen};
+pub use plan::{Plan, PlanStats, path_length};
 pub use raster::{RasterOptions, rasterize_map};
 pub use ros::{encode_ros_map, read_ros_map, write_ros_map};
+pub use validate::{PathViolation, validate_path};

@@ -1,10 +1,20 @@
 //! Integration tests of vpmap-plan: grids against independent references (geo predicates,
-//! brute-force distances) and file round trips.
+//! brute-force distances), file round trips, line of sight against the independent
+//! validator, A* against `pathfinding::astar`, BFS and the Moving AI benchmark optima.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::float_cmp)]
 
+mod astar;
 mod inflation;
+mod line_of_sight;
+mod movingai_benchmarks;
+mod movingai_files;
 mod raster;
 mod ros_files;
+
+use std::path::PathBuf;
+
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
 
 use proptest::prelude::*;
 use vpmap_plan::{Cell, OccupancyGrid};
@@ -27,4 +37,44 @@ pub(crate) fn small_grid(max_side: usize) -> impl Strategy<Value = OccupancyGrid
                 OccupancyGrid::from_cells(w, h, res, [ox, oy], cells).unwrap()
             })
     })
+}
+
+/// A seeded random generator.
+pub(crate) fn rng(seed: u64) -> ChaCha8Rng {
+    ChaCha8Rng::seed_from_u64(seed)
+}
+
+/// A `width x height` grid, resolution 1, each cell occupied with probability `occupied`,
+/// else unknown with probability `unknown`, else free.
+pub(crate) fn random_grid(
+    rng: &mut ChaCha8Rng,
+    width: usize,
+    height: usize,
+    occupied: f64,
+    unknown: f64,
+) -> OccupancyGrid {
+    let cells = (0..width * height)
+        .map(|_| {
+            let r: f64 = rng.random();
+            if r < occupied {
+                Cell::Occupied
+            } else if r < occupied + unknown {
+                Cell::Unknown
+            } else {
+                Cell::Free
+            }
+        })
+        .collect();
+    OccupancyGrid::from_cells(width, height, 1.0, [0.0; 2], cells).unwrap()
+}
+
+/// The shared Moving AI benchmark folder, or `None` (after printing why) when it is absent.
+pub(crate) fn movingai_dir() -> Option<PathBuf> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/movingai");
+    if dir.join("maps").is_dir() && dir.join("scen").is_dir() {
+        Some(dir)
+    } else {
+        println!("SKIPPED: no Moving AI benchmark data at {}", dir.display());
+        None
+    }
 }

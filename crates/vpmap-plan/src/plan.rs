@@ -1,0 +1,81 @@
+//! What every planner returns: [`Plan`], its [`PlanStats`], and shared input checks.
+
+use crate::error::{PlanError, Result};
+use crate::grid::OccupancyGrid;
+use crate::los::{Passable, Traversable};
+
+/// A path found by a planner.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Plan {
+    /// Cells `(x, y)` whose centres the path joins with straight segments, from the start
+    /// cell to the goal cell (a single cell when they coincide). Every segment is clear
+    /// under the rule of [`crate::los`].
+    pub waypoints: Vec<(usize, usize)>,
+    /// Euclidean length of the polyline, cells (multiply by the grid's resolution for
+    /// metres).
+    pub length: f64,
+    /// How much work the search did.
+    pub stats: PlanStats,
+}
+
+/// Search effort of a planner, for comparisons between planners.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[non_exhaustive]
+pub struct PlanStats {
+    /// Nodes taken off the open list and expanded.
+    pub expanded: usize,
+    /// Nodes pushed onto the open list (including re-pushes after a cost decrease).
+    pub generated: usize,
+    /// Line-of-sight queries made.
+    pub los_checks: usize,
+    /// Cells looked up by those queries.
+    pub los_cells: usize,
+}
+
+/// Euclidean length, in cells, of the polyline through the centres of `waypoints`.
+///
+/// # Example
+/// ```
+/// use vpmap_plan::plan::path_length;
+/// assert_eq!(path_length(&[(0, 0), (3, 4), (3, 6)]), 7.0);
+/// assert_eq!(path_length(&[(2, 2)]), 0.0);
+/// ```
+#[must_use]
+pub fn path_length(waypoints: &[(usize, usize)]) -> f64 {
+    waypoints
+        .windows(2)
+        .map(|w| match w {
+            [a, b] => (a.0.abs_diff(b.0) as f64).hypot(a.1.abs_diff(b.1) as f64),
+            _ => 0.0,
+        })
+        .sum()
+}
+
+/// Check that a planner's `start` or `goal` (named by `endpoint`) is a traversable cell.
+pub(crate) fn check_endpoint(
+    grid: &OccupancyGrid,
+    endpoint: &'static str,
+    cell: (usize, usize),
+    unknown_passable: bool,
+) -> Result<()> {
+    let (x, y) = cell;
+    let Some(state) = grid.get(x, y) else {
+        return Err(PlanError::EndpointOutsideGrid {
+            endpoint,
+            x,
+            y,
+            width: grid.width(),
+            height: grid.height(),
+        });
+    };
+    if Traversable::new(grid, unknown_passable).passable(x as i64, y as i64) {
+        Ok(())
+    } else {
+        Err(PlanError::EndpointBlocked {
+            endpoint,
+            x,
+            y,
+            cell: state,
+        })
+    }
+}

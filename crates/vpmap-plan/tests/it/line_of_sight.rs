@@ -1,0 +1,272 @@
+//! Line of sight (`los`, an integer walk) against the validator (`validate`, the separating
+//! axis theorem per cell): two independent implementations of one rule must agree exactly.
+
+use std::collections::BTreeSet;
+
+use rand::Rng;
+use vpmap_plan::los::visit_swept_cells;
+use vpmap_plan::validate::swept_square_overlaps_cell;
+use vpmap_plan::{
+    Cell, LosCounter, OccupancyGrid, Traversable, line_of_sight, line_of_sight_counted,
+    validate_path,
+};
+
+use crate::{random_grid, rng};
+
+/// A map from cells to cells (a mirror or a transposition).
+type CellMap<'a> = dyn Fn(usize, usize) -> (usize, usize) + 'a;
+
+fn grid_from_rows(rows: &[&str]) -> OccupancyGrid {
+    let cells = rows
+        .iter()
+        .flat_map(|r| r.chars())
+        .map(|c| match c {
+            '#' => Cell::Occupied,
+            '?' => Cell::Unknown,
+            _ => Cell::Free,
+        })
+        .collect();
+    OccupancyGrid::from_cells(rows[0].len(), rows.len(), 1.0, [0.0; 2], cells).unwrap()
+}
+
+fn clear_both_ways(grid: &OccupancyGrid, a: (usize, usize), b: (usize, usize)) -> bool {
+    let forward = line_of_sight(grid, a, b);
+    assert_eq!(forward, line_of_sight(grid, b, a), "{a:?} {b:?}");
+    assert_eq!(
+        forward,
+        validate_path(grid, &[a, b], false).is_ok(),
+        "los and validator disagree on {a:?} -> {b:?}"
+    );
+    forward
+}
+
+#[test]
+fn swept_cells_equal_the_cells_the_validator_finds_overlapped() {
+    let mut rng = rng(11);
+    for _ in 0..4000 {
+        let side = if rng.random_bool(0.5) { 6 } else { 40 };
+        let a = (rng.random_range(0..side), rng.random_range(0..side));
+        let b = (rng.random_range(0..side), rng.random_range(0..side));
+        let mut walked = Vec::new();
+        visit_swept_cells(a, b, |x, y| {
+            walked.push((x, y));
+            true
+        });
+        let walked_set: BTreeSet<_> = walked.iter().copied().collect();
+        assert_eq!(
+            walked_set.len(),
+            walked.len(),
+            "{a:?} -> {b:?} repeats a cell"
+        );
+        let (a, b) = ((a.0 as i64, a.1 as i64), (b.0 as i64, b.1 as i64));
+        let mut overlapped = BTreeSet::new();
+        for y in a.1.min(b.1) - 2..=a.1.max(b.1) + 2 {
+            for x in a.0.min(b.0) - 2..=a.0.max(b.0) + 2 {
+                if swept_square_overlaps_cell(a, b, (x, y)) {
+                    overlapped.insert((x, y));
+                }
+            }
+        }
+        assert_eq!(walked_set, overlapped, "{a:?} -> {b:?}");
+    }
+}
+
+#[test]
+fn los_and_validator_agree_on_random_grids() {
+    let mut rng = rng(7);
+    let (mut clear, mut blocked) = (0, 0);
+    for _ in 0..300 {
+        let (w, h) = (rng.random_range(1..=24), rng.random_range(1..=24));
+        let occupied = rng.random_range(0.0..0.35);
+        let grid = random_grid(&mut rng, w, h, occupied, 0.05);
+        for _ in 0..60 {
+            let a = (rng.random_range(0..w), rng.random_range(0..h));
+            let b = (rng.random_range(0..w), rng.random_range(0..h));
+            for unknown_passable in [false, true] {
+                let map = Traversable::new(&grid, unknown_passable);
+                let los = line_of_sight(&map, a, b);
+                let valid = validate_path(&grid, &[a, b], unknown_passable);
+                assert_eq!(los, valid.is_ok(), "{a:?} -> {b:?}: {valid:?}\n{grid:?}");
+                if los {
+                    clear += 1;
+                } else {
+                    blocked += 1;
+                }
+            }
+        }
+    }
+    println!("los/validator agreement: {clear} clear, {blocked} blocked segments");
+    assert!(
+        clear > 5000 && blocked > 5000,
+        "{clear} clear, {blocked} blocked"
+    );
+}
+
+#[test]
+fn single_steps_follow_the_no_corner_cutting_rule_exhaustively() {
+    // Every free/occupied pattern of the 8 neighbours of a free centre cell.
+    const MOVES: [(i64, i64); 8] = [
+        (1, 0),
+        (1, 1),
+        (0, 1),
+        (-1, 1),
+        (-1, 0),
+        (-1, -1),
+        (0, -1),
+        (1, -1),
+    ];
+    for pattern in 0u32..256 {
+        let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
+        let blocked = |dx: i64, dy: i64| {
+            let i = MOVES.iter().position(|&m| m == (dx, dy)).unwrap();
+            pattern & (1 << i) != 0
+        };
+        for &(dx, dy) in &MOVES {
+            if blocked(dx, dy) {
+                grid.set((1 + dx) as usize, (1 + dy) as usize, Cell::Occupied)
+                    .unwrap();
+            }
+        }
+        for &(dx, dy) in &MOVES {
+            let expected =
+                !blocked(dx, dy) && (dx == 0 || dy == 0 || (!blocked(dx, 0) && !blocked(0, dy)));
+            let target = ((1 + dx) as usize, (1 + dy) as usize);
+            assert_eq!(
+                clear_both_ways(&grid, (1, 1), target),
+                expected,
+                "pattern {pattern:08b}, move ({dx}, {dy})"
+            );
+        }
+    }
+}
+
+#[test]
+fn diagonal_squeeze_between_two_blocked_cells_is_blocked() {
+    let grid = grid_from_rows(&[".#", "#."]);
+    assert!(!clear_both_ways(&grid, (0, 0), (1, 1)));
+    let grid = grid_from_rows(&["..", ".."]);
+    assert!(clear_both_ways(&grid, (0, 0), (1, 1)));
+    assert!(clear_both_ways(&grid, (1, 0), (0, 1)));
+    let grid = grid_from_rows(&["#.", ".#"]);
+    assert!(!clear_both_ways(&grid, (1, 0), (0, 1)));
+    // One blocked orthogonal neighbour is enough to block a diagonal step.
+    let grid = grid_from_rows(&["..", "#."]);
+    assert!(!clear_both_ways(&grid, (0, 0), (1, 1)));
+}
+
+#[test]
+fn touching_a_corner_is_allowed_overlapping_is_not() {
+    let grid = grid_from_rows(&["..#", "...", "#.."]);
+    assert!(clear_both_ways(&grid, (0, 0), (2, 2)));
+    let grid = grid_from_rows(&[".#.", "...", "..."]);
+    assert!(!clear_both_ways(&grid, (0, 0), (2, 2)));
+    // A knight's move sweeps the whole 3 x 2 block.
+    for blocked in [(1, 0), (2, 0), (0, 1), (1, 1)] {
+        let mut grid = OccupancyGrid::new(3, 2, 1.0, [0.0; 2], Cell::Free).unwrap();
+        grid.set(blocked.0, blocked.1, Cell::Occupied).unwrap();
+        assert!(!clear_both_ways(&grid, (0, 0), (2, 1)), "{blocked:?}");
+    }
+}
+
+#[test]
+fn axis_aligned_segments_slide_along_blocked_neighbours() {
+    let grid = grid_from_rows(&["##########", "..........", "##########"]);
+    assert!(clear_both_ways(&grid, (0, 1), (9, 1)));
+    let grid = grid_from_rows(&["#.#", "#.#", "#.#", "#.#"]);
+    assert!(clear_both_ways(&grid, (1, 0), (1, 3)));
+    let grid = grid_from_rows(&["....", "....", "..#.", "...."]);
+    assert!(!clear_both_ways(&grid, (2, 0), (2, 3)));
+}
+
+#[test]
+fn long_shallow_lines_are_exact_at_the_touching_corners() {
+    // Segment from (0, 0) to (100, 2): the swept square leaves row 0 after column 50 and
+    // enters row 2 from column 50; cells (49, 2) and (51, 0) are touched at a corner only.
+    let free = OccupancyGrid::new(101, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
+    let with = |cells: &[(usize, usize)]| {
+        let mut g = free.clone();
+        for &(x, y) in cells {
+            g.set(x, y, Cell::Occupied).unwrap();
+        }
+        g
+    };
+    assert!(clear_both_ways(&free, (0, 0), (100, 2)));
+    assert!(clear_both_ways(
+        &with(&[(49, 2), (51, 0)]),
+        (0, 0),
+        (100, 2)
+    ));
+    assert!(!clear_both_ways(&with(&[(50, 2)]), (0, 0), (100, 2)));
+    assert!(!clear_both_ways(&with(&[(50, 0)]), (0, 0), (100, 2)));
+    assert!(!clear_both_ways(&with(&[(0, 1)]), (0, 0), (100, 2)));
+    // Slope 1/100: the square enters row 1 at once.
+    assert!(!clear_both_ways(&with(&[(0, 1)]), (0, 0), (100, 1)));
+    assert!(clear_both_ways(
+        &with(&[(0, 2), (100, 2)]),
+        (0, 0),
+        (100, 1)
+    ));
+    // The same, steep and mirrored.
+    let tall = OccupancyGrid::new(3, 101, 1.0, [0.0; 2], Cell::Free).unwrap();
+    let mut g = tall.clone();
+    g.set(0, 49, Cell::Occupied).unwrap();
+    g.set(2, 51, Cell::Occupied).unwrap();
+    assert!(clear_both_ways(&g, (2, 0), (0, 100)));
+    g.set(2, 50, Cell::Occupied).unwrap();
+    assert!(!clear_both_ways(&g, (2, 0), (0, 100)));
+}
+
+#[test]
+fn blocked_unknown_and_outside_end_cells() {
+    let grid = grid_from_rows(&[".?#", "..."]);
+    assert!(line_of_sight(&grid, (0, 0), (0, 0)));
+    assert!(!line_of_sight(&grid, (2, 0), (2, 0)));
+    assert!(!line_of_sight(&grid, (0, 0), (1, 0)));
+    assert!(line_of_sight(
+        &Traversable::new(&grid, true),
+        (0, 0),
+        (1, 0)
+    ));
+    assert!(!line_of_sight(&grid, (0, 0), (3, 0)));
+    assert!(!line_of_sight(&grid, (0, 0), (0, 2)));
+    let mut counter = LosCounter::default();
+    assert!(line_of_sight_counted(&grid, (0, 1), (2, 1), &mut counter));
+    assert!(!line_of_sight_counted(&grid, (0, 1), (2, 0), &mut counter));
+    assert_eq!(counter.checks, 2);
+    assert!(counter.cells >= 4);
+}
+
+#[test]
+fn los_is_invariant_under_mirroring_and_transposing_the_grid() {
+    let mut rng = rng(3);
+    for _ in 0..100 {
+        let (w, h) = (rng.random_range(1..=16), rng.random_range(1..=16));
+        let grid = random_grid(&mut rng, w, h, 0.2, 0.0);
+        let transform = |f: &CellMap<'_>, tw: usize, th: usize| {
+            let mut g = OccupancyGrid::new(tw, th, 1.0, [0.0; 2], Cell::Free).unwrap();
+            for y in 0..h {
+                for x in 0..w {
+                    let (u, v) = f(x, y);
+                    g.set(u, v, grid.get(x, y).unwrap()).unwrap();
+                }
+            }
+            g
+        };
+        let mirror_x = |x: usize, y: usize| (w - 1 - x, y);
+        let mirror_y = |x: usize, y: usize| (x, h - 1 - y);
+        let transpose = |x: usize, y: usize| (y, x);
+        let variants: [(&CellMap<'_>, usize, usize); 3] =
+            [(&mirror_x, w, h), (&mirror_y, w, h), (&transpose, h, w)];
+        for (f, tw, th) in variants {
+            let g = transform(f, tw, th);
+            for _ in 0..30 {
+                let a = (rng.random_range(0..w), rng.random_range(0..h));
+                let b = (rng.random_range(0..w), rng.random_range(0..h));
+                assert_eq!(
+                    line_of_sight(&grid, a, b),
+                    line_of_sight(&g, f(a.0, a.1), f(b.0, b.1))
+                );
+            }
+        }
+    }
+}
