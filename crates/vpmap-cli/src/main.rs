@@ -2,6 +2,7 @@
 
 mod build;
 mod output;
+mod plan;
 mod synth;
 
 use std::path::PathBuf;
@@ -72,6 +73,8 @@ enum Command {
     },
     /// Write a random synthetic scene (and its truth) from the built-in pinhole camera.
     Synth(synth::SynthArgs),
+    /// Plan a path across a Moving AI map, a ROS map or a vpmap map.json.
+    Plan(plan::PlanArgs),
 }
 
 /// Parse the command line; usage errors become one line (`error: ...`) and exit code 2.
@@ -114,6 +117,7 @@ fn main() -> ExitCode {
         Command::Build { scene, args } => build::run_build(&scene, &args),
         Command::Demo { out, method } => build::run_demo(&out, method),
         Command::Synth(args) => synth::run(&args),
+        Command::Plan(args) => plan::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

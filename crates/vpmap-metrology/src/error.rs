@@ -9,8 +9,8 @@ use thiserror::Error;
 #[derive(Debug, Error, Clone, PartialEq)]
 #[non_exhaustive]
 pub enum MetrologyError {
-    /// The scene file is not valid JSON or does not have the expected shape.
-    #[error("scene file is malformed: {0}")]
+    /// The file is not valid JSON or does not have the expected shape.
+    #[error("malformed JSON: {0}")]
     Json(String),
     /// The scene file declares a format version this library does not read.
     #[error("scene field `version` is {0}; this vpmap reads version 1")]

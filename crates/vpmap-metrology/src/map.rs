@@ -49,10 +49,12 @@ pub struct CameraReport {
     pub height: f64,
     /// The intrinsic matrix `K = [[f, 0, cx], [0, f, cy], [0, 0, 1]]` (pixels; square pixels,
     /// no skew), row by row.
+    #[serde(default)]
     pub k_matrix: [[f64; 3]; 3],
     /// Rotation from the camera frame (x right, y down, z along the optical axis, as in
     /// OpenCV) to the map frame, row by row: a ray `K^-1 (u, v, 1)` in camera coordinates
     /// points along `R` times it in the map frame.
+    #[serde(default)]
     pub rotation_map_from_camera: [[f64; 3]; 3],
     /// Position of the camera `[x, y, z]` in the map frame (always `[0, 0, height]`).
     pub position: [f64; 3],

@@ -340,3 +340,131 @@ fn a_failed_build_keeps_the_previous_outputs_and_creates_no_folders() {
     assert!(!o.status.success());
     assert!(!dir.path().join("a").exists());
 }
+
+const WALLED: &str = "type octile\nheight 4\nwidth 7\nmap\n...@...\n...@...\n...@...\n...@...\n";
+
+#[test]
+fn plan_on_a_moving_ai_map_answers_found_and_not_found_with_exit_0() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = dir.path().join("walled.map");
+    std::fs::write(
+        &map,
+        WALLED.replace(
+            "...@...\n...@...\n...@...\n...@...\n",
+            "...@...\n...@...\n.......\n...@...\n",
+        ),
+    )
+    .unwrap();
+    let m = map.to_str().unwrap();
+    let o = vpmap(&["plan", m, "--from", "0,0", "--to", "6,0", "--json"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["found"], true);
+    assert_eq!(v["planner"], "astar");
+    assert_eq!(v["units"], "cells");
+    // Through the gap in row 2: 2 diagonals down, 2 straight, 2 diagonals up + ...: octile length.
+    let length = v["length"].as_f64().unwrap();
+    assert!(
+        (length - (2.0 + 4.0 * 2f64.sqrt())).abs() < 1e-9,
+        "{length}"
+    );
+    assert_eq!(v["waypoints"][0], serde_json::json!([0.0, 0.0]));
+    // A wall with no gap: answered, not found, exit 0.
+    std::fs::write(&map, WALLED).unwrap();
+    let svg = dir.path().join("p.svg");
+    let o = vpmap(&[
+        "plan",
+        m,
+        "--from",
+        "0,0",
+        "--to",
+        "6,3",
+        "--json",
+        "--svg",
+        svg.to_str().unwrap(),
+    ]);
+    assert!(o.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["found"], false);
+    assert!(std::fs::read_to_string(&svg).unwrap().starts_with("<svg"));
+}
+
+#[test]
+fn plan_rejects_bad_queries_and_maps() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = dir.path().join("walled.map");
+    std::fs::write(&map, WALLED).unwrap();
+    let m = map.to_str().unwrap();
+    for (args, needle) in [
+        (
+            vec!["plan", m, "--from", "0,0", "--to", "9,0"],
+            "outside the 7 x 4 map",
+        ),
+        (
+            vec!["plan", m, "--from", "3,0", "--to", "0,0"],
+            "lies on an obstacle",
+        ),
+        (
+            vec!["plan", m, "--from", "0.5,0", "--to", "0,0"],
+            "whole cell coordinates",
+        ),
+        (
+            vec!["plan", m, "--from", "0;0", "--to", "0,0"],
+            "is not a point X,Y",
+        ),
+        (
+            vec!["plan", "nowhere.map", "--from", "0,0", "--to", "1,1"],
+            "nowhere.map",
+        ),
+        (
+            vec!["plan", "scene.txt", "--from", "0,0", "--to", "1,1"],
+            "unknown map type",
+        ),
+    ] {
+        let o = vpmap(&args);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert_eq!(o.status.code(), Some(1), "{args:?}: {stderr}");
+        assert!(
+            stderr.contains(needle),
+            "{args:?}: expected {needle:?} in {stderr}"
+        );
+        assert_eq!(stderr.trim_end().lines().count(), 1, "{stderr}");
+    }
+    std::fs::write(&map, "type octile\nheight 2\nwidth 3\nmap\n...\n.x.\n").unwrap();
+    let o = vpmap(&["plan", m, "--from", "0,0", "--to", "2,0"]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!o.status.success() && stderr.contains("line 6"), "{stderr}");
+}
+
+#[test]
+fn plan_across_a_built_floor_map_in_metres() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    assert!(
+        vpmap(&["demo", "--out", out.to_str().unwrap()])
+            .status
+            .success()
+    );
+    for file in ["map.json", "occupancy.yaml"] {
+        let o = vpmap(&[
+            "plan",
+            out.join(file).to_str().unwrap(),
+            "--from",
+            "-1.5,2",
+            "--to",
+            "2,7.5",
+            "--json",
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(v["found"], true, "{file}");
+        assert_eq!(v["units"], "m");
+        let length = v["length"].as_f64().unwrap();
+        // At least the straight-line distance, and not absurdly longer.
+        let straight = (3.5f64).hypot(5.5);
+        assert!(
+            length >= straight - 0.1 && length < 2.0 * straight,
+            "{file}: {length}"
+        );
+    }
+}
