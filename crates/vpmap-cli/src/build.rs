@@ -7,6 +7,8 @@ use vpmap_metrology::map::{BuildOptions, FloorMap, Units, build_map};
 use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::scene::Scene;
 use vpmap_metrology::synth::Truth;
+use vpmap_plan::astar::{AstarOptions, astar};
+use vpmap_plan::grid::{Cell, OccupancyGrid};
 use vpmap_plan::raster::{RasterOptions, rasterize_map};
 use vpmap_plan::ros::encode_ros_map;
 use vpmap_render::{FloorPlanStyle, floor_plan_svg, model_glb, svg_to_png};
@@ -92,6 +94,7 @@ fn unknown_fields(text: &str) -> Vec<String> {
 /// Everything `build` writes, rendered in memory.
 struct Built {
     map: FloorMap,
+    grid: OccupancyGrid,
     files: OutputSet,
     grid_summary: String,
 }
@@ -154,6 +157,7 @@ fn build_outputs(scene: &Scene, args: &BuildArgs) -> Result<Built> {
     );
     Ok(Built {
         map,
+        grid,
         files,
         grid_summary,
     })
@@ -282,9 +286,11 @@ pub fn run_demo(out: &Path, method: Method) -> Result<()> {
         robot_radius: 0.2,
         hidden_free: false,
     };
-    let built = build_outputs(&scene, &args)?;
+    let mut built = build_outputs(&scene, &args)?;
+    let path_line = demo_path(&mut built)?;
     let paths = built.files.write_all(out)?;
     print_summary(&built.map, &built.grid_summary);
+    println!("{path_line}");
     let (pos, height) = errors_against_truth(&built.map, &truth);
     let c = &built.map.camera;
     println!(
@@ -294,4 +300,99 @@ pub fn run_demo(out: &Path, method: Method) -> Result<()> {
     );
     report_written(&paths);
     Ok(())
+}
+
+/// The demo's path: from the free cell nearest a point half a metre into the seen floor in
+/// front of the camera to the reachable free cell deepest into the room, by A*; drawn into
+/// map.svg and map.png.
+fn demo_path(built: &mut Built) -> Result<String> {
+    let grid = &built.grid;
+    let near_y = built
+        .map
+        .floor
+        .iter()
+        .map(|p| p[1])
+        .fold(f64::INFINITY, f64::min);
+    let target = [0.0, near_y + 0.5];
+    let free: Vec<(usize, usize)> = (0..grid.height())
+        .flat_map(|y| (0..grid.width()).map(move |x| (x, y)))
+        .filter(|&(x, y)| grid.get(x, y) == Some(Cell::Free))
+        .collect();
+    let dist = |c: (usize, usize)| {
+        let w = grid.world_from_cell(c.0, c.1);
+        (w[0] - target[0]).hypot(w[1] - target[1])
+    };
+    let Some(start) = free
+        .iter()
+        .copied()
+        .min_by(|a, b| dist(*a).total_cmp(&dist(*b)))
+    else {
+        return Ok("path: the map has no free floor to plan on".to_owned());
+    };
+    let goal = deepest_reachable(grid, start);
+    let Some(plan) = astar(grid, start, goal, &AstarOptions::default())? else {
+        return Ok("path: no path found".to_owned());
+    };
+    let points: Vec<[f64; 2]> = plan
+        .waypoints
+        .iter()
+        .map(|c| grid.world_from_cell(c.0, c.1))
+        .collect();
+    let length = plan.length * grid.resolution_m();
+    let style = FloorPlanStyle {
+        path: points.clone(),
+        path_label: format!("path (A*, {length:.2} m)"),
+        ..FloorPlanStyle::default()
+    };
+    let svg = floor_plan_svg(&built.map, &style);
+    built
+        .files
+        .add("map.png", svg_to_png(&svg).context("rendering map.png")?);
+    built.files.add("map.svg", svg);
+    let (a, b) = (points[0], points[points.len() - 1]);
+    Ok(format!(
+        "path: A* from ({:.2}, {:.2}) to ({:.2}, {:.2}) m around the objects (robot radius 0.2 m): {length:.2} m, {} nodes expanded; drawn in map.svg",
+        a[0], a[1], b[0], b[1], plan.stats.expanded
+    ))
+}
+
+/// The free cell reachable from `start` (8-connected, no corner cutting) with the largest
+/// world y: the far side of the room.
+fn deepest_reachable(grid: &OccupancyGrid, start: (usize, usize)) -> (usize, usize) {
+    let (w, h) = (grid.width(), grid.height());
+    let free = |x: i64, y: i64| {
+        x >= 0
+            && y >= 0
+            && (x as usize) < w
+            && (y as usize) < h
+            && grid.get(x as usize, y as usize) == Some(Cell::Free)
+    };
+    let mut seen = vec![false; w * h];
+    let mut queue = std::collections::VecDeque::from([start]);
+    seen[start.1 * w + start.0] = true;
+    let mut best = start;
+    while let Some((x, y)) = queue.pop_front() {
+        // Row 0 is the top, the largest world y.
+        if y < best.1 {
+            best = (x, y);
+        }
+        for (dx, dy) in [
+            (-1, -1),
+            (0, -1),
+            (1, -1),
+            (-1, 0),
+            (1, 0),
+            (-1, 1),
+            (0, 1),
+            (1, 1),
+        ] {
+            let (nx, ny) = (x as i64 + dx, y as i64 + dy);
+            let diagonal_ok = dx == 0 || dy == 0 || (free(nx, y as i64) && free(x as i64, ny));
+            if free(nx, ny) && diagonal_ok && !seen[ny as usize * w + nx as usize] {
+                seen[ny as usize * w + nx as usize] = true;
+                queue.push_back((nx as usize, ny as usize));
+            }
+        }
+    }
+    best
 }

@@ -13,9 +13,14 @@ pub struct OutputSet {
 }
 
 impl OutputSet {
-    /// Queue a file.
+    /// Queue a file (replacing one queued under the same name).
     pub fn add(&mut self, name: &str, bytes: impl Into<Vec<u8>>) {
-        self.files.push((name.to_owned(), bytes.into()));
+        let bytes = bytes.into();
+        if let Some(entry) = self.files.iter_mut().find(|(n, _)| n == name) {
+            entry.1 = bytes;
+        } else {
+            self.files.push((name.to_owned(), bytes));
+        }
     }
 
     /// Write every file into `dir` (created if missing). Returns the paths written.

@@ -57,6 +57,7 @@ mod colour {
     pub const FOOTPRINT_FILL: &str = "#f5c89a";
     pub const FOOTPRINT_STROKE: &str = "#b5651d";
     pub const CAMERA: &str = "#d62728";
+    pub const PATH: &str = "#6a3d9a";
     pub const TEXT: &str = "#1a1a1a";
     pub const MUTED: &str = "#555555";
 }
@@ -80,6 +81,11 @@ pub struct FloorPlanStyle {
     pub show_legend: bool,
     /// Empty border around the map's bounds, as a fraction of their larger side.
     pub margin_frac: f64,
+    /// A planned path to draw over the map (map coordinates), with its legend text; empty for
+    /// none.
+    pub path: Vec<MapPoint>,
+    /// Legend text of `path`, e.g. "path (A*, 9.16 m)".
+    pub path_label: String,
 }
 
 impl Default for FloorPlanStyle {
@@ -92,6 +98,8 @@ impl Default for FloorPlanStyle {
             show_field_of_view: true,
             show_legend: true,
             margin_frac: 0.06,
+            path: Vec::new(),
+            path_label: String::new(),
         }
     }
 }
@@ -569,6 +577,19 @@ pub fn floor_plan_svg(map: &FloorMap, style: &FloorPlanStyle) -> String {
             ));
         }
         legend.push((Swatch::Dot, "camera (station point)".to_owned()));
+        if style.path.len() >= 2 {
+            legend.push((
+                Swatch::Line {
+                    stroke: colour::PATH,
+                    dashed: false,
+                },
+                if style.path_label.is_empty() {
+                    "planned path".to_owned()
+                } else {
+                    style.path_label.clone()
+                },
+            ));
+        }
         if style.show_field_of_view && fov_ok {
             legend.push((
                 Swatch::Line {
@@ -810,6 +831,38 @@ pub fn floor_plan_svg(map: &FloorMap, style: &FloorPlanStyle) -> String {
         );
     }
     let _ = writeln!(out, "</g>");
+
+    let path_px: Vec<(f64, f64)> = style
+        .path
+        .iter()
+        .filter(|p| is_finite(**p))
+        .map(|p| frame.px(*p))
+        .collect();
+    if path_px.len() >= 2 {
+        let points: Vec<String> = path_px
+            .iter()
+            .map(|(x, y)| format!("{x:.2},{y:.2}"))
+            .collect();
+        let _ = writeln!(out, r#"<g id="path">"#);
+        let _ = writeln!(
+            out,
+            r#"<polyline points="{}" fill="none" stroke="{}" stroke-width="{:.2}" stroke-linejoin="round" stroke-linecap="round"/>"#,
+            points.join(" "),
+            colour::PATH,
+            3.0 * f
+        );
+        for (i, (x, y)) in [path_px[0], path_px[path_px.len() - 1]].iter().enumerate() {
+            let _ = writeln!(
+                out,
+                r##"<circle class="{}" cx="{x:.2}" cy="{y:.2}" r="{:.2}" fill="{}" stroke="#ffffff" stroke-width="{:.2}"/>"##,
+                if i == 0 { "path-start" } else { "path-goal" },
+                5.0 * f,
+                colour::PATH,
+                1.5 * f
+            );
+        }
+        let _ = writeln!(out, "</g>");
+    }
 
     // Station point: marker with an arrow along +y, label to its right.
     let mut placed: Vec<Rect> = Vec::new();
