@@ -11,6 +11,9 @@
 //! | collision rule | [`los`] | a cell-sized square swept between cell centres may touch but not overlap blocked cells; exact integer walk over the swept cells |
 //! | path check | [`validate`] | the same rule decided independently, by the separating axis theorem per cell |
 //! | grid path | [`astar`](mod@astar) | A*, 8-connected, octile costs, no corner cutting, octile heuristic (Hart, Nilsson and Raphael 1968) |
+//! | smoothed grid path | [`smoothing`] | A* PS: A*, then greedy farthest-visible line-of-sight shortcuts (Botea, Müller and Schaeffer 2004) |
+//! | any-angle path | [`theta_star`](mod@theta_star) | Basic Theta*: A* whose nodes take a parent in line of sight (Nash, Daniel, Koenig and Felner 2007) |
+//! | shortest any-angle path | [`optimal`] | exact: A* on the visibility graph of start, goal and convex corner cells (Lozano-Pérez and Wesley 1979) |
 //!
 //! # Example
 //! ```
@@ -33,6 +36,12 @@
 //!   Computational Intelligence and AI in Games 4(2), 2012.
 //! - P. E. Hart, N. J. Nilsson, B. Raphael, "A Formal Basis for the Heuristic Determination
 //!   of Minimum Cost Paths", IEEE Transactions on Systems Science and Cybernetics 4(2), 1968.
+//! - A. Botea, M. Müller, J. Schaeffer, "Near Optimal Hierarchical Path-Finding", Journal
+//!   of Game Development 1(1), 2004.
+//! - A. Nash, K. Daniel, S. Koenig, A. Felner, "Theta*: Any-Angle Path Planning on Grids",
+//!   AAAI 2007.
+//! - T. Lozano-Pérez, M. A. Wesley, "An Algorithm for Planning Collision-Free Paths Among
+//!   Polyhedral Obstacles", Communications of the ACM 22(10), 1979.
 #![deny(missing_docs)]
 
 pub mod astar;
@@ -40,9 +49,12 @@ pub mod error;
 pub mod grid;
 pub mod los;
 pub mod movingai;
+pub mod optimal;
 pub mod plan;
 pub mod raster;
 pub mod ros;
+pub mod smoothing;
+pub mod theta_star;
 pub mod validate;
 
 pub use astar::{AstarOptions, AstarSearch, astar};
@@ -50,7 +62,10 @@ pub use error::{PlanError, Result};
 pub use grid::{Cell, MAX_CELLS, OccupancyGrid};
 pub use los::{LosCounter, Passable, Traversable, line_of_sight, line_of_sight_counted};
 pub use movingai::{Scenario, parse_movingai_map, parse_scen, read_movingai_map, read_scen};
+pub use optimal::{OptimalAnyAngleOptions, corner_cells, optimal_any_angle};
 pub use plan::{Plan, PlanStats, path_length};
 pub use raster::{RasterOptions, rasterize_map};
 pub use ros::{encode_ros_map, read_ros_map, write_ros_map};
+pub use smoothing::{AstarPsOptions, astar_ps, smooth_path};
+pub use theta_star::{ThetaStarOptions, theta_star};
 pub use validate::{PathViolation, validate_path};

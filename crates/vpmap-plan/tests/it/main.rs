@@ -3,6 +3,7 @@
 //! validator, A* against `pathfinding::astar`, BFS and the Moving AI benchmark optima.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::float_cmp)]
 
+mod any_angle;
 mod astar;
 mod inflation;
 mod line_of_sight;

@@ -1,0 +1,525 @@
+//! A* PS, Theta* and the exact any-angle planner on seeded random grids of several kinds,
+//! against BFS connectivity, the independent path validator, each other (optimum <= Theta*,
+//! optimum <= A* PS <= A*), and a brute-force complete visibility graph on tiny grids.
+
+use std::collections::VecDeque;
+
+use rand::Rng;
+use rand_chacha::ChaCha8Rng;
+use vpmap_plan::{
+    AstarOptions, AstarPsOptions, AstarSearch, Cell, OccupancyGrid, OptimalAnyAngleOptions,
+    Passable, PlanError, ThetaStarOptions, Traversable, astar_ps, optimal_any_angle, path_length,
+    theta_star, validate_path,
+};
+
+use crate::rng;
+
+/// The kinds of generated grids.
+const KINDS: [&str; 7] = [
+    "open",
+    "cluttered",
+    "rooms",
+    "maze",
+    "u-trap",
+    "spiral",
+    "diagonal-gaps",
+];
+
+fn grid_of(width: usize, height: usize, cell: Cell) -> OccupancyGrid {
+    OccupancyGrid::new(width, height, 1.0, [0.0; 2], cell).unwrap()
+}
+
+fn block(grid: &mut OccupancyGrid, x: i64, y: i64) {
+    if let (Ok(x), Ok(y)) = (usize::try_from(x), usize::try_from(y)) {
+        let _ = grid.set(x, y, Cell::Occupied);
+    }
+}
+
+fn clear(grid: &mut OccupancyGrid, x: i64, y: i64) {
+    if let (Ok(x), Ok(y)) = (usize::try_from(x), usize::try_from(y)) {
+        let _ = grid.set(x, y, Cell::Free);
+    }
+}
+
+/// A random grid of `kind`, at most `max_side` cells a side (at least 3), and whether its
+/// unknown cells are passable.
+fn generate(rng: &mut ChaCha8Rng, kind: &str, max_side: usize) -> (OccupancyGrid, bool) {
+    let min_side = if matches!(kind, "spiral" | "maze") {
+        6
+    } else {
+        3
+    };
+    let w = rng.random_range(min_side..=max_side);
+    let h = rng.random_range(min_side..=max_side);
+    let (wi, hi) = (w as i64, h as i64);
+    let mut unknown_passable = false;
+    let grid = match kind {
+        "open" => {
+            let mut g = grid_of(w, h, Cell::Free);
+            for _ in 0..rng.random_range(0..=2) {
+                block(&mut g, rng.random_range(0..wi), rng.random_range(0..hi));
+            }
+            g
+        }
+        "cluttered" => {
+            let occupied = rng.random_range(0.1..0.4);
+            let unknown = rng.random_range(0.0..0.1);
+            unknown_passable = rng.random_bool(0.5);
+            crate::random_grid(rng, w, h, occupied, unknown)
+        }
+        "rooms" => {
+            let mut g = grid_of(w, h, Cell::Free);
+            let k = rng.random_range(3..=5);
+            for x in (k..wi).step_by(k as usize) {
+                for y in 0..hi {
+                    block(&mut g, x, y);
+                }
+            }
+            for y in (k..hi).step_by(k as usize) {
+                for x in 0..wi {
+                    block(&mut g, x, y);
+                }
+            }
+            // A door in each wall piece between junctions (sometimes none).
+            for x in (k..wi).step_by(k as usize) {
+                for y0 in (0..hi).step_by(k as usize) {
+                    if rng.random_bool(0.85) {
+                        let y = y0 + rng.random_range(0..k - 1).min(hi - 1 - y0);
+                        clear(&mut g, x, y);
+                    }
+                }
+            }
+            for y in (k..hi).step_by(k as usize) {
+                for x0 in (0..wi).step_by(k as usize) {
+                    if rng.random_bool(0.85) {
+                        let x = x0 + rng.random_range(0..k - 1).min(wi - 1 - x0);
+                        clear(&mut g, x, y);
+                    }
+                }
+            }
+            g
+        }
+        "maze" => {
+            // Recursive backtracker on the odd cells, sometimes with a few walls knocked out.
+            let mut g = grid_of(w, h, Cell::Occupied);
+            let (cw, ch) = ((wi - 1) / 2, (hi - 1) / 2);
+            let mut seen = vec![false; (cw * ch) as usize];
+            let mut stack = vec![(0i64, 0i64)];
+            seen[0] = true;
+            clear(&mut g, 1, 1);
+            while let Some(&(cx, cy)) = stack.last() {
+                let options: Vec<(i64, i64)> = [(1, 0), (-1, 0), (0, 1), (0, -1)]
+                    .into_iter()
+                    .map(|(dx, dy)| (cx + dx, cy + dy))
+                    .filter(|&(nx, ny)| {
+                        (0..cw).contains(&nx)
+                            && (0..ch).contains(&ny)
+                            && !seen[(ny * cw + nx) as usize]
+                    })
+                    .collect();
+                if options.is_empty() {
+                    stack.pop();
+                    continue;
+                }
+                let (nx, ny) = options[rng.random_range(0..options.len())];
+                seen[(ny * cw + nx) as usize] = true;
+                clear(&mut g, 2 * nx + 1, 2 * ny + 1);
+                clear(&mut g, cx + nx + 1, cy + ny + 1);
+                stack.push((nx, ny));
+            }
+            for _ in 0..rng.random_range(0..=2) {
+                clear(&mut g, rng.random_range(0..wi), rng.random_range(0..hi));
+            }
+            g
+        }
+        "u-trap" => {
+            let mut g = grid_of(w, h, Cell::Free);
+            for _ in 0..rng.random_range(1..=2) {
+                let (x0, y0) = (rng.random_range(0..wi), rng.random_range(0..hi));
+                let (x1, y1) = (
+                    (x0 + rng.random_range(2..=5)).min(wi - 1),
+                    (y0 + rng.random_range(2..=5)).min(hi - 1),
+                );
+                let open_side = rng.random_range(0..4);
+                for x in x0..=x1 {
+                    if open_side != 0 {
+                        block(&mut g, x, y0);
+                    }
+                    if open_side != 1 {
+                        block(&mut g, x, y1);
+                    }
+                }
+                for y in y0..=y1 {
+                    if open_side != 2 {
+                        block(&mut g, x0, y);
+                    }
+                    if open_side != 3 {
+                        block(&mut g, x1, y);
+                    }
+                }
+            }
+            g
+        }
+        "spiral" => {
+            // Concentric square walls two cells apart, each with one gap on an alternating
+            // side.
+            let mut g = grid_of(w, h, Cell::Free);
+            let mut ring = 1;
+            while 2 * ring < wi.min(hi) - 1 {
+                let (x0, y0, x1, y1) = (ring, ring, wi - 1 - ring, hi - 1 - ring);
+                for x in x0..=x1 {
+                    block(&mut g, x, y0);
+                    block(&mut g, x, y1);
+                }
+                for y in y0..=y1 {
+                    block(&mut g, x0, y);
+                    block(&mut g, x1, y);
+                }
+                match ring % 4 {
+                    0 => clear(&mut g, x0, y0.midpoint(y1)),
+                    1 => clear(&mut g, x0.midpoint(x1), y0),
+                    2 => clear(&mut g, x1, y0.midpoint(y1)),
+                    _ => clear(&mut g, x0.midpoint(x1), y1),
+                }
+                ring += 2;
+            }
+            g
+        }
+        _ => {
+            // Diagonal walls (impassable without corner cutting) with one-cell gaps and
+            // cells touching at corners.
+            let mut g = grid_of(w, h, Cell::Free);
+            for _ in 0..rng.random_range(1..=3) {
+                let c = rng.random_range(1..wi + hi - 2);
+                let rising = rng.random_bool(0.5);
+                let x_at = |y: i64| if rising { c - y } else { c + y - (hi - 1) };
+                for y in 0..hi {
+                    block(&mut g, x_at(y), y);
+                }
+                for _ in 0..rng.random_range(0..=2) {
+                    let y = rng.random_range(0..hi);
+                    clear(&mut g, x_at(y), y);
+                }
+            }
+            for _ in 0..rng.random_range(0..=3) {
+                block(&mut g, rng.random_range(0..wi), rng.random_range(0..hi));
+            }
+            g
+        }
+    };
+    (grid, unknown_passable)
+}
+
+/// Whether `goal` can be reached from `start` by 8-connected steps without corner
+/// cutting (breadth-first search).
+fn bfs_reachable(
+    grid: &OccupancyGrid,
+    passable: &impl Passable,
+    start: (usize, usize),
+    goal: (usize, usize),
+) -> bool {
+    let w = grid.width();
+    let mut seen = vec![false; w * grid.height()];
+    let mut queue = VecDeque::from([start]);
+    seen[start.1 * w + start.0] = true;
+    while let Some((x, y)) = queue.pop_front() {
+        if (x, y) == goal {
+            return true;
+        }
+        let (xi, yi) = (x as i64, y as i64);
+        for dy in -1..=1 {
+            for dx in -1..=1 {
+                let (nx, ny) = (xi + dx, yi + dy);
+                if !passable.passable(nx, ny)
+                    || (dx != 0
+                        && dy != 0
+                        && !(passable.passable(nx, yi) && passable.passable(xi, ny)))
+                {
+                    continue;
+                }
+                let i = ny as usize * w + nx as usize;
+                if !seen[i] {
+                    seen[i] = true;
+                    queue.push_back((nx as usize, ny as usize));
+                }
+            }
+        }
+    }
+    false
+}
+
+/// The traversable cells of a grid.
+fn traversable_cells(grid: &OccupancyGrid, unknown_passable: bool) -> Vec<(usize, usize)> {
+    let passable = Traversable::new(grid, unknown_passable);
+    let mut cells = Vec::new();
+    for y in 0..grid.height() {
+        for x in 0..grid.width() {
+            if passable.passable(x as i64, y as i64) {
+                cells.push((x, y));
+            }
+        }
+    }
+    cells
+}
+
+fn check_plan(
+    name: &str,
+    grid: &OccupancyGrid,
+    plan: &vpmap_plan::Plan,
+    start: (usize, usize),
+    goal: (usize, usize),
+    unknown_passable: bool,
+) {
+    assert_eq!(plan.waypoints.first(), Some(&start), "{name}");
+    assert_eq!(plan.waypoints.last(), Some(&goal), "{name}");
+    if let Err(e) = validate_path(grid, &plan.waypoints, unknown_passable) {
+        panic!("{name} path {:?} invalid: {e}\n{grid:?}", plan.waypoints);
+    }
+    assert!(
+        (plan.length - path_length(&plan.waypoints)).abs() < 1e-9,
+        "{name}"
+    );
+}
+
+#[derive(Default)]
+struct Excess {
+    sum: f64,
+    count: usize,
+}
+
+impl Excess {
+    fn add(&mut self, length: f64, optimum: f64) {
+        if optimum > 0.0 {
+            self.sum += length / optimum - 1.0;
+            self.count += 1;
+        }
+    }
+
+    fn mean_percent(&self) -> f64 {
+        100.0 * self.sum / self.count.max(1) as f64
+    }
+}
+
+#[test]
+fn planners_agree_with_bfs_and_are_ordered_on_random_grids() {
+    let mut rng = rng(0x7e7a_57a4);
+    let mut search = AstarSearch::new();
+    let (mut theta_excess, mut ps_excess, mut astar_excess) =
+        (Excess::default(), Excess::default(), Excess::default());
+    let (mut queries, mut unreachable) = (0, 0);
+    for round in 0..2800 {
+        let kind = KINDS[round % KINDS.len()];
+        let (grid, unknown_passable) = generate(&mut rng, kind, 16);
+        let cells = traversable_cells(&grid, unknown_passable);
+        if cells.is_empty() {
+            continue;
+        }
+        let passable = Traversable::new(&grid, unknown_passable);
+        for _ in 0..3 {
+            let start = cells[rng.random_range(0..cells.len())];
+            let goal = cells[rng.random_range(0..cells.len())];
+            let reachable = bfs_reachable(&grid, &passable, start, goal);
+            queries += 1;
+            unreachable += usize::from(!reachable);
+            let a = search
+                .search(&grid, start, goal, &AstarOptions { unknown_passable })
+                .unwrap();
+            let ps = astar_ps(&grid, start, goal, &AstarPsOptions { unknown_passable }).unwrap();
+            let th =
+                theta_star(&grid, start, goal, &ThetaStarOptions { unknown_passable }).unwrap();
+            let op = optimal_any_angle(
+                &grid,
+                start,
+                goal,
+                &OptimalAnyAngleOptions { unknown_passable },
+            )
+            .unwrap();
+            let context = format!("{kind} round {round} {start:?} -> {goal:?}\n{grid:?}");
+            assert_eq!(a.is_some(), reachable, "A* {context}");
+            assert_eq!(ps.is_some(), reachable, "A* PS {context}");
+            assert_eq!(th.is_some(), reachable, "Theta* {context}");
+            assert_eq!(op.is_some(), reachable, "optimal {context}");
+            let (Some(a), Some(ps), Some(th), Some(op)) = (a, ps, th, op) else {
+                continue;
+            };
+            for (name, plan) in [
+                ("A*", &a),
+                ("A* PS", &ps),
+                ("Theta*", &th),
+                ("optimal", &op),
+            ] {
+                check_plan(name, &grid, plan, start, goal, unknown_passable);
+            }
+            assert!(op.length <= th.length + 1e-9, "optimal > Theta*: {context}");
+            assert!(op.length <= ps.length + 1e-9, "optimal > A* PS: {context}");
+            assert!(ps.length <= a.length + 2e-9, "A* PS > A*: {context}");
+            theta_excess.add(th.length, op.length);
+            ps_excess.add(ps.length, op.length);
+            astar_excess.add(a.length, op.length);
+        }
+    }
+    eprintln!(
+        "any-angle on {queries} random queries ({unreachable} unreachable): mean excess over \
+         the optimum: Theta* {:.3} %, A* PS {:.3} %, A* {:.3} %",
+        theta_excess.mean_percent(),
+        ps_excess.mean_percent(),
+        astar_excess.mean_percent(),
+    );
+    assert!(unreachable > 0 && unreachable < queries / 2);
+    assert!(theta_excess.count > 3000);
+}
+
+/// Shortest path lengths from `start` to every traversable cell in the complete
+/// visibility graph of all traversable cell centres (edges checked by the independent
+/// validator), by Dijkstra with a linear scan.
+fn brute_force_lengths(
+    grid: &OccupancyGrid,
+    cells: &[(usize, usize)],
+    start: usize,
+    unknown_passable: bool,
+) -> Vec<f64> {
+    let n = cells.len();
+    let mut visible = vec![false; n * n];
+    for i in 0..n {
+        for j in i..n {
+            let ok = validate_path(grid, &[cells[i], cells[j]], unknown_passable).is_ok();
+            visible[i * n + j] = ok;
+            visible[j * n + i] = ok;
+        }
+    }
+    let mut dist = vec![f64::INFINITY; n];
+    let mut done = vec![false; n];
+    dist[start] = 0.0;
+    while let Some(u) = (0..n)
+        .filter(|&i| !done[i] && dist[i].is_finite())
+        .min_by(|&i, &j| dist[i].total_cmp(&dist[j]))
+    {
+        done[u] = true;
+        for v in 0..n {
+            if !done[v] && visible[u * n + v] {
+                let d = dist[u] + path_length(&[cells[u], cells[v]]);
+                if d < dist[v] {
+                    dist[v] = d;
+                }
+            }
+        }
+    }
+    dist
+}
+
+#[test]
+fn optimal_matches_brute_force_visibility_graph_on_tiny_grids() {
+    let mut rng = rng(0x0b7e_f0ce);
+    let mut compared = 0;
+    for round in 0..1400 {
+        let kind = KINDS[round % KINDS.len()];
+        let (grid, unknown_passable) = generate(&mut rng, kind, 8);
+        let cells = traversable_cells(&grid, unknown_passable);
+        if cells.is_empty() {
+            continue;
+        }
+        let start = rng.random_range(0..cells.len());
+        let reference = brute_force_lengths(&grid, &cells, start, unknown_passable);
+        for _ in 0..3 {
+            let goal = rng.random_range(0..cells.len());
+            let opts = OptimalAnyAngleOptions { unknown_passable };
+            let plan = optimal_any_angle(&grid, cells[start], cells[goal], &opts).unwrap();
+            let context = format!(
+                "{kind} round {round} {:?} -> {:?}\n{grid:?}",
+                cells[start], cells[goal]
+            );
+            match plan {
+                Some(plan) => {
+                    assert!(
+                        (plan.length - reference[goal]).abs() < 1e-9,
+                        "optimal {} vs brute force {}: {context}",
+                        plan.length,
+                        reference[goal]
+                    );
+                    compared += 1;
+                }
+                None => assert!(reference[goal].is_infinite(), "{context}"),
+            }
+        }
+    }
+    assert!(compared > 2500, "{compared}");
+}
+
+#[test]
+fn bad_endpoints_are_errors_for_every_planner() {
+    let mut grid = grid_of(4, 3, Cell::Free);
+    grid.set(1, 1, Cell::Occupied).unwrap();
+    grid.set(2, 1, Cell::Unknown).unwrap();
+    for (start, goal) in [((0, 0), (4, 0)), ((1, 1), (0, 0)), ((0, 0), (2, 1))] {
+        let results = [
+            astar_ps(&grid, start, goal, &AstarPsOptions::default()).err(),
+            theta_star(&grid, start, goal, &ThetaStarOptions::default()).err(),
+            optimal_any_angle(&grid, start, goal, &OptimalAnyAngleOptions::default()).err(),
+        ];
+        for e in results {
+            assert!(
+                matches!(
+                    e,
+                    Some(PlanError::EndpointOutsideGrid { .. } | PlanError::EndpointBlocked { .. })
+                ),
+                "{e:?}"
+            );
+        }
+    }
+    // Unknown endpoints are fine when unknown cells are passable.
+    assert!(
+        optimal_any_angle(
+            &grid,
+            (0, 0),
+            (2, 1),
+            &OptimalAnyAngleOptions {
+                unknown_passable: true
+            }
+        )
+        .unwrap()
+        .is_some()
+    );
+}
+
+#[test]
+fn optimal_on_movingai_room_and_random_maps() {
+    let Some(dir) = crate::movingai_dir() else {
+        return;
+    };
+    let mut excess = (Excess::default(), Excess::default());
+    let mut solved = 0;
+    for (map, scen) in [
+        ("room-64-64-8.map", "room-64-64-8-random-1.scen"),
+        ("random-64-64-20.map", "random-64-64-20-random-1.scen"),
+    ] {
+        let grid = vpmap_plan::read_movingai_map(dir.join("maps/mapf").join(map)).unwrap();
+        let problems = vpmap_plan::read_scen(dir.join("scen/mapf").join(scen)).unwrap();
+        let stride = problems.len().div_ceil(12).max(1);
+        for p in problems.iter().step_by(stride) {
+            let op = optimal_any_angle(&grid, p.start, p.goal, &OptimalAnyAngleOptions::default())
+                .unwrap()
+                .unwrap();
+            let th = theta_star(&grid, p.start, p.goal, &ThetaStarOptions::default())
+                .unwrap()
+                .unwrap();
+            let ps = astar_ps(&grid, p.start, p.goal, &AstarPsOptions::default())
+                .unwrap()
+                .unwrap();
+            for (name, plan) in [("A* PS", &ps), ("Theta*", &th), ("optimal", &op)] {
+                check_plan(name, &grid, plan, p.start, p.goal, false);
+            }
+            // The octile optimum is an 8-connected path, so never shorter than the optimum.
+            assert!(op.length <= p.optimal_length + 1e-3, "{map} {p:?}");
+            assert!(op.length <= th.length + 1e-9 && op.length <= ps.length + 1e-9);
+            excess.0.add(th.length, op.length);
+            excess.1.add(ps.length, op.length);
+            solved += 1;
+        }
+    }
+    eprintln!(
+        "any-angle on {solved} Moving AI problems: mean excess over the optimum: Theta* {:.3} %, \
+         A* PS {:.3} %",
+        excess.0.mean_percent(),
+        excess.1.mean_percent(),
+    );
+}
