@@ -7,10 +7,10 @@ use vpmap_metrology::map::{BuildOptions, FloorMap, Units, build_map};
 use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::scene::Scene;
 use vpmap_metrology::synth::Truth;
-use vpmap_plan::astar::{AstarOptions, astar};
 use vpmap_plan::grid::{Cell, OccupancyGrid};
 use vpmap_plan::raster::{RasterOptions, rasterize_map};
 use vpmap_plan::ros::encode_ros_map;
+use vpmap_plan::{ThetaStarOptions, theta_star};
 use vpmap_render::{FloorPlanStyle, floor_plan_svg, model_glb, svg_to_png};
 
 use crate::output::OutputSet;
@@ -303,7 +303,7 @@ pub fn run_demo(out: &Path, method: Method) -> Result<()> {
 }
 
 /// The demo's path: from the free cell nearest a point half a metre into the seen floor in
-/// front of the camera to the reachable free cell deepest into the room, by A*; drawn into
+/// front of the camera to the reachable free cell deepest into the room, by Theta*; drawn into
 /// map.svg and map.png.
 fn demo_path(built: &mut Built) -> Result<String> {
     let grid = &built.grid;
@@ -330,7 +330,7 @@ fn demo_path(built: &mut Built) -> Result<String> {
         return Ok("path: the map has no free floor to plan on".to_owned());
     };
     let goal = deepest_reachable(grid, start);
-    let Some(plan) = astar(grid, start, goal, &AstarOptions::default())? else {
+    let Some(plan) = theta_star(grid, start, goal, &ThetaStarOptions::default())? else {
         return Ok("path: no path found".to_owned());
     };
     let points: Vec<[f64; 2]> = plan
@@ -341,7 +341,7 @@ fn demo_path(built: &mut Built) -> Result<String> {
     let length = plan.length * grid.resolution_m();
     let style = FloorPlanStyle {
         path: points.clone(),
-        path_label: format!("path (A*, {length:.2} m)"),
+        path_label: format!("path (Theta*, {length:.2} m)"),
         ..FloorPlanStyle::default()
     };
     let svg = floor_plan_svg(&built.map, &style);
@@ -351,7 +351,7 @@ fn demo_path(built: &mut Built) -> Result<String> {
     built.files.add("map.svg", svg);
     let (a, b) = (points[0], points[points.len() - 1]);
     Ok(format!(
-        "path: A* from ({:.2}, {:.2}) to ({:.2}, {:.2}) m around the objects (robot radius 0.2 m): {length:.2} m, {} nodes expanded; drawn in map.svg",
+        "path: Theta* from ({:.2}, {:.2}) to ({:.2}, {:.2}) m around the objects (robot radius 0.2 m): {length:.2} m, {} nodes expanded; drawn in map.svg",
         a[0], a[1], b[0], b[1], plan.stats.expanded
     ))
 }

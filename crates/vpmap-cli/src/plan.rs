@@ -19,12 +19,22 @@ use crate::output::write_file;
 pub enum PlannerName {
     /// 8-connected octile A*, no corner cutting.
     Astar,
+    /// A* followed by line-of-sight post-smoothing.
+    AstarPs,
+    /// Basic Theta* (any-angle).
+    ThetaStar,
+    /// The exact shortest any-angle path (visibility graph over obstacle-corner cells).
+    Optimal,
 }
 
 impl PlannerName {
-    fn name(self) -> &'static str {
+    /// The planner's name on the command line and in JSON.
+    pub fn name(self) -> &'static str {
         match self {
             Self::Astar => "astar",
+            Self::AstarPs => "astar-ps",
+            Self::ThetaStar => "theta-star",
+            Self::Optimal => "optimal",
         }
     }
 }
@@ -181,8 +191,22 @@ pub fn run_planner(
     goal: (usize, usize),
     unknown_passable: bool,
 ) -> Result<Option<Plan>> {
+    use vpmap_plan::{
+        AstarPsOptions, OptimalAnyAngleOptions, ThetaStarOptions, astar_ps, optimal_any_angle,
+        theta_star,
+    };
     Ok(match planner {
         PlannerName::Astar => astar(grid, start, goal, &AstarOptions { unknown_passable })?,
+        PlannerName::AstarPs => astar_ps(grid, start, goal, &AstarPsOptions { unknown_passable })?,
+        PlannerName::ThetaStar => {
+            theta_star(grid, start, goal, &ThetaStarOptions { unknown_passable })?
+        }
+        PlannerName::Optimal => optimal_any_angle(
+            grid,
+            start,
+            goal,
+            &OptimalAnyAngleOptions { unknown_passable },
+        )?,
     })
 }
 

@@ -369,6 +369,37 @@ fn plan_on_a_moving_ai_map_answers_found_and_not_found_with_exit_0() {
         "{length}"
     );
     assert_eq!(v["waypoints"][0], serde_json::json!([0.0, 0.0]));
+    // Any-angle planners cut the corners; the exact optimum is the shortest.
+    let mut lengths = Vec::new();
+    for planner in ["astar", "astar-ps", "theta-star", "optimal"] {
+        let o = vpmap(&[
+            "plan",
+            m,
+            "--from",
+            "0,0",
+            "--to",
+            "6,0",
+            "--json",
+            "--planner",
+            planner,
+        ]);
+        assert!(
+            o.status.success(),
+            "{planner}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        assert_eq!(v["planner"], planner);
+        lengths.push(v["length"].as_f64().unwrap());
+    }
+    assert!(
+        lengths[3] <= lengths[1] + 1e-9 && lengths[3] <= lengths[2] + 1e-9,
+        "{lengths:?}"
+    );
+    assert!(
+        lengths[1] <= lengths[0] + 1e-9 && lengths[3] < lengths[0],
+        "{lengths:?}"
+    );
     // A wall with no gap: answered, not found, exit 0.
     std::fs::write(&map, WALLED).unwrap();
     let svg = dir.path().join("p.svg");
