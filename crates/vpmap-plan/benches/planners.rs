@@ -1,0 +1,306 @@
+//! Planner benchmarks on Moving AI maps.
+//!
+//! - `astar_vs_pathfinding/<map>`: our reusable [`AstarSearch`] against
+//!   `pathfinding::directed::astar::astar` with the same 8-connected, no-corner-cutting
+//!   successors, octile costs (integers, straight 10000, diagonal 14142) and octile
+//!   heuristic; each iteration runs all the map's sampled queries.
+//! - `planners/<map>`: A*, A* PS, Theta* and the exact any-angle planner over the same
+//!   queries.
+//!
+//! Maps come from `shared/data/movingai` next to the workspace; without it, a seeded
+//! 128 x 128 random-obstacle grid with seeded queries is used instead.
+#![allow(missing_docs)]
+#![allow(clippy::unwrap_used, clippy::expect_used)]
+
+use std::hint::black_box;
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use vpmap_plan::{
+    AstarOptions, AstarPsOptions, AstarSearch, Cell, OccupancyGrid, OptimalAnyAngleOptions,
+    ThetaStarOptions, astar, astar_ps, optimal_any_angle, path_length, read_movingai_map,
+    read_scen, theta_star,
+};
+
+/// Problems sampled per map.
+const QUERIES_PER_MAP: usize = 20;
+/// `(group name, map file, scenario file)` under the Moving AI folder.
+const MAPS: [(&str, &str, &str); 4] = [
+    (
+        "room-64-64-8",
+        "maps/mapf/room-64-64-8.map",
+        "scen/mapf/room-64-64-8-random-1.scen",
+    ),
+    (
+        "random-64-64-20",
+        "maps/mapf/random-64-64-20.map",
+        "scen/mapf/random-64-64-20-random-1.scen",
+    ),
+    (
+        "ht_chantry",
+        "maps/da2/ht_chantry.map",
+        "scen/da2/ht_chantry.map.scen",
+    ),
+    (
+        "den520d",
+        "maps/dao/den520d.map",
+        "scen/dao/den520d.map.scen",
+    ),
+];
+/// A single optimal any-angle query slower than this skips that planner on the map.
+const OPTIMAL_LIMIT: Duration = Duration::from_secs(1);
+
+type Query = ((usize, usize), (usize, usize));
+
+struct Case {
+    name: String,
+    grid: OccupancyGrid,
+    queries: Vec<Query>,
+}
+
+fn data_dir() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/movingai")
+}
+
+/// The benchmark maps with ~20 problems each, spread evenly over the (bucket-sorted)
+/// scenario file; a generated grid when the data folder is absent.
+fn cases() -> Vec<Case> {
+    let dir = data_dir();
+    if !dir.is_dir() {
+        println!(
+            "Moving AI data not found at {}; using a generated 128x128 random grid",
+            dir.display()
+        );
+        return vec![generated_case()];
+    }
+    MAPS.iter()
+        .map(|&(name, map, scen)| {
+            let grid = read_movingai_map(dir.join(map)).unwrap();
+            let mut scen = read_scen(dir.join(scen)).unwrap();
+            scen.sort_by_key(|s| s.bucket);
+            let n = scen.len();
+            let queries = (0..QUERIES_PER_MAP.min(n))
+                .map(|i| {
+                    let s = &scen[(2 * i + 1) * n / (2 * QUERIES_PER_MAP.min(n))];
+                    (s.start, s.goal)
+                })
+                .collect();
+            Case {
+                name: name.to_owned(),
+                grid,
+                queries,
+            }
+        })
+        .collect()
+}
+
+fn generated_case() -> Case {
+    let mut rng = ChaCha8Rng::seed_from_u64(0x5eed);
+    let (w, h) = (128, 128);
+    let cells = (0..w * h)
+        .map(|_| {
+            if rng.random_bool(0.2) {
+                Cell::Occupied
+            } else {
+                Cell::Free
+            }
+        })
+        .collect();
+    let grid = OccupancyGrid::from_cells(w, h, 1.0, [0.0; 2], cells).unwrap();
+    let free_cell = |rng: &mut ChaCha8Rng| loop {
+        let c = (rng.random_range(0..w), rng.random_range(0..h));
+        if grid.is_free(c.0, c.1) {
+            break c;
+        }
+    };
+    let queries = (0..QUERIES_PER_MAP)
+        .map(|_| (free_cell(&mut rng), free_cell(&mut rng)))
+        .collect();
+    Case {
+        name: "generated-128".to_owned(),
+        grid,
+        queries,
+    }
+}
+
+const STRAIGHT: u64 = 10_000;
+const DIAGONAL: u64 = 14_142;
+
+/// The reference: `pathfinding`'s A* with 8-connected, no-corner-cutting successors.
+fn reference_astar(
+    grid: &OccupancyGrid,
+    start: (usize, usize),
+    goal: (usize, usize),
+) -> Option<Vec<(usize, usize)>> {
+    let (w, h) = (grid.width() as i64, grid.height() as i64);
+    let cells = grid.cells();
+    let free = |x: i64, y: i64| {
+        x >= 0 && y >= 0 && x < w && y < h && cells[(y * w + x) as usize] == Cell::Free
+    };
+    let goal_index = (goal.1 as i64 * w + goal.0 as i64) as u32;
+    let (gx, gy) = (goal.0 as i64, goal.1 as i64);
+    let start_index = (start.1 as i64 * w + start.0 as i64) as u32;
+    let (path, _) = pathfinding::directed::astar::astar(
+        &start_index,
+        |&n| {
+            let (x, y) = (i64::from(n) % w, i64::from(n) / w);
+            let mut out = Vec::with_capacity(8);
+            for dy in -1..=1 {
+                for dx in -1..=1 {
+                    if (dx, dy) == (0, 0) || !free(x + dx, y + dy) {
+                        continue;
+                    }
+                    let diagonal = dx != 0 && dy != 0;
+                    if diagonal && !(free(x + dx, y) && free(x, y + dy)) {
+                        continue;
+                    }
+                    let cost = if diagonal { DIAGONAL } else { STRAIGHT };
+                    out.push((((y + dy) * w + x + dx) as u32, cost));
+                }
+            }
+            out
+        },
+        |&n| {
+            let (x, y) = (i64::from(n) % w, i64::from(n) / w);
+            let (dx, dy) = ((x - gx).unsigned_abs(), (y - gy).unsigned_abs());
+            let (lo, hi) = (dx.min(dy), dx.max(dy));
+            STRAIGHT * (hi - lo) + DIAGONAL * lo
+        },
+        |&n| n == goal_index,
+    )?;
+    let width = grid.width();
+    Some(
+        path.into_iter()
+            .map(|n| (n as usize % width, n as usize / width))
+            .collect(),
+    )
+}
+
+/// Both A*s solve the same queries with the same lengths (within 1e-3 cells).
+fn check_agreement(case: &Case) {
+    let mut search = AstarSearch::new();
+    let opts = AstarOptions::default();
+    let mut solved = 0;
+    for &(start, goal) in &case.queries {
+        let ours = search.search(&case.grid, start, goal, &opts).unwrap();
+        let theirs = reference_astar(&case.grid, start, goal);
+        match (ours, theirs) {
+            (None, None) => {}
+            (Some(plan), Some(path)) => {
+                let reference = path_length(&path);
+                assert!(
+                    (plan.length - reference).abs() < 1e-3,
+                    "{}: {start:?} -> {goal:?}: ours {} vs pathfinding {reference}",
+                    case.name,
+                    plan.length
+                );
+                solved += 1;
+            }
+            (ours, theirs) => panic!(
+                "{}: {start:?} -> {goal:?}: ours solved {}, pathfinding solved {}",
+                case.name,
+                ours.is_some(),
+                theirs.is_some()
+            ),
+        }
+    }
+    println!(
+        "{}: {} queries, {solved} solvable, A* and pathfinding agree",
+        case.name,
+        case.queries.len()
+    );
+}
+
+/// Whether every optimal any-angle query finishes within [`OPTIMAL_LIMIT`].
+fn optimal_is_fast(case: &Case) -> bool {
+    let opts = OptimalAnyAngleOptions::default();
+    for &(start, goal) in &case.queries {
+        let t = Instant::now();
+        black_box(optimal_any_angle(&case.grid, start, goal, &opts).unwrap());
+        let elapsed = t.elapsed();
+        if elapsed > OPTIMAL_LIMIT {
+            println!(
+                "{}: optimal any-angle took {elapsed:?} on {start:?} -> {goal:?}; skipping it",
+                case.name
+            );
+            return false;
+        }
+    }
+    true
+}
+
+fn benches(c: &mut Criterion) {
+    for case in cases() {
+        check_agreement(&case);
+        let grid = &case.grid;
+        let queries = &case.queries;
+
+        let mut group = c.benchmark_group(format!("astar_vs_pathfinding/{}", case.name));
+        group.sample_size(10);
+        group.measurement_time(Duration::from_secs(3));
+        group.warm_up_time(Duration::from_secs(1));
+        let mut search = AstarSearch::new();
+        let opts = AstarOptions::default();
+        group.bench_function("vpmap_astar_search", |b| {
+            b.iter(|| {
+                for &(start, goal) in queries {
+                    black_box(search.search(grid, start, goal, &opts).unwrap());
+                }
+            });
+        });
+        group.bench_function("pathfinding_astar", |b| {
+            b.iter(|| {
+                for &(start, goal) in queries {
+                    black_box(reference_astar(grid, start, goal));
+                }
+            });
+        });
+        group.finish();
+
+        let run_optimal = optimal_is_fast(&case);
+        let mut group = c.benchmark_group(format!("planners/{}", case.name));
+        group.sample_size(10);
+        group.measurement_time(Duration::from_secs(3));
+        group.warm_up_time(Duration::from_secs(1));
+        group.bench_function("astar", |b| {
+            b.iter(|| {
+                for &(start, goal) in queries {
+                    black_box(astar(grid, start, goal, &opts).unwrap());
+                }
+            });
+        });
+        let ps_opts = AstarPsOptions::default();
+        group.bench_function("astar_ps", |b| {
+            b.iter(|| {
+                for &(start, goal) in queries {
+                    black_box(astar_ps(grid, start, goal, &ps_opts).unwrap());
+                }
+            });
+        });
+        let theta_opts = ThetaStarOptions::default();
+        group.bench_function("theta_star", |b| {
+            b.iter(|| {
+                for &(start, goal) in queries {
+                    black_box(theta_star(grid, start, goal, &theta_opts).unwrap());
+                }
+            });
+        });
+        if run_optimal {
+            let optimal_opts = OptimalAnyAngleOptions::default();
+            group.bench_function("optimal_any_angle", |b| {
+                b.iter(|| {
+                    for &(start, goal) in queries {
+                        black_box(optimal_any_angle(grid, start, goal, &optimal_opts).unwrap());
+                    }
+                });
+            });
+        }
+        group.finish();
+    }
+}
+
+criterion_group!(planner_benches, benches);
+criterion_main!(planner_benches);
