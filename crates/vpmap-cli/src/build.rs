@@ -125,10 +125,6 @@ fn build_outputs(scene: &Scene, args: &BuildArgs) -> Result<Built> {
     )?;
     let mut files = OutputSet::default();
     files.add("map.json", map.to_json_string());
-    let svg = floor_plan_svg(&map, &FloorPlanStyle::default());
-    let png = svg_to_png(&svg).context("rendering map.png")?;
-    files.add("map.svg", svg);
-    files.add("map.png", png);
     files.add("model.glb", model_glb(&map).context("building model.glb")?);
     let grid = rasterize_map(
         &map,
@@ -161,6 +157,17 @@ fn build_outputs(scene: &Scene, args: &BuildArgs) -> Result<Built> {
         files,
         grid_summary,
     })
+}
+
+/// Render the floor plan (`map.svg`, `map.png`) into the output set: the last step, so that a
+/// caller can add a planned path to the style first.
+fn add_pictures(built: &mut Built, style: &FloorPlanStyle) -> Result<()> {
+    let svg = floor_plan_svg(&built.map, style);
+    built
+        .files
+        .add("map.png", svg_to_png(&svg).context("rendering map.png")?);
+    built.files.add("map.svg", svg);
+    Ok(())
 }
 
 fn unit_name(units: Units) -> &'static str {
@@ -200,11 +207,7 @@ fn print_summary(map: &FloorMap, grid_summary: &str) {
             o.name, o.centroid[0], o.centroid[1]
         );
     }
-    let free_area: f64 = map
-        .free_space
-        .iter()
-        .map(|p| ring_area(&p.exterior) - p.holes.iter().map(|h| ring_area(h)).sum::<f64>())
-        .sum();
+    let free_area = map.free_area();
     println!(
         "floor: {} corners, free space {:.2} {u}^2 in {} region(s)",
         map.floor.len(),
@@ -215,16 +218,6 @@ fn print_summary(map: &FloorMap, grid_summary: &str) {
     for w in &map.warnings {
         eprintln!("warning: {w}");
     }
-}
-
-fn ring_area(ring: &[[f64; 2]]) -> f64 {
-    let n = ring.len();
-    let mut twice = 0.0;
-    for i in 0..n {
-        let (a, b) = (ring[i], ring[(i + 1) % n]);
-        twice += a[0] * b[1] - a[1] * b[0];
-    }
-    (twice / 2.0).abs()
 }
 
 fn report_written(paths: &[PathBuf]) {
@@ -244,6 +237,7 @@ fn report_written(paths: &[PathBuf]) {
 pub fn run_build(scene_path: &Path, args: &BuildArgs) -> Result<()> {
     let scene = read_scene(scene_path)?;
     let built = build_outputs(&scene, args)
+        .and_then(|mut b| add_pictures(&mut b, &FloorPlanStyle::default()).map(|()| b))
         .with_context(|| format!("building {}", scene_path.display()))?;
     let paths = built.files.write_all(&args.out)?;
     print_summary(&built.map, &built.grid_summary);
@@ -287,7 +281,8 @@ pub fn run_demo(out: &Path, method: Method) -> Result<()> {
         hidden_free: false,
     };
     let mut built = build_outputs(&scene, &args)?;
-    let path_line = demo_path(&mut built)?;
+    let (path_line, style) = demo_path(&built)?;
+    add_pictures(&mut built, &style)?;
     let paths = built.files.write_all(out)?;
     print_summary(&built.map, &built.grid_summary);
     println!("{path_line}");
@@ -303,9 +298,9 @@ pub fn run_demo(out: &Path, method: Method) -> Result<()> {
 }
 
 /// The demo's path: from the free cell nearest a point half a metre into the seen floor in
-/// front of the camera to the reachable free cell deepest into the room, by Theta*; drawn into
-/// map.svg and map.png.
-fn demo_path(built: &mut Built) -> Result<String> {
+/// front of the camera to the reachable free cell deepest into the room, by Theta*, and the
+/// floor-plan style that draws it.
+fn demo_path(built: &Built) -> Result<(String, FloorPlanStyle)> {
     let grid = &built.grid;
     let near_y = built
         .map
@@ -327,11 +322,14 @@ fn demo_path(built: &mut Built) -> Result<String> {
         .copied()
         .min_by(|a, b| dist(*a).total_cmp(&dist(*b)))
     else {
-        return Ok("path: the map has no free floor to plan on".to_owned());
+        return Ok((
+            "path: the map has no free floor to plan on".to_owned(),
+            FloorPlanStyle::default(),
+        ));
     };
     let goal = deepest_reachable(grid, start);
     let Some(plan) = theta_star(grid, start, goal, &ThetaStarOptions::default())? else {
-        return Ok("path: no path found".to_owned());
+        return Ok(("path: no path found".to_owned(), FloorPlanStyle::default()));
     };
     let points: Vec<[f64; 2]> = plan
         .waypoints
@@ -344,16 +342,12 @@ fn demo_path(built: &mut Built) -> Result<String> {
         path_label: format!("path (Theta*, {length:.2} m)"),
         ..FloorPlanStyle::default()
     };
-    let svg = floor_plan_svg(&built.map, &style);
-    built
-        .files
-        .add("map.png", svg_to_png(&svg).context("rendering map.png")?);
-    built.files.add("map.svg", svg);
     let (a, b) = (points[0], points[points.len() - 1]);
-    Ok(format!(
+    let line = format!(
         "path: Theta* from ({:.2}, {:.2}) to ({:.2}, {:.2}) m around the objects (robot radius 0.2 m): {length:.2} m, {} nodes expanded; drawn in map.svg",
         a[0], a[1], b[0], b[1], plan.stats.expanded
-    ))
+    );
+    Ok((line, style))
 }
 
 /// The free cell reachable from `start` (8-connected, no corner cutting) with the largest

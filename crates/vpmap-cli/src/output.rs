@@ -13,14 +13,9 @@ pub struct OutputSet {
 }
 
 impl OutputSet {
-    /// Queue a file (replacing one queued under the same name).
+    /// Queue a file.
     pub fn add(&mut self, name: &str, bytes: impl Into<Vec<u8>>) {
-        let bytes = bytes.into();
-        if let Some(entry) = self.files.iter_mut().find(|(n, _)| n == name) {
-            entry.1 = bytes;
-        } else {
-            self.files.push((name.to_owned(), bytes));
-        }
+        self.files.push((name.to_owned(), bytes.into()));
     }
 
     /// Write every file into `dir` (created if missing). Returns the paths written.

@@ -603,6 +603,21 @@ impl FloorMap {
         serde_json::to_string_pretty(self).unwrap_or_default()
     }
 
+    /// Area of the free space (exteriors minus holes), in the map's units squared.
+    #[must_use]
+    pub fn free_area(&self) -> f64 {
+        self.free_space
+            .iter()
+            .map(|p| {
+                let ring = |pts: &[MapPoint]| {
+                    LineString::from(pts.iter().map(|q| (q[0], q[1])).collect::<Vec<_>>())
+                };
+                Polygon::new(ring(&p.exterior), p.holes.iter().map(|h| ring(h)).collect())
+                    .unsigned_area()
+            })
+            .sum()
+    }
+
     /// Axis-aligned bounds `(min, max)` of the floor, the objects and the station point.
     #[must_use]
     pub fn bounds(&self) -> (MapPoint, MapPoint) {
@@ -646,6 +661,22 @@ mod tests {
             t1 = t1.min(a.max(b));
         }
         t0 <= t1
+    }
+
+    #[test]
+    fn free_area_is_the_floor_minus_the_footprints() {
+        // Synthetic objects stand apart inside the floor, so the areas simply subtract.
+        let (scene, _) = crate::synth::synthesize(&crate::synth::SynthOptions::default()).unwrap();
+        let map = build_map(&scene, &BuildOptions::default()).unwrap();
+        let floor: Vec<Vector2<f64>> = map.floor.iter().map(|p| Vector2::new(p[0], p[1])).collect();
+        let floor_area = Polygon::new(ring(&floor), vec![]).unsigned_area();
+        let objects: f64 = map.objects.iter().map(|o| o.area).sum();
+        let expected = floor_area - objects;
+        assert!(
+            (map.free_area() - expected).abs() < 1e-9 * floor_area,
+            "{} vs {expected}",
+            map.free_area()
+        );
     }
 
     #[test]
