@@ -13,6 +13,7 @@
 //! | grid path | [`astar`](mod@astar) | A*, 8-connected, octile costs, no corner cutting, octile heuristic (Hart, Nilsson and Raphael 1968) |
 //! | smoothed grid path | [`smoothing`] | A* PS: A*, then greedy farthest-visible line-of-sight shortcuts (Botea, Müller and Schaeffer 2004) |
 //! | any-angle path | [`theta_star`](mod@theta_star) | Basic Theta*: A* whose nodes take a parent in line of sight (Nash, Daniel, Koenig and Felner 2007) |
+//! | multi-bug path | [`mbpp`](mod@mbpp) | the thesis's Multi-Bug Path Planning: greedy bugs on the m-line split at obstacles, follow walls both ways, note corners by line of sight; shortest `v_list`, checked, re-planned and smoothed |
 //! | shortest any-angle path | [`optimal`] | exact: A* on the visibility graph of start, goal and convex corner cells (Lozano-Pérez and Wesley 1979) |
 //!
 //! # Example
@@ -48,6 +49,7 @@ pub mod astar;
 pub mod error;
 pub mod grid;
 pub mod los;
+pub mod mbpp;
 pub mod movingai;
 pub mod optimal;
 pub mod plan;
@@ -61,6 +63,7 @@ pub use astar::{AstarOptions, AstarSearch, astar};
 pub use error::{PlanError, Result};
 pub use grid::{Cell, MAX_CELLS, OccupancyGrid};
 pub use los::{LosCounter, Passable, Traversable, line_of_sight, line_of_sight_counted};
+pub use mbpp::{Mbpp, MbppOptions, mbpp};
 pub use movingai::{Scenario, parse_movingai_map, parse_scen, read_movingai_map, read_scen};
 pub use optimal::{OptimalAnyAngleOptions, corner_cells, optimal_any_angle};
 pub use plan::{Plan, PlanStats, path_length};

@@ -8,8 +8,9 @@ use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use vpmap_plan::{
     AstarOptions, AstarPsOptions, AstarSearch, Cell, OccupancyGrid, OptimalAnyAngleOptions,
-    Passable, PlanError, ThetaStarOptions, Traversable, astar_ps, optimal_any_angle, path_length,
-    theta_star, validate_path,
+    Passable, PlanError, ThetaStarOptions, Traversable, astar_ps,
+    mbpp::{MbppOptions, mbpp},
+    optimal_any_angle, path_length, theta_star, validate_path,
 };
 
 use crate::rng;
@@ -304,8 +305,13 @@ impl Excess {
 fn planners_agree_with_bfs_and_are_ordered_on_random_grids() {
     let mut rng = rng(0x7e7a_57a4);
     let mut search = AstarSearch::new();
-    let (mut theta_excess, mut ps_excess, mut astar_excess) =
-        (Excess::default(), Excess::default(), Excess::default());
+    let (mut theta_excess, mut ps_excess, mut astar_excess, mut mbpp_excess) = (
+        Excess::default(),
+        Excess::default(),
+        Excess::default(),
+        Excess::default(),
+    );
+    let mut mbpp_shorter_than_ps = 0;
     let (mut queries, mut unreachable) = (0, 0);
     for round in 0..2800 {
         let kind = KINDS[round % KINDS.len()];
@@ -334,12 +340,34 @@ fn planners_agree_with_bfs_and_are_ordered_on_random_grids() {
                 &OptimalAnyAngleOptions { unknown_passable },
             )
             .unwrap();
+            let mb = mbpp(
+                &grid,
+                start,
+                goal,
+                &MbppOptions {
+                    unknown_passable,
+                    ..MbppOptions::default()
+                },
+            )
+            .unwrap();
             let context = format!("{kind} round {round} {start:?} -> {goal:?}\n{grid:?}");
+            assert_eq!(mb.best.is_some(), reachable, "MBPP {context}");
+            for alt in &mb.alternatives {
+                check_plan(
+                    "MBPP alternative",
+                    &grid,
+                    alt,
+                    start,
+                    goal,
+                    unknown_passable,
+                );
+                assert!(alt.length + 1e-9 >= op.as_ref().map_or(0.0, |p| p.length));
+            }
             assert_eq!(a.is_some(), reachable, "A* {context}");
             assert_eq!(ps.is_some(), reachable, "A* PS {context}");
             assert_eq!(th.is_some(), reachable, "Theta* {context}");
             assert_eq!(op.is_some(), reachable, "optimal {context}");
-            let (Some(a), Some(ps), Some(th), Some(op)) = (a, ps, th, op) else {
+            let (Some(a), Some(ps), Some(th), Some(op), Some(mb)) = (a, ps, th, op, mb.best) else {
                 continue;
             };
             for (name, plan) in [
@@ -347,12 +375,16 @@ fn planners_agree_with_bfs_and_are_ordered_on_random_grids() {
                 ("A* PS", &ps),
                 ("Theta*", &th),
                 ("optimal", &op),
+                ("MBPP", &mb),
             ] {
                 check_plan(name, &grid, plan, start, goal, unknown_passable);
             }
             assert!(op.length <= th.length + 1e-9, "optimal > Theta*: {context}");
             assert!(op.length <= ps.length + 1e-9, "optimal > A* PS: {context}");
             assert!(ps.length <= a.length + 2e-9, "A* PS > A*: {context}");
+            assert!(op.length <= mb.length + 1e-9, "optimal > MBPP: {context}");
+            mbpp_shorter_than_ps += usize::from(mb.length < ps.length - 1e-9);
+            mbpp_excess.add(mb.length, op.length);
             theta_excess.add(th.length, op.length);
             ps_excess.add(ps.length, op.length);
             astar_excess.add(a.length, op.length);
@@ -360,10 +392,12 @@ fn planners_agree_with_bfs_and_are_ordered_on_random_grids() {
     }
     eprintln!(
         "any-angle on {queries} random queries ({unreachable} unreachable): mean excess over \
-         the optimum: Theta* {:.3} %, A* PS {:.3} %, A* {:.3} %",
+         the optimum: Theta* {:.3} %, A* PS {:.3} %, A* {:.3} %, MBPP {:.3} % (shorter than \
+         A* PS on {mbpp_shorter_than_ps})",
         theta_excess.mean_percent(),
         ps_excess.mean_percent(),
         astar_excess.mean_percent(),
+        mbpp_excess.mean_percent(),
     );
     assert!(unreachable > 0 && unreachable < queries / 2);
     assert!(theta_excess.count > 3000);
