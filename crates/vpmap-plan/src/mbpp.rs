@@ -231,11 +231,14 @@ pub struct Mbpp {
 /// }
 /// let result = mbpp(&grid, (0, 2), (5, 2), &MbppOptions::default()).unwrap();
 /// let best = result.best.unwrap();
-/// // Round the wall's top or bottom end: (0, 2) -> (1, 0) or (1, 4) -> (3, ...) -> (5, 2).
-/// assert_eq!(best.waypoints.first(), Some(&(0, 2)));
-/// assert_eq!(best.waypoints.last(), Some(&(5, 2)));
-/// assert!(best.length < 7.0);
-/// assert_eq!(result.bugs.len(), 2); // the first bug split once, at the wall
+/// // Round the wall's top end, past the corner cells (1, 0) and (3, 0): the shortest way.
+/// assert_eq!(best.waypoints, [(0, 2), (1, 0), (3, 0), (5, 2)]);
+/// assert!((best.length - (5f64.sqrt() + 2.0 + 8f64.sqrt())).abs() < 1e-12);
+/// // The first bug split once, at the wall; the newborn went round the bottom end and
+/// // waited where the first bug had left the wall; its completed path is the alternative.
+/// assert_eq!(result.bugs.len(), 2);
+/// assert_eq!(result.alternatives.len(), 1);
+/// assert!(result.alternatives[0].length > best.length);
 /// ```
 pub fn mbpp(
     grid: &OccupancyGrid,
@@ -287,13 +290,16 @@ pub fn mbpp(
     })
 }
 
-/// The cells of the m-line from `start` to `goal`: greedy steps to the neighbour nearest
-/// the goal in an empty grid (diagonal first, then straight).
+/// The cells of the m-line from `start` to `goal`: the digital straight segment between
+/// them, one cell per step along the longer axis, the other coordinate rounded to the
+/// nearest cell (halves away from the start). Every step brings the bug closer to the goal
+/// (`rr` rises).
 ///
 /// # Example
 /// ```
 /// use vpmap_plan::mbpp::m_line;
-/// assert_eq!(m_line((0, 0), (3, 1)), [(0, 0), (1, 1), (2, 1), (3, 1)]);
+/// assert_eq!(m_line((0, 0), (4, 1)), [(0, 0), (1, 0), (2, 1), (3, 1), (4, 1)]);
+/// assert_eq!(m_line((3, 4), (1, 0)), [(3, 4), (2, 3), (2, 2), (1, 1), (1, 0)]);
 /// assert_eq!(m_line((2, 2), (2, 2)), [(2, 2)]);
 /// ```
 #[must_use]
@@ -377,52 +383,59 @@ impl Passable for PaddedGrid {
     }
 }
 
-/// The m-line in closed form: `diagonal` steps of `(sx, sy)`, then `straight` steps of
-/// `along`.
+/// The m-line in closed form: the digital straight segment from `start` to `goal` (one
+/// cell per step along the major axis, the minor coordinate rounded to the nearest cell,
+/// halves away from the start).
 #[derive(Clone, Copy, Debug)]
 struct MLine {
     start: Xy,
-    sx: i64,
-    sy: i64,
-    diagonal: i64,
-    along: Xy,
-    /// Position of the goal (the number of steps).
+    /// Whether x is the major axis.
+    x_major: bool,
+    /// Steps along the major axis (the position of the goal).
     last: i64,
+    /// Signed extent along the minor axis.
+    minor: i64,
+    major_sign: i64,
 }
 
 impl MLine {
     fn new(start: Xy, goal: Xy) -> Self {
         let (dx, dy) = (goal.0 - start.0, goal.1 - start.1);
-        let diagonal = dx.abs().min(dy.abs());
-        let along = if dx.abs() >= dy.abs() {
-            (dx.signum(), 0)
-        } else {
-            (0, dy.signum())
-        };
+        let x_major = dx.abs() >= dy.abs();
+        let (major, minor) = if x_major { (dx, dy) } else { (dy, dx) };
         Self {
             start,
-            sx: dx.signum(),
-            sy: dy.signum(),
-            diagonal,
-            along,
-            last: dx.abs().max(dy.abs()),
+            x_major,
+            last: major.abs(),
+            minor,
+            major_sign: major.signum(),
         }
     }
 
     fn cell(&self, k: i64) -> Xy {
-        let d = k.min(self.diagonal);
-        let s = k - d;
-        (
-            self.start.0 + d * self.sx + s * self.along.0,
-            self.start.1 + d * self.sy + s * self.along.1,
-        )
+        let along = k * self.major_sign;
+        // round(k * |minor| / last), halves up, with the minor sign.
+        let across = if self.last == 0 {
+            0
+        } else {
+            (2 * k * self.minor.abs() + self.last) / (2 * self.last) * self.minor.signum()
+        };
+        if self.x_major {
+            (self.start.0 + along, self.start.1 + across)
+        } else {
+            (self.start.0 + across, self.start.1 + along)
+        }
     }
 
     /// The position of `c` along the m-line, if it is on it.
     fn position(&self, c: Xy) -> Option<i64> {
-        let (dx, dy) = (c.0 - self.start.0, c.1 - self.start.1);
-        let k = dx.abs().max(dy.abs());
-        (k <= self.last && self.cell(k) == c).then_some(k)
+        let along = if self.x_major {
+            c.0 - self.start.0
+        } else {
+            c.1 - self.start.1
+        };
+        let k = along * self.major_sign;
+        (k >= 0 && k <= self.last && self.cell(k) == c).then_some(k)
     }
 }
 
