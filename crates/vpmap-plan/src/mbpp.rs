@@ -106,7 +106,7 @@
 //!   detection).
 
 use std::cmp::Ordering;
-use std::collections::BinaryHeap;
+use std::collections::{BinaryHeap, HashMap};
 
 use crate::error::Result;
 use crate::grid::{Cell, OccupancyGrid};
@@ -124,6 +124,22 @@ pub struct MbppOptions {
     pub record_tracks: bool,
     /// How deeply re-planning may nest (default 4).
     pub max_replan_depth: usize,
+    /// When a wall-following bug leaves the wall (default: the thesis's m-line rule).
+    pub leave: LeaveRule,
+}
+
+/// When a wall-following bug leaves the wall for greedy moves (condition C2(a)).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum LeaveRule {
+    /// The thesis's rule: on meeting the start-goal m-line again, further along it than the
+    /// hit (Bug2). Greedy moves follow the m-line.
+    #[default]
+    MLine,
+    /// As soon as the bug is closer to the goal than at its hit (the leave rule of
+    /// DistBug-like bug algorithms); greedy moves then follow a new straight line from the
+    /// leave cell to the goal. Shorter tracks, more bugs; see `docs/mbpp.md` for the
+    /// comparison.
+    Closer,
 }
 
 impl Default for MbppOptions {
@@ -132,6 +148,7 @@ impl Default for MbppOptions {
             unknown_passable: false,
             record_tracks: false,
             max_replan_depth: 4,
+            leave: LeaveRule::MLine,
         }
     }
 }
@@ -465,13 +482,16 @@ type WalkState = (Xy, u8);
 
 #[derive(Clone, Copy, Debug)]
 enum Mode {
-    /// On the m-line at this position.
-    Greedy { position: i64 },
+    /// On a straight line to the goal (the m-line, or the bug's own line under
+    /// [`LeaveRule::Closer`]) at this position.
+    Greedy { line: MLine, position: i64 },
     /// Following a wall since a hit at m-line position `hit`.
     Follow {
         hand: Hand,
         heading: u8,
         hit: i64,
+        /// Squared distance from the hit cell to the goal.
+        hit_d2: i64,
         /// The state after the first step, once taken.
         start: Option<WalkState>,
         /// Brent's saved state, window length and steps into the window.
@@ -549,7 +569,13 @@ fn run(
             }],
         };
     }
-    let mut walk = Walk::new(grid, start, goal, opts.record_tracks && depth == 0);
+    let mut walk = Walk::new(
+        grid,
+        start,
+        goal,
+        opts.record_tracks && depth == 0,
+        opts.leave,
+    );
     walk.run(counter);
     stats.bugs += walk.bugs.len();
     stats.bug_steps += walk.steps;
@@ -586,7 +612,8 @@ struct Walk<'g> {
     grid: &'g PaddedGrid,
     goal: Xy,
     line: MLine,
-    owners: Vec<Option<Owner>>,
+    leave: LeaveRule,
+    owners: HashMap<Xy, Owner>,
     vertices: Vec<Vertex>,
     bugs: Vec<Bug>,
     born: Vec<usize>,
@@ -598,19 +625,20 @@ struct Walk<'g> {
 }
 
 impl<'g> Walk<'g> {
-    fn new(grid: &'g PaddedGrid, start: Xy, goal: Xy, record: bool) -> Self {
+    fn new(grid: &'g PaddedGrid, start: Xy, goal: Xy, record: bool, leave: LeaveRule) -> Self {
         let line = MLine::new(start, goal);
-        let mut owners = vec![None; line.last as usize + 1];
-        if let Some(first) = owners.first_mut() {
-            *first = Some(Owner {
+        let mut owners = HashMap::new();
+        owners.insert(
+            start,
+            Owner {
                 anchor: 0,
                 at_cell: true,
-            });
-        }
+            },
+        );
         let first = Bug {
             cell: start,
             anchor: 0,
-            mode: Mode::Greedy { position: 0 },
+            mode: Mode::Greedy { line, position: 0 },
             track: BugTrack {
                 parent: None,
                 cells: if record {
@@ -628,6 +656,7 @@ impl<'g> Walk<'g> {
             grid,
             goal,
             line,
+            leave,
             owners,
             vertices: vec![Vertex {
                 cell: start,
@@ -677,8 +706,8 @@ impl<'g> Walk<'g> {
         };
         let (cell, mode) = (bug.cell, bug.mode);
         match mode {
-            Mode::Greedy { position } => {
-                let next = self.line.cell(position + 1);
+            Mode::Greedy { line, position } => {
+                let next = line.cell(position + 1);
                 let d = (next.0 - cell.0, next.1 - cell.1);
                 if !self.grid.step_ok(cell, d) {
                     self.hit(b, position, d);
@@ -689,12 +718,13 @@ impl<'g> Walk<'g> {
                     self.reach_goal(b);
                     return false;
                 }
-                self.go_greedy(b, position + 1, false)
+                self.go_greedy(b, line, position + 1, false)
             }
             Mode::Follow {
                 hand,
                 heading,
                 hit,
+                hit_d2,
                 start,
                 mut saved,
                 mut power,
@@ -732,15 +762,22 @@ impl<'g> Walk<'g> {
                         hand,
                         heading: h,
                         hit,
+                        hit_d2,
                         start,
                         saved,
                         power,
                         lam,
                     };
                 }
-                match self.line.position(next) {
-                    Some(p) if p > hit => self.go_greedy(b, p, true),
-                    _ => true,
+                match self.leave {
+                    LeaveRule::MLine => match self.line.position(next) {
+                        Some(p) if p > hit => self.go_greedy(b, self.line, p, true),
+                        _ => true,
+                    },
+                    LeaveRule::Closer if d2(next, self.goal) < hit_d2 => {
+                        self.go_greedy(b, MLine::new(next, self.goal), 0, true)
+                    }
+                    LeaveRule::Closer => true,
                 }
             }
         }
@@ -749,17 +786,12 @@ impl<'g> Walk<'g> {
     /// Bug `b` stands on m-line cell `position` and would go on greedily: it owns the cell,
     /// or waits when another bug owns it (C3). A bug leaving a wall notes the cell in its
     /// `leave_list` and `v_list`.
-    fn go_greedy(&mut self, b: usize, position: i64, leaving: bool) -> bool {
-        let Some(slot) = usize::try_from(position)
-            .ok()
-            .and_then(|p| self.owners.get(p).copied())
-        else {
-            return false;
-        };
+    fn go_greedy(&mut self, b: usize, line: MLine, position: i64, leaving: bool) -> bool {
         let Some(bug) = self.bugs.get(b) else {
             return false;
         };
         let (cell, anchor) = (bug.cell, bug.anchor);
+        let slot = self.owners.get(&cell).copied();
         if leaving && let Some(bug) = self.bugs.get_mut(b) {
             bug.track.leaves.push(to_u(cell));
         }
@@ -779,15 +811,10 @@ impl<'g> Walk<'g> {
             anchor
         };
         let at_cell = self.vertex_cell(anchor) == cell;
-        if let Some(slot) = usize::try_from(position)
-            .ok()
-            .and_then(|p| self.owners.get_mut(p))
-        {
-            *slot = Some(Owner { anchor, at_cell });
-        }
+        self.owners.insert(cell, Owner { anchor, at_cell });
         if let Some(bug) = self.bugs.get_mut(b) {
             bug.anchor = anchor;
-            bug.mode = Mode::Greedy { position };
+            bug.mode = Mode::Greedy { line, position };
         }
         true
     }
@@ -804,6 +831,7 @@ impl<'g> Walk<'g> {
             hand,
             heading: self.initial_heading(cell, d, hand),
             hit: position,
+            hit_d2: d2(cell, self.goal),
             start: None,
             saved: (cell, 4),
             power: 1,
@@ -913,6 +941,10 @@ impl<'g> Walk<'g> {
 
 fn add(a: Xy, b: Xy) -> Xy {
     (a.0 + b.0, a.1 + b.1)
+}
+
+fn d2(a: Xy, b: Xy) -> i64 {
+    (a.0 - b.0).pow(2) + (a.1 - b.1).pow(2)
 }
 
 fn dist(a: Xy, b: Xy) -> f64 {

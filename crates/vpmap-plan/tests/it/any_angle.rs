@@ -9,7 +9,7 @@ use rand_chacha::ChaCha8Rng;
 use vpmap_plan::{
     AstarOptions, AstarPsOptions, AstarSearch, Cell, OccupancyGrid, OptimalAnyAngleOptions,
     Passable, PlanError, ThetaStarOptions, Traversable, astar_ps,
-    mbpp::{MbppOptions, mbpp},
+    mbpp::{LeaveRule, MbppOptions, mbpp},
     optimal_any_angle, path_length, theta_star, validate_path,
 };
 
@@ -350,8 +350,24 @@ fn planners_agree_with_bfs_and_are_ordered_on_random_grids() {
                 },
             )
             .unwrap();
+            let mb_closer = mbpp(
+                &grid,
+                start,
+                goal,
+                &MbppOptions {
+                    unknown_passable,
+                    leave: LeaveRule::Closer,
+                    ..MbppOptions::default()
+                },
+            )
+            .unwrap();
             let context = format!("{kind} round {round} {start:?} -> {goal:?}\n{grid:?}");
             assert_eq!(mb.best.is_some(), reachable, "MBPP {context}");
+            assert_eq!(mb_closer.best.is_some(), reachable, "MBPP closer {context}");
+            if let (Some(p), Some(o)) = (&mb_closer.best, &op) {
+                check_plan("MBPP closer", &grid, p, start, goal, unknown_passable);
+                assert!(o.length <= p.length + 1e-9, "optimal > MBPP closer: {context}");
+            }
             for alt in &mb.alternatives {
                 check_plan(
                     "MBPP alternative",
