@@ -4,8 +4,8 @@
 //!   `pathfinding::directed::astar::astar` with the same 8-connected, no-corner-cutting
 //!   successors, octile costs (integers, straight 10000, diagonal 14142) and octile
 //!   heuristic; each iteration runs all the map's sampled queries.
-//! - `planners/<map>`: A*, A* PS, Theta* and the exact any-angle planner over the same
-//!   queries.
+//! - `planners/<map>`: A*, A* PS, MBPP (the thesis's m-line leave rule and the
+//!   closer-than-hit rule), Theta* and the exact any-angle planner over the same queries.
 //!
 //! Maps come from `shared/data/movingai` next to the workspace; without it, a seeded
 //! 128 x 128 random-obstacle grid with seeded queries is used instead.
@@ -21,8 +21,9 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use vpmap_plan::{
     AstarOptions, AstarPsOptions, AstarSearch, Cell, OccupancyGrid, OptimalAnyAngleOptions,
-    ThetaStarOptions, astar, astar_ps, optimal_any_angle, path_length, read_movingai_map,
-    read_scen, theta_star,
+    ThetaStarOptions, astar, astar_ps,
+    mbpp::{LeaveRule, MbppOptions, mbpp},
+    optimal_any_angle, path_length, read_movingai_map, read_scen, theta_star,
 };
 
 /// Problems sampled per map.
@@ -277,6 +278,25 @@ fn benches(c: &mut Criterion) {
             b.iter(|| {
                 for &(start, goal) in queries {
                     black_box(astar_ps(grid, start, goal, &ps_opts).unwrap());
+                }
+            });
+        });
+        let mbpp_opts = MbppOptions::default();
+        group.bench_function("mbpp", |b| {
+            b.iter(|| {
+                for &(start, goal) in queries {
+                    black_box(mbpp(grid, start, goal, &mbpp_opts).unwrap());
+                }
+            });
+        });
+        let closer_opts = MbppOptions {
+            leave: LeaveRule::Closer,
+            ..MbppOptions::default()
+        };
+        group.bench_function("mbpp_closer", |b| {
+            b.iter(|| {
+                for &(start, goal) in queries {
+                    black_box(mbpp(grid, start, goal, &closer_opts).unwrap());
                 }
             });
         });

@@ -13,6 +13,14 @@ use crate::grid::Cell;
 #[derive(Debug, Error)]
 #[non_exhaustive]
 pub enum PlanError {
+    /// A planner name that is not one of [`crate::PlannerKind::ALL`].
+    #[error("unknown planner `{name}`; choose one of {choices}")]
+    UnknownPlanner {
+        /// The name given.
+        name: String,
+        /// The valid names, comma-separated.
+        choices: String,
+    },
     /// A numeric parameter (an option field or a grid property) is outside its valid range.
     #[error("`{field}` is {value}; it {requirement}")]
     InvalidParameter {

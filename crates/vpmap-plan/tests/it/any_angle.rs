@@ -366,7 +366,10 @@ fn planners_agree_with_bfs_and_are_ordered_on_random_grids() {
             assert_eq!(mb_closer.best.is_some(), reachable, "MBPP closer {context}");
             if let (Some(p), Some(o)) = (&mb_closer.best, &op) {
                 check_plan("MBPP closer", &grid, p, start, goal, unknown_passable);
-                assert!(o.length <= p.length + 1e-9, "optimal > MBPP closer: {context}");
+                assert!(
+                    o.length <= p.length + 1e-9,
+                    "optimal > MBPP closer: {context}"
+                );
             }
             for alt in &mb.alternatives {
                 check_plan(

@@ -1,0 +1,217 @@
+//! One interface over every planner: [`Planner`], its result [`Planned`], and
+//! [`PlannerKind`], the built-in planners by name.
+//!
+//! # Example
+//! ```
+//! use vpmap_plan::{Cell, OccupancyGrid, planner::{Planner, PlannerKind}};
+//! let mut grid = OccupancyGrid::new(8, 5, 1.0, [0.0; 2], Cell::Free).unwrap();
+//! for y in 0..4 {
+//!     grid.set(4, y, Cell::Occupied).unwrap();
+//! }
+//! let mut lengths = Vec::new();
+//! for kind in PlannerKind::ALL {
+//!     let mut planner = kind.planner(false);
+//!     let planned = planner.plan(&grid, (0, 0), (7, 0)).unwrap();
+//!     lengths.push((planner.name(), planned.best.unwrap().length));
+//! }
+//! let optimal = lengths.iter().find(|(name, _)| *name == "optimal").unwrap().1;
+//! assert!(lengths.iter().all(|&(_, length)| length >= optimal - 1e-9));
+//! ```
+
+use std::fmt;
+use std::str::FromStr;
+
+use crate::astar::{AstarOptions, AstarSearch};
+use crate::error::{PlanError, Result};
+use crate::grid::OccupancyGrid;
+use crate::mbpp::{BugTrack, LeaveRule, MbppOptions, MbppStats, mbpp};
+use crate::optimal::{OptimalAnyAngleOptions, optimal_any_angle};
+use crate::plan::Plan;
+use crate::smoothing::{AstarPsOptions, astar_ps};
+use crate::theta_star::{ThetaStarOptions, theta_star};
+
+/// What a planner returns for one query.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Planned {
+    /// The path, or `None` when the goal cannot be reached from the start.
+    pub best: Option<Plan>,
+    /// Other feasible paths the planner found (MBPP's alternatives; empty for the others).
+    pub alternatives: Vec<Plan>,
+    /// MBPP's bugs (tracks only when asked for; empty for the other planners).
+    pub bugs: Vec<BugTrack>,
+    /// MBPP's counters (zero for the other planners).
+    pub mbpp_stats: MbppStats,
+}
+
+/// A path planner on occupancy grids: start and goal are cells `(x, y)`.
+pub trait Planner {
+    /// The planner's short name (`astar`, `astar-ps`, `theta-star`, `mbpp`, `optimal`).
+    fn name(&self) -> &'static str;
+
+    /// Plan from `start` to `goal`.
+    ///
+    /// # Errors
+    /// When `start` or `goal` is outside the grid or not traversable.
+    fn plan(
+        &mut self,
+        grid: &OccupancyGrid,
+        start: (usize, usize),
+        goal: (usize, usize),
+    ) -> Result<Planned>;
+}
+
+/// The built-in planners.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum PlannerKind {
+    /// Multi-Bug Path Planning with the thesis's m-line leave rule ([`crate::mbpp`]).
+    Mbpp,
+    /// MBPP leaving walls as soon as it is closer to the goal than at the hit
+    /// ([`LeaveRule::Closer`]).
+    MbppCloser,
+    /// A* with line-of-sight post-smoothing ([`crate::smoothing`]).
+    AstarPs,
+    /// Basic Theta* ([`crate::theta_star`](mod@crate::theta_star)).
+    ThetaStar,
+    /// 8-connected octile A* ([`crate::astar`](mod@crate::astar)).
+    Astar,
+    /// The exact shortest any-angle path ([`crate::optimal`]).
+    Optimal,
+}
+
+impl PlannerKind {
+    /// Every built-in planner.
+    pub const ALL: [Self; 6] = [
+        Self::Mbpp,
+        Self::MbppCloser,
+        Self::AstarPs,
+        Self::ThetaStar,
+        Self::Astar,
+        Self::Optimal,
+    ];
+
+    /// The planner's name (also what [`FromStr`] reads).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Mbpp => "mbpp",
+            Self::MbppCloser => "mbpp-closer",
+            Self::AstarPs => "astar-ps",
+            Self::ThetaStar => "theta-star",
+            Self::Astar => "astar",
+            Self::Optimal => "optimal",
+        }
+    }
+
+    /// A planner of this kind; `unknown_passable` lets paths cross unknown cells.
+    #[must_use]
+    pub fn planner(self, unknown_passable: bool) -> BuiltIn {
+        BuiltIn {
+            kind: self,
+            unknown_passable,
+            record_tracks: false,
+            search: AstarSearch::new(),
+        }
+    }
+}
+
+impl fmt::Display for PlannerKind {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
+impl FromStr for PlannerKind {
+    type Err = PlanError;
+
+    fn from_str(s: &str) -> Result<Self> {
+        Self::ALL
+            .into_iter()
+            .find(|k| k.name() == s)
+            .ok_or_else(|| PlanError::UnknownPlanner {
+                name: s.to_owned(),
+                choices: Self::ALL.map(Self::name).join(", "),
+            })
+    }
+}
+
+/// A built-in planner (see [`PlannerKind::planner`]). A* keeps its search arrays between
+/// queries.
+#[derive(Clone, Debug)]
+pub struct BuiltIn {
+    kind: PlannerKind,
+    unknown_passable: bool,
+    record_tracks: bool,
+    search: AstarSearch,
+}
+
+impl BuiltIn {
+    /// Record MBPP's bug tracks (for drawing); off by default.
+    #[must_use]
+    pub fn with_tracks(mut self, record_tracks: bool) -> Self {
+        self.record_tracks = record_tracks;
+        self
+    }
+
+    /// Which planner this is.
+    #[must_use]
+    pub fn kind(&self) -> PlannerKind {
+        self.kind
+    }
+}
+
+impl Planner for BuiltIn {
+    fn name(&self) -> &'static str {
+        self.kind.name()
+    }
+
+    fn plan(
+        &mut self,
+        grid: &OccupancyGrid,
+        start: (usize, usize),
+        goal: (usize, usize),
+    ) -> Result<Planned> {
+        let unknown_passable = self.unknown_passable;
+        let best = match self.kind {
+            PlannerKind::Mbpp | PlannerKind::MbppCloser => {
+                let leave = if self.kind == PlannerKind::Mbpp {
+                    LeaveRule::MLine
+                } else {
+                    LeaveRule::Closer
+                };
+                let opts = MbppOptions {
+                    unknown_passable,
+                    record_tracks: self.record_tracks,
+                    leave,
+                    ..MbppOptions::default()
+                };
+                let result = mbpp(grid, start, goal, &opts)?;
+                return Ok(Planned {
+                    best: result.best,
+                    alternatives: result.alternatives,
+                    bugs: result.bugs,
+                    mbpp_stats: result.stats,
+                });
+            }
+            PlannerKind::AstarPs => {
+                astar_ps(grid, start, goal, &AstarPsOptions { unknown_passable })?
+            }
+            PlannerKind::ThetaStar => {
+                theta_star(grid, start, goal, &ThetaStarOptions { unknown_passable })?
+            }
+            PlannerKind::Astar => {
+                self.search
+                    .search(grid, start, goal, &AstarOptions { unknown_passable })?
+            }
+            PlannerKind::Optimal => optimal_any_angle(
+                grid,
+                start,
+                goal,
+                &OptimalAnyAngleOptions { unknown_passable },
+            )?,
+        };
+        Ok(Planned {
+            best,
+            ..Planned::default()
+        })
+    }
+}
