@@ -539,7 +539,7 @@ fn optimal_on_movingai_room_and_random_maps() {
     let Some(dir) = crate::movingai_dir() else {
         return;
     };
-    let mut excess = (Excess::default(), Excess::default());
+    let mut excess = (Excess::default(), Excess::default(), Excess::default());
     let mut solved = 0;
     for (map, scen) in [
         ("room-64-64-8.map", "room-64-64-8-random-1.scen"),
@@ -558,9 +558,20 @@ fn optimal_on_movingai_room_and_random_maps() {
             let ps = astar_ps(&grid, p.start, p.goal, &AstarPsOptions::default())
                 .unwrap()
                 .unwrap();
-            for (name, plan) in [("A* PS", &ps), ("Theta*", &th), ("optimal", &op)] {
+            let mb = mbpp(&grid, p.start, p.goal, &MbppOptions::default())
+                .unwrap()
+                .best
+                .unwrap();
+            for (name, plan) in [
+                ("A* PS", &ps),
+                ("Theta*", &th),
+                ("optimal", &op),
+                ("MBPP", &mb),
+            ] {
                 check_plan(name, &grid, plan, p.start, p.goal, false);
             }
+            assert!(op.length <= mb.length + 1e-9, "{map} {p:?}");
+            excess.2.add(mb.length, op.length);
             // The octile optimum is an 8-connected path, so never shorter than the optimum.
             assert!(op.length <= p.optimal_length + 1e-3, "{map} {p:?}");
             assert!(op.length <= th.length + 1e-9 && op.length <= ps.length + 1e-9);
@@ -571,8 +582,9 @@ fn optimal_on_movingai_room_and_random_maps() {
     }
     eprintln!(
         "any-angle on {solved} Moving AI problems: mean excess over the optimum: Theta* {:.3} %, \
-         A* PS {:.3} %",
+         A* PS {:.3} %, MBPP {:.3} %",
         excess.0.mean_percent(),
         excess.1.mean_percent(),
+        excess.2.mean_percent(),
     );
 }

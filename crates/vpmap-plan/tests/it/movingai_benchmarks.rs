@@ -6,7 +6,8 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use vpmap_plan::{
-    AstarOptions, AstarSearch, Passable, Traversable, read_movingai_map, read_scen, validate_path,
+    AstarOptions, AstarSearch, Passable, Planner, PlannerKind, Traversable, read_movingai_map,
+    read_scen, validate_path,
 };
 
 use crate::astar::components;
@@ -178,8 +179,57 @@ fn no_path_between_components_of_benchmark_maps() {
                 .search(&grid, pair[0], pair[1], &AstarOptions::default())
                 .unwrap();
             assert_eq!(plan, None, "{name}: {pair:?}");
+            for kind in [
+                PlannerKind::Mbpp,
+                PlannerKind::AstarPs,
+                PlannerKind::ThetaStar,
+            ] {
+                let planned = kind.planner(false).plan(&grid, pair[0], pair[1]).unwrap();
+                assert_eq!(planned.best, None, "{kind} {name}: {pair:?}");
+                assert!(planned.alternatives.is_empty());
+            }
             pairs += 1;
         }
     }
     assert!(pairs >= 4);
+}
+
+#[test]
+fn every_planner_solves_samples_of_every_benchmark_map() {
+    let Some(dir) = movingai_dir() else { return };
+    let maps = map_paths(&dir);
+    let mut solved = 0;
+    for scen_path in scen_paths(&dir) {
+        let scen = read_scen(&scen_path).unwrap();
+        let grid = read_movingai_map(&maps[scen[0].map_file_name()]).unwrap();
+        // A middle and the longest problem (files are sorted by length bucket).
+        for s in [&scen[scen.len() / 2], &scen[scen.len() - 1]] {
+            for kind in [
+                PlannerKind::Mbpp,
+                PlannerKind::AstarPs,
+                PlannerKind::ThetaStar,
+            ] {
+                let plan = kind
+                    .planner(false)
+                    .plan(&grid, s.start, s.goal)
+                    .unwrap()
+                    .best
+                    .unwrap_or_else(|| panic!("{kind}: no path for {s:?}"));
+                validate_path(&grid, &plan.waypoints, false)
+                    .unwrap_or_else(|e| panic!("{kind} {s:?}: {e}"));
+                assert_eq!(plan.waypoints.first(), Some(&s.start));
+                assert_eq!(plan.waypoints.last(), Some(&s.goal));
+                let straight = (s.start.0.abs_diff(s.goal.0) as f64)
+                    .hypot(s.start.1.abs_diff(s.goal.1) as f64);
+                assert!(plan.length >= straight - 1e-9, "{kind} {s:?}");
+                // Smoothing never lengthens the octile-optimal A* path.
+                if kind == PlannerKind::AstarPs {
+                    assert!(plan.length <= s.optimal_length + tolerance(s.optimal_length));
+                }
+                solved += 1;
+            }
+        }
+    }
+    println!("{solved} benchmark problems solved and validated");
+    assert!(solved >= 18 * 6, "{solved}");
 }
