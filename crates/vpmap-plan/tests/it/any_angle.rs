@@ -312,6 +312,7 @@ fn planners_agree_with_bfs_and_are_ordered_on_random_grids() {
         Excess::default(),
     );
     let mut mbpp_shorter_than_ps = 0;
+    let mut closer_excess = Excess::default();
     let (mut queries, mut unreachable) = (0, 0);
     for round in 0..2800 {
         let kind = KINDS[round % KINDS.len()];
@@ -370,6 +371,7 @@ fn planners_agree_with_bfs_and_are_ordered_on_random_grids() {
                     o.length <= p.length + 1e-9,
                     "optimal > MBPP closer: {context}"
                 );
+                closer_excess.add(p.length, o.length);
             }
             for alt in &mb.alternatives {
                 check_plan(
@@ -412,11 +414,12 @@ fn planners_agree_with_bfs_and_are_ordered_on_random_grids() {
     eprintln!(
         "any-angle on {queries} random queries ({unreachable} unreachable): mean excess over \
          the optimum: Theta* {:.3} %, A* PS {:.3} %, A* {:.3} %, MBPP {:.3} % (shorter than \
-         A* PS on {mbpp_shorter_than_ps})",
+         A* PS on {mbpp_shorter_than_ps}), MBPP closer {:.3} %",
         theta_excess.mean_percent(),
         ps_excess.mean_percent(),
         astar_excess.mean_percent(),
         mbpp_excess.mean_percent(),
+        closer_excess.mean_percent(),
     );
     assert!(unreachable > 0 && unreachable < queries / 2);
     assert!(theta_excess.count > 3000);
