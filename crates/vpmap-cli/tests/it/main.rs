@@ -1,6 +1,8 @@
 //! End-to-end tests of the `vpmap` binary.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::missing_panics_doc)]
 
+mod plan_mbpp;
+
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
