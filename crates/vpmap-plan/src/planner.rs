@@ -63,7 +63,7 @@ pub trait Planner {
 /// The built-in planners.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum PlannerKind {
-    /// Multi-Bug Path Planning with the thesis's m-line leave rule ([`crate::mbpp`]).
+    /// Multi-Bug Path Planning with the thesis's m-line leave rule ([`crate::mbpp`](mod@crate::mbpp)).
     Mbpp,
     /// MBPP leaving walls as soon as it is closer to the goal than at the hit
     /// ([`LeaveRule::Closer`]).
