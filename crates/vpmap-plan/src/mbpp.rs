@@ -598,7 +598,7 @@ fn run(
     }
     let mut graph = Graph::new(&vertices, &joins);
     let selected = select(&mut graph, grid, goal, opts, depth, stats, counter);
-    let alternatives = alternatives(&graph, &goals, &joins, grid, counter, selected.as_deref());
+    let alternatives = alternatives(graph, &goals, &joins, grid, counter, selected.as_deref());
     let best = selected.map(|path| smooth_path(grid, &path, counter));
     Outcome {
         best,
@@ -1230,18 +1230,13 @@ fn select(
 /// The feasible paths besides the selected one: each goal-reaching bug's `v_list`, and each
 /// waiting bug's `v_list` completed by the shortest clear continuation from its join.
 fn alternatives(
-    graph: &Graph,
+    mut graph_clear: Graph,
     goals: &[u32],
     joins: &[Join],
     grid: &PaddedGrid,
     counter: &mut LosCounter,
     selected: Option<&[(usize, usize)]>,
 ) -> Vec<Vec<(usize, usize)>> {
-    let mut graph_clear = Graph {
-        cells: graph.cells.clone(),
-        parents: graph.parents.clone(),
-        edges: graph.edges.clone(),
-    };
     // Decide the join segments not yet known.
     for join in joins {
         let from = join.vertex;
@@ -1295,12 +1290,13 @@ fn alternatives(
         }
         paths.push(ids.iter().map(|&v| to_u(graph_clear.cell(v))).collect());
     }
-    paths.sort_by(|a, b| {
-        path_length(a)
-            .total_cmp(&path_length(b))
-            .then_with(|| a.cmp(b))
-    });
-    paths.dedup();
-    paths.retain(|p| Some(p.as_slice()) != selected);
-    paths
+    let mut keyed: Vec<(f64, Vec<(usize, usize)>)> =
+        paths.into_iter().map(|p| (path_length(&p), p)).collect();
+    keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then_with(|| a.1.cmp(&b.1)));
+    keyed.dedup_by(|a, b| a.1 == b.1);
+    keyed
+        .into_iter()
+        .map(|(_, p)| p)
+        .filter(|p| Some(p.as_slice()) != selected)
+        .collect()
 }
