@@ -12,6 +12,7 @@
 //! | projective reconstruction | [`projective`] | camera matrix `K`, floor normal `K^T l_horizon`, ray-plane intersection |
 //! | floor map | [`map`] | scale from one known length, free space = floor minus footprints (`geo` boolean ops) |
 //! | synthetic scenes | [`synth`] | an independent pinhole camera: the test oracle |
+//! | map accuracy | [`eval`] | the thesis's scale factor `S_k` (eq. 6.1), six error metrics (6.1.1), experiment set-ups |
 //!
 //! # Example
 //! ```
@@ -30,6 +31,7 @@
 
 pub mod calibration;
 pub mod error;
+pub mod eval;
 pub mod map;
 pub mod projective;
 pub mod reconstruct;

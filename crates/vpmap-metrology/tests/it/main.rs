@@ -3,6 +3,7 @@
 
 mod bad_input;
 mod errata_cases;
+mod eval;
 mod random_scenes;
 mod shared_data;
 

@@ -1,0 +1,433 @@
+//! `vpmap eval`: map accuracy under annotation noise on synthetic scenes, as in the thesis's
+//! section 6.1 (figures 6.8-6.13 for 2PP, 6.18-6.23 for 3PP).
+//!
+//! Every experiment set-up of [`vpmap_metrology::eval::SETUPS`] draws `--trials` scenes; each
+//! scene is built with every method at every noise level and compared with its truth
+//! ([`vpmap_metrology::eval::run_trial`]). Scenes run in parallel (rayon); each scene's seed
+//! depends only on (`--seed`, set-up, trial), so the files are the same for the same
+//! arguments whatever the thread count. Writes into `--out`:
+//!
+//! | file | what |
+//! |---|---|
+//! | `summary.json` | rows `{method, sigma, metric, median, p5, p95, min, max, q1, q3, mean, count, perspective, experiment, scenes, refused}`: per perspective (`experiment` null) and per set-up |
+//! | `summary.md` | the set-ups, refusals, one table per metric beside the thesis's reported ranges, the camera's errors |
+//! | `box_<metric>.svg`, `.png` | the thesis's box plots: one box per set-up and method, 2PP and 3PP side by side, at `--plot-sigma` |
+//! | `objects.csv` | one row per object, noise level and method: every metric |
+//! | `failures.csv` | one row per scene a builder refused: the reason's category and message |
+
+mod plot;
+mod report;
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use indicatif::{ProgressBar, ProgressStyle};
+use rayon::prelude::*;
+use vpmap_metrology::eval::{SETUPS, Setup, Trial, run_trial};
+use vpmap_metrology::reconstruct::Method;
+
+use crate::num;
+use crate::output::OutputSet;
+
+/// Trials per set-up by default: 200 scenes x about 4 objects per box of the plots; the
+/// whole default run takes seconds (see the report's timing).
+pub const DEFAULT_TRIALS: u64 = 200;
+
+/// Most trials per set-up accepted (objects.csv grows by about 185 kB per trial).
+const MAX_TRIALS: u64 = 10_000;
+
+/// Largest noise accepted, pixels.
+const MAX_SIGMA_PX: f64 = 100.0;
+
+/// Arguments of `vpmap eval`.
+#[derive(clap::Args)]
+pub struct EvalArgs {
+    /// Output folder (created if missing).
+    #[arg(long, short, default_value = "out/eval")]
+    pub out: PathBuf,
+    /// Random scenes per experiment set-up.
+    #[arg(long, default_value_t = DEFAULT_TRIALS)]
+    pub trials: u64,
+    /// Random seed; the same seed and arguments give the same files.
+    #[arg(long, default_value_t = 0)]
+    pub seed: u64,
+    /// Annotation noise levels: standard deviations in pixels, comma separated.
+    #[arg(long, default_value = "0,0.5,1,2,4", allow_hyphen_values = true)]
+    pub sigma: String,
+    /// Reconstruction methods, comma separated: sideview, projective.
+    #[arg(long, default_value = "sideview,projective")]
+    pub methods: String,
+    /// Experiment set-ups, comma separated: names (2pp-1 ... 2pp-9, 3pp-1 ... 3pp-8), 2pp, 3pp
+    /// or all.
+    #[arg(long, default_value = "all")]
+    pub experiments: String,
+    /// Noise level of the box plots, pixels; one of --sigma (default: their median, the
+    /// upper one of the middle two for an even count).
+    #[arg(long, allow_hyphen_values = true)]
+    pub plot_sigma: Option<f64>,
+    /// Also write the report into the `eval` section of this Markdown file (e.g.
+    /// docs/results.md); its image links point into --out.
+    #[arg(long)]
+    pub publish: Option<PathBuf>,
+}
+
+/// The validated configuration of a run.
+pub struct Config {
+    /// Trials per set-up.
+    pub trials: u64,
+    /// The run's seed.
+    pub seed: u64,
+    /// Noise levels, pixels, ascending.
+    pub sigmas: Vec<f64>,
+    /// Methods in the order given.
+    pub methods: Vec<Method>,
+    /// The set-ups, in table order.
+    pub setups: Vec<&'static Setup>,
+    /// The box plots' noise level.
+    pub plot_sigma: f64,
+}
+
+fn parse_sigmas(text: &str) -> Result<Vec<f64>> {
+    let mut sigmas = Vec::new();
+    for part in text.split(',') {
+        let part = part.trim();
+        let Ok(v) = part.parse::<f64>() else {
+            bail!("--sigma {part:?} is not a number; give pixels such as 0,0.5,1,2,4");
+        };
+        if !(v.is_finite() && (0.0..=MAX_SIGMA_PX).contains(&v)) {
+            bail!(
+                "--sigma {} must be a finite number of pixels from 0 to {MAX_SIGMA_PX}",
+                num(v)
+            );
+        }
+        // `-0` is 0.
+        sigmas.push(v + 0.0);
+    }
+    sigmas.sort_by(f64::total_cmp);
+    if let Some(w) = sigmas.windows(2).find(|w| w[0].to_bits() == w[1].to_bits()) {
+        bail!("--sigma {} is given twice", num(w[0]));
+    }
+    Ok(sigmas)
+}
+
+fn parse_methods(text: &str) -> Result<Vec<Method>> {
+    let mut methods = Vec::new();
+    for part in text.split(',') {
+        let m: Method = part
+            .trim()
+            .parse()
+            .map_err(|e: String| anyhow::anyhow!("--methods: {e}"))?;
+        if methods.contains(&m) {
+            bail!("--methods names {m} twice");
+        }
+        methods.push(m);
+    }
+    Ok(methods)
+}
+
+fn parse_experiments(text: &str) -> Result<Vec<&'static Setup>> {
+    let mut chosen = vec![false; SETUPS.len()];
+    for part in text.split(',') {
+        let part = part.trim().to_ascii_lowercase();
+        let matched: Vec<usize> = (0..SETUPS.len())
+            .filter(|&i| match part.as_str() {
+                "all" => true,
+                "2pp" | "3pp" => SETUPS[i].name.starts_with(&part),
+                name => SETUPS[i].name == name,
+            })
+            .collect();
+        if matched.is_empty() {
+            let names: Vec<&str> = SETUPS.iter().map(|s| s.name).collect();
+            bail!(
+                "--experiments {part:?} is not a set-up; use all, 2pp, 3pp or names among {}",
+                names.join(", ")
+            );
+        }
+        for i in matched {
+            chosen[i] = true;
+        }
+    }
+    Ok(SETUPS
+        .iter()
+        .zip(chosen)
+        .filter_map(|(s, c)| c.then_some(s))
+        .collect())
+}
+
+/// Check the arguments before any work.
+fn check_args(args: &EvalArgs) -> Result<Config> {
+    if !(1..=MAX_TRIALS).contains(&args.trials) {
+        bail!(
+            "--trials must be a whole number from 1 to {MAX_TRIALS}, got {}",
+            args.trials
+        );
+    }
+    let sigmas = parse_sigmas(&args.sigma)?;
+    let methods = parse_methods(&args.methods)?;
+    let setups = parse_experiments(&args.experiments)?;
+    let plot_sigma = match args.plot_sigma {
+        Some(p) => {
+            if !sigmas.iter().any(|s| (s - p).abs() <= 1e-12) {
+                bail!(
+                    "--plot-sigma {} is not one of the noise levels --sigma {}",
+                    num(p),
+                    args.sigma
+                );
+            }
+            p
+        }
+        None => sigmas.get(sigmas.len() / 2).copied().unwrap_or(0.0),
+    };
+    check_writable_folder(&args.out)?;
+    if let Some(path) = &args.publish {
+        check_publish_target(path)?;
+    }
+    Ok(Config {
+        trials: args.trials,
+        seed: args.seed,
+        sigmas,
+        methods,
+        setups,
+        plot_sigma,
+    })
+}
+
+/// Fail early (before minutes of work) when the output folder cannot be created or written:
+/// its nearest existing ancestor must be a folder that accepts a file. Leaves nothing behind.
+fn check_writable_folder(dir: &Path) -> Result<()> {
+    let existing = dir
+        .ancestors()
+        .find(|a| a.as_os_str().is_empty() || a.exists())
+        .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+    let existing = if existing.as_os_str().is_empty() {
+        PathBuf::from(".")
+    } else {
+        existing
+    };
+    if !existing.is_dir() {
+        bail!(
+            "cannot create output folder {}: {} is not a folder",
+            dir.display(),
+            existing.display()
+        );
+    }
+    tempfile::tempfile_in(&existing)
+        .with_context(|| format!("cannot write into output folder {}", dir.display()))?;
+    Ok(())
+}
+
+/// The publish target must be a Markdown file whose `eval` section markers, if any, are in
+/// order, in a folder that can be written.
+fn check_publish_target(path: &Path) -> Result<()> {
+    if path.is_dir() {
+        bail!(
+            "--publish {} is a folder; give a Markdown file",
+            path.display()
+        );
+    }
+    match std::fs::read_to_string(path) {
+        Ok(text) => {
+            let (b, e) = (
+                text.find("<!-- eval:begin -->"),
+                text.find("<!-- eval:end -->"),
+            );
+            match (b, e) {
+                (Some(b), Some(e)) if b < e => {}
+                (None, None) => {}
+                _ => bail!(
+                    "--publish {} has a broken `eval` section: it needs `<!-- eval:begin -->` before `<!-- eval:end -->`",
+                    path.display()
+                ),
+            }
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+        Err(e) => return Err(e).with_context(|| format!("cannot read {}", path.display())),
+    }
+    let parent = path
+        .parent()
+        .filter(|p| !p.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    check_writable_folder(parent).with_context(|| format!("cannot publish into {}", path.display()))
+}
+
+/// Every trial of every chosen set-up, in (set-up, trial) order.
+pub struct Results {
+    /// Per chosen set-up (index into [`Config::setups`]), its trials in order.
+    pub trials: Vec<Vec<Trial>>,
+}
+
+fn run_trials(config: &Config) -> Results {
+    let work: Vec<(usize, u64)> = (0..config.setups.len())
+        .flat_map(|s| (0..config.trials).map(move |t| (s, t)))
+        .collect();
+    let bar = ProgressBar::new(work.len() as u64);
+    if let Ok(style) =
+        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} scenes ({eta} left)")
+    {
+        bar.set_style(style.progress_chars("=> "));
+    }
+    let done: Vec<(usize, Trial)> = work
+        .par_iter()
+        .map(|&(s, t)| {
+            let trial = run_trial(
+                config.setups[s],
+                config.seed,
+                t,
+                &config.sigmas,
+                &config.methods,
+            );
+            bar.inc(1);
+            (s, trial)
+        })
+        .collect();
+    bar.finish_and_clear();
+    let mut trials: Vec<Vec<Trial>> = vec![Vec::new(); config.setups.len()];
+    for (s, trial) in done {
+        trials[s].push(trial);
+    }
+    Results { trials }
+}
+
+/// `vpmap eval`.
+pub fn run(args: &EvalArgs) -> Result<()> {
+    let config = check_args(args)?;
+    let started = Instant::now();
+    let results = run_trials(&config);
+    let collected = report::collect(&config, &results);
+    let mut files = OutputSet::default();
+    files.add("summary.json", report::summary_json(&config, &collected)?);
+    files.add("objects.csv", report::objects_csv(&config, &results));
+    files.add("failures.csv", report::failures_csv(&config, &results));
+    let plots = plot::box_plots(&config, &collected)?;
+    let mut image_of = std::collections::BTreeMap::new();
+    for p in &plots {
+        files.add(&format!("{}.svg", p.stem), p.svg.clone());
+        let link = if let Some(png) = &p.png {
+            files.add(&format!("{}.png", p.stem), png.clone());
+            format!("{}.png", p.stem)
+        } else {
+            format!("{}.svg", p.stem)
+        };
+        image_of.insert(p.metric, link);
+    }
+    if plots.iter().any(|p| p.png.is_none()) {
+        eprintln!(
+            "warning: no system fonts, so the box plots are written as SVG only (install fonts, e.g. DejaVu Sans, for PNG)"
+        );
+    }
+    let body = report::markdown(&config, &collected, &image_of, "");
+    files.add(
+        "summary.md",
+        format!("# Map accuracy under annotation noise (`vpmap eval`)\n\n{body}"),
+    );
+    let written = files.write_all(&args.out)?;
+    let elapsed = started.elapsed();
+    if let Some(path) = &args.publish {
+        let prefix = link_prefix(path, &args.out)?;
+        let body = report::markdown(&config, &collected, &image_of, &prefix);
+        let section = report::published(&body, elapsed);
+        crate::publish::replace_section(path, "eval", &section)?;
+    }
+    report::print_headline(&config, &collected);
+    println!(
+        "{} scenes x {} noise levels x {} methods in {:.1} s",
+        config.setups.len() as u64 * config.trials,
+        config.sigmas.len(),
+        config.methods.len(),
+        elapsed.as_secs_f64()
+    );
+    let names: Vec<String> = written
+        .iter()
+        .filter_map(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
+        .collect();
+    println!("wrote {} in {}", names.join(", "), args.out.display());
+    if let Some(path) = &args.publish {
+        println!("published the eval section of {}", path.display());
+    }
+    Ok(())
+}
+
+/// Lexically normalised absolute path (no `.` or `..`; symbolic links are not resolved).
+fn absolute(path: &Path) -> Result<PathBuf> {
+    use std::path::Component;
+    let abs =
+        std::path::absolute(path).with_context(|| format!("cannot resolve {}", path.display()))?;
+    let mut out = PathBuf::new();
+    for c in abs.components() {
+        match c {
+            Component::ParentDir => {
+                out.pop();
+            }
+            Component::CurDir => {}
+            other => out.push(other),
+        }
+    }
+    Ok(out)
+}
+
+/// The link prefix from the folder of the Markdown file `doc` to the folder `out`, with `/`
+/// separators and a trailing `/` (empty when they are the same folder).
+fn link_prefix(doc: &Path, out: &Path) -> Result<String> {
+    let from = absolute(
+        doc.parent()
+            .filter(|p| !p.as_os_str().is_empty())
+            .unwrap_or(Path::new(".")),
+    )?;
+    let to = absolute(out)?;
+    let (from, to): (Vec<_>, Vec<_>) = (from.components().collect(), to.components().collect());
+    let common = from.iter().zip(&to).take_while(|(a, b)| a == b).count();
+    let mut parts: Vec<String> = vec!["..".to_owned(); from.len() - common];
+    parts.extend(
+        to[common..]
+            .iter()
+            .map(|c| c.as_os_str().to_string_lossy().into_owned()),
+    );
+    let mut prefix = String::new();
+    for p in parts {
+        prefix.push_str(&p);
+        prefix.push('/');
+    }
+    Ok(prefix)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn link_prefixes_are_relative_to_the_document() {
+        let base = std::env::temp_dir();
+        let doc = base.join("repo/docs/results.md");
+        assert_eq!(
+            link_prefix(&doc, &base.join("repo/out/eval")).unwrap(),
+            "../out/eval/"
+        );
+        assert_eq!(
+            link_prefix(&doc, &base.join("repo/docs/eval")).unwrap(),
+            "eval/"
+        );
+        assert_eq!(link_prefix(&doc, &base.join("repo/docs")).unwrap(), "");
+        assert_eq!(
+            link_prefix(&doc, &base.join("repo/docs/../x")).unwrap(),
+            "../x/"
+        );
+    }
+
+    #[test]
+    fn arguments_are_parsed_strictly() {
+        assert_eq!(parse_sigmas(" 2, 0,1").unwrap(), vec![0.0, 1.0, 2.0]);
+        assert!(parse_sigmas("1,1").is_err());
+        assert!(parse_sigmas("-1").is_err());
+        assert!(parse_sigmas("inf").is_err());
+        assert!(parse_sigmas("").is_err());
+        assert_eq!(
+            parse_methods("projective").unwrap(),
+            vec![Method::Projective]
+        );
+        assert!(parse_methods("sideview,bogus").is_err());
+        assert_eq!(parse_experiments("2pp").unwrap().len(), 9);
+        assert_eq!(parse_experiments("3pp-2,2pp-1").unwrap()[0].name, "2pp-1");
+        assert!(parse_experiments("4pp").is_err());
+    }
+}

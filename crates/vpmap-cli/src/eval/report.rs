@@ -1,0 +1,757 @@
+//! The numbers of `vpmap eval`: values gathered per method, noise level, set-up and metric,
+//! and the files and tables made from them.
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+use std::time::Duration;
+
+use anyhow::{Context, Result};
+use serde::Serialize;
+use vpmap_metrology::calibration::Perspective;
+use vpmap_metrology::eval::{
+    MapEvaluation, OBJECT_METRICS, SCENE_METRICS, Summary, TRUE_SCALE_SUFFIX,
+};
+
+use super::{Config, Results};
+
+/// How a metric is shown, with the thesis's figures and reported ranges (quoted from
+/// section 6.1.2 and 6.1.3 of the thesis) and, where it has one, the errata's number.
+pub struct Described {
+    /// Metric name (the `S_k` variant's).
+    pub name: &'static str,
+    /// The thesis's caption of its box plot.
+    pub title: &'static str,
+    /// Unit shown on the axis.
+    pub unit: &'static str,
+    /// The value of a perfect reconstruction.
+    pub perfect: f64,
+    /// The 2PP and 3PP figures.
+    pub figures: [&'static str; 2],
+    /// What the thesis says about the 2PP and 3PP ranges.
+    pub thesis: [&'static str; 2],
+    /// What `../shared/thesis/errata.md` ("Under noise") measured, if anything.
+    pub errata: &'static str,
+}
+
+/// The per-object metrics with the thesis's plots (and the height error, which it has not).
+pub const DESCRIBED: [Described; 7] = [
+    Described {
+        name: "centroid_shift_pct",
+        title: "percentage deviation of centroids",
+        unit: "%",
+        perfect: 0.0,
+        figures: ["6.8", "6.18"],
+        thesis: [
+            "\"Worst case error in centroid shift ... is within ±9.5%\" (said of experiment 1)",
+            "\"Worst case error in centroid shift ... is within +6%\"",
+        ],
+        errata: "at 1 px, 2PP: 95th percentile 5.2 % (side view) vs 3.1 % (projective)",
+    },
+    Described {
+        name: "centroid_distance_pct",
+        title: "percentage error in distances to centroids",
+        unit: "%",
+        perfect: 0.0,
+        figures: ["6.9", "6.19"],
+        thesis: [
+            "\"the errors are within the range of ±5%\"",
+            "\"the errors are within the range of ±3%\"",
+        ],
+        errata: "",
+    },
+    Described {
+        name: "area_overlap_pct",
+        title: "percentage area of overlap",
+        unit: "%",
+        perfect: 100.0,
+        figures: ["6.10", "6.20"],
+        thesis: [
+            "\"the worst case mismatch was around 55% while the best case match showing the correct overlap was around 95%\"",
+            "\"the worst case mismatch was around 55% while the best case match showing the correct overlap was around 95%\"",
+        ],
+        errata: "at 1 px: median about 92 % (2PP), 87-91 % (3PP 10-30°), 83 % (3PP 45°)",
+    },
+    Described {
+        name: "area_error_pct",
+        title: "percentage error in area measurement",
+        unit: "%",
+        perfect: 0.0,
+        figures: ["6.11", "6.21"],
+        thesis: ["\"within ±9%\"", "\"within ±25%\""],
+        errata: "",
+    },
+    Described {
+        name: "pose_error_deg",
+        title: "error in angular pose of the centroids",
+        unit: "deg",
+        perfect: 0.0,
+        figures: ["6.12", "6.22"],
+        thesis: [
+            "\"within ... ±6%\" (the thesis writes % for this angle, defined in degrees)",
+            "\"within ... ±4%\" (% as printed; the metric is in degrees)",
+        ],
+        errata: "",
+    },
+    Described {
+        name: "skew_error_deg",
+        title: "error in skew angles",
+        unit: "deg",
+        perfect: 0.0,
+        figures: ["6.13", "6.23"],
+        thesis: [
+            "\"within ... ±20%\" (% as printed; the metric is in degrees)",
+            "\"within ... ±20%\" (% as printed; the metric is in degrees)",
+        ],
+        errata: "the side-view method has smaller skew errors than the projective form, its rectangle sides following the vanishing directions",
+    },
+    Described {
+        name: "height_error_pct",
+        title: "percentage error in heights",
+        unit: "%",
+        perfect: 0.0,
+        figures: ["-", "-"],
+        thesis: [
+            "not plotted; section 6.1.2: \"percentage errors for some of the object's parameters reached around 5%, especially for ground height and d estimations\"",
+            "not plotted",
+        ],
+        errata: "",
+    },
+];
+
+/// Every metric name, in the order of the value columns: the `S_k` object metrics, their
+/// true-scale variants, the scene metrics, `scale_factor`.
+pub fn metric_names() -> Vec<String> {
+    OBJECT_METRICS
+        .iter()
+        .map(|m| (*m).to_owned())
+        .chain(
+            OBJECT_METRICS
+                .iter()
+                .map(|m| format!("{m}{TRUE_SCALE_SUFFIX}")),
+        )
+        .chain(SCENE_METRICS.iter().map(|m| (*m).to_owned()))
+        .chain(std::iter::once("scale_factor".to_owned()))
+        .collect()
+}
+
+/// Index of the first scene metric in [`metric_names`].
+const SCENE_BASE: usize = 2 * OBJECT_METRICS.len();
+
+/// Every value of one scene's evaluation in [`metric_names`] order: per object the object
+/// metrics, once per scene the scene metrics.
+fn object_row(ev: &MapEvaluation, object: usize) -> Vec<f64> {
+    let Some(o) = ev.objects.get(object) else {
+        return Vec::new();
+    };
+    o.sk.values()
+        .into_iter()
+        .chain(o.true_scale.values())
+        .chain(ev.scene_values())
+        .chain(std::iter::once(ev.scale_factor))
+        .collect()
+}
+
+/// Refusals of one (method, noise level, set-up).
+#[derive(Default, Clone)]
+pub struct Refusals {
+    /// Scenes attempted.
+    pub scenes: usize,
+    /// Per category, how many were refused.
+    pub by_category: BTreeMap<&'static str, usize>,
+}
+
+impl Refusals {
+    fn refused(&self) -> usize {
+        self.by_category.values().sum()
+    }
+
+    fn add(&mut self, other: &Refusals) {
+        self.scenes += other.scenes;
+        for (k, v) in &other.by_category {
+            *self.by_category.entry(k).or_default() += v;
+        }
+    }
+}
+
+/// The values of a run, by method, noise level, set-up and metric.
+pub struct Collected {
+    /// [`metric_names`].
+    pub metrics: Vec<String>,
+    values: Vec<Vec<f64>>,
+    refusals: Vec<Refusals>,
+    setups: usize,
+    sigmas: usize,
+}
+
+/// Which scenes a summary covers.
+#[derive(Clone, Copy)]
+pub enum Group {
+    /// Every chosen set-up of one perspective.
+    Perspective(Perspective),
+    /// One set-up (index into the chosen set-ups).
+    Experiment(usize),
+}
+
+impl Collected {
+    fn cell(&self, method: usize, sigma: usize, setup: usize) -> usize {
+        (method * self.sigmas + sigma) * self.setups + setup
+    }
+
+    fn members(config: &Config, group: Group) -> Vec<usize> {
+        (0..config.setups.len())
+            .filter(|&e| match group {
+                Group::Perspective(p) => config.setups[e].perspective == p,
+                Group::Experiment(x) => x == e,
+            })
+            .collect()
+    }
+
+    /// The values of one metric over a group.
+    pub fn values(
+        &self,
+        config: &Config,
+        method: usize,
+        sigma: usize,
+        group: Group,
+        metric: usize,
+    ) -> Vec<f64> {
+        Self::members(config, group)
+            .into_iter()
+            .flat_map(|e| {
+                let cell = self.cell(method, sigma, e);
+                self.values[cell * self.metrics.len() + metric]
+                    .iter()
+                    .copied()
+            })
+            .collect()
+    }
+
+    /// Summary of one metric over a group (`None` without values).
+    pub fn summary(
+        &self,
+        config: &Config,
+        method: usize,
+        sigma: usize,
+        group: Group,
+        metric: usize,
+    ) -> Option<Summary> {
+        Summary::of(&self.values(config, method, sigma, group, metric))
+    }
+
+    /// Refusals over a group.
+    pub fn refusals(&self, config: &Config, method: usize, sigma: usize, group: Group) -> Refusals {
+        let mut total = Refusals::default();
+        for e in Self::members(config, group) {
+            total.add(&self.refusals[self.cell(method, sigma, e)]);
+        }
+        total
+    }
+}
+
+/// Gather every value and refusal of a run.
+pub fn collect(config: &Config, results: &Results) -> Collected {
+    let metrics = metric_names();
+    let (nm, ns, ne) = (
+        config.methods.len(),
+        config.sigmas.len(),
+        config.setups.len(),
+    );
+    let mut values = vec![Vec::new(); nm * ns * ne * metrics.len()];
+    let mut refusals = vec![Refusals::default(); nm * ns * ne];
+    for (e, trials) in results.trials.iter().enumerate() {
+        for trial in trials {
+            for o in &trial.outcomes {
+                let (Some(m), Some(s)) = (
+                    config.methods.iter().position(|x| *x == o.method),
+                    config
+                        .sigmas
+                        .iter()
+                        .position(|x| x.to_bits() == o.sigma_px.to_bits()),
+                ) else {
+                    continue;
+                };
+                let cell = (m * ns + s) * ne + e;
+                refusals[cell].scenes += 1;
+                match &o.result {
+                    Ok(ev) => {
+                        for i in 0..ev.objects.len() {
+                            for (k, v) in object_row(ev, i).into_iter().enumerate() {
+                                // Scene metrics once per scene, not once per object.
+                                if k < SCENE_BASE || i == 0 {
+                                    values[cell * metrics.len() + k].push(v);
+                                }
+                            }
+                        }
+                    }
+                    Err(f) => *refusals[cell].by_category.entry(f.category).or_default() += 1,
+                }
+            }
+        }
+    }
+    Collected {
+        metrics,
+        values,
+        refusals,
+        setups: ne,
+        sigmas: ns,
+    }
+}
+
+/// One row of `summary.json`.
+#[derive(Serialize)]
+struct Row<'a> {
+    method: String,
+    sigma: f64,
+    metric: &'a str,
+    median: Option<f64>,
+    p5: Option<f64>,
+    p95: Option<f64>,
+    min: Option<f64>,
+    max: Option<f64>,
+    q1: Option<f64>,
+    q3: Option<f64>,
+    mean: Option<f64>,
+    count: usize,
+    perspective: Perspective,
+    experiment: Option<&'static str>,
+    scenes: usize,
+    refused: usize,
+}
+
+/// `summary.json`: per method, noise level, perspective (then per set-up) and metric.
+pub fn summary_json(config: &Config, c: &Collected) -> Result<String> {
+    let mut rows = Vec::new();
+    let mut groups: Vec<(Group, Perspective, Option<&'static str>)> = Vec::new();
+    for p in [Perspective::TwoPoint, Perspective::ThreePoint] {
+        if config.setups.iter().any(|s| s.perspective == p) {
+            groups.push((Group::Perspective(p), p, None));
+        }
+    }
+    for (e, s) in config.setups.iter().enumerate() {
+        groups.push((Group::Experiment(e), s.perspective, Some(s.name)));
+    }
+    for &(group, perspective, experiment) in &groups {
+        for (m, method) in config.methods.iter().enumerate() {
+            for (s, &sigma) in config.sigmas.iter().enumerate() {
+                let refusals = c.refusals(config, m, s, group);
+                for (k, metric) in c.metrics.iter().enumerate() {
+                    let sum = c.summary(config, m, s, group, k);
+                    rows.push(Row {
+                        method: method.to_string(),
+                        sigma,
+                        metric,
+                        median: sum.map(|x| x.median),
+                        p5: sum.map(|x| x.p5),
+                        p95: sum.map(|x| x.p95),
+                        min: sum.map(|x| x.min),
+                        max: sum.map(|x| x.max),
+                        q1: sum.map(|x| x.q1),
+                        q3: sum.map(|x| x.q3),
+                        mean: sum.map(|x| x.mean),
+                        count: sum.map_or(0, |x| x.count),
+                        perspective,
+                        experiment,
+                        scenes: refusals.scenes,
+                        refused: refusals.refused(),
+                    });
+                }
+            }
+        }
+    }
+    serde_json::to_string_pretty(&rows).context("serialising summary.json")
+}
+
+/// A number for a CSV file: 7 significant digits, empty when unknown.
+fn csv_number(v: f64) -> String {
+    if !v.is_finite() {
+        return String::new();
+    }
+    let rounded: f64 = format!("{v:.6e}").parse().unwrap_or(v);
+    format!("{rounded}")
+}
+
+/// A CSV field, quoted when it needs to be.
+fn csv_text(s: &str) -> String {
+    if s.contains([',', '"', '\n']) {
+        format!("\"{}\"", s.replace('"', "\"\""))
+    } else {
+        s.to_owned()
+    }
+}
+
+fn perspective_name(p: Perspective) -> &'static str {
+    match p {
+        Perspective::TwoPoint => "2pp",
+        Perspective::ThreePoint => "3pp",
+    }
+}
+
+/// `objects.csv`: one row per object of every evaluated scene, noise level and method.
+pub fn objects_csv(config: &Config, results: &Results) -> String {
+    let mut out = String::from(
+        "experiment,perspective,trial,scene_seed,sigma_px,method,object,kind,reference",
+    );
+    for m in metric_names() {
+        out.push(',');
+        out.push_str(&m);
+    }
+    out.push('\n');
+    for (setup, trials) in config.setups.iter().zip(&results.trials) {
+        for trial in trials {
+            for o in &trial.outcomes {
+                let Ok(ev) = &o.result else { continue };
+                for (i, object) in ev.objects.iter().enumerate() {
+                    let _ = write!(
+                        out,
+                        "{},{},{},{},{},{},{},{},{}",
+                        setup.name,
+                        perspective_name(setup.perspective),
+                        trial.trial,
+                        trial.scene_seed,
+                        o.sigma_px,
+                        o.method,
+                        csv_text(&object.name),
+                        match object.kind {
+                            vpmap_metrology::reconstruct::ObjectKind::Box => "box",
+                            vpmap_metrology::reconstruct::ObjectKind::Footprint => "footprint",
+                        },
+                        object.reference
+                    );
+                    for v in object_row(ev, i) {
+                        out.push(',');
+                        out.push_str(&csv_number(v));
+                    }
+                    out.push('\n');
+                }
+            }
+        }
+    }
+    out
+}
+
+/// `failures.csv`: one row per scene a builder refused (or the set-up could not draw).
+pub fn failures_csv(config: &Config, results: &Results) -> String {
+    let mut out =
+        String::from("experiment,perspective,trial,scene_seed,sigma_px,method,category,message\n");
+    for (setup, trials) in config.setups.iter().zip(&results.trials) {
+        for trial in trials {
+            for o in &trial.outcomes {
+                let Err(f) = &o.result else { continue };
+                let _ = writeln!(
+                    out,
+                    "{},{},{},{},{},{},{},{}",
+                    setup.name,
+                    perspective_name(setup.perspective),
+                    trial.trial,
+                    trial.scene_seed,
+                    o.sigma_px,
+                    o.method,
+                    f.category,
+                    csv_text(&f.message)
+                );
+            }
+        }
+    }
+    out
+}
+
+/// A number for a table: two decimals, or one significant digit when smaller than 0.005
+/// (so an exact result reads `0` or `3e-12`, not `0.00`).
+pub fn fmt(v: f64) -> String {
+    if v == 0.0 {
+        "0".to_owned()
+    } else if v.abs() < 0.005 {
+        format!("{v:.0e}")
+    } else {
+        format!("{v:.2}")
+    }
+}
+
+fn range(sum: Option<Summary>) -> [String; 3] {
+    sum.map_or_else(
+        || ["-".to_owned(), "-".to_owned(), "-".to_owned()],
+        |s| {
+            [
+                fmt(s.median),
+                format!("{} … {}", fmt(s.p5), fmt(s.p95)),
+                format!("{} … {}", fmt(s.min), fmt(s.max)),
+            ]
+        },
+    )
+}
+
+fn sigma_text(s: f64) -> String {
+    format!("{s}")
+}
+
+/// The Markdown report (without a title): `image_prefix` is put before every image link.
+pub fn markdown(
+    config: &Config,
+    c: &Collected,
+    image_of: &BTreeMap<&'static str, String>,
+    image_prefix: &str,
+) -> String {
+    let mut md = String::new();
+    let sigmas: Vec<String> = config.sigmas.iter().map(|s| sigma_text(*s)).collect();
+    let methods: Vec<String> = config.methods.iter().map(ToString::to_string).collect();
+    let _ = writeln!(
+        md,
+        "{} trials per experiment, seed {}, annotation noise σ = {} px, methods {}; box plots at σ = {} px.\n",
+        config.trials,
+        config.seed,
+        sigmas.join(", "),
+        methods.join(", "),
+        sigma_text(config.plot_sigma)
+    );
+    md.push_str(METHOD_NOTE);
+    md.push_str("\n### Experiments\n\n");
+    md.push_str("| set-up | perspective | camera height (m) | pitch (°) | roll (°) | focal (px) | image (px) | objects | scene |\n|---|---|---|---|---|---|---|---|---|\n");
+    for s in &config.setups {
+        let _ = writeln!(
+            md,
+            "| {} | {} | {} | {} | {} | {} | {} x {} | {} boxes + {} footprint | {} |",
+            s.name,
+            perspective_name(s.perspective).to_uppercase(),
+            s.height_m,
+            s.pitch_deg,
+            s.roll_deg,
+            s.focal_px,
+            s.image.width,
+            s.image.height,
+            s.boxes,
+            s.prisms,
+            s.description
+        );
+    }
+    md.push_str("\n### Scenes the builders refused\n\nA refused scene counts as a failure here and adds no object to the statistics.\n\n| method | σ (px) | 2PP refused | 3PP refused | reasons |\n|---|---|---|---|---|\n");
+    for (m, method) in config.methods.iter().enumerate() {
+        for (s, sigma) in config.sigmas.iter().enumerate() {
+            let mut cells = Vec::new();
+            let mut reasons = Refusals::default();
+            for p in [Perspective::TwoPoint, Perspective::ThreePoint] {
+                let r = c.refusals(config, m, s, Group::Perspective(p));
+                cells.push(if r.scenes == 0 {
+                    "-".to_owned()
+                } else {
+                    format!(
+                        "{} of {} ({:.1} %)",
+                        r.refused(),
+                        r.scenes,
+                        100.0 * r.refused() as f64 / r.scenes as f64
+                    )
+                });
+                reasons.add(&r);
+            }
+            let why: Vec<String> = reasons
+                .by_category
+                .iter()
+                .map(|(k, v)| format!("{k} {v}"))
+                .collect();
+            let _ = writeln!(
+                md,
+                "| {method} | {} | {} | {} | {} |",
+                sigma_text(*sigma),
+                cells[0],
+                cells[1],
+                if why.is_empty() {
+                    "-".to_owned()
+                } else {
+                    why.join(", ")
+                }
+            );
+        }
+    }
+    md.push_str("\n### The thesis's metrics, per object\n\nPercentiles over every object of every trial of the perspective's set-ups; `S_k`: the truth scaled by eq. 6.1, `true`: the map in metres against the truth in metres.\n");
+    for (k, d) in DESCRIBED.iter().enumerate() {
+        let _ = write!(
+            md,
+            "\n#### `{}`: {} ({})\n\nThesis, 2PP (fig. {}): {}. 3PP (fig. {}): {}.",
+            d.name, d.title, d.unit, d.figures[0], d.thesis[0], d.figures[1], d.thesis[1]
+        );
+        if !d.errata.is_empty() {
+            let _ = write!(md, " Errata (\"Under noise\"): {}.", d.errata);
+        }
+        md.push_str("\n\n| method | σ (px) | scale | 2PP median | 2PP p5 … p95 | 2PP min … max | 3PP median | 3PP p5 … p95 | 3PP min … max |\n|---|---|---|---|---|---|---|---|---|\n");
+        for (scale, metric) in [("S_k", k), ("true", k + OBJECT_METRICS.len())] {
+            for (m, method) in config.methods.iter().enumerate() {
+                for (s, sigma) in config.sigmas.iter().enumerate() {
+                    let [a, b, cc] = range(c.summary(
+                        config,
+                        m,
+                        s,
+                        Group::Perspective(Perspective::TwoPoint),
+                        metric,
+                    ));
+                    let [x, y, z] = range(c.summary(
+                        config,
+                        m,
+                        s,
+                        Group::Perspective(Perspective::ThreePoint),
+                        metric,
+                    ));
+                    let _ = writeln!(
+                        md,
+                        "| {method} | {} | {scale} | {a} | {b} | {cc} | {x} | {y} | {z} |",
+                        sigma_text(*sigma)
+                    );
+                }
+            }
+        }
+        if let Some(link) = image_of.get(d.name) {
+            let _ = writeln!(
+                md,
+                "\n![{}: box plot per experiment at σ = {} px]({image_prefix}{link})",
+                d.name,
+                sigma_text(config.plot_sigma)
+            );
+        }
+    }
+    md.push_str("\n### The camera, per scene\n\nMedian [p5, p95] over the scenes a method built. `camera_height_error_pct` is the `S_k` variant's (the reference box's scale error); `scale_factor` is `S_k` itself.\n\n| method | σ (px) | perspective |");
+    let scene_metrics: Vec<usize> = (SCENE_BASE..c.metrics.len()).collect();
+    for &k in &scene_metrics {
+        let _ = write!(md, " `{}` |", c.metrics[k]);
+    }
+    md.push_str("\n|---|---|---|");
+    md.push_str(&"---|".repeat(scene_metrics.len()));
+    md.push('\n');
+    for (m, method) in config.methods.iter().enumerate() {
+        for (s, sigma) in config.sigmas.iter().enumerate() {
+            for p in [Perspective::TwoPoint, Perspective::ThreePoint] {
+                if !config.setups.iter().any(|x| x.perspective == p) {
+                    continue;
+                }
+                let _ = write!(
+                    md,
+                    "| {method} | {} | {} |",
+                    sigma_text(*sigma),
+                    perspective_name(p).to_uppercase()
+                );
+                for &k in &scene_metrics {
+                    let cell = c
+                        .summary(config, m, s, Group::Perspective(p), k)
+                        .map_or_else(
+                            || "-".to_owned(),
+                            |x| format!("{} [{}, {}]", fmt(x.median), fmt(x.p5), fmt(x.p95)),
+                        );
+                    let _ = write!(md, " {cell} |");
+                }
+                md.push('\n');
+            }
+        }
+    }
+    md
+}
+
+/// How the numbers were made, for the report.
+const METHOD_NOTE: &str = "Each trial draws a random scene of the set-up from vpmap's synthetic pinhole camera (seed from `--seed`, the set-up's name and the trial number), adds Gaussian noise of standard deviation σ pixels to every annotated point (box base corners and tops, footprint vertices, floor corners) and gives the vanishing points as the box edges through those noisy corners, which the builder intersects by least squares; every method builds the same noisy scene. The thesis's six metrics (section 6.1.1) are computed per object with the station point as origin, in two variants: `S_k`, the truth scaled to the model by eq. 6.1 from the first box (the reference object), and `true` (metric names with the suffix `_true_scale` in the files), the map in metres from the known camera height against the truth in metres. Pose errors are wrapped to (-180°, 180°], skew errors to (-90°, 90°] (a side is an undirected line; modelled and actual sides correspond by their annotated corners). Percentiles interpolate between order statistics (type 7). Box plots: box from the first to the third quartile, line at the median, whiskers at the 5th and 95th percentiles (not 1.5 IQR fences); nothing beyond them is drawn. The synthetic objects' sizes scale with the camera height and every metric is relative, so a set-up's camera height alone changes nothing: room-sized and table-top set-ups differ by focal length, image size, pitch, roll and object count. The thesis's ranges come from photos measured by hand, so they mix annotation, vanishing-point and ground-truth errors; here the truth is exact and only the annotation is noisy.\n";
+
+/// The published section: where, when and how it was measured, then the report.
+pub fn published(body: &str, elapsed: Duration) -> String {
+    let command: Vec<String> = std::iter::once("vpmap".to_owned())
+        .chain(std::env::args().skip(1).map(|a| shell_quote(&a)))
+        .collect();
+    format!(
+        "## Map accuracy under annotation noise (`vpmap eval`)\n\nMeasured on {}, {} (UTC), in {:.1} s, with\n\n    {}\n\n{body}",
+        crate::publish::machine_description(),
+        utc_date(std::time::SystemTime::now()),
+        elapsed.as_secs_f64(),
+        command.join(" ")
+    )
+}
+
+fn shell_quote(arg: &str) -> String {
+    if !arg.is_empty()
+        && arg
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || "-_./,=:+".contains(c))
+    {
+        arg.to_owned()
+    } else {
+        format!("'{}'", arg.replace('\'', "'\\''"))
+    }
+}
+
+/// The calendar date `YYYY-MM-DD` (UTC) of a time (days-from-civil inverse, H. Hinnant's
+/// algorithm).
+fn utc_date(t: std::time::SystemTime) -> String {
+    let secs = t
+        .duration_since(std::time::UNIX_EPOCH)
+        .map_or(0, |d| d.as_secs());
+    let z = (secs / 86_400) as i64 + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z.rem_euclid(146_097);
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let day = doy - (153 * mp + 2) / 5 + 1;
+    let month = if mp < 10 { mp + 3 } else { mp - 9 };
+    let year = yoe + era * 400 + i64::from(month <= 2);
+    format!("{year:04}-{month:02}-{day:02}")
+}
+
+/// A few lines on stdout: per method and noise level, the centroid shift and the overlap.
+pub fn print_headline(config: &Config, c: &Collected) {
+    let shift = 0;
+    let overlap = 2;
+    for (m, method) in config.methods.iter().enumerate() {
+        for (s, sigma) in config.sigmas.iter().enumerate() {
+            let mut parts = Vec::new();
+            for p in [Perspective::TwoPoint, Perspective::ThreePoint] {
+                let g = Group::Perspective(p);
+                let (Some(a), Some(b)) = (
+                    c.summary(config, m, s, g, shift),
+                    c.summary(config, m, s, g, overlap),
+                ) else {
+                    continue;
+                };
+                let r = c.refusals(config, m, s, g);
+                parts.push(format!(
+                    "{} centroid shift {} % [{} … {}], overlap {} % [{} … {}], refused {}/{}",
+                    perspective_name(p).to_uppercase(),
+                    fmt(a.median),
+                    fmt(a.p5),
+                    fmt(a.p95),
+                    fmt(b.median),
+                    fmt(b.p5),
+                    fmt(b.p95),
+                    r.refused(),
+                    r.scenes
+                ));
+            }
+            println!(
+                "{method:>10} σ {:>4} px: {}",
+                sigma_text(*sigma),
+                parts.join("; ")
+            );
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn dates_and_numbers_are_formatted_by_hand_rules() {
+        let day = |d: u64| std::time::UNIX_EPOCH + Duration::from_secs(d * 86_400 + 3600);
+        assert_eq!(utc_date(day(0)), "1970-01-01");
+        assert_eq!(utc_date(day(11_016)), "2000-02-29");
+        assert_eq!(utc_date(day(20_454)), "2026-01-01");
+        assert_eq!(fmt(0.0), "0");
+        assert_eq!(fmt(3.2e-12), "3e-12");
+        assert_eq!(fmt(-12.345), "-12.35");
+        assert_eq!(csv_number(1.0 / 3.0), "0.3333333");
+        assert_eq!(csv_number(f64::NAN), "");
+        assert_eq!(csv_text("a,b"), "\"a,b\"");
+        assert_eq!(shell_quote("0,0.5"), "0,0.5");
+        assert_eq!(shell_quote("a b"), "'a b'");
+    }
+
+    #[test]
+    fn every_described_metric_is_an_object_metric_in_order() {
+        for (d, m) in DESCRIBED.iter().zip(OBJECT_METRICS) {
+            assert_eq!(d.name, m);
+        }
+        assert_eq!(metric_names()[SCENE_BASE], SCENE_METRICS[0]);
+    }
+}

@@ -1,0 +1,99 @@
+//! Publishing results: a command's generated section of `docs/results.md`, and a one-line
+//! description of the machine that measured it.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use anyhow::{Context, Result, bail};
+
+use crate::output::write_file;
+
+/// Replace the section `name` of the Markdown file at `path` — the lines between
+/// `<!-- name:begin -->` and `<!-- name:end -->` — with `content`, keeping everything else;
+/// the markers are appended at the end when the file lacks them, and the file is created when
+/// missing. Written atomically (temporary file, then rename).
+///
+/// # Errors
+/// When the file cannot be read or written, or holds only one of the two markers.
+pub fn replace_section(path: &Path, name: &str, content: &str) -> Result<()> {
+    let begin = format!("<!-- {name}:begin -->");
+    let end = format!("<!-- {name}:end -->");
+    let old = match std::fs::read_to_string(path) {
+        Ok(text) => text,
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => String::new(),
+        Err(e) => return Err(e).with_context(|| format!("cannot read {}", path.display())),
+    };
+    let body = content.trim_end();
+    let new = match (old.find(&begin), old.find(&end)) {
+        (Some(b), Some(e)) if b < e => {
+            format!("{}{begin}\n{body}\n{}", &old[..b], &old[e..])
+        }
+        (None, None) => {
+            let mut text = old.clone();
+            if !text.is_empty() && !text.ends_with("\n\n") {
+                text.push_str(if text.ends_with('\n') { "\n" } else { "\n\n" });
+            }
+            let _ = write!(text, "{begin}\n{body}\n{end}\n");
+            text
+        }
+        _ => bail!(
+            "{} has a broken `{name}` section: it needs `{begin}` before `{end}`",
+            path.display()
+        ),
+    };
+    write_file(path, new)
+}
+
+/// The machine, for a results table: CPU model, logical cores, memory, OS.
+#[must_use]
+pub fn machine_description() -> String {
+    let cpuinfo = std::fs::read_to_string("/proc/cpuinfo").unwrap_or_default();
+    let model = cpuinfo
+        .lines()
+        .find_map(|l| l.strip_prefix("model name"))
+        .and_then(|l| l.split(':').nth(1))
+        .map_or_else(|| "unknown CPU".to_owned(), |m| m.trim().to_owned());
+    let cores = std::thread::available_parallelism().map_or(1, std::num::NonZero::get);
+    let meminfo = std::fs::read_to_string("/proc/meminfo").unwrap_or_default();
+    let memory_gib = meminfo
+        .lines()
+        .find_map(|l| l.strip_prefix("MemTotal:"))
+        .and_then(|l| l.split_whitespace().next())
+        .and_then(|kb| kb.parse::<f64>().ok())
+        .map(|kb| kb / 1024.0 / 1024.0);
+    let memory = memory_gib.map_or_else(String::new, |g| format!(", {g:.0} GiB"));
+    format!(
+        "{model}, {cores} logical cores{memory}, {} {}",
+        std::env::consts::OS,
+        std::env::consts::ARCH
+    )
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn sections_are_replaced_appended_and_checked() {
+        let dir = tempfile::tempdir().unwrap();
+        let path = dir.path().join("results.md");
+        replace_section(&path, "bench", "first").unwrap();
+        std::fs::write(
+            &path,
+            format!("# Results\n\nintro\n\n{}", std::fs::read_to_string(&path).unwrap()),
+        )
+        .unwrap();
+        replace_section(&path, "eval", "E1").unwrap();
+        replace_section(&path, "bench", "second\nrun").unwrap();
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(
+            text,
+            "# Results\n\nintro\n\n<!-- bench:begin -->\nsecond\nrun\n<!-- bench:end -->\n\n\
+             <!-- eval:begin -->\nE1\n<!-- eval:end -->\n"
+        );
+        std::fs::write(&path, "<!-- eval:end -->\n<!-- eval:begin -->\n").unwrap();
+        assert!(replace_section(&path, "eval", "x").is_err());
+        assert!(machine_description().contains("logical cores"));
+    }
+}

@@ -1,0 +1,382 @@
+//! The map-accuracy metrics of the thesis's section 6.1 on hand-made cases whose answers are
+//! worked out by hand (not by the code under test), and the experiment pipeline's guarantees:
+//! exact at zero noise, deterministic, honest about refusals.
+
+use vpmap_metrology::eval::{
+    OBJECT_METRICS, SCENE_METRICS, SETUPS, Summary, evaluate_map, failure_category, noise_seed,
+    noisy_scene, object_errors, quantile, rectangle_size, run_trial, scale_factor, scene_seed,
+};
+use vpmap_metrology::map::{BoxSize, BuildOptions, MapPoint, build_map};
+use vpmap_metrology::reconstruct::Method;
+use vpmap_metrology::synth::{SynthOptions, synthesize};
+
+/// The unit square centred on `(cx, cy)`, counter-clockwise.
+fn unit_square(cx: f64, cy: f64) -> Vec<MapPoint> {
+    vec![
+        [cx - 0.5, cy - 0.5],
+        [cx + 0.5, cy - 0.5],
+        [cx + 0.5, cy + 0.5],
+        [cx - 0.5, cy + 0.5],
+    ]
+}
+
+fn close(a: f64, b: f64, what: &str) {
+    assert!((a - b).abs() < 1e-9, "{what}: {a} vs {b}");
+}
+
+/// The overlap comes from geo's boolean operations, which snap to a grid of 2^-29 of the
+/// shapes' extent: about 1e-8 relative.
+fn close_overlap(a: f64, b: f64) {
+    assert!((a - b).abs() < 1e-5, "overlap: {a} vs {b}");
+}
+
+#[test]
+fn a_square_shifted_by_a_known_vector() {
+    // Actual centroid (0, 10): d_a = 10. Shift (0.3, 0.4): d_cm = 0.5, so 5 %.
+    // d_m = sqrt(0.3^2 + 10.4^2) = sqrt(108.25). The overlap is (1 - 0.3) x (1 - 0.4) = 0.42.
+    // Bearings: 90 deg and atan2(10.4, 0.3), i.e. 90 - atan(0.3 / 10.4).
+    let actual = unit_square(0.0, 10.0);
+    let modelled: Vec<MapPoint> = actual.iter().map(|p| [p[0] + 0.3, p[1] + 0.4]).collect();
+    let e = object_errors(&modelled, None, &actual, None).unwrap();
+    close(e.centroid_shift_pct, 5.0, "centroid shift");
+    close(
+        e.centroid_distance_pct,
+        (108.25f64.sqrt() - 10.0) / 10.0 * 100.0,
+        "centroid distance",
+    );
+    close_overlap(e.area_overlap_pct, 42.0);
+    close(e.area_error_pct, 0.0, "area");
+    close(
+        e.pose_error_deg,
+        -(0.3f64 / 10.4).atan().to_degrees(),
+        "pose",
+    );
+    close(e.skew_error_deg, 0.0, "skew");
+    assert_eq!(e.height_error_pct, None);
+}
+
+#[test]
+fn a_square_rotated_about_its_centroid() {
+    // Two concentric unit squares turned by t meet in an octagon whose eight sides all lie
+    // r = 1/2 from the centre, with normals turning alternately by t and 90 - t. A polygon
+    // circumscribed about a circle has area r^2 * sum(tan(turn / 2)) over its vertices:
+    // 4 r^2 (tan(t / 2) + tan(45 - t / 2)) = tan(15) + tan(30) for t = 30 deg.
+    let actual = unit_square(2.0, 6.0);
+    let t = 30f64.to_radians();
+    let modelled: Vec<MapPoint> = actual
+        .iter()
+        .map(|p| {
+            let (x, y) = (p[0] - 2.0, p[1] - 6.0);
+            [
+                2.0 + x * t.cos() - y * t.sin(),
+                6.0 + x * t.sin() + y * t.cos(),
+            ]
+        })
+        .collect();
+    let e = object_errors(&modelled, Some(0.5), &actual, Some(0.5)).unwrap();
+    close(e.centroid_shift_pct, 0.0, "centroid shift");
+    close(e.centroid_distance_pct, 0.0, "centroid distance");
+    let expected = (15f64.to_radians().tan() + 30f64.to_radians().tan()) * 100.0;
+    close_overlap(e.area_overlap_pct, expected);
+    close(e.area_error_pct, 0.0, "area");
+    close(e.pose_error_deg, 0.0, "pose");
+    close(e.skew_error_deg, 30.0, "skew");
+    close(e.height_error_pct.unwrap(), 0.0, "height");
+}
+
+#[test]
+fn a_square_scaled_about_the_station_point() {
+    // Everything 10 % farther out: the centroid (0, 5) moves to (0, 5.5), a shift of 10 % of
+    // d_a and a distance error of +10 %; the area grows by 1.1^2 = 1.21; the bearing and the
+    // sides' directions stay. The scaled square spans x -1.1..1.1, y 4.4..6.6, so it covers
+    // x -1..1, y 4.4..6 of the actual one: 3.2 of 4.
+    let actual = vec![[-1.0, 4.0], [1.0, 4.0], [1.0, 6.0], [-1.0, 6.0]];
+    let modelled: Vec<MapPoint> = actual.iter().map(|p| [p[0] * 1.1, p[1] * 1.1]).collect();
+    let e = object_errors(&modelled, Some(0.77), &actual, Some(0.7)).unwrap();
+    close(e.centroid_shift_pct, 10.0, "centroid shift");
+    close(e.centroid_distance_pct, 10.0, "centroid distance");
+    close_overlap(e.area_overlap_pct, 80.0);
+    close(e.area_error_pct, 21.0, "area");
+    close(e.pose_error_deg, 0.0, "pose");
+    close(e.skew_error_deg, 0.0, "skew");
+    close(e.height_error_pct.unwrap(), 10.0, "height");
+}
+
+#[test]
+fn angles_are_signed_counter_clockwise_and_wrapped() {
+    // A centroid at bearing 45 deg modelled at 90 deg: +45. A side at 0 deg modelled at
+    // 100 deg: the same line as -80 deg, so -80 in (-90, 90].
+    let actual = unit_square(3.0, 3.0);
+    let modelled = unit_square(0.0, 3.0 * 2f64.sqrt());
+    let e = object_errors(&modelled, None, &actual, None).unwrap();
+    close(e.pose_error_deg, 45.0, "pose");
+    close(e.centroid_distance_pct, 0.0, "same distance");
+    let t = 100f64.to_radians();
+    let turned: Vec<MapPoint> = actual
+        .iter()
+        .map(|p| {
+            let (x, y) = (p[0] - 3.0, p[1] - 3.0);
+            [
+                3.0 + x * t.cos() - y * t.sin(),
+                3.0 + x * t.sin() + y * t.cos(),
+            ]
+        })
+        .collect();
+    let e = object_errors(&turned, None, &actual, None).unwrap();
+    close(e.skew_error_deg, -80.0, "skew");
+    // Exactly a quarter turn the other way is +90, the closed end of the range.
+    let t = -90f64.to_radians();
+    let quarter: Vec<MapPoint> = actual
+        .iter()
+        .map(|p| {
+            let (x, y) = (p[0] - 3.0, p[1] - 3.0);
+            [
+                3.0 + x * t.cos() - y * t.sin(),
+                3.0 + x * t.sin() + y * t.cos(),
+            ]
+        })
+        .collect();
+    let e = object_errors(&quarter, None, &actual, None).unwrap();
+    assert!(
+        (e.skew_error_deg.abs() - 90.0).abs() < 1e-9,
+        "{}",
+        e.skew_error_deg
+    );
+}
+
+#[test]
+fn degenerate_footprints_are_errors_not_nan() {
+    let good = unit_square(0.0, 4.0);
+    assert!(object_errors(&good[..2], None, &good, None).is_err());
+    let flat = vec![[0.0, 1.0], [1.0, 1.0], [2.0, 1.0]];
+    assert!(object_errors(&good, None, &flat, None).is_err());
+    let around_origin = unit_square(0.0, 0.0);
+    assert!(object_errors(&good, None, &around_origin, None).is_err());
+    let bad = vec![[f64::NAN, 1.0], [1.0, 1.0], [1.0, 2.0]];
+    assert!(object_errors(&bad, None, &good, None).is_err());
+}
+
+#[test]
+fn scale_factor_of_a_known_pair() {
+    // Eq. 6.1 with L2 = 1.2, B2 = 0.6 actual and L1 = 0.6, B1 = 0.4 modelled: (2 + 1.5) / 2.
+    let actual = BoxSize {
+        length: 1.2,
+        breadth: 0.6,
+    };
+    let modelled = BoxSize {
+        length: 0.6,
+        breadth: 0.4,
+    };
+    close(scale_factor(actual, modelled).unwrap(), 1.75, "S_k");
+    let zero = BoxSize {
+        length: 0.0,
+        breadth: 0.4,
+    };
+    assert!(scale_factor(actual, zero).is_err());
+    // Length is the longer side whatever the corner order.
+    let size = rectangle_size(&[[0.0, 0.0], [0.0, 0.5], [2.0, 0.5], [2.0, 0.0]]).unwrap();
+    close(size.length, 2.0, "length");
+    close(size.breadth, 0.5, "breadth");
+}
+
+#[test]
+fn a_map_twice_too_large_is_exact_under_s_k_and_100_pct_off_at_true_scale() {
+    let (scene, truth) = synthesize(&SynthOptions {
+        seed: 11,
+        ..SynthOptions::default()
+    })
+    .unwrap();
+    let mut map = build_map(&scene, &BuildOptions::default()).unwrap();
+    let exact = evaluate_map(&map, &truth).unwrap();
+    close(exact.scale_factor, 1.0, "exact S_k");
+    // Double every length of the model: S_k = 1/2 brings the truth to the model's scale.
+    for o in &mut map.objects {
+        for p in &mut o.footprint {
+            *p = [p[0] * 2.0, p[1] * 2.0];
+        }
+        o.height = o.height.map(|h| h * 2.0);
+        o.size = o.size.map(|s| BoxSize {
+            length: s.length * 2.0,
+            breadth: s.breadth * 2.0,
+        });
+    }
+    map.camera.height *= 2.0;
+    let e = evaluate_map(&map, &truth).unwrap();
+    assert!((e.scale_factor - 0.5).abs() < 1e-9, "{}", e.scale_factor);
+    assert!(e.camera_height_error_pct.abs() < 1e-6);
+    assert_eq!(e.objects.len(), truth.objects.len());
+    assert!(e.objects[0].reference && !e.objects[1].reference);
+    for o in &e.objects {
+        let sk = o.sk.values();
+        for (name, v) in OBJECT_METRICS.iter().zip(sk) {
+            let expected = if *name == "area_overlap_pct" {
+                100.0
+            } else {
+                0.0
+            };
+            assert!((v - expected).abs() < 1e-6, "{} S_k {name}: {v}", o.name);
+        }
+        // At the true scale every point is twice as far out: the centroid moves by d_a.
+        let t = &o.true_scale;
+        assert!((t.centroid_shift_pct - 100.0).abs() < 1e-6, "{t:?}");
+        assert!((t.centroid_distance_pct - 100.0).abs() < 1e-6, "{t:?}");
+        assert!((t.area_error_pct - 300.0).abs() < 1e-6, "{t:?}");
+        assert!((t.height_error_pct.unwrap() - 100.0).abs() < 1e-6, "{t:?}");
+        assert!(t.pose_error_deg.abs() < 1e-6 && t.skew_error_deg.abs() < 1e-6);
+    }
+}
+
+#[test]
+fn quantiles_interpolate_between_order_statistics() {
+    // Type 7: h = (n - 1) q. For 1..=21, the 5th percentile is x[1] = 2, the median x[10] = 11.
+    let values: Vec<f64> = (1..=21).map(f64::from).rev().collect();
+    let s = Summary::of(&values).unwrap();
+    close(s.p5, 2.0, "p5");
+    close(s.median, 11.0, "median");
+    close(s.q1, 6.0, "q1");
+    close(s.p95, 20.0, "p95");
+    close(s.mean, 11.0, "mean");
+    assert_eq!((s.count, s.min, s.max), (21, 1.0, 21.0));
+    // Between order statistics: h = 0.3 on [10, 20] gives 13.
+    close(quantile(&[10.0, 20.0], 0.3), 13.0, "interpolated");
+    assert!(quantile(&[], 0.5).is_nan());
+    assert!(Summary::of(&[f64::NAN]).is_none());
+}
+
+#[test]
+fn every_setup_is_exact_without_noise() {
+    // At zero noise the only errors are rounding (the vanishing points are still fitted to
+    // the exact edges by least squares) and geo's 2^-29 snapping in the overlap.
+    for setup in &SETUPS {
+        for trial in 0..3 {
+            let t = run_trial(
+                setup,
+                7,
+                trial,
+                &[0.0],
+                &[Method::Sideview, Method::Projective],
+            );
+            for o in &t.outcomes {
+                let ev = o
+                    .result
+                    .as_ref()
+                    .unwrap_or_else(|f| panic!("{} trial {trial} {}: {f:?}", setup.name, o.method));
+                assert_eq!(ev.objects.len(), setup.objects());
+                assert!((ev.scale_factor - 1.0).abs() < 1e-9);
+                for (name, v) in SCENE_METRICS.iter().zip(ev.scene_values()) {
+                    assert!(v.abs() < 1e-6, "{} {name}: {v}", setup.name);
+                }
+                for ob in &ev.objects {
+                    for (variant, values) in
+                        [("S_k", ob.sk.values()), ("true", ob.true_scale.values())]
+                    {
+                        for (name, v) in OBJECT_METRICS.iter().zip(values) {
+                            let target = if *name == "area_overlap_pct" {
+                                100.0
+                            } else {
+                                0.0
+                            };
+                            assert!(
+                                (v - target).abs() < 1e-6,
+                                "{} trial {trial} {} {} {variant} {name}: {v}",
+                                setup.name,
+                                o.method,
+                                ob.name
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn trials_are_deterministic_and_independent_of_the_other_noise_levels() {
+    let setup = &SETUPS[10];
+    let methods = [Method::Sideview, Method::Projective];
+    let a = run_trial(setup, 3, 5, &[0.0, 1.0, 2.0], &methods);
+    let b = run_trial(setup, 3, 5, &[0.0, 1.0, 2.0], &methods);
+    assert_eq!(a, b);
+    let only = run_trial(setup, 3, 5, &[2.0], &methods[1..]);
+    assert_eq!(only.outcomes[0], a.outcomes[5]);
+    assert_eq!(a.scene_seed, scene_seed(3, setup, 5));
+    // Noise changes the answer; another seed changes the scene.
+    assert_ne!(a.outcomes[0].result, a.outcomes[2].result);
+    assert_ne!(
+        run_trial(setup, 4, 5, &[0.0], &methods[..1]).outcomes[0],
+        a.outcomes[0]
+    );
+}
+
+#[test]
+fn noise_reaches_every_clicked_point_with_the_requested_spread() {
+    let (scene, _) = synthesize(&SETUPS[9].synth_options(1)).unwrap();
+    let noisy = noisy_scene(&scene, 2.0, noise_seed(1, 2.0));
+    // Every vanishing point is re-fitted from edges.
+    for vp in &noisy.vanishing_points {
+        assert!(vp.point.is_none() && vp.lines.len() >= 2, "{vp:?}");
+    }
+    let mut offsets = Vec::new();
+    let mut push = |a: [f64; 2], b: [f64; 2]| offsets.extend([b[0] - a[0], b[1] - a[1]]);
+    for (o, n) in scene.objects.iter().zip(&noisy.objects) {
+        if let (Some(a), Some(b)) = (o.base, n.base) {
+            push(a.near, b.near);
+            push(a.right, b.right);
+            push(a.left, b.left);
+        }
+        if let (Some(a), Some(b)) = (&o.footprint, &n.footprint) {
+            a.iter().zip(b).for_each(|(p, q)| push(*p, *q));
+        }
+        let (a, b) = (o.top.unwrap(), n.top.unwrap());
+        for (p, q) in [(a.near, b.near), (a.left, b.left), (a.point, b.point)] {
+            if let (Some(p), Some(q)) = (p, q) {
+                push(p, q);
+            }
+        }
+    }
+    scene
+        .floor
+        .iter()
+        .zip(&noisy.floor)
+        .for_each(|(p, q)| push(*p, *q));
+    assert!(offsets.iter().all(|d| *d != 0.0), "every coordinate moves");
+    let n = offsets.len() as f64;
+    let rms = (offsets.iter().map(|d| d * d).sum::<f64>() / n).sqrt();
+    // About 60 coordinates: the sample deviation is within 30 % of 2 px.
+    assert!((rms - 2.0).abs() < 0.6, "rms {rms} over {n} coordinates");
+    // Without noise only the vanishing points change form.
+    let exact = noisy_scene(&scene, 0.0, 9);
+    assert_eq!(exact.objects, scene.objects);
+    assert_eq!(exact.floor, scene.floor);
+}
+
+#[test]
+fn refusals_are_reported_by_category() {
+    // Heavy noise makes the builder refuse some scenes; each refusal carries a category and
+    // the builder's message, and every scene is accounted for.
+    let setup = &SETUPS[6];
+    let mut categories = std::collections::BTreeMap::new();
+    let mut total = 0;
+    for trial in 0..40 {
+        let t = run_trial(setup, 0, trial, &[8.0], &[Method::Sideview]);
+        for o in &t.outcomes {
+            total += 1;
+            if let Err(f) = &o.result {
+                assert!(!f.message.is_empty());
+                *categories.entry(f.category).or_insert(0) += 1;
+            }
+        }
+    }
+    assert_eq!(total, 40);
+    assert!(
+        !categories.is_empty(),
+        "8 px noise on a table-top scene must fail sometimes"
+    );
+    assert!(!categories.contains_key("scene_draw"), "{categories:?}");
+    // A floor corner moved above the horizon is named as such.
+    let (mut scene, _) = synthesize(&SETUPS[0].synth_options(2)).unwrap();
+    scene.floor[0] = [800.0, 10.0];
+    let err = build_map(&scene, &BuildOptions::default()).unwrap_err();
+    assert_eq!(failure_category(&err), "point_not_below_horizon");
+}
