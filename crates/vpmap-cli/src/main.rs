@@ -1,5 +1,6 @@
 //! The `vpmap` command: one photo's annotations to a metric floor map.
 
+mod bench;
 mod build;
 mod eval;
 mod output;
@@ -84,6 +85,8 @@ enum Command {
     Plan(plan::PlanArgs),
     /// Measure map accuracy under annotation noise on synthetic scenes (the thesis's 6.1).
     Eval(eval::EvalArgs),
+    /// Compare planners on benchmark maps (the thesis's 6.2).
+    Bench(bench::BenchArgs),
 }
 
 /// Parse the command line; usage errors become one line (`error: ...`) and exit code 2.
@@ -128,6 +131,7 @@ fn main() -> ExitCode {
         Command::Synth(args) => synth::run(&args),
         Command::Plan(args) => plan::run(&args),
         Command::Eval(args) => eval::run(&args),
+        Command::Bench(args) => bench::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

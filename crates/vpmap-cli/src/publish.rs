@@ -81,7 +81,10 @@ mod tests {
         replace_section(&path, "bench", "first").unwrap();
         std::fs::write(
             &path,
-            format!("# Results\n\nintro\n\n{}", std::fs::read_to_string(&path).unwrap()),
+            format!(
+                "# Results\n\nintro\n\n{}",
+                std::fs::read_to_string(&path).unwrap()
+            ),
         )
         .unwrap();
         replace_section(&path, "eval", "E1").unwrap();

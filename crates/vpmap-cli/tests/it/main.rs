@@ -1,6 +1,7 @@
 //! End-to-end tests of the `vpmap` binary.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::missing_panics_doc)]
 
+mod bench;
 mod eval;
 mod plan_mbpp;
 
