@@ -84,7 +84,7 @@ pub enum PlanError {
         value: f64,
     },
     /// A file could not be read or written.
-    #[error("cannot {action} `{}`: {source}", path.display())]
+    #[error("cannot {action} `{}`", path.display())]
     Io {
         /// "read", "write" or "rename to".
         action: &'static str,
