@@ -10,7 +10,7 @@ use vpmap_metrology::synth::Truth;
 use vpmap_plan::grid::{Cell, OccupancyGrid};
 use vpmap_plan::raster::{RasterOptions, rasterize_map};
 use vpmap_plan::ros::encode_ros_map;
-use vpmap_plan::{ThetaStarOptions, theta_star};
+use vpmap_plan::mbpp::{MbppOptions, mbpp};
 use vpmap_render::{FloorPlanStyle, floor_plan_svg, model_glb, svg_to_png};
 
 use crate::output::OutputSet;
@@ -298,8 +298,8 @@ pub fn run_demo(out: &Path, method: Method) -> Result<()> {
 }
 
 /// The demo's path: from the free cell nearest a point half a metre into the seen floor in
-/// front of the camera to the reachable free cell deepest into the room, by Theta*, and the
-/// floor-plan style that draws it.
+/// front of the camera to the reachable free cell deepest into the room, by the thesis's
+/// Multi-Bug Path Planning, and the floor-plan style that draws it.
 fn demo_path(built: &Built) -> Result<(String, FloorPlanStyle)> {
     let grid = &built.grid;
     let near_y = built
@@ -328,7 +328,8 @@ fn demo_path(built: &Built) -> Result<(String, FloorPlanStyle)> {
         ));
     };
     let goal = deepest_reachable(grid, start);
-    let Some(plan) = theta_star(grid, start, goal, &ThetaStarOptions::default())? else {
+    let result = mbpp(grid, start, goal, &MbppOptions::default())?;
+    let Some(plan) = result.best else {
         return Ok(("path: no path found".to_owned(), FloorPlanStyle::default()));
     };
     let points: Vec<[f64; 2]> = plan
@@ -339,13 +340,13 @@ fn demo_path(built: &Built) -> Result<(String, FloorPlanStyle)> {
     let length = plan.length * grid.resolution_m();
     let style = FloorPlanStyle {
         path: points.clone(),
-        path_label: format!("path (Theta*, {length:.2} m)"),
+        path_label: format!("path (MBPP, {length:.2} m)"),
         ..FloorPlanStyle::default()
     };
     let (a, b) = (points[0], points[points.len() - 1]);
     let line = format!(
-        "path: Theta* from ({:.2}, {:.2}) to ({:.2}, {:.2}) m around the objects (robot radius 0.2 m): {length:.2} m, {} nodes expanded; drawn in map.svg",
-        a[0], a[1], b[0], b[1], plan.stats.expanded
+        "path: MBPP from ({:.2}, {:.2}) to ({:.2}, {:.2}) m around the objects (robot radius 0.2 m): {length:.2} m, {} bugs, {} alternatives; drawn in map.svg",
+        a[0], a[1], b[0], b[1], result.stats.bugs, result.alternatives.len()
     );
     Ok((line, style))
 }
