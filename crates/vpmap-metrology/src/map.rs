@@ -615,7 +615,9 @@ impl FloorMap {
                 Polygon::new(ring(&p.exterior), p.holes.iter().map(|h| ring(h)).collect())
                     .unsigned_area()
             })
-            .sum()
+            .sum::<f64>()
+            // An empty sum of floats is -0.0.
+            + 0.0
     }
 
     /// Axis-aligned bounds `(min, max)` of the floor, the objects and the station point.
