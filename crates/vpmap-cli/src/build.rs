@@ -8,9 +8,9 @@ use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::scene::Scene;
 use vpmap_metrology::synth::Truth;
 use vpmap_plan::grid::{Cell, OccupancyGrid};
+use vpmap_plan::mbpp::{MbppOptions, mbpp};
 use vpmap_plan::raster::{RasterOptions, rasterize_map};
 use vpmap_plan::ros::encode_ros_map;
-use vpmap_plan::mbpp::{MbppOptions, mbpp};
 use vpmap_render::{FloorPlanStyle, floor_plan_svg, model_glb, svg_to_png};
 
 use crate::output::OutputSet;
@@ -346,7 +346,12 @@ fn demo_path(built: &Built) -> Result<(String, FloorPlanStyle)> {
     let (a, b) = (points[0], points[points.len() - 1]);
     let line = format!(
         "path: MBPP from ({:.2}, {:.2}) to ({:.2}, {:.2}) m around the objects (robot radius 0.2 m): {length:.2} m, {} bugs, {} alternatives; drawn in map.svg",
-        a[0], a[1], b[0], b[1], result.stats.bugs, result.alternatives.len()
+        a[0],
+        a[1],
+        b[0],
+        b[1],
+        result.stats.bugs,
+        result.alternatives.len()
     );
     Ok((line, style))
 }
