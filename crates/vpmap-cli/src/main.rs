@@ -2,6 +2,7 @@
 
 mod bench;
 mod build;
+mod detect;
 mod eval;
 mod output;
 mod plan;
@@ -87,6 +88,10 @@ enum Command {
     Eval(eval::EvalArgs),
     /// Compare planners on benchmark maps (the thesis's 6.2).
     Bench(bench::BenchArgs),
+    /// Find line segments, vanishing points and the camera in a photo; write a scene file.
+    Detect(detect::DetectArgs),
+    /// Measure vanishing-point detection on a folder of labelled photos (York Urban format).
+    EvalDetect(detect::EvalDetectArgs),
 }
 
 /// Parse the command line; usage errors become one line (`error: ...`) and exit code 2.
@@ -132,6 +137,8 @@ fn main() -> ExitCode {
         Command::Plan(args) => plan::run(&args),
         Command::Eval(args) => eval::run(&args),
         Command::Bench(args) => bench::run(&args),
+        Command::Detect(args) => detect::run_detect(&args),
+        Command::EvalDetect(args) => detect::run_eval_detect(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

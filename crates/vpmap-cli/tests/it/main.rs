@@ -2,6 +2,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::missing_panics_doc)]
 
 mod bench;
+mod detect;
 mod eval;
 mod plan_mbpp;
 

@@ -1,0 +1,504 @@
+//! `vpmap detect` and `vpmap eval-detect`.
+//!
+//! `vpmap detect PHOTO --out SCENE` finds line segments, the three Manhattan vanishing points
+//! and the camera in one photo ([`vpmap_vision::detect`]) and writes a scene file
+//! (`docs/scene-format.md`) whose vanishing points carry their supporting segments as
+//! evidence, with empty `objects` and `floor` for the user to fill in; `--overlay` draws what
+//! was found on the photo. `vpmap eval-detect DIR` measures the detector on York Urban-style
+//! labelled photos ([`eval`]).
+
+mod eval;
+mod geom;
+mod overlay;
+mod report;
+mod scene_out;
+
+use std::fmt::Write as _;
+use std::io::Cursor;
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use anyhow::{Context, Result, anyhow, bail};
+use image::metadata::Orientation;
+use image::{DynamicImage, ImageDecoder, ImageFormat, ImageReader, Limits};
+use vpmap_metrology::calibration::Perspective;
+use vpmap_vision::{DetectOptions, Detection, detect};
+
+pub use eval::{EvalDetectArgs, run_eval_detect};
+
+use crate::num;
+use crate::output::write_file;
+use overlay::{VP_COLOUR_NAMES, render_overlay};
+use scene_out::{DetectedScene, detected_scene};
+
+/// Smallest photo side accepted, pixels (the detector's limit).
+pub const MIN_PHOTO_SIDE_PX: u32 = vpmap_vision::MIN_SIDE_PX;
+/// Largest photo side accepted, pixels (the detector's limit).
+pub const MAX_PHOTO_SIDE_PX: u32 = vpmap_vision::MAX_SIDE_PX;
+/// Most pixels accepted (a 150-megapixel photo).
+pub const MAX_PHOTO_PIXELS: u64 = 150_000_000;
+/// Most memory the image decoder may allocate, bytes.
+const MAX_DECODE_BYTES: u64 = 2 << 30;
+/// Accepted `--max-side` values, pixels.
+const MAX_SIDE_RANGE: std::ops::RangeInclusive<u32> = 64..=8192;
+/// Accepted `--two-point-tolerance` values, degrees.
+const TOLERANCE_RANGE_DEG: std::ops::RangeInclusive<f64> = 0.0..=30.0;
+/// Accepted `--focal-px`, as multiples of the photo's longer side (fields of view from about
+/// 157 degrees down to 0.6 degree).
+const FOCAL_RANGE_SIDES: std::ops::RangeInclusive<f64> = 0.1..=100.0;
+
+/// A vanishing point resting on fewer segments than this is worth a warning.
+const FEW_SEGMENTS: usize = 6;
+/// The vanishing points' names in messages, in role order.
+const VP_NAMES: [&str; 3] = ["horizontal VP1", "horizontal VP2", "vertical VP3"];
+
+fn default_options() -> DetectOptions {
+    DetectOptions::default()
+}
+
+/// Arguments of `vpmap detect`.
+#[derive(clap::Args)]
+pub struct DetectArgs {
+    /// The photo: JPEG or PNG, any size, grey or colour.
+    pub photo: PathBuf,
+    /// Scene file to write (JSON; see docs/scene-format.md).
+    #[arg(long, short)]
+    pub out: PathBuf,
+    /// Known focal length, pixels (default: estimated from the vanishing points).
+    #[arg(long, allow_negative_numbers = true)]
+    pub focal_px: Option<f64>,
+    /// Known principal point X,Y, pixels (default: estimated, or the image centre).
+    #[arg(long, allow_hyphen_values = true)]
+    pub principal_point: Option<String>,
+    /// Also write the photo with the segments (coloured by vanishing point), the horizon and
+    /// the principal point drawn on it (PNG).
+    #[arg(long)]
+    pub overlay: Option<PathBuf>,
+    /// Vertical edges within this angle of the image plane make the photo two-point
+    /// perspective (the camera is taken as level), degrees.
+    #[arg(long, default_value_t = default_options().two_point_tolerance_deg, allow_negative_numbers = true)]
+    pub two_point_tolerance: f64,
+    /// The photo is downscaled internally so that its longer side is at most this, pixels
+    /// (results are in the photo's pixels).
+    #[arg(long, default_value_t = default_options().max_side_px)]
+    pub max_side: u32,
+}
+
+/// A decoded photo.
+pub struct Photo {
+    /// The pixels, turned upright as the EXIF orientation says (as image viewers show it).
+    pub image: DynamicImage,
+    /// Whether the EXIF orientation turned or flipped it.
+    pub reoriented: bool,
+}
+
+/// One line of decoder error text.
+fn one_line(text: &str) -> String {
+    text.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
+/// Read a JPEG or PNG photo, refusing other files, truncated files and absurd sizes.
+///
+/// # Errors
+/// One line naming the file and the problem.
+pub fn read_photo(path: &Path) -> Result<Photo> {
+    let bytes =
+        std::fs::read(path).with_context(|| format!("cannot read photo {}", path.display()))?;
+    let reader = ImageReader::new(Cursor::new(bytes.as_slice()))
+        .with_guessed_format()
+        .with_context(|| format!("cannot read photo {}", path.display()))?;
+    let format = match reader.format() {
+        Some(f @ (ImageFormat::Jpeg | ImageFormat::Png)) => f,
+        Some(other) => bail!(
+            "{} is a {} image; vpmap reads JPEG and PNG photos",
+            path.display(),
+            other.extensions_str().first().copied().unwrap_or("?")
+        ),
+        None if bytes.is_empty() => bail!("{} is empty, not a JPEG or PNG photo", path.display()),
+        None => bail!(
+            "{} is not a JPEG or PNG photo (its first bytes are neither)",
+            path.display()
+        ),
+    };
+    let kind = if format == ImageFormat::Jpeg {
+        "JPEG"
+    } else {
+        "PNG"
+    };
+    let decode_error = |e: image::ImageError| {
+        anyhow!(
+            "{}: cannot decode the {kind} photo: {}",
+            path.display(),
+            one_line(&e.to_string())
+        )
+    };
+    // The header's size first: the decoder would refuse an absurd size with a vaguer message.
+    let (width, height) = ImageReader::with_format(Cursor::new(bytes.as_slice()), format)
+        .into_dimensions()
+        .map_err(decode_error)?;
+    check_photo_size(path, width, height)?;
+    let mut reader = reader;
+    let mut limits = Limits::default();
+    limits.max_image_width = Some(MAX_PHOTO_SIDE_PX);
+    limits.max_image_height = Some(MAX_PHOTO_SIDE_PX);
+    limits.max_alloc = Some(MAX_DECODE_BYTES);
+    reader.limits(limits);
+    let mut decoder = reader.into_decoder().map_err(decode_error)?;
+    let orientation = decoder.orientation().unwrap_or(Orientation::NoTransforms);
+    let mut image = DynamicImage::from_decoder(decoder).map_err(decode_error)?;
+    image.apply_orientation(orientation);
+    Ok(Photo {
+        image,
+        reoriented: orientation != Orientation::NoTransforms,
+    })
+}
+
+fn check_photo_size(path: &Path, width: u32, height: u32) -> Result<()> {
+    let pixels = u64::from(width) * u64::from(height);
+    if width < MIN_PHOTO_SIDE_PX
+        || height < MIN_PHOTO_SIDE_PX
+        || width > MAX_PHOTO_SIDE_PX
+        || height > MAX_PHOTO_SIDE_PX
+        || pixels > MAX_PHOTO_PIXELS
+    {
+        bail!(
+            "{} is {width} x {height} pixels; a photo must be {MIN_PHOTO_SIDE_PX} to {MAX_PHOTO_SIDE_PX} pixels on each side and at most {} megapixels",
+            path.display(),
+            MAX_PHOTO_PIXELS / 1_000_000
+        );
+    }
+    Ok(())
+}
+
+/// `X,Y` as two finite numbers.
+fn parse_point(what: &str, text: &str) -> Result<[f64; 2]> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    let parsed: Vec<f64> = parts.iter().filter_map(|s| s.parse().ok()).collect();
+    match parsed.as_slice() {
+        [x, y] if parts.len() == 2 && x.is_finite() && y.is_finite() => Ok([*x + 0.0, *y + 0.0]),
+        _ => bail!("{what} {text:?} is not a point X,Y (two numbers separated by a comma)"),
+    }
+}
+
+/// Check what can be checked before the photo is read.
+fn check_args(args: &DetectArgs) -> Result<Option<[f64; 2]>> {
+    if let Some(f) = args.focal_px
+        && !(f.is_finite() && f > 0.0)
+    {
+        bail!(
+            "--focal-px must be a positive number of pixels, got {}",
+            num(f)
+        );
+    }
+    let principal_point = args
+        .principal_point
+        .as_deref()
+        .map(|t| parse_point("--principal-point", t))
+        .transpose()?;
+    if !(args.two_point_tolerance.is_finite()
+        && TOLERANCE_RANGE_DEG.contains(&args.two_point_tolerance))
+    {
+        bail!(
+            "--two-point-tolerance must be from {} to {} degrees, got {}",
+            TOLERANCE_RANGE_DEG.start(),
+            TOLERANCE_RANGE_DEG.end(),
+            num(args.two_point_tolerance)
+        );
+    }
+    if !MAX_SIDE_RANGE.contains(&args.max_side) {
+        bail!(
+            "--max-side must be from {} to {} pixels, got {}",
+            MAX_SIDE_RANGE.start(),
+            MAX_SIDE_RANGE.end(),
+            args.max_side
+        );
+    }
+    if args.out.to_string_lossy().ends_with('/') || args.out.is_dir() {
+        bail!(
+            "--out {} is a folder; give a file name such as scene.json",
+            args.out.display()
+        );
+    }
+    if let Some(o) = &args.overlay {
+        if o.to_string_lossy().ends_with('/') || o.is_dir() {
+            bail!(
+                "--overlay {} is a folder; give a file name such as overlay.png",
+                o.display()
+            );
+        }
+        if !o.extension().is_some_and(|e| e.eq_ignore_ascii_case("png")) {
+            bail!("--overlay {} must be a .png file", o.display());
+        }
+        if same_file(o, &args.out) {
+            bail!("--overlay and --out are the same file {}", o.display());
+        }
+    }
+    for (flag, target) in [
+        ("--out", Some(&args.out)),
+        ("--overlay", args.overlay.as_ref()),
+    ] {
+        if let Some(t) = target
+            && same_file(t, &args.photo)
+        {
+            bail!("{flag} {} would overwrite the photo", t.display());
+        }
+    }
+    Ok(principal_point)
+}
+
+/// Whether two paths name the same file (after resolving the folders that exist).
+fn same_file(a: &Path, b: &Path) -> bool {
+    let resolve = |p: &Path| -> PathBuf {
+        let parent = p
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        let dir = parent
+            .canonicalize()
+            .unwrap_or_else(|_| parent.to_path_buf());
+        p.file_name().map_or(dir.clone(), |n| dir.join(n))
+    };
+    resolve(a) == resolve(b)
+}
+
+/// Check the known intrinsics against the photo.
+fn check_intrinsics(
+    args: &DetectArgs,
+    principal_point: Option<[f64; 2]>,
+    width: u32,
+    height: u32,
+) -> Result<()> {
+    let side = f64::from(width.max(height));
+    if let Some(f) = args.focal_px
+        && !FOCAL_RANGE_SIDES.contains(&(f / side))
+    {
+        bail!(
+            "--focal-px {} is outside {} to {} px ({} to {} times the photo's longer side, {side} px)",
+            num(f),
+            num(FOCAL_RANGE_SIDES.start() * side),
+            num(FOCAL_RANGE_SIDES.end() * side),
+            FOCAL_RANGE_SIDES.start(),
+            FOCAL_RANGE_SIDES.end()
+        );
+    }
+    if let Some([x, y]) = principal_point
+        && !(0.0..=f64::from(width)).contains(&x) | !(0.0..=f64::from(height)).contains(&y)
+    {
+        bail!(
+            "--principal-point ({}, {}) lies outside the {width} x {height} photo",
+            num(x),
+            num(y)
+        );
+    }
+    Ok(())
+}
+
+/// Run the detector, timing it.
+///
+/// # Errors
+/// The detector's error, as one line.
+pub fn run_detector(image: &DynamicImage, opts: &DetectOptions) -> (Result<Detection>, Duration) {
+    let started = Instant::now();
+    let result = detect(image, opts);
+    let elapsed = started.elapsed();
+    (result.map_err(|e| anyhow!("{e}")), elapsed)
+}
+
+/// `vpmap detect`.
+pub fn run_detect(args: &DetectArgs) -> Result<()> {
+    let principal_point = check_args(args)?;
+    let photo = read_photo(&args.photo)?;
+    let (width, height) = (photo.image.width(), photo.image.height());
+    check_intrinsics(args, principal_point, width, height)?;
+    let opts = DetectOptions {
+        focal_px: args.focal_px,
+        principal_point_px: principal_point,
+        max_side_px: args.max_side,
+        two_point_tolerance_deg: args.two_point_tolerance,
+        ..default_options()
+    };
+    let (result, elapsed) = run_detector(&photo.image, &opts);
+    let det =
+        result.with_context(|| format!("no vanishing points found in {}", args.photo.display()))?;
+    let scene = detected_scene(&det)
+        .with_context(|| format!("no usable vanishing points in {}", args.photo.display()))?;
+    let overlay = args
+        .overlay
+        .as_ref()
+        .map(|_| render_overlay(&photo.image, &det, &scene))
+        .transpose()?;
+
+    if let (Some(path), Some(bytes)) = (&args.overlay, overlay) {
+        write_file(path, bytes)?;
+    }
+    if let Err(e) = write_file(&args.out, scene.json.clone()) {
+        // Both files or neither.
+        if let Some(path) = &args.overlay {
+            let _ = std::fs::remove_file(path);
+        }
+        return Err(e);
+    }
+    println!(
+        "{}",
+        wrap(&summary(args, &photo, &det, &scene, elapsed), 100)
+    );
+    for (role, &vp) in scene.roles.order.iter().enumerate() {
+        let n = det.vanishing_points[vp].segments.len();
+        if n < FEW_SEGMENTS {
+            eprintln!(
+                "warning: {} rests on only {n} segments; check it{}",
+                VP_NAMES[role],
+                if args.overlay.is_some() {
+                    " in the overlay"
+                } else {
+                    " (--overlay draws them)"
+                }
+            );
+        }
+    }
+    for w in &scene.calibration.warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok(())
+}
+
+fn point_text(p: Option<[f64; 2]>) -> String {
+    match p {
+        Some([x, y]) if x.abs().max(y.abs()) < 1e6 => format!("({x:.1}, {y:.1})"),
+        Some([x, y]) => format!("({x:.3e}, {y:.3e})"),
+        None => "at infinity".to_owned(),
+    }
+}
+
+/// The one-paragraph summary `vpmap detect` prints.
+fn summary(
+    args: &DetectArgs,
+    photo: &Photo,
+    det: &Detection,
+    scene: &DetectedScene,
+    elapsed: Duration,
+) -> String {
+    let cal = &scene.calibration;
+    let focal_source = if det.focal_estimated {
+        "estimated"
+    } else {
+        "given"
+    };
+    let principal_point_source = if args.principal_point.is_some() {
+        "given"
+    } else if det.principal_point_estimated {
+        "estimated"
+    } else {
+        "the image centre: the vanishing points do not fix it"
+    };
+    let mut text = format!(
+        "{} ({} x {}{}): {} perspective, focal {:.1} px ({}), principal point ({:.1}, {:.1}) ({}), ",
+        args.photo.display(),
+        det.image_size_px[0],
+        det.image_size_px[1],
+        if photo.reoriented {
+            ", turned upright as its EXIF orientation says"
+        } else {
+            ""
+        },
+        match scene.perspective {
+            Perspective::TwoPoint => "two-point",
+            Perspective::ThreePoint => "three-point",
+        },
+        det.intrinsics.focal_px,
+        focal_source,
+        det.intrinsics.principal_point_px[0],
+        det.intrinsics.principal_point_px[1],
+        principal_point_source,
+    );
+    let _ = match scene.perspective {
+        Perspective::TwoPoint => write!(
+            text,
+            "pitch 0 (vertical edges {:.2} deg from the image plane, within the {} deg tolerance: taken as level), roll {:.2} deg.",
+            det.vertical_tilt_deg,
+            args.two_point_tolerance,
+            cal.roll_rad.to_degrees()
+        ),
+        Perspective::ThreePoint => write!(
+            text,
+            "pitch {:.2} deg {}, roll {:.2} deg.",
+            cal.pitch_rad.to_degrees().abs(),
+            if cal.pitch_rad >= 0.0 { "down" } else { "up" },
+            cal.roll_rad.to_degrees()
+        ),
+    };
+    let mut assigned = 0;
+    let mut parts = Vec::new();
+    for (role, &vp) in scene.roles.order.iter().enumerate() {
+        let n = det.vanishing_points[vp].segments.len();
+        assigned += n;
+        let written = if role == 2 && scene.perspective == Perspective::TwoPoint {
+            "not written: two-point perspective".to_owned()
+        } else {
+            format!("{} written as lines", scene.lines_written[role])
+        };
+        let point = if role == 2 && scene.perspective == Perspective::TwoPoint {
+            point_text(det.vanishing_points[vp].point_px)
+        } else {
+            point_text(scene.points_px[role])
+        };
+        let colour = if args.overlay.is_some() {
+            format!("{} in the overlay, ", VP_COLOUR_NAMES[role])
+        } else {
+            String::new()
+        };
+        parts.push(format!(
+            "{} {point} from {n} segments ({colour}{written})",
+            VP_NAMES[role]
+        ));
+    }
+    let _ = write!(
+        text,
+        " Vanishing points: {}; {} segments in all, {} unassigned.",
+        parts.join(", "),
+        det.segments.len(),
+        det.segments.len().saturating_sub(assigned)
+    );
+    if scene.adjusted_deg >= 0.01 {
+        let _ = write!(
+            text,
+            " The directions were turned by up to {:.2} deg to make them exactly orthogonal{} for the scene file.",
+            scene.adjusted_deg,
+            if scene.perspective == Perspective::TwoPoint {
+                " and level"
+            } else {
+                ""
+            }
+        );
+    }
+    let _ = write!(
+        text,
+        " Detection took {:.0} ms (longer side scaled to at most {} px). Wrote {}{}; add the objects and the floor (docs/scene-format.md), then run vpmap build.",
+        elapsed.as_secs_f64() * 1e3,
+        args.max_side,
+        args.out.display(),
+        args.overlay
+            .as_ref()
+            .map_or_else(String::new, |o| format!(" and {}", o.display()))
+    );
+    text
+}
+
+/// `text` broken into lines of at most `width` characters at spaces (longer words stay whole).
+fn wrap(text: &str, width: usize) -> String {
+    let mut out = String::new();
+    let mut line_len = 0;
+    for word in text.split_whitespace() {
+        let len = word.chars().count();
+        if line_len > 0 && line_len + 1 + len > width {
+            out.push('\n');
+            line_len = 0;
+        } else if line_len > 0 {
+            out.push(' ');
+            line_len += 1;
+        }
+        out.push_str(word);
+        line_len += len;
+    }
+    out
+}

@@ -1,0 +1,246 @@
+//! `--overlay`: the photo with what was detected drawn on it.
+//!
+//! The photo is half desaturated so that the drawing stands out. Segments supporting the first
+//! horizontal vanishing point are red, the second green, the vertical blue, each drawn
+//! `thickness` pixels wide (about 1/500 of the longer side); unassigned segments are thin and
+//! grey. The horizon (the image of the plane orthogonal to the vertical direction) is yellow;
+//! vanishing points inside the photo are filled circles in their colour; the principal point
+//! is a magenta cross in a circle.
+
+use std::io::Cursor;
+
+use anyhow::{Context, Result};
+use image::{DynamicImage, ImageFormat, Rgb, RgbImage};
+use imageproc::drawing::{
+    draw_antialiased_line_segment_mut, draw_filled_circle_mut, draw_hollow_circle_mut,
+};
+use imageproc::pixelops::interpolate;
+use vpmap_vision::Detection;
+
+use super::scene_out::DetectedScene;
+
+/// Colours of the two horizontal and the vertical vanishing point.
+pub const VP_COLOURS: [Rgb<u8>; 3] = [Rgb([235, 45, 45]), Rgb([40, 205, 60]), Rgb([40, 120, 255])];
+/// Colour names for the summary, in [`VP_COLOURS`] order.
+pub const VP_COLOUR_NAMES: [&str; 3] = ["red", "green", "blue"];
+const UNASSIGNED: Rgb<u8> = Rgb([165, 165, 165]);
+const HORIZON: Rgb<u8> = Rgb([255, 215, 0]);
+const PRINCIPAL_POINT: Rgb<u8> = Rgb([255, 0, 255]);
+const OUTLINE: Rgb<u8> = Rgb([255, 255, 255]);
+
+/// The overlay as PNG bytes.
+///
+/// # Errors
+/// When PNG encoding fails.
+pub fn render_overlay(
+    photo: &DynamicImage,
+    det: &Detection,
+    scene: &DetectedScene,
+) -> Result<Vec<u8>> {
+    let mut canvas = desaturated(photo);
+    let (w, h) = canvas.dimensions();
+    let thickness = (w.max(h) / 500).clamp(2, 12);
+
+    let mut role_of = vec![None; det.segments.len()];
+    for (role, &vp) in scene.roles.order.iter().enumerate() {
+        for &s in &det.vanishing_points[vp].segments {
+            if let Some(slot) = role_of.get_mut(s) {
+                *slot = Some(role);
+            }
+        }
+    }
+    for (seg, role) in det.segments.iter().zip(&role_of) {
+        if role.is_none() {
+            draw_thick_segment(&mut canvas, seg.start_px, seg.end_px, 1, UNASSIGNED);
+        }
+    }
+    for (seg, role) in det.segments.iter().zip(&role_of) {
+        if let Some(r) = role {
+            draw_thick_segment(
+                &mut canvas,
+                seg.start_px,
+                seg.end_px,
+                thickness,
+                VP_COLOURS[*r],
+            );
+        }
+    }
+
+    // The horizon: l = K^-T v, scaled by f.
+    let f = det.intrinsics.focal_px;
+    let c = det.intrinsics.principal_point_px;
+    let v = scene.directions[2];
+    let line = [v[0], v[1], f * v[2] - c[0] * v[0] - c[1] * v[1]];
+    if let Some((a, b)) = clip_line(line, w, h) {
+        draw_thick_segment(&mut canvas, a, b, thickness, HORIZON);
+    }
+
+    let radius = 2 * thickness as i32 + 2;
+    for (role, p) in scene.points_px.iter().enumerate() {
+        if let Some(p) = p
+            && inside(*p, w, h)
+        {
+            let centre = (p[0].round() as i32, p[1].round() as i32);
+            draw_filled_circle_mut(&mut canvas, centre, radius + 1, OUTLINE);
+            draw_filled_circle_mut(&mut canvas, centre, radius, VP_COLOURS[role]);
+        }
+    }
+    if inside(c, w, h) {
+        let arm = 6.0 * f64::from(thickness);
+        draw_thick_segment(
+            &mut canvas,
+            [c[0] - arm, c[1]],
+            [c[0] + arm, c[1]],
+            thickness,
+            PRINCIPAL_POINT,
+        );
+        draw_thick_segment(
+            &mut canvas,
+            [c[0], c[1] - arm],
+            [c[0], c[1] + arm],
+            thickness,
+            PRINCIPAL_POINT,
+        );
+        let centre = (c[0].round() as i32, c[1].round() as i32);
+        for k in 0..thickness as i32 {
+            draw_hollow_circle_mut(
+                &mut canvas,
+                centre,
+                4 * thickness as i32 + k,
+                PRINCIPAL_POINT,
+            );
+        }
+    }
+
+    let mut bytes = Vec::new();
+    DynamicImage::ImageRgb8(canvas)
+        .write_to(&mut Cursor::new(&mut bytes), ImageFormat::Png)
+        .context("encoding the overlay as PNG")?;
+    Ok(bytes)
+}
+
+/// The photo as RGB, half way to grey.
+fn desaturated(photo: &DynamicImage) -> RgbImage {
+    let mut rgb = photo.to_rgb8();
+    for p in rgb.pixels_mut() {
+        let [r, g, b] = p.0.map(f32::from);
+        let grey = 0.299 * r + 0.587 * g + 0.114 * b;
+        p.0 = [r, g, b].map(|v| (0.5 * v + 0.5 * grey).round().clamp(0.0, 255.0) as u8);
+    }
+    rgb
+}
+
+fn inside(p: [f64; 2], w: u32, h: u32) -> bool {
+    p[0] >= 0.0 && p[1] >= 0.0 && p[0] <= f64::from(w) && p[1] <= f64::from(h)
+}
+
+/// A segment `thickness` pixels wide: parallel antialiased lines one pixel apart, clipped to
+/// the canvas first (the line drawer walks every pixel between its ends).
+fn draw_thick_segment(
+    canvas: &mut RgbImage,
+    a: [f64; 2],
+    b: [f64; 2],
+    thickness: u32,
+    colour: Rgb<u8>,
+) {
+    let (w, h) = canvas.dimensions();
+    let Some((a, b)) = clip_segment(a, b, w, h) else {
+        return;
+    };
+    let len = (b[0] - a[0]).hypot(b[1] - a[1]);
+    if len < 1.0 {
+        return;
+    }
+    let normal = [-(b[1] - a[1]) / len, (b[0] - a[0]) / len];
+    for k in 0..thickness {
+        let off = f64::from(k) - f64::from(thickness - 1) / 2.0;
+        let shift = |p: [f64; 2]| {
+            (
+                (p[0] + off * normal[0]).round() as i32,
+                (p[1] + off * normal[1]).round() as i32,
+            )
+        };
+        let (s, e) = (shift(a), shift(b));
+        if s != e {
+            draw_antialiased_line_segment_mut(canvas, s, e, colour, interpolate);
+        }
+    }
+}
+
+/// Liang-Barsky: the part of segment `a`-`b` inside `[0, w - 1] x [0, h - 1]`.
+fn clip_segment(a: [f64; 2], b: [f64; 2], w: u32, h: u32) -> Option<([f64; 2], [f64; 2])> {
+    if !(a.iter().chain(&b).all(|v| v.is_finite())) {
+        return None;
+    }
+    let (xmax, ymax) = (f64::from(w.max(1) - 1), f64::from(h.max(1) - 1));
+    let d = [b[0] - a[0], b[1] - a[1]];
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, q) in [
+        (-d[0], a[0]),
+        (d[0], xmax - a[0]),
+        (-d[1], a[1]),
+        (d[1], ymax - a[1]),
+    ] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return None;
+            }
+        } else {
+            let r = q / p;
+            if p < 0.0 {
+                t0 = t0.max(r);
+            } else {
+                t1 = t1.min(r);
+            }
+        }
+    }
+    (t0 <= t1).then(|| {
+        (
+            [a[0] + t0 * d[0], a[1] + t0 * d[1]],
+            [a[0] + t1 * d[0], a[1] + t1 * d[1]],
+        )
+    })
+}
+
+/// The part of the line `l[0] x + l[1] y + l[2] = 0` inside the image.
+fn clip_line(l: [f64; 3], w: u32, h: u32) -> Option<([f64; 2], [f64; 2])> {
+    let n = l[0].hypot(l[1]);
+    if !(n.is_finite() && n > 0.0 && l[2].is_finite()) {
+        return None;
+    }
+    let centre = [f64::from(w) / 2.0, f64::from(h) / 2.0];
+    // The foot of the image centre on the line, and the line's direction.
+    let dist = (l[0] * centre[0] + l[1] * centre[1] + l[2]) / n;
+    let foot = [centre[0] - dist * l[0] / n, centre[1] - dist * l[1] / n];
+    let dir = [-l[1] / n, l[0] / n];
+    let reach = f64::from(w) + f64::from(h);
+    if dist.abs() > reach {
+        return None;
+    }
+    clip_segment(
+        [foot[0] - reach * dir[0], foot[1] - reach * dir[1]],
+        [foot[0] + reach * dir[0], foot[1] + reach * dir[1]],
+        w,
+        h,
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clipping_keeps_the_inside_part() {
+        let (a, b) = clip_segment([-10.0, 5.0], [200.0, 5.0], 100, 50).unwrap_or_default();
+        assert!(a[0].abs() + (a[1] - 5.0).abs() + (b[0] - 99.0).abs() + (b[1] - 5.0).abs() < 1e-9);
+        assert!(clip_segment([-10.0, -5.0], [200.0, -5.0], 100, 50).is_none());
+        // The line y = x.
+        let (a, b) = clip_line([1.0, -1.0, 0.0], 100, 50).unwrap_or_default();
+        assert!((a[0] - a[1]).abs() < 1e-9 && (b[0] - b[1]).abs() < 1e-9);
+        assert!(
+            a[1].abs() < 1e-9 && (b[1] - 49.0).abs() < 1e-9,
+            "{a:?} {b:?}"
+        );
+        assert!(clip_line([0.0, 1.0, -500.0], 100, 50).is_none());
+    }
+}

@@ -1,0 +1,496 @@
+//! The figures of `vpmap eval-detect`, as a table, Markdown and JSON.
+//!
+//! * within x degrees: the fraction of labelled vanishing points whose detected direction is at
+//!   most x degrees off (misses count as off);
+//! * AUC@L: the area under that accuracy curve from 0 to L degrees, divided by L (as Lu et al.
+//!   report), computed exactly: the mean over vanishing points of `max(0, 1 - error / L)`;
+//! * focal error: `|f - f_true| / f_true` when estimated (a refused photo counts as infinite);
+//! * time: wall time of `detect` per call (both runs of every photo that could be read).
+
+use std::fmt::Write as _;
+
+use anyhow::{Context as _, Result};
+use serde_json::json;
+
+use super::eval::{ImageResult, Intrinsics};
+
+/// Thresholds of the "within" rows, degrees.
+pub const WITHIN_DEG: [f64; 4] = [1.0, 3.0, 5.0, 10.0];
+/// Limits of the AUC rows, degrees.
+pub const AUC_DEG: [f64; 3] = [3.0, 5.0, 10.0];
+/// A focal length within this relative error counts as right.
+pub const FOCAL_TOLERANCE: f64 = 0.05;
+
+/// The reference: Lu et al.'s public implementation on York Urban.
+pub const REFERENCE: &str = "Lu et al. (2-line exhaustive search, WACV 2017), public implementation, on York Urban: 95 % of vanishing points within 3 deg and AUC@10 87 % with the true intrinsics, about 43 ms per 640 x 480 photo; AUC@10 47 % when it must guess the intrinsics";
+
+/// What the run was over.
+pub struct Context {
+    /// The folder, as given.
+    pub dir: String,
+    /// Labelled photos in it (before `--limit`).
+    pub available: usize,
+    /// The detector's `--max-side`.
+    pub max_side: u32,
+}
+
+/// The summary of one kind of run over every photo.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Summary {
+    /// Which run.
+    pub which: Intrinsics,
+    /// Photos.
+    pub images: usize,
+    /// Photos the detector refused (or that could not be read).
+    pub failed: usize,
+    /// Labelled vanishing points (3 per photo).
+    pub vanishing_points: usize,
+    /// Of them, not detected (refused photo or missing point).
+    pub missed: usize,
+    /// `(threshold, fraction within)`.
+    pub within: Vec<(f64, f64)>,
+    /// `(limit, area)`.
+    pub auc: Vec<(f64, f64)>,
+    /// Median error of the vertical vanishing points, degrees (infinite when most missed).
+    pub median_vertical_deg: f64,
+    /// Median error of the horizontal vanishing points, degrees.
+    pub median_horizontal_deg: f64,
+    /// Focal error median, p90 and fraction within [`FOCAL_TOLERANCE`] (estimated runs only).
+    pub focal: Option<(f64, f64, f64)>,
+    /// Time per call, median and p90, milliseconds.
+    pub time_ms: Option<(f64, f64)>,
+}
+
+/// The `q` quantile (0..=1) by linear interpolation between order statistics; infinite values
+/// sort last. `None` for no values.
+pub fn quantile(values: &[f64], q: f64) -> Option<f64> {
+    let mut v = values.to_vec();
+    v.sort_by(f64::total_cmp);
+    let last = v.len().checked_sub(1)?;
+    let pos = q.clamp(0.0, 1.0) * last as f64;
+    let (lo, hi) = (pos.floor() as usize, pos.ceil() as usize);
+    let t = pos - lo as f64;
+    if lo == hi || t == 0.0 {
+        return Some(v[lo]);
+    }
+    if v[hi].is_infinite() {
+        return Some(v[hi]);
+    }
+    Some(v[lo] + (v[hi] - v[lo]) * t)
+}
+
+/// Summarise one kind of run.
+pub fn summarise(results: &[ImageResult], which: Intrinsics) -> Summary {
+    let slot = usize::from(which == Intrinsics::Estimated);
+    let mut errors = Vec::new();
+    let mut vertical = Vec::new();
+    let mut horizontal = Vec::new();
+    let mut focal = Vec::new();
+    let mut times = Vec::new();
+    let mut failed = 0;
+    for r in results {
+        let run = &r.runs[slot];
+        if let Some(t) = run.time_ms {
+            times.push(t);
+        }
+        if run.outcome.is_err() {
+            failed += 1;
+        }
+        let (vp_errors, focal_error) = run
+            .outcome
+            .as_ref()
+            .map_or(([None; 3], None), |ok| (ok.errors_deg, ok.focal_error));
+        for (i, e) in vp_errors.iter().enumerate() {
+            let e = e.unwrap_or(f64::INFINITY);
+            errors.push(e);
+            if i == r.vertical {
+                vertical.push(e);
+            } else {
+                horizontal.push(e);
+            }
+        }
+        focal.push(focal_error.unwrap_or(f64::INFINITY));
+    }
+    let n = errors.len().max(1) as f64;
+    let within = WITHIN_DEG
+        .iter()
+        .map(|&t| (t, errors.iter().filter(|&&e| e <= t).count() as f64 / n))
+        .collect();
+    let auc = AUC_DEG
+        .iter()
+        .map(|&l| {
+            (
+                l,
+                errors.iter().map(|&e| (1.0 - e / l).max(0.0)).sum::<f64>() / n,
+            )
+        })
+        .collect();
+    let focal = (which == Intrinsics::Estimated && !focal.is_empty()).then(|| {
+        (
+            quantile(&focal, 0.5).unwrap_or(f64::INFINITY),
+            quantile(&focal, 0.9).unwrap_or(f64::INFINITY),
+            focal.iter().filter(|&&e| e <= FOCAL_TOLERANCE).count() as f64 / focal.len() as f64,
+        )
+    });
+    Summary {
+        which,
+        images: results.len(),
+        failed,
+        vanishing_points: errors.len(),
+        missed: errors.iter().filter(|e| e.is_infinite()).count(),
+        within,
+        auc,
+        median_vertical_deg: quantile(&vertical, 0.5).unwrap_or(f64::INFINITY),
+        median_horizontal_deg: quantile(&horizontal, 0.5).unwrap_or(f64::INFINITY),
+        focal,
+        time_ms: quantile(&times, 0.5).zip(quantile(&times, 0.9)),
+    }
+}
+
+/// A short name of a run for messages.
+pub fn label_of(which: Intrinsics) -> &'static str {
+    match which {
+        Intrinsics::Given => "true intrinsics given",
+        Intrinsics::Estimated => "intrinsics estimated",
+    }
+}
+
+fn pct(v: f64) -> String {
+    if v.is_finite() {
+        format!("{:.1} %", 100.0 * v)
+    } else {
+        "-".to_owned()
+    }
+}
+
+fn deg(v: f64) -> String {
+    if v.is_finite() {
+        format!("{v:.2}")
+    } else {
+        "miss".to_owned()
+    }
+}
+
+/// The rows of the comparison: label, one cell per run, the reference.
+fn rows(summaries: &[Summary; 2]) -> Vec<(String, [String; 2], String)> {
+    let cells = |f: &dyn Fn(&Summary) -> String| [f(&summaries[0]), f(&summaries[1])];
+    let mut rows = vec![(
+        "photos refused".to_owned(),
+        cells(&|s| format!("{} of {}", s.failed, s.images)),
+        String::new(),
+    )];
+    rows.push((
+        "vanishing points missed".to_owned(),
+        cells(&|s| format!("{} of {}", s.missed, s.vanishing_points)),
+        String::new(),
+    ));
+    for (i, t) in WITHIN_DEG.iter().enumerate() {
+        rows.push((
+            format!("within {t} deg"),
+            cells(&|s| pct(s.within[i].1)),
+            if (*t - 3.0).abs() < 1e-9 {
+                "95 % / -".to_owned()
+            } else {
+                String::new()
+            },
+        ));
+    }
+    for (i, l) in AUC_DEG.iter().enumerate() {
+        rows.push((
+            format!("AUC@{l} deg"),
+            cells(&|s| pct(s.auc[i].1)),
+            if (*l - 10.0).abs() < 1e-9 {
+                "87 % / 47 %".to_owned()
+            } else {
+                String::new()
+            },
+        ));
+    }
+    rows.push((
+        "median error, vertical (deg)".to_owned(),
+        cells(&|s| deg(s.median_vertical_deg)),
+        String::new(),
+    ));
+    rows.push((
+        "median error, horizontal (deg)".to_owned(),
+        cells(&|s| deg(s.median_horizontal_deg)),
+        String::new(),
+    ));
+    rows.push((
+        "focal error, median".to_owned(),
+        cells(&|s| s.focal.map_or_else(|| "(given)".to_owned(), |f| pct(f.0))),
+        String::new(),
+    ));
+    rows.push((
+        "focal error, p90".to_owned(),
+        cells(&|s| s.focal.map_or_else(|| "(given)".to_owned(), |f| pct(f.1))),
+        String::new(),
+    ));
+    rows.push((
+        format!("focal within {:.0} %", 100.0 * FOCAL_TOLERANCE),
+        cells(&|s| s.focal.map_or_else(|| "(given)".to_owned(), |f| pct(f.2))),
+        String::new(),
+    ));
+    rows.push((
+        "time per photo, median (ms)".to_owned(),
+        cells(&|s| {
+            s.time_ms
+                .map_or_else(|| "-".to_owned(), |t| format!("{:.1}", t.0))
+        }),
+        "about 43".to_owned(),
+    ));
+    rows.push((
+        "time per photo, p90 (ms)".to_owned(),
+        cells(&|s| {
+            s.time_ms
+                .map_or_else(|| "-".to_owned(), |t| format!("{:.1}", t.1))
+        }),
+        String::new(),
+    ));
+    rows
+}
+
+const HEADERS: [&str; 4] = [
+    "",
+    "true K given",
+    "K estimated",
+    "Lu et al. (given / estimated)",
+];
+
+/// The table printed on stdout.
+pub fn table(ctx: &Context, summaries: &[Summary; 2]) -> String {
+    let rows = rows(summaries);
+    let w0 = rows
+        .iter()
+        .map(|r| r.0.len())
+        .max()
+        .unwrap_or(0)
+        .max(HEADERS[0].len());
+    let w1 = rows
+        .iter()
+        .map(|r| r.1[0].len())
+        .max()
+        .unwrap_or(0)
+        .max(HEADERS[1].len());
+    let w2 = rows
+        .iter()
+        .map(|r| r.1[1].len())
+        .max()
+        .unwrap_or(0)
+        .max(HEADERS[2].len());
+    let mut out = format!(
+        "vanishing points on {} labelled photos in {}{} (3 each), detector at --max-side {}, one photo at a time\n",
+        summaries[0].images,
+        ctx.dir,
+        if summaries[0].images < ctx.available {
+            format!(" (first {} of {})", summaries[0].images, ctx.available)
+        } else {
+            String::new()
+        },
+        ctx.max_side
+    );
+    let _ = writeln!(
+        out,
+        "{:<w0$}  {:>w1$}  {:>w2$}  {}",
+        HEADERS[0], HEADERS[1], HEADERS[2], HEADERS[3]
+    );
+    for (label, cells, reference) in &rows {
+        let _ = writeln!(
+            out,
+            "{label:<w0$}  {:>w1$}  {:>w2$}  {reference}",
+            cells[0], cells[1]
+        );
+    }
+    let _ = write!(out, "reference: {REFERENCE}");
+    out
+}
+
+/// `summary.md`.
+pub fn markdown(ctx: &Context, results: &[ImageResult], summaries: &[Summary; 2]) -> String {
+    let mut out = String::from("# Vanishing-point detection (`vpmap eval-detect`)\n\n");
+    let _ = writeln!(
+        out,
+        "{} labelled photos from `{}`{}, 3 vanishing points each; detector at `--max-side {}`, one photo at a time, each detected twice: with the true intrinsics given and with them estimated.\n",
+        summaries[0].images,
+        ctx.dir,
+        if summaries[0].images < ctx.available {
+            format!(" (the first {} of {})", summaries[0].images, ctx.available)
+        } else {
+            String::new()
+        },
+        ctx.max_side
+    );
+    let _ = writeln!(
+        out,
+        "| | {} | {} | {} |\n|---|---:|---:|---|",
+        HEADERS[1], HEADERS[2], HEADERS[3]
+    );
+    for (label, cells, reference) in rows(summaries) {
+        let _ = writeln!(
+            out,
+            "| {label} | {} | {} | {reference} |",
+            cells[0], cells[1]
+        );
+    }
+    let _ = writeln!(
+        out,
+        "\nError: the angle between the detected and the labelled vanishing direction (`vp_dirs_camera_yup`), sign-free; vertical matched to vertical, horizontals by the better assignment; with estimated intrinsics the detected points are turned into directions with the estimated K. A refused photo or a missing vanishing point counts as a miss in every figure. AUC@L is the area under the curve \"fraction of vanishing points with error <= x\" for x from 0 to L, divided by L. Time: wall time of `detect` only.\n\nReference: {REFERENCE}.\n"
+    );
+    let refused: Vec<String> = results
+        .iter()
+        .flat_map(|r| {
+            Intrinsics::BOTH
+                .iter()
+                .zip(&r.runs)
+                .filter_map(move |(w, run)| {
+                    run.outcome
+                        .as_ref()
+                        .err()
+                        .map(|e| format!("- `{}` ({}): {e}", r.name, label_of(*w)))
+                })
+        })
+        .collect();
+    if !refused.is_empty() {
+        let _ = writeln!(out, "## Refused\n\n{}\n", refused.join("\n"));
+    }
+    out
+}
+
+fn finite(v: f64) -> serde_json::Value {
+    if v.is_finite() {
+        json!(v)
+    } else {
+        serde_json::Value::Null
+    }
+}
+
+fn summary_json(s: &Summary) -> serde_json::Value {
+    json!({
+        "images": s.images,
+        "refused": s.failed,
+        "vanishing_points": s.vanishing_points,
+        "missed": s.missed,
+        "within_deg": s.within.iter().map(|(t, f)| json!({"deg": t, "fraction": f})).collect::<Vec<_>>(),
+        "auc": s.auc.iter().map(|(l, a)| json!({"deg": l, "area": a})).collect::<Vec<_>>(),
+        "median_error_vertical_deg": finite(s.median_vertical_deg),
+        "median_error_horizontal_deg": finite(s.median_horizontal_deg),
+        "focal_error": s.focal.map(|(m, p, w)| json!({
+            "median": finite(m), "p90": finite(p), "within_fraction": w, "tolerance": FOCAL_TOLERANCE,
+        })),
+        "time_ms": s.time_ms.map(|(m, p)| json!({"median": m, "p90": p})),
+    })
+}
+
+/// `eval-detect.json`: the summary and one row per photo.
+///
+/// # Errors
+/// When serialising fails.
+pub fn json(ctx: &Context, results: &[ImageResult], summaries: &[Summary; 2]) -> Result<String> {
+    let rows: Vec<serde_json::Value> = results
+        .iter()
+        .map(|r| {
+            let mut row = json!({
+                "name": r.name,
+                "size_px": r.size_px,
+                "vertical_index": r.vertical,
+            });
+            for (which, run) in Intrinsics::BOTH.iter().zip(&r.runs) {
+                row[which.key()] = match &run.outcome {
+                    Ok(ok) => json!({
+                        "time_ms": run.time_ms,
+                        "errors_deg": ok.errors_deg.map(|e| e.and_then(|e| e.is_finite().then_some(e))),
+                        "focal_px": ok.focal_px,
+                        "focal_error": ok.focal_error,
+                        "principal_point_px": ok.principal_point_px,
+                        "perspective": ok.perspective,
+                        "segments": ok.segments,
+                    }),
+                    Err(e) => json!({"time_ms": run.time_ms, "refused": e}),
+                };
+            }
+            row
+        })
+        .collect();
+    let mut summary = serde_json::Map::new();
+    for s in summaries {
+        summary.insert(s.which.key().to_owned(), summary_json(s));
+    }
+    let doc = json!({
+        "dataset": ctx.dir,
+        "labelled_photos": ctx.available,
+        "max_side_px": ctx.max_side,
+        "error": "angle between detected and labelled (vp_dirs_camera_yup) vanishing directions, degrees, sign-free; null: missed",
+        "reference": REFERENCE,
+        "summary": summary,
+        "photos": rows,
+    });
+    let mut text = serde_json::to_string_pretty(&doc).context("serialising eval-detect.json")?;
+    text.push('\n');
+    Ok(text)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::detect::eval::{Run, RunOk};
+
+    fn result(errors: [Option<f64>; 3], focal_error: f64) -> ImageResult {
+        let ok = |which| Run {
+            time_ms: Some(10.0),
+            outcome: Ok(RunOk {
+                errors_deg: errors,
+                focal_px: 500.0,
+                focal_error: (which == Intrinsics::Estimated).then_some(focal_error),
+                principal_point_px: [1.0, 2.0],
+                perspective: "3pp",
+                segments: 9,
+            }),
+        };
+        ImageResult {
+            name: "x".to_owned(),
+            size_px: Some([640, 480]),
+            vertical: 1,
+            runs: [ok(Intrinsics::Given), ok(Intrinsics::Estimated)],
+        }
+    }
+
+    #[test]
+    fn auc_and_fractions_count_misses() {
+        let refused = ImageResult {
+            runs: [
+                Run {
+                    time_ms: Some(5.0),
+                    outcome: Err("no".to_owned()),
+                },
+                Run {
+                    time_ms: Some(5.0),
+                    outcome: Err("no".to_owned()),
+                },
+            ],
+            ..result([None; 3], 0.0)
+        };
+        let results = [result([Some(0.5), Some(2.0), None], 0.01), refused];
+        let s = summarise(&results, Intrinsics::Estimated);
+        assert_eq!(
+            (s.images, s.failed, s.vanishing_points, s.missed),
+            (2, 1, 6, 4)
+        );
+        assert!((s.within[0].1 - 1.0 / 6.0).abs() < 1e-12);
+        assert!((s.within[1].1 - 2.0 / 6.0).abs() < 1e-12);
+        // AUC@10: (0.95 + 0.8) / 6.
+        assert!((s.auc[2].1 - 1.75 / 6.0).abs() < 1e-12, "{:?}", s.auc);
+        let (median, _, within) = s.focal.unwrap_or_default();
+        assert!(median.is_infinite() || (median - 0.01).abs() < 1e-12);
+        assert!((within - 0.5).abs() < 1e-12);
+        assert!(s.median_vertical_deg.is_infinite());
+        assert!(summarise(&results, Intrinsics::Given).focal.is_none());
+    }
+
+    #[test]
+    fn quantiles_interpolate() {
+        assert_eq!(quantile(&[3.0, 1.0, 2.0], 0.5), Some(2.0));
+        assert_eq!(quantile(&[1.0, 2.0], 0.5), Some(1.5));
+        assert_eq!(quantile(&[1.0, f64::INFINITY], 0.5), Some(f64::INFINITY));
+        assert_eq!(quantile(&[], 0.5), None);
+    }
+}

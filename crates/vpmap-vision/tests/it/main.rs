@@ -1,0 +1,6 @@
+//! Integration tests of vpmap-vision (one test binary, see STYLE.md).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::float_cmp)]
+
+mod bad_input;
+mod synthetic_scenes;
+mod yud;

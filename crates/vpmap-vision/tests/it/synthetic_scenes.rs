@@ -1,0 +1,290 @@
+//! Detection on synthetic photos from known cameras.
+//!
+//! The renderer's camera is checked against `vpmap_metrology::synth::PinholeCamera` (an
+//! independent pinhole model) first, so the truth the detector is compared with is right.
+
+use image::ImageEncoder;
+use nalgebra::{Vector2, Vector3};
+use vpmap_metrology::scene::ImageSize;
+use vpmap_metrology::synth::PinholeCamera;
+use vpmap_vision::metrics::manhattan_errors_deg;
+use vpmap_vision::synthetic::{RenderedScene, SceneRenderOptions, render_manhattan_scene};
+use vpmap_vision::{DetectOptions, Detection, Perspective, detect};
+
+fn found_directions(d: &Detection) -> [[f64; 3]; 3] {
+    let v = &d.vanishing_points;
+    assert_eq!(v.len(), 3);
+    assert!(v[2].vertical && !v[0].vertical && !v[1].vertical);
+    [
+        v[0].direction_camera,
+        v[1].direction_camera,
+        v[2].direction_camera,
+    ]
+}
+
+/// Render, detect (intrinsics unknown), and check directions, focal length and perspective.
+fn check(opts: &SceneRenderOptions, max_error_deg: f64, max_focal_error: f64) -> Detection {
+    let scene = render_manhattan_scene(opts);
+    let found = detect(&scene.image, &DetectOptions::default()).expect("detect");
+    check_against(&scene, &found, max_error_deg);
+    let focal_error = found.intrinsics.focal_px / opts.focal_px - 1.0;
+    assert!(
+        focal_error.abs() < max_focal_error,
+        "focal {} vs {} ({:+.1} %)",
+        found.intrinsics.focal_px,
+        opts.focal_px,
+        100.0 * focal_error
+    );
+    assert!(found.focal_estimated);
+    found
+}
+
+fn check_against(scene: &RenderedScene, found: &Detection, max_error_deg: f64) {
+    let errors = manhattan_errors_deg(&found_directions(found), 2, &scene.directions_camera, 2);
+    assert!(
+        errors.iter().all(|&e| e < max_error_deg),
+        "direction errors {errors:?} deg (limit {max_error_deg})"
+    );
+    assert_eq!(
+        found.perspective, scene.perspective,
+        "tilt {}",
+        found.vertical_tilt_deg
+    );
+    assert_eq!(
+        found.image_size_px,
+        [scene.image.width(), scene.image.height()]
+    );
+    // Every vanishing point has support, and the support indices are valid.
+    for vp in &found.vanishing_points {
+        assert!(vp.segments.len() >= 3, "{vp:?}");
+        assert!(vp.segments.iter().all(|&i| i < found.segments.len()));
+    }
+}
+
+#[test]
+fn renderer_truth_matches_an_independent_pinhole_camera() {
+    let opts = SceneRenderOptions {
+        pitch_rad: 0.4,
+        roll_rad: -0.1,
+        yaw_rad: 0.6,
+        principal_point_px: Some([300.0, 250.0]),
+        ..SceneRenderOptions::default()
+    };
+    let scene = render_manhattan_scene(&opts);
+    let camera = PinholeCamera {
+        image: ImageSize {
+            width: opts.width_px,
+            height: opts.height_px,
+        },
+        focal_px: opts.focal_px,
+        principal_point_px: Vector2::new(300.0, 250.0),
+        height_m: opts.camera_height_m,
+        pitch_rad: opts.pitch_rad,
+        roll_rad: opts.roll_rad,
+    };
+    let (s, c) = opts.yaw_rad.sin_cos();
+    let axes = [
+        Vector3::new(c, s, 0.0),
+        Vector3::new(-s, c, 0.0),
+        Vector3::z(),
+    ];
+    for (axis, vp) in axes.iter().zip(scene.vanishing_points_px) {
+        let expected = camera.vanishing_point(*axis).expect("finite");
+        let vp = vp.expect("finite");
+        assert!(
+            (expected.x - vp[0]).abs() < 1e-6 && (expected.y - vp[1]).abs() < 1e-6,
+            "{expected:?} vs {vp:?}"
+        );
+    }
+    assert_eq!(scene.image.width(), 640);
+    assert_eq!(scene.boxes, 5);
+}
+
+#[test]
+fn three_point_colour_640x480() {
+    check(&SceneRenderOptions::default(), 1.0, 0.03);
+}
+
+#[test]
+fn two_point_grey_with_roll() {
+    let found = check(
+        &SceneRenderOptions {
+            focal_px: 500.0,
+            pitch_rad: 0.0,
+            roll_rad: 5f64.to_radians(),
+            yaw_rad: 40f64.to_radians(),
+            colour: false,
+            seed: 1,
+            ..SceneRenderOptions::default()
+        },
+        1.0,
+        0.03,
+    );
+    // Two-point perspective: the principal point is not estimated.
+    assert!(!found.principal_point_estimated);
+    assert_eq!(found.intrinsics.principal_point_px, [320.0, 240.0]);
+}
+
+#[test]
+fn three_point_long_focal_with_negative_roll() {
+    check(
+        &SceneRenderOptions {
+            focal_px: 800.0,
+            pitch_rad: 15f64.to_radians(),
+            roll_rad: -8f64.to_radians(),
+            yaw_rad: 55f64.to_radians(),
+            seed: 2,
+            ..SceneRenderOptions::default()
+        },
+        1.0,
+        0.03,
+    );
+}
+
+#[test]
+fn three_point_wide_angle_steep_pitch() {
+    check(
+        &SceneRenderOptions {
+            focal_px: 380.0,
+            pitch_rad: 40f64.to_radians(),
+            roll_rad: 3f64.to_radians(),
+            yaw_rad: 25f64.to_radians(),
+            seed: 3,
+            ..SceneRenderOptions::default()
+        },
+        1.0,
+        0.03,
+    );
+}
+
+#[test]
+fn large_2000x1500_is_downscaled_and_reported_in_input_pixels() {
+    let opts = SceneRenderOptions {
+        width_px: 2000,
+        height_px: 1500,
+        focal_px: 1800.0,
+        pitch_rad: 35f64.to_radians(),
+        roll_rad: -4f64.to_radians(),
+        yaw_rad: 20f64.to_radians(),
+        seed: 0,
+        ..SceneRenderOptions::default()
+    };
+    let found = check(&opts, 1.0, 0.03);
+    // Segments are in input pixels: they reach beyond the 640-pixel working image.
+    let reach = found
+        .segments
+        .iter()
+        .flat_map(|s| [s.start_px[0], s.end_px[0]])
+        .fold(0.0f64, f64::max);
+    assert!(reach > 1500.0, "rightmost segment end at x = {reach}");
+    assert!(found.segments.iter().any(|s| s.length_px() > 300.0));
+    // The vanishing points are consistent with the reported intrinsics.
+    let k = found.intrinsics;
+    for vp in &found.vanishing_points {
+        let d = vp.direction_camera;
+        let p = vp.point_px.expect("finite");
+        let expected = [
+            k.focal_px * d[0] / d[2] + k.principal_point_px[0],
+            k.focal_px * d[1] / d[2] + k.principal_point_px[1],
+        ];
+        assert!((p[0] - expected[0]).abs() < 1e-6 * p[0].abs().max(1.0));
+        assert!((p[1] - expected[1]).abs() < 1e-6 * p[1].abs().max(1.0));
+    }
+}
+
+#[test]
+fn known_intrinsics_are_kept_and_give_tighter_directions() {
+    let opts = SceneRenderOptions {
+        focal_px: 650.0,
+        principal_point_px: Some([300.0, 255.0]),
+        pitch_rad: 20f64.to_radians(),
+        roll_rad: 2f64.to_radians(),
+        yaw_rad: 35f64.to_radians(),
+        seed: 5,
+        ..SceneRenderOptions::default()
+    };
+    let scene = render_manhattan_scene(&opts);
+    let found = detect(
+        &scene.image,
+        &DetectOptions {
+            focal_px: Some(650.0),
+            principal_point_px: Some([300.0, 255.0]),
+            ..DetectOptions::default()
+        },
+    )
+    .expect("detect");
+    assert_eq!(found.intrinsics, scene.intrinsics);
+    assert!(!found.focal_estimated && !found.principal_point_estimated);
+    check_against(&scene, &found, 0.5);
+}
+
+#[test]
+fn a_jpeg_round_trip_still_gives_the_camera() {
+    let opts = SceneRenderOptions {
+        pitch_rad: 10f64.to_radians(),
+        yaw_rad: 50f64.to_radians(),
+        seed: 6,
+        ..SceneRenderOptions::default()
+    };
+    let scene = render_manhattan_scene(&opts);
+    let rgb = scene.image.to_rgb8();
+    let mut bytes = Vec::new();
+    image::codecs::jpeg::JpegEncoder::new_with_quality(&mut bytes, 80)
+        .write_image(
+            rgb.as_raw(),
+            rgb.width(),
+            rgb.height(),
+            image::ExtendedColorType::Rgb8,
+        )
+        .expect("encode");
+    let decoded = image::load_from_memory(&bytes).expect("decode");
+    let found = detect(&decoded, &DetectOptions::default()).expect("detect");
+    check_against(&scene, &found, 1.0);
+    assert!((found.intrinsics.focal_px / opts.focal_px - 1.0).abs() < 0.03);
+}
+
+#[test]
+fn the_two_point_tolerance_decides_the_perspective() {
+    // 2 degrees of pitch: three-point at a 1-degree tolerance, two-point at 3 degrees.
+    let scene = render_manhattan_scene(&SceneRenderOptions {
+        pitch_rad: 2f64.to_radians(),
+        yaw_rad: 35f64.to_radians(),
+        seed: 7,
+        ..SceneRenderOptions::default()
+    });
+    let strict = DetectOptions {
+        two_point_tolerance_deg: 1.0,
+        ..DetectOptions::default()
+    };
+    let found = detect(&scene.image, &strict).expect("detect");
+    assert!(
+        (found.vertical_tilt_deg - 2.0).abs() < 0.7,
+        "tilt {}",
+        found.vertical_tilt_deg
+    );
+    assert_eq!(found.perspective, Perspective::ThreePoint);
+    let found = detect(&scene.image, &DetectOptions::default()).expect("detect");
+    assert_eq!(found.perspective, Perspective::TwoPoint);
+}
+
+#[test]
+fn the_same_seed_gives_the_same_result() {
+    let scene = render_manhattan_scene(&SceneRenderOptions {
+        seed: 8,
+        ..SceneRenderOptions::default()
+    });
+    let a = detect(&scene.image, &DetectOptions::default()).expect("detect");
+    let b = detect(&scene.image, &DetectOptions::default()).expect("detect");
+    assert_eq!(a, b);
+}
+
+#[test]
+fn a_sixteen_bit_grey_image_works_like_the_eight_bit_one() {
+    let scene = render_manhattan_scene(&SceneRenderOptions {
+        seed: 9,
+        ..SceneRenderOptions::default()
+    });
+    let grey16 = image::DynamicImage::ImageLuma16(scene.image.to_luma16());
+    let found = detect(&grey16, &DetectOptions::default()).expect("detect");
+    check_against(&scene, &found, 1.0);
+}
