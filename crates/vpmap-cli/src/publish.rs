@@ -44,6 +44,28 @@ pub fn replace_section(path: &Path, name: &str, content: &str) -> Result<()> {
     write_file(path, new)
 }
 
+/// The command line as typed, `vpmap` for the program, arguments quoted for a POSIX shell
+/// where needed.
+#[must_use]
+pub fn command_line() -> String {
+    let args: Vec<String> = std::iter::once("vpmap".to_owned())
+        .chain(std::env::args().skip(1))
+        .collect();
+    shell_words::join(args)
+}
+
+/// Now, UTC, as `YYYY-MM-DD HH:MM UTC`.
+#[must_use]
+pub fn utc_now() -> String {
+    chrono::Utc::now().format("%Y-%m-%d %H:%M UTC").to_string()
+}
+
+/// Today's date, UTC, as `YYYY-MM-DD`.
+#[must_use]
+pub fn utc_date() -> String {
+    chrono::Utc::now().format("%Y-%m-%d").to_string()
+}
+
 /// The machine, for a results table: CPU model, logical cores, memory, OS.
 #[must_use]
 pub fn machine_description() -> String {
@@ -98,5 +120,12 @@ mod tests {
         std::fs::write(&path, "<!-- eval:end -->\n<!-- eval:begin -->\n").unwrap();
         assert!(replace_section(&path, "eval", "x").is_err());
         assert!(machine_description().contains("logical cores"));
+        assert!(command_line().starts_with("vpmap"));
+        let (date, now) = (utc_date(), utc_now());
+        assert_eq!(date.len(), 10);
+        assert!(
+            now.starts_with(&date[..7]) && now.ends_with(" UTC"),
+            "{now}"
+        );
     }
 }

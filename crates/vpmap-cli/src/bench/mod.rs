@@ -327,55 +327,6 @@ fn run_all(
     Ok(results)
 }
 
-/// The command line as typed, with `vpmap` for the program and shell quoting where needed.
-fn command_line() -> String {
-    std::iter::once("vpmap".to_owned())
-        .chain(std::env::args().skip(1).map(|a| shell_quote(&a)))
-        .collect::<Vec<_>>()
-        .join(" ")
-}
-
-fn shell_quote(arg: &str) -> String {
-    let plain = !arg.is_empty()
-        && arg
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || "-_./,=:+@%".contains(c));
-    if plain {
-        arg.to_owned()
-    } else {
-        format!("'{}'", arg.replace('\'', r"'\''"))
-    }
-}
-
-/// Now, UTC, as `YYYY-MM-DD HH:MM UTC`.
-fn utc_now() -> String {
-    let secs = std::time::SystemTime::now()
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_secs());
-    let days = (secs / 86_400) as i64;
-    let (y, m, d) = civil_from_days(days);
-    let rem = secs % 86_400;
-    format!(
-        "{y:04}-{m:02}-{d:02} {:02}:{:02} UTC",
-        rem / 3600,
-        rem % 3600 / 60
-    )
-}
-
-/// Year, month, day of a day count since 1970-01-01 (H. Hinnant's `civil_from_days`).
-fn civil_from_days(z: i64) -> (i64, u32, u32) {
-    let z = z + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z.rem_euclid(146_097);
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let d = (doy - (153 * mp + 2) / 5 + 1) as u32;
-    let m = if mp < 10 { mp + 3 } else { mp - 9 } as u32;
-    let y = yoe + era * 400 + i64::from(m <= 2);
-    (y, m, d)
-}
-
 /// `path` made absolute and with `.` and `..` removed lexically.
 fn normalized(path: &Path) -> PathBuf {
     let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
@@ -443,8 +394,8 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     let results = Results {
         planners,
         maps: measured,
-        command: command_line(),
-        date: utc_now(),
+        command: crate::publish::command_line(),
+        date: crate::publish::utc_now(),
         machine: machine_description(),
         repeat: args.repeat,
         per_map: args.per_map,
@@ -529,10 +480,7 @@ mod tests {
     }
 
     #[test]
-    fn dates_and_links() {
-        assert_eq!(civil_from_days(0), (1970, 1, 1));
-        assert_eq!(civil_from_days(20_454), (2026, 1, 1));
-        assert_eq!(civil_from_days(19_782), (2024, 2, 29));
+    fn links() {
         assert_eq!(
             relative_link(Path::new("/a/docs"), Path::new("/a/bench-out")),
             "../bench-out"
@@ -543,8 +491,5 @@ mod tests {
             relative_link(Path::new("/a/./b/../c"), Path::new("/a/d")),
             "../d"
         );
-        assert_eq!(shell_quote("--out"), "--out");
-        assert_eq!(shell_quote("a b"), "'a b'");
-        assert_eq!(shell_quote("it's"), r"'it'\''s'");
     }
 }

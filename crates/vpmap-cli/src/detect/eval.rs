@@ -41,6 +41,10 @@ pub struct EvalDetectArgs {
     /// The detector's internal downscale: longer side at most this, pixels.
     #[arg(long, default_value_t = default_options().max_side_px)]
     pub max_side: u32,
+    /// Also write the summary into the `detect` section of this Markdown file (e.g.
+    /// docs/results.md), with the command line, date and machine.
+    #[arg(long)]
+    pub publish: Option<PathBuf>,
 }
 
 /// A labelled photo.
@@ -358,6 +362,11 @@ pub fn evaluate(pairs: &[Pair], max_side: u32) -> Result<Vec<ImageResult>> {
 
 /// `vpmap eval-detect`.
 pub fn run_eval_detect(args: &EvalDetectArgs) -> Result<()> {
+    // Time detection on one core: the segment detector would otherwise spread over every
+    // core through rayon's global pool. (Fails only if the pool already exists.)
+    let _ = rayon::ThreadPoolBuilder::new()
+        .num_threads(1)
+        .build_global();
     if !MAX_SIDE_RANGE.contains(&args.max_side) {
         bail!(
             "--max-side must be from {} to {} pixels, got {}",
@@ -411,6 +420,22 @@ pub fn run_eval_detect(args: &EvalDetectArgs) -> Result<()> {
             .filter_map(|p| p.file_name().map(|n| n.to_string_lossy().into_owned()))
             .collect();
         println!("wrote {} in {}", names.join(", "), out.display());
+    }
+    if let Some(path) = &args.publish {
+        let body = report::markdown(&context, &results, &summaries);
+        let body = body
+            .split_once('\n')
+            .map_or(body.as_str(), |(_, rest)| rest)
+            .trim_start();
+        let section = format!(
+            "## Vanishing-point detection on real photos (`vpmap eval-detect`)\n\n\
+             Measured on {}, {}, with\n\n    {}\n\n{body}",
+            crate::publish::machine_description(),
+            crate::publish::utc_now(),
+            crate::publish::command_line()
+        );
+        crate::publish::replace_section(path, "detect", &section)?;
+        println!("published the summary into {}", path.display());
     }
     Ok(())
 }

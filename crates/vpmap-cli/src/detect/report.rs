@@ -310,7 +310,7 @@ pub fn markdown(ctx: &Context, results: &[ImageResult], summaries: &[Summary; 2]
     let mut out = String::from("# Vanishing-point detection (`vpmap eval-detect`)\n\n");
     let _ = writeln!(
         out,
-        "{} labelled photos from `{}`{}, 3 vanishing points each; detector at `--max-side {}`, one photo at a time, each detected twice: with the true intrinsics given and with them estimated.\n",
+        "{} labelled photos from `{}`{}, 3 vanishing points each; detector at `--max-side {}`, one photo at a time on one core, each detected twice: with the true intrinsics given and with them estimated.\n",
         summaries[0].images,
         ctx.dir,
         if summaries[0].images < ctx.available {

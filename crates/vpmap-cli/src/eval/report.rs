@@ -647,46 +647,13 @@ const METHOD_NOTE: &str = "Each trial draws a random scene of the set-up from vp
 
 /// The published section: where, when and how it was measured, then the report.
 pub fn published(body: &str, elapsed: Duration) -> String {
-    let command: Vec<String> = std::iter::once("vpmap".to_owned())
-        .chain(std::env::args().skip(1).map(|a| shell_quote(&a)))
-        .collect();
     format!(
         "## Map accuracy under annotation noise (`vpmap eval`)\n\nMeasured on {}, {} (UTC), in {:.1} s, with\n\n    {}\n\n{body}",
         crate::publish::machine_description(),
-        utc_date(std::time::SystemTime::now()),
+        crate::publish::utc_date(),
         elapsed.as_secs_f64(),
-        command.join(" ")
+        crate::publish::command_line()
     )
-}
-
-fn shell_quote(arg: &str) -> String {
-    if !arg.is_empty()
-        && arg
-            .chars()
-            .all(|c| c.is_ascii_alphanumeric() || "-_./,=:+".contains(c))
-    {
-        arg.to_owned()
-    } else {
-        format!("'{}'", arg.replace('\'', "'\\''"))
-    }
-}
-
-/// The calendar date `YYYY-MM-DD` (UTC) of a time (days-from-civil inverse, H. Hinnant's
-/// algorithm).
-fn utc_date(t: std::time::SystemTime) -> String {
-    let secs = t
-        .duration_since(std::time::UNIX_EPOCH)
-        .map_or(0, |d| d.as_secs());
-    let z = (secs / 86_400) as i64 + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z.rem_euclid(146_097);
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let day = doy - (153 * mp + 2) / 5 + 1;
-    let month = if mp < 10 { mp + 3 } else { mp - 9 };
-    let year = yoe + era * 400 + i64::from(month <= 2);
-    format!("{year:04}-{month:02}-{day:02}")
 }
 
 /// A few lines on stdout: per method and noise level, the centroid shift and the overlap.
@@ -732,19 +699,13 @@ mod tests {
     use super::*;
 
     #[test]
-    fn dates_and_numbers_are_formatted_by_hand_rules() {
-        let day = |d: u64| std::time::UNIX_EPOCH + Duration::from_secs(d * 86_400 + 3600);
-        assert_eq!(utc_date(day(0)), "1970-01-01");
-        assert_eq!(utc_date(day(11_016)), "2000-02-29");
-        assert_eq!(utc_date(day(20_454)), "2026-01-01");
+    fn numbers_are_formatted_by_hand_rules() {
         assert_eq!(fmt(0.0), "0");
         assert_eq!(fmt(3.2e-12), "3e-12");
         assert_eq!(fmt(-12.345), "-12.35");
         assert_eq!(csv_number(1.0 / 3.0), "0.3333333");
         assert_eq!(csv_number(f64::NAN), "");
         assert_eq!(csv_text("a,b"), "\"a,b\"");
-        assert_eq!(shell_quote("0,0.5"), "0,0.5");
-        assert_eq!(shell_quote("a b"), "'a b'");
     }
 
     #[test]
