@@ -735,27 +735,11 @@ impl Legend {
                 r#"<text x="{:.3}" y="{:.3}" dominant-baseline="central">{}</text>"#,
                 x + 2.4 * f,
                 y,
-                xml_text(label)
+                vpmap_render::escape_xml(label)
             );
         }
         out.push_str("</g>\n");
     }
-}
-
-/// `text` with the XML special characters escaped.
-fn xml_text(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            c => out.push(c),
-        }
-    }
-    out
 }
 
 #[cfg(test)]
@@ -828,6 +812,5 @@ mod tests {
     fn counts_and_text_read_well() {
         assert_eq!(counted(1, "bug"), "1 bug");
         assert_eq!(counted(0, "alternative"), "0 alternatives");
-        assert_eq!(xml_text("a<b & 'c'"), "a&lt;b &amp; &apos;c&apos;");
     }
 }

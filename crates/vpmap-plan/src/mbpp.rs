@@ -185,6 +185,20 @@ pub struct BugTrack {
     pub fate: BugFate,
 }
 
+impl BugTrack {
+    /// A bug's record at birth on `cell` (its track holds `cell` when `record`).
+    fn born(parent: Option<usize>, cell: Xy, record: bool, fate: BugFate) -> Self {
+        Self {
+            parent,
+            cells: if record { vec![to_u(cell)] } else { Vec::new() },
+            hits: Vec::new(),
+            leaves: Vec::new(),
+            steps: 0,
+            fate,
+        }
+    }
+}
+
 /// Work counters of [`mbpp`] (including nested re-planning runs).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 #[non_exhaustive]
@@ -555,18 +569,12 @@ fn run(
         return Outcome {
             best: Some(vec![to_u(start)]),
             alternatives: Vec::new(),
-            bugs: vec![BugTrack {
-                parent: None,
-                cells: if opts.record_tracks {
-                    vec![to_u(start)]
-                } else {
-                    Vec::new()
-                },
-                hits: Vec::new(),
-                leaves: Vec::new(),
-                steps: 0,
-                fate: BugFate::ReachedGoal,
-            }],
+            bugs: vec![BugTrack::born(
+                None,
+                start,
+                opts.record_tracks,
+                BugFate::ReachedGoal,
+            )],
         };
     }
     let mut walk = Walk::new(
@@ -639,18 +647,7 @@ impl<'g> Walk<'g> {
             cell: start,
             anchor: 0,
             mode: Mode::Greedy { line, position: 0 },
-            track: BugTrack {
-                parent: None,
-                cells: if record {
-                    vec![to_u(start)]
-                } else {
-                    Vec::new()
-                },
-                hits: Vec::new(),
-                leaves: Vec::new(),
-                steps: 0,
-                fate: BugFate::Stuck,
-            },
+            track: BugTrack::born(None, start, record, BugFate::Stuck),
         };
         Self {
             grid,
@@ -843,16 +840,8 @@ impl<'g> Walk<'g> {
             anchor,
             mode: left,
             track: BugTrack {
-                parent: Some(b),
-                cells: if self.record {
-                    vec![to_u(cell)]
-                } else {
-                    Vec::new()
-                },
                 hits: vec![to_u(cell)],
-                leaves: Vec::new(),
-                steps: 0,
-                fate: BugFate::Stuck,
+                ..BugTrack::born(Some(b), cell, self.record, BugFate::Stuck)
             },
         };
         if let Some(bug) = self.bugs.get_mut(b) {

@@ -40,4 +40,4 @@ pub mod svg;
 pub use error::RenderError;
 pub use model::model_glb;
 pub use raster::svg_to_png;
-pub use svg::{FloorPlanStyle, floor_plan_svg};
+pub use svg::{FloorPlanStyle, escape_xml, floor_plan_svg};

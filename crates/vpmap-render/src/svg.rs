@@ -131,7 +131,7 @@ fn unit_names(units: Units) -> UnitNames {
 
 /// Escape the five XML special characters and drop characters XML 1.0 forbids.
 #[must_use]
-pub(crate) fn escape_xml(text: &str) -> String {
+pub fn escape_xml(text: &str) -> String {
     let mut out = String::with_capacity(text.len());
     for c in text.chars() {
         match c {

@@ -23,7 +23,7 @@ use vpmap_vision::{DetectOptions, Detection};
 
 use super::geom::{Vec3, direction_of_pixel, line_angle_deg, normalize};
 use super::report;
-use super::{MAX_SIDE_RANGE, default_options, read_photo, run_detector};
+use super::{default_options, read_photo, run_detector};
 use crate::output::OutputSet;
 
 /// Arguments of `vpmap eval-detect`.
@@ -367,14 +367,7 @@ pub fn run_eval_detect(args: &EvalDetectArgs) -> Result<()> {
     let _ = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build_global();
-    if !MAX_SIDE_RANGE.contains(&args.max_side) {
-        bail!(
-            "--max-side must be from {} to {} pixels, got {}",
-            MAX_SIDE_RANGE.start(),
-            MAX_SIDE_RANGE.end(),
-            args.max_side
-        );
-    }
+    super::check_max_side(args.max_side)?;
     if args.limit == Some(0) {
         bail!("--limit must be at least 1");
     }

@@ -205,14 +205,7 @@ fn check_args(args: &DetectArgs) -> Result<Option<[f64; 2]>> {
             num(args.two_point_tolerance)
         );
     }
-    if !MAX_SIDE_RANGE.contains(&args.max_side) {
-        bail!(
-            "--max-side must be from {} to {} pixels, got {}",
-            MAX_SIDE_RANGE.start(),
-            MAX_SIDE_RANGE.end(),
-            args.max_side
-        );
-    }
+    check_max_side(args.max_side)?;
     if args.out.to_string_lossy().ends_with('/') || args.out.is_dir() {
         bail!(
             "--out {} is a folder; give a file name such as scene.json",
@@ -501,4 +494,16 @@ fn wrap(text: &str, width: usize) -> String {
         line_len += len;
     }
     out
+}
+
+/// `--max-side` must be within [`MAX_SIDE_RANGE`].
+pub(crate) fn check_max_side(max_side: u32) -> Result<()> {
+    if !MAX_SIDE_RANGE.contains(&max_side) {
+        bail!(
+            "--max-side must be from {} to {} pixels, got {max_side}",
+            MAX_SIDE_RANGE.start(),
+            MAX_SIDE_RANGE.end(),
+        );
+    }
+    Ok(())
 }
