@@ -7,6 +7,7 @@ mod eval;
 mod output;
 mod plan;
 mod publish;
+mod serve;
 mod synth;
 
 use std::path::PathBuf;
@@ -92,6 +93,8 @@ enum Command {
     Detect(detect::DetectArgs),
     /// Measure vanishing-point detection on a folder of labelled photos (York Urban format).
     EvalDetect(detect::EvalDetectArgs),
+    /// Serve the local web page (annotate a photo, see its map, 3D model and path).
+    Serve(serve::ServeArgs),
 }
 
 /// Parse the command line; usage errors become one line (`error: ...`) and exit code 2.
@@ -139,6 +142,7 @@ fn main() -> ExitCode {
         Command::Bench(args) => bench::run(&args),
         Command::Detect(args) => detect::run_detect(&args),
         Command::EvalDetect(args) => detect::run_eval_detect(&args),
+        Command::Serve(args) => serve::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

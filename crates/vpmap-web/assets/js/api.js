@@ -1,0 +1,78 @@
+// The vpmap server's JSON API. Every call takes an AbortSignal; errors carry the server's
+// `{"error": "..."}` message.
+
+export class ApiError extends Error {
+  constructor(message, status) {
+    super(message);
+    this.name = 'ApiError';
+    this.status = status;
+  }
+}
+
+/** True for the rejection of an aborted request (which callers ignore). */
+export function isAbort(err) {
+  return err && (err.name === 'AbortError' || err.code === 20);
+}
+
+async function call(path, { method = 'GET', body, type, signal } = {}) {
+  const headers = {};
+  if (type) headers['Content-Type'] = type;
+  let res;
+  try {
+    res = await fetch(path, { method, body, headers, signal, cache: 'no-store' });
+  } catch (err) {
+    if (isAbort(err)) throw err;
+    throw new ApiError(`cannot reach the vpmap server (${err.message}); is \`vpmap serve\` still running?`, 0);
+  }
+  const text = await res.text();
+  let json = null;
+  try {
+    json = text ? JSON.parse(text) : null;
+  } catch {
+    // Not JSON: fall through with the text.
+  }
+  if (!res.ok) {
+    const msg = (json && typeof json.error === 'string' && json.error) || text.trim() || res.statusText;
+    throw new ApiError(msg || `HTTP ${res.status}`, res.status);
+  }
+  if (json === null) throw new ApiError(`the server answered ${path} with something that is not JSON`, res.status);
+  return json;
+}
+
+function query(params) {
+  const q = new URLSearchParams();
+  for (const [k, v] of Object.entries(params)) {
+    if (v === undefined || v === null || v === '') continue;
+    q.set(k, String(v));
+  }
+  const s = q.toString();
+  return s ? `?${s}` : '';
+}
+
+/** `GET /api/example` -> `{scene, photo_png_base64}`. */
+export function getExample(signal) {
+  return call('api/example', { signal });
+}
+
+/** `POST /api/build` with the scene -> `{map, svg, glb_base64, occupancy, camera, warnings}`. */
+export function build(scene, { method, resolution, robot_radius }, signal) {
+  return call(`api/build${query({ method, resolution, robot_radius })}`, {
+    method: 'POST',
+    body: JSON.stringify(scene),
+    type: 'application/json',
+    signal,
+  });
+}
+
+/** `POST /api/detect` with the photo's bytes -> `{scene, segments, vanishing_points, perspective, focal_px, principal_point}`. */
+export function detect(photo, { focal_px, principal_point }, signal) {
+  return call(
+    `api/detect${query({ focal_px, principal_point: principal_point ? principal_point.join(',') : undefined })}`,
+    { method: 'POST', body: photo, type: photo.type || 'application/octet-stream', signal },
+  );
+}
+
+/** `POST /api/plan` -> `{results: [...], grid}`. */
+export function plan(request, signal) {
+  return call('api/plan', { method: 'POST', body: JSON.stringify(request), type: 'application/json', signal });
+}

@@ -1,0 +1,492 @@
+// The floor plan: the SVG that /api/build returns, shown inline, with the planned paths drawn
+// over it and clicks turned into map coordinates.
+//
+// Picture <-> map coordinates. vpmap-render (crates/vpmap-render/src/svg.rs) draws every map
+// point (x, y) at picture pixel (px, py) = (a + s x, b - s y): one scale s on both axes, +y up
+// the page; the SVG's user units are those pixels (its viewBox is 0 0 width height) and no
+// `transform` attribute is involved. The SVG does not state a, b and s, so the page recovers
+// them from the drawing itself: the floor outline (`#floor`), each object's footprint
+// (`#object-<i>`), the free space (`#free-space path`) and the floor in view
+// (`#field-of-view path`) are paths whose corners are exactly the map's `floor`,
+// `objects[i].footprint`, `free_space` rings and `camera.view_on_floor`, in order, written
+// with two decimals. A least-squares fit over those pairs gives a, b and s to about 0.01 px
+// (checked: the residual is logged when it is above 0.5 px). Only when the map has none of
+// them does the page fall back to recomputing the layout the way svg.rs does (`plot_frame`:
+// the map's bounds plus a 6 % margin, fitted into the `#plot-clip` rectangle).
+// A click is taken from screen to SVG user units with the SVG's getScreenCTM(), then to
+// metres with the inverse of the fitted transform. The overlay is drawn in the same user
+// units, inside the SVG, so it scales and exports with the plan.
+
+import { SVG_NS, svgEl, base64ToBytes, fmt } from './util.js';
+import { fitPlanTransform, parsePathRings } from './geometry.js';
+
+const ID_PREFIX = 'fp-';
+const BUG_COLOURS = ['#1f77b4', '#ff7f0e', '#2ca02c', '#9467bd', '#8c564b', '#e377c2', '#17becf', '#bcbd22'];
+export const PLANNER_STYLE = {
+  mbpp: { label: 'MBPP', colour: '#6a3d9a', width: 3.2, dash: null },
+  'astar-ps': { label: 'A* PS', colour: '#ef7d00', width: 2.4, dash: null },
+  optimal: { label: 'optimal', colour: '#138a72', width: 2, dash: '7 5' },
+};
+
+const finite = (p) => Array.isArray(p) && Number.isFinite(p[0]) && Number.isFinite(p[1]);
+
+/** Pairs of map points and picture points for the transform fit (see the file comment). */
+export function transformPairs(doc, map) {
+  const pairs = [];
+  const byId = (id) => doc.querySelector(`[id="${id}"]`);
+  const match = (el, rings) => {
+    if (!el) return;
+    const pic = parsePathRings(el.getAttribute('d') || '');
+    if (!pic) return;
+    const mapRings = rings.map((r) => (r || []).filter(finite)).filter((r) => r.length >= 3);
+    if (pic.length !== mapRings.length) return;
+    pic.forEach((ring, i) => {
+      if (ring.length !== mapRings[i].length) return;
+      ring.forEach((q, j) => {
+        // Points far outside the plot are clamped to +-1e6 px by svg.rs: useless here.
+        if (Math.abs(q[0]) < 9e5 && Math.abs(q[1]) < 9e5) pairs.push([mapRings[i][j], q]);
+      });
+    });
+  };
+  match(byId('floor'), [map.floor || []]);
+  (map.objects || []).forEach((o, i) => match(byId(`object-${i}`), [o.footprint || []]));
+  const free = doc.querySelectorAll('[id="free-space"] path');
+  const freeMap = (map.free_space || []).filter((p) => (p.exterior || []).filter(finite).length >= 3);
+  if (free.length === freeMap.length) {
+    free.forEach((el, i) => match(el, [freeMap[i].exterior, ...(freeMap[i].holes || [])]));
+  }
+  const fov = doc.querySelector('[id="field-of-view"] path');
+  const view = map.camera?.view_on_floor || [];
+  if (fov && view.filter(finite).length >= 3 && !fov.nextElementSibling) match(fov, [view]);
+  return pairs;
+}
+
+/** svg.rs's `plot_frame`, for maps with nothing to fit to. */
+function layoutTransform(doc, map) {
+  const rect = doc.querySelector('[id="plot-clip"] rect');
+  if (!rect) return null;
+  const left = Number(rect.getAttribute('x'));
+  const top = Number(rect.getAttribute('y'));
+  const width = Number(rect.getAttribute('width'));
+  let min = [0, 0], max = [0, 0];
+  const include = (p) => {
+    if (!finite(p)) return;
+    min = [Math.min(min[0], p[0]), Math.min(min[1], p[1])];
+    max = [Math.max(max[0], p[0]), Math.max(max[1], p[1])];
+  };
+  (map.floor || []).forEach(include);
+  (map.objects || []).forEach((o) => (o.footprint || []).forEach(include));
+  (map.free_space || []).forEach((p) => [p.exterior || [], ...(p.holes || [])].forEach((r) => r.forEach(include)));
+  const size = Math.max(max[0] - min[0], max[1] - min[1]);
+  const h = map.camera?.height;
+  const margin = size > 0 ? size * 0.06 : h > 0 ? h : 1;
+  min = [min[0] - margin, min[1] - margin];
+  max = [max[0] + margin, max[1] + margin];
+  let dx = max[0] - min[0], dy = max[1] - min[1];
+  const cx = (min[0] + max[0]) / 2, cy = (min[1] + max[1]) / 2;
+  if (dy > 1.5 * dx) dx = dy / 1.5;
+  if (dy < 0.35 * dx) dy = 0.35 * dx;
+  const s = width / dx;
+  const xMin = cx - dx / 2, yMax = cy + dy / 2;
+  return { a: left - xMin * s, b: top + yMax * s, s, rms: NaN, n: 0 };
+}
+
+/** The plot rectangle with room for the axis labels (svg.rs: labels left of and below it), or `full`. */
+function plotBox(svg, full) {
+  const rect = svg.querySelector(`[id="${ID_PREFIX}plot-clip"] rect`);
+  if (!rect) return full;
+  const x = Number(rect.getAttribute('x')), y = Number(rect.getAttribute('y'));
+  const w = Number(rect.getAttribute('width')), h = Number(rect.getAttribute('height'));
+  if (![x, y, w, h].every(Number.isFinite) || !(w > 0 && h > 0)) return full;
+  const f = full.w / 1000;
+  const left = Math.min(x - full.x, 58 * f), bottom = 40 * f, pad = 6 * f;
+  return { x: x - left, y: y - pad, w: w + left + pad, h: h + pad + bottom };
+}
+
+/** Give every id in the SVG a prefix (and follow the references), so it cannot clash with the page's ids. */
+function prefixIds(root) {
+  for (const el of root.querySelectorAll('[id]')) el.id = ID_PREFIX + el.id;
+  const attrs = ['clip-path', 'fill', 'stroke', 'mask', 'filter', 'marker-start', 'marker-mid', 'marker-end'];
+  for (const el of root.querySelectorAll('*')) {
+    for (const a of attrs) {
+      const v = el.getAttribute(a);
+      if (v && v.includes('url(#')) el.setAttribute(a, v.replace(/url\(#/g, `url(#${ID_PREFIX}`));
+    }
+    for (const a of ['href', 'xlink:href']) {
+      const v = el.getAttribute(a);
+      if (v && v.startsWith('#')) el.setAttribute(a, `#${ID_PREFIX}${v.slice(1)}`);
+    }
+  }
+}
+
+/** A PGM (P5, 8-bit) occupancy image as a data: URL: occupied dark, unknown grey, free clear. */
+function pgmToDataUrl(bytes) {
+  let pos = 0;
+  const token = () => {
+    for (;;) {
+      while (pos < bytes.length && /\s/.test(String.fromCharCode(bytes[pos]))) pos++;
+      if (bytes[pos] === 35) {
+        while (pos < bytes.length && bytes[pos] !== 10) pos++;
+      } else break;
+    }
+    let s = '';
+    while (pos < bytes.length && !/\s/.test(String.fromCharCode(bytes[pos]))) s += String.fromCharCode(bytes[pos++]);
+    return s;
+  };
+  if (token() !== 'P5') return null;
+  const w = Number(token()), hgt = Number(token()), max = Number(token());
+  pos++;
+  if (!(w > 0 && hgt > 0 && max > 0 && max < 256) || bytes.length < pos + w * hgt) return null;
+  const canvas = document.createElement('canvas');
+  canvas.width = w;
+  canvas.height = hgt;
+  const ctx = canvas.getContext('2d');
+  const img = ctx.createImageData(w, hgt);
+  for (let i = 0; i < w * hgt; i++) {
+    const v = bytes[pos + i];
+    const o = i * 4;
+    if (v <= 50) { img.data[o] = 30; img.data[o + 1] = 30; img.data[o + 2] = 40; img.data[o + 3] = 150; }
+    else if (v < 250) { img.data[o] = 120; img.data[o + 1] = 120; img.data[o + 2] = 120; img.data[o + 3] = 70; }
+  }
+  ctx.putImageData(img, 0, 0);
+  return canvas.toDataURL('image/png');
+}
+
+export class PlanView {
+  /**
+   * @param {HTMLElement} host
+   * @param {{onPick: (p: number[]) => void}} handlers  `onPick` gets a click's map point.
+   */
+  constructor(host, { onPick }) {
+    this.host = host;
+    this.onPick = onPick;
+    this.svg = null;
+    this.tf = null;
+    this.map = null;
+    this.occupancy = null;
+    this.occupancyUrl = null;
+    this.plan = null;
+    this.start = null;
+    this.goal = null;
+    this.layers = { bugs: true, alternatives: true, mbpp: true, 'astar-ps': true, optimal: true, occupancy: false };
+    this.coords = document.createElement('div');
+    this.coords.className = 'plan-coords';
+    // Overlay sizes are in screen pixels: redraw when the plan's size changes.
+    let lastW = 0;
+    new ResizeObserver(() => {
+      const w = this.host.clientWidth;
+      if (this.svg && w !== lastW) this.draw();
+      lastW = w;
+    }).observe(host);
+  }
+
+  /** Show a new plan picture for `map` (the map.json object); `occupancy` from the build. */
+  setBuild(svgText, map, occupancy) {
+    const doc = new DOMParser().parseFromString(svgText, 'image/svg+xml');
+    if (doc.querySelector('parsererror') || doc.documentElement.localName !== 'svg') {
+      throw new Error('the server sent a floor plan that is not valid SVG');
+    }
+    const pairs = transformPairs(doc, map);
+    let tf = fitPlanTransform(pairs);
+    if (!tf) tf = layoutTransform(doc, map);
+    if (!tf) throw new Error('cannot relate the floor plan picture to map coordinates');
+    if (tf.rms > 0.5) console.warn(`floor plan transform: residual ${tf.rms.toFixed(2)} px over ${tf.n} points`);
+    prefixIds(doc.documentElement);
+    const svg = document.importNode(doc.documentElement, true);
+    const vb = svg.viewBox.baseVal;
+    if (!vb || !vb.width) {
+      svg.setAttribute('viewBox', `0 0 ${svg.getAttribute('width')} ${svg.getAttribute('height')}`);
+    }
+    svg.removeAttribute('width');
+    svg.removeAttribute('height');
+    svg.setAttribute('aria-label', 'Floor plan. Click to set the start or the goal of a path.');
+    svg.setAttribute('id', 'plan-svg');
+    const overlay = svgEl('g', { id: `${ID_PREFIX}overlay`, class: 'vp-overlay' });
+    if (svg.querySelector(`[id="${ID_PREFIX}plot-clip"]`)) overlay.setAttribute('clip-path', `url(#${ID_PREFIX}plot-clip)`);
+    svg.append(overlay);
+    this.host.replaceChildren(svg, this.coords);
+    // Keep the user's zoom across rebuilds: remember it in map units.
+    const prevMapBox = this.svg && this.box && !this.atHome ? this.boxToMap(this.box) : null;
+    this.svg = svg;
+    this.overlay = overlay;
+    this.tf = tf;
+    this.map = map;
+    const full = svg.viewBox.baseVal;
+    this.fullBox = { x: full.x, y: full.y, w: full.width, h: full.height };
+    this.homeBox = plotBox(svg, this.fullBox);
+    if (prevMapBox) this.setBox(this.mapToBox(prevMapBox), false);
+    else this.setBox(this.homeBox, true);
+    this.listen(svg);
+    if (occupancy !== this.occupancy) {
+      this.occupancy = occupancy;
+      this.occupancyUrl = null;
+    }
+    this.draw();
+  }
+
+  /** Pointer and keyboard input on the plan: click picks a point, drag pans, wheel zooms. */
+  listen(svg) {
+    svg.setAttribute('tabindex', '0');
+    let press = null;
+    svg.addEventListener('pointerdown', (e) => {
+      if (e.button !== 0 && e.button !== 1) return;
+      press = { id: e.pointerId, x: e.clientX, y: e.clientY, box: { ...this.box }, panning: e.button === 1 };
+      svg.setPointerCapture(e.pointerId);
+      e.preventDefault();
+    });
+    svg.addEventListener('pointermove', (e) => {
+      const m = this.clientToMap(e.clientX, e.clientY);
+      const u = this.map?.units === 'm' ? 'm' : 'ch';
+      this.coords.textContent = m ? `x ${fmt(m[0])} ${u}, y ${fmt(m[1])} ${u}` : '';
+      if (!press || press.id !== e.pointerId) return;
+      if (!press.panning && Math.hypot(e.clientX - press.x, e.clientY - press.y) > 4) press.panning = true;
+      if (press.panning) {
+        const k = this.unitsPerPx(press.box);
+        this.setBox({ ...press.box, x: press.box.x - (e.clientX - press.x) * k, y: press.box.y - (e.clientY - press.y) * k }, false);
+        svg.classList.add('panning');
+      }
+    });
+    const end = (e, cancelled) => {
+      if (!press || press.id !== e.pointerId) return;
+      const wasPan = press.panning;
+      press = null;
+      svg.classList.remove('panning');
+      if (wasPan) this.draw();
+      else if (!cancelled && e.button === 0) {
+        const m = this.clientToMap(e.clientX, e.clientY);
+        if (m) this.onPick(m);
+      }
+    };
+    svg.addEventListener('pointerup', (e) => end(e, false));
+    svg.addEventListener('pointercancel', (e) => end(e, true));
+    svg.addEventListener('pointerleave', () => {
+      if (!press) this.coords.textContent = '';
+    });
+    svg.addEventListener('wheel', (e) => {
+      e.preventDefault();
+      const dy = e.deltaMode === 1 ? e.deltaY * 33 : e.deltaY;
+      this.zoomAt(Math.exp(dy * 0.0015), e.clientX, e.clientY);
+    }, { passive: false });
+    svg.addEventListener('keydown', (e) => {
+      const r = svg.getBoundingClientRect();
+      const cx = r.left + r.width / 2, cy = r.top + r.height / 2;
+      const k = this.unitsPerPx(this.box) * 40;
+      const pan = { ArrowLeft: [-k, 0], ArrowRight: [k, 0], ArrowUp: [0, -k], ArrowDown: [0, k] }[e.key];
+      if (e.key === '+' || e.key === '=') this.zoomAt(0.8, cx, cy);
+      else if (e.key === '-' || e.key === '_') this.zoomAt(1.25, cx, cy);
+      else if (e.key === '0') this.fit();
+      else if (pan) this.setBox({ ...this.box, x: this.box.x + pan[0], y: this.box.y + pan[1] }, false, true);
+      else return;
+      e.preventDefault();
+    });
+  }
+
+  /** SVG user units per screen pixel for a view box (the larger of the two axes: "meet"). */
+  unitsPerPx(box) {
+    const r = this.svg.getBoundingClientRect();
+    if (r.width < 2 || r.height < 2) return box.w / 600; // hidden (a narrow screen's other tab)
+    return Math.max(box.w / Math.max(1, r.width), box.h / Math.max(1, r.height));
+  }
+
+  setBox(box, atHome, redraw = true) {
+    this.box = box;
+    this.atHome = atHome;
+    this.svg.setAttribute('viewBox', `${box.x} ${box.y} ${box.w} ${box.h}`);
+    if (redraw && this.overlay) this.draw();
+  }
+
+  /** Zoom by `factor` (< 1 zooms in) about a client point. */
+  zoomAt(factor, cx, cy) {
+    const ctm = this.svg.getScreenCTM();
+    if (!ctm) return;
+    const p = new DOMPoint(cx, cy).matrixTransform(ctm.inverse());
+    const b = this.box;
+    const w = Math.min(this.fullBox.w * 4, Math.max(this.fullBox.w / 50, b.w * factor));
+    const f = w / b.w;
+    this.setBox({ x: p.x - (p.x - b.x) * f, y: p.y - (p.y - b.y) * f, w: b.w * f, h: b.h * f }, false);
+  }
+
+  /** Show the plot (the map area with its axes). */
+  fit() {
+    if (this.svg) this.setBox(this.homeBox, true);
+  }
+
+  /** Show the whole picture, with title and legend. */
+  showAll() {
+    if (this.svg) this.setBox(this.fullBox, false);
+  }
+
+  boxToMap(b) {
+    return [this.svgToMap([b.x, b.y]), this.svgToMap([b.x + b.w, b.y + b.h])];
+  }
+
+  mapToBox([p, q]) {
+    const a = this.mapToSvg(p), c = this.mapToSvg(q);
+    return { x: a[0], y: a[1], w: c[0] - a[0], h: c[1] - a[1] };
+  }
+
+  clear() {
+    this.svg = null;
+    this.tf = null;
+    this.host.replaceChildren(Object.assign(document.createElement('p'), { className: 'empty', textContent: 'The floor plan appears here once the scene builds.' }));
+  }
+
+  markStale(stale) {
+    this.host.classList.toggle('stale', stale);
+  }
+
+  mapToSvg(p) {
+    const { a, b, s } = this.tf;
+    return [a + s * p[0], b - s * p[1]];
+  }
+
+  svgToMap(q) {
+    const { a, b, s } = this.tf;
+    return [(q[0] - a) / s, (b - q[1]) / s];
+  }
+
+  clientToMap(cx, cy) {
+    if (!this.svg || !this.tf) return null;
+    const ctm = this.svg.getScreenCTM();
+    if (!ctm) return null;
+    const q = new DOMPoint(cx, cy).matrixTransform(ctm.inverse());
+    return this.svgToMap([q.x, q.y]);
+  }
+
+  /** Viewport coordinates of a map point (used by the end-to-end test to click). */
+  mapToClient(p) {
+    if (!this.svg || !this.tf) return null;
+    const q = this.mapToSvg(p);
+    const r = new DOMPoint(q[0], q[1]).matrixTransform(this.svg.getScreenCTM());
+    return [r.x, r.y];
+  }
+
+  setMarkers(start, goal) {
+    this.start = start;
+    this.goal = goal;
+    this.draw();
+  }
+
+  setPlan(plan) {
+    this.plan = plan;
+    this.draw();
+  }
+
+  setLayer(name, on) {
+    this.layers[name] = on;
+    this.draw();
+  }
+
+  /** User units for `px` screen pixels at the current zoom (so the overlay keeps its size). */
+  u(px) {
+    return px * (this.svg && this.box ? this.unitsPerPx(this.box) : 1);
+  }
+
+  points(list) {
+    return list.filter(finite).map((p) => this.mapToSvg(p).map((v) => v.toFixed(2)).join(',')).join(' ');
+  }
+
+  polyline(parent, pts, attrs) {
+    if (!pts || pts.length < 2) return null;
+    const el = svgEl('polyline', { points: this.points(pts), fill: 'none', 'stroke-linejoin': 'round', 'stroke-linecap': 'round', ...attrs });
+    parent.append(el);
+    return el;
+  }
+
+  draw() {
+    if (!this.overlay) return;
+    const g = this.overlay;
+    g.replaceChildren();
+    if (this.layers.occupancy && this.occupancy) this.drawOccupancy(g);
+    const results = (this.plan && this.plan.results) || [];
+    const byName = Object.fromEntries(results.map((r) => [r.planner, r]));
+    const mbpp = byName.mbpp;
+    if (mbpp && this.layers.bugs) this.drawBugs(g, mbpp.bugs || []);
+    if (mbpp && this.layers.alternatives) {
+      const alt = svgEl('g', { class: 'vp-alternatives', stroke: '#8a8a8a', 'stroke-width': this.u(1.6), 'stroke-dasharray': `${this.u(5)} ${this.u(4)}`, 'stroke-opacity': 0.9 });
+      for (const a of mbpp.alternatives || []) this.polyline(alt, a.waypoints, {});
+      g.append(alt);
+    }
+    for (const name of ['astar-ps', 'mbpp', 'optimal']) {
+      const r = byName[name];
+      const st = PLANNER_STYLE[name];
+      if (!r || !r.found || !this.layers[name]) continue;
+      this.polyline(g, r.waypoints, {
+        class: `vp-path vp-path-${name}`,
+        'data-planner': name,
+        stroke: st.colour,
+        'stroke-width': this.u(st.width),
+        'stroke-dasharray': st.dash ? st.dash.split(' ').map((v) => this.u(Number(v))).join(' ') : null,
+      });
+    }
+    for (const [p, label, colour] of [[this.start, 'S', '#1b8a3a'], [this.goal, 'G', '#c62828']]) {
+      if (!finite(p)) continue;
+      const [x, y] = this.mapToSvg(p);
+      const m = svgEl('g', { class: `vp-marker vp-marker-${label === 'S' ? 'start' : 'goal'}` });
+      m.append(svgEl('circle', { cx: x, cy: y, r: this.u(9), fill: colour, stroke: '#fff', 'stroke-width': this.u(2) }));
+      const t = svgEl('text', { x, y: y + this.u(4.5), 'text-anchor': 'middle', 'font-size': this.u(12), 'font-weight': 700, fill: '#fff' });
+      t.textContent = label;
+      m.append(t);
+      g.append(m);
+    }
+  }
+
+  drawBugs(g, bugs) {
+    // Bug tracks, hits and leave points are map points (the centres of the cells walked).
+    const wrap = svgEl('g', { class: 'vp-bugs', fill: 'none', 'stroke-width': this.u(1.4), 'stroke-opacity': 0.75, 'stroke-linejoin': 'round', 'stroke-linecap': 'round' });
+    const conv = (list) => (Array.isArray(list) ? list.filter(finite) : []);
+    bugs.forEach((bug, i) => {
+      const colour = BUG_COLOURS[i % BUG_COLOURS.length];
+      const cells = conv(bug.cells);
+      const line = this.polyline(wrap, cells.length === 1 ? [cells[0], cells[0]] : cells, { stroke: colour, class: 'vp-bug', 'data-bug': i });
+      if (line) {
+        const title = svgEl('title');
+        title.textContent = `bug ${i + 1}${bug.fate ? `: ${bug.fate}` : ''}`;
+        line.append(title);
+      }
+      const arm = this.u(3.5);
+      for (const p of conv(bug.hits)) {
+        const [x, y] = this.mapToSvg(p);
+        wrap.append(svgEl('path', { d: `M${x - arm} ${y - arm}L${x + arm} ${y + arm}M${x - arm} ${y + arm}L${x + arm} ${y - arm}`, stroke: colour, 'stroke-width': this.u(1.6), 'stroke-opacity': 1 }));
+      }
+      for (const p of conv(bug.leaves)) {
+        const [x, y] = this.mapToSvg(p);
+        wrap.append(svgEl('circle', { cx: x, cy: y, r: this.u(3), fill: '#fff', stroke: colour, 'stroke-opacity': 1 }));
+      }
+    });
+    g.append(wrap);
+  }
+
+  drawOccupancy(g) {
+    const o = this.occupancy;
+    if (!o || !o.pgm_base64) return;
+    if (!this.occupancyUrl) this.occupancyUrl = pgmToDataUrl(base64ToBytes(o.pgm_base64));
+    if (!this.occupancyUrl) return;
+    const res = o.resolution, origin = o.origin;
+    if (!(res > 0) || !Array.isArray(origin)) return;
+    const [x0, y0] = this.mapToSvg([origin[0], origin[1] + o.height * res]);
+    const s = this.tf.s;
+    g.append(svgEl('image', {
+      class: 'vp-occupancy',
+      href: this.occupancyUrl,
+      x: x0, y: y0, width: o.width * res * s, height: o.height * res * s,
+      preserveAspectRatio: 'none',
+      'image-rendering': 'optimizeSpeed',
+    }));
+  }
+
+  /** The plan as a standalone SVG document (with the overlay), for download. */
+  serialize() {
+    if (!this.svg) return null;
+    const clone = this.svg.cloneNode(true);
+    const vb = this.fullBox;
+    clone.setAttribute('viewBox', `${vb.x} ${vb.y} ${vb.w} ${vb.h}`);
+    clone.setAttribute('width', String(vb.w));
+    clone.setAttribute('height', String(vb.h));
+    clone.removeAttribute('tabindex');
+    clone.removeAttribute('class');
+    clone.removeAttribute('aria-label');
+    clone.setAttribute('xmlns', SVG_NS);
+    return `<?xml version="1.0" encoding="UTF-8"?>\n${new XMLSerializer().serializeToString(clone)}`;
+  }
+}

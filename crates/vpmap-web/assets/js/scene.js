@@ -1,0 +1,144 @@
+// The scene file (docs/scene-format.md) as the page edits it. The page keeps the scene in
+// exactly the file's shape, so saving is `JSON.stringify` and unknown fields survive a round trip.
+
+import { vpPoint } from './geometry.js';
+
+export const VP_NAMES = ['Horizontal A', 'Horizontal B', 'Vertical'];
+export const VP_COLOURS = ['#e53935', '#2e9d3a', '#1e73d8'];
+
+/** A new scene for a photo of `width` x `height` pixels. */
+export function emptyScene(width, height) {
+  return {
+    version: 1,
+    image: { width, height },
+    vanishing_points: [{ lines: [] }, { lines: [] }],
+    objects: [],
+    floor: [],
+  };
+}
+
+/**
+ * Check a parsed JSON value is plausibly a scene, and fill in the lists the page relies on.
+ * Returns an error message or null. The server does the real validation.
+ */
+export function normaliseScene(scene) {
+  if (!scene || typeof scene !== 'object' || Array.isArray(scene)) return 'the file is not a JSON object';
+  if (scene.version !== 1) return `unsupported scene version ${JSON.stringify(scene.version)} (expected 1)`;
+  const img = scene.image;
+  if (!img || !(img.width > 0) || !(img.height > 0)) return 'the scene has no valid `image` {width, height}';
+  if (!Array.isArray(scene.vanishing_points)) scene.vanishing_points = [];
+  while (scene.vanishing_points.length < 2) scene.vanishing_points.push({ lines: [] });
+  for (const vp of scene.vanishing_points) {
+    if (vp.lines !== undefined && !Array.isArray(vp.lines)) return '`vanishing_points[].lines` must be a list';
+  }
+  if (!Array.isArray(scene.objects)) scene.objects = [];
+  if (!Array.isArray(scene.floor)) scene.floor = [];
+  return null;
+}
+
+/** The vanishing point entry can be resolved (a point, or two or more lines). */
+export function vpUsable(vp) {
+  if (!vp) return false;
+  if (Array.isArray(vp.point) && vp.point.length === 2) return true;
+  return Array.isArray(vp.lines) && vp.lines.length >= 2;
+}
+
+/** Why the scene cannot be built yet, or null when it can be sent to /api/build. */
+export function buildBlocker(scene) {
+  if (!scene) return 'open a photo or a scene';
+  const vps = scene.vanishing_points || [];
+  for (let i = 0; i < Math.min(vps.length, 3); i++) {
+    if (!vpUsable(vps[i])) {
+      return `${VP_NAMES[i]} vanishing point needs a point or at least two lines`;
+    }
+  }
+  if (vps.length < 2) return 'two horizontal vanishing points are needed';
+  if (scene.floor && scene.floor.length > 0 && scene.floor.length < 3) return 'the floor needs at least 3 corners';
+  return null;
+}
+
+/** A name like `base 2` not used by any object yet. */
+export function uniqueName(scene, base) {
+  const used = new Set(scene.objects.map((o) => o.name));
+  for (let i = 1; ; i++) {
+    const n = `${base} ${i}`;
+    if (!used.has(n)) return n;
+  }
+}
+
+/** Get the value at `path` (a list of keys) in `obj`. */
+export function getAt(obj, path) {
+  let v = obj;
+  for (const k of path) {
+    if (v == null) return undefined;
+    v = v[k];
+  }
+  return v;
+}
+
+/** Set the value at `path` in `obj`. */
+export function setAt(obj, path, value) {
+  let v = obj;
+  for (const k of path.slice(0, -1)) v = v[k];
+  v[path[path.length - 1]] = value;
+}
+
+/**
+ * Every draggable point of the scene: `{path, p, kind, owner}` where `path` locates the point
+ * (`p` is `[x, y]`) or, for segment ends, the segment and `end` 0 or 1.
+ */
+export function handles(scene) {
+  const out = [];
+  if (!scene) return out;
+  scene.objects.forEach((o, i) => {
+    if (o.base) {
+      for (const k of ['near', 'right', 'left']) {
+        if (o.base[k]) out.push({ path: ['objects', i, 'base', k], p: o.base[k], kind: 'object', owner: i });
+      }
+    }
+    if (Array.isArray(o.footprint)) {
+      o.footprint.forEach((p, j) => out.push({ path: ['objects', i, 'footprint', j], p, kind: 'object', owner: i }));
+    }
+    if (o.top) {
+      for (const k of ['near', 'left', 'point']) {
+        if (Array.isArray(o.top[k])) out.push({ path: ['objects', i, 'top', k], p: o.top[k], kind: 'object', owner: i });
+      }
+    }
+  });
+  (scene.floor || []).forEach((p, j) => out.push({ path: ['floor', j], p, kind: 'floor' }));
+  const fd = scene.scale && scene.scale.floor_distance;
+  if (fd) {
+    for (const k of ['from', 'to']) if (fd[k]) out.push({ path: ['scale', 'floor_distance', k], p: fd[k], kind: 'scale' });
+  }
+  (scene.vanishing_points || []).forEach((vp, k) => {
+    (vp.lines || []).forEach((s, j) => {
+      out.push({ path: ['vanishing_points', k, 'lines', j], end: 0, p: [s[0], s[1]], kind: 'vp', owner: k });
+      out.push({ path: ['vanishing_points', k, 'lines', j], end: 1, p: [s[2], s[3]], kind: 'vp', owner: k });
+    });
+  });
+  return out;
+}
+
+/** The image outline of an object (for selection): its base polygon, or the box's three base corners. */
+export function objectOutline(o) {
+  if (Array.isArray(o.footprint)) return o.footprint;
+  if (o.base) {
+    const { near, right, left } = o.base;
+    if (near && right && left) {
+      // The fourth (hidden) corner completes the parallelogram well enough for hit testing.
+      const far = [right[0] + left[0] - near[0], right[1] + left[1] - near[1]];
+      return [near, right, far, left];
+    }
+  }
+  return [];
+}
+
+/** The resolved vanishing points of the scene (null entries where unknown). */
+export function resolvedVps(scene) {
+  return (scene?.vanishing_points || []).map(vpPoint);
+}
+
+/** A deep copy (the scene is plain JSON). */
+export function cloneScene(scene) {
+  return scene ? JSON.parse(JSON.stringify(scene)) : null;
+}

@@ -1,0 +1,361 @@
+// End-to-end test of the page served by `vpmap serve`, in headless Chromium.
+//
+//   cd crates/vpmap-web/e2e && npm ci && node e2e.mjs
+//
+// Starts `target/release/vpmap serve --port 0` (or uses VPMAP_URL), loads the page, loads the
+// example, opens a new scene on the example photo, runs detection, places the example's
+// corners with the guided tools (mouse clicks on the photo), checks the floor plan, the 3D view
+// and the pitch (within 0.5 degrees of the example's), plans a path by clicking a start and a
+// goal on the floor plan, checks a path is drawn, saves the scene and the PNG plan, and takes
+// a screenshot. Exits 0 on success, 1 with a message naming the failed step otherwise; the
+// whole run is limited to 2 minutes.
+//
+// Environment:
+//   VPMAP_URL             test a running server at this URL instead of starting one
+//   VPMAP_BIN             the vpmap binary (default: <repo>/target/release/vpmap)
+//   VPMAP_E2E_MOCK=1      start mock-server.mjs instead of `vpmap serve`
+//   VPMAP_E2E_CHROMIUM    Chromium executable (default: /usr/bin/chromium)
+//   VPMAP_E2E_SCREENSHOT  screenshot path (default: /tmp/vpmap-e2e.png)
+//   VPMAP_E2E_HEADED=1    show the browser window
+
+import { spawn } from 'node:child_process';
+import { existsSync } from 'node:fs';
+import { readFile } from 'node:fs/promises';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+
+const HERE = dirname(fileURLToPath(import.meta.url));
+const REPO = join(HERE, '..', '..', '..');
+const TOTAL_MS = 120_000;
+const SCREENSHOT = process.env.VPMAP_E2E_SCREENSHOT || '/tmp/vpmap-e2e.png';
+const CHROMIUM = process.env.VPMAP_E2E_CHROMIUM || '/usr/bin/chromium';
+const PITCH_TOLERANCE_DEG = 0.5;
+// Start and goal on the example's free floor (map metres, at least 0.4 m from any obstacle
+// with the default 0.2 m robot radius): right of the crate, and behind it to the right of the
+// bookcase, so that MBPP has to go round the crate and the floor it hides (4 bugs).
+const PLAN_START = [1.1, 1.7];
+const PLAN_GOAL = [0.2, 5.0];
+
+const started = Date.now();
+let server = null;
+let browser = null;
+let page = null;
+let currentStep = 'start-up';
+
+function log(msg) {
+  console.log(`[${((Date.now() - started) / 1000).toFixed(1).padStart(5)} s] ${msg}`);
+}
+
+async function cleanup() {
+  try {
+    await browser?.close();
+  } catch {
+    // Closing a dead browser.
+  }
+  if (server && server.exitCode === null) server.kill('SIGTERM');
+}
+
+async function fail(msg) {
+  console.error(`\nE2E FAILED in step "${currentStep}": ${msg}`);
+  if (page) {
+    const shot = SCREENSHOT.replace(/(\.png)?$/, '-failed.png');
+    try {
+      await page.screenshot({ path: shot, timeout: 5000 });
+      console.error(`screenshot of the failure: ${shot}`);
+    } catch {
+      // No screenshot: the browser is gone.
+    }
+  }
+  await cleanup();
+  process.exit(1);
+}
+
+const watchdog = setTimeout(() => fail(`did not finish within ${TOTAL_MS / 1000} s`), TOTAL_MS);
+
+function check(cond, msg) {
+  if (!cond) throw new Error(msg);
+}
+
+async function step(name, fn) {
+  currentStep = name;
+  log(name);
+  try {
+    return await fn();
+  } catch (err) {
+    await fail(err && err.message ? err.message : String(err));
+  }
+}
+
+/** Start the server and return its base URL. */
+function startServer() {
+  if (process.env.VPMAP_URL) return Promise.resolve(process.env.VPMAP_URL.replace(/\/?$/, '/'));
+  let cmd, args;
+  if (process.env.VPMAP_E2E_MOCK === '1') {
+    cmd = process.execPath;
+    args = [join(HERE, 'mock-server.mjs'), '--port', '0'];
+  } else {
+    cmd = process.env.VPMAP_BIN || join(REPO, 'target', 'release', 'vpmap');
+    if (!existsSync(cmd)) throw new Error(`${cmd} does not exist: run \`cargo build --release\` first, or set VPMAP_BIN or VPMAP_URL`);
+    args = ['serve', '--port', '0'];
+  }
+  log(`starting ${cmd} ${args.join(' ')}`);
+  server = spawn(cmd, args, { stdio: ['ignore', 'pipe', 'pipe'] });
+  return new Promise((resolve, reject) => {
+    let seen = '';
+    const timer = setTimeout(() => reject(new Error(`the server printed no http:// address within 20 s; it printed:\n${seen}`)), 20_000);
+    const onData = (buf) => {
+      seen += buf.toString();
+      const m = seen.match(/https?:\/\/[^\s"'<>]+/);
+      if (m) {
+        clearTimeout(timer);
+        // Bind-all addresses are not browsable: use the loopback address.
+        resolve(m[0].replace('://0.0.0.0', '://127.0.0.1').replace('://[::]', '://[::1]').replace(/\/?$/, '/'));
+      }
+    };
+    server.stdout.on('data', onData);
+    server.stderr.on('data', onData);
+    server.on('exit', (code) => {
+      clearTimeout(timer);
+      reject(new Error(`the server exited with code ${code} before printing its address:\n${seen}`));
+    });
+  });
+}
+
+async function main() {
+  const url = await step('start the server', startServer);
+  log(`server at ${url}`);
+
+  await step('launch Chromium', async () => {
+    check(existsSync(CHROMIUM), `${CHROMIUM} not found: install Chromium (apt-get install -y chromium) or set VPMAP_E2E_CHROMIUM`);
+    browser = await chromium.launch({
+      executablePath: CHROMIUM,
+      headless: process.env.VPMAP_E2E_HEADED !== '1',
+      // Software WebGL for the 3D view on machines without a GPU.
+      args: ['--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
+    });
+  });
+  page = await browser.newPage({ viewport: { width: 1600, height: 1000 }, acceptDownloads: true });
+  const problems = [];
+  page.on('console', (m) => {
+    if (m.type() === 'error') problems.push(`console error: ${m.text()}`);
+  });
+  page.on('pageerror', (e) => problems.push(`uncaught exception: ${e.message}`));
+  page.on('requestfailed', (r) => {
+    const why = r.failure()?.errorText || '';
+    if (!why.includes('ERR_ABORTED')) problems.push(`request failed: ${r.url()} (${why})`);
+  });
+  page.on('request', (r) => {
+    const u = r.url();
+    if (!u.startsWith(url) && !u.startsWith('data:') && !u.startsWith('blob:')) problems.push(`external request: ${u}`);
+  });
+  const noProblems = () => check(problems.length === 0, problems.join('\n'));
+
+  const status = () => page.evaluate(() => window.vpmap.status());
+  /** Wait until at least `n` builds succeeded and nothing is pending or running. */
+  const settle = async (what, counters, timeout = 30_000) => {
+    try {
+      await page.waitForFunction(
+        (want) => {
+          const s = window.vpmap.status();
+          return !s.pending && s.busy.length === 0 && Object.entries(want).every(([k, v]) => s[k] >= v);
+        },
+        counters,
+        { timeout, polling: 50 },
+      );
+    } catch {
+      const s = await status();
+      throw new Error(`${what} did not finish: ${JSON.stringify({ busy: s.busy, builds: s.builds, plans: s.plans, detects: s.detects, buildError: s.buildError, planError: s.planError })}`);
+    }
+    const s = await status();
+    if (s.buildError) throw new Error(`the build failed: ${s.buildError}`);
+    return s;
+  };
+  const clickImage = async (p) => {
+    const [x, y] = await page.evaluate(([px, py]) => window.vpmap.imageToClient(px, py), p);
+    await page.mouse.click(x, y);
+  };
+  /** The pitch the page shows: its value, checked against the text on screen (2 decimals). */
+  const displayedPitch = async () => {
+    const v = await page.locator('#cam-pitch').getAttribute('data-value');
+    const text = await page.textContent('#cam-pitch');
+    check(v !== null && /^-?\d+\.\d\d°$/.test(text), `no pitch is displayed (the page shows "${text}")`);
+    check(Math.abs(Number(v) - parseFloat(text)) <= 0.0051, `the page shows pitch "${text}" for ${v}`);
+    return Number(v);
+  };
+
+  await step('load the page', async () => {
+    const res = await page.goto(url, { waitUntil: 'load' });
+    check(res && res.ok(), `GET ${url} answered ${res && res.status()}`);
+    await page.waitForFunction(() => !!window.vpmap, null, { timeout: 10_000 });
+    noProblems();
+  });
+
+  let example;
+  let examplePitch;
+  await step('load the example', async () => {
+    await page.click('#btn-example');
+    const s = await settle('building the example', { builds: 1 }, 60_000);
+    example = await page.evaluate(() => window.vpmap.scene());
+    check(example && example.objects.length > 0, 'the example scene has no objects');
+    examplePitch = await displayedPitch();
+    check(Math.abs(examplePitch - s.camera.pitch_deg) < 0.01, 'the displayed pitch is not the build answer\'s');
+    await page.waitForSelector('#plan-host svg', { timeout: 10_000 });
+    log(`  example: ${example.objects.length} objects, ${example.floor.length} floor corners, pitch ${examplePitch.toFixed(3)} deg`);
+  });
+
+  await step('new scene and detection on the example photo', async () => {
+    const before = (await status()).detects;
+    await page.click('#btn-new-scene');
+    const blank = await page.evaluate(() => window.vpmap.scene());
+    check(blank.objects.length === 0 && blank.floor.length === 0, 'New scene did not clear the annotations');
+    await page.click('#btn-detect');
+    const s = await settle('detection', { detects: before + 1 }, 30_000);
+    const scene = await page.evaluate(() => window.vpmap.scene());
+    const vps = scene.vanishing_points.filter((v) => v.point || (v.lines && v.lines.length >= 2));
+    check(vps.length === example.vanishing_points.length, `detection found ${vps.length} vanishing points, the example has ${example.vanishing_points.length}`);
+    log(`  detected ${scene.vanishing_points.length} vanishing points, focal ${scene.focal_px}, ${s.builds} builds so far`);
+  });
+
+  await step('place the example\'s corners', async () => {
+    const points = [];
+    for (const [i, o] of example.objects.entries()) {
+      if (o.base) {
+        await page.click('#btn-add-box');
+        await page.waitForSelector('#prompt:not([data-tool="select"])');
+        const text = await page.textContent('#prompt-text');
+        check(/near base corner/.test(text), `the box prompt reads "${text}"`);
+        const seq = [o.base.near, o.base.right, o.base.left];
+        if (o.top?.near) seq.push(o.top.near);
+        if (o.top?.near && o.top?.left) seq.push(o.top.left);
+        for (const p of seq) {
+          await clickImage(p);
+          points.push([p, ['objects', i]]);
+        }
+        if (seq.length < 5) await page.keyboard.press('Enter'); // skip the optional top corner(s)
+      } else {
+        await page.click('#btn-add-footprint');
+        await page.waitForSelector('#prompt:not([data-tool="select"])');
+        for (const p of o.footprint) {
+          await clickImage(p);
+          points.push([p, ['objects', i]]);
+        }
+        await page.keyboard.press('Enter'); // polygon done
+        if (o.top) {
+          await page.selectOption('#prompt-above', String(o.top.above));
+          await clickImage(o.top.point);
+        } else await page.keyboard.press('Enter');
+      }
+      await page.waitForSelector('#prompt[data-tool="select"]');
+      const input = page.locator(`#object-list li[data-index="${i}"] .obj-name`);
+      await input.fill(o.name);
+      await input.press('Enter');
+    }
+    if (example.floor.length) {
+      await page.click('#btn-floor');
+      for (const p of example.floor) await clickImage(p);
+      await page.keyboard.press('Enter');
+      await page.waitForSelector('#prompt[data-tool="select"]');
+    }
+    const sc = example.scale;
+    if (sc?.camera_height_m !== undefined) {
+      await page.check('#scale-camera');
+      await page.fill('#scale-camera-m', String(sc.camera_height_m));
+    } else if (sc?.object !== undefined) {
+      await page.check('#scale-object');
+      await page.selectOption('#scale-object-name', sc.object);
+      await page.selectOption('#scale-object-dim', sc.dimension);
+      await page.fill('#scale-object-m', String(sc.meters));
+    } else if (sc) {
+      throw new Error(`the test cannot enter a scale of the form ${JSON.stringify(sc)}`);
+    }
+    // Compare what the page recorded with the example's corners.
+    const placed = await page.evaluate(() => window.vpmap.scene());
+    check(placed.objects.length === example.objects.length, `${placed.objects.length} objects placed, expected ${example.objects.length}`);
+    const flat = (o) => [
+      ...(o.base ? [o.base.near, o.base.right, o.base.left] : o.footprint),
+      ...(o.top ? [o.top.near, o.top.left, o.top.point].filter(Boolean) : []),
+    ];
+    let worst = 0;
+    example.objects.forEach((o, i) => {
+      const a = flat(o), b = flat(placed.objects[i]);
+      check(placed.objects[i].name === o.name, `object ${i} is named "${placed.objects[i].name}", expected "${o.name}"`);
+      check(a.length === b.length, `object ${o.name}: ${b.length} points placed, expected ${a.length}`);
+      a.forEach((p, j) => (worst = Math.max(worst, Math.hypot(p[0] - b[j][0], p[1] - b[j][1]))));
+    });
+    example.floor.forEach((p, j) => (worst = Math.max(worst, Math.hypot(p[0] - placed.floor[j][0], p[1] - placed.floor[j][1]))));
+    check(worst < 3, `a placed corner is ${worst.toFixed(2)} px from the example's`);
+    check(JSON.stringify(placed.scale) === JSON.stringify(example.scale), `scale ${JSON.stringify(placed.scale)}, expected ${JSON.stringify(example.scale)}`);
+    log(`  placed ${points.length} object corners and ${example.floor.length} floor corners, worst ${worst.toFixed(2)} px off`);
+  });
+
+  await step('floor plan, 3D view and pitch', async () => {
+    const before = (await status()).builds;
+    await page.waitForTimeout(150); // let the last edit's debounce start
+    const s = await settle('the build after the corners', { builds: Math.max(before, 1) });
+    check(s.camera, 'no camera after the build');
+    const svg = page.locator('#plan-host svg');
+    check((await svg.count()) === 1, 'no floor plan SVG');
+    const box = await svg.boundingBox();
+    check(box && box.width > 100 && box.height > 100, `the floor plan is ${JSON.stringify(box)}`);
+    const objects = await page.locator('#plan-host svg [id^="fp-object-"]').count();
+    check(objects === example.objects.length, `the floor plan shows ${objects} objects, expected ${example.objects.length}`);
+    await page.waitForFunction(() => Number(document.getElementById('model-host').dataset.meshes) > 0, null, { timeout: 30_000 });
+    const canvas = await page.locator('#model-host canvas').boundingBox();
+    check(canvas && canvas.width > 100 && canvas.height > 100, `the 3D canvas is ${JSON.stringify(canvas)}`);
+    const pitch = await displayedPitch();
+    log(`  pitch ${pitch.toFixed(3)} deg (example ${examplePitch.toFixed(3)}), roll ${await page.textContent('#cam-roll')}, focal ${await page.textContent('#cam-focal')}`);
+    check(Math.abs(pitch - examplePitch) <= PITCH_TOLERANCE_DEG, `pitch ${pitch.toFixed(3)} deg differs from the example's ${examplePitch.toFixed(3)} deg by more than ${PITCH_TOLERANCE_DEG}`);
+    noProblems();
+  });
+
+  await step('plan a path', async () => {
+    const before = (await status()).plans;
+    for (const p of [PLAN_START, PLAN_GOAL]) {
+      const q = await page.evaluate(([x, y]) => window.vpmap.planMapToClient(x, y), p);
+      check(q, 'the floor plan has no coordinate transform');
+      const box = await page.locator('#plan-host svg').boundingBox();
+      check(q[0] > box.x && q[0] < box.x + box.width && q[1] > box.y && q[1] < box.y + box.height, `map point ${p} is outside the visible floor plan`);
+      await page.mouse.click(q[0], q[1]);
+    }
+    const s = await settle('planning', { plans: before + 1 }, 60_000);
+    check(s.planError === null, `planning failed: ${s.planError}`);
+    for (const [got, want, name] of [[s.start, PLAN_START, 'start'], [s.goal, PLAN_GOAL, 'goal']]) {
+      check(got && Math.hypot(got[0] - want[0], got[1] - want[1]) < 0.05, `the ${name} is ${JSON.stringify(got)}, clicked at ${JSON.stringify(want)}`);
+    }
+    const mbpp = s.plan.results.find((r) => r.planner === 'mbpp');
+    check(mbpp && mbpp.found, 'MBPP found no path');
+    const line = page.locator('#plan-host svg .vp-path-mbpp');
+    check((await line.count()) === 1, 'no MBPP path is drawn on the floor plan');
+    const pts = (await line.getAttribute('points')).trim().split(/\s+/);
+    check(pts.length >= 2, 'the drawn MBPP path has fewer than 2 points');
+    const rows = await page.locator('#plan-table tbody tr').count();
+    check(rows === s.plan.results.length, `the results table has ${rows} rows for ${s.plan.results.length} planners`);
+    for (const r of s.plan.results) log(`  ${r.planner}: ${r.found ? `${r.length_m.toFixed(3)} m` : 'no path'}, ${r.time_ms.toFixed(2)} ms${r.planner === 'mbpp' ? `, ${(r.bugs || []).length} bugs, ${(r.alternatives || []).length} alternatives` : ''}`);
+  });
+
+  await step('save the scene and the PNG plan', async () => {
+    const [dl] = await Promise.all([page.waitForEvent('download'), page.click('#btn-save-scene')]);
+    const saved = JSON.parse(await readFile(await dl.path(), 'utf8'));
+    check(saved.objects.length === example.objects.length && saved.version === 1, 'the saved scene does not hold the objects');
+    const [png] = await Promise.all([page.waitForEvent('download'), page.click('[data-download="png"]')]);
+    const bytes = await readFile(await png.path());
+    check(bytes.length > 1000 && bytes.subarray(1, 4).toString() === 'PNG', 'the floor-plan PNG download is not a PNG');
+    noProblems();
+  });
+
+  await step('screenshot', async () => {
+    await page.screenshot({ path: SCREENSHOT });
+    log(`  screenshot: ${SCREENSHOT}`);
+  });
+  noProblems();
+}
+
+main()
+  .then(async () => {
+    clearTimeout(watchdog);
+    await cleanup();
+    log('E2E PASSED');
+    process.exit(0);
+  })
+  .catch((err) => fail(err.stack || String(err)));

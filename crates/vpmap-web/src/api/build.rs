@@ -1,0 +1,172 @@
+//! `POST /api/build`: a scene in; the map, its floor plan, 3D model, occupancy grid and the
+//! camera out.
+
+use std::time::Instant;
+
+use axum::body::Bytes;
+use axum::extract::rejection::BytesRejection;
+use axum::extract::{RawQuery, State};
+use axum::http::HeaderMap;
+use axum::response::Response;
+use base64::Engine as _;
+use base64::engine::general_purpose::STANDARD as BASE64;
+use serde::Serialize;
+use vpmap_metrology::map::{CameraReport, FloorMap};
+use vpmap_plan::ros::encode_ros_map;
+use vpmap_render::{FloorPlanStyle, floor_plan_svg, model_glb};
+
+use super::scene::{BuildParams, grid_of, map_of, scene_from_text, units_name};
+use super::{elapsed_ms, respond, to_json};
+use crate::detected::perspective_name;
+use crate::{ApiError, AppState, MAX_JSON_BODY_BYTES, params, run_blocking};
+
+#[derive(Serialize)]
+struct Occupancy {
+    yaml: String,
+    pgm_base64: String,
+    width: usize,
+    height: usize,
+    resolution: f64,
+    origin: [f64; 2],
+    free: usize,
+    occupied: usize,
+    unknown: usize,
+}
+
+#[derive(Serialize)]
+struct CameraSummary {
+    perspective: &'static str,
+    pitch_deg: f64,
+    roll_deg: f64,
+    focal_px: f64,
+    principal_point: [f64; 2],
+    height: f64,
+    horizon: Option<[[f64; 2]; 2]>,
+}
+
+#[derive(Serialize)]
+struct BuildResponse<'a> {
+    map: &'a FloorMap,
+    units: &'static str,
+    svg: String,
+    glb_base64: String,
+    occupancy: Occupancy,
+    camera: CameraSummary,
+    warnings: Vec<String>,
+    time_ms: f64,
+}
+
+/// The horizon's two ends across the image, pixels: where the image points whose viewing
+/// rays are horizontal meet the image's left and right edges (its top and bottom edges when
+/// the horizon is steeper than 45 degrees). The ends may lie above or below the image.
+/// `None` when no ray is horizontal (the camera looks straight down or up).
+fn horizon(camera: &CameraReport) -> Option<[[f64; 2]; 2]> {
+    // Pixel (u, v) looks along R K^-1 (u, v, 1); horizontal when the map-frame z is 0:
+    // r20 (u - cx) + r21 (v - cy) + r22 f = 0.
+    let [r20, r21, r22] = camera.rotation_map_from_camera[2];
+    let [cx, cy] = camera.principal_point;
+    let f = camera.focal_px;
+    let (w, h) = (
+        f64::from(camera.image.width),
+        f64::from(camera.image.height),
+    );
+    let ends = if r21.abs() >= r20.abs() {
+        let v = |u: f64| cy - (r20 * (u - cx) + r22 * f) / r21;
+        [[0.0, v(0.0)], [w, v(w)]]
+    } else {
+        let u = |v: f64| cx - (r21 * (v - cy) + r22 * f) / r20;
+        [[u(0.0), 0.0], [u(h), h]]
+    };
+    (r20.hypot(r21) > 1e-12 && ends.iter().flatten().all(|c| c.is_finite())).then_some(ends)
+}
+
+fn camera_summary(camera: &CameraReport) -> CameraSummary {
+    CameraSummary {
+        perspective: perspective_name(camera.perspective),
+        pitch_deg: camera.pitch_deg,
+        roll_deg: camera.roll_deg,
+        focal_px: camera.focal_px,
+        principal_point: camera.principal_point,
+        height: camera.height,
+        horizon: horizon(camera),
+    }
+}
+
+/// Everything `/api/build` answers, serialised.
+fn build_answer(body: &[u8], build_params: &BuildParams) -> Result<Bytes, ApiError> {
+    let started = Instant::now();
+    let text = params::json_text(body, "a scene (docs/scene-format.md)")?;
+    let parsed = scene_from_text(&text)?;
+    let map = map_of(&parsed.scene, build_params)?;
+    let glb = model_glb(&map)
+        .map_err(|e| ApiError::bad_request(format!("cannot build the 3D model: {e}")))?;
+    let grid = grid_of(&map, build_params)?;
+    let (yaml, pgm) = encode_ros_map(&grid, "occupancy.pgm");
+    let svg = floor_plan_svg(&map, &FloorPlanStyle::default());
+    let (free, occupied, unknown) = grid.counts();
+    let mut warnings = parsed.warnings;
+    warnings.extend(map.warnings.iter().cloned());
+    let answer = BuildResponse {
+        map: &map,
+        units: units_name(map.units),
+        svg,
+        glb_base64: BASE64.encode(glb),
+        occupancy: Occupancy {
+            yaml,
+            pgm_base64: BASE64.encode(pgm),
+            width: grid.width(),
+            height: grid.height(),
+            resolution: grid.resolution_m(),
+            origin: grid.origin_m(),
+            free,
+            occupied,
+            unknown,
+        },
+        camera: camera_summary(&map.camera),
+        warnings,
+        time_ms: elapsed_ms(started),
+    };
+    to_json(&answer)
+}
+
+/// `POST /api/build?method=&resolution=&robot_radius=&hidden_free=` with a scene as the body.
+pub async fn build(
+    State(state): State<AppState>,
+    RawQuery(query): RawQuery,
+    headers: HeaderMap,
+    body: Result<Bytes, BytesRejection>,
+) -> Response {
+    let result = async {
+        let body = params::body(body, MAX_JSON_BODY_BYTES)?;
+        let build_params = BuildParams::from_query(query.as_deref())?;
+        params::expect_json(&headers)?;
+        run_blocking(&state, "/api/build", move || {
+            build_answer(&body, &build_params)
+        })
+        .await
+    }
+    .await;
+    respond(result)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::example::OFFICE_SCENE;
+
+    #[test]
+    fn horizon_of_the_office_passes_through_both_horizontal_vanishing_points() {
+        let parsed = scene_from_text(OFFICE_SCENE).unwrap_or_else(|e| panic!("{e}"));
+        let map = map_of(&parsed.scene, &BuildParams::default()).unwrap_or_else(|e| panic!("{e}"));
+        let [a, b] = horizon(&map.camera).unwrap_or_default();
+        assert_eq!((a[0], b[0]), (0.0, 1600.0));
+        let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+        for vp in &map.camera.vanishing_points[..2] {
+            // Distance of the vanishing point from the horizon line, pixels.
+            let d = (dx * (vp[1] - a[1]) - dy * (vp[0] - a[0])).abs() / dx.hypot(dy);
+            assert!(d < 1e-6 * vp[0].hypot(vp[1]).max(1.0), "{vp:?}: {d}");
+        }
+        // 3 degrees of roll: the horizon falls to the right.
+        assert!(((b[1] - a[1]) / 1600.0 - 3f64.to_radians().tan()).abs() < 1e-9);
+    }
+}

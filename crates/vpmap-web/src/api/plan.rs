@@ -1,0 +1,484 @@
+//! `POST /api/plan`: a scene, a start and a goal in; the paths of several planners out, on
+//! the occupancy grid `/api/build` makes with the same parameters.
+
+use std::time::Instant;
+
+use axum::body::Bytes;
+use axum::extract::rejection::BytesRejection;
+use axum::extract::{RawQuery, State};
+use axum::http::HeaderMap;
+use axum::response::Response;
+use serde::Serialize;
+use vpmap_plan::grid::{Cell, OccupancyGrid};
+use vpmap_plan::mbpp::{BugFate, BugTrack};
+use vpmap_plan::optimal::corner_cells;
+use vpmap_plan::plan::Plan;
+use vpmap_plan::planner::{Planner, PlannerKind};
+
+use super::scene::{BuildParams, grid_of, map_of, scene_from_value, units_name};
+use super::{elapsed_ms, respond, to_json};
+use crate::params::Query;
+use crate::{ApiError, AppState, MAX_JSON_BODY_BYTES, params, run_blocking};
+
+/// `optimal` is skipped on grids with more corner cells than this. Its visibility graph is
+/// quadratic in them, and each line-of-sight check is linear in the grid's side, so its time
+/// grows about as their cube: on the office example in a release build, 1572 corner cells
+/// (at 0.01 m) took 0.4 s and 3152 (at 0.005 m) 2.9 s.
+pub const MAX_OPTIMAL_CORNER_CELLS: usize = 2000;
+/// Most bug-track points returned in all (MBPP's tracks are cut beyond).
+pub const MAX_TRACK_POINTS: usize = 100_000;
+/// Planners run when the request names none.
+const DEFAULT_PLANNERS: [PlannerKind; 3] = [
+    PlannerKind::Mbpp,
+    PlannerKind::AstarPs,
+    PlannerKind::Optimal,
+];
+
+/// The fields a plan request may have.
+const PLAN_FIELDS: [&str; 9] = [
+    "scene",
+    "method",
+    "resolution",
+    "robot_radius",
+    "hidden_free",
+    "unknown_passable",
+    "start",
+    "goal",
+    "planners",
+];
+
+/// A plan request, read field by field so that every message names its field.
+struct PlanRequest {
+    scene: serde_json::Value,
+    method: Option<String>,
+    resolution: Option<f64>,
+    robot_radius: Option<f64>,
+    hidden_free: Option<bool>,
+    unknown_passable: Option<bool>,
+    start: [f64; 2],
+    goal: [f64; 2],
+    planners: Option<Vec<String>>,
+}
+
+fn field_error(key: &str, wanted: &str, got: &serde_json::Value) -> ApiError {
+    let mut shown = got.to_string();
+    if shown.len() > 60 {
+        shown.truncate(57);
+        shown.push_str("...");
+    }
+    ApiError::bad_request(format!("field `{key}` must be {wanted}, got {shown}"))
+}
+
+impl PlanRequest {
+    fn from_text(text: &str) -> Result<Self, ApiError> {
+        let value: serde_json::Value = serde_json::from_str(text)
+            .map_err(|e| ApiError::bad_request(format!("the body is not valid JSON: {e}")))?;
+        let Some(fields) = value.as_object() else {
+            return Err(ApiError::bad_request(
+                "the body is not a plan request: it must be a JSON object with scene, start and goal",
+            ));
+        };
+        if let Some(unknown) = fields.keys().find(|k| !PLAN_FIELDS.contains(&k.as_str())) {
+            return Err(ApiError::bad_request(format!(
+                "unknown field {unknown:?} in the plan request; known: {}",
+                PLAN_FIELDS.join(", ")
+            )));
+        }
+        let present = |key: &str| fields.get(key).filter(|v| !v.is_null());
+        let number = |key: &str| {
+            present(key)
+                .map(|v| v.as_f64().ok_or_else(|| field_error(key, "a number", v)))
+                .transpose()
+        };
+        let flag = |key: &str| {
+            present(key)
+                .map(|v| {
+                    v.as_bool()
+                        .ok_or_else(|| field_error(key, "true or false", v))
+                })
+                .transpose()
+        };
+        let point = |key: &str| -> Result<[f64; 2], ApiError> {
+            let wanted = "a point [x, y] in map units (two numbers)";
+            let v = present(key).ok_or_else(|| {
+                ApiError::bad_request(format!("field `{key}` is missing; give {wanted}"))
+            })?;
+            match v.as_array().map(Vec::as_slice) {
+                Some([x, y]) => match (x.as_f64(), y.as_f64()) {
+                    (Some(x), Some(y)) => Ok([x, y]),
+                    _ => Err(field_error(key, wanted, v)),
+                },
+                _ => Err(field_error(key, wanted, v)),
+            }
+        };
+        let scene = present("scene").cloned().ok_or_else(|| {
+            ApiError::bad_request("field `scene` is missing; give the scene JSON object")
+        })?;
+        let method = present("method")
+            .map(|v| {
+                v.as_str()
+                    .map(str::to_owned)
+                    .ok_or_else(|| field_error("method", "\"sideview\" or \"projective\"", v))
+            })
+            .transpose()?;
+        let planners = present("planners")
+            .map(|v| {
+                let wanted = "a list of planner names";
+                v.as_array()
+                    .ok_or_else(|| field_error("planners", wanted, v))?
+                    .iter()
+                    .map(|n| {
+                        n.as_str()
+                            .map(str::to_owned)
+                            .ok_or_else(|| field_error("planners", wanted, v))
+                    })
+                    .collect::<Result<Vec<_>, _>>()
+            })
+            .transpose()?;
+        Ok(Self {
+            scene,
+            method,
+            resolution: number("resolution")?,
+            robot_radius: number("robot_radius")?,
+            hidden_free: flag("hidden_free")?,
+            unknown_passable: flag("unknown_passable")?,
+            start: point("start")?,
+            goal: point("goal")?,
+            planners,
+        })
+    }
+}
+
+#[derive(Serialize)]
+struct PathOut {
+    length_m: f64,
+    waypoints: Vec<[f64; 2]>,
+}
+
+#[derive(Serialize)]
+struct BugOut {
+    parent: Option<usize>,
+    cells: Vec<[f64; 2]>,
+    hits: Vec<[f64; 2]>,
+    leaves: Vec<[f64; 2]>,
+    steps: usize,
+    fate: &'static str,
+}
+
+#[derive(Serialize, Default)]
+struct StatsOut {
+    expanded: usize,
+    generated: usize,
+    los_checks: usize,
+    los_cells: usize,
+}
+
+#[derive(Serialize)]
+struct ResultOut {
+    planner: &'static str,
+    found: bool,
+    skipped: bool,
+    note: Option<String>,
+    length_m: Option<f64>,
+    waypoints: Vec<[f64; 2]>,
+    alternatives: Vec<PathOut>,
+    bugs: Vec<BugOut>,
+    stats: StatsOut,
+    time_ms: f64,
+}
+
+#[derive(Serialize)]
+struct GridOut {
+    width: usize,
+    height: usize,
+    resolution: f64,
+    origin: [f64; 2],
+}
+
+#[derive(Serialize)]
+struct PlanResponse {
+    results: Vec<ResultOut>,
+    grid: GridOut,
+    units: &'static str,
+    start_cell: [usize; 2],
+    goal_cell: [usize; 2],
+    warnings: Vec<String>,
+    time_ms: f64,
+}
+
+fn fate_name(fate: BugFate) -> &'static str {
+    match fate {
+        BugFate::ReachedGoal => "reached-goal",
+        BugFate::Waiting => "waiting",
+        BugFate::Looped => "looped",
+        BugFate::Stuck => "stuck",
+    }
+}
+
+fn planner_names() -> String {
+    PlannerKind::ALL.map(PlannerKind::name).join(", ")
+}
+
+/// The planners asked for, in order, each once.
+fn planners(names: Option<&[String]>) -> Result<Vec<PlannerKind>, ApiError> {
+    let Some(names) = names else {
+        return Ok(DEFAULT_PLANNERS.to_vec());
+    };
+    if names.is_empty() {
+        return Err(ApiError::bad_request(format!(
+            "field `planners` is empty; name one or more of {}",
+            planner_names()
+        )));
+    }
+    let mut kinds = Vec::new();
+    for name in names {
+        let kind: PlannerKind = name.parse().map_err(|_| {
+            ApiError::bad_request(format!(
+                "field `planners` names {name:?}, which is not a planner; choose from {}",
+                planner_names()
+            ))
+        })?;
+        if !kinds.contains(&kind) {
+            kinds.push(kind);
+        }
+    }
+    Ok(kinds)
+}
+
+/// The cell of an endpoint, which must be traversable.
+fn endpoint_cell(
+    grid: &OccupancyGrid,
+    what: &str,
+    p: [f64; 2],
+    params: &BuildParams,
+    unknown_passable: bool,
+    units: &str,
+) -> Result<(usize, usize), ApiError> {
+    let Some(cell) = grid.cell_from_world(p) else {
+        let o = grid.origin_m();
+        let r = grid.resolution_m();
+        return Err(ApiError::bad_request(format!(
+            "{what} ({}, {}) {units} is outside the map, which spans x {:.2}..{:.2}, y {:.2}..{:.2} {units}",
+            p[0],
+            p[1],
+            o[0],
+            o[0] + grid.width() as f64 * r,
+            o[1],
+            o[1] + grid.height() as f64 * r
+        )));
+    };
+    let state = grid.get(cell.0, cell.1).unwrap_or(Cell::Unknown);
+    let problem = match state {
+        Cell::Free => None,
+        Cell::Unknown if unknown_passable => None,
+        Cell::Occupied if params.robot_radius > 0.0 => Some(format!(
+            "an obstacle (or within robot_radius {} {units} of one)",
+            params.robot_radius
+        )),
+        Cell::Occupied => Some("an obstacle".to_owned()),
+        Cell::Unknown => Some(
+            "unknown floor (outside what the photo shows, or hidden behind an object; set unknown_passable or hidden_free to allow it)"
+                .to_owned(),
+        ),
+    };
+    match problem {
+        None => Ok(cell),
+        Some(what_is_there) => Err(ApiError::bad_request(format!(
+            "{what} ({}, {}) {units} lies on {what_is_there}: cell ({}, {})",
+            p[0], p[1], cell.0, cell.1
+        ))),
+    }
+}
+
+/// A path in map units.
+fn path_out(grid: &OccupancyGrid, plan: &Plan) -> PathOut {
+    PathOut {
+        length_m: plan.length * grid.resolution_m(),
+        waypoints: world(grid, &plan.waypoints),
+    }
+}
+
+/// Cell centres in map units, rounded to 1e-6 (a micrometre: the JSON stays short).
+fn world(grid: &OccupancyGrid, cells: &[(usize, usize)]) -> Vec<[f64; 2]> {
+    cells
+        .iter()
+        .map(|&(x, y)| {
+            grid.world_from_cell(x, y)
+                .map(|v| (v * 1e6).round() / 1e6 + 0.0)
+        })
+        .collect()
+}
+
+/// Run one planner (MBPP with its bug tracks).
+fn run_planner(
+    kind: PlannerKind,
+    grid: &OccupancyGrid,
+    start: (usize, usize),
+    goal: (usize, usize),
+    unknown_passable: bool,
+    track_budget: &mut usize,
+) -> Result<ResultOut, ApiError> {
+    let started = Instant::now();
+    let mut out = ResultOut {
+        planner: kind.name(),
+        found: false,
+        skipped: false,
+        note: None,
+        length_m: None,
+        waypoints: Vec::new(),
+        alternatives: Vec::new(),
+        bugs: Vec::new(),
+        stats: StatsOut::default(),
+        time_ms: 0.0,
+    };
+    if kind == PlannerKind::Optimal {
+        let corners = corner_cells(grid, unknown_passable).len();
+        if corners > MAX_OPTIMAL_CORNER_CELLS {
+            out.skipped = true;
+            out.note = Some(format!(
+                "skipped: the grid has {corners} corner cells, more than the {MAX_OPTIMAL_CORNER_CELLS} the exact planner is run on here (its time grows about as their cube); use a coarser resolution"
+            ));
+            out.time_ms = elapsed_ms(started);
+            return Ok(out);
+        }
+    }
+    let is_mbpp = matches!(kind, PlannerKind::Mbpp | PlannerKind::MbppCloser);
+    let planned = kind
+        .planner(unknown_passable)
+        .with_tracks(is_mbpp)
+        .plan(grid, start, goal)
+        .map_err(|e| ApiError::bad_request(format!("{}: {e}", kind.name())))?;
+    out.time_ms = elapsed_ms(started);
+    if let Some(best) = &planned.best {
+        let p = path_out(grid, best);
+        out.found = true;
+        out.length_m = Some(p.length_m);
+        out.waypoints = p.waypoints;
+        out.stats = StatsOut {
+            expanded: best.stats.expanded,
+            generated: best.stats.generated,
+            los_checks: best.stats.los_checks,
+            los_cells: best.stats.los_cells,
+        };
+    }
+    out.alternatives = planned
+        .alternatives
+        .iter()
+        .map(|p| path_out(grid, p))
+        .collect();
+    let mut cut = false;
+    out.bugs = planned
+        .bugs
+        .iter()
+        .map(|b: &BugTrack| {
+            let keep = b.cells.len().min(*track_budget);
+            cut |= keep < b.cells.len();
+            *track_budget -= keep;
+            BugOut {
+                parent: b.parent,
+                cells: world(grid, &b.cells[..keep]),
+                hits: world(grid, &b.hits),
+                leaves: world(grid, &b.leaves),
+                steps: b.steps,
+                fate: fate_name(b.fate),
+            }
+        })
+        .collect();
+    if cut {
+        out.note = Some(format!(
+            "bug tracks cut after {MAX_TRACK_POINTS} points in all"
+        ));
+    }
+    Ok(out)
+}
+
+fn plan_answer(body: &[u8]) -> Result<Bytes, ApiError> {
+    let started = Instant::now();
+    let text = params::json_text(body, "a plan request")?;
+    let request = PlanRequest::from_text(&text)?;
+    let d = BuildParams::default();
+    let build_params = BuildParams::checked(
+        request.method.as_deref(),
+        request.resolution.unwrap_or(d.resolution),
+        request.robot_radius.unwrap_or(d.robot_radius),
+        request.hidden_free.unwrap_or(d.hidden_free),
+    )?;
+    let kinds = planners(request.planners.as_deref())?;
+    let unknown_passable = request.unknown_passable.unwrap_or(false);
+    let parsed = scene_from_value(&request.scene)?;
+    let map = map_of(&parsed.scene, &build_params)?;
+    let grid = grid_of(&map, &build_params)?;
+    let units = units_name(map.units);
+    let units_short = if units == "m" { "m" } else { "camera heights" };
+    let start = endpoint_cell(
+        &grid,
+        "start",
+        request.start,
+        &build_params,
+        unknown_passable,
+        units_short,
+    )?;
+    let goal = endpoint_cell(
+        &grid,
+        "goal",
+        request.goal,
+        &build_params,
+        unknown_passable,
+        units_short,
+    )?;
+    let mut budget = MAX_TRACK_POINTS;
+    let results = kinds
+        .into_iter()
+        .map(|kind| run_planner(kind, &grid, start, goal, unknown_passable, &mut budget))
+        .collect::<Result<Vec<_>, _>>()?;
+    let mut warnings = parsed.warnings;
+    warnings.extend(map.warnings.iter().cloned());
+    to_json(&PlanResponse {
+        results,
+        grid: GridOut {
+            width: grid.width(),
+            height: grid.height(),
+            resolution: grid.resolution_m(),
+            origin: grid.origin_m(),
+        },
+        units,
+        start_cell: [start.0, start.1],
+        goal_cell: [goal.0, goal.1],
+        warnings,
+        time_ms: elapsed_ms(started),
+    })
+}
+
+/// `POST /api/plan` with a plan request as the body.
+pub async fn plan(
+    State(state): State<AppState>,
+    RawQuery(query): RawQuery,
+    headers: HeaderMap,
+    body: Result<Bytes, BytesRejection>,
+) -> Response {
+    let result = async {
+        let body = params::body(body, MAX_JSON_BODY_BYTES)?;
+        Query::parse(query.as_deref(), &[])?;
+        params::expect_json(&headers)?;
+        run_blocking(&state, "/api/plan", move || plan_answer(&body)).await
+    }
+    .await;
+    respond(result)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn planner_names_are_checked_and_deduplicated() {
+        let names = |v: &[&str]| v.iter().map(|s| (*s).to_owned()).collect::<Vec<_>>();
+        assert_eq!(
+            planners(Some(&names(&["mbpp", "optimal", "mbpp"]))).ok(),
+            Some(vec![PlannerKind::Mbpp, PlannerKind::Optimal])
+        );
+        assert!(planners(Some(&names(&["dijkstra"]))).is_err());
+        assert!(planners(Some(&[])).is_err());
+        assert_eq!(planners(None).ok(), Some(DEFAULT_PLANNERS.to_vec()));
+    }
+}

@@ -1,0 +1,418 @@
+//! From a [`Detection`] to a scene file (`docs/scene-format.md`), as `vpmap detect` writes it.
+//!
+//! The same rules as the command's (`crates/vpmap-cli/src/detect/scene_out.rs`, which this
+//! re-states because the web crate cannot depend on the command):
+//! * the vertical vanishing point is the one flagged `vertical`, the other two are the
+//!   horizontal ones, in the detection's order;
+//! * the two horizontal directions are made orthogonal to the vertical one and to each other,
+//!   each turned by the same amount about the vertical (the orthogonal pair symmetric about
+//!   their bisectors);
+//! * in two-point perspective the frame is turned by the smallest rotation that puts the
+//!   vertical direction in the image plane (the scene format takes such a camera as level);
+//! * a horizontal point (nearly) at infinity is turned, with the other, about the vertical
+//!   until it lies within [`MAX_VANISHING_POINT_OFFSET_PX`] of the principal point;
+//! * each vanishing point is written as `point` with up to
+//!   [`MAX_LINES_PER_VANISHING_POINT`] of its longest supporting segments as `lines`; the
+//!   vertical one only in three-point perspective;
+//! * the scene written must calibrate ([`vpmap_metrology::map::calibrate`]).
+
+use std::f64::consts::FRAC_1_SQRT_2;
+
+use nalgebra::Vector3;
+use vpmap_metrology::calibration::{Calibration, Perspective};
+use vpmap_metrology::map::calibrate;
+use vpmap_metrology::scene::Scene;
+use vpmap_vision::Detection;
+
+/// Farthest a written vanishing point may lie from the principal point, pixels.
+pub const MAX_VANISHING_POINT_OFFSET_PX: f64 = 1e7;
+/// Most supporting segments written per vanishing point (the longest ones).
+pub const MAX_LINES_PER_VANISHING_POINT: usize = 40;
+/// Shortest segment written as evidence, pixels.
+const MIN_LINE_LENGTH_PX: f64 = 2.0;
+
+type Vec3 = Vector3<f64>;
+
+/// The scene written for a detection, and what it took.
+#[derive(Debug, Clone)]
+pub struct DetectedScene {
+    /// The scene file's text, laid out like the examples of `docs/scene-format.md`.
+    pub json: String,
+    /// 2PP or 3PP.
+    pub perspective: Perspective,
+    /// The camera as `vpmap build` recovers it from the scene.
+    pub calibration: Calibration,
+    /// Indices into `Detection::vanishing_points`: first horizontal, second horizontal,
+    /// vertical.
+    pub roles: [usize; 3],
+    /// The points written, in role order (the vertical one `None` in 2PP).
+    pub points_px: [Option<[f64; 2]>; 3],
+    /// The largest angle any vanishing direction was turned by, degrees.
+    pub adjusted_deg: f64,
+}
+
+/// Why a detection gives no scene.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("{0}")]
+pub struct SceneError(String);
+
+fn fail<T>(message: impl Into<String>) -> Result<T, SceneError> {
+    Err(SceneError(message.into()))
+}
+
+/// `a / |a|`, or `None` for a (nearly) zero or non-finite vector.
+fn normalize(a: Vec3) -> Option<Vec3> {
+    let n = a.norm();
+    (n.is_finite() && n > 1e-12).then(|| a / n)
+}
+
+/// Rotate `v` about the unit axis `k` by `angle_rad` (Rodrigues' formula).
+fn rotate(v: Vec3, k: Vec3, angle_rad: f64) -> Vec3 {
+    let (s, c) = angle_rad.sin_cos();
+    v * c + k.cross(&v) * s + k * (k.dot(&v) * (1.0 - c))
+}
+
+/// The smallest rotation taking unit `from` to unit `to`, applied to `v`.
+fn rotate_like(v: Vec3, from: Vec3, to: Vec3) -> Vec3 {
+    let axis = from.cross(&to);
+    match normalize(axis) {
+        Some(k) => rotate(v, k, axis.norm().atan2(from.dot(&to))),
+        None => v,
+    }
+}
+
+/// Angle between the lines along `a` and `b` (sign-free), degrees.
+fn line_angle_deg(a: Vec3, b: Vec3) -> f64 {
+    a.cross(&b).norm().atan2(a.dot(&b).abs()).to_degrees()
+}
+
+/// The image point of direction `d` (`None` when parallel to the image plane).
+fn pixel_of_direction(d: Vec3, f: f64, c: [f64; 2]) -> Option<[f64; 2]> {
+    (d.z.abs() > 0.0)
+        .then(|| [c[0] + f * d.x / d.z, c[1] + f * d.y / d.z])
+        .filter(|p| p[0].is_finite() && p[1].is_finite())
+}
+
+fn round_to(v: f64, decimals: i32) -> f64 {
+    let s = 10f64.powi(decimals);
+    (v * s).round() / s + 0.0
+}
+
+/// Which detected vanishing point plays which part: horizontal, horizontal, vertical.
+fn roles(det: &Detection) -> Result<[usize; 3], SceneError> {
+    let n = det.vanishing_points.len();
+    let verticals: Vec<usize> = (0..n)
+        .filter(|&i| det.vanishing_points[i].vertical)
+        .collect();
+    let horizontals: Vec<usize> = (0..n)
+        .filter(|&i| !det.vanishing_points[i].vertical)
+        .collect();
+    match (verticals.as_slice(), horizontals.as_slice()) {
+        ([v], [a, b]) => Ok([*a, *b, *v]),
+        _ => fail(format!(
+            "the detector returned {n} vanishing points ({} vertical); expected two horizontal and one vertical",
+            verticals.len()
+        )),
+    }
+}
+
+/// The orthogonal frame nearest the detected directions (see the module documentation).
+fn manhattan_frame(h1: Vec3, h2: Vec3, v: Vec3, level: bool) -> Result<[Vec3; 3], SceneError> {
+    let Some(v) = normalize(v) else {
+        return fail("the vertical vanishing direction is degenerate");
+    };
+    let Some(a) = normalize(h1 - v * h1.dot(&v)) else {
+        return fail("the first horizontal vanishing direction is parallel to the vertical one");
+    };
+    let Some(b) = normalize(h2 - v * h2.dot(&v)) else {
+        return fail("the second horizontal vanishing direction is parallel to the vertical one");
+    };
+    let (Some(u), Some(w)) = (normalize(a + b), normalize(a - b)) else {
+        return fail("the two horizontal vanishing points coincide");
+    };
+    let mut frame = [(u + w) * FRAC_1_SQRT_2, (u - w) * FRAC_1_SQRT_2, v];
+    if level {
+        let Some(level_v) = normalize(Vector3::new(v.x, v.y, 0.0)) else {
+            return fail("the vertical direction points along the optical axis");
+        };
+        for d in &mut frame {
+            *d = rotate_like(*d, v, level_v);
+        }
+        frame[2] = level_v;
+    }
+    Ok(frame)
+}
+
+/// Turn the horizontal pair about the vertical until neither point lies farther than
+/// [`MAX_VANISHING_POINT_OFFSET_PX`] from the principal point.
+fn keep_points_in_reach(frame: &mut [Vec3; 3], focal_px: f64) {
+    let min_z = (focal_px / MAX_VANISHING_POINT_OFFSET_PX).min(0.5);
+    for i in 0..2 {
+        let d = frame[i];
+        if d.z.abs() >= min_z {
+            continue;
+        }
+        let g = frame[2].cross(&d).z;
+        if g.abs() < min_z {
+            continue;
+        }
+        let sign = if d.z == 0.0 {
+            g.signum()
+        } else {
+            (d.z * g).signum()
+        };
+        let angle = sign * (2.0 * min_z / g.abs()).min(0.1);
+        frame[0] = rotate(frame[0], frame[2], angle);
+        frame[1] = rotate(frame[1], frame[2], angle);
+    }
+}
+
+/// The image point of `d`, clamped to [`MAX_VANISHING_POINT_OFFSET_PX`] from `c`.
+fn written_point(d: Vec3, f: f64, c: [f64; 2]) -> [f64; 2] {
+    match pixel_of_direction(d, f, c) {
+        Some(p) if (p[0] - c[0]).hypot(p[1] - c[1]) <= MAX_VANISHING_POINT_OFFSET_PX => p,
+        _ => {
+            let n = d.x.hypot(d.y).max(f64::MIN_POSITIVE);
+            [
+                c[0] + d.x / n * MAX_VANISHING_POINT_OFFSET_PX,
+                c[1] + d.y / n * MAX_VANISHING_POINT_OFFSET_PX,
+            ]
+        }
+    }
+}
+
+/// The longest supporting segments of one vanishing point, as `[x1, y1, x2, y2]`.
+fn evidence(det: &Detection, vp: usize) -> Vec<[f64; 4]> {
+    let Some(v) = det.vanishing_points.get(vp) else {
+        return Vec::new();
+    };
+    let mut lines: Vec<(f64, [f64; 4])> = v
+        .segments
+        .iter()
+        .filter_map(|&i| det.segments.get(i))
+        .map(|s| {
+            let l = [
+                round_to(s.start_px[0], 2),
+                round_to(s.start_px[1], 2),
+                round_to(s.end_px[0], 2),
+                round_to(s.end_px[1], 2),
+            ];
+            ((l[0] - l[2]).hypot(l[1] - l[3]), l)
+        })
+        .filter(|(len, l)| *len >= MIN_LINE_LENGTH_PX && l.iter().all(|v| v.is_finite()))
+        .collect();
+    lines.sort_by(|a, b| b.0.total_cmp(&a.0));
+    lines.truncate(MAX_LINES_PER_VANISHING_POINT);
+    lines.into_iter().map(|(_, l)| l).collect()
+}
+
+fn number(v: f64) -> String {
+    serde_json::to_string(&v).unwrap_or_else(|_| "null".to_owned())
+}
+
+fn numbers(values: &[f64]) -> String {
+    let parts: Vec<String> = values.iter().map(|&v| number(v)).collect();
+    format!("[{}]", parts.join(", "))
+}
+
+/// The scene file's text: one point or segment per line, fields in reading order.
+fn scene_json(
+    image_size_px: [u32; 2],
+    perspective: Perspective,
+    vanishing_points: &[([f64; 2], Vec<[f64; 4]>)],
+    principal_point: [f64; 2],
+    focal_px: f64,
+) -> String {
+    let vps: Vec<String> = vanishing_points
+        .iter()
+        .map(|(point, lines)| {
+            if lines.is_empty() {
+                return format!("    {{\"point\": {}}}", numbers(point));
+            }
+            let lines: Vec<String> = lines
+                .iter()
+                .map(|l| format!("       {}", numbers(l)))
+                .collect();
+            format!(
+                "    {{\"point\": {},\n     \"lines\": [\n{}\n     ]}}",
+                numbers(point),
+                lines.join(",\n")
+            )
+        })
+        .collect();
+    format!(
+        "{{\n  \"version\": 1,\n  \"image\": {{\"width\": {}, \"height\": {}}},\n  \"perspective\": \"{}\",\n  \"vanishing_points\": [\n{}\n  ],\n  \"principal_point\": {},\n  \"focal_px\": {},\n  \"objects\": [],\n  \"floor\": []\n}}\n",
+        image_size_px[0],
+        image_size_px[1],
+        perspective_name(perspective),
+        vps.join(",\n"),
+        numbers(&principal_point),
+        number(focal_px)
+    )
+}
+
+/// `"2pp"` or `"3pp"`.
+#[must_use]
+pub fn perspective_name(perspective: Perspective) -> &'static str {
+    match perspective {
+        Perspective::TwoPoint => "2pp",
+        Perspective::ThreePoint => "3pp",
+    }
+}
+
+/// The scene for `det` (see the module documentation).
+///
+/// # Errors
+/// When the detection does not hold two horizontal and one vertical vanishing point, its
+/// directions are degenerate, or the written scene does not calibrate.
+pub fn detected_scene(det: &Detection) -> Result<DetectedScene, SceneError> {
+    let roles = roles(det)?;
+    let f = det.intrinsics.focal_px;
+    let c = det.intrinsics.principal_point_px;
+    if !(f.is_finite() && f > 0.0 && c[0].is_finite() && c[1].is_finite()) {
+        return fail(format!(
+            "the detector returned an unusable camera: focal {f} px, principal point ({}, {})",
+            c[0], c[1]
+        ));
+    }
+    let perspective = match det.perspective {
+        vpmap_vision::Perspective::TwoPoint => Perspective::TwoPoint,
+        vpmap_vision::Perspective::ThreePoint => Perspective::ThreePoint,
+    };
+    let mut detected = [Vec3::zeros(); 3];
+    for (k, &i) in roles.iter().enumerate() {
+        let Some(vp) = det.vanishing_points.get(i) else {
+            return fail(format!("vanishing point {i} is missing"));
+        };
+        detected[k] = Vector3::from(vp.direction_camera);
+    }
+    let mut frame = manhattan_frame(
+        detected[0],
+        detected[1],
+        detected[2],
+        perspective == Perspective::TwoPoint,
+    )?;
+    keep_points_in_reach(&mut frame, f);
+    let adjusted_deg = (0..3)
+        .map(|i| line_angle_deg(detected[i], frame[i]))
+        .fold(0.0, f64::max);
+    let count = if perspective == Perspective::TwoPoint {
+        2
+    } else {
+        3
+    };
+    let mut points_px = [None; 3];
+    let mut specs = Vec::with_capacity(3);
+    for k in 0..count {
+        let p = written_point(frame[k], f, c);
+        points_px[k] = Some(p);
+        specs.push((
+            [round_to(p[0], 6), round_to(p[1], 6)],
+            evidence(det, roles[k]),
+        ));
+    }
+    let json = scene_json(
+        det.image_size_px,
+        perspective,
+        &specs,
+        [round_to(c[0], 3), round_to(c[1], 3)],
+        round_to(f, 3),
+    );
+    let scene = Scene::from_json_str(&json)
+        .map_err(|e| SceneError(format!("the detected scene is not valid: {e}")))?;
+    let calibration = calibrate(&scene)
+        .map_err(|e| SceneError(format!("the detected vanishing points give no camera: {e}")))?;
+    Ok(DetectedScene {
+        json,
+        perspective,
+        calibration,
+        roles,
+        points_px,
+        adjusted_deg,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use vpmap_vision::{Intrinsics, Segment, VanishingPoint};
+
+    fn detection(frame: [Vec3; 3], perspective: vpmap_vision::Perspective) -> Detection {
+        let (f, c) = (800.0, [320.0, 240.0]);
+        Detection {
+            image_size_px: [640, 480],
+            segments: vec![Segment {
+                start_px: [10.0, 10.0],
+                end_px: [100.0, 20.0],
+                strength: 1.0,
+            }],
+            vanishing_points: (0..3)
+                .map(|i| VanishingPoint {
+                    point_px: pixel_of_direction(frame[i], f, c),
+                    direction_camera: frame[i].into(),
+                    segments: if i == 0 { vec![0] } else { vec![] },
+                    vertical: i == 2,
+                })
+                .collect(),
+            intrinsics: Intrinsics {
+                focal_px: f,
+                principal_point_px: c,
+            },
+            focal_estimated: true,
+            principal_point_estimated: true,
+            perspective,
+            vertical_tilt_deg: 0.0,
+        }
+    }
+
+    /// The room's axes seen by a camera turned by `yaw` and pitched down by `pitch`.
+    fn world_axes(yaw: f64, pitch: f64) -> [Vec3; 3] {
+        let x_axis = Vector3::new(1.0, 0.0, 0.0);
+        let x = rotate(Vector3::new(yaw.cos(), 0.0, yaw.sin()), x_axis, pitch);
+        let z = rotate(Vector3::new(-yaw.sin(), 0.0, yaw.cos()), x_axis, pitch);
+        let v = rotate(Vector3::new(0.0, 1.0, 0.0), x_axis, pitch);
+        [x, z, v]
+    }
+
+    #[test]
+    fn three_point_scene_calibrates_to_the_detected_camera() {
+        let det = detection(world_axes(0.5, 0.3), vpmap_vision::Perspective::ThreePoint);
+        let s = detected_scene(&det).unwrap_or_else(|e| panic!("{e}"));
+        assert!((s.calibration.focal_px - 800.0).abs() < 1e-3);
+        assert!((s.calibration.pitch_rad - 0.3).abs() < 1e-5);
+        assert!(
+            s.calibration.warnings.is_empty(),
+            "{:?}",
+            s.calibration.warnings
+        );
+        assert!(s.adjusted_deg < 1e-6);
+        assert!(s.json.contains("\"perspective\": \"3pp\""), "{}", s.json);
+        assert!(s.json.contains("[10.0, 10.0, 100.0, 20.0]"), "{}", s.json);
+    }
+
+    #[test]
+    fn nearly_level_camera_is_levelled_for_two_point_perspective() {
+        let mut frame = world_axes(-0.7, 1.5f64.to_radians());
+        frame[1] = rotate(frame[1], frame[2], 0.4f64.to_radians());
+        let det = detection(frame, vpmap_vision::Perspective::TwoPoint);
+        let s = detected_scene(&det).unwrap_or_else(|e| panic!("{e}"));
+        assert!(s.points_px[2].is_none());
+        assert!(
+            s.calibration.warnings.is_empty(),
+            "{:?}",
+            s.calibration.warnings
+        );
+        assert!(
+            s.adjusted_deg > 1.4 && s.adjusted_deg < 2.0,
+            "{}",
+            s.adjusted_deg
+        );
+    }
+
+    #[test]
+    fn two_verticals_are_refused() {
+        let mut det = detection(world_axes(0.5, 0.3), vpmap_vision::Perspective::ThreePoint);
+        det.vanishing_points[0].vertical = true;
+        assert!(detected_scene(&det).is_err());
+    }
+}
