@@ -31,64 +31,14 @@ fn read_scene(path: &Path) -> Result<Scene> {
             path.display()
         );
     }
-    for field in unknown_fields(text) {
+    let value = serde_json::from_str(text).unwrap_or(serde_json::Value::Null);
+    for field in vpmap_metrology::scene::unknown_fields(&value) {
         eprintln!(
             "warning: {}: unknown field {field} is ignored (see docs/scene-format.md)",
             path.display()
         );
     }
     Scene::from_json_str(text).with_context(|| format!("{}", path.display()))
-}
-
-/// Fields of a scene file that vpmap does not read (often typos such as `scael`).
-fn unknown_fields(text: &str) -> Vec<String> {
-    const TOP: [&str; 9] = [
-        "version",
-        "image",
-        "vanishing_points",
-        "principal_point",
-        "focal_px",
-        "objects",
-        "floor",
-        "scale",
-        "perspective",
-    ];
-    const OBJECT: [&str; 4] = ["name", "base", "footprint", "top"];
-    const SCALE: [&str; 5] = [
-        "camera_height_m",
-        "object",
-        "dimension",
-        "meters",
-        "floor_distance",
-    ];
-    let Ok(serde_json::Value::Object(top)) = serde_json::from_str::<serde_json::Value>(text) else {
-        return Vec::new();
-    };
-    let mut out: Vec<String> = top
-        .keys()
-        .filter(|k| !TOP.contains(&k.as_str()))
-        .map(|k| format!("{k:?}"))
-        .collect();
-    if let Some(serde_json::Value::Array(objects)) = top.get("objects") {
-        for (i, o) in objects.iter().enumerate() {
-            if let serde_json::Value::Object(o) = o {
-                out.extend(
-                    o.keys()
-                        .filter(|k| !OBJECT.contains(&k.as_str()))
-                        .map(|k| format!("objects[{i}].{k:?}")),
-                );
-            }
-        }
-    }
-    if let Some(serde_json::Value::Object(scale)) = top.get("scale") {
-        out.extend(
-            scale
-                .keys()
-                .filter(|k| !SCALE.contains(&k.as_str()))
-                .map(|k| format!("scale.{k:?}")),
-        );
-    }
-    out
 }
 
 /// Everything `build` writes, rendered in memory.

@@ -362,6 +362,67 @@ impl ObjectSpec {
     }
 }
 
+/// The fields of a scene file that vpmap does not read (often typos such as `scael`), as
+/// paths like `"scael"`, `objects[0]."heigth"` or `scale."meter"`; empty when `value` is not
+/// an object.
+///
+/// # Example
+/// ```
+/// use vpmap_metrology::scene::unknown_fields;
+/// let v = serde_json::json!({"version": 1, "scael": {}, "objects": [{"name": "a", "heigth": 2}]});
+/// assert_eq!(unknown_fields(&v), ["\"scael\"", "objects[0].\"heigth\""]);
+/// ```
+#[must_use]
+pub fn unknown_fields(value: &serde_json::Value) -> Vec<String> {
+    const TOP: [&str; 9] = [
+        "version",
+        "image",
+        "vanishing_points",
+        "principal_point",
+        "focal_px",
+        "objects",
+        "floor",
+        "scale",
+        "perspective",
+    ];
+    const OBJECT: [&str; 4] = ["name", "base", "footprint", "top"];
+    const SCALE: [&str; 5] = [
+        "camera_height_m",
+        "object",
+        "dimension",
+        "meters",
+        "floor_distance",
+    ];
+    let Some(top) = value.as_object() else {
+        return Vec::new();
+    };
+    let mut out: Vec<String> = top
+        .keys()
+        .filter(|k| !TOP.contains(&k.as_str()))
+        .map(|k| format!("{k:?}"))
+        .collect();
+    if let Some(objects) = top.get("objects").and_then(serde_json::Value::as_array) {
+        for (i, o) in objects.iter().enumerate() {
+            if let Some(o) = o.as_object() {
+                out.extend(
+                    o.keys()
+                        .filter(|k| !OBJECT.contains(&k.as_str()))
+                        .map(|k| format!("objects[{i}].{k:?}")),
+                );
+            }
+        }
+    }
+    if let Some(scale) = top.get("scale").and_then(serde_json::Value::as_object) {
+        out.extend(
+            scale
+                .keys()
+                .filter(|k| !SCALE.contains(&k.as_str()))
+                .map(|k| format!("scale.{k:?}")),
+        );
+    }
+    out
+}
+
 impl Scene {
     /// Parse and validate a scene from JSON text.
     ///

@@ -19,6 +19,45 @@ pub enum VisionError {
         /// The largest side accepted, pixels.
         max: u32,
     },
+    /// A photo file or body with no bytes.
+    #[error("the photo is empty, not a JPEG or PNG photo")]
+    EmptyPhoto,
+    /// Bytes that are no image format at all.
+    #[error("the data ({bytes} bytes) is not a JPEG or PNG photo (its first bytes are neither)")]
+    NotAPhoto {
+        /// How many bytes were given.
+        bytes: usize,
+    },
+    /// An image in a format vpmap does not read.
+    #[error("this is a {format} image; vpmap reads JPEG and PNG photos")]
+    UnsupportedFormat {
+        /// The format's usual file extension.
+        format: String,
+    },
+    /// A photo too small or too large (from its header).
+    #[error(
+        "the photo is {width} x {height} pixels; a photo must be {min} to {max} pixels on each side and at most {max_megapixels} megapixels"
+    )]
+    PhotoSize {
+        /// Width, pixels.
+        width: u32,
+        /// Height, pixels.
+        height: u32,
+        /// Smallest side accepted, pixels.
+        min: u32,
+        /// Largest side accepted, pixels.
+        max: u32,
+        /// Most megapixels accepted.
+        max_megapixels: u64,
+    },
+    /// Truncated or corrupt image data, or a decoder needing more memory than allowed.
+    #[error("cannot decode the {format} photo: {message}")]
+    Decode {
+        /// `JPEG` or `PNG`.
+        format: &'static str,
+        /// The decoder's message, on one line.
+        message: String,
+    },
     /// Too few line segments (or too few supporting one of the directions) to fix the
     /// vanishing points.
     #[error(

@@ -12,12 +12,14 @@
 //!
 //! | step | module | what | reference |
 //! |---|---|---|---|
+//! | reading a photo | [`photo`] | JPEG or PNG only, size checked in the header, decoder memory limited, EXIF orientation applied | |
 //! | working image | [`detect`] | grey, area-average downscale to [`DetectOptions::max_side_px`] | |
 //! | line segments | [`segments`] | LSD: gradient-ordered region growing, rectangles, a-contrario validation (`NFA <= 1`), via the `lsdetect` crate | Grompone von Gioi, Jakubowicz, Morel, Randall, "LSD: a Line Segment Detector", IPOL 2012 |
 //! | first vanishing point | [`manhattan`] | length-weighted random segment pairs, angular consistency score, algebraic least squares | Tardif, "Non-iterative approach for fast and accurate vanishing point detection", ICCV 2009 (consistency measure) |
 //! | Manhattan triplet | [`manhattan`] | 2-line search: the other two directions on the great circle orthogonal to the first, by a histogram vote, over a focal-length grid when the camera is unknown | Lu, Yao, Li, Chen, Li, "2-Line Exhaustive Searching for Real-Time Vanishing Point Estimation in Manhattan World", WACV 2017 |
 //! | refinement | [`manhattan`] | joint Levenberg-Marquardt of the rotation (orthogonality built in), focal length and principal point on the segment-to-vanishing-point distances, Cauchy-reweighted | Triggs et al., "Bundle adjustment — a modern synthesis", 2000 (robust LM); Hartley and Zisserman, *Multiple View Geometry*, 2nd ed., 8.8 (calibration from vanishing points) |
 //! | 2PP / 3PP | [`detect`] | tilt of the vertical direction against the image plane vs [`DetectOptions::two_point_tolerance_deg`] | |
+//! | scene file | [`scene`] | the detected directions made orthogonal (and level in 2PP), written as a `docs/scene-format.md` scene that calibrates | |
 //! | test scenes | [`synthetic`] | ray-cast tiled floor and boxes, anti-aliased, from a known camera | |
 //! | accuracy figures | [`metrics`] | direction matching, angular errors, area under the accuracy curve | Lu et al. 2017 (AUC) |
 //!
@@ -44,7 +46,9 @@
 pub mod error;
 pub mod manhattan;
 pub mod metrics;
+pub mod photo;
 mod prepare;
+pub mod scene;
 pub mod segments;
 pub mod synthetic;
 

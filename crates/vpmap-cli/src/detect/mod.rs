@@ -11,16 +11,13 @@ mod eval;
 mod geom;
 mod overlay;
 mod report;
-mod scene_out;
 
 use std::fmt::Write as _;
-use std::io::Cursor;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, anyhow, bail};
-use image::metadata::Orientation;
-use image::{DynamicImage, ImageDecoder, ImageFormat, ImageReader, Limits};
+use image::DynamicImage;
 use vpmap_metrology::calibration::Perspective;
 use vpmap_vision::{DetectOptions, Detection, detect};
 
@@ -29,10 +26,9 @@ pub use eval::{EvalDetectArgs, run_eval_detect};
 use crate::num;
 use crate::output::write_file;
 use overlay::{VP_COLOUR_NAMES, render_overlay};
-use scene_out::{DetectedScene, detected_scene};
+use vpmap_vision::photo::{PhotoLimits, decode_photo};
+use vpmap_vision::scene::{DetectedScene, detected_scene};
 
-/// Smallest photo side accepted, pixels (the detector's limit).
-pub const MIN_PHOTO_SIDE_PX: u32 = vpmap_vision::MIN_SIDE_PX;
 /// Largest photo side accepted, pixels (the detector's limit).
 pub const MAX_PHOTO_SIDE_PX: u32 = vpmap_vision::MAX_SIDE_PX;
 /// Most pixels accepted (a 150-megapixel photo).
@@ -84,18 +80,7 @@ pub struct DetectArgs {
     pub max_side: u32,
 }
 
-/// A decoded photo.
-pub struct Photo {
-    /// The pixels, turned upright as the EXIF orientation says (as image viewers show it).
-    pub image: DynamicImage,
-    /// Whether the EXIF orientation turned or flipped it.
-    pub reoriented: bool,
-}
-
-/// One line of decoder error text.
-fn one_line(text: &str) -> String {
-    text.split_whitespace().collect::<Vec<_>>().join(" ")
-}
+pub use vpmap_vision::photo::Photo;
 
 /// Read a JPEG or PNG photo, refusing other files, truncated files and absurd sizes.
 ///
@@ -104,70 +89,12 @@ fn one_line(text: &str) -> String {
 pub fn read_photo(path: &Path) -> Result<Photo> {
     let bytes =
         std::fs::read(path).with_context(|| format!("cannot read photo {}", path.display()))?;
-    let reader = ImageReader::new(Cursor::new(bytes.as_slice()))
-        .with_guessed_format()
-        .with_context(|| format!("cannot read photo {}", path.display()))?;
-    let format = match reader.format() {
-        Some(f @ (ImageFormat::Jpeg | ImageFormat::Png)) => f,
-        Some(other) => bail!(
-            "{} is a {} image; vpmap reads JPEG and PNG photos",
-            path.display(),
-            other.extensions_str().first().copied().unwrap_or("?")
-        ),
-        None if bytes.is_empty() => bail!("{} is empty, not a JPEG or PNG photo", path.display()),
-        None => bail!(
-            "{} is not a JPEG or PNG photo (its first bytes are neither)",
-            path.display()
-        ),
+    let limits = PhotoLimits {
+        max_side_px: MAX_PHOTO_SIDE_PX,
+        max_pixels: MAX_PHOTO_PIXELS,
+        max_decode_bytes: MAX_DECODE_BYTES,
     };
-    let kind = if format == ImageFormat::Jpeg {
-        "JPEG"
-    } else {
-        "PNG"
-    };
-    let decode_error = |e: image::ImageError| {
-        anyhow!(
-            "{}: cannot decode the {kind} photo: {}",
-            path.display(),
-            one_line(&e.to_string())
-        )
-    };
-    // The header's size first: the decoder would refuse an absurd size with a vaguer message.
-    let (width, height) = ImageReader::with_format(Cursor::new(bytes.as_slice()), format)
-        .into_dimensions()
-        .map_err(decode_error)?;
-    check_photo_size(path, width, height)?;
-    let mut reader = reader;
-    let mut limits = Limits::default();
-    limits.max_image_width = Some(MAX_PHOTO_SIDE_PX);
-    limits.max_image_height = Some(MAX_PHOTO_SIDE_PX);
-    limits.max_alloc = Some(MAX_DECODE_BYTES);
-    reader.limits(limits);
-    let mut decoder = reader.into_decoder().map_err(decode_error)?;
-    let orientation = decoder.orientation().unwrap_or(Orientation::NoTransforms);
-    let mut image = DynamicImage::from_decoder(decoder).map_err(decode_error)?;
-    image.apply_orientation(orientation);
-    Ok(Photo {
-        image,
-        reoriented: orientation != Orientation::NoTransforms,
-    })
-}
-
-fn check_photo_size(path: &Path, width: u32, height: u32) -> Result<()> {
-    let pixels = u64::from(width) * u64::from(height);
-    if width < MIN_PHOTO_SIDE_PX
-        || height < MIN_PHOTO_SIDE_PX
-        || width > MAX_PHOTO_SIDE_PX
-        || height > MAX_PHOTO_SIDE_PX
-        || pixels > MAX_PHOTO_PIXELS
-    {
-        bail!(
-            "{} is {width} x {height} pixels; a photo must be {MIN_PHOTO_SIDE_PX} to {MAX_PHOTO_SIDE_PX} pixels on each side and at most {} megapixels",
-            path.display(),
-            MAX_PHOTO_PIXELS / 1_000_000
-        );
-    }
-    Ok(())
+    decode_photo(&bytes, &limits).map_err(|e| anyhow!("{}: {e}", path.display()))
 }
 
 /// `X,Y` as two finite numbers.
@@ -335,7 +262,7 @@ pub fn run_detect(args: &DetectArgs) -> Result<()> {
         "{}",
         wrap(&summary(args, &photo, &det, &scene, elapsed), 100)
     );
-    for (role, &vp) in scene.roles.order.iter().enumerate() {
+    for (role, &vp) in scene.roles.iter().enumerate() {
         let n = det.vanishing_points[vp].segments.len();
         if n < FEW_SEGMENTS {
             eprintln!(
@@ -422,7 +349,7 @@ fn summary(
     };
     let mut assigned = 0;
     let mut parts = Vec::new();
-    for (role, &vp) in scene.roles.order.iter().enumerate() {
+    for (role, &vp) in scene.roles.iter().enumerate() {
         let n = det.vanishing_points[vp].segments.len();
         assigned += n;
         let written = if role == 2 && scene.perspective == Perspective::TwoPoint {

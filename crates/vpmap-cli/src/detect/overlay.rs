@@ -17,7 +17,7 @@ use imageproc::drawing::{
 use imageproc::pixelops::interpolate;
 use vpmap_vision::Detection;
 
-use super::scene_out::DetectedScene;
+use vpmap_vision::scene::DetectedScene;
 
 /// Colours of the two horizontal and the vertical vanishing point.
 pub const VP_COLOURS: [Rgb<u8>; 3] = [Rgb([235, 45, 45]), Rgb([40, 205, 60]), Rgb([40, 120, 255])];
@@ -42,7 +42,7 @@ pub fn render_overlay(
     let thickness = (w.max(h) / 500).clamp(2, 12);
 
     let mut role_of = vec![None; det.segments.len()];
-    for (role, &vp) in scene.roles.order.iter().enumerate() {
+    for (role, &vp) in scene.roles.iter().enumerate() {
         for &s in &det.vanishing_points[vp].segments {
             if let Some(slot) = role_of.get_mut(s) {
                 *slot = Some(role);

@@ -17,8 +17,8 @@ use vpmap_render::{FloorPlanStyle, floor_plan_svg, model_glb};
 
 use super::scene::{BuildParams, grid_of, map_of, scene_from_text, units_name};
 use super::{elapsed_ms, respond, to_json};
-use crate::detected::perspective_name;
 use crate::{ApiError, AppState, MAX_JSON_BODY_BYTES, params, run_blocking};
+use vpmap_vision::scene::perspective_name;
 
 #[derive(Serialize)]
 struct Occupancy {

@@ -1,7 +1,6 @@
 //! `POST /api/detect`: a photo in; its line segments, vanishing points, camera and a scene
 //! out (as `vpmap detect`).
 
-use std::io::Cursor;
 use std::time::Instant;
 
 use axum::body::Bytes;
@@ -9,16 +8,15 @@ use axum::extract::rejection::BytesRejection;
 use axum::extract::{RawQuery, State};
 use axum::http::{HeaderMap, StatusCode};
 use axum::response::Response;
-use image::metadata::Orientation;
-use image::{DynamicImage, ImageDecoder, ImageFormat, ImageReader, Limits};
 use serde::Serialize;
 use serde_json::value::RawValue;
-use vpmap_vision::{DetectOptions, Detection, detect as detect_photo};
+use vpmap_vision::photo::{Photo, PhotoLimits, decode_photo};
+use vpmap_vision::{DetectOptions, Detection, VisionError, detect as detect_photo};
 
 use super::{elapsed_ms, respond, to_json};
-use crate::detected::{detected_scene, perspective_name};
 use crate::params::{Query, parse_number, parse_point};
 use crate::{ApiError, AppState, MAX_IMAGE_BODY_BYTES, params, run_blocking};
+use vpmap_vision::scene::{detected_scene, perspective_name};
 
 /// Largest photo side, pixels.
 pub const MAX_PHOTO_SIDE_PX: u32 = 8000;
@@ -128,72 +126,19 @@ fn check_media_type(headers: &HeaderMap) -> Result<(), ApiError> {
     }
 }
 
-fn one_line(text: &str) -> String {
-    text.split_whitespace().collect::<Vec<_>>().join(" ")
-}
-
-/// A photo decoded upright, and whether its EXIF orientation turned it.
-struct Photo {
-    image: DynamicImage,
-    reoriented: bool,
-}
-
 /// Decode a JPEG or PNG, checking its size in the header first and limiting the decoder's
 /// memory.
 fn decode(bytes: &[u8]) -> Result<Photo, ApiError> {
-    if bytes.is_empty() {
-        return Err(ApiError::bad_request(
-            "the body is empty; send the photo's bytes (JPEG or PNG)",
-        ));
-    }
-    let format = match image::guess_format(bytes) {
-        Ok(f @ (ImageFormat::Jpeg | ImageFormat::Png)) => f,
-        Ok(other) => {
-            return Err(ApiError::bad_request(format!(
-                "the body is a {} image; vpmap reads JPEG and PNG photos",
-                other.extensions_str().first().copied().unwrap_or("?")
-            )));
+    let limits = PhotoLimits {
+        max_side_px: MAX_PHOTO_SIDE_PX,
+        max_pixels: u64::from(MAX_PHOTO_SIDE_PX) * u64::from(MAX_PHOTO_SIDE_PX),
+        max_decode_bytes: MAX_DECODE_BYTES,
+    };
+    decode_photo(bytes, &limits).map_err(|e| match e {
+        VisionError::EmptyPhoto => {
+            ApiError::bad_request("the body is empty; send the photo's bytes (JPEG or PNG)")
         }
-        Err(_) => {
-            return Err(ApiError::bad_request(format!(
-                "the body ({} bytes) is not a JPEG or PNG photo (its first bytes are neither)",
-                bytes.len()
-            )));
-        }
-    };
-    let kind = if format == ImageFormat::Jpeg {
-        "JPEG"
-    } else {
-        "PNG"
-    };
-    let decode_error = |e: image::ImageError| {
-        ApiError::bad_request(format!(
-            "cannot decode the {kind} photo: {}",
-            one_line(&e.to_string())
-        ))
-    };
-    let (width, height) = ImageReader::with_format(Cursor::new(bytes), format)
-        .into_dimensions()
-        .map_err(decode_error)?;
-    let min = vpmap_vision::MIN_SIDE_PX;
-    if width > MAX_PHOTO_SIDE_PX || height > MAX_PHOTO_SIDE_PX || width < min || height < min {
-        return Err(ApiError::bad_request(format!(
-            "the photo is {width} x {height} pixels; it must be {min} to {MAX_PHOTO_SIDE_PX} pixels on each side"
-        )));
-    }
-    let mut reader = ImageReader::with_format(Cursor::new(bytes), format);
-    let mut limits = Limits::default();
-    limits.max_image_width = Some(MAX_PHOTO_SIDE_PX);
-    limits.max_image_height = Some(MAX_PHOTO_SIDE_PX);
-    limits.max_alloc = Some(MAX_DECODE_BYTES);
-    reader.limits(limits);
-    let mut decoder = reader.into_decoder().map_err(decode_error)?;
-    let orientation = decoder.orientation().unwrap_or(Orientation::NoTransforms);
-    let mut image = DynamicImage::from_decoder(decoder).map_err(decode_error)?;
-    image.apply_orientation(orientation);
-    Ok(Photo {
-        image,
-        reoriented: orientation != Orientation::NoTransforms,
+        e => ApiError::bad_request(e.to_string()),
     })
 }
 

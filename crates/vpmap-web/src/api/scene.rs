@@ -113,55 +113,10 @@ impl BuildParams {
 
 /// Fields of a scene that vpmap does not read (often typos such as `scael`), as warnings.
 fn unknown_fields(value: &serde_json::Value) -> Vec<String> {
-    const TOP: [&str; 9] = [
-        "version",
-        "image",
-        "vanishing_points",
-        "principal_point",
-        "focal_px",
-        "objects",
-        "floor",
-        "scale",
-        "perspective",
-    ];
-    const OBJECT: [&str; 4] = ["name", "base", "footprint", "top"];
-    const SCALE: [&str; 5] = [
-        "camera_height_m",
-        "object",
-        "dimension",
-        "meters",
-        "floor_distance",
-    ];
-    let note =
-        |field: String| format!("unknown field {field} is ignored (see docs/scene-format.md)");
-    let Some(top) = value.as_object() else {
-        return Vec::new();
-    };
-    let mut out: Vec<String> = top
-        .keys()
-        .filter(|k| !TOP.contains(&k.as_str()))
-        .map(|k| note(format!("{k:?}")))
-        .collect();
-    if let Some(objects) = top.get("objects").and_then(|o| o.as_array()) {
-        for (i, o) in objects.iter().enumerate() {
-            if let Some(o) = o.as_object() {
-                out.extend(
-                    o.keys()
-                        .filter(|k| !OBJECT.contains(&k.as_str()))
-                        .map(|k| note(format!("objects[{i}].{k:?}"))),
-                );
-            }
-        }
-    }
-    if let Some(scale) = top.get("scale").and_then(|s| s.as_object()) {
-        out.extend(
-            scale
-                .keys()
-                .filter(|k| !SCALE.contains(&k.as_str()))
-                .map(|k| note(format!("scale.{k:?}"))),
-        );
-    }
-    out
+    vpmap_metrology::scene::unknown_fields(value)
+        .into_iter()
+        .map(|field| format!("unknown field {field} is ignored (see docs/scene-format.md)"))
+        .collect()
 }
 
 /// Refuse scenes too large to build quickly.

@@ -1,7 +1,6 @@
 //! From a [`Detection`] to a scene file (`docs/scene-format.md`), as `vpmap detect` writes it.
 //!
-//! The same rules as the command's (`crates/vpmap-cli/src/detect/scene_out.rs`, which this
-//! re-states because the web crate cannot depend on the command):
+//! Used by `vpmap detect` and by `vpmap serve`'s `/api/detect`, so both write the same file:
 //! * the vertical vanishing point is the one flagged `vertical`, the other two are the
 //!   horizontal ones, in the detection's order;
 //! * the two horizontal directions are made orthogonal to the vertical one and to each other,
@@ -18,11 +17,11 @@
 
 use std::f64::consts::FRAC_1_SQRT_2;
 
+use crate::Detection;
 use nalgebra::Vector3;
 use vpmap_metrology::calibration::{Calibration, Perspective};
 use vpmap_metrology::map::calibrate;
 use vpmap_metrology::scene::Scene;
-use vpmap_vision::Detection;
 
 /// Farthest a written vanishing point may lie from the principal point, pixels.
 pub const MAX_VANISHING_POINT_OFFSET_PX: f64 = 1e7;
@@ -45,8 +44,12 @@ pub struct DetectedScene {
     /// Indices into `Detection::vanishing_points`: first horizontal, second horizontal,
     /// vertical.
     pub roles: [usize; 3],
+    /// The directions written, in role order, camera frame (x right, y down, z forward).
+    pub directions: [[f64; 3]; 3],
     /// The points written, in role order (the vertical one `None` in 2PP).
     pub points_px: [Option<[f64; 2]>; 3],
+    /// Segments written as `lines`, per role (0 for the vertical in 2PP).
+    pub lines_written: [usize; 3],
     /// The largest angle any vanishing direction was turned by, degrees.
     pub adjusted_deg: f64,
 }
@@ -276,8 +279,8 @@ pub fn detected_scene(det: &Detection) -> Result<DetectedScene, SceneError> {
         ));
     }
     let perspective = match det.perspective {
-        vpmap_vision::Perspective::TwoPoint => Perspective::TwoPoint,
-        vpmap_vision::Perspective::ThreePoint => Perspective::ThreePoint,
+        crate::Perspective::TwoPoint => Perspective::TwoPoint,
+        crate::Perspective::ThreePoint => Perspective::ThreePoint,
     };
     let mut detected = [Vec3::zeros(); 3];
     for (k, &i) in roles.iter().enumerate() {
@@ -302,14 +305,14 @@ pub fn detected_scene(det: &Detection) -> Result<DetectedScene, SceneError> {
         3
     };
     let mut points_px = [None; 3];
+    let mut lines_written = [0; 3];
     let mut specs = Vec::with_capacity(3);
     for k in 0..count {
         let p = written_point(frame[k], f, c);
         points_px[k] = Some(p);
-        specs.push((
-            [round_to(p[0], 6), round_to(p[1], 6)],
-            evidence(det, roles[k]),
-        ));
+        let lines = evidence(det, roles[k]);
+        lines_written[k] = lines.len();
+        specs.push(([round_to(p[0], 6), round_to(p[1], 6)], lines));
     }
     let json = scene_json(
         det.image_size_px,
@@ -327,7 +330,9 @@ pub fn detected_scene(det: &Detection) -> Result<DetectedScene, SceneError> {
         perspective,
         calibration,
         roles,
+        directions: frame.map(Into::into),
         points_px,
+        lines_written,
         adjusted_deg,
     })
 }
@@ -335,9 +340,9 @@ pub fn detected_scene(det: &Detection) -> Result<DetectedScene, SceneError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use vpmap_vision::{Intrinsics, Segment, VanishingPoint};
+    use crate::{Intrinsics, Segment, VanishingPoint};
 
-    fn detection(frame: [Vec3; 3], perspective: vpmap_vision::Perspective) -> Detection {
+    fn detection(frame: [Vec3; 3], perspective: crate::Perspective) -> Detection {
         let (f, c) = (800.0, [320.0, 240.0]);
         Detection {
             image_size_px: [640, 480],
@@ -376,7 +381,7 @@ mod tests {
 
     #[test]
     fn three_point_scene_calibrates_to_the_detected_camera() {
-        let det = detection(world_axes(0.5, 0.3), vpmap_vision::Perspective::ThreePoint);
+        let det = detection(world_axes(0.5, 0.3), crate::Perspective::ThreePoint);
         let s = detected_scene(&det).unwrap_or_else(|e| panic!("{e}"));
         assert!((s.calibration.focal_px - 800.0).abs() < 1e-3);
         assert!((s.calibration.pitch_rad - 0.3).abs() < 1e-5);
@@ -394,7 +399,7 @@ mod tests {
     fn nearly_level_camera_is_levelled_for_two_point_perspective() {
         let mut frame = world_axes(-0.7, 1.5f64.to_radians());
         frame[1] = rotate(frame[1], frame[2], 0.4f64.to_radians());
-        let det = detection(frame, vpmap_vision::Perspective::TwoPoint);
+        let det = detection(frame, crate::Perspective::TwoPoint);
         let s = detected_scene(&det).unwrap_or_else(|e| panic!("{e}"));
         assert!(s.points_px[2].is_none());
         assert!(
@@ -411,7 +416,7 @@ mod tests {
 
     #[test]
     fn two_verticals_are_refused() {
-        let mut det = detection(world_axes(0.5, 0.3), vpmap_vision::Perspective::ThreePoint);
+        let mut det = detection(world_axes(0.5, 0.3), crate::Perspective::ThreePoint);
         det.vanishing_points[0].vertical = true;
         assert!(detected_scene(&det).is_err());
     }
