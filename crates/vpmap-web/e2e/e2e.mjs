@@ -131,8 +131,13 @@ async function main() {
     browser = await chromium.launch({
       executablePath: CHROMIUM,
       headless: process.env.VPMAP_E2E_HEADED !== '1',
-      // Software WebGL for the 3D view on machines without a GPU.
-      args: ['--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
+      // Software WebGL for the 3D view on machines without a GPU; no background connections
+      // (on a closed network they fail, many at a time, and slow the start).
+      args: [
+        '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist',
+        '--disable-background-networking', '--disable-component-update', '--disable-sync',
+        '--disable-quic', '--no-first-run',
+      ],
     });
   });
   page = await browser.newPage({ viewport: { width: 1600, height: 1000 }, acceptDownloads: true });
