@@ -352,6 +352,40 @@ fn noise_reaches_every_clicked_point_with_the_requested_spread() {
 }
 
 #[test]
+fn noise_moves_vanishing_point_lines_but_not_computed_points() {
+    use rand::SeedableRng;
+    use vpmap_metrology::synth::{add_noise, vanishing_points_as_lines};
+    let (points, _) = synthesize(&SETUPS[9].synth_options(1)).unwrap();
+    let mut lines = points.clone();
+    vanishing_points_as_lines(&mut lines);
+    let (mut a, mut b) = (points.clone(), lines.clone());
+    add_noise(&mut a, 1.5, &mut rand_chacha::ChaCha8Rng::seed_from_u64(4));
+    add_noise(&mut b, 1.5, &mut rand_chacha::ChaCha8Rng::seed_from_u64(4));
+    // A vanishing point given as a point is computed, not clicked: it stays.
+    for (p, q) in points.vanishing_points.iter().zip(&a.vanishing_points) {
+        assert!(p.point.is_some());
+        assert_eq!(p.point, q.point);
+    }
+    // Every end point of every line moves.
+    let mut moved = 0;
+    for (p, q) in lines.vanishing_points.iter().zip(&b.vanishing_points) {
+        assert_eq!(p.lines.len(), q.lines.len());
+        for (l, m) in p.lines.iter().zip(&q.lines) {
+            assert!(
+                l.iter().zip(m).all(|(x, y)| (x - y).abs() > 0.0),
+                "{l:?} -> {m:?}"
+            );
+            moved += 1;
+        }
+    }
+    assert!(moved >= 6, "{moved} lines");
+    // The clicked corners get the same noise whichever form the vanishing points take.
+    assert_eq!(a.objects, b.objects);
+    assert_eq!(a.floor, b.floor);
+    assert_ne!(a.objects, points.objects);
+}
+
+#[test]
 fn refusals_are_reported_by_category() {
     // Heavy noise makes the builder refuse some scenes; each refusal carries a category and
     // the builder's message, and every scene is accounted for.
