@@ -107,6 +107,7 @@
 
 use std::cmp::Ordering;
 use std::collections::{BinaryHeap, HashMap};
+use std::hash::{BuildHasherDefault, Hasher};
 
 use crate::error::Result;
 use crate::grid::{Cell, OccupancyGrid};
@@ -397,6 +398,74 @@ impl PaddedGrid {
         self.cells.get(index as usize).copied().unwrap_or(false)
     }
 
+    /// [`line_of_sight_counted`] between the centres of cells `a` and `b`, with the same
+    /// answer and the same counts: it visits the same cells in the same order (the column
+    /// walk of [`crate::los::visit_swept_cells`], restated here on the padded cell array
+    /// so that each lookup is one index step instead of a bounds-checked coordinate
+    /// lookup). Every bug step asks one such query, so this is MBPP's inner loop.
+    fn sight(&self, a: Xy, b: Xy, counter: &mut LosCounter) -> bool {
+        let inside = |(x, y): Xy| x >= 0 && y >= 0 && x < self.width && y < self.height;
+        if !(inside(a) && inside(b)) {
+            return line_of_sight_counted(self, to_u(a), to_u(b), counter);
+        }
+        counter.checks += 1;
+        // The frame of `sweep_columns`: `u` is the major axis; `u_stride` and `v_stride`
+        // are the index steps of one cell along `u` and `v`.
+        let (p0, p1, u_stride, v_stride) = if (b.0 - a.0).abs() >= (b.1 - a.1).abs() {
+            (a, b, 1, self.padded_width)
+        } else {
+            ((a.1, a.0), (b.1, b.0), self.padded_width, 1)
+        };
+        let ((u0, v0), (u1, v1)) = if p1.0 < p0.0 { (p1, p0) } else { (p0, p1) };
+        let du = u1 - u0;
+        let dv = (v1 - v0).abs();
+        let v_step = if v1 < v0 { -v_stride } else { v_stride };
+        // Index of the frame's first cell (u0, v0), back in grid coordinates.
+        let (x0, y0) = if u_stride == 1 { (u0, v0) } else { (v0, u0) };
+        let origin = (y0 + 1) * self.padded_width + x0 + 1;
+        if du == 0 {
+            counter.cells += 1;
+            return self.cells.get(origin as usize).copied().unwrap_or(false);
+        }
+        // Column k covers rows floor(lo dv / du) ..= ceil(hi dv / du) with lo = max(k - 1, 0)
+        // and hi = min(k + 1, du), as in `sweep_columns`. Both quotients are kept as
+        // (quotient, remainder) and advanced by adding dv (at most one carry, dv <= du), so
+        // the walk needs no division.
+        let advance = |(q, r): (i64, i64)| {
+            if r + dv >= du {
+                (q + 1, r + dv - du)
+            } else {
+                (q, r + dv)
+            }
+        };
+        let mut lo = (0, 0);
+        let mut hi = advance((0, 0));
+        // Both ends are inside the grid, so every swept cell is (it lies in their bounding
+        // box) and every index is inside the padded array; `get` still guards it.
+        let mut column = origin;
+        for k in 0..=du {
+            let first = lo.0;
+            let last = hi.0 + i64::from(hi.1 > 0);
+            let mut index = column + first * v_step;
+            for j in first..=last {
+                if !self.cells.get(index as usize).copied().unwrap_or(false) {
+                    counter.cells += (j - first + 1) as usize;
+                    return false;
+                }
+                index += v_step;
+            }
+            counter.cells += (last - first + 1) as usize;
+            if k >= 1 {
+                lo = advance(lo);
+            }
+            if k + 1 < du {
+                hi = advance(hi);
+            }
+            column += u_stride;
+        }
+        true
+    }
+
     /// Whether the single 8-connected step from `c` by `d` is legal.
     #[inline]
     fn step_ok(&self, c: Xy, d: Xy) -> bool {
@@ -540,6 +609,33 @@ struct Owner {
     at_cell: bool,
 }
 
+/// A multiplicative (FxHash-like) hasher for the owners map: its keys are the walk's own
+/// cells, not adversarial input, and SipHash cost more than the map's lookups themselves.
+#[derive(Default)]
+struct CellHasher(u64);
+
+impl CellHasher {
+    fn add(&mut self, word: u64) {
+        self.0 = (self.0.rotate_left(5) ^ word).wrapping_mul(0x517c_c1b7_2722_0a95);
+    }
+}
+
+impl Hasher for CellHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.add(u64::from(b));
+        }
+    }
+
+    fn write_i64(&mut self, i: i64) {
+        self.add(i as u64);
+    }
+
+    fn finish(&self) -> u64 {
+        self.0
+    }
+}
+
 /// A waiting bug's join: its state at the cell, and the owner's anchor there.
 #[derive(Clone, Copy, Debug)]
 struct Join {
@@ -621,7 +717,7 @@ struct Walk<'g> {
     goal: Xy,
     line: MLine,
     leave: LeaveRule,
-    owners: HashMap<Xy, Owner>,
+    owners: HashMap<Xy, Owner, BuildHasherDefault<CellHasher>>,
     vertices: Vec<Vertex>,
     bugs: Vec<Bug>,
     born: Vec<usize>,
@@ -635,7 +731,7 @@ struct Walk<'g> {
 impl<'g> Walk<'g> {
     fn new(grid: &'g PaddedGrid, start: Xy, goal: Xy, record: bool, leave: LeaveRule) -> Self {
         let line = MLine::new(start, goal);
-        let mut owners = HashMap::new();
+        let mut owners = HashMap::default();
         owners.insert(
             start,
             Owner {
@@ -889,8 +985,7 @@ impl<'g> Walk<'g> {
         };
         let (cell, anchor) = (bug.cell, bug.anchor);
         let a = self.vertex_cell(anchor);
-        let anchor = if a != cell && !line_of_sight_counted(self.grid, to_u(a), to_u(next), counter)
-        {
+        let anchor = if a != cell && !self.grid.sight(a, next, counter) {
             self.push_vertex(cell, anchor)
         } else {
             anchor
@@ -947,46 +1042,69 @@ struct Edge {
     clear: bool,
 }
 
+/// One out-edge in [`Graph`]'s shared edge array, linked to the vertex's next out-edge.
+#[derive(Clone, Copy, Debug)]
+struct Slot {
+    edge: Edge,
+    /// The next slot of the same vertex (`NONE` at the end).
+    next: u32,
+}
+
 /// All `v_list`s as one graph: tree edges (clear by construction) and join edges of
 /// waiting bugs (clear when the owner had noted the join cell itself).
+///
+/// Out-edges live in one array, each vertex's as a linked list in insertion order (one
+/// allocation for the whole graph instead of one per vertex). The order matters: Dijkstra
+/// keeps the first of equally short ways, so it follows the order edges were added in.
+/// A removed edge stays in its list as a dead slot (`to == NONE`) that iteration skips.
 struct Graph {
     cells: Vec<Xy>,
     parents: Vec<u32>,
-    edges: Vec<Vec<Edge>>,
+    /// First and last slot of each vertex's out-list (`NONE` when it has none).
+    head: Vec<u32>,
+    tail: Vec<u32>,
+    slots: Vec<Slot>,
 }
 
 impl Graph {
     fn new(vertices: &[Vertex], joins: &[Join]) -> Self {
-        let mut edges: Vec<Vec<Edge>> = vec![Vec::new(); vertices.len()];
+        let n = vertices.len();
+        let mut graph = Self {
+            cells: vertices.iter().map(|v| v.cell).collect(),
+            parents: vertices.iter().map(|v| v.parent).collect(),
+            head: vec![NONE; n],
+            tail: vec![NONE; n],
+            slots: Vec::with_capacity(n + joins.len()),
+        };
         for (id, v) in vertices.iter().enumerate() {
-            if let Some(out) = edges.get_mut(v.parent as usize) {
-                out.push(Edge {
+            graph.push_edge(
+                v.parent,
+                Edge {
                     to: id as u32,
                     clear: true,
-                });
-            }
+                },
+            );
         }
+        let mut targets = Vec::new();
         for join in joins {
-            let targets: Vec<u32> = edges
-                .get(join.owner.anchor as usize)
-                .map(|out| out.iter().map(|e| e.to).collect())
-                .unwrap_or_default();
-            if let Some(out) = edges.get_mut(join.vertex as usize) {
-                for to in targets {
-                    if to != join.vertex && !out.iter().any(|e| e.to == to) {
-                        out.push(Edge {
+            targets.clear();
+            targets.extend(graph.out(join.owner.anchor).map(|e| e.to));
+            if join.vertex as usize >= n {
+                continue;
+            }
+            for &to in &targets {
+                if to != join.vertex && !graph.out(join.vertex).any(|e| e.to == to) {
+                    graph.push_edge(
+                        join.vertex,
+                        Edge {
                             to,
                             clear: join.owner.at_cell,
-                        });
-                    }
+                        },
+                    );
                 }
             }
         }
-        Self {
-            cells: vertices.iter().map(|v| v.cell).collect(),
-            parents: vertices.iter().map(|v| v.parent).collect(),
-            edges,
-        }
+        graph
     }
 
     fn cell(&self, v: u32) -> Xy {
@@ -996,27 +1114,71 @@ impl Graph {
     fn add_vertex(&mut self, cell: Xy) -> u32 {
         self.cells.push(cell);
         self.parents.push(NONE);
-        self.edges.push(Vec::new());
+        self.head.push(NONE);
+        self.tail.push(NONE);
         (self.cells.len() - 1) as u32
     }
 
+    /// Append `edge` to the out-list of `from` (ignored when `from` is not a vertex).
+    fn push_edge(&mut self, from: u32, edge: Edge) {
+        let Some(&last) = self.tail.get(from as usize) else {
+            return;
+        };
+        let id = self.slots.len() as u32;
+        self.slots.push(Slot { edge, next: NONE });
+        let link = if last == NONE {
+            self.head.get_mut(from as usize)
+        } else {
+            self.slots.get_mut(last as usize).map(|s| &mut s.next)
+        };
+        if let Some(link) = link {
+            *link = id;
+        }
+        if let Some(t) = self.tail.get_mut(from as usize) {
+            *t = id;
+        }
+    }
+
+    /// The slots of the live out-edges of `v`, in insertion order.
+    fn out_slots(&self, v: u32) -> impl Iterator<Item = u32> + '_ {
+        let mut at = self.head.get(v as usize).copied().unwrap_or(NONE);
+        std::iter::from_fn(move || {
+            loop {
+                let slot = self.slots.get(at as usize)?;
+                let id = at;
+                at = slot.next;
+                if slot.edge.to != NONE {
+                    return Some(id);
+                }
+            }
+        })
+    }
+
+    /// The live out-edges of `v`, in insertion order.
+    fn out(&self, v: u32) -> impl Iterator<Item = Edge> + '_ {
+        self.out_slots(v)
+            .filter_map(|id| self.slots.get(id as usize).map(|s| s.edge))
+    }
+
     fn edge_mut(&mut self, from: u32, to: u32) -> Option<&mut Edge> {
-        self.edges
-            .get_mut(from as usize)?
-            .iter_mut()
-            .find(|e| e.to == to)
+        let id = self
+            .out_slots(from)
+            .find(|&id| self.slots.get(id as usize).is_some_and(|s| s.edge.to == to))?;
+        self.slots.get_mut(id as usize).map(|s| &mut s.edge)
     }
 
     fn remove_edge(&mut self, from: u32, to: u32) {
-        if let Some(out) = self.edges.get_mut(from as usize) {
-            out.retain(|e| e.to != to);
+        let mut at = self.head.get(from as usize).copied().unwrap_or(NONE);
+        while let Some(slot) = self.slots.get_mut(at as usize) {
+            if slot.edge.to == to {
+                slot.edge.to = NONE;
+            }
+            at = slot.next;
         }
     }
 
     fn add_edge(&mut self, from: u32, to: u32) {
-        if let Some(out) = self.edges.get_mut(from as usize) {
-            out.push(Edge { to, clear: true });
-        }
+        self.push_edge(from, Edge { to, clear: true });
     }
 
     /// The tree path from the start to `v` (parent links).
@@ -1061,7 +1223,7 @@ impl Graph {
                 path.reverse();
                 return Some(path);
             }
-            for e in self.edges.get(node as usize).into_iter().flatten() {
+            for e in self.out(node) {
                 if clear_only && !e.clear {
                     continue;
                 }
@@ -1087,14 +1249,39 @@ impl Graph {
     /// next vertex on that way.
     fn to_goal(&self, goal: Xy) -> (Vec<f64>, Vec<u32>) {
         let n = self.cells.len();
-        let mut reverse: Vec<Vec<u32>> = vec![Vec::new(); n];
-        for (from, out) in self.edges.iter().enumerate() {
-            for e in out.iter().filter(|e| e.clear) {
-                if let Some(r) = reverse.get_mut(e.to as usize) {
-                    r.push(from as u32);
+        // The reversed clear edges in compressed rows: the sources of the edges into `v`
+        // are `sources[offsets[v]..offsets[v + 1]]`, in order of source, then of out-list.
+        let mut offsets = vec![0u32; n + 1];
+        for from in 0..n as u32 {
+            for e in self.out(from).filter(|e| e.clear) {
+                if let Some(o) = offsets.get_mut(e.to as usize + 1) {
+                    *o += 1;
                 }
             }
         }
+        for v in 1..=n {
+            let before = offsets.get(v - 1).copied().unwrap_or(0);
+            if let Some(o) = offsets.get_mut(v) {
+                *o += before;
+            }
+        }
+        let mut fill = offsets.clone();
+        let mut sources = vec![NONE; offsets.last().copied().unwrap_or(0) as usize];
+        for from in 0..n as u32 {
+            for e in self.out(from).filter(|e| e.clear) {
+                if let Some(f) = fill.get_mut(e.to as usize)
+                    && let Some(slot) = sources.get_mut(*f as usize)
+                {
+                    *slot = from;
+                    *f += 1;
+                }
+            }
+        }
+        let into = |v: u32| {
+            let lo = offsets.get(v as usize).copied().unwrap_or(0) as usize;
+            let hi = offsets.get(v as usize + 1).copied().unwrap_or(0) as usize;
+            sources.get(lo..hi).unwrap_or(&[])
+        };
         let mut best = vec![f64::INFINITY; n];
         let mut next = vec![NONE; n];
         let mut heap = BinaryHeap::new();
@@ -1114,7 +1301,7 @@ impl Graph {
                 continue;
             }
             let here = self.cell(node);
-            for &from in reverse.get(node as usize).into_iter().flatten() {
+            for &from in into(node) {
                 let c = cost + dist(here, self.cell(from));
                 if let Some(slot) = best.get_mut(from as usize)
                     && c < *slot
@@ -1187,7 +1374,7 @@ fn select(
             if edge.clear {
                 continue;
             }
-            if line_of_sight_counted(grid, to_u(a), to_u(b), counter) {
+            if grid.sight(a, b, counter) {
                 edge.clear = true;
             } else {
                 blocked = Some((u, v));
@@ -1231,13 +1418,13 @@ fn alternatives(
         let from = join.vertex;
         let a = graph_clear.cell(from);
         let unknown: Vec<u32> = graph_clear
-            .edges
-            .get(from as usize)
-            .map(|out| out.iter().filter(|e| !e.clear).map(|e| e.to).collect())
-            .unwrap_or_default();
+            .out(from)
+            .filter(|e| !e.clear)
+            .map(|e| e.to)
+            .collect();
         for to in unknown {
             let b = graph_clear.cell(to);
-            if line_of_sight_counted(grid, to_u(a), to_u(b), counter) {
+            if grid.sight(a, b, counter) {
                 if let Some(e) = graph_clear.edge_mut(from, to) {
                     e.clear = true;
                 }
@@ -1288,4 +1475,54 @@ fn alternatives(
         .map(|(_, p)| p)
         .filter(|p| Some(p.as_slice()) != selected)
         .collect()
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod tests {
+    use super::*;
+    use crate::los::Traversable;
+    use rand::{Rng, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    /// The padded-array line of sight answers and counts exactly as the crate's one.
+    #[test]
+    fn sight_matches_line_of_sight_counted() {
+        let mut rng = ChaCha8Rng::seed_from_u64(11);
+        for (w, h, density) in [(1, 1, 0.0), (7, 3, 0.2), (13, 17, 0.1), (20, 20, 0.3)] {
+            let cells = (0..w * h)
+                .map(|_| match rng.random_range(0.0..1.0) {
+                    p if p < density => Cell::Occupied,
+                    p if p < density + 0.05 => Cell::Unknown,
+                    _ => Cell::Free,
+                })
+                .collect();
+            let grid = OccupancyGrid::from_cells(w, h, 1.0, [0.0; 2], cells).unwrap();
+            for unknown_passable in [false, true] {
+                let padded = PaddedGrid::new(&grid, unknown_passable);
+                let reference = Traversable::new(&grid, unknown_passable);
+                for _ in 0..400 {
+                    let mut cell = || {
+                        (
+                            rng.random_range(-1..=w as i64),
+                            rng.random_range(-1..=h as i64),
+                        )
+                    };
+                    let (a, b) = (cell(), cell());
+                    let mut ours = LosCounter::default();
+                    let mut theirs = LosCounter::default();
+                    let answer = padded.sight(a, b, &mut ours);
+                    let expected = a.0 >= 0
+                        && a.1 >= 0
+                        && b.0 >= 0
+                        && b.1 >= 0
+                        && line_of_sight_counted(&reference, to_u(a), to_u(b), &mut theirs);
+                    assert_eq!(answer, expected, "{a:?} -> {b:?}");
+                    if a.0 >= 0 && a.1 >= 0 && b.0 >= 0 && b.1 >= 0 {
+                        assert_eq!(ours, theirs, "{a:?} -> {b:?}");
+                    }
+                }
+            }
+        }
+    }
 }
