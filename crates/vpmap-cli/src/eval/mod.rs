@@ -14,6 +14,12 @@
 //! | `box_<metric>.svg`, `.png` | the thesis's box plots: one box per set-up and method, 2PP and 3PP side by side, at `--plot-sigma` |
 //! | `objects.csv` | one row per object, noise level and method: every metric |
 //! | `failures.csv` | one row per scene a builder refused: the reason's category and message |
+//!
+//! `--vp-edges` chooses the edges the vanishing points are fitted to: `objects` (the boxes' own
+//! edges through their noisy corners, the default) or `long` (per vanishing point
+//! `--vp-edge-count` straight room lines of `--vp-edge-px` pixels spread over the image, each
+//! the image of a 3D line in the vanishing direction in front of the true camera, their end
+//! points clicked with the same noise; [`vpmap_metrology::eval::VpEdges`]).
 
 mod plot;
 mod report;
@@ -24,8 +30,9 @@ use std::time::Instant;
 use anyhow::{Context, Result, bail};
 use indicatif::{ProgressBar, ProgressStyle};
 use rayon::prelude::*;
-use vpmap_metrology::eval::{SETUPS, Setup, Trial, run_trial};
+use vpmap_metrology::eval::{SETUPS, Setup, Trial, TrialOptions, VpEdges, run_trial_with};
 use vpmap_metrology::reconstruct::Method;
+use vpmap_metrology::synth::LongEdgeOptions;
 
 use crate::num;
 use crate::output::OutputSet;
@@ -39,6 +46,16 @@ const MAX_TRIALS: u64 = 10_000;
 
 /// Largest noise accepted, pixels.
 const MAX_SIGMA_PX: f64 = 100.0;
+
+/// Shortest long vanishing-point edge accepted, pixels.
+const MIN_VP_EDGE_PX: f64 = 20.0;
+
+/// Longest long vanishing-point edge accepted, as a fraction of the smallest image height among
+/// the chosen set-ups (so that vertical edges fit with room to place them).
+const MAX_VP_EDGE_OF_HEIGHT: f64 = 0.75;
+
+/// Most long edges per vanishing point accepted.
+const MAX_VP_EDGE_COUNT: usize = 20;
 
 /// Arguments of `vpmap eval`.
 #[derive(clap::Args)]
@@ -70,6 +87,24 @@ pub struct EvalArgs {
     /// docs/results.md); its image links point into --out.
     #[arg(long)]
     pub publish: Option<PathBuf>,
+    /// Edges the vanishing points are fitted to (least squares), as a user would click them:
+    /// `objects`, the boxes' own base and top edges through their noisy corners (short: median
+    /// 87 px in 2PP, 164 px in 3PP); or `long`, per vanishing point --vp-edge-count straight
+    /// room lines (floor-wall junctions, wall corners) of --vp-edge-px pixels. A long edge
+    /// lies on the line from the vanishing point through a pixel drawn uniformly over the
+    /// image, at a uniform place on it inside the image (2 % margin) and on the far side of
+    /// the vanishing point: the image of a 3D line in the vanishing direction in front of the
+    /// true camera. Its end points get the same Gaussian noise as every clicked point, and the
+    /// objects' points get the same noise in both models.
+    #[arg(long, default_value = "objects")]
+    pub vp_edges: String,
+    /// Length of each long edge, pixels (with --vp-edges long; default 600; from 20 to three
+    /// quarters of the smallest image height among the chosen set-ups, 720 for all).
+    #[arg(long, allow_hyphen_values = true)]
+    pub vp_edge_px: Option<String>,
+    /// Long edges per vanishing point (with --vp-edges long; default 3).
+    #[arg(long, allow_hyphen_values = true)]
+    pub vp_edge_count: Option<String>,
 }
 
 /// The validated configuration of a run.
@@ -86,6 +121,8 @@ pub struct Config {
     pub setups: Vec<&'static Setup>,
     /// The box plots' noise level.
     pub plot_sigma: f64,
+    /// The edges the vanishing points are fitted to.
+    pub vp_edges: VpEdges,
 }
 
 fn parse_sigmas(text: &str) -> Result<Vec<f64>> {
@@ -155,6 +192,53 @@ fn parse_experiments(text: &str) -> Result<Vec<&'static Setup>> {
         .collect())
 }
 
+/// `--vp-edges` with its `--vp-edge-px` and `--vp-edge-count`, for the chosen set-ups.
+fn parse_vp_edges(
+    model: &str,
+    length_px: Option<&str>,
+    count: Option<&str>,
+    setups: &[&Setup],
+) -> Result<VpEdges> {
+    match model.trim().to_ascii_lowercase().as_str() {
+        "objects" => {
+            if length_px.is_some() || count.is_some() {
+                bail!("--vp-edge-px and --vp-edge-count apply only to --vp-edges long");
+            }
+            Ok(VpEdges::Objects)
+        }
+        "long" => {
+            let mut long = LongEdgeOptions::default();
+            let smallest = setups
+                .iter()
+                .map(|s| s.image.height)
+                .min()
+                .unwrap_or(u32::MAX);
+            let max_px = (MAX_VP_EDGE_OF_HEIGHT * f64::from(smallest)).floor();
+            if let Some(text) = length_px {
+                let v = text.trim().parse::<f64>().unwrap_or(f64::NAN);
+                if !(v.is_finite() && (MIN_VP_EDGE_PX..=max_px).contains(&v)) {
+                    bail!(
+                        "--vp-edge-px {text:?} must be a length in pixels from {MIN_VP_EDGE_PX} to {max_px} (three quarters of the smallest image height, {smallest} px, among the chosen set-ups)"
+                    );
+                }
+                long.length_px = v;
+            } else if long.length_px > max_px {
+                long.length_px = max_px;
+            }
+            if let Some(text) = count {
+                match text.trim().parse::<usize>() {
+                    Ok(n) if (2..=MAX_VP_EDGE_COUNT).contains(&n) => long.per_vanishing_point = n,
+                    _ => bail!(
+                        "--vp-edge-count {text:?} must be a whole number of edges per vanishing point from 2 to {MAX_VP_EDGE_COUNT}"
+                    ),
+                }
+            }
+            Ok(VpEdges::Long(long))
+        }
+        other => bail!("--vp-edges {other:?} is not an edge model; use objects or long"),
+    }
+}
+
 /// Check the arguments before any work.
 fn check_args(args: &EvalArgs) -> Result<Config> {
     if !(1..=MAX_TRIALS).contains(&args.trials) {
@@ -166,6 +250,12 @@ fn check_args(args: &EvalArgs) -> Result<Config> {
     let sigmas = parse_sigmas(&args.sigma)?;
     let methods = parse_methods(&args.methods)?;
     let setups = parse_experiments(&args.experiments)?;
+    let vp_edges = parse_vp_edges(
+        &args.vp_edges,
+        args.vp_edge_px.as_deref(),
+        args.vp_edge_count.as_deref(),
+        &setups,
+    )?;
     let plot_sigma = match args.plot_sigma {
         Some(p) => {
             if !sigmas.iter().any(|s| (s - p).abs() <= 1e-12) {
@@ -190,6 +280,7 @@ fn check_args(args: &EvalArgs) -> Result<Config> {
         methods,
         setups,
         plot_sigma,
+        vp_edges,
     })
 }
 
@@ -270,12 +361,15 @@ fn run_trials(config: &Config) -> Results {
     let done: Vec<(usize, Trial)> = work
         .par_iter()
         .map(|&(s, t)| {
-            let trial = run_trial(
+            let trial = run_trial_with(
                 config.setups[s],
                 config.seed,
                 t,
                 &config.sigmas,
                 &config.methods,
+                &TrialOptions {
+                    vp_edges: config.vp_edges,
+                },
             );
             bar.inc(1);
             (s, trial)
@@ -429,5 +523,23 @@ mod tests {
         assert_eq!(parse_experiments("2pp").unwrap().len(), 9);
         assert_eq!(parse_experiments("3pp-2,2pp-1").unwrap()[0].name, "2pp-1");
         assert!(parse_experiments("4pp").is_err());
+        let all: Vec<&Setup> = SETUPS.iter().collect();
+        assert_eq!(
+            parse_vp_edges("objects", None, None, &all).unwrap(),
+            VpEdges::Objects
+        );
+        let VpEdges::Long(long) = parse_vp_edges(" Long", Some("400"), Some("5"), &all).unwrap()
+        else {
+            panic!("long")
+        };
+        assert_eq!((long.length_px, long.per_vanishing_point), (400.0, 5));
+        // 3/4 of the 960-px-high small images; 900 px fits the 1200-px-high ones only.
+        assert!(parse_vp_edges("long", Some("721"), None, &all).is_err());
+        let big: Vec<&Setup> = parse_experiments("2pp-1").unwrap();
+        assert!(parse_vp_edges("long", Some("900"), None, &big).is_ok());
+        assert!(parse_vp_edges("long", Some("19"), None, &all).is_err());
+        assert!(parse_vp_edges("long", None, Some("1"), &all).is_err());
+        assert!(parse_vp_edges("objects", Some("400"), None, &all).is_err());
+        assert!(parse_vp_edges("edges", None, None, &all).is_err());
     }
 }

@@ -9,7 +9,7 @@ use anyhow::{Context, Result};
 use serde::Serialize;
 use vpmap_metrology::calibration::Perspective;
 use vpmap_metrology::eval::{
-    MapEvaluation, OBJECT_METRICS, SCENE_METRICS, Summary, TRUE_SCALE_SUFFIX,
+    MapEvaluation, OBJECT_METRICS, SCENE_METRICS, Summary, TRUE_SCALE_SUFFIX, VpEdges,
 };
 
 use super::{Config, Results};
@@ -494,16 +494,23 @@ pub fn markdown(
     let mut md = String::new();
     let sigmas: Vec<String> = config.sigmas.iter().map(|s| sigma_text(*s)).collect();
     let methods: Vec<String> = config.methods.iter().map(ToString::to_string).collect();
+    let edges = match config.vp_edges {
+        VpEdges::Objects => String::new(),
+        VpEdges::Long(long) => format!(
+            ", vanishing points from {} long edges of {} px each",
+            long.per_vanishing_point, long.length_px
+        ),
+    };
     let _ = writeln!(
         md,
-        "{} trials per experiment, seed {}, annotation noise σ = {} px, methods {}; box plots at σ = {} px.\n",
+        "{} trials per experiment, seed {}, annotation noise σ = {} px, methods {}{edges}; box plots at σ = {} px.\n",
         config.trials,
         config.seed,
         sigmas.join(", "),
         methods.join(", "),
         sigma_text(config.plot_sigma)
     );
-    md.push_str(METHOD_NOTE);
+    md.push_str(&method_note(config.vp_edges));
     md.push_str("\n### Experiments\n\n");
     md.push_str("| set-up | perspective | camera height (m) | pitch (°) | roll (°) | focal (px) | image (px) | objects | scene |\n|---|---|---|---|---|---|---|---|---|\n");
     for s in &config.setups {
@@ -645,6 +652,24 @@ pub fn markdown(
 /// How the numbers were made, for the report.
 const METHOD_NOTE: &str = "Each trial draws a random scene of the set-up from vpmap's synthetic pinhole camera (seed from `--seed`, the set-up's name and the trial number), adds Gaussian noise of standard deviation σ pixels to every annotated point (box base corners and tops, footprint vertices, floor corners) and gives the vanishing points as the box edges through those noisy corners, which the builder intersects by least squares; every method builds the same noisy scene. The thesis's six metrics (section 6.1.1) are computed per object with the station point as origin, in two variants: `S_k`, the truth scaled to the model by eq. 6.1 from the first box (the reference object), and `true` (metric names with the suffix `_true_scale` in the files), the map in metres from the known camera height against the truth in metres. Pose errors are wrapped to (-180°, 180°], skew errors to (-90°, 90°] (a side is an undirected line; modelled and actual sides correspond by their annotated corners). Percentiles interpolate between order statistics (type 7). Box plots: box from the first to the third quartile, line at the median, whiskers at the 5th and 95th percentiles (not 1.5 IQR fences); nothing beyond them is drawn. The synthetic objects' sizes scale with the camera height and every metric is relative, so a set-up's camera height alone changes nothing: room-sized and table-top set-ups differ by focal length, image size, pitch, roll and object count. The thesis's ranges come from photos measured by hand, so they mix annotation, vanishing-point and ground-truth errors; here the truth is exact and only the annotation is noisy.\n";
 
+/// What [`METHOD_NOTE`] says of the vanishing points with `--vp-edges objects`.
+const OBJECT_EDGES_NOTE: &str = "gives the vanishing points as the box edges through those noisy corners, which the builder intersects by least squares";
+
+/// [`METHOD_NOTE`] for the chosen vanishing-point edges.
+fn method_note(edges: VpEdges) -> String {
+    match edges {
+        VpEdges::Objects => METHOD_NOTE.to_owned(),
+        VpEdges::Long(long) => METHOD_NOTE.replacen(
+            OBJECT_EDGES_NOTE,
+            &format!(
+                "gives each vanishing point as {} long straight edges of {} px (`--vp-edges long`: room lines such as floor-wall junctions and wall corners, each on the line from the vanishing point through a pixel drawn uniformly over the image, inside the image and on the far side of the vanishing point, i.e. the image of a 3D line in the vanishing direction in front of the true camera) whose end points get the same noise, which the builder intersects by least squares",
+                long.per_vanishing_point, long.length_px
+            ),
+            1,
+        ),
+    }
+}
+
 /// The published section: where, when and how it was measured, then the report.
 pub fn published(body: &str, elapsed: Duration) -> String {
     format!(
@@ -697,6 +722,17 @@ pub fn print_headline(config: &Config, c: &Collected) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_long_edge_note_replaces_the_object_edge_sentence() {
+        assert!(METHOD_NOTE.contains(OBJECT_EDGES_NOTE));
+        assert_eq!(method_note(VpEdges::Objects), METHOD_NOTE);
+        let long = method_note(VpEdges::Long(
+            vpmap_metrology::synth::LongEdgeOptions::default(),
+        ));
+        assert!(!long.contains(OBJECT_EDGES_NOTE));
+        assert!(long.contains("3 long straight edges of 600 px"), "{long}");
+    }
 
     #[test]
     fn numbers_are_formatted_by_hand_rules() {

@@ -222,6 +222,37 @@ fn bad_arguments_fail_with_one_line_and_write_nothing() {
         ),
         (vec!["--experiments", "5pp"], "is not a set-up"),
         (vec!["--sigma", "0,1", "--plot-sigma", "2"], "--plot-sigma"),
+        (vec!["--vp-edges", "lines"], "is not an edge model"),
+        (vec!["--vp-edges", ""], "is not an edge model"),
+        (
+            vec!["--vp-edges", "long", "--vp-edge-px", "5000"],
+            "--vp-edge-px \"5000\" must be a length in pixels from 20 to 720",
+        ),
+        (
+            vec!["--vp-edges", "long", "--vp-edge-px", "-600"],
+            "--vp-edge-px",
+        ),
+        (
+            vec!["--vp-edges", "long", "--vp-edge-px", "NaN"],
+            "--vp-edge-px",
+        ),
+        (
+            vec!["--vp-edges", "long", "--vp-edge-px", "abc"],
+            "--vp-edge-px",
+        ),
+        (
+            vec!["--vp-edges", "long", "--vp-edge-count", "1"],
+            "--vp-edge-count",
+        ),
+        (
+            vec!["--vp-edges", "long", "--vp-edge-count", "2.5"],
+            "--vp-edge-count",
+        ),
+        (vec!["--vp-edge-px", "300"], "apply only to --vp-edges long"),
+        (
+            vec!["--vp-edge-count", "4"],
+            "apply only to --vp-edges long",
+        ),
     ] {
         let mut full = vec!["eval", "--out", o];
         if args[0] != "--trials" {
@@ -260,4 +291,47 @@ fn bad_arguments_fail_with_one_line_and_write_nothing() {
     let usage = vpmap(&["eval", "--out", o, "--trials", "-3"]);
     assert_eq!(usage.status.code(), Some(2));
     assert!(!out.exists());
+}
+
+#[test]
+fn long_vanishing_edges_are_exact_without_noise_and_named_in_the_report() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("long");
+    let o = small_run(
+        &out,
+        &[
+            "--vp-edges",
+            "long",
+            "--vp-edge-px",
+            "500",
+            "--vp-edge-count",
+            "4",
+        ],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let rows: Vec<serde_json::Value> =
+        serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
+    let mut checked = 0;
+    for row in rows.iter().filter(|r| r["sigma"].as_f64() == Some(0.0)) {
+        let metric = row["metric"].as_str().unwrap();
+        let v = row["median"].as_f64().unwrap();
+        assert!((v - perfect(metric)).abs() < 1e-6, "{metric} = {v}: {row}");
+        assert_eq!(row["refused"].as_u64(), Some(0), "{row}");
+        checked += 1;
+    }
+    assert!(checked > 100, "{checked} rows at sigma 0");
+    let md = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(md.contains("vanishing points from 4 long edges of 500 px each"));
+    assert!(md.contains("4 long straight edges of 500 px (`--vp-edges long`"));
+    assert!(!md.contains("as the box edges through those noisy corners"));
+    // The default names no long edges, and at 1 px the two models differ.
+    let objects = dir.path().join("objects");
+    assert!(small_run(&objects, &[]).status.success());
+    let default_md = std::fs::read_to_string(objects.join("summary.md")).unwrap();
+    assert!(default_md.contains("as the box edges through those noisy corners"));
+    assert!(!default_md.contains("long edges"));
+    assert_ne!(
+        std::fs::read(out.join("objects.csv")).unwrap(),
+        std::fs::read(objects.join("objects.csv")).unwrap()
+    );
 }
