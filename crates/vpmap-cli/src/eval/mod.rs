@@ -84,7 +84,8 @@ pub struct EvalArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub plot_sigma: Option<f64>,
     /// Also write the report into the `eval` section of this Markdown file (e.g.
-    /// docs/results.md); its image links point into --out.
+    /// docs/results.md), or its `eval-long-edges` section with `--vp-edges long`; its image
+    /// links point into --out.
     #[arg(long)]
     pub publish: Option<PathBuf>,
     /// Edges the vanishing points are fitted to (least squares), as a user would click them:
@@ -271,7 +272,7 @@ fn check_args(args: &EvalArgs) -> Result<Config> {
     };
     check_writable_folder(&args.out)?;
     if let Some(path) = &args.publish {
-        check_publish_target(path)?;
+        check_publish_target(path, section_name(&vp_edges))?;
     }
     Ok(Config {
         trials: args.trials,
@@ -308,9 +309,18 @@ fn check_writable_folder(dir: &Path) -> Result<()> {
     Ok(())
 }
 
-/// The publish target must be a Markdown file whose `eval` section markers, if any, are in
+/// The section of the `--publish` file a run writes: `eval` for the default vanishing-point
+/// edges, `eval-long-edges` for `--vp-edges long`, so that both can be published side by side.
+fn section_name(vp_edges: &VpEdges) -> &'static str {
+    match vp_edges {
+        VpEdges::Objects => "eval",
+        VpEdges::Long(_) => "eval-long-edges",
+    }
+}
+
+/// The publish target must be a Markdown file whose `name` section markers, if any, are in
 /// order, in a folder that can be written.
-fn check_publish_target(path: &Path) -> Result<()> {
+fn check_publish_target(path: &Path, name: &str) -> Result<()> {
     if path.is_dir() {
         bail!(
             "--publish {} is a folder; give a Markdown file",
@@ -319,15 +329,15 @@ fn check_publish_target(path: &Path) -> Result<()> {
     }
     match std::fs::read_to_string(path) {
         Ok(text) => {
-            let (b, e) = (
-                text.find("<!-- eval:begin -->"),
-                text.find("<!-- eval:end -->"),
+            let (begin, end) = (
+                format!("<!-- {name}:begin -->"),
+                format!("<!-- {name}:end -->"),
             );
-            match (b, e) {
+            match (text.find(&begin), text.find(&end)) {
                 (Some(b), Some(e)) if b < e => {}
                 (None, None) => {}
                 _ => bail!(
-                    "--publish {} has a broken `eval` section: it needs `<!-- eval:begin -->` before `<!-- eval:end -->`",
+                    "--publish {} has a broken `{name}` section: it needs `{begin}` before `{end}`",
                     path.display()
                 ),
             }
@@ -413,15 +423,15 @@ pub fn run(args: &EvalArgs) -> Result<()> {
     let body = report::markdown(&config, &collected, &image_of, "");
     files.add(
         "summary.md",
-        format!("# Map accuracy under annotation noise (`vpmap eval`)\n\n{body}"),
+        format!("# {}\n\n{body}", report::title(&config)),
     );
     let written = files.write_all(&args.out)?;
     let elapsed = started.elapsed();
     if let Some(path) = &args.publish {
         let prefix = link_prefix(path, &args.out)?;
         let body = report::markdown(&config, &collected, &image_of, &prefix);
-        let section = report::published(&body, elapsed);
-        crate::publish::replace_section(path, "eval", &section)?;
+        let section = report::published(report::title(&config), &body, elapsed);
+        crate::publish::replace_section(path, section_name(&config.vp_edges), &section)?;
     }
     report::print_headline(&config, &collected);
     println!(
@@ -437,7 +447,11 @@ pub fn run(args: &EvalArgs) -> Result<()> {
         .collect();
     println!("wrote {} in {}", names.join(", "), args.out.display());
     if let Some(path) = &args.publish {
-        println!("published the eval section of {}", path.display());
+        println!(
+            "published the {} section of {}",
+            section_name(&config.vp_edges),
+            path.display()
+        );
     }
     Ok(())
 }

@@ -670,10 +670,20 @@ fn method_note(edges: VpEdges) -> String {
     }
 }
 
+/// The report's title: the default run and a `--vp-edges long` run are told apart.
+pub fn title(config: &Config) -> &'static str {
+    match config.vp_edges {
+        VpEdges::Objects => "Map accuracy under annotation noise (`vpmap eval`)",
+        VpEdges::Long(_) => {
+            "Map accuracy under annotation noise, vanishing points from long edges (`vpmap eval --vp-edges long`)"
+        }
+    }
+}
+
 /// The published section: where, when and how it was measured, then the report.
-pub fn published(body: &str, elapsed: Duration) -> String {
+pub fn published(title: &str, body: &str, elapsed: Duration) -> String {
     format!(
-        "## Map accuracy under annotation noise (`vpmap eval`)\n\nMeasured on {}, {} (UTC), in {:.1} s, with\n\n    {}\n\n{body}",
+        "## {title}\n\nMeasured on {}, {} (UTC), in {:.1} s, with\n\n    {}\n\n{body}",
         crate::publish::machine_description(),
         crate::publish::utc_date(),
         elapsed.as_secs_f64(),

@@ -194,6 +194,44 @@ fn publishing_writes_the_section_with_links_that_resolve() {
     }
 }
 
+#[test]
+fn a_long_edge_run_publishes_its_own_section_beside_the_default_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let results = dir.path().join("results.md");
+    let before = "# Results\n\n<!-- eval:begin -->\nkept\n<!-- eval:end -->\n";
+    std::fs::write(&results, before).unwrap();
+    let out = dir.path().join("long");
+    let run = |extra: &[&str]| {
+        let mut args = vec!["--experiments", "2pp-1", "--methods", "sideview"];
+        args.extend_from_slice(extra);
+        small_run(&out, &args)
+    };
+    let o = run(&["--vp-edges", "long", "--publish", results.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(&results).unwrap();
+    // The default section is untouched; the long-edge one is appended after it.
+    assert!(text.starts_with(before), "{text}");
+    let long = &text[before.len()..];
+    assert!(
+        long.starts_with("\n<!-- eval-long-edges:begin -->\n## Map accuracy"),
+        "{long}"
+    );
+    assert!(long.ends_with("<!-- eval-long-edges:end -->\n"), "{long}");
+    assert!(
+        long.contains("long edges") && long.contains("--vp-edges long"),
+        "{long}"
+    );
+    // A broken long-edge section is refused before any work.
+    std::fs::write(
+        &results,
+        "<!-- eval-long-edges:end -->\n<!-- eval-long-edges:begin -->\n",
+    )
+    .unwrap();
+    let o = run(&["--vp-edges", "long", "--publish", results.to_str().unwrap()]);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("broken `eval-long-edges` section"));
+}
+
 fn assert_refused(args: &[&str], out: &Path, needle: &str) {
     let o = vpmap(args);
     let stderr = String::from_utf8_lossy(&o.stderr);
