@@ -574,11 +574,12 @@ pub fn long_edges(
                 return Err(MetrologyError::Degenerate {
                     field: "long_edges.length_px".to_owned(),
                     reason: format!(
-                        "no line through vanishing point {} has {length} px inside the image ({} x {} less {} %) in {LONG_EDGE_ATTEMPTS} attempts; ask for shorter edges",
+                        "no line through vanishing point {} has {length} px inside the image ({} x {} less {} %) in {} attempts; ask for shorter edges",
                         k + 1,
                         camera.image.width,
                         camera.image.height,
-                        options.inset * 100.0
+                        options.inset * 100.0,
+                        LONG_EDGE_ATTEMPTS * options.per_vanishing_point
                     ),
                 });
             }
@@ -607,10 +608,12 @@ pub fn long_edges(
                 let v = v_xy / w_h;
                 lo = lo.max((v - c).dot(&e) + 1.0);
             }
-            if hi - lo < length {
+            // (`hi - length < lo` also when `hi - lo` rounds to `length`: an empty range.)
+            let last_start = hi - length;
+            if hi - lo < length || last_start < lo {
                 continue;
             }
-            let start = rng.random_range(lo..=hi - length);
+            let start = rng.random_range(lo..=last_start);
             // The 3D line through the point one camera height along c's ray.
             let eye = camera.centre();
             let through = eye + ray(c) * camera.height_m;

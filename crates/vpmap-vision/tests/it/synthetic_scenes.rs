@@ -292,7 +292,7 @@ fn a_sixteen_bit_grey_image_works_like_the_eight_bit_one() {
 /// The York Urban photos give a *worse* vertical with the true intrinsics than without (1.07
 /// against 0.60 degrees median), because their labelled vertical is not orthogonal to their
 /// labelled horizontals (see `docs/results.md`). Here the truth is exactly orthogonal: on
-/// York Urban-like cameras (f = 675 px, principal point 12 px off centre, looking down 1.5 to
+/// York Urban-like cameras (f = 675 px, principal point 17 px off centre, looking down 1.5 to
 /// 8 degrees) knowing the camera must not make the vertical worse.
 #[test]
 fn the_true_intrinsics_do_not_make_the_vertical_worse() {
