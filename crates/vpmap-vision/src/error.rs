@@ -58,8 +58,7 @@ pub enum VisionError {
         /// The decoder's message, on one line.
         message: String,
     },
-    /// Too few line segments (or too few supporting one of the directions) to fix the
-    /// vanishing points.
+    /// Too few line segments to fix the vanishing points.
     #[error(
         "found {found} usable line segments; at least {needed} are needed to find the vanishing points (is the photo blurred, dark, or without straight edges?)"
     )]
@@ -68,6 +67,16 @@ pub enum VisionError {
         found: usize,
         /// Segments needed.
         needed: usize,
+    },
+    /// Enough line segments, but they do not point to two or more orthogonal directions
+    /// (all along one direction, or no consistent frame), so the vanishing points are not
+    /// determined.
+    #[error(
+        "the {segments} usable line segments do not point along two or more orthogonal directions, so the vanishing points are not determined (the photo needs straight edges along at least two of a room's three directions)"
+    )]
+    NoOrthogonalDirections {
+        /// Usable segments found.
+        segments: usize,
     },
     /// An option is outside its valid range.
     #[error("`{field}` is {value}; it {requirement}")]

@@ -189,7 +189,9 @@ impl Segment {
 ///   [`MAX_SIDE_PX`];
 /// * [`VisionError::InvalidParameter`] for an invalid option;
 /// * [`VisionError::NotEnoughLines`] when the image has too few straight edges to fix the
-///   vanishing points (blank, noise, blurred), or they support fewer than two directions.
+///   vanishing points (blank, noise, blurred);
+/// * [`VisionError::NoOrthogonalDirections`] when its edges do not point along two or more
+///   orthogonal directions (all parallel, say).
 ///
 /// # Complexity
 /// Linear in the number of pixels of the working image (LSD), plus about

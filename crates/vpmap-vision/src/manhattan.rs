@@ -333,9 +333,8 @@ pub(crate) fn estimate(
         }
     }
     let Some((_, frame, pp_free)) = best else {
-        return Err(VisionError::NotEnoughLines {
-            found: problem.segs.len(),
-            needed: MIN_SEGMENTS,
+        return Err(VisionError::NoOrthogonalDirections {
+            segments: problem.segs.len(),
         });
     };
     problem.finish(&frame, pp_free)
@@ -735,9 +734,8 @@ impl Problem<'_> {
         let counts = [0, 1, 2].map(|k| assigned.iter().filter(|a| **a == Some(k)).count());
         let supported = counts.iter().filter(|&&c| c >= 2).count();
         if supported < 2 {
-            return Err(VisionError::NotEnoughLines {
-                found: counts.iter().sum(),
-                needed: 4,
+            return Err(VisionError::NoOrthogonalDirections {
+                segments: self.segs.len(),
             });
         }
         // Support among every segment, for the caller.
