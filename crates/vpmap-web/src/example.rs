@@ -84,19 +84,7 @@ pub fn render_office_photo() -> Result<RgbImage, String> {
         .map_err(|e| format!("the bundled examples/office.json: {e}"))?;
     let truth: Truth = serde_json::from_str(OFFICE_TRUTH)
         .map_err(|e| format!("the bundled examples/office.truth.json: {e}"))?;
-    let c = &truth.camera;
-    let principal_point = c.principal_point.unwrap_or([
-        0.5 * f64::from(scene.image.width),
-        0.5 * f64::from(scene.image.height),
-    ]);
-    let camera = PinholeCamera {
-        image: scene.image,
-        focal_px: c.focal_px,
-        principal_point_px: Vector2::new(principal_point[0], principal_point[1]),
-        height_m: c.height,
-        pitch_rad: c.pitch_deg.to_radians(),
-        roll_rad: c.roll_deg.to_radians(),
-    };
+    let camera = truth.camera.pinhole(scene.image);
     let yaw_rad = truth
         .objects
         .iter()
@@ -481,16 +469,7 @@ mod tests {
         // office.json annotates, so the painted boxes are where the annotations are.
         let scene = Scene::from_json_str(OFFICE_SCENE).unwrap_or_else(|e| panic!("{e}"));
         let truth: Truth = serde_json::from_str(OFFICE_TRUTH).unwrap_or_else(|e| panic!("{e}"));
-        let c = &truth.camera;
-        let pp = c.principal_point.unwrap_or([800.0, 600.0]);
-        let camera = PinholeCamera {
-            image: scene.image,
-            focal_px: c.focal_px,
-            principal_point_px: Vector2::new(pp[0], pp[1]),
-            height_m: c.height,
-            pitch_rad: c.pitch_deg.to_radians(),
-            roll_rad: c.roll_deg.to_radians(),
-        };
+        let camera = truth.camera.pinhole(scene.image);
         let base = scene.objects[0].base.as_ref().map(|b| b.near);
         let fp = truth.objects[0].footprint[0];
         let p = camera

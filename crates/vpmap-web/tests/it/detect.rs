@@ -17,29 +17,13 @@ fn post_image(target: &str, content_type: &str, body: &[u8]) -> crate::Reply {
     request("POST", target, &[("Content-Type", content_type)], body)
 }
 
-/// CRC-32 (IEEE) of `bytes`, as PNG chunks need.
-fn crc32(bytes: &[u8]) -> u32 {
-    let mut crc = 0xffff_ffffu32;
-    for &b in bytes {
-        crc ^= u32::from(b);
-        for _ in 0..8 {
-            crc = if crc & 1 == 1 {
-                (crc >> 1) ^ 0xedb8_8320
-            } else {
-                crc >> 1
-            };
-        }
-    }
-    !crc
-}
-
 /// One PNG chunk: length, type, data, CRC.
 fn chunk(png: &mut Vec<u8>, kind: [u8; 4], data: &[u8]) {
     png.extend_from_slice(&(data.len() as u32).to_be_bytes());
     let mut typed = kind.to_vec();
     typed.extend_from_slice(data);
     png.extend_from_slice(&typed);
-    png.extend_from_slice(&crc32(&typed).to_be_bytes());
+    png.extend_from_slice(&crc32fast::hash(&typed).to_be_bytes());
 }
 
 /// A well-formed PNG claiming `width` x `height` RGB pixels, whose image data holds only a
