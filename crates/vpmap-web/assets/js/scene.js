@@ -138,6 +138,40 @@ export function resolvedVps(scene) {
   return (scene?.vanishing_points || []).map(vpPoint);
 }
 
+/**
+ * For each detected segment, the index of the scene's vanishing point it supports (-1 for
+ * none). The detector lists its vanishing points in its own order with a `vertical` flag;
+ * each is matched to the scene entry whose direction from the principal point is closest.
+ */
+export function segmentOwners(res, scene) {
+  const owners = new Array((res.segments || []).length).fill(-1);
+  const pp = scene.principal_point || [scene.image.width / 2, scene.image.height / 2];
+  const scenePts = scene.vanishing_points.map(vpPoint);
+  const dir = (p) => {
+    const d = [p[0] - pp[0], p[1] - pp[1]];
+    const n = Math.hypot(d[0], d[1]) || 1;
+    return [d[0] / n, d[1] / n];
+  };
+  let nextHorizontal = 0;
+  for (const v of res.vanishing_points || []) {
+    let k = v.vertical ? 2 : nextHorizontal++;
+    if (v.point && !v.vertical) {
+      let best = -1;
+      for (let j = 0; j < Math.min(2, scenePts.length); j++) {
+        if (!scenePts[j]) continue;
+        const a = dir(v.point), b = dir(scenePts[j]);
+        const c = Math.abs(a[0] * b[0] + a[1] * b[1]);
+        if (best < 0 || c > best) {
+          best = c;
+          k = j;
+        }
+      }
+    }
+    for (const i of v.segments || []) if (i >= 0 && i < owners.length) owners[i] = k;
+  }
+  return owners;
+}
+
 /** A deep copy (the scene is plain JSON). */
 export function cloneScene(scene) {
   return scene ? JSON.parse(JSON.stringify(scene)) : null;

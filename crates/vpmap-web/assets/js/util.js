@@ -36,43 +36,6 @@ export function svgEl(tag, attrs = {}) {
   return el;
 }
 
-/**
- * A debounced call: runs `fn` `wait` ms after the last `schedule()`, but at least every
- * `maxWait` ms while calls keep coming (so a long drag still updates the views).
- */
-export function debouncer(fn, wait, maxWait = Infinity) {
-  let timer = null;
-  let first = 0;
-  const run = () => {
-    timer = null;
-    first = 0;
-    fn();
-  };
-  return {
-    schedule() {
-      const now = performance.now();
-      if (!first) first = now;
-      if (timer) clearTimeout(timer);
-      const left = Math.max(0, Math.min(wait, first + maxWait - now));
-      timer = setTimeout(run, left);
-    },
-    cancel() {
-      if (timer) clearTimeout(timer);
-      timer = null;
-      first = 0;
-    },
-    flush() {
-      if (timer) {
-        clearTimeout(timer);
-        run();
-      }
-    },
-    get pending() {
-      return timer !== null;
-    },
-  };
-}
-
 /** A number with `d` decimals, or an en dash when missing or not finite. */
 export function fmt(v, d = 2) {
   return typeof v === 'number' && Number.isFinite(v) ? v.toFixed(d) : '–';

@@ -1,0 +1,420 @@
+// The step panel (vanishing points, objects, floor, scale, settings, plan results), the step
+// prompt above the photo, the camera bar, the status line, the error banner and the tabs of
+// narrow screens. Everything here is drawn from `app.state`; edits go through `app.edit`.
+
+import { $, h, fmt, parsePair, formatPair } from './util.js';
+import { VP_NAMES, vpUsable } from './scene.js';
+import { vpPoint } from './geometry.js';
+import { VpLineTool } from './tools.js';
+import { PLANNER_STYLE } from './plan-view.js';
+import { busyNames } from './state.js';
+
+const IDLE_PROMPT = 'Drag a point to move it · click an object or a line to select it (Delete removes it) · scroll to zoom · drag the background to pan';
+const TABS = ['photo', 'plan', 'model'];
+
+/** Add the panel's functions to `app` and wire its inputs. */
+export function installPanels(app) {
+  const { state, history } = app;
+
+  // ---- status and errors ----------------------------------------------------------------
+
+  function setStatus(text) {
+    const el = $('status');
+    el.textContent = text;
+    refreshBusy();
+  }
+
+  function refreshBusy() {
+    const busy = Object.values(state.busy).some(Boolean);
+    $('status').classList.toggle('busy', busy);
+    document.body.dataset.busy = busyNames(state.busy).join(' ');
+  }
+
+  function showError(msg) {
+    $('error-text').textContent = msg;
+    $('error-banner').hidden = false;
+  }
+
+  function clearError() {
+    $('error-banner').hidden = true;
+    $('error-text').textContent = '';
+  }
+
+  $('error-close').addEventListener('click', clearError);
+
+  // ---- the step prompt and the tool buttons ----------------------------------------------
+
+  function renderPrompt() {
+    const box = $('prompt');
+    const extra = $('prompt-extra');
+    extra.replaceChildren();
+    $('prompt-control').replaceChildren();
+    const placing = app.tool !== app.selectTool && !!app.tool.prompt;
+    box.dataset.tool = placing ? app.tool.kind : 'select';
+    $('prompt-cancel').hidden = !placing;
+    if (!placing) {
+      $('prompt-text').textContent = state.scene ? IDLE_PROMPT : '';
+      $('prompt-undo').hidden = true;
+      $('prompt-finish').hidden = true;
+      return;
+    }
+    const p = app.tool.prompt();
+    $('prompt-text').textContent = p.text;
+    if (p.extra) $('prompt-control').append(p.extra);
+    if (p.help) extra.textContent = `(${p.help})`;
+    $('prompt-undo').hidden = false;
+    $('prompt-undo').disabled = !p.canUndo;
+    const fin = $('prompt-finish');
+    fin.hidden = !p.finish;
+    fin.textContent = p.finish || 'Done';
+    app.photoView.requestRender();
+  }
+
+  function renderToolButtons() {
+    const kind = app.tool.kind;
+    for (const [id, k] of [['btn-add-box', 'box'], ['btn-add-footprint', 'footprint'], ['btn-floor', 'floor'], ['btn-floor-distance', 'floor-distance']]) {
+      $(id).setAttribute('aria-pressed', String(kind === k));
+    }
+    renderVpList();
+  }
+
+  // ---- the panel --------------------------------------------------------------------------
+
+  function renderPanel() {
+    const has = !!state.scene;
+    if (app.tool === app.selectTool) renderPrompt();
+    for (const id of ['btn-add-box', 'btn-add-footprint', 'btn-floor', 'btn-floor-distance', 'btn-new-scene', 'btn-save-scene']) $(id).disabled = !has;
+    $('btn-detect').disabled = !state.photoBlob;
+    $('btn-clear-floor').disabled = !has || !(state.scene.floor || []).length;
+    $('btn-undo').disabled = !history.canUndo;
+    $('btn-redo').disabled = !history.canRedo;
+    renderVpList();
+    renderObjectList();
+    renderScaleObjects();
+    const n = has ? (state.scene.floor || []).length : 0;
+    $('floor-info').textContent = !has ? '' : n ? `Floor: ${n} corners.` : 'Floor: not marked (optional; the free space needs it).';
+    renderPlanButtons();
+  }
+
+  function renderVpList() {
+    const ul = $('vp-list');
+    ul.replaceChildren();
+    if (!state.scene) return;
+    const vps = state.scene.vanishing_points;
+    for (let k = 0; k < 3; k++) {
+      const vp = vps[k];
+      const li = h('li', { dataset: { vp: k } });
+      const head = h('div', { class: 'vp-head' }, h('span', { class: 'vp-title', text: VP_NAMES[k] }));
+      li.append(head);
+      const actions = h('div', { class: 'vp-actions' });
+      if (!vp) {
+        li.append(h('div', { class: 'vp-info', text: 'none: two-point perspective (pitch 0)' }));
+        const add = h('button', { type: 'button', class: 'small', text: 'Add vertical', disabled: k === 2 && vps.length < 2 });
+        add.addEventListener('click', () => {
+          app.edit((s) => s.vanishing_points.push({ lines: [] }));
+          app.setTool(new VpLineTool(app, 2));
+        });
+        actions.append(add);
+      } else {
+        const lines = vp.lines || [];
+        const p = vpPoint(vp);
+        let info;
+        if (Array.isArray(vp.point)) info = `point ${formatPair(vp.point, 0)}${lines.length ? ` · ${lines.length} lines as evidence` : ''}`;
+        else if (p) info = `from ${lines.length} lines: ${formatPair(p, 0)}`;
+        else info = lines.length >= 2 ? `${lines.length} lines (parallel: no point)` : `draw ${2 - lines.length} more line${lines.length === 1 ? '' : 's'}`;
+        li.append(h('div', { class: 'vp-info', text: info }));
+        if (!vpUsable(vp)) li.classList.add('incomplete');
+        const draw = h('button', { type: 'button', class: 'small', text: 'Draw lines', 'aria-pressed': String(app.tool.kind === 'vp-line' && app.tool.vpIndex === k) });
+        draw.addEventListener('click', () => app.setTool(new VpLineTool(app, k)));
+        actions.append(draw);
+        if (lines.length) {
+          const clear = h('button', { type: 'button', class: 'small', text: 'Clear lines' });
+          clear.addEventListener('click', () =>
+            app.edit((s) => {
+              s.vanishing_points[k].lines = [];
+              app.detachVpPoint(k, s);
+            }),
+          );
+          actions.append(clear);
+        }
+        if (!vp.point && state.savedVpPoints[k]) {
+          const restore = h('button', { type: 'button', class: 'small', text: 'Use detected point', title: 'Use the point found by detection instead of the lines' });
+          restore.addEventListener('click', () => app.edit((s) => { s.vanishing_points[k].point = state.savedVpPoints[k]; }));
+          actions.append(restore);
+        }
+        if (k === 2) {
+          const rm = h('button', { type: 'button', class: 'small', text: 'Remove', title: 'Two-point perspective: no vertical vanishing point' });
+          rm.addEventListener('click', () => app.edit((s) => { s.vanishing_points.length = 2; }));
+          actions.append(rm);
+        }
+      }
+      li.append(actions);
+      ul.append(li);
+    }
+  }
+
+  let objectListKey = '';
+
+  function objectInfo(o) {
+    const map = state.build?.map;
+    const m = map?.objects?.find((x) => x.name === o.name);
+    const kind = o.footprint ? 'footprint' : 'box';
+    const parts = [];
+    if (o.base) parts.push(o.top?.near ? (o.top.left ? '3 base + 2 top corners' : '3 base + 1 top corner') : '3 base corners, no top');
+    else parts.push(`${(o.footprint || []).length} corners${o.top ? ' + top' : ', no top'}`);
+    if (m) {
+      const u = map.units === 'm' ? 'm' : 'ch';
+      const size = m.size ? `${fmt(m.size.length)} × ${fmt(m.size.breadth)} ${u}` : `area ${fmt(m.area)} ${u}²`;
+      parts.push(`${size}, height ${m.height === null || m.height === undefined ? 'unknown' : `${fmt(m.height)} ${u}`}`);
+    }
+    return { kind, text: parts.join(' · ') };
+  }
+
+  function renderObjectList() {
+    const ul = $('object-list');
+    const objs = state.scene?.objects || [];
+    const key = objs.map((o) => (o.footprint ? 'f' : 'b')).join('');
+    const sel = state.selection?.type === 'object' ? state.selection.index : -1;
+    if (key === objectListKey && ul.children.length === objs.length) {
+      // Update in place, so that a name being typed keeps its focus.
+      objs.forEach((o, i) => {
+        const li = ul.children[i];
+        li.classList.toggle('selected', i === sel);
+        const input = li.querySelector('.obj-name');
+        if (document.activeElement !== input && input.value !== o.name) input.value = o.name;
+        li.querySelector('.obj-info').textContent = objectInfo(o).text;
+      });
+      return;
+    }
+    objectListKey = key;
+    ul.replaceChildren(
+      ...objs.map((o, i) => {
+        const info = objectInfo(o);
+        const input = h('input', { type: 'text', class: 'obj-name', value: o.name, 'aria-label': `Name of object ${i + 1}`, spellcheck: 'false' });
+        input.addEventListener('focus', () => {
+          if (state.selection?.index !== i) app.select({ type: 'object', index: i });
+        });
+        input.addEventListener('input', () => renameObject(i, input.value));
+        const del = h('button', { type: 'button', class: 'small', text: 'Delete', 'aria-label': `Delete ${o.name}` });
+        del.addEventListener('click', () => app.removeObject(i));
+        const li = h('li', { dataset: { index: i }, class: i === sel ? 'selected' : '' },
+          input,
+          h('span', {}, h('span', { class: 'obj-kind', text: info.kind }), ' ', del),
+          h('span', { class: 'obj-info', text: info.text }));
+        return li;
+      }),
+    );
+  }
+
+  function renameObject(i, name) {
+    const old = state.scene.objects[i].name;
+    if (old === name) return;
+    app.edit(
+      (s) => {
+        s.objects[i].name = name;
+        if (s.scale && s.scale.object === old) s.scale.object = name;
+      },
+      { live: true, undo: true },
+    );
+    renderScaleObjects();
+  }
+
+  // ---- scale, intrinsics and build settings ---------------------------------------------
+
+  function renderScaleObjects() {
+    const sel = $('scale-object-name');
+    const names = (state.scene?.objects || []).map((o) => o.name);
+    const want = state.scene?.scale?.object ?? sel.value;
+    const current = [...sel.options].map((o) => o.value).join('\n');
+    if (current !== names.join('\n')) {
+      sel.replaceChildren(...names.map((n) => h('option', { value: n, text: n })));
+    }
+    if (names.includes(want)) sel.value = want;
+  }
+
+  /** Put the scene's scale, principal point and focal length into the form. */
+  function syncForms() {
+    const sc = state.scene?.scale;
+    renderScaleObjects();
+    if (!sc) $('scale-none').checked = true;
+    else if (sc.camera_height_m !== undefined) {
+      $('scale-camera').checked = true;
+      $('scale-camera-m').value = sc.camera_height_m;
+    } else if (sc.object !== undefined) {
+      $('scale-object').checked = true;
+      $('scale-object-name').value = sc.object;
+      $('scale-object-dim').value = sc.dimension || 'length';
+      $('scale-object-m').value = sc.meters;
+    } else if (sc.floor_distance) {
+      $('scale-floor').checked = true;
+      $('scale-floor-m').value = sc.floor_distance.meters;
+    }
+    $('scene-pp').value = state.scene?.principal_point ? formatPair(state.scene.principal_point, 1) : '';
+    $('scene-focal').value = state.scene?.focal_px ?? '';
+  }
+
+  function scaleFromForm() {
+    if (!state.scene) return;
+    const mode = document.querySelector('input[name="scale"]:checked')?.value;
+    const old = state.scene.scale;
+    let scale;
+    if (mode === 'camera') {
+      const m = Number($('scale-camera-m').value);
+      scale = m > 0 ? { camera_height_m: m } : null;
+    } else if (mode === 'object') {
+      const m = Number($('scale-object-m').value);
+      const name = $('scale-object-name').value;
+      scale = m > 0 && name ? { object: name, dimension: $('scale-object-dim').value, meters: m } : null;
+    } else if (mode === 'floor') {
+      const m = Number($('scale-floor-m').value);
+      const fd = old?.floor_distance;
+      scale = m > 0 && fd ? { floor_distance: { ...fd, meters: m } } : null;
+      if (!fd) {
+        setStatus('Click “Pick 2 points” and click two floor points that far apart.');
+        return;
+      }
+    } else scale = null;
+    if (JSON.stringify(scale) === JSON.stringify(old ?? null)) return;
+    app.edit((s) => {
+      if (scale) s.scale = scale;
+      else delete s.scale;
+    });
+  }
+
+  for (const el of document.querySelectorAll('#scale-fieldset input, #scale-fieldset select')) {
+    el.addEventListener(el.tagName === 'SELECT' || el.type === 'radio' ? 'change' : 'input', scaleFromForm);
+  }
+
+  $('scene-pp').addEventListener('change', (e) => {
+    const text = e.target.value.trim();
+    const p = parsePair(text);
+    if (text && !p) {
+      showError('Principal point: write it as “x, y” in pixels, or leave it empty for the default.');
+      return;
+    }
+    app.edit((s) => {
+      if (p) s.principal_point = p;
+      else delete s.principal_point;
+    });
+  });
+
+  $('scene-focal').addEventListener('change', (e) => {
+    const f = Number(e.target.value);
+    app.edit((s) => {
+      if (e.target.value.trim() && f > 0) s.focal_px = f;
+      else delete s.focal_px;
+    });
+  });
+
+  $('set-method').addEventListener('change', (e) => {
+    state.settings.method = e.target.value;
+    app.scheduleBuild();
+  });
+  for (const [id, key] of [['set-resolution', 'resolution'], ['set-radius', 'robot_radius']]) {
+    $(id).addEventListener('input', (e) => {
+      const v = Number(e.target.value);
+      if (!(v >= 0) || (key === 'resolution' && !(v > 0))) return;
+      state.settings[key] = v;
+      app.scheduleBuild();
+    });
+  }
+
+  // ---- the build's results: camera, warnings, plan table, downloads ----------------------
+
+  function renderCamera() {
+    const c = state.camera;
+    const units = state.build?.map?.units === 'camera_heights' ? 'ch' : 'm';
+    const set = (id, text, value) => {
+      const el = $(id);
+      el.textContent = text;
+      if (value === undefined || value === null || !Number.isFinite(value)) delete el.dataset.value;
+      else el.dataset.value = String(value);
+    };
+    set('cam-pitch', c ? `${fmt(c.pitch_deg, 2)}°` : '–', c?.pitch_deg);
+    set('cam-roll', c ? `${fmt(c.roll_deg, 2)}°` : '–', c?.roll_deg);
+    set('cam-focal', c ? `${fmt(c.focal_px, 1)} px` : '–', c?.focal_px);
+    set('cam-height', c && Number.isFinite(c.height) ? `${fmt(c.height, 3)} ${units}` : '–', c?.height);
+    set('cam-pp', c?.principal_point ? `${fmt(c.principal_point[0], 1)}, ${fmt(c.principal_point[1], 1)}` : '–');
+  }
+
+  function renderWarnings(list) {
+    const ul = $('warnings');
+    const det = (state.detection?.warnings || []).map((w) => `Detection: ${w}`);
+    ul.replaceChildren(...[...new Set([...det, ...list])].map((w) => h('li', { text: w })));
+  }
+
+  function renderPlanButtons() {
+    $('btn-plan').disabled = !(state.plan.start && state.plan.goal && state.scene && state.build);
+  }
+
+  function renderPlanResults() {
+    const table = $('plan-table');
+    const res = state.plan.result;
+    const rows = (res && res.results) || [];
+    table.hidden = rows.length === 0;
+    const units = state.build?.map?.units === 'camera_heights' ? 'ch' : 'm';
+    table.tBodies[0].replaceChildren(
+      ...rows.map((r) => {
+        const st = PLANNER_STYLE[r.planner];
+        const name = h('td', {}, h('i', { class: `sw ${{ mbpp: 'sw-mbpp', 'astar-ps': 'sw-astar', optimal: 'sw-opt' }[r.planner] || ''}` }), ' ', st ? st.label : r.planner);
+        const lengthCell = r.found
+          ? h('td', { text: `${fmt(r.length_m, 2)} ${units}` })
+          : h('td', { class: 'notfound', text: r.skipped ? 'skipped' : 'no path', title: r.note || null });
+        return h('tr', { dataset: { planner: r.planner }, title: r.note || null },
+          name,
+          lengthCell,
+          h('td', { text: `${fmt(r.time_ms, r.time_ms < 10 ? 2 : 1)} ms` }),
+          h('td', { text: r.planner === 'mbpp' ? String((r.alternatives || []).length) : '' }));
+      }),
+    );
+  }
+
+  function renderDownloads() {
+    for (const b of document.querySelectorAll('[data-download]')) b.disabled = !state.build;
+  }
+
+  // ---- tabs (narrow screens) --------------------------------------------------------------
+
+  function showPane(name) {
+    for (const t of TABS) {
+      const on = t === name;
+      const tab = $(`tab-${t}`);
+      tab.setAttribute('aria-selected', String(on));
+      tab.tabIndex = on ? 0 : -1;
+      $(`pane-${t}`).classList.toggle('active', on);
+    }
+  }
+
+  TABS.forEach((t, i) => {
+    const tab = $(`tab-${t}`);
+    tab.addEventListener('click', () => showPane(t));
+    tab.addEventListener('keydown', (e) => {
+      const d = e.key === 'ArrowRight' ? 1 : e.key === 'ArrowLeft' ? -1 : 0;
+      if (!d) return;
+      const next = TABS[(i + d + TABS.length) % TABS.length];
+      showPane(next);
+      $(`tab-${next}`).focus();
+      e.preventDefault();
+    });
+  });
+
+  Object.assign(app, {
+    setStatus,
+    refreshBusy,
+    showError,
+    clearError,
+    renderPrompt,
+    renderToolButtons,
+    renderPanel,
+    renderVpList,
+    renderObjectList,
+    renderScaleObjects,
+    syncForms,
+    renderCamera,
+    renderWarnings,
+    renderPlanButtons,
+    renderPlanResults,
+    renderDownloads,
+    showPane,
+  });
+}

@@ -1,0 +1,313 @@
+// The three requests the page makes while it is used: build (after every edit, debounced),
+// plan (after a build or a new start/goal, debounced) and detect (on a click). Each is a
+// `latestRequest` (latest.js): a newer request aborts the older one and only the latest
+// answer reaches the views.
+
+import * as api from './api.js';
+import { $, h, fmt, parsePair, formatPair, base64ToBytes } from './util.js';
+import { buildBlocker, segmentOwners } from './scene.js';
+import { PLANNER_STYLE } from './plan-view.js';
+import { latestRequest } from './latest.js';
+
+const PLANNERS = ['mbpp', 'astar-ps', 'optimal'];
+/** Debounce of build and plan: wait this long after the last change (ms)... */
+const DEBOUNCE_MS = 100;
+/** ...but no longer than this while changes keep coming (a drag), ms. */
+const DEBOUNCE_MAX_MS = 400;
+
+/** Add build, plan and detect to `app` and wire their buttons and inputs. */
+export function installRequests(app) {
+  const { state, planView, modelView } = app;
+
+  // ---- build --------------------------------------------------------------------------------
+
+  let buildStarted = 0;
+  const build = latestRequest({
+    ready: () => !buildBlocker(state.scene),
+    run(signal) {
+      app.setStatus('Building…');
+      buildStarted = performance.now();
+      return api.build(state.scene, state.settings, signal);
+    },
+    busy(on) {
+      state.busy.build = on;
+      if (!on) app.refreshBusy();
+    },
+    done(res) {
+      applyBuild(res);
+      state.counters.builds++;
+      app.setStatus(`Built in ${Math.round(performance.now() - buildStarted)} ms.`);
+    },
+    fail(err) {
+      state.buildError = err.message;
+      markStale(true);
+      app.showError(`Cannot build the map: ${err.message}`);
+      app.setStatus('Build failed: see the message at the bottom.');
+    },
+    wait: DEBOUNCE_MS,
+    maxWait: DEBOUNCE_MAX_MS,
+  });
+
+  function scheduleBuild() {
+    const blocker = buildBlocker(state.scene);
+    if (blocker) {
+      build.cancel();
+      state.busy.build = false;
+      markStale(true);
+      $('status').textContent = state.scene ? `To build: ${blocker}.` : '';
+      app.refreshBusy();
+      return;
+    }
+    build.schedule();
+  }
+
+  function buildNow() {
+    scheduleBuild();
+    build.flush();
+  }
+
+  function markStale(stale) {
+    planView.markStale(stale && !!state.build);
+    modelView.markStale(stale && !!state.build);
+    document.querySelector('.camera-bar').classList.toggle('stale', stale && !!state.build);
+  }
+
+  function clearBuild() {
+    // Forget the build and the plan, including any still on their way.
+    build.cancel();
+    plan.cancel();
+    state.busy.build = false;
+    state.busy.plan = false;
+    app.refreshBusy();
+    state.build = null;
+    state.camera = null;
+    state.plan.result = null;
+    planView.clear();
+    app.renderCamera();
+    app.renderWarnings([]);
+    app.renderDownloads();
+    app.renderPlanResults();
+  }
+
+  function applyBuild(res) {
+    state.build = res;
+    state.camera = res.camera || null;
+    state.buildError = null;
+    app.clearError();
+    app.renderCamera();
+    try {
+      planView.setBuild(res.svg, res.map, res.occupancy);
+      planView.setMarkers(state.plan.start, state.plan.goal);
+      planView.setPlan(state.plan.result);
+    } catch (err) {
+      app.showError(`Floor plan: ${err.message}`);
+    }
+    markStale(false);
+    app.renderWarnings([...(res.warnings || []), ...((res.map && res.map.warnings) || [])]);
+    app.renderDownloads();
+    app.renderObjectList();
+    if (res.glb_base64) {
+      modelView
+        .setModel(base64ToBytes(res.glb_base64))
+        .then(() => update3dPaths())
+        .catch((err) => {
+          $('model-host').replaceChildren(h('p', { class: 'empty', text: `3D view: ${err.message}` }));
+        });
+    }
+    app.photoView.requestRender();
+    if (state.plan.start && state.plan.goal) schedulePlan();
+  }
+
+  // ---- path planning ------------------------------------------------------------------------
+
+  const plan = latestRequest({
+    ready: () => !!(state.plan.start && state.plan.goal && !buildBlocker(state.scene)),
+    run(signal) {
+      const status = $('plan-status');
+      status.classList.remove('error');
+      status.textContent = 'Planning…';
+      return api.plan(
+        {
+          scene: state.scene,
+          method: state.settings.method,
+          resolution: state.settings.resolution,
+          robot_radius: state.settings.robot_radius,
+          start: state.plan.start,
+          goal: state.plan.goal,
+          planners: PLANNERS,
+        },
+        signal,
+      );
+    },
+    busy(on) {
+      state.busy.plan = on;
+      app.refreshBusy();
+    },
+    done(res) {
+      state.plan.result = res;
+      state.plan.error = null;
+      state.counters.plans++;
+      const found = (res.results || []).filter((r) => r.found).length;
+      const notes = (res.results || []).filter((r) => r.note).map((r) => `${PLANNER_STYLE[r.planner]?.label || r.planner}: ${r.note}`);
+      $('plan-status').textContent = [found ? '' : 'No path: start and goal are not connected through known free floor.', ...notes].filter(Boolean).join(' ');
+    },
+    fail(err) {
+      const status = $('plan-status');
+      state.plan.result = null;
+      state.plan.error = err.message;
+      status.textContent = err.message;
+      status.classList.add('error');
+    },
+    always() {
+      planView.setPlan(state.plan.result);
+      app.renderPlanResults();
+      update3dPaths();
+    },
+    wait: DEBOUNCE_MS,
+    maxWait: DEBOUNCE_MAX_MS,
+  });
+
+  function pickPlanPoint(p) {
+    const which = document.querySelector('input[name="pick"]:checked')?.value || 'start';
+    if (which === 'start') {
+      state.plan.start = p;
+      $('pick-goal').checked = true;
+    } else state.plan.goal = p;
+    $('plan-start').value = formatPair(state.plan.start);
+    $('plan-goal').value = formatPair(state.plan.goal);
+    planMarkersChanged();
+  }
+
+  function planMarkersChanged() {
+    planView.setMarkers(state.plan.start, state.plan.goal);
+    update3dPaths();
+    app.renderPlanButtons();
+    if (state.plan.start && state.plan.goal) schedulePlan();
+  }
+
+  for (const [id, key] of [['plan-start', 'start'], ['plan-goal', 'goal']]) {
+    $(id).addEventListener('change', (e) => {
+      const text = e.target.value.trim();
+      const p = parsePair(text);
+      if (text && !p) {
+        $('plan-status').textContent = 'Write a point as “x, y” in metres.';
+        $('plan-status').classList.add('error');
+        return;
+      }
+      state.plan[key] = p;
+      planMarkersChanged();
+    });
+  }
+
+  $('btn-plan').addEventListener('click', () => plan.now());
+
+  $('btn-clear-path').addEventListener('click', () => {
+    plan.cancel();
+    state.plan = { start: null, goal: null, result: null, error: null };
+    $('plan-start').value = '';
+    $('plan-goal').value = '';
+    $('pick-start').checked = true;
+    planView.setMarkers(null, null);
+    planView.setPlan(null);
+    app.renderPlanResults();
+    update3dPaths();
+    app.renderPlanButtons();
+  });
+
+  function schedulePlan() {
+    if (state.plan.start && state.plan.goal && state.build) plan.schedule();
+  }
+
+  function update3dPaths() {
+    const res = state.plan.result;
+    const paths = [];
+    for (const r of (res && res.results) || []) {
+      if (!r.found || !planView.layers[r.planner]) continue;
+      const st = PLANNER_STYLE[r.planner];
+      if (st) paths.push({ points: r.waypoints, colour: st.colour, dashed: !!st.dash });
+    }
+    modelView.setPaths(paths, [
+      { p: state.plan.start, colour: '#1b8a3a' },
+      { p: state.plan.goal, colour: '#c62828' },
+    ]);
+  }
+
+  for (const el of document.querySelectorAll('.layers input[data-layer]')) {
+    el.addEventListener('change', () => {
+      planView.setLayer(el.dataset.layer, el.checked);
+      update3dPaths();
+    });
+  }
+
+  $('btn-reset-3d').addEventListener('click', () => modelView.resetView());
+  $('btn-plan-fit').addEventListener('click', () => planView.fit());
+  $('btn-plan-all').addEventListener('click', () => planView.showAll());
+
+  // ---- detection ----------------------------------------------------------------------------
+
+  let detectStarted = 0;
+  const detect = latestRequest({
+    run(signal, options) {
+      app.setStatus('Detecting edges and vanishing points…');
+      detectStarted = performance.now();
+      return api.detect(state.photoBlob, options, signal);
+    },
+    busy(on) {
+      state.busy.detect = on;
+      if (!on) app.refreshBusy();
+    },
+    done(res) {
+      const d = res.scene || {};
+      app.edit((s) => {
+        if (d.image) s.image = d.image;
+        s.vanishing_points = d.vanishing_points || [];
+        while (s.vanishing_points.length < 2) s.vanishing_points.push({ lines: [] });
+        for (const k of ['principal_point', 'focal_px', 'perspective']) {
+          if (d[k] !== undefined && d[k] !== null) s[k] = d[k];
+          else delete s[k];
+        }
+      });
+      state.savedVpPoints = [null, null, null];
+      state.detection = { segments: res.segments || [], segmentVp: segmentOwners(res, state.scene), warnings: res.warnings || [] };
+      app.renderWarnings(state.build ? state.build.warnings || [] : []);
+      state.counters.detects++;
+      const n = state.scene.vanishing_points.length;
+      const f = res.focal_px ?? d.focal_px;
+      app.setStatus(`Detected ${n} vanishing points (${res.perspective || d.perspective || `${n}pp`}), ${(res.segments || []).length} segments, focal ${fmt(f, 0)} px, in ${Math.round(performance.now() - detectStarted)} ms.`);
+      app.syncForms();
+      app.renderPanel();
+    },
+    fail(err) {
+      app.showError(`Detection failed: ${err.message}`);
+      app.setStatus('');
+    },
+  });
+
+  $('btn-detect').addEventListener('click', () => {
+    if (!state.photoBlob) return;
+    app.clearError();
+    const focal = Number($('det-focal').value);
+    const ppText = $('det-pp').value.trim();
+    const pp = ppText ? parsePair(ppText) : null;
+    if (ppText && !pp) {
+      app.showError('Principal point for detection: write it as “x, y” in pixels, or leave it empty.');
+      return;
+    }
+    detect.now({ focal_px: focal > 0 ? focal : undefined, principal_point: pp });
+  });
+
+  $('show-segments').addEventListener('change', (e) => {
+    state.showSegments = e.target.checked;
+    app.photoView.requestRender();
+  });
+  $('btn-fit').addEventListener('click', () => app.photoView.fit());
+
+  Object.assign(app, {
+    scheduleBuild,
+    buildNow,
+    clearBuild,
+    pickPlanPoint,
+    /** A build or plan is scheduled and not started yet. */
+    requestsPending: () => build.pending || plan.pending,
+  });
+}
