@@ -1,0 +1,46 @@
+// Plane geometry for drawing and hit testing.
+import { test } from 'node:test';
+import assert from 'node:assert/strict';
+import { intersectSegments, vpPoint, clipLine, distToSegment, pointInPolygon } from '../../assets/js/geometry.js';
+
+const near = (a, b, tol = 1e-9) => assert.ok(a.length === b.length && a.every((v, i) => Math.abs(v - b[i]) <= tol), `${a} != ${b}`);
+
+test('intersectSegments finds the common point of lines through it, in the least-squares sense', () => {
+  // Three lines through (3, -2).
+  near(intersectSegments([[0, -2, 1, -2], [3, 0, 3, 5], [1, -4, 2, -3]]), [3, -2]);
+  // Two nearly parallel lines are refused, as are fewer than two usable segments.
+  assert.equal(intersectSegments([[0, 0, 1, 0], [0, 1, 1, 1]]), null);
+  assert.equal(intersectSegments([[0, 0, 1, 0], [2, 2, 2, 2]]), null);
+  // A third line off by one pulls the answer between the candidates.
+  const p = intersectSegments([[0, 0, 1, 0], [0, 0, 0, 1], [0, 1, 1, 1]]);
+  near(p, [0, 0.5]);
+});
+
+test('vpPoint prefers the point over the lines', () => {
+  assert.deepEqual(vpPoint({ point: [7, 8], lines: [[0, 0, 1, 0], [0, 0, 0, 1]] }), [7, 8]);
+  near(vpPoint({ lines: [[0, 0, 1, 0], [5, 0, 5, 1]] }), [5, 0]);
+  assert.equal(vpPoint(null), null);
+  assert.equal(vpPoint({}), null);
+});
+
+test('clipLine keeps the part of an infinite line inside a rectangle', () => {
+  near(clipLine([0, 5], [1, 5], [0, 0, 10, 10]).flat(), [0, 5, 10, 5]);
+  near(clipLine([-5, -5], [-4, -4], [0, 0, 10, 10]).flat(), [0, 0, 10, 10]);
+  assert.equal(clipLine([0, 20], [1, 20], [0, 0, 10, 10]), null);
+  assert.equal(clipLine([1, 1], [1, 1], [0, 0, 10, 10]), null);
+});
+
+test('distToSegment measures to the nearest point of the segment, ends included', () => {
+  assert.equal(distToSegment([5, 3], [0, 0], [10, 0]), 3);
+  assert.equal(distToSegment([13, 4], [0, 0], [10, 0]), 5);
+  assert.equal(distToSegment([3, 4], [0, 0], [0, 0]), 5);
+});
+
+test('pointInPolygon, even-odd', () => {
+  const square = [[0, 0], [4, 0], [4, 4], [0, 4]];
+  assert.equal(pointInPolygon([2, 2], square), true);
+  assert.equal(pointInPolygon([5, 2], square), false);
+  const u = [[0, 0], [6, 0], [6, 6], [4, 6], [4, 2], [2, 2], [2, 6], [0, 6]];
+  assert.equal(pointInPolygon([3, 4], u), false, 'inside the notch of a U');
+  assert.equal(pointInPolygon([1, 4], u), true);
+});
