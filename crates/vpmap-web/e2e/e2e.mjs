@@ -303,6 +303,27 @@ async function main() {
     check((await svg.count()) === 1, 'no floor plan SVG');
     const box = await svg.boundingBox();
     check(box && box.width > 100 && box.height > 100, `the floor plan is ${JSON.stringify(box)}`);
+    // The page places the overlay with the server's data-svg-from-map transform: it must put
+    // the map's floor corners on the corners of the floor outline the server drew (1 px).
+    const floorOff = await page.evaluate(() => {
+      const map = window.vpmap.map();
+      const svg = document.querySelector('#plan-host svg');
+      const path = svg.querySelector('[id="fp-floor"]');
+      if (!map || !path || !(map.floor || []).length) return { error: `map ${!!map}, floor path ${!!path}` };
+      const drawn = [...path.getAttribute('d').matchAll(/(-?[\d.]+)[ ,](-?[\d.]+)/g)].map((m) => [Number(m[1]), Number(m[2])]);
+      const ctm = svg.getScreenCTM();
+      let worst = 0;
+      map.floor.forEach((corner, i) => {
+        const q = new DOMPoint(drawn[i][0], drawn[i][1]).matrixTransform(ctm);
+        const c = window.vpmap.planMapToClient(corner[0], corner[1]);
+        worst = Math.max(worst, Math.hypot(q.x - c[0], q.y - c[1]));
+      });
+      return { attr: svg.getAttribute('data-svg-from-map'), corners: map.floor.length, drawn: drawn.length, worst };
+    });
+    check(!floorOff.error, `cannot compare the floor outline: ${floorOff.error}`);
+    check(floorOff.drawn >= floorOff.corners, `the floor outline has ${floorOff.drawn} points for ${floorOff.corners} corners`);
+    check(floorOff.worst <= 1, `map floor corners land ${floorOff.worst.toFixed(2)} px from the drawn outline (data-svg-from-map="${floorOff.attr}")`);
+    log(`  data-svg-from-map="${floorOff.attr}": ${floorOff.corners} floor corners within ${floorOff.worst.toFixed(3)} px of the outline`);
     const objects = await page.locator('#plan-host svg [id^="fp-object-"]').count();
     check(objects === example.objects.length, `the floor plan shows ${objects} objects, expected ${example.objects.length}`);
     await page.waitForFunction(() => Number(document.getElementById('model-host').dataset.meshes) > 0, null, { timeout: 30_000 });

@@ -74,67 +74,64 @@ export function pointInPolygon(p, ring) {
   return inside;
 }
 
+// Affine transforms in SVG's `matrix(a b c d e f)` order, as `{a, b, c, d, e, f}`:
+// x' = a x + c y + e, y' = b x + d y + f.
+
 /**
- * Fit the floor plan's map-to-picture transform `px = a + s x`, `py = b - s y` (one scale,
- * +y up the page) to corresponding points by least squares. `pairs` is a list of
- * `[[x, y] map, [px, py] picture]`. Returns `{a, b, s, rms, n}` or null.
+ * The transform written in a floor-plan SVG's `data-svg-from-map` attribute ("a b c d e f",
+ * map coordinates to SVG user units), or null when the text is not six finite numbers or the
+ * transform cannot be inverted.
  */
-export function fitPlanTransform(pairs) {
-  // Unknowns (a, b, s). Residuals: a + s x - px and b - s y - py.
-  let n = 0, sx = 0, sy = 0, spx = 0, spy = 0, sxx = 0, syy = 0, sxpx = 0, sypy = 0;
-  for (const [[x, y], [px, py]] of pairs) {
-    if (![x, y, px, py].every(Number.isFinite)) continue;
-    n++;
-    sx += x; sy += y; spx += px; spy += py;
-    sxx += x * x; syy += y * y; sxpx += x * px; sypy += y * py;
-  }
-  if (n < 2) return null;
-  // Normal equations: eliminate a = (spx - s sx)/n, b = (spy + s sy)/n.
-  const num = sxpx - (sx * spx) / n - (sypy - (sy * spy) / n);
-  const den = sxx - (sx * sx) / n + (syy - (sy * sy) / n);
-  if (!(den > 1e-12)) return null;
-  const s = num / den;
-  if (!(s > 0)) return null;
-  const a = (spx - s * sx) / n;
-  const b = (spy + s * sy) / n;
-  let e = 0;
-  for (const [[x, y], [px, py]] of pairs) {
-    if (![x, y, px, py].every(Number.isFinite)) continue;
-    e += (a + s * x - px) ** 2 + (b - s * y - py) ** 2;
-  }
-  return { a, b, s, rms: Math.sqrt(e / n), n };
+export function parseAffine(text) {
+  if (typeof text !== 'string') return null;
+  const parts = text.trim().split(/[\s,]+/);
+  if (parts.length !== 6 || parts.some((p) => p === '')) return null;
+  const v = parts.map(Number);
+  if (!v.every(Number.isFinite)) return null;
+  const [a, b, c, d, e, f] = v;
+  const m = { a, b, c, d, e, f };
+  return invertAffine(m) ? m : null;
 }
 
-/** Points of SVG path data made only of M/L/Z commands with absolute coordinates, one list per sub-path. */
-export function parsePathRings(d) {
-  const rings = [];
-  let cur = null;
-  const re = /([MLZmlz])|(-?\d*\.?\d+(?:e[-+]?\d+)?)/g;
-  let cmd = null;
-  const nums = [];
-  const flush = () => {
-    while (nums.length >= 2) {
-      const x = nums.shift(), y = nums.shift();
-      if (cmd === 'M' || !cur) {
-        cur = [];
-        rings.push(cur);
-        cmd = 'L';
-      }
-      cur.push([x, y]);
-    }
+/** `m` applied to the point `p`. */
+export function applyAffine(m, p) {
+  return [m.a * p[0] + m.c * p[1] + m.e, m.b * p[0] + m.d * p[1] + m.f];
+}
+
+/** The inverse of `m`, or null when it is singular. */
+export function invertAffine(m) {
+  const det = m.a * m.d - m.b * m.c;
+  if (!(Math.abs(det) > 1e-12) || !Number.isFinite(det)) return null;
+  return {
+    a: m.d / det,
+    b: -m.b / det,
+    c: -m.c / det,
+    d: m.a / det,
+    e: (m.c * m.f - m.d * m.e) / det,
+    f: (m.b * m.e - m.a * m.f) / det,
   };
-  let m;
-  while ((m = re.exec(d)) !== null) {
-    if (m[1]) {
-      flush();
-      const c = m[1];
-      if (c === 'm' || c === 'l') return null; // relative commands: not what vpmap writes
-      if (c === 'Z' || c === 'z') {
-        cur = null;
-        cmd = null;
-      } else cmd = c;
-    } else nums.push(Number(m[2]));
-  }
-  flush();
-  return rings;
+}
+
+/** `m` after `n`: the transform that applies `n` first, then `m`. */
+export function composeAffine(m, n) {
+  return {
+    a: m.a * n.a + m.c * n.b,
+    b: m.b * n.a + m.d * n.b,
+    c: m.a * n.c + m.c * n.d,
+    d: m.b * n.c + m.d * n.d,
+    e: m.a * n.e + m.c * n.f + m.e,
+    f: m.b * n.e + m.d * n.f + m.f,
+  };
+}
+
+/**
+ * Where the occupancy grid's image goes in the picture: the transform from image pixels
+ * (column u right, row v down; row 0 is the grid's top row, at the largest map y, as in the
+ * PGM file) to SVG user units, given the map-to-picture transform `svgFromMap` and the grid's
+ * `width` and `height` (cells), `resolution` (map units per cell) and `origin` (map point of
+ * the bottom-left corner of the bottom-left cell).
+ */
+export function occupancyToSvg(svgFromMap, { height, resolution, origin }) {
+  const mapFromPixel = { a: resolution, b: 0, c: 0, d: -resolution, e: origin[0], f: origin[1] + height * resolution };
+  return composeAffine(svgFromMap, mapFromPixel);
 }

@@ -261,6 +261,8 @@ window.vpmap = Object.freeze({
   imageToClient: (x, y) => app.photoView.imageToClient([x, y]),
   /** Viewport coordinates of a map point on the floor plan (null before a build). */
   planMapToClient: (x, y) => app.planView.mapToClient([x, y]),
+  /** A copy of the last build's map (map.json), or null. */
+  map: () => cloneScene(state.build?.map ?? null),
   /** A copy of the scene being edited. */
   scene: () => cloneScene(state.scene),
   /** Counters and errors, to wait for the page to settle. */

@@ -1,24 +1,16 @@
 // The floor plan: the SVG that /api/build returns, shown inline, with the planned paths drawn
 // over it and clicks turned into map coordinates.
 //
-// Picture <-> map coordinates. vpmap-render (crates/vpmap-render/src/svg.rs) draws every map
-// point (x, y) at picture pixel (px, py) = (a + s x, b - s y): one scale s on both axes, +y up
-// the page; the SVG's user units are those pixels (its viewBox is 0 0 width height) and no
-// `transform` attribute is involved. The SVG does not state a, b and s, so the page recovers
-// them from the drawing itself: the floor outline (`#floor`), each object's footprint
-// (`#object-<i>`), the free space (`#free-space path`) and the floor in view
-// (`#field-of-view path`) are paths whose corners are exactly the map's `floor`,
-// `objects[i].footprint`, `free_space` rings and `camera.view_on_floor`, in order, written
-// with two decimals. A least-squares fit over those pairs gives a, b and s to about 0.01 px
-// (checked: the residual is logged when it is above 0.5 px). Only when the map has none of
-// them does the page fall back to recomputing the layout the way svg.rs does (`plot_frame`:
-// the map's bounds plus a 6 % margin, fitted into the `#plot-clip` rectangle).
-// A click is taken from screen to SVG user units with the SVG's getScreenCTM(), then to
-// metres with the inverse of the fitted transform. The overlay is drawn in the same user
-// units, inside the SVG, so it scales and exports with the plan.
+// Picture <-> map coordinates. The server writes the transform from map coordinates (map.json's
+// frame: x right, y up) to the SVG's user units on the root element, as
+// `data-svg-from-map="a b c d e f"` in SVG `matrix(a b c d e f)` order (x' = a x + c y + e,
+// y' = b x + d y + f); the page reads it and never re-derives it from the drawing. A plan without
+// it is refused with an error in the plan pane. A click is taken from screen to SVG user units
+// with the SVG's getScreenCTM(), then to map coordinates with the inverse transform. The overlay
+// is drawn in the same user units, inside the SVG, so it scales and exports with the plan.
 
 import { SVG_NS, svgEl, base64ToBytes, fmt } from './util.js';
-import { fitPlanTransform, parsePathRings } from './geometry.js';
+import { parseAffine, applyAffine, invertAffine, occupancyToSvg } from './geometry.js';
 
 const ID_PREFIX = 'fp-';
 const BUG_COLOURS = ['#1f77b4', '#ff7f0e', '#2ca02c', '#9467bd', '#8c564b', '#e377c2', '#17becf', '#bcbd22'];
@@ -30,65 +22,19 @@ export const PLANNER_STYLE = {
 
 const finite = (p) => Array.isArray(p) && Number.isFinite(p[0]) && Number.isFinite(p[1]);
 
-/** Pairs of map points and picture points for the transform fit (see the file comment). */
-export function transformPairs(doc, map) {
-  const pairs = [];
-  const byId = (id) => doc.querySelector(`[id="${id}"]`);
-  const match = (el, rings) => {
-    if (!el) return;
-    const pic = parsePathRings(el.getAttribute('d') || '');
-    if (!pic) return;
-    const mapRings = rings.map((r) => (r || []).filter(finite)).filter((r) => r.length >= 3);
-    if (pic.length !== mapRings.length) return;
-    pic.forEach((ring, i) => {
-      if (ring.length !== mapRings[i].length) return;
-      ring.forEach((q, j) => {
-        // Points far outside the plot are clamped to +-1e6 px by svg.rs: useless here.
-        if (Math.abs(q[0]) < 9e5 && Math.abs(q[1]) < 9e5) pairs.push([mapRings[i][j], q]);
-      });
-    });
-  };
-  match(byId('floor'), [map.floor || []]);
-  (map.objects || []).forEach((o, i) => match(byId(`object-${i}`), [o.footprint || []]));
-  const free = doc.querySelectorAll('[id="free-space"] path');
-  const freeMap = (map.free_space || []).filter((p) => (p.exterior || []).filter(finite).length >= 3);
-  if (free.length === freeMap.length) {
-    free.forEach((el, i) => match(el, [freeMap[i].exterior, ...(freeMap[i].holes || [])]));
-  }
-  const fov = doc.querySelector('[id="field-of-view"] path');
-  const view = map.camera?.view_on_floor || [];
-  if (fov && view.filter(finite).length >= 3 && !fov.nextElementSibling) match(fov, [view]);
-  return pairs;
-}
+/** The attribute of a floor-plan SVG's root element that holds its map-to-picture transform. */
+export const SVG_FROM_MAP_ATTR = 'data-svg-from-map';
 
-/** svg.rs's `plot_frame`, for maps with nothing to fit to. */
-function layoutTransform(doc, map) {
-  const rect = doc.querySelector('[id="plot-clip"] rect');
-  if (!rect) return null;
-  const left = Number(rect.getAttribute('x'));
-  const top = Number(rect.getAttribute('y'));
-  const width = Number(rect.getAttribute('width'));
-  let min = [0, 0], max = [0, 0];
-  const include = (p) => {
-    if (!finite(p)) return;
-    min = [Math.min(min[0], p[0]), Math.min(min[1], p[1])];
-    max = [Math.max(max[0], p[0]), Math.max(max[1], p[1])];
-  };
-  (map.floor || []).forEach(include);
-  (map.objects || []).forEach((o) => (o.footprint || []).forEach(include));
-  (map.free_space || []).forEach((p) => [p.exterior || [], ...(p.holes || [])].forEach((r) => r.forEach(include)));
-  const size = Math.max(max[0] - min[0], max[1] - min[1]);
-  const h = map.camera?.height;
-  const margin = size > 0 ? size * 0.06 : h > 0 ? h : 1;
-  min = [min[0] - margin, min[1] - margin];
-  max = [max[0] + margin, max[1] + margin];
-  let dx = max[0] - min[0], dy = max[1] - min[1];
-  const cx = (min[0] + max[0]) / 2, cy = (min[1] + max[1]) / 2;
-  if (dy > 1.5 * dx) dx = dy / 1.5;
-  if (dy < 0.35 * dx) dy = 0.35 * dx;
-  const s = width / dx;
-  const xMin = cx - dx / 2, yMax = cy + dy / 2;
-  return { a: left - xMin * s, b: top + yMax * s, s, rms: NaN, n: 0 };
+/** The map-to-picture transform of a parsed floor-plan SVG document; throws when it is missing or bad. */
+export function svgFromMap(doc) {
+  const root = doc.documentElement;
+  if (!root.hasAttribute(SVG_FROM_MAP_ATTR)) {
+    throw new Error(`the floor plan has no ${SVG_FROM_MAP_ATTR} attribute, so the page cannot relate it to map coordinates (is the server older than the page?)`);
+  }
+  const text = root.getAttribute(SVG_FROM_MAP_ATTR);
+  const tf = parseAffine(text);
+  if (!tf) throw new Error(`the floor plan's ${SVG_FROM_MAP_ATTR}="${text}" is not an invertible transform "a b c d e f"`);
+  return tf;
 }
 
 /** The plot rectangle with room for the axis labels (svg.rs: labels left of and below it), or `full`. */
@@ -183,14 +129,16 @@ export class PlanView {
   /** Show a new plan picture for `map` (the map.json object); `occupancy` from the build. */
   setBuild(svgText, map, occupancy) {
     const doc = new DOMParser().parseFromString(svgText, 'image/svg+xml');
-    if (doc.querySelector('parsererror') || doc.documentElement.localName !== 'svg') {
-      throw new Error('the server sent a floor plan that is not valid SVG');
+    let tf;
+    try {
+      if (doc.querySelector('parsererror') || doc.documentElement.localName !== 'svg') {
+        throw new Error('the server sent a floor plan that is not valid SVG');
+      }
+      tf = svgFromMap(doc);
+    } catch (err) {
+      this.showError(`Floor plan: ${err.message}`);
+      throw err;
     }
-    const pairs = transformPairs(doc, map);
-    let tf = fitPlanTransform(pairs);
-    if (!tf) tf = layoutTransform(doc, map);
-    if (!tf) throw new Error('cannot relate the floor plan picture to map coordinates');
-    if (tf.rms > 0.5) console.warn(`floor plan transform: residual ${tf.rms.toFixed(2)} px over ${tf.n} points`);
     prefixIds(doc.documentElement);
     const svg = document.importNode(doc.documentElement, true);
     const vb = svg.viewBox.baseVal;
@@ -210,6 +158,7 @@ export class PlanView {
     this.svg = svg;
     this.overlay = overlay;
     this.tf = tf;
+    this.tfInverse = invertAffine(tf);
     this.map = map;
     const full = svg.viewBox.baseVal;
     this.fullBox = { x: full.x, y: full.y, w: full.width, h: full.height };
@@ -328,7 +277,16 @@ export class PlanView {
   clear() {
     this.svg = null;
     this.tf = null;
+    this.overlay = null;
     this.host.replaceChildren(Object.assign(document.createElement('p'), { className: 'empty', textContent: 'The floor plan appears here once the scene builds.' }));
+  }
+
+  /** Show `message` in place of the plan (a plan that cannot be used). */
+  showError(message) {
+    this.svg = null;
+    this.tf = null;
+    this.overlay = null;
+    this.host.replaceChildren(Object.assign(document.createElement('p'), { className: 'empty error', role: 'alert', textContent: message }));
   }
 
   markStale(stale) {
@@ -336,13 +294,11 @@ export class PlanView {
   }
 
   mapToSvg(p) {
-    const { a, b, s } = this.tf;
-    return [a + s * p[0], b - s * p[1]];
+    return applyAffine(this.tf, p);
   }
 
   svgToMap(q) {
-    const { a, b, s } = this.tf;
-    return [(q[0] - a) / s, (b - q[1]) / s];
+    return applyAffine(this.tfInverse, q);
   }
 
   clientToMap(cx, cy) {
@@ -463,13 +419,13 @@ export class PlanView {
     if (!this.occupancyUrl) this.occupancyUrl = pgmToDataUrl(base64ToBytes(o.pgm_base64));
     if (!this.occupancyUrl) return;
     const res = o.resolution, origin = o.origin;
-    if (!(res > 0) || !Array.isArray(origin)) return;
-    const [x0, y0] = this.mapToSvg([origin[0], origin[1] + o.height * res]);
-    const s = this.tf.s;
+    if (!(res > 0) || !Array.isArray(origin) || !(o.width > 0 && o.height > 0)) return;
+    const m = occupancyToSvg(this.tf, o);
     g.append(svgEl('image', {
       class: 'vp-occupancy',
       href: this.occupancyUrl,
-      x: x0, y: y0, width: o.width * res * s, height: o.height * res * s,
+      x: 0, y: 0, width: o.width, height: o.height,
+      transform: `matrix(${m.a} ${m.b} ${m.c} ${m.d} ${m.e} ${m.f})`,
       preserveAspectRatio: 'none',
       'image-rendering': 'optimizeSpeed',
     }));
