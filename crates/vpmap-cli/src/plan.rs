@@ -6,6 +6,9 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use vpmap_metrology::map::FloorMap;
+use vpmap_pipeline::{
+    Coordinates, DEFAULT_ROBOT_RADIUS_M, Endpoint, EndpointRules, OptionNames, endpoint_cell,
+};
 use vpmap_plan::grid::{Cell, OccupancyGrid};
 use vpmap_plan::mbpp::{BugTrack, MbppStats};
 use vpmap_plan::plan::Plan;
@@ -69,8 +72,10 @@ pub struct PlanArgs {
     #[arg(long, value_enum, default_value = "astar")]
     planner: PlannerName,
     /// Inflate obstacles by this radius (metres for ROS maps and map.json, cells for .map).
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
-    robot_radius: f64,
+    /// Default: 0.2 m for a map.json (the robot radius `vpmap build` uses), 0 for a ROS map
+    /// (`vpmap build` inflated its grid already) and for a Moving AI map.
+    #[arg(long, allow_negative_numbers = true)]
+    robot_radius: Option<f64>,
     /// Grid resolution for a `map.json`, metres.
     #[arg(long, default_value_t = 0.05, allow_negative_numbers = true)]
     resolution: f64,
@@ -92,43 +97,34 @@ pub struct PlanningMap {
     pub grid: OccupancyGrid,
     /// Coordinates are cells (Moving AI) rather than metres.
     pub in_cells: bool,
+    /// The radius the obstacles were inflated by, in the map's coordinates.
+    pub robot_radius: f64,
 }
 
 impl PlanningMap {
-    fn cell_of(&self, what: &str, p: [f64; 2]) -> Result<(usize, usize)> {
-        if self.in_cells {
-            let (x, y) = (p[0], p[1]);
-            if x.fract() != 0.0 || y.fract() != 0.0 || x < 0.0 || y < 0.0 {
-                bail!(
-                    "{what} ({}, {}) must be whole cell coordinates (column, row) for a Moving AI map",
-                    num(x),
-                    num(y)
-                );
-            }
-            let (x, y) = (x as usize, y as usize);
-            if x >= self.grid.width() || y >= self.grid.height() {
-                bail!(
-                    "{what} ({x}, {y}) is outside the {} x {} map",
-                    self.grid.width(),
-                    self.grid.height()
-                );
-            }
-            Ok((x, y))
+    /// The cell of `--from` or `--to`, which a path must be able to enter.
+    fn endpoint(
+        &self,
+        name: &str,
+        point: [f64; 2],
+        unknown_passable: bool,
+    ) -> Result<(usize, usize)> {
+        let coordinates = if self.in_cells {
+            Coordinates::Cells
         } else {
-            self.grid.cell_from_world(p).with_context(|| {
-                let o = self.grid.origin_m();
-                let r = self.grid.resolution_m();
-                format!(
-                    "{what} ({}, {}) m is outside the map, which spans x {:.2}..{:.2} m, y {:.2}..{:.2} m",
-                    num(p[0]),
-                    num(p[1]),
-                    o[0],
-                    o[0] + self.grid.width() as f64 * r,
-                    o[1],
-                    o[1] + self.grid.height() as f64 * r
-                )
-            })
-        }
+            Coordinates::Map { units: "m" }
+        };
+        let rules = EndpointRules {
+            unknown_passable,
+            robot_radius: self.robot_radius,
+            names: OptionNames::CommandLine,
+        };
+        Ok(endpoint_cell(
+            &self.grid,
+            coordinates,
+            &Endpoint { name, point },
+            &rules,
+        )?)
     }
 
     /// A waypoint in the map's coordinates.
@@ -163,12 +159,15 @@ fn parse_point(what: &str, text: &str) -> Result<[f64; 2]> {
     }
 }
 
-/// Read any supported map and inflate its obstacles.
-pub fn load_map(path: &Path, robot_radius: f64, resolution: f64) -> Result<PlanningMap> {
-    if !(robot_radius.is_finite() && robot_radius >= 0.0) {
+/// Read any supported map and inflate its obstacles by `robot_radius` (by default
+/// [`DEFAULT_ROBOT_RADIUS_M`] for a `map.json`, 0 for the others).
+pub fn load_map(path: &Path, robot_radius: Option<f64>, resolution: f64) -> Result<PlanningMap> {
+    if let Some(r) = robot_radius
+        && !(r.is_finite() && r >= 0.0)
+    {
         bail!(
             "--robot-radius must be a non-negative number, got {}",
-            num(robot_radius)
+            num(r)
         );
     }
     let ext = path
@@ -198,13 +197,22 @@ pub fn load_map(path: &Path, robot_radius: f64, resolution: f64) -> Result<Plann
             path.display()
         ),
     };
+    let robot_radius = robot_radius.unwrap_or(if ext == "json" {
+        DEFAULT_ROBOT_RADIUS_M
+    } else {
+        0.0
+    });
     let radius = if in_cells {
         robot_radius * grid.resolution_m()
     } else {
         robot_radius
     };
     let grid = grid.inflate(radius)?;
-    Ok(PlanningMap { grid, in_cells })
+    Ok(PlanningMap {
+        grid,
+        in_cells,
+        robot_radius,
+    })
 }
 
 /// What one planner run produced, for `vpmap plan`.
@@ -260,29 +268,8 @@ pub fn run(args: &PlanArgs) -> Result<()> {
     let from = parse_point("--from", &args.from)?;
     let to = parse_point("--to", &args.to)?;
     let map = load_map(&args.map, args.robot_radius, args.resolution)?;
-    let start = map.cell_of("--from", from)?;
-    let goal = map.cell_of("--to", to)?;
-    for (what, p, cell) in [("--from", from, start), ("--to", to, goal)] {
-        let state = map.grid.get(cell.0, cell.1).unwrap_or(Cell::Unknown);
-        let ok = state == Cell::Free || (state == Cell::Unknown && args.unknown_passable);
-        if !ok {
-            let what_is_there = match state {
-                Cell::Occupied if args.robot_radius > 0.0 => {
-                    "an obstacle (or within --robot-radius of one)"
-                }
-                Cell::Occupied => "an obstacle",
-                _ => "an unknown cell (use --unknown-passable to allow it)",
-            };
-            bail!(
-                "{what} ({}, {}) {} lies on {what_is_there}: cell ({}, {})",
-                num(p[0]),
-                num(p[1]),
-                map.unit(),
-                cell.0,
-                cell.1
-            );
-        }
-    }
+    let start = map.endpoint("--from", from, args.unknown_passable)?;
+    let goal = map.endpoint("--to", to, args.unknown_passable)?;
     let began = Instant::now();
     let outcome = run_planner_outcome(
         args.planner,
