@@ -9,6 +9,7 @@ use vpmap_metrology::map::FloorMap;
 use vpmap_pipeline::{
     Coordinates, DEFAULT_ROBOT_RADIUS_M, Endpoint, EndpointRules, OptionNames, endpoint_cell,
 };
+use vpmap_plan::Planned;
 use vpmap_plan::grid::{Cell, OccupancyGrid};
 use vpmap_plan::mbpp::{BugTrack, MbppStats};
 use vpmap_plan::plan::Plan;
@@ -18,42 +19,31 @@ use vpmap_plan::raster::{RasterOptions, rasterize_map};
 use crate::num;
 use crate::output::write_file;
 
-/// The planners `vpmap plan` offers.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
-pub enum PlannerName {
-    /// Multi-Bug Path Planning (the thesis's planner): bugs split at obstacles and follow
-    /// walls both ways; the shortest corner list, smoothed, plus the others as alternatives.
-    Mbpp,
-    /// MBPP leaving a wall as soon as it is closer to the goal than at its hit: more bugs,
-    /// shorter paths, slower.
-    MbppCloser,
-    /// 8-connected octile A*, no corner cutting.
-    Astar,
-    /// A* followed by line-of-sight post-smoothing.
-    AstarPs,
-    /// Basic Theta* (any-angle).
-    ThetaStar,
-    /// The exact shortest any-angle path (visibility graph over obstacle-corner cells).
-    Optimal,
-}
-
-impl PlannerName {
-    /// The library's planner of this name.
-    pub fn kind(self) -> PlannerKind {
-        match self {
-            Self::Mbpp => PlannerKind::Mbpp,
-            Self::MbppCloser => PlannerKind::MbppCloser,
-            Self::Astar => PlannerKind::Astar,
-            Self::AstarPs => PlannerKind::AstarPs,
-            Self::ThetaStar => PlannerKind::ThetaStar,
-            Self::Optimal => PlannerKind::Optimal,
+/// What `vpmap plan --help` says of each planner.
+fn planner_help(kind: PlannerKind) -> &'static str {
+    match kind {
+        PlannerKind::Mbpp => {
+            "Multi-Bug Path Planning (the thesis's planner): bugs split at obstacles and follow walls both ways; the shortest corner list, smoothed, plus the others as alternatives"
+        }
+        PlannerKind::MbppCloser => {
+            "MBPP leaving a wall as soon as it is closer to the goal than at its hit: more bugs, shorter paths, slower"
+        }
+        PlannerKind::Astar => "8-connected octile A*, no corner cutting",
+        PlannerKind::AstarPs => "A* followed by line-of-sight post-smoothing",
+        PlannerKind::ThetaStar => "Basic Theta* (any-angle)",
+        PlannerKind::Optimal => {
+            "The exact shortest any-angle path (visibility graph over obstacle-corner cells)"
         }
     }
+}
 
-    /// The planner's name on the command line and in JSON.
-    pub fn name(self) -> &'static str {
-        self.kind().name()
-    }
+/// `--planner`: a [`PlannerKind`] by its name, read with its `FromStr`; `--help` lists them.
+fn planner_parser() -> impl clap::builder::TypedValueParser<Value = PlannerKind> {
+    use clap::builder::TypedValueParser as _;
+    clap::builder::PossibleValuesParser::new(
+        PlannerKind::ALL.map(|k| clap::builder::PossibleValue::new(k.name()).help(planner_help(k))),
+    )
+    .try_map(|name| name.parse::<PlannerKind>())
 }
 
 /// Arguments of `vpmap plan`.
@@ -69,8 +59,8 @@ pub struct PlanArgs {
     #[arg(long, allow_hyphen_values = true)]
     to: String,
     /// Planner.
-    #[arg(long, value_enum, default_value = "astar")]
-    planner: PlannerName,
+    #[arg(long, default_value = "astar", value_parser = planner_parser())]
+    planner: PlannerKind,
     /// Inflate obstacles by this radius (metres for ROS maps and map.json, cells for .map).
     /// Default: 0.2 m for a map.json (the robot radius `vpmap build` uses), 0 for a ROS map
     /// (`vpmap build` inflated its grid already) and for a Moving AI map.
@@ -215,43 +205,27 @@ pub fn load_map(path: &Path, robot_radius: Option<f64>, resolution: f64) -> Resu
     })
 }
 
-/// What one planner run produced, for `vpmap plan`.
-pub struct PlanOutcome {
-    /// The chosen path, `None` when start and goal are not connected.
-    pub best: Option<Plan>,
-    /// Other feasible paths, shortest first (MBPP only; empty for the other planners).
-    pub alternatives: Vec<Plan>,
-    /// The bugs of an MBPP run, in order of birth (empty for the other planners); their
-    /// `cells` are filled only when tracks were asked for.
-    pub bugs: Vec<BugTrack>,
-    /// MBPP's work counters (`None` for the other planners).
-    pub mbpp_stats: Option<MbppStats>,
-}
-
 /// Run one planner (through the library's [`Planner`] interface) and keep everything it
 /// found: the path, MBPP's alternatives and bugs (with their walked cells when
 /// `record_tracks`; that costs memory in proportion to the bugs' steps, so ask only when
 /// drawing them).
-pub fn run_planner_outcome(
-    planner: PlannerName,
+pub fn run_planner(
+    kind: PlannerKind,
     grid: &OccupancyGrid,
     start: (usize, usize),
     goal: (usize, usize),
     unknown_passable: bool,
     record_tracks: bool,
-) -> Result<PlanOutcome> {
-    let kind = planner.kind();
-    let planned = kind
+) -> Result<Planned> {
+    Ok(kind
         .planner(unknown_passable)
         .with_tracks(record_tracks)
-        .plan(grid, start, goal)?;
-    let is_mbpp = matches!(kind, PlannerKind::Mbpp | PlannerKind::MbppCloser);
-    Ok(PlanOutcome {
-        best: planned.best,
-        alternatives: planned.alternatives,
-        bugs: planned.bugs,
-        mbpp_stats: is_mbpp.then_some(planned.mbpp_stats),
-    })
+        .plan(grid, start, goal)?)
+}
+
+/// MBPP's counters, for the MBPP planners only.
+fn mbpp_stats(kind: PlannerKind, planned: &Planned) -> Option<MbppStats> {
+    matches!(kind, PlannerKind::Mbpp | PlannerKind::MbppCloser).then_some(planned.mbpp_stats)
 }
 
 /// `count` followed by `noun`, with an `s` unless `count` is 1.
@@ -271,7 +245,7 @@ pub fn run(args: &PlanArgs) -> Result<()> {
     let start = map.endpoint("--from", from, args.unknown_passable)?;
     let goal = map.endpoint("--to", to, args.unknown_passable)?;
     let began = Instant::now();
-    let outcome = run_planner_outcome(
+    let outcome = run_planner(
         args.planner,
         &map.grid,
         start,
@@ -294,8 +268,8 @@ pub fn run(args: &PlanArgs) -> Result<()> {
 /// The `--json` answer: one object.
 fn plan_json(
     map: &PlanningMap,
-    planner: PlannerName,
-    outcome: &PlanOutcome,
+    planner: PlannerKind,
+    outcome: &Planned,
     seconds: f64,
 ) -> serde_json::Value {
     let scale = map.scale();
@@ -308,7 +282,7 @@ fn plan_json(
         .map(|p| serde_json::json!({ "length": p.length * scale, "waypoints": waypoints(p) }))
         .collect();
     let mut stats = serde_json::Map::new();
-    if let Some(s) = outcome.mbpp_stats {
+    if let Some(s) = mbpp_stats(planner, outcome) {
         // MBPP's own counters are there even when no path was found.
         for (key, value) in [
             ("expanded", s.bug_steps),
@@ -347,14 +321,9 @@ fn plan_json(
 }
 
 /// The text answer: one line.
-fn plan_text(
-    map: &PlanningMap,
-    planner: PlannerName,
-    outcome: &PlanOutcome,
-    seconds: f64,
-) -> String {
+fn plan_text(map: &PlanningMap, planner: PlannerKind, outcome: &Planned, seconds: f64) -> String {
     let ms = seconds * 1e3;
-    let work = match (outcome.mbpp_stats, &outcome.best) {
+    let work = match (mbpp_stats(planner, outcome), &outcome.best) {
         (Some(s), Some(_)) => format!(
             "{}, {}, {}, {ms:.3} ms",
             counted(s.bugs, "bug"),
@@ -413,7 +382,7 @@ const LEGEND_FONT_PX: f64 = 11.0;
 #[must_use]
 pub fn path_svg(
     grid: &OccupancyGrid,
-    outcome: &PlanOutcome,
+    outcome: &Planned,
     start: (usize, usize),
     goal: (usize, usize),
 ) -> String {
@@ -622,7 +591,7 @@ struct Legend {
 
 impl Legend {
     /// Lay the entries out in rows no wider than `width`; `None` when one does not fit.
-    fn layout(outcome: &PlanOutcome, width: f64, font: f64) -> Option<Self> {
+    fn layout(outcome: &Planned, width: f64, font: f64) -> Option<Self> {
         let mut labels = vec![
             (
                 Swatch::Track,
@@ -763,8 +732,8 @@ mod tests {
             grid.set(2, y, Cell::Occupied)?;
         }
         let (start, goal) = ((0, 2), (5, 2));
-        let quiet = run_planner_outcome(PlannerName::Mbpp, &grid, start, goal, false, false)?;
-        let drawn = run_planner_outcome(PlannerName::Mbpp, &grid, start, goal, false, true)?;
+        let quiet = run_planner(PlannerKind::Mbpp, &grid, start, goal, false, false)?;
+        let drawn = run_planner(PlannerKind::Mbpp, &grid, start, goal, false, true)?;
         assert!(quiet.bugs.len() >= 2 && quiet.bugs.iter().all(|b| b.cells.is_empty()));
         assert_eq!(drawn.bugs.len(), quiet.bugs.len());
         assert_eq!(
@@ -773,22 +742,22 @@ mod tests {
         );
         assert!(drawn.bugs.iter().all(|b| !b.cells.is_empty()));
         assert_eq!(drawn.best, quiet.best);
-        let best = run_planner_outcome(PlannerName::Mbpp, &grid, start, goal, false, false)?.best;
+        let best = run_planner(PlannerKind::Mbpp, &grid, start, goal, false, false)?.best;
         assert_eq!(best, quiet.best);
-        assert!(best.is_some() && quiet.mbpp_stats.is_some());
-        let other = run_planner_outcome(PlannerName::ThetaStar, &grid, start, goal, false, true)?;
+        assert!(best.is_some() && mbpp_stats(PlannerKind::Mbpp, &quiet).is_some());
+        let other = run_planner(PlannerKind::ThetaStar, &grid, start, goal, false, true)?;
         assert!(other.bugs.is_empty() && other.alternatives.is_empty());
-        assert!(other.mbpp_stats.is_none());
+        assert!(mbpp_stats(PlannerKind::ThetaStar, &other).is_none());
         Ok(())
     }
 
     #[test]
     fn legend_is_left_out_when_the_map_is_too_narrow() {
-        let outcome = PlanOutcome {
+        let outcome = Planned {
             best: None,
             alternatives: Vec::new(),
             bugs: Vec::new(),
-            mbpp_stats: None,
+            mbpp_stats: MbppStats::default(),
         };
         assert!(Legend::layout(&outcome, 3.0, 1.0).is_none());
         let wide = Legend::layout(&outcome, 200.0, 1.0).map(|l| l.entries.len());
