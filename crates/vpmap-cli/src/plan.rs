@@ -14,7 +14,7 @@ use vpmap_plan::mbpp::MbppStats;
 use vpmap_plan::plan::Plan;
 use vpmap_plan::planner::{Planner, PlannerKind};
 use vpmap_plan::raster::{RasterOptions, rasterize_map};
-use vpmap_render::plan_svg;
+use vpmap_render::{GridCoordinates, plan_svg};
 
 use crate::num;
 use crate::output::write_file;
@@ -255,7 +255,15 @@ pub fn run(args: &PlanArgs) -> Result<()> {
     )?;
     let seconds = began.elapsed().as_secs_f64();
     if let Some(svg_path) = &args.svg {
-        write_file(svg_path, plan_svg(&map.grid, &outcome, start, goal))?;
+        let coordinates = if map.in_cells {
+            GridCoordinates::Cells
+        } else {
+            GridCoordinates::World
+        };
+        write_file(
+            svg_path,
+            plan_svg(&map.grid, &outcome, start, goal, coordinates),
+        )?;
     }
     if args.json {
         println!("{}", plan_json(&map, args.planner, &outcome, seconds));

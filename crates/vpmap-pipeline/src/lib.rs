@@ -18,7 +18,7 @@
 //! use vpmap_pipeline::{build, MapOptions};
 //! let (scene, _) = synthesize(&SynthOptions::default()).unwrap();
 //! let built = build(&scene, &MapOptions::default()).unwrap();
-//! assert!(built.model_glb.starts_with(b"glTF") && built.svg.starts_with("<?xml"));
+//! assert!(built.model_glb.starts_with(b"glTF") && built.svg.contains("data-svg-from-map"));
 //! assert_eq!(built.grid.resolution_m(), 0.05);
 //! ```
 #![deny(missing_docs)]

@@ -41,6 +41,6 @@ pub mod svg;
 
 pub use error::RenderError;
 pub use model::model_glb;
-pub use plan_svg::plan_svg;
+pub use plan_svg::{GridCoordinates, plan_svg};
 pub use raster::svg_to_png;
-pub use svg::{FloorPlanStyle, escape_xml, floor_plan_svg};
+pub use svg::{FloorPlanStyle, SVG_FROM_MAP_ATTRIBUTE, escape_xml, floor_plan_svg, matrix_text};

@@ -10,7 +10,32 @@ use vpmap_plan::Planned;
 use vpmap_plan::grid::{Cell, OccupancyGrid};
 use vpmap_plan::mbpp::BugTrack;
 
-use crate::escape_xml;
+use crate::{SVG_FROM_MAP_ATTRIBUTE, escape_xml, matrix_text};
+
+/// How the map coordinates of a plan read, for the picture's `data-svg-from-map` transform.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GridCoordinates {
+    /// The grid's world frame (`+x` right, `+y` up, metres or map units; the grid's origin
+    /// and resolution place it): ROS maps and `map.json`.
+    World,
+    /// Cell indices (column, row; row 0 at the top; a cell's centre at its index): Moving AI
+    /// maps.
+    Cells,
+}
+
+/// The affine transform from `coordinates` to the picture's user units (one per cell, row 0
+/// at the top), in SVG `matrix(a b c d e f)` order.
+#[must_use]
+pub fn svg_from_grid_coordinates(grid: &OccupancyGrid, coordinates: GridCoordinates) -> [f64; 6] {
+    match coordinates {
+        GridCoordinates::Cells => [1.0, 0.0, 0.0, 1.0, 0.5, 0.5],
+        GridCoordinates::World => {
+            let k = 1.0 / grid.resolution_m();
+            let [ox, oy] = grid.origin_m();
+            [k, 0.0, 0.0, -k, -ox * k, grid.height() as f64 + oy * k]
+        }
+    }
+}
 
 /// One colour per bug, in order of birth (repeating): no red (the path), grey (the
 /// alternatives) or black (obstacles).
@@ -37,13 +62,15 @@ const LEGEND_FONT_PX: f64 = 11.0;
 /// path, start and goal, one SVG unit per cell, row 0 at the top. For MBPP also, under the
 /// path: every bug's track (thin, one colour per bug, straight runs merged), its hits
 /// (crosses) and leave points (rings), the alternatives (dashed grey), and a legend strip
-/// below the map when it is wide enough for the labels.
+/// below the map when it is wide enough for the labels. The root element carries
+/// [`SVG_FROM_MAP_ATTRIBUTE`]: the transform from `coordinates` to the picture.
 #[must_use]
 pub fn plan_svg(
     grid: &OccupancyGrid,
     planned: &Planned,
     start: (usize, usize),
     goal: (usize, usize),
+    coordinates: GridCoordinates,
 ) -> String {
     let (w, h) = (grid.width(), grid.height());
     let px = (900.0 / w.max(h) as f64).clamp(0.5, 24.0);
@@ -61,11 +88,12 @@ pub fn plan_svg(
         None => (h as f64, h.to_string()),
     };
     let mut out = format!(
-        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{:.0}" height="{:.0}" viewBox="0 0 {w} {view_h}" shape-rendering="crispEdges">
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{:.0}" height="{:.0}" viewBox="0 0 {w} {view_h}" shape-rendering="crispEdges" {SVG_FROM_MAP_ATTRIBUTE}="{}">
 <rect width="{w}" height="{view_h}" fill="#ffffff"/>
 "##,
         w as f64 * px,
-        total_h * px
+        total_h * px,
+        matrix_text(svg_from_grid_coordinates(grid, coordinates))
     );
     for y in 0..h {
         let mut x = 0;

@@ -9,7 +9,8 @@ use vpmap_metrology::reconstruct::ObjectKind;
 use super::labels::{Swatch, UnitNames};
 use super::layout::{Layout, fmt_num, grid_indices, polygon_path, ring_path};
 use super::{
-    FONT_FAMILY, FloorPlanStyle, HIDDEN_PATTERN_FILL, HIDDEN_PATTERN_ID, colour, escape_xml,
+    FONT_FAMILY, FloorPlanStyle, HIDDEN_PATTERN_FILL, HIDDEN_PATTERN_ID, SVG_FROM_MAP_ATTRIBUTE,
+    colour, escape_xml, matrix_text,
 };
 use crate::geometry::is_finite;
 
@@ -21,8 +22,9 @@ pub(super) fn header(out: &mut String, style: &FloorPlanStyle, l: &Layout, u: &U
     let _ = writeln!(out, r#"<?xml version="1.0" encoding="UTF-8"?>"#);
     let _ = writeln!(
         out,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0}" height="{height:.0}" viewBox="0 0 {width:.0} {height:.0}" font-family="{FONT_FAMILY}" fill="{}">"#,
-        colour::TEXT
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{width:.0}" height="{height:.0}" viewBox="0 0 {width:.0} {height:.0}" font-family="{FONT_FAMILY}" fill="{}" {SVG_FROM_MAP_ATTRIBUTE}="{}">"#,
+        colour::TEXT,
+        matrix_text(frame.svg_from_map())
     );
     let _ = writeln!(out, "<title>{}</title>", escape_xml(title));
     let _ = writeln!(

@@ -102,6 +102,21 @@ impl Frame {
         )
     }
 
+    /// The affine transform from map coordinates to SVG user units, in SVG
+    /// `matrix(a b c d e f)` order: `x_svg = a x + c y + e`, `y_svg = b x + d y + f` (what
+    /// [`Frame::px`] does, before its clamping of far-away points).
+    pub(super) fn svg_from_map(&self) -> [f64; 6] {
+        let k = self.px_per_unit;
+        [
+            k,
+            0.0,
+            0.0,
+            -k,
+            self.left - self.x_min * k,
+            self.top + self.y_max * k,
+        ]
+    }
+
     /// The map point is inside the plot.
     pub(super) fn shows(&self, p: MapPoint) -> bool {
         (self.x_min..=self.x_max()).contains(&p[0]) && (self.y_min()..=self.y_max).contains(&p[1])

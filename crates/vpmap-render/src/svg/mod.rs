@@ -60,6 +60,20 @@ mod colour {
     pub const MUTED: &str = "#555555";
 }
 
+/// The root element's attribute holding the transform from map coordinates (`+x` right,
+/// `+y` up, map units) to the SVG's user units, as six numbers `a b c d e f` in SVG
+/// `matrix()` order: `x_svg = a x + c y + e`, `y_svg = b x + d y + f`. Written on every
+/// floor plan ([`floor_plan_svg`]) and plan picture ([`crate::plan_svg`]), so that a reader
+/// (the web page) places map points on the picture without fitting it.
+pub const SVG_FROM_MAP_ATTRIBUTE: &str = "data-svg-from-map";
+
+/// Six numbers separated by spaces, each in Rust's shortest round-trip form (`{}`), with no
+/// negative zero.
+#[must_use]
+pub fn matrix_text(m: [f64; 6]) -> String {
+    m.map(|v| format!("{}", v + 0.0)).join(" ")
+}
+
 /// Options of [`floor_plan_svg`].
 // The flags are independent layer switches, not a state machine.
 #[allow(clippy::struct_excessive_bools)]
