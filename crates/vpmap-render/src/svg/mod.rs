@@ -63,7 +63,7 @@ mod colour {
 /// The root element's attribute holding the transform from map coordinates (`+x` right,
 /// `+y` up, map units) to the SVG's user units, as six numbers `a b c d e f` in SVG
 /// `matrix()` order: `x_svg = a x + c y + e`, `y_svg = b x + d y + f`. Written on every
-/// floor plan ([`floor_plan_svg`]) and plan picture ([`crate::plan_svg`]), so that a reader
+/// floor plan ([`floor_plan_svg`]) and plan picture ([`crate::plan_svg()`]), so that a reader
 /// (the web page) places map points on the picture without fitting it.
 pub const SVG_FROM_MAP_ATTRIBUTE: &str = "data-svg-from-map";
 
