@@ -3,15 +3,14 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
-use vpmap_metrology::map::{BuildOptions, FloorMap, Units, build_map};
+use vpmap_metrology::map::{FloorMap, Units};
 use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::scene::Scene;
 use vpmap_metrology::synth::Truth;
+use vpmap_pipeline::{MapOptions, PipelineError};
 use vpmap_plan::grid::{Cell, OccupancyGrid};
 use vpmap_plan::mbpp::{MbppOptions, mbpp};
-use vpmap_plan::raster::{RasterOptions, rasterize_map};
-use vpmap_plan::ros::encode_ros_map;
-use vpmap_render::{FloorPlanStyle, floor_plan_svg, model_glb, svg_to_png};
+use vpmap_render::{FloorPlanStyle, floor_plan_svg, svg_to_png};
 
 use crate::output::OutputSet;
 use crate::{BuildArgs, num};
@@ -49,46 +48,40 @@ struct Built {
     grid_summary: String,
 }
 
-fn check_args(args: &BuildArgs) -> Result<()> {
-    if !(args.resolution.is_finite() && args.resolution > 0.0 && args.resolution <= 100.0) {
-        bail!(
-            "--resolution must be a positive number of metres, at most 100, got {}",
-            num(args.resolution)
-        );
+/// The pipeline's options from the command line's.
+fn map_options(args: &BuildArgs) -> MapOptions {
+    MapOptions {
+        method: args.method,
+        resolution_m: args.resolution,
+        robot_radius_m: args.robot_radius,
+        hidden_free: args.hidden_free,
+        max_grid_cells: None,
     }
-    if !(args.robot_radius.is_finite() && args.robot_radius >= 0.0 && args.robot_radius <= 1e3) {
-        bail!(
-            "--robot-radius must be a non-negative number of metres, at most 1000, got {}",
-            num(args.robot_radius)
-        );
+}
+
+/// A pipeline failure, in the command line's words (flags, the file that failed).
+fn pipeline_error(e: PipelineError) -> anyhow::Error {
+    match e {
+        PipelineError::OptionOutOfRange { option, value } => anyhow::anyhow!(
+            "{} must be {}, got {}",
+            option.flag(),
+            option.requirement(),
+            num(value)
+        ),
+        PipelineError::Model(e) => anyhow::Error::new(e).context("building model.glb"),
+        PipelineError::Grid(e) => anyhow::Error::new(e).context("rasterising the occupancy grid"),
+        e => anyhow::Error::new(e),
     }
-    Ok(())
 }
 
 fn build_outputs(scene: &Scene, args: &BuildArgs) -> Result<Built> {
-    check_args(args)?;
-    let map = build_map(
-        scene,
-        &BuildOptions {
-            method: args.method,
-        },
-    )?;
+    let built = vpmap_pipeline::build(scene, &map_options(args)).map_err(pipeline_error)?;
     let mut files = OutputSet::default();
-    files.add("map.json", map.to_json_string());
-    files.add("model.glb", model_glb(&map).context("building model.glb")?);
-    let grid = rasterize_map(
-        &map,
-        &RasterOptions {
-            resolution_m: args.resolution,
-            robot_radius_m: args.robot_radius,
-            hidden_free: args.hidden_free,
-            ..RasterOptions::default()
-        },
-    )
-    .context("rasterising the occupancy grid")?;
-    let (yaml, pgm) = encode_ros_map(&grid, "occupancy.pgm");
-    files.add("occupancy.yaml", yaml);
-    files.add("occupancy.pgm", pgm);
+    files.add("map.json", built.map.to_json_string());
+    files.add("model.glb", built.model_glb);
+    files.add("occupancy.yaml", built.occupancy_yaml);
+    files.add("occupancy.pgm", built.occupancy_pgm);
+    let (map, grid) = (built.map, built.grid);
     let (free, occupied, unknown) = grid.counts();
     let total = (free + occupied + unknown).max(1) as f64;
     let grid_summary = format!(
@@ -226,8 +219,8 @@ pub fn run_demo(out: &Path, method: Method) -> Result<()> {
     let args = BuildArgs {
         out: out.to_path_buf(),
         method,
-        resolution: 0.05,
-        robot_radius: 0.2,
+        resolution: vpmap_pipeline::DEFAULT_RESOLUTION_M,
+        robot_radius: vpmap_pipeline::DEFAULT_ROBOT_RADIUS_M,
         hidden_free: false,
     };
     let mut built = build_outputs(&scene, &args)?;
@@ -295,11 +288,12 @@ fn demo_path(built: &Built) -> Result<(String, FloorPlanStyle)> {
     };
     let (a, b) = (points[0], points[points.len() - 1]);
     let line = format!(
-        "path: MBPP from ({:.2}, {:.2}) to ({:.2}, {:.2}) m around the objects (robot radius 0.2 m): {length:.2} m, {} bugs, {} alternatives; drawn in map.svg",
+        "path: MBPP from ({:.2}, {:.2}) to ({:.2}, {:.2}) m around the objects (robot radius {} m): {length:.2} m, {} bugs, {} alternatives; drawn in map.svg",
         a[0],
         a[1],
         b[0],
         b[1],
+        vpmap_pipeline::DEFAULT_ROBOT_RADIUS_M,
         result.stats.bugs,
         result.alternatives.len()
     );

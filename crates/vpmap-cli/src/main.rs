@@ -39,10 +39,11 @@ pub struct BuildArgs {
     #[arg(long, default_value = "sideview", value_parser = parse_method)]
     pub method: Method,
     /// Occupancy-grid cell size, metres (map units when the scene has no scale).
-    #[arg(long, default_value_t = 0.05, allow_negative_numbers = true)]
+    #[arg(long, default_value_t = vpmap_pipeline::DEFAULT_RESOLUTION_M, allow_negative_numbers = true)]
     pub resolution: f64,
-    /// Robot radius: obstacles in the occupancy grid are inflated by it, metres.
-    #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
+    /// Robot radius: obstacles in the occupancy grid are inflated by it, metres (0 for a
+    /// grid of the bare obstacles).
+    #[arg(long, default_value_t = vpmap_pipeline::DEFAULT_ROBOT_RADIUS_M, allow_negative_numbers = true)]
     pub robot_radius: f64,
     /// Mark floor hidden behind objects as free in the occupancy grid (default: unknown).
     #[arg(long)]

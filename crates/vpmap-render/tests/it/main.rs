@@ -6,6 +6,7 @@
 mod bad_input;
 mod glb;
 mod png_output;
+mod snapshots;
 mod svg_output;
 
 use vpmap_metrology::map::{BuildOptions, FloorMap, build_map};

@@ -12,10 +12,9 @@ use base64::Engine as _;
 use base64::engine::general_purpose::STANDARD as BASE64;
 use serde::Serialize;
 use vpmap_metrology::map::{CameraReport, FloorMap};
-use vpmap_plan::ros::encode_ros_map;
-use vpmap_render::{FloorPlanStyle, floor_plan_svg, model_glb};
+use vpmap_pipeline::{MapOptions, units_name};
 
-use super::scene::{BuildParams, grid_of, map_of, scene_from_text, units_name};
+use super::scene::{map_options_from_query, pipeline_error, scene_from_text};
 use super::{elapsed_ms, respond, to_json};
 use crate::{ApiError, AppState, MAX_JSON_BODY_BYTES, params, run_blocking};
 use vpmap_vision::scene::perspective_name;
@@ -93,27 +92,23 @@ fn camera_summary(camera: &CameraReport) -> CameraSummary {
 }
 
 /// Everything `/api/build` answers, serialised.
-fn build_answer(body: &[u8], build_params: &BuildParams) -> Result<Bytes, ApiError> {
+fn build_answer(body: &[u8], options: &MapOptions) -> Result<Bytes, ApiError> {
     let started = Instant::now();
     let text = params::json_text(body, "a scene (docs/scene-format.md)")?;
     let parsed = scene_from_text(&text)?;
-    let map = map_of(&parsed.scene, build_params)?;
-    let glb = model_glb(&map)
-        .map_err(|e| ApiError::bad_request(format!("cannot build the 3D model: {e}")))?;
-    let grid = grid_of(&map, build_params)?;
-    let (yaml, pgm) = encode_ros_map(&grid, "occupancy.pgm");
-    let svg = floor_plan_svg(&map, &FloorPlanStyle::default());
+    let built = vpmap_pipeline::build(&parsed.scene, options).map_err(pipeline_error)?;
+    let (map, grid) = (&built.map, &built.grid);
     let (free, occupied, unknown) = grid.counts();
     let mut warnings = parsed.warnings;
     warnings.extend(map.warnings.iter().cloned());
     let answer = BuildResponse {
-        map: &map,
+        map,
         units: units_name(map.units),
-        svg,
-        glb_base64: BASE64.encode(glb),
+        svg: built.svg,
+        glb_base64: BASE64.encode(&built.model_glb),
         occupancy: Occupancy {
-            yaml,
-            pgm_base64: BASE64.encode(pgm),
+            yaml: built.occupancy_yaml,
+            pgm_base64: BASE64.encode(&built.occupancy_pgm),
             width: grid.width(),
             height: grid.height(),
             resolution: grid.resolution_m(),
@@ -138,12 +133,9 @@ pub async fn build(
 ) -> Response {
     let result = async {
         let body = params::body(body, MAX_JSON_BODY_BYTES)?;
-        let build_params = BuildParams::from_query(query.as_deref())?;
+        let options = map_options_from_query(query.as_deref())?;
         params::expect_json(&headers)?;
-        run_blocking(&state, "/api/build", move || {
-            build_answer(&body, &build_params)
-        })
-        .await
+        run_blocking(&state, "/api/build", move || build_answer(&body, &options)).await
     }
     .await;
     respond(result)
@@ -157,7 +149,9 @@ mod tests {
     #[test]
     fn horizon_of_the_office_passes_through_both_horizontal_vanishing_points() {
         let parsed = scene_from_text(OFFICE_SCENE).unwrap_or_else(|e| panic!("{e}"));
-        let map = map_of(&parsed.scene, &BuildParams::default()).unwrap_or_else(|e| panic!("{e}"));
+        let map = vpmap_pipeline::map_and_grid(&parsed.scene, &MapOptions::default())
+            .unwrap_or_else(|e| panic!("{e}"))
+            .map;
         let [a, b] = horizon(&map.camera).unwrap_or_default();
         assert_eq!((a[0], b[0]), (0.0, 1600.0));
         let (dx, dy) = (b[0] - a[0], b[1] - a[1]);

@@ -9,13 +9,16 @@ use axum::extract::{RawQuery, State};
 use axum::http::HeaderMap;
 use axum::response::Response;
 use serde::Serialize;
-use vpmap_plan::grid::{Cell, OccupancyGrid};
+use vpmap_pipeline::{
+    Coordinates, Endpoint, EndpointRules, OptionNames, endpoint_cell, units_name,
+};
+use vpmap_plan::grid::OccupancyGrid;
 use vpmap_plan::mbpp::{BugFate, BugTrack};
 use vpmap_plan::optimal::corner_cells;
 use vpmap_plan::plan::Plan;
 use vpmap_plan::planner::{Planner, PlannerKind};
 
-use super::scene::{BuildParams, grid_of, map_of, scene_from_value, units_name};
+use super::scene::{map_options, pipeline_error, scene_from_value};
 use super::{elapsed_ms, respond, to_json};
 use crate::params::Query;
 use crate::{ApiError, AppState, MAX_JSON_BODY_BYTES, params, run_blocking};
@@ -245,51 +248,6 @@ fn planners(names: Option<&[String]>) -> Result<Vec<PlannerKind>, ApiError> {
     Ok(kinds)
 }
 
-/// The cell of an endpoint, which must be traversable.
-fn endpoint_cell(
-    grid: &OccupancyGrid,
-    what: &str,
-    p: [f64; 2],
-    params: &BuildParams,
-    unknown_passable: bool,
-    units: &str,
-) -> Result<(usize, usize), ApiError> {
-    let Some(cell) = grid.cell_from_world(p) else {
-        let o = grid.origin_m();
-        let r = grid.resolution_m();
-        return Err(ApiError::bad_request(format!(
-            "{what} ({}, {}) {units} is outside the map, which spans x {:.2}..{:.2}, y {:.2}..{:.2} {units}",
-            p[0],
-            p[1],
-            o[0],
-            o[0] + grid.width() as f64 * r,
-            o[1],
-            o[1] + grid.height() as f64 * r
-        )));
-    };
-    let state = grid.get(cell.0, cell.1).unwrap_or(Cell::Unknown);
-    let problem = match state {
-        Cell::Free => None,
-        Cell::Unknown if unknown_passable => None,
-        Cell::Occupied if params.robot_radius > 0.0 => Some(format!(
-            "an obstacle (or within robot_radius {} {units} of one)",
-            params.robot_radius
-        )),
-        Cell::Occupied => Some("an obstacle".to_owned()),
-        Cell::Unknown => Some(
-            "unknown floor (outside what the photo shows, or hidden behind an object; set unknown_passable or hidden_free to allow it)"
-                .to_owned(),
-        ),
-    };
-    match problem {
-        None => Ok(cell),
-        Some(what_is_there) => Err(ApiError::bad_request(format!(
-            "{what} ({}, {}) {units} lies on {what_is_there}: cell ({}, {})",
-            p[0], p[1], cell.0, cell.1
-        ))),
-    }
-}
-
 /// A path in map units.
 fn path_out(grid: &OccupancyGrid, plan: &Plan) -> PathOut {
     PathOut {
@@ -396,36 +354,30 @@ fn plan_answer(body: &[u8]) -> Result<Bytes, ApiError> {
     let started = Instant::now();
     let text = params::json_text(body, "a plan request")?;
     let request = PlanRequest::from_text(&text)?;
-    let d = BuildParams::default();
-    let build_params = BuildParams::checked(
+    let options = map_options(
         request.method.as_deref(),
-        request.resolution.unwrap_or(d.resolution),
-        request.robot_radius.unwrap_or(d.robot_radius),
-        request.hidden_free.unwrap_or(d.hidden_free),
+        request.resolution,
+        request.robot_radius,
+        request.hidden_free,
     )?;
     let kinds = planners(request.planners.as_deref())?;
     let unknown_passable = request.unknown_passable.unwrap_or(false);
     let parsed = scene_from_value(&request.scene)?;
-    let map = map_of(&parsed.scene, &build_params)?;
-    let grid = grid_of(&map, &build_params)?;
+    let vpmap_pipeline::MapAndGrid { map, grid } =
+        vpmap_pipeline::map_and_grid(&parsed.scene, &options).map_err(pipeline_error)?;
     let units = units_name(map.units);
-    let units_short = if units == "m" { "m" } else { "camera heights" };
-    let start = endpoint_cell(
-        &grid,
-        "start",
-        request.start,
-        &build_params,
+    let coordinates = Coordinates::Map {
+        units: if units == "m" { "m" } else { "camera heights" },
+    };
+    let rules = EndpointRules {
         unknown_passable,
-        units_short,
-    )?;
-    let goal = endpoint_cell(
-        &grid,
-        "goal",
-        request.goal,
-        &build_params,
-        unknown_passable,
-        units_short,
-    )?;
+        robot_radius: options.robot_radius_m,
+        names: OptionNames::WebApi,
+    };
+    let [start, goal] = [("start", request.start), ("goal", request.goal)].map(|(name, point)| {
+        endpoint_cell(&grid, coordinates, &Endpoint { name, point }, &rules).map_err(pipeline_error)
+    });
+    let (start, goal) = (start?, goal?);
     let mut budget = MAX_TRACK_POINTS;
     let results = kinds
         .into_iter()

@@ -1,11 +1,9 @@
-//! Scenes from request bodies, and the map, grid and pictures built from them (as
-//! `vpmap build` does: `crates/vpmap-cli/src/build.rs`).
+//! Scenes from request bodies, and the build options of a request; the map, grid and
+//! pictures are built by `vpmap_pipeline`, as `vpmap build` builds them.
 
-use vpmap_metrology::map::{BuildOptions, FloorMap, Units, build_map};
 use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::scene::Scene;
-use vpmap_plan::grid::OccupancyGrid;
-use vpmap_plan::raster::{RasterOptions, rasterize_map};
+use vpmap_pipeline::{MapOptions, PipelineError};
 
 use crate::ApiError;
 use crate::params::Query;
@@ -16,12 +14,6 @@ pub const MAX_OBJECTS: usize = 500;
 pub const MAX_POINTS: usize = 1000;
 /// Most cells in an occupancy grid (2000 x 2000).
 pub const MAX_GRID_CELLS: f64 = 4e6;
-/// Accepted resolutions, map units per cell.
-const RESOLUTION_RANGE: std::ops::RangeInclusive<f64> = 0.001..=100.0;
-/// Largest robot radius, map units.
-const MAX_ROBOT_RADIUS: f64 = 1000.0;
-/// Unknown border around the map in the grid, map units (as `vpmap build`).
-const GRID_MARGIN: f64 = 0.5;
 
 /// A scene and the notes about it (unknown fields).
 pub struct ParsedScene {
@@ -31,83 +23,60 @@ pub struct ParsedScene {
     pub warnings: Vec<String>,
 }
 
-/// How to build: the query parameters of `/api/build`, the fields of `/api/plan`.
-#[derive(Clone, Copy, Debug)]
-pub struct BuildParams {
-    /// Reconstruction method.
-    pub method: Method,
-    /// Grid cell side, map units.
-    pub resolution: f64,
-    /// Obstacle inflation, map units.
-    pub robot_radius: f64,
-    /// Floor hidden behind objects is free (default unknown).
-    pub hidden_free: bool,
-}
-
-impl Default for BuildParams {
-    fn default() -> Self {
-        Self {
-            method: Method::Sideview,
-            resolution: 0.05,
-            robot_radius: 0.2,
-            hidden_free: false,
-        }
-    }
-}
-
 /// The query parameters `/api/build` reads.
 pub const BUILD_QUERY: [&str; 4] = ["method", "resolution", "robot_radius", "hidden_free"];
 
-impl BuildParams {
-    /// From `/api/build`'s query string.
-    ///
-    /// # Errors
-    /// An unknown or repeated parameter, or a value out of range.
-    pub fn from_query(raw: Option<&str>) -> Result<Self, ApiError> {
-        let q = Query::parse(raw, &BUILD_QUERY)?;
-        let d = Self::default();
-        Self::checked(
-            q.get("method"),
-            q.number("resolution", d.resolution)?,
-            q.number("robot_radius", d.robot_radius)?,
-            q.flag("hidden_free", d.hidden_free)?,
-        )
-    }
+/// Build options from a request's values, `None` where the request gives none (the
+/// pipeline's default), with the web API's grid limit ([`MAX_GRID_CELLS`]), checked.
+///
+/// # Errors
+/// An unknown method, or a value out of range ([`MapOptions::validate`]).
+pub fn map_options(
+    method: Option<&str>,
+    resolution: Option<f64>,
+    robot_radius: Option<f64>,
+    hidden_free: Option<bool>,
+) -> Result<MapOptions, ApiError> {
+    let d = MapOptions::default();
+    let method = match method {
+        None => d.method,
+        Some(m) => m.parse::<Method>().map_err(|_| {
+            ApiError::bad_request(format!("method is {m:?}; use sideview or projective"))
+        })?,
+    };
+    let options = MapOptions {
+        method,
+        resolution_m: resolution.unwrap_or(d.resolution_m),
+        robot_radius_m: robot_radius.unwrap_or(d.robot_radius_m),
+        hidden_free: hidden_free.unwrap_or(d.hidden_free),
+        max_grid_cells: Some(MAX_GRID_CELLS),
+    };
+    options.validate().map_err(pipeline_error)?;
+    Ok(options)
+}
 
-    /// From values given (defaults already applied).
-    ///
-    /// # Errors
-    /// A value out of range.
-    pub fn checked(
-        method: Option<&str>,
-        resolution: f64,
-        robot_radius: f64,
-        hidden_free: bool,
-    ) -> Result<Self, ApiError> {
-        let method = match method {
-            None => Method::Sideview,
-            Some(m) => m.parse().map_err(|_| {
-                ApiError::bad_request(format!("method is {m:?}; use sideview or projective"))
-            })?,
-        };
-        if !(resolution.is_finite() && RESOLUTION_RANGE.contains(&resolution)) {
-            return Err(ApiError::bad_request(format!(
-                "resolution is {resolution}; it must be from {} to {} (metres per cell)",
-                RESOLUTION_RANGE.start(),
-                RESOLUTION_RANGE.end()
-            )));
-        }
-        if !(robot_radius.is_finite() && (0.0..=MAX_ROBOT_RADIUS).contains(&robot_radius)) {
-            return Err(ApiError::bad_request(format!(
-                "robot_radius is {robot_radius}; it must be from 0 to {MAX_ROBOT_RADIUS} (metres)"
-            )));
-        }
-        Ok(Self {
-            method,
-            resolution,
-            robot_radius,
-            hidden_free,
-        })
+/// Build options from `/api/build`'s query string.
+///
+/// # Errors
+/// An unknown or repeated parameter, or a value out of range.
+pub fn map_options_from_query(raw: Option<&str>) -> Result<MapOptions, ApiError> {
+    let q = Query::parse(raw, &BUILD_QUERY)?;
+    let d = MapOptions::default();
+    map_options(
+        q.get("method"),
+        Some(q.number("resolution", d.resolution_m)?),
+        Some(q.number("robot_radius", d.robot_radius_m)?),
+        Some(q.flag("hidden_free", d.hidden_free)?),
+    )
+}
+
+/// A pipeline failure as a 400 answer, saying which stage failed.
+pub fn pipeline_error(e: PipelineError) -> ApiError {
+    match e {
+        PipelineError::Map(e) => ApiError::bad_request(format!("scene: {e}")),
+        PipelineError::Model(e) => ApiError::bad_request(format!("cannot build the 3D model: {e}")),
+        PipelineError::Grid(e) => ApiError::bad_request(format!("occupancy grid: {e}")),
+        e => ApiError::bad_request(e.to_string()),
     }
 }
 
@@ -207,66 +176,6 @@ pub fn scene_from_value(value: &serde_json::Value) -> Result<ParsedScene, ApiErr
     })
 }
 
-/// `"m"` or `"camera_heights"`.
-pub fn units_name(units: Units) -> &'static str {
-    match units {
-        Units::Meters => "m",
-        Units::CameraHeights => "camera_heights",
-    }
-}
-
-/// The floor map of a scene.
-///
-/// # Errors
-/// The scene's calibration, reconstruction or scale fails (naming the field and value).
-pub fn map_of(scene: &Scene, params: &BuildParams) -> Result<FloorMap, ApiError> {
-    build_map(
-        scene,
-        &BuildOptions {
-            method: params.method,
-        },
-    )
-    .map_err(|e| ApiError::bad_request(format!("scene: {e}")))
-}
-
-/// The occupancy grid of a map, as `vpmap build` rasterises it; refused beyond
-/// [`MAX_GRID_CELLS`].
-///
-/// # Errors
-/// The grid would be too large, or the map cannot be rasterised.
-pub fn grid_of(map: &FloorMap, params: &BuildParams) -> Result<OccupancyGrid, ApiError> {
-    let (mut lo, mut hi) = map.bounds();
-    for p in map.free_space.iter().flat_map(|p| &p.exterior) {
-        for axis in 0..2 {
-            lo[axis] = lo[axis].min(p[axis]);
-            hi[axis] = hi[axis].max(p[axis]);
-        }
-    }
-    let cells_along =
-        |axis: usize| ((hi[axis] - lo[axis] + 2.0 * GRID_MARGIN) / params.resolution).ceil() + 1.0;
-    let (w, h) = (cells_along(0), cells_along(1));
-    let cells = w * h;
-    if cells.is_nan() || cells > MAX_GRID_CELLS {
-        return Err(ApiError::bad_request(format!(
-            "resolution {} gives an occupancy grid of about {w:.0} x {h:.0} cells for this map ({:.1} x {:.1} {}); the web API's limit is {MAX_GRID_CELLS:.0} cells: use a coarser resolution",
-            params.resolution,
-            hi[0] - lo[0],
-            hi[1] - lo[1],
-            units_name(map.units)
-        )));
-    }
-    rasterize_map(
-        map,
-        &RasterOptions {
-            resolution_m: params.resolution,
-            robot_radius_m: params.robot_radius,
-            hidden_free: params.hidden_free,
-            margin_m: GRID_MARGIN,
-        },
-    )
-    .map_err(|e| ApiError::bad_request(format!("occupancy grid: {e}")))
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -286,9 +195,14 @@ mod tests {
 
     #[test]
     fn parameters_are_range_checked() {
-        assert!(BuildParams::checked(Some("sideview"), 0.05, 0.2, false).is_ok());
-        assert!(BuildParams::checked(Some("side"), 0.05, 0.2, false).is_err());
-        assert!(BuildParams::checked(None, 0.0, 0.2, false).is_err());
-        assert!(BuildParams::checked(None, 0.05, -1.0, false).is_err());
+        let ok = map_options(Some("sideview"), Some(0.05), None, None);
+        assert!(ok.is_ok_and(
+            |o| o.robot_radius_m.to_bits() == 0.2f64.to_bits() && o.max_grid_cells.is_some()
+        ));
+        assert!(map_options(Some("side"), None, None, None).is_err());
+        let e = map_options(None, Some(0.0), None, None).err();
+        assert!(e.is_some_and(|e| e.message.starts_with("resolution is 0;")));
+        let e = map_options(None, None, Some(-1.0), None).err();
+        assert!(e.is_some_and(|e| e.message.starts_with("robot_radius is -1;")));
     }
 }

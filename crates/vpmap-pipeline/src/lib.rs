@@ -1,0 +1,171 @@
+//! One build pipeline: a scene to its floor map, occupancy grid, 3D model and floor plan.
+//!
+//! `vpmap build`, `vpmap demo` and the page's `/api/build` and `/api/plan` all build here,
+//! with one options type whose [`MapOptions::validate`] holds every range and whose default
+//! robot radius ([`DEFAULT_ROBOT_RADIUS_M`], 0.2 m) is the same everywhere. The crate sits
+//! above `vpmap-metrology` (the map), `vpmap-plan` (the grid) and `vpmap-render` (model and
+//! picture), which it is the first crate to need all together.
+//!
+//! | function | what |
+//! |---|---|
+//! | [`map_and_grid`] | scene -> floor map and its occupancy grid (what `/api/plan` plans on) |
+//! | [`build`] | scene -> map, grid, glTF model, ROS map files and floor-plan SVG (what `vpmap build` writes and `/api/build` returns) |
+//! | [`endpoint_cell`] | a start or goal in map coordinates -> its grid cell, checked (`vpmap plan`, `/api/plan`) |
+//!
+//! # Example
+//! ```
+//! use vpmap_metrology::synth::{synthesize, SynthOptions};
+//! use vpmap_pipeline::{build, MapOptions};
+//! let (scene, _) = synthesize(&SynthOptions::default()).unwrap();
+//! let built = build(&scene, &MapOptions::default()).unwrap();
+//! assert!(built.model_glb.starts_with(b"glTF") && built.svg.contains("data-svg-from-map"));
+//! assert_eq!(built.grid.resolution_m(), 0.05);
+//! ```
+#![deny(missing_docs)]
+#![cfg_attr(test, allow(clippy::unwrap_used, clippy::expect_used))]
+
+pub mod endpoint;
+mod error;
+pub mod options;
+
+use vpmap_metrology::map::{BuildOptions, FloorMap, Units, build_map};
+use vpmap_metrology::scene::Scene;
+use vpmap_plan::ros::encode_ros_map;
+use vpmap_plan::{OccupancyGrid, RasterOptions, rasterize_map};
+use vpmap_render::{FloorPlanStyle, floor_plan_svg, model_glb};
+
+pub use endpoint::{Coordinates, Endpoint, EndpointRules, OptionNames, endpoint_cell};
+pub use error::PipelineError;
+pub use options::{
+    BuildOption, DEFAULT_RESOLUTION_M, DEFAULT_ROBOT_RADIUS_M, GRID_MARGIN_M, MapOptions,
+    RESOLUTION_RANGE_M, ROBOT_RADIUS_RANGE_M,
+};
+
+/// A floor map and its occupancy grid.
+#[derive(Debug, Clone)]
+pub struct MapAndGrid {
+    /// The floor map.
+    pub map: FloorMap,
+    /// Its occupancy grid, obstacles inflated by the robot radius.
+    pub grid: OccupancyGrid,
+}
+
+/// Everything a build makes, in memory.
+#[derive(Debug, Clone)]
+pub struct Built {
+    /// The floor map (`map.json`).
+    pub map: FloorMap,
+    /// Its occupancy grid, obstacles inflated by the robot radius.
+    pub grid: OccupancyGrid,
+    /// The glTF binary model (`model.glb`).
+    pub model_glb: Vec<u8>,
+    /// The ROS `map_server` YAML (`occupancy.yaml`), naming `occupancy.pgm` as its image.
+    pub occupancy_yaml: String,
+    /// The ROS map image (`occupancy.pgm`).
+    pub occupancy_pgm: Vec<u8>,
+    /// The floor plan (`map.svg`) in the default style.
+    pub svg: String,
+}
+
+/// The name of a map's unit in messages and the web API: `m` or `camera_heights`.
+#[must_use]
+pub fn units_name(units: Units) -> &'static str {
+    match units {
+        Units::Meters => "m",
+        Units::CameraHeights => "camera_heights",
+    }
+}
+
+/// The floor map of a scene and its occupancy grid.
+///
+/// # Errors
+/// An option out of range, a scene that cannot be built (calibration, reconstruction,
+/// scale), a grid larger than [`MapOptions::max_grid_cells`], or a map that cannot be
+/// rasterised.
+pub fn map_and_grid(scene: &Scene, options: &MapOptions) -> Result<MapAndGrid, PipelineError> {
+    options.validate()?;
+    let map = floor_map(scene, options)?;
+    let grid = occupancy_grid(&map, options)?;
+    Ok(MapAndGrid { map, grid })
+}
+
+/// Build everything `vpmap build` writes and `/api/build` returns: map, 3D model, occupancy
+/// grid and its ROS files, and the floor plan in the default style.
+///
+/// # Errors
+/// As [`map_and_grid`], and a map the 3D model cannot be made of.
+pub fn build(scene: &Scene, options: &MapOptions) -> Result<Built, PipelineError> {
+    options.validate()?;
+    let map = floor_map(scene, options)?;
+    let model_glb = model_glb(&map).map_err(PipelineError::Model)?;
+    let grid = occupancy_grid(&map, options)?;
+    let (occupancy_yaml, occupancy_pgm) = encode_ros_map(&grid, "occupancy.pgm");
+    let svg = floor_plan_svg(&map, &FloorPlanStyle::default());
+    Ok(Built {
+        map,
+        grid,
+        model_glb,
+        occupancy_yaml,
+        occupancy_pgm,
+        svg,
+    })
+}
+
+fn floor_map(scene: &Scene, options: &MapOptions) -> Result<FloorMap, PipelineError> {
+    build_map(
+        scene,
+        &BuildOptions {
+            method: options.method,
+        },
+    )
+    .map_err(PipelineError::Map)
+}
+
+/// The occupancy grid of a map; refused beyond [`MapOptions::max_grid_cells`] before any
+/// cell is made.
+fn occupancy_grid(map: &FloorMap, options: &MapOptions) -> Result<OccupancyGrid, PipelineError> {
+    if let Some(limit) = options.max_grid_cells {
+        let (mut lo, mut hi) = map.bounds();
+        for p in map.free_space.iter().flat_map(|p| &p.exterior) {
+            for axis in 0..2 {
+                lo[axis] = lo[axis].min(p[axis]);
+                hi[axis] = hi[axis].max(p[axis]);
+            }
+        }
+        let cells_along = |axis: usize| {
+            ((hi[axis] - lo[axis] + 2.0 * GRID_MARGIN_M) / options.resolution_m).ceil() + 1.0
+        };
+        let (width, height) = (cells_along(0), cells_along(1));
+        let cells = width * height;
+        if cells.is_nan() || cells > limit {
+            return Err(PipelineError::GridTooLarge {
+                resolution: options.resolution_m,
+                width,
+                height,
+                span_x: hi[0] - lo[0],
+                span_y: hi[1] - lo[1],
+                units: units_name(map.units),
+                limit,
+            });
+        }
+    }
+    rasterize_map(
+        map,
+        &RasterOptions {
+            resolution_m: options.resolution_m,
+            robot_radius_m: options.robot_radius_m,
+            hidden_free: options.hidden_free,
+            margin_m: GRID_MARGIN_M,
+        },
+    )
+    .map_err(PipelineError::Grid)
+}
+
+/// A number for a message: plain when readable, scientific when huge or tiny.
+pub(crate) fn num(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e7).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}

@@ -1,0 +1,166 @@
+//! How to build: one options type for `vpmap build`, `vpmap demo` and the page's
+//! `/api/build` and `/api/plan`, whose [`MapOptions::validate`] holds every range.
+
+use std::fmt;
+use std::ops::RangeInclusive;
+
+use vpmap_metrology::reconstruct::Method;
+
+use crate::PipelineError;
+
+/// Accepted occupancy-grid cell sizes, metres (map units when the scene has no scale). A
+/// millimetre is finer than any corner clicked in a photo; 100 m cells hold a whole building.
+pub const RESOLUTION_RANGE_M: RangeInclusive<f64> = 0.001..=100.0;
+
+/// Accepted robot radii, metres (map units when the scene has no scale).
+pub const ROBOT_RADIUS_RANGE_M: RangeInclusive<f64> = 0.0..=1000.0;
+
+/// The default robot radius, metres: 0.2 m, a small indoor robot's with a little clearance (a
+/// TurtleBot 2's base or a robot vacuum is about 0.35 m across). A robot has a size: with a
+/// radius of 0 paths graze every corner, which no real robot can follow.
+pub const DEFAULT_ROBOT_RADIUS_M: f64 = 0.2;
+
+/// The default occupancy-grid cell size, metres.
+pub const DEFAULT_RESOLUTION_M: f64 = 0.05;
+
+/// Unknown border around the map in the occupancy grid, map units.
+pub const GRID_MARGIN_M: f64 = 0.5;
+
+/// One option of [`MapOptions`] that has a range, to name it in messages.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum BuildOption {
+    /// [`MapOptions::resolution_m`].
+    Resolution,
+    /// [`MapOptions::robot_radius_m`].
+    RobotRadius,
+}
+
+impl BuildOption {
+    /// The option's name in the web API (`resolution`, `robot_radius`).
+    #[must_use]
+    pub fn key(self) -> &'static str {
+        match self {
+            Self::Resolution => "resolution",
+            Self::RobotRadius => "robot_radius",
+        }
+    }
+
+    /// The option's flag on the command line (`--resolution`, `--robot-radius`).
+    #[must_use]
+    pub fn flag(self) -> &'static str {
+        match self {
+            Self::Resolution => "--resolution",
+            Self::RobotRadius => "--robot-radius",
+        }
+    }
+
+    /// What the option's value must be, from its range: "a positive number of metres, from
+    /// 0.001 to 100".
+    #[must_use]
+    pub fn requirement(self) -> String {
+        match self {
+            Self::Resolution => format!(
+                "a positive number of metres, from {} to {}",
+                RESOLUTION_RANGE_M.start(),
+                RESOLUTION_RANGE_M.end()
+            ),
+            Self::RobotRadius => format!(
+                "a non-negative number of metres, at most {}",
+                ROBOT_RADIUS_RANGE_M.end()
+            ),
+        }
+    }
+
+    fn range(self) -> RangeInclusive<f64> {
+        match self {
+            Self::Resolution => RESOLUTION_RANGE_M,
+            Self::RobotRadius => ROBOT_RADIUS_RANGE_M,
+        }
+    }
+}
+
+impl fmt::Display for BuildOption {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.key())
+    }
+}
+
+/// How to build a map and its occupancy grid from a scene.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MapOptions {
+    /// Reconstruction method (the thesis's side-view method by default).
+    pub method: Method,
+    /// Occupancy-grid cell size, metres (map units when the scene has no scale).
+    pub resolution_m: f64,
+    /// Obstacles in the occupancy grid are inflated by this radius, metres (map units when the
+    /// scene has no scale).
+    pub robot_radius_m: f64,
+    /// Floor hidden behind objects is free in the grid (by default it is unknown).
+    pub hidden_free: bool,
+    /// Refuse maps whose occupancy grid would have more cells than this (`None`: no limit;
+    /// the grid's own limit, [`vpmap_plan::MAX_CELLS`], still holds).
+    pub max_grid_cells: Option<f64>,
+}
+
+impl Default for MapOptions {
+    fn default() -> Self {
+        Self {
+            method: Method::Sideview,
+            resolution_m: DEFAULT_RESOLUTION_M,
+            robot_radius_m: DEFAULT_ROBOT_RADIUS_M,
+            hidden_free: false,
+            max_grid_cells: None,
+        }
+    }
+}
+
+impl MapOptions {
+    /// Check every range: [`RESOLUTION_RANGE_M`], [`ROBOT_RADIUS_RANGE_M`].
+    ///
+    /// # Errors
+    /// [`PipelineError::OptionOutOfRange`] naming the first option out of range (NaN and
+    /// infinities are out of every range).
+    pub fn validate(&self) -> Result<(), PipelineError> {
+        for (option, value) in [
+            (BuildOption::Resolution, self.resolution_m),
+            (BuildOption::RobotRadius, self.robot_radius_m),
+        ] {
+            if !(value.is_finite() && option.range().contains(&value)) {
+                return Err(PipelineError::OptionOutOfRange { option, value });
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ranges_are_checked_once_with_both_names() {
+        assert!(MapOptions::default().validate().is_ok());
+        let bad = |resolution_m, robot_radius_m| {
+            MapOptions {
+                resolution_m,
+                robot_radius_m,
+                ..MapOptions::default()
+            }
+            .validate()
+            .err()
+            .map(|e| e.to_string())
+        };
+        assert_eq!(
+            bad(0.0, 0.2).as_deref(),
+            Some("resolution is 0; it must be a positive number of metres, from 0.001 to 100")
+        );
+        assert!(bad(100.5, 0.2).is_some() && bad(f64::NAN, 0.2).is_some());
+        assert!(bad(100.0, 0.0).is_none() && bad(0.001, 1000.0).is_none());
+        assert_eq!(
+            bad(0.05, -1.0).as_deref(),
+            Some("robot_radius is -1; it must be a non-negative number of metres, at most 1000")
+        );
+        assert!(bad(0.05, f64::INFINITY).is_some());
+    }
+}

@@ -1,0 +1,538 @@
+//! Words on the picture: unit names, object labels and where they go (moved apart, with
+//! leader lines), the legend's entries, the title.
+
+use std::fmt::Write as _;
+
+use vpmap_metrology::map::{FloorMap, MapObject, MapPoint, Units};
+use vpmap_metrology::reconstruct::ObjectKind;
+
+use super::layout::{Frame, Layout, Rect, fmt_num};
+use super::{
+    FloorPlanStyle, HIDDEN_LEGEND, HIDDEN_PATTERN_FILL, MAX_NAME_CHARS, MIN_FONT_PX, colour,
+    escape_xml,
+};
+use crate::geometry::is_finite;
+use crate::metrics::text_width_px;
+
+/// Unit words of a map.
+pub(super) struct UnitNames {
+    /// After a length: "m".
+    pub(super) short: &'static str,
+    /// After an area: "m²".
+    pub(super) area: &'static str,
+    /// In the title: "metres".
+    pub(super) long: &'static str,
+}
+
+pub(super) fn unit_names(units: Units) -> UnitNames {
+    match units {
+        Units::Meters => UnitNames {
+            short: "m",
+            area: "m²",
+            long: "metres",
+        },
+        Units::CameraHeights => UnitNames {
+            short: "ch",
+            area: "ch²",
+            long: "camera heights (ch; the camera is 1 ch above the floor)",
+        },
+    }
+}
+
+/// `text` cut to at most `max_chars` characters, ending in an ellipsis when cut.
+fn truncate(text: &str, max_chars: usize) -> String {
+    if text.chars().count() <= max_chars {
+        return text.to_owned();
+    }
+    let mut out: String = text.chars().take(max_chars.saturating_sub(1)).collect();
+    out.push('…');
+    out
+}
+
+/// A font size at most `font_px` at which `text` fits in `max_width_px`, and the text, cut if
+/// even [`MIN_FONT_PX`] is too large.
+pub(super) fn fit_text(text: &str, font_px: f64, max_width_px: f64, bold: bool) -> (String, f64) {
+    let width = text_width_px(text, font_px, bold);
+    if width <= max_width_px {
+        return (text.to_owned(), font_px);
+    }
+    let size = (font_px * max_width_px / width).max(MIN_FONT_PX);
+    let mut chars = text.chars().count();
+    let mut cut = text.to_owned();
+    while chars > 1 && text_width_px(&cut, size, bold) > max_width_px {
+        chars -= 1;
+        cut = truncate(text, chars);
+    }
+    (cut, size)
+}
+
+/// The label of an object: name line and sizes line.
+fn object_label(o: &MapObject, u: &UnitNames, decimals: usize) -> (String, String) {
+    let name = truncate(o.name.trim(), MAX_NAME_CHARS);
+    let name = if name.is_empty() {
+        "(unnamed)".to_owned()
+    } else {
+        name
+    };
+    let height = match o.height {
+        Some(h) => format!("h {} {}", fmt_num(h, decimals), u.short),
+        None => "h unknown".to_owned(),
+    };
+    let sizes = match (o.kind, o.size) {
+        (ObjectKind::Box, Some(s)) => format!(
+            "{} × {} {}, {height}",
+            fmt_num(s.length, decimals),
+            fmt_num(s.breadth, decimals),
+            u.short
+        ),
+        _ => format!("area {} {}, {height}", fmt_num(o.area, decimals), u.area),
+    };
+    (name, sizes)
+}
+
+/// Where an object's label is anchored: its centroid when that is in the plot, else the mean
+/// of its finite corners.
+fn label_anchor(o: &MapObject, frame: &Frame) -> Option<MapPoint> {
+    if is_finite(o.centroid) && frame.shows(o.centroid) {
+        return Some(o.centroid);
+    }
+    let pts: Vec<&MapPoint> = o.footprint.iter().filter(|p| is_finite(**p)).collect();
+    if pts.is_empty() {
+        return None;
+    }
+    let n = pts.len() as f64;
+    Some([
+        pts.iter().map(|p| p[0]).sum::<f64>() / n,
+        pts.iter().map(|p| p[1]).sum::<f64>() / n,
+    ])
+}
+
+/// One legend entry: its swatch and its text.
+pub(super) enum Swatch {
+    Fill {
+        fill: &'static str,
+        stroke: &'static str,
+        dashed: bool,
+    },
+    Line {
+        stroke: &'static str,
+        dashed: bool,
+    },
+    Dot,
+}
+
+/// The legend's entries, in drawing order: what the picture shows.
+// The facts are computed once by the layout, which also places the entries.
+#[allow(clippy::too_many_arguments)]
+pub(super) fn legend_entries(
+    map: &FloorMap,
+    style: &FloorPlanStyle,
+    u: &UnitNames,
+    has_hidden: bool,
+    fov_deg: [f64; 2],
+    fov_ok: bool,
+    step: f64,
+    tick_decimals: usize,
+) -> Vec<(Swatch, String)> {
+    let mut legend: Vec<(Swatch, String)> = Vec::new();
+    if style.show_legend {
+        if !map.free_space.is_empty() {
+            legend.push((
+                Swatch::Fill {
+                    fill: colour::FREE_FILL,
+                    stroke: colour::FREE_STROKE,
+                    dashed: false,
+                },
+                "free space".to_owned(),
+            ));
+        }
+        if has_hidden {
+            legend.push((
+                Swatch::Fill {
+                    fill: HIDDEN_PATTERN_FILL,
+                    stroke: colour::HIDDEN_STROKE,
+                    dashed: false,
+                },
+                HIDDEN_LEGEND.to_owned(),
+            ));
+        }
+        if map.floor.len() >= 3 {
+            legend.push((
+                Swatch::Line {
+                    stroke: colour::FLOOR,
+                    dashed: false,
+                },
+                "floor outline".to_owned(),
+            ));
+        }
+        if map.objects.iter().any(|o| o.kind == ObjectKind::Box) {
+            legend.push((
+                Swatch::Fill {
+                    fill: colour::BOX_FILL,
+                    stroke: colour::BOX_STROKE,
+                    dashed: false,
+                },
+                "box".to_owned(),
+            ));
+        }
+        if map.objects.iter().any(|o| o.kind == ObjectKind::Footprint) {
+            legend.push((
+                Swatch::Fill {
+                    fill: colour::FOOTPRINT_FILL,
+                    stroke: colour::FOOTPRINT_STROKE,
+                    dashed: false,
+                },
+                "footprint".to_owned(),
+            ));
+        }
+        if map.objects.iter().any(|o| o.height.is_none()) {
+            legend.push((
+                Swatch::Fill {
+                    fill: colour::PAPER,
+                    stroke: colour::MUTED,
+                    dashed: true,
+                },
+                "height unknown".to_owned(),
+            ));
+        }
+        legend.push((Swatch::Dot, "camera (station point)".to_owned()));
+        if style.path.len() >= 2 {
+            legend.push((
+                Swatch::Line {
+                    stroke: colour::PATH,
+                    dashed: false,
+                },
+                if style.path_label.is_empty() {
+                    "planned path".to_owned()
+                } else {
+                    style.path_label.clone()
+                },
+            ));
+        }
+        if style.show_field_of_view && fov_ok {
+            legend.push((
+                Swatch::Line {
+                    stroke: colour::FOV_RAY,
+                    dashed: true,
+                },
+                if map.camera.view_on_floor.len() >= 3 {
+                    format!(
+                        "floor in view (field of view {:.0}°)",
+                        fov_deg[1] - fov_deg[0]
+                    )
+                } else {
+                    format!("field of view {:.0}°", fov_deg[1] - fov_deg[0])
+                },
+            ));
+        }
+        if style.show_grid {
+            legend.push((
+                Swatch::Line {
+                    stroke: colour::GRID,
+                    dashed: false,
+                },
+                format!("grid {} {}", fmt_num(step, tick_decimals), u.short),
+            ));
+        }
+    }
+    legend
+}
+
+/// The object labels (`<g id="labels">`), placed off each other and off the station point's
+/// marker and label.
+pub(super) fn object_labels(out: &mut String, map: &FloorMap, l: &Layout, u: &UnitNames) {
+    let (f, frame, station, label_px, size_decimals) =
+        (l.f, &l.frame, l.station, l.label_px, l.size_decimals);
+    // Station point: marker with an arrow along +y, label to its right.
+    let mut placed: Vec<Rect> = Vec::new();
+    let r = l.station_r;
+    let station_label = "camera";
+    let station_rect = Rect {
+        x: station.0 - r - 2.0,
+        y: station.1 - 2.6 * r,
+        w: 2.0 * r + 6.0 * f + text_width_px(station_label, label_px, false) + 4.0,
+        h: 3.8 * r,
+    };
+    placed.push(station_rect);
+
+    {
+        let name_px = 12.0 * f;
+        let size_px = 11.0 * f;
+        let line_gap = 1.25 * name_px;
+        let _ = writeln!(out, r#"<g id="labels" text-anchor="middle">"#);
+        let object_px: Vec<PixelPolygon> = map
+            .objects
+            .iter()
+            .map(|o| {
+                o.footprint
+                    .iter()
+                    .filter(|p| is_finite(**p))
+                    .map(|p| frame.px(*p))
+                    .collect()
+            })
+            .collect();
+        for (i, o) in map.objects.iter().enumerate() {
+            let Some(anchor) = label_anchor(o, frame) else {
+                continue;
+            };
+            let anchor_px = frame.px(anchor);
+            let (name, sizes) = object_label(o, u, size_decimals);
+            let w = text_width_px(&name, name_px, true).max(text_width_px(&sizes, size_px, false))
+                + 6.0 * f;
+            let h = line_gap + size_px * 1.4 + 2.0 * f;
+            let centred = Rect {
+                x: anchor_px.0 - w / 2.0,
+                y: anchor_px.1 - h / 2.0,
+                w,
+                h,
+            };
+            let rect = place_label(centred, Some(i), &object_px, &placed, frame);
+            placed.push(rect);
+            if rect.distance_to(anchor_px) > 1.0 {
+                let (tx, ty) = (
+                    anchor_px.0.clamp(rect.x, rect.x + rect.w),
+                    anchor_px.1.clamp(rect.y, rect.y + rect.h),
+                );
+                let _ = writeln!(
+                    out,
+                    r#"<line x1="{:.2}" y1="{:.2}" x2="{tx:.2}" y2="{ty:.2}" stroke="{}" stroke-width="{:.2}"/><circle cx="{:.2}" cy="{:.2}" r="{:.2}" fill="{}" stroke="none"/>"#,
+                    anchor_px.0,
+                    anchor_px.1,
+                    colour::MUTED,
+                    0.8 * f,
+                    anchor_px.0,
+                    anchor_px.1,
+                    1.8 * f,
+                    colour::MUTED
+                );
+            }
+            let _ = writeln!(
+                out,
+                r#"<rect x="{:.2}" y="{:.2}" width="{:.2}" height="{:.2}" rx="{:.1}" fill="{}" fill-opacity="0.85" stroke="{}" stroke-width="{:.2}" stroke-opacity="0.5"/>"#,
+                rect.x,
+                rect.y,
+                rect.w,
+                rect.h,
+                3.0 * f,
+                colour::PAPER,
+                colour::MUTED,
+                0.6 * f
+            );
+            let cx = rect.x + rect.w / 2.0;
+            let name_base = rect.y + name_px + 1.5 * f;
+            let _ = writeln!(
+                out,
+                r#"<text x="{cx:.2}" y="{name_base:.2}" font-size="{name_px:.1}" font-weight="bold">{}</text>"#,
+                escape_xml(&name)
+            );
+            let _ = writeln!(
+                out,
+                r#"<text x="{cx:.2}" y="{:.2}" font-size="{size_px:.1}">{}</text>"#,
+                name_base + line_gap,
+                escape_xml(&sizes)
+            );
+        }
+        let _ = writeln!(out, "</g>");
+    }
+}
+
+/// The title and the camera line under it.
+pub(super) fn title(
+    out: &mut String,
+    map: &FloorMap,
+    style: &FloorPlanStyle,
+    l: &Layout,
+    u: &UnitNames,
+) {
+    let (width, pad, title_px, sub_px, title_base, sub_base, size_decimals) = (
+        l.width,
+        l.pad,
+        l.title_px,
+        l.sub_px,
+        l.title_base,
+        l.sub_base,
+        l.size_decimals,
+    );
+    let title = style.title.as_deref().unwrap_or("Floor map");
+    // Title.
+    let text_room = width - 2.0 * pad;
+    let count = map.objects.len();
+    let first = format!(
+        "{title} — {count} object{}",
+        if count == 1 { "" } else { "s" }
+    );
+    let (first, first_px) = fit_text(&first, title_px, text_room, true);
+    let c = &map.camera;
+    let second = format!(
+        "camera: pitch {:.1}°, roll {:.1}°, height {} {} · {} · method {} · units: {}",
+        c.pitch_deg,
+        c.roll_deg,
+        fmt_num(c.height, size_decimals),
+        u.short,
+        perspective_name(map),
+        map.method,
+        u.long
+    );
+    let (second, second_px) = fit_text(&second, sub_px, text_room, false);
+    let _ = writeln!(out, r#"<g id="title">"#);
+    let _ = writeln!(
+        out,
+        r#"<text x="{pad:.2}" y="{title_base:.2}" font-size="{first_px:.1}" font-weight="bold">{}</text>"#,
+        escape_xml(&first)
+    );
+    let _ = writeln!(
+        out,
+        r#"<text x="{pad:.2}" y="{sub_base:.2}" font-size="{second_px:.1}" fill="{}">{}</text>"#,
+        colour::MUTED,
+        escape_xml(&second)
+    );
+    let _ = writeln!(out, "</g>");
+}
+
+/// "2pp" or "3pp", as in the map file.
+pub(super) fn perspective_name(map: &FloorMap) -> String {
+    serde_json::to_value(map.camera.perspective)
+        .ok()
+        .and_then(|v| v.as_str().map(str::to_owned))
+        .unwrap_or_default()
+}
+
+/// Polygon in pixels.
+pub(super) type PixelPolygon = Vec<(f64, f64)>;
+
+/// Point in polygon by the even-odd ray test.
+fn point_in_polygon((x, y): (f64, f64), poly: &[(f64, f64)]) -> bool {
+    let mut inside = false;
+    let next = poly.iter().cycle().skip(1);
+    for (a, b) in poly.iter().zip(next) {
+        if (a.1 > y) != (b.1 > y) && x < a.0 + (y - a.1) * (b.0 - a.0) / (b.1 - a.1) {
+            inside = !inside;
+        }
+    }
+    inside
+}
+
+/// Segments `p1 p2` and `q1 q2` cross (touching counts).
+fn segments_cross(p1: (f64, f64), p2: (f64, f64), q1: (f64, f64), q2: (f64, f64)) -> bool {
+    let orient = |a: (f64, f64), b: (f64, f64), c: (f64, f64)| {
+        (b.0 - a.0) * (c.1 - a.1) - (b.1 - a.1) * (c.0 - a.0)
+    };
+    let (d1, d2) = (orient(q1, q2, p1), orient(q1, q2, p2));
+    let (d3, d4) = (orient(p1, p2, q1), orient(p1, p2, q2));
+    d1 * d2 <= 0.0 && d3 * d4 <= 0.0
+}
+
+impl Rect {
+    fn corners(&self) -> [(f64, f64); 4] {
+        [
+            (self.x, self.y),
+            (self.x + self.w, self.y),
+            (self.x + self.w, self.y + self.h),
+            (self.x, self.y + self.h),
+        ]
+    }
+
+    /// The rectangle and the polygon share any point.
+    pub(super) fn hits(&self, poly: &[(f64, f64)]) -> bool {
+        if poly.len() < 3 {
+            return false;
+        }
+        let corners = self.corners();
+        if corners.iter().any(|c| point_in_polygon(*c, poly)) {
+            return true;
+        }
+        if poly.iter().any(|p| {
+            p.0 >= self.x && p.0 <= self.x + self.w && p.1 >= self.y && p.1 <= self.y + self.h
+        }) {
+            return true;
+        }
+        let rect_edges = corners.iter().zip(corners.iter().cycle().skip(1));
+        rect_edges.into_iter().any(|(a, b)| {
+            poly.iter()
+                .zip(poly.iter().cycle().skip(1))
+                .any(|(p, q)| segments_cross(*a, *b, *p, *q))
+        })
+    }
+
+    /// The rectangle lies inside the polygon (corners inside, no edge crossing).
+    fn inside(&self, poly: &[(f64, f64)]) -> bool {
+        let corners = self.corners();
+        corners.iter().all(|c| point_in_polygon(*c, poly))
+            && !corners
+                .iter()
+                .zip(corners.iter().cycle().skip(1))
+                .any(|(a, b)| {
+                    poly.iter()
+                        .zip(poly.iter().cycle().skip(1))
+                        .any(|(p, q)| segments_cross(*a, *b, *p, *q))
+                })
+    }
+}
+
+/// Where a label goes. In order of preference:
+/// 1. centred on its object, when it fits inside the object's outline and touches no other
+///    label or object;
+/// 2. the nearest spot (rings of 8 directions around the object) that touches no other label
+///    and no object, drawn with a leader line;
+/// 3. the nearest spot that touches no other label;
+/// 4. centred, clamped into the plot.
+///
+/// `own` is the index of the label's object in `objects`.
+pub(super) fn place_label(
+    centred: Rect,
+    own: Option<usize>,
+    objects: &[PixelPolygon],
+    placed: &[Rect],
+    frame: &Frame,
+) -> Rect {
+    let free_of_labels = |r: &Rect| frame.contains(r) && !placed.iter().any(|p| p.overlaps(r));
+    let free_of_objects = |r: &Rect, skip: Option<usize>| {
+        objects
+            .iter()
+            .enumerate()
+            .all(|(i, poly)| Some(i) == skip || !r.hits(poly))
+    };
+    let own_poly = own.and_then(|i| objects.get(i));
+    if own_poly.is_some_and(|poly| centred.inside(poly))
+        && free_of_labels(&centred)
+        && free_of_objects(&centred, own)
+    {
+        return centred;
+    }
+    let (sx, sy) = (0.5 * centred.w + 6.0, 0.5 * centred.h + 4.0);
+    let mut candidates: Vec<Rect> = Vec::with_capacity(8 * 8);
+    for ring in 1..=8 {
+        let k = f64::from(ring);
+        for (dx, dy) in [
+            (0.0, -1.0),
+            (0.0, 1.0),
+            (1.0, 0.0),
+            (-1.0, 0.0),
+            (1.0, -1.0),
+            (-1.0, -1.0),
+            (1.0, 1.0),
+            (-1.0, 1.0),
+        ] {
+            candidates.push(Rect {
+                x: centred.x + dx * k * sx,
+                y: centred.y + dy * k * sy,
+                ..centred
+            });
+        }
+    }
+    let centre = (centred.x + centred.w / 2.0, centred.y + centred.h / 2.0);
+    candidates.sort_by(|a, b| a.distance_to(centre).total_cmp(&b.distance_to(centre)));
+    if let Some(r) = candidates
+        .iter()
+        .find(|r| free_of_labels(r) && free_of_objects(r, None))
+    {
+        return *r;
+    }
+    if free_of_labels(&centred) {
+        return centred;
+    }
+    if let Some(r) = candidates.iter().find(|r| free_of_labels(r)) {
+        return *r;
+    }
+    centred.clamped_into(frame)
+}

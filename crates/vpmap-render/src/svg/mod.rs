@@ -1,0 +1,289 @@
+//! Floor plans as SVG.
+//!
+//! The picture is north-up in the camera's sense: `+y` (forward) points up the page, `+x` to the
+//! right, so the station point sits near the bottom with the room in front of it. One map unit
+//! is the same number of pixels along both axes. Points that are NaN or infinite are left out
+//! (a broken map gives a partial picture, never a panic).
+//!
+//! The SVG is written by hand with `write!`: it is a few dozen elements, and doing it ourselves
+//! keeps the dependency tree small, the number formatting under control (two decimals of a
+//! pixel) and the output byte-for-byte deterministic, which snapshot tests need. The `svg`
+//! crate would add a dependency without removing any of the layout work.
+
+//! The module is split by concern: `layout` places everything (the plot frame, the title
+//! band, the footer), `layers` draws back to front, `labels` holds the words (unit names,
+//! object labels and their placement, the legend's entries, the title).
+
+use vpmap_metrology::map::{FloorMap, MapPoint};
+
+mod labels;
+mod layers;
+mod layout;
+
+/// Font list of every text element. resvg needs `sans-serif` mapped to an installed family, see
+/// [`crate::svg_to_png`].
+pub const FONT_FAMILY: &str = "DejaVu Sans, sans-serif";
+
+/// Longest object name drawn in full; longer names are cut with an ellipsis.
+const MAX_NAME_CHARS: usize = 40;
+/// Largest pixel coordinate written.
+const MAX_PX: f64 = 1.0e6;
+/// Smallest font size, pixels, before text is cut instead of shrunk.
+const MIN_FONT_PX: f64 = 8.0;
+/// Id of the hatch pattern of the hidden floor (defined only when the map has some).
+const HIDDEN_PATTERN_ID: &str = "hidden-hatch";
+/// Legend text of the hidden floor.
+const HIDDEN_LEGEND: &str = "hidden from the camera";
+/// Paint of the hidden floor: the hatch pattern.
+const HIDDEN_PATTERN_FILL: &str = "url(#hidden-hatch)";
+
+/// Colours of the drawing (also used in the legend).
+mod colour {
+    pub const PAPER: &str = "#ffffff";
+    pub const PLOT: &str = "#fafafa";
+    pub const FREE_FILL: &str = "#dcefd7";
+    pub const FREE_STROKE: &str = "#8fbf85";
+    pub const HIDDEN_FILL: &str = "#e3e3e3";
+    pub const HIDDEN_HATCH: &str = "#8c8c8c";
+    pub const HIDDEN_STROKE: &str = "#9a9a9a";
+    pub const FLOOR: &str = "#333333";
+    pub const GRID: &str = "#9a9a9a";
+    pub const FOV_FILL: &str = "#ffe8a3";
+    pub const FOV_RAY: &str = "#b8860b";
+    pub const BOX_FILL: &str = "#a9cbe8";
+    pub const BOX_STROKE: &str = "#2f6690";
+    pub const FOOTPRINT_FILL: &str = "#f5c89a";
+    pub const FOOTPRINT_STROKE: &str = "#b5651d";
+    pub const CAMERA: &str = "#d62728";
+    pub const PATH: &str = "#6a3d9a";
+    pub const TEXT: &str = "#1a1a1a";
+    pub const MUTED: &str = "#555555";
+}
+
+/// The root element's attribute holding the transform from map coordinates (`+x` right,
+/// `+y` up, map units) to the SVG's user units, as six numbers `a b c d e f` in SVG
+/// `matrix()` order: `x_svg = a x + c y + e`, `y_svg = b x + d y + f`. Written on every
+/// floor plan ([`floor_plan_svg`]) and plan picture ([`crate::plan_svg()`]), so that a reader
+/// (the web page) places map points on the picture without fitting it.
+pub const SVG_FROM_MAP_ATTRIBUTE: &str = "data-svg-from-map";
+
+/// Six numbers separated by spaces, each in Rust's shortest round-trip form (`{}`), with no
+/// negative zero.
+#[must_use]
+pub fn matrix_text(m: [f64; 6]) -> String {
+    m.map(|v| format!("{}", v + 0.0)).join(" ")
+}
+
+/// Options of [`floor_plan_svg`].
+// The flags are independent layer switches, not a state machine.
+#[allow(clippy::struct_excessive_bools)]
+#[derive(Debug, Clone, PartialEq)]
+pub struct FloorPlanStyle {
+    /// Width of the picture, pixels (clamped to 200..=20000); the height follows the map.
+    pub width_px: u32,
+    /// First line of the title; `None` gives "Floor map".
+    pub title: Option<String>,
+    /// Draw the grid lines (1-2-5 steps, about 5 to 20 lines across the map).
+    pub show_grid: bool,
+    /// Label each object with its name and sizes.
+    pub show_labels: bool,
+    /// Draw the camera's horizontal field of view as a wedge from the station point.
+    pub show_field_of_view: bool,
+    /// Draw the legend next to the scale bar.
+    pub show_legend: bool,
+    /// Empty border around the map's bounds, as a fraction of their larger side.
+    pub margin_frac: f64,
+    /// A planned path to draw over the map (map coordinates), with its legend text; empty for
+    /// none.
+    pub path: Vec<MapPoint>,
+    /// Legend text of `path`, e.g. "path (A*, 9.16 m)".
+    pub path_label: String,
+}
+
+impl Default for FloorPlanStyle {
+    fn default() -> Self {
+        Self {
+            width_px: 1000,
+            title: None,
+            show_grid: true,
+            show_labels: true,
+            show_field_of_view: true,
+            show_legend: true,
+            margin_frac: 0.06,
+            path: Vec::new(),
+            path_label: String::new(),
+        }
+    }
+}
+
+/// Escape the five XML special characters and drop characters XML 1.0 forbids.
+#[must_use]
+pub fn escape_xml(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        match c {
+            '&' => out.push_str("&amp;"),
+            '<' => out.push_str("&lt;"),
+            '>' => out.push_str("&gt;"),
+            '"' => out.push_str("&quot;"),
+            '\'' => out.push_str("&apos;"),
+            '\t' | '\n' | '\r' => out.push(' '),
+            c if u32::from(c) < 0x20 || c == '\u{fffe}' || c == '\u{ffff}' => out.push('\u{fffd}'),
+            c => out.push(c),
+        }
+    }
+    out
+}
+
+///
+/// Shows the free space (shaded, holes cut with `fill-rule="evenodd"`), the parts of it hidden
+/// from the camera behind objects (hatched with thin grey diagonal lines on light grey, legend
+/// entry "hidden from the camera"; only when the map has some), the floor outline, each
+/// object as a filled polygon labelled with its name and sizes (a box's length × breadth and
+/// height; a footprint's area and height), the station point, the camera's horizontal field
+/// of view, a grid with labelled axes, a scale bar, a legend and a title with the camera's
+/// pitch, roll and height. `+y` (forward) points up the page. Labels are moved apart when
+/// they would overlap, with a leader line back to their object. Object names are
+/// XML-escaped. Non-finite points are skipped.
+///
+/// # Example
+/// ```
+/// use vpmap_metrology::map::{build_map, BuildOptions};
+/// use vpmap_metrology::synth::{synthesize, SynthOptions};
+/// use vpmap_render::{floor_plan_svg, FloorPlanStyle};
+/// let (scene, _) = synthesize(&SynthOptions::default()).unwrap();
+/// let map = build_map(&scene, &BuildOptions::default()).unwrap();
+/// let svg = floor_plan_svg(&map, &FloorPlanStyle::default());
+/// assert!(svg.starts_with("<?xml") && svg.contains(r#"width="1000""#));
+/// assert!(svg.contains(&map.objects[0].name));
+/// ```
+///
+/// # Complexity
+/// `O(n + k²)` for `n` polygon corners and `k` objects (label placement).
+#[must_use]
+pub fn floor_plan_svg(map: &FloorMap, style: &FloorPlanStyle) -> String {
+    let u = labels::unit_names(map.units);
+    let l = layout::layout(map, style, &u);
+    let mut out = String::with_capacity(16 * 1024);
+    layers::header(&mut out, style, &l, &u);
+    layers::plot_background(&mut out, map, &l);
+    layers::field_of_view(&mut out, map, style, &l);
+    layers::hidden(&mut out, &l);
+    layers::grid(&mut out, style, &l);
+    layers::floor_and_objects(&mut out, map, &l);
+    layers::path(&mut out, style, &l);
+    if style.show_labels {
+        labels::object_labels(&mut out, map, &l, &u);
+    }
+    layers::station_point(&mut out, &l);
+    layers::axes(&mut out, &l, &u);
+    labels::title(&mut out, map, style, &l, &u);
+    layers::scale_bar(&mut out, &l);
+    layers::legend(&mut out, &l);
+    out.push_str("</svg>\n");
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::labels::{fit_text, place_label};
+    use super::layout::{Frame, Rect, decimals_for, fmt_num, grid_step, nice_at_most};
+    use super::*;
+    use crate::metrics::text_width_px;
+    use approx::assert_relative_eq;
+
+    #[test]
+    fn escape_covers_xml_specials_and_controls() {
+        assert_eq!(escape_xml(r#"a<b>&"c'"#), "a&lt;b&gt;&amp;&quot;c&apos;");
+        assert_eq!(escape_xml("x\u{1}y\nz"), "x\u{fffd}y z");
+    }
+
+    #[test]
+    fn grid_step_prefers_whole_units_then_1_2_5() {
+        assert_relative_eq!(grid_step(8.0), 1.0);
+        assert_relative_eq!(grid_step(20.0), 1.0);
+        assert_relative_eq!(grid_step(3.0), 0.2);
+        assert_relative_eq!(grid_step(0.004), 0.0005, max_relative = 1e-9);
+        assert_relative_eq!(grid_step(180.0), 20.0);
+        assert_relative_eq!(grid_step(f64::NAN), 1.0);
+        for span in [0.013, 0.7, 2.2, 4.9, 21.0, 47.0, 333.0, 1.0e5] {
+            let n = span / grid_step(span);
+            assert!((4.0..=21.0).contains(&n), "{span}: {n} lines");
+        }
+    }
+
+    #[test]
+    fn nice_at_most_is_a_1_2_5_value_not_above_the_limit() {
+        assert_relative_eq!(nice_at_most(2.3), 2.0);
+        assert_relative_eq!(nice_at_most(0.99), 0.5);
+        assert_relative_eq!(nice_at_most(7.0), 5.0);
+        assert_relative_eq!(nice_at_most(10.0), 10.0);
+    }
+
+    #[test]
+    fn numbers_have_step_decimals_and_no_negative_zero() {
+        assert_eq!(decimals_for(1.0), 0);
+        assert_eq!(decimals_for(0.1), 1);
+        assert_eq!(decimals_for(0.05), 2);
+        assert_eq!(decimals_for(20.0), 0);
+        assert_eq!(fmt_num(-0.0001, 2), "0.00");
+        assert_eq!(fmt_num(-1.234, 1), "-1.2");
+    }
+
+    #[test]
+    fn long_text_is_shrunk_then_cut() {
+        let (t, px) = fit_text("short", 20.0, 500.0, false);
+        assert_eq!((t.as_str(), px), ("short", 20.0));
+        let long = "x".repeat(400);
+        let (t, px) = fit_text(&long, 20.0, 300.0, false);
+        assert!(px >= MIN_FONT_PX);
+        assert!(text_width_px(&t, px, false) <= 300.0 + 1e-9);
+        assert!(t.ends_with('…'));
+    }
+
+    #[test]
+    fn labels_are_moved_off_each_other_and_kept_in_the_plot() {
+        let frame = Frame {
+            x_min: 0.0,
+            y_max: 10.0,
+            px_per_unit: 50.0,
+            left: 0.0,
+            top: 0.0,
+            width: 500.0,
+            height: 500.0,
+        };
+        let a = Rect {
+            x: 200.0,
+            y: 200.0,
+            w: 100.0,
+            h: 30.0,
+        };
+        let b = place_label(a, None, &[], &[a], &frame);
+        assert!(!b.overlaps(&a));
+        let corner = Rect {
+            x: 480.0,
+            y: -10.0,
+            ..a
+        };
+        let c = place_label(corner, None, &[], &[], &frame);
+        assert!(frame.contains(&c));
+        // A small object under the label: the label moves off it.
+        let small = vec![
+            (240.0, 210.0),
+            (260.0, 210.0),
+            (260.0, 220.0),
+            (240.0, 220.0),
+        ];
+        let d = place_label(a, Some(0), std::slice::from_ref(&small), &[], &frame);
+        assert!(!d.hits(&small));
+        // A big object: the label stays centred inside it.
+        let big = vec![
+            (100.0, 100.0),
+            (400.0, 100.0),
+            (400.0, 400.0),
+            (100.0, 400.0),
+        ];
+        let e = place_label(a, Some(0), &[big], &[], &frame);
+        assert!((e.x - a.x).abs() < 1e-9 && (e.y - a.y).abs() < 1e-9);
+    }
+}

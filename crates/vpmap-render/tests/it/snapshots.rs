@@ -1,0 +1,117 @@
+//! Snapshots of the pictures a person reads (the bundled example's floor plan, a plan with
+//! MBPP's bugs), and the `data-svg-from-map` transform checked against what is drawn.
+
+use vpmap_metrology::map::{BuildOptions, FloorMap, build_map};
+use vpmap_metrology::scene::Scene;
+use vpmap_plan::grid::{Cell, OccupancyGrid};
+use vpmap_plan::{Planned, Planner, PlannerKind};
+use vpmap_render::{FloorPlanStyle, GridCoordinates, floor_plan_svg, plan_svg};
+
+const OFFICE: &str = include_str!("../../../../examples/office.json");
+
+fn office_map() -> FloorMap {
+    let scene = Scene::from_json_str(OFFICE).unwrap();
+    build_map(&scene, &BuildOptions::default()).unwrap()
+}
+
+/// The six numbers of the root element's `data-svg-from-map`.
+fn svg_from_map(svg: &str) -> [f64; 6] {
+    let doc = roxmltree::Document::parse(svg).unwrap();
+    let text = doc.root_element().attribute("data-svg-from-map").unwrap();
+    let numbers: Vec<f64> = text.split(' ').map(|v| v.parse().unwrap()).collect();
+    numbers.try_into().unwrap()
+}
+
+fn apply(m: [f64; 6], [x, y]: [f64; 2]) -> (f64, f64) {
+    (m[0] * x + m[2] * y + m[4], m[1] * x + m[3] * y + m[5])
+}
+
+/// A 12 x 9 grid with two walls across the straight line from (0, 4) to (11, 4), MBPP with
+/// its bug tracks.
+fn two_walls() -> (OccupancyGrid, Planned) {
+    let mut grid = OccupancyGrid::new(12, 9, 0.25, [-1.0, 2.0], Cell::Free).unwrap();
+    for y in 1..7 {
+        grid.set(3, y, Cell::Occupied).unwrap();
+    }
+    for y in 3..9 {
+        grid.set(7, y, Cell::Occupied).unwrap();
+    }
+    let planned = PlannerKind::Mbpp
+        .planner(false)
+        .with_tracks(true)
+        .plan(&grid, (0, 4), (11, 4))
+        .unwrap();
+    (grid, planned)
+}
+
+#[test]
+fn office_floor_plan() {
+    insta::assert_snapshot!(floor_plan_svg(&office_map(), &FloorPlanStyle::default()));
+}
+
+#[test]
+fn mbpp_plan_with_bugs() {
+    let (grid, planned) = two_walls();
+    assert!(planned.bugs.len() >= 2 && !planned.alternatives.is_empty());
+    let svg = plan_svg(&grid, &planned, (0, 4), (11, 4), GridCoordinates::World);
+    insta::assert_snapshot!(svg);
+}
+
+#[test]
+fn floor_plan_transform_puts_the_station_point_and_the_objects_where_they_are_drawn() {
+    let map = office_map();
+    let svg = floor_plan_svg(&map, &FloorPlanStyle::default());
+    let m = svg_from_map(&svg);
+    assert!(
+        m[1] == 0.0 && m[2] == 0.0 && m[0] > 0.0 && m[3] == -m[0],
+        "{m:?}"
+    );
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    // The station point (0, 0) is the centre of the camera marker.
+    let marker = doc
+        .descendants()
+        .find(|n| {
+            n.has_tag_name("circle")
+                && n.ancestors()
+                    .any(|a| a.attribute("id") == Some("station-point"))
+        })
+        .unwrap();
+    let (x, y) = apply(m, [0.0, 0.0]);
+    let at = |name| marker.attribute(name).unwrap().parse::<f64>().unwrap();
+    assert!((at("cx") - x).abs() <= 0.005 && (at("cy") - y).abs() <= 0.005);
+    // Each object's first corner is the first point of its path.
+    for (i, o) in map.objects.iter().enumerate() {
+        let id = format!("object-{i}");
+        let d = doc
+            .descendants()
+            .find(|n| n.attribute("id") == Some(id.as_str()))
+            .and_then(|n| n.attribute("d"))
+            .unwrap();
+        let first: Vec<f64> = d[1..]
+            .split(' ')
+            .take(2)
+            .map(|v| v.parse().unwrap())
+            .collect();
+        let (x, y) = apply(m, o.footprint[0]);
+        assert!(
+            (first[0] - x).abs() <= 0.005 && (first[1] - y).abs() <= 0.005,
+            "{id}: {first:?} vs ({x}, {y})"
+        );
+    }
+}
+
+#[test]
+fn plan_transform_puts_cell_centres_at_their_picture_cells() {
+    let (grid, planned) = two_walls();
+    for (coordinates, centre) in [
+        (GridCoordinates::World, grid.world_from_cell(11, 4)),
+        (GridCoordinates::Cells, [11.0, 4.0]),
+    ] {
+        let svg = plan_svg(&grid, &planned, (0, 4), (11, 4), coordinates);
+        assert_eq!(
+            apply(svg_from_map(&svg), centre),
+            (11.5, 4.5),
+            "{coordinates:?}"
+        );
+    }
+}
