@@ -2,10 +2,9 @@
 //! description of the machine that measured it.
 
 use std::fmt::Write as _;
-use std::path::Path;
+use std::path::{Component, Path, PathBuf};
 
-use anyhow::{Context, Result, bail};
-
+use crate::error::{Result, ResultExt as _, bail};
 use crate::output::write_file;
 
 /// Replace the section `name` of the Markdown file at `path` — the lines between
@@ -44,14 +43,49 @@ pub fn replace_section(path: &Path, name: &str, content: &str) -> Result<()> {
     write_file(path, new)
 }
 
-/// The command line as typed, `vpmap` for the program, arguments quoted for a POSIX shell
-/// where needed.
+/// `path` made absolute and with `.` and `..` removed lexically (symbolic links are not
+/// resolved).
+fn normalized(path: &Path) -> PathBuf {
+    let absolute = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+    let mut out = PathBuf::new();
+    for c in absolute.components() {
+        match c {
+            Component::CurDir => {}
+            Component::ParentDir => {
+                out.pop();
+            }
+            other => out.push(other),
+        }
+    }
+    out
+}
+
+/// The relative path from folder `from` to `to`, with `/` separators (for a Markdown link);
+/// `.` when they are the same folder.
+///
+/// # Example
+/// ```
+/// use std::path::{Component, Path, PathBuf};
+/// use vpmap_eval::publish::relative_link;
+/// assert_eq!(relative_link(Path::new("/a/docs"), Path::new("/a/bench-out")), "../bench-out");
+/// ```
 #[must_use]
-pub fn command_line() -> String {
-    let args: Vec<String> = std::iter::once("vpmap".to_owned())
-        .chain(std::env::args().skip(1))
-        .collect();
-    shell_words::join(args)
+pub fn relative_link(from: &Path, to: &Path) -> String {
+    let (from, to) = (normalized(from), normalized(to));
+    let a: Vec<Component> = from.components().collect();
+    let b: Vec<Component> = to.components().collect();
+    let common = a.iter().zip(&b).take_while(|(x, y)| x == y).count();
+    let mut parts: Vec<String> = vec!["..".to_owned(); a.len() - common];
+    parts.extend(
+        b.iter()
+            .skip(common)
+            .map(|c| c.as_os_str().to_string_lossy().into_owned()),
+    );
+    if parts.is_empty() {
+        ".".to_owned()
+    } else {
+        parts.join("/")
+    }
 }
 
 /// Now, UTC, as `YYYY-MM-DD HH:MM UTC`.
@@ -97,6 +131,20 @@ mod tests {
     use super::*;
 
     #[test]
+    fn links() {
+        assert_eq!(
+            relative_link(Path::new("/a/docs"), Path::new("/a/bench-out")),
+            "../bench-out"
+        );
+        assert_eq!(relative_link(Path::new("/a"), Path::new("/a/b/c")), "b/c");
+        assert_eq!(relative_link(Path::new("/a/b"), Path::new("/a/b")), ".");
+        assert_eq!(
+            relative_link(Path::new("/a/./b/../c"), Path::new("/a/d")),
+            "../d"
+        );
+    }
+
+    #[test]
     fn sections_are_replaced_appended_and_checked() {
         let dir = tempfile::tempdir().unwrap();
         let path = dir.path().join("results.md");
@@ -120,7 +168,6 @@ mod tests {
         std::fs::write(&path, "<!-- eval:end -->\n<!-- eval:begin -->\n").unwrap();
         assert!(replace_section(&path, "eval", "x").is_err());
         assert!(machine_description().contains("logical cores"));
-        assert!(command_line().starts_with("vpmap"));
         let (date, now) = (utc_date(), utc_now());
         assert_eq!(date.len(), 10);
         assert!(

@@ -1,0 +1,4 @@
+//! Integration tests of vpmap-eval (one test binary, see STYLE.md).
+#![allow(clippy::unwrap_used, clippy::expect_used, clippy::float_cmp)]
+
+mod yud;
