@@ -4,7 +4,7 @@
 //! - [`accuracy`]: map accuracy under annotation noise on synthetic pinhole scenes, the
 //!   thesis's section 6.1 (figures 6.8-6.13 and 6.18-6.23): per object and noise level, the six
 //!   metrics of section 6.1.1, summarised per perspective and set-up, with box plots.
-//! - [`bench`]: planners compared on benchmark maps (Moving AI maps and scenarios, maps built
+//! - [`bench`](mod@bench): planners compared on benchmark maps (Moving AI maps and scenarios, maps built
 //!   from synthetic rooms), the thesis's section 6.2 (figures 6.25 and 6.26): runtime, path
 //!   length, excess over the exact any-angle optimum, peak heap, every path checked by the
 //!   independent validator and every "no path" against breadth-first connectivity.

@@ -5,7 +5,7 @@
 //! scene is built with every method at every noise level and compared with its truth
 //! ([`vpmap_metrology::eval::run_trial`]). Scenes run in parallel (rayon); each scene's seed
 //! depends only on ([`Config::seed`], set-up, trial), so the files are the same for the same
-//! arguments whatever the thread count. [`report`] makes these files ([`Report::files`]):
+//! arguments whatever the thread count. [`report()`] makes these files ([`Report::files`]):
 //!
 //! | file | what |
 //! |---|---|
