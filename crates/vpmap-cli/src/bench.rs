@@ -5,7 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Result, bail};
 use vpmap_eval::bench::{BenchOptions, MemoryProbe};
 use vpmap_plan::planner::PlannerKind;
 
@@ -97,20 +97,7 @@ fn check_publish_target(path: &Path) -> Result<()> {
             path.display()
         );
     }
-    let text = match std::fs::read_to_string(path) {
-        Ok(t) => t,
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => return Ok(()),
-        Err(e) => return Err(e).with_context(|| format!("cannot read {}", path.display())),
-    };
-    let (begin, end) = ("<!-- bench:begin -->", "<!-- bench:end -->");
-    match (text.find(begin), text.find(end)) {
-        (Some(b), Some(e)) if b < e => Ok(()),
-        (None, None) => Ok(()),
-        _ => bail!(
-            "{} has a broken `bench` section: it needs `{begin}` before `{end}`",
-            path.display()
-        ),
-    }
+    Ok(vpmap_eval::publish::check_section(path, "bench")?)
 }
 
 /// `vpmap bench`.

@@ -292,24 +292,11 @@ fn check_publish_target(path: &Path, name: &str) -> Result<()> {
             path.display()
         );
     }
-    match std::fs::read_to_string(path) {
-        Ok(text) => {
-            let (begin, end) = (
-                format!("<!-- {name}:begin -->"),
-                format!("<!-- {name}:end -->"),
-            );
-            match (text.find(&begin), text.find(&end)) {
-                (Some(b), Some(e)) if b < e => {}
-                (None, None) => {}
-                _ => bail!(
-                    "--publish {} has a broken `{name}` section: it needs `{begin}` before `{end}`",
-                    path.display()
-                ),
-            }
-        }
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
-        Err(e) => return Err(e).with_context(|| format!("cannot read {}", path.display())),
-    }
+    vpmap_eval::publish::check_section(path, name).map_err(|e| match e {
+        // "--publish docs/results.md has a broken `eval` section: ..."
+        vpmap_eval::EvalError::Invalid(message) => anyhow::anyhow!("--publish {message}"),
+        other => other.into(),
+    })?;
     let parent = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())

@@ -15,32 +15,61 @@ use crate::output::write_file;
 /// # Errors
 /// When the file cannot be read or written, or holds only one of the two markers.
 pub fn replace_section(path: &Path, name: &str, content: &str) -> Result<()> {
-    let begin = format!("<!-- {name}:begin -->");
-    let end = format!("<!-- {name}:end -->");
-    let old = match std::fs::read_to_string(path) {
+    let (old, found) = read_section(path, name)?;
+    let (begin, end) = markers(name);
+    let body = content.trim_end();
+    let new = if let Some((b, e)) = found {
+        format!(
+            "{}{begin}\n{body}\n{}",
+            old.get(..b).unwrap_or_default(),
+            old.get(e..).unwrap_or_default()
+        )
+    } else {
+        let mut text = old;
+        if !text.is_empty() && !text.ends_with("\n\n") {
+            text.push_str(if text.ends_with('\n') { "\n" } else { "\n\n" });
+        }
+        let _ = write!(text, "{begin}\n{body}\n{end}\n");
+        text
+    };
+    write_file(path, new)
+}
+
+/// Check, before a long run, that [`replace_section`] will accept `path` and `name`: the file
+/// is absent, or readable with both markers in order or neither.
+///
+/// # Errors
+/// When the file cannot be read or holds only one of the markers, or them out of order.
+pub fn check_section(path: &Path, name: &str) -> Result<()> {
+    read_section(path, name).map(|_| ())
+}
+
+/// The begin and end markers of section `name`.
+fn markers(name: &str) -> (String, String) {
+    (
+        format!("<!-- {name}:begin -->"),
+        format!("<!-- {name}:end -->"),
+    )
+}
+
+/// The file's text (empty when absent) and where section `name` begins and ends in it (the
+/// begin marker's and the end marker's byte offsets), `None` when it has no such section.
+fn read_section(path: &Path, name: &str) -> Result<(String, Option<(usize, usize)>)> {
+    let (begin, end) = markers(name);
+    let text = match std::fs::read_to_string(path) {
         Ok(text) => text,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => String::new(),
         Err(e) => return Err(e).with_context(|| format!("cannot read {}", path.display())),
     };
-    let body = content.trim_end();
-    let new = match (old.find(&begin), old.find(&end)) {
-        (Some(b), Some(e)) if b < e => {
-            format!("{}{begin}\n{body}\n{}", &old[..b], &old[e..])
-        }
-        (None, None) => {
-            let mut text = old.clone();
-            if !text.is_empty() && !text.ends_with("\n\n") {
-                text.push_str(if text.ends_with('\n') { "\n" } else { "\n\n" });
-            }
-            let _ = write!(text, "{begin}\n{body}\n{end}\n");
-            text
-        }
+    let found = match (text.find(&begin), text.find(&end)) {
+        (Some(b), Some(e)) if b < e => Some((b, e)),
+        (None, None) => None,
         _ => bail!(
             "{} has a broken `{name}` section: it needs `{begin}` before `{end}`",
             path.display()
         ),
     };
-    write_file(path, new)
+    Ok((text, found))
 }
 
 /// `path` made absolute and with `.` and `..` removed lexically (symbolic links are not
@@ -167,6 +196,9 @@ mod tests {
         );
         std::fs::write(&path, "<!-- eval:end -->\n<!-- eval:begin -->\n").unwrap();
         assert!(replace_section(&path, "eval", "x").is_err());
+        assert!(check_section(&path, "eval").is_err());
+        assert!(check_section(&path, "bench").is_ok());
+        assert!(check_section(&dir.path().join("absent.md"), "eval").is_ok());
         assert!(machine_description().contains("logical cores"));
         let (date, now) = (utc_date(), utc_now());
         assert_eq!(date.len(), 10);
