@@ -6,7 +6,7 @@ mod detect;
 mod eval;
 mod output;
 mod plan;
-mod publish;
+mod progress;
 mod serve;
 mod synth;
 
@@ -58,6 +58,16 @@ pub fn num(v: f64) -> String {
     } else {
         format!("{v}")
     }
+}
+
+/// The command line as typed, `vpmap` for the program, arguments quoted for a POSIX shell
+/// where needed (for the reports' "measured with").
+#[must_use]
+pub fn command_line() -> String {
+    let args: Vec<String> = std::iter::once("vpmap".to_owned())
+        .chain(std::env::args().skip(1))
+        .collect();
+    shell_words::join(args)
 }
 
 fn parse_method(s: &str) -> Result<Method, String> {

@@ -1,102 +1,11 @@
-//! All-or-nothing output: every file is rendered in memory first, then written to temporary
-//! files in the target folder and renamed into place, so a failure never leaves half a file
-//! (or half a set of files) behind.
+//! All-or-nothing output (temporary files renamed into place): the measurement library's
+//! [`vpmap_eval::output`], shared so that every command writes its files the same way.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
-use anyhow::{Context, Result};
-
-/// Files to write into one folder.
-#[derive(Default)]
-pub struct OutputSet {
-    files: Vec<(String, Vec<u8>)>,
-}
-
-impl OutputSet {
-    /// Queue a file.
-    pub fn add(&mut self, name: &str, bytes: impl Into<Vec<u8>>) {
-        self.files.push((name.to_owned(), bytes.into()));
-    }
-
-    /// Write every file into `dir` (created if missing). Returns the paths written.
-    pub fn write_all(self, dir: &Path) -> Result<Vec<PathBuf>> {
-        // The folders this call creates, deepest last, to remove again on failure.
-        let mut created: Vec<PathBuf> = dir
-            .ancestors()
-            .take_while(|a| !a.as_os_str().is_empty() && !a.exists())
-            .map(Path::to_path_buf)
-            .collect();
-        created.reverse();
-        let result = std::fs::create_dir_all(dir)
-            .with_context(|| format!("cannot create output folder {}", dir.display()))
-            .and_then(|()| {
-                // Refuse before touching anything if an output name is taken by a folder, so
-                // a failed run leaves an earlier run's files intact.
-                for (name, _) in &self.files {
-                    let target = dir.join(name);
-                    if target.is_dir() {
-                        anyhow::bail!("cannot write {}: it is a folder", target.display());
-                    }
-                }
-                write_files(dir, self.files)
-            });
-        if result.is_err() {
-            // Remove the (empty) folders we created; ignore failures.
-            for d in created.iter().rev() {
-                let _ = std::fs::remove_dir(d);
-            }
-        }
-        result
-    }
-}
-
-fn write_files(dir: &Path, files: Vec<(String, Vec<u8>)>) -> Result<Vec<PathBuf>> {
-    use std::io::Write;
-    let mut staged = Vec::with_capacity(files.len());
-    for (name, bytes) in files {
-        let mut tmp = tempfile::Builder::new()
-            .prefix(&format!(".{name}."))
-            .suffix(".tmp")
-            .tempfile_in(dir)
-            .with_context(|| format!("cannot write into output folder {}", dir.display()))?;
-        tmp.write_all(&bytes)
-            .and_then(|()| tmp.flush())
-            .with_context(|| format!("cannot write {}", dir.join(&name).display()))?;
-        // Temporary files are created private (0600); outputs are ordinary files (0644), so that
-        // a ROS node or web server running as another user can read them.
-        #[cfg(unix)]
-        {
-            use std::os::unix::fs::PermissionsExt;
-            std::fs::set_permissions(tmp.path(), std::fs::Permissions::from_mode(0o644))
-                .with_context(|| format!("cannot write {}", dir.join(&name).display()))?;
-        }
-        staged.push((tmp, dir.join(name)));
-    }
-    let mut done: Vec<PathBuf> = Vec::with_capacity(staged.len());
-    for (tmp, target) in staged {
-        if let Err(e) = tmp.persist(&target) {
-            for p in &done {
-                let _ = std::fs::remove_file(p);
-            }
-            return Err(e.error).with_context(|| format!("cannot write {}", target.display()));
-        }
-        done.push(target);
-    }
-    Ok(done)
-}
+pub use vpmap_eval::output::OutputSet;
 
 /// Write one file atomically (temporary file in the same folder, then rename).
-pub fn write_file(path: &Path, bytes: impl Into<Vec<u8>>) -> Result<()> {
-    let dir = match path.parent() {
-        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
-        _ => PathBuf::from("."),
-    };
-    let name = path
-        .file_name()
-        .with_context(|| format!("{} is not a file path", path.display()))?
-        .to_string_lossy()
-        .into_owned();
-    let mut set = OutputSet::default();
-    set.add(&name, bytes);
-    set.write_all(&dir).map(|_| ())
+pub fn write_file(path: &Path, bytes: impl Into<Vec<u8>>) -> anyhow::Result<()> {
+    Ok(vpmap_eval::output::write_file(path, bytes)?)
 }

@@ -77,8 +77,8 @@
 //! # References
 //! - The thesis, section 6.1 (eq. 6.1, the six metrics of 6.1.1) and figures 6.8-6.23.
 //! - `../shared/thesis/errata.md`, "Under noise".
-//! - R. J. Hyndman, Y. Fan, *Sample quantiles in statistical packages*, The American
-//!   Statistician 50 (1996): the quantile definition of [`Summary`] (their type 7).
+//!
+//! The statistics of the results (quantiles, box-plot figures) are `vpmap_eval::stats`.
 
 use geo::{Area, BooleanOps, Centroid, Coord, LineString, Polygon};
 use rand::SeedableRng;
@@ -831,78 +831,6 @@ pub fn run_trial_with(
         trial,
         scene_seed,
         outcomes,
-    }
-}
-
-/// Order statistics of a sample: quantiles by linear interpolation between order statistics
-/// (Hyndman and Fan's type 7, the default of R and NumPy).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize)]
-pub struct Summary {
-    /// Number of values.
-    pub count: usize,
-    /// Smallest value.
-    pub min: f64,
-    /// 5th percentile.
-    pub p5: f64,
-    /// First quartile.
-    pub q1: f64,
-    /// Median.
-    pub median: f64,
-    /// Third quartile.
-    pub q3: f64,
-    /// 95th percentile.
-    pub p95: f64,
-    /// Largest value.
-    pub max: f64,
-    /// Arithmetic mean.
-    pub mean: f64,
-}
-
-/// The `q` quantile (`0 <= q <= 1`) of sorted values, type 7: `x[h]` interpolated at
-/// `h = (n - 1) q`. `NaN` for no values.
-#[must_use]
-pub fn quantile(sorted: &[f64], q: f64) -> f64 {
-    let Some(last) = sorted.len().checked_sub(1) else {
-        return f64::NAN;
-    };
-    let h = last as f64 * q.clamp(0.0, 1.0);
-    let lo = h.floor() as usize;
-    let hi = (lo + 1).min(last);
-    match (sorted.get(lo), sorted.get(hi)) {
-        (Some(&a), Some(&b)) => a + (b - a) * (h - lo as f64),
-        _ => f64::NAN,
-    }
-}
-
-impl Summary {
-    /// Summarise the finite values of a sample (`None` when there are none).
-    ///
-    /// # Example
-    /// ```
-    /// use vpmap_metrology::eval::Summary;
-    /// let s = Summary::of(&[3.0, 1.0, 2.0, 4.0, f64::NAN]).unwrap();
-    /// assert_eq!((s.count, s.min, s.median, s.max), (4, 1.0, 2.5, 4.0));
-    /// assert!((s.q1 - 1.75).abs() < 1e-12);
-    /// ```
-    #[must_use]
-    pub fn of(values: &[f64]) -> Option<Self> {
-        let mut sorted: Vec<f64> = values.iter().copied().filter(|v| v.is_finite()).collect();
-        if sorted.is_empty() {
-            return None;
-        }
-        sorted.sort_by(f64::total_cmp);
-        let (&min, &max) = (sorted.first()?, sorted.last()?);
-        Some(Self {
-            count: sorted.len(),
-            min,
-            p5: quantile(&sorted, 0.05),
-            q1: quantile(&sorted, 0.25),
-            median: quantile(&sorted, 0.5),
-            q3: quantile(&sorted, 0.75),
-            p95: quantile(&sorted, 0.95),
-            max,
-            mean: sorted.iter().sum::<f64>() / sorted.len() as f64,
-        })
     }
 }
 

@@ -4,9 +4,10 @@
 //!   *lines* (sign-free): `acos |a . b|`, degrees.
 //! * The three detected directions are matched to the three true ones vertical to vertical,
 //!   and the two horizontals by the assignment with the smaller sum of errors.
-//! * The *accuracy curve* is the fraction of directions with an error below `x`; its area up
-//!   to a limit `L`, normalised by `L`, is
-//!   `AUC@L = (1/L) int_0^L F(x) dx = (1/n) sum_i max(0, 1 - e_i / L)`.
+//!
+//! The figures made from these errors (fractions within a threshold, the area under the
+//! accuracy curve, medians) and the York Urban scorer are in `vpmap_eval::stats` and
+//! `vpmap_eval::detection`.
 
 /// The angle between the lines of two directions (sign-free), degrees. `NaN` when either is
 /// zero.
@@ -68,57 +69,6 @@ pub fn manhattan_errors_deg(
     out
 }
 
-/// The fraction of `errors` strictly below `threshold` (0 for no errors).
-#[must_use]
-pub fn fraction_below(errors: &[f64], threshold: f64) -> f64 {
-    if errors.is_empty() {
-        return 0.0;
-    }
-    errors.iter().filter(|&&e| e < threshold).count() as f64 / errors.len() as f64
-}
-
-/// The area under the accuracy curve up to `limit`, normalised by `limit` (0 to 1).
-///
-/// # Example
-/// ```
-/// use vpmap_vision::metrics::auc;
-/// assert!((auc(&[0.0, 5.0, 20.0], 10.0) - 0.5).abs() < 1e-12);
-/// ```
-#[must_use]
-pub fn auc(errors: &[f64], limit: f64) -> f64 {
-    if errors.is_empty() || limit <= 0.0 {
-        return 0.0;
-    }
-    errors
-        .iter()
-        .map(|&e| {
-            if e.is_nan() {
-                0.0
-            } else {
-                (1.0 - e / limit).max(0.0)
-            }
-        })
-        .sum::<f64>()
-        / errors.len() as f64
-}
-
-/// The median (mean of the middle two for an even count; `NaN` for none), ignoring `NaN`s.
-#[must_use]
-pub fn median(values: &[f64]) -> f64 {
-    let mut v: Vec<f64> = values.iter().copied().filter(|x| !x.is_nan()).collect();
-    if v.is_empty() {
-        return f64::NAN;
-    }
-    v.sort_by(f64::total_cmp);
-    let n = v.len();
-    let mid = |k: usize| v.get(k).copied().unwrap_or(f64::NAN);
-    if n % 2 == 1 {
-        mid(n / 2)
-    } else {
-        0.5 * (mid(n / 2 - 1) + mid(n / 2))
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -141,14 +91,5 @@ mod tests {
         ];
         let e = manhattan_errors_deg(&found, 1, &truth, 1);
         assert!((e[0] - 2.0).abs() < 1e-9 && e[1] < 1e-9 && (e[2] - 2.0).abs() < 1e-9);
-    }
-
-    #[test]
-    fn fractions_auc_and_median() {
-        let e = [0.5, 2.0, 4.0, 12.0];
-        assert!((fraction_below(&e, 3.0) - 0.5).abs() < 1e-12);
-        assert!((auc(&e, 10.0) - (0.95 + 0.8 + 0.6) / 4.0).abs() < 1e-12);
-        assert!((median(&e) - 3.0).abs() < 1e-12);
-        assert!(median(&[]).is_nan());
     }
 }

@@ -8,9 +8,7 @@
 //! labelled photos ([`eval`]).
 
 mod eval;
-mod geom;
 mod overlay;
-mod report;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

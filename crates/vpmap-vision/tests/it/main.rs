@@ -3,4 +3,3 @@
 
 mod bad_input;
 mod synthetic_scenes;
-mod yud;

@@ -9,12 +9,12 @@
 
 use std::time::{Duration, Instant};
 
-use anyhow::{Context, Result};
 use vpmap_plan::planner::{Planned, Planner, PlannerKind};
 use vpmap_plan::{OccupancyGrid, path_length, validate_path};
 
 use super::maps::CellXy;
-use crate::ALLOCATOR;
+use crate::error::{Result, ResultExt as _};
+use crate::stats::median;
 
 /// A warm-up run slower than this is the query's only run.
 pub const SINGLE_RUN_ABOVE: Duration = Duration::from_secs(1);
@@ -54,7 +54,33 @@ pub struct Measured {
     pub runs: usize,
 }
 
+/// The heap in use, from the program's global allocator: the library does not own the
+/// allocator, so the binary that does (with `peak_alloc`, say) lends it through this trait.
+pub trait MemoryProbe {
+    /// Bytes in use now.
+    fn current_bytes(&self) -> usize;
+    /// Start a new peak: from now on, [`Self::peak_bytes`] is the most in use since this call.
+    fn reset_peak(&self);
+    /// The most bytes in use since the last [`Self::reset_peak`].
+    fn peak_bytes(&self) -> usize;
+}
+
+/// No allocator to ask: every peak is 0 bytes.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NoMemoryProbe;
+
+impl MemoryProbe for NoMemoryProbe {
+    fn current_bytes(&self) -> usize {
+        0
+    }
+    fn reset_peak(&self) {}
+    fn peak_bytes(&self) -> usize {
+        0
+    }
+}
+
 /// Whether a planner is one of the MBPP variants.
+#[must_use]
 pub fn is_mbpp(kind: PlannerKind) -> bool {
     matches!(kind, PlannerKind::Mbpp | PlannerKind::MbppCloser)
 }
@@ -65,14 +91,15 @@ fn run_once(
     grid: &OccupancyGrid,
     start: CellXy,
     goal: CellXy,
+    probe: &dyn MemoryProbe,
 ) -> Result<(Planned, Duration, usize)> {
     let mut planner = kind.planner(false);
-    let before = ALLOCATOR.current_usage();
-    ALLOCATOR.reset_peak_usage();
+    let before = probe.current_bytes();
+    probe.reset_peak();
     let began = Instant::now();
     let planned = planner.plan(grid, start, goal);
     let elapsed = began.elapsed();
-    let peak = ALLOCATOR.peak_usage().saturating_sub(before);
+    let peak = probe.peak_bytes().saturating_sub(before);
     let planned = planned.with_context(|| format!("{kind} from {start:?} to {goal:?}"))?;
     Ok((planned, elapsed, peak))
 }
@@ -82,6 +109,7 @@ fn run_once(
 ///
 /// # Errors
 /// When the planner rejects the query (start or goal blocked or outside the grid).
+/// `probe` gives the heap in use (see [`MemoryProbe`]).
 pub fn measure(
     kind: PlannerKind,
     grid: &OccupancyGrid,
@@ -89,8 +117,9 @@ pub fn measure(
     goal: CellXy,
     repeat: usize,
     limit: Option<Duration>,
+    probe: &dyn MemoryProbe,
 ) -> Result<Option<Measured>> {
-    let (planned, warm_up, mut peak_bytes) = run_once(kind, grid, start, goal)?;
+    let (planned, warm_up, mut peak_bytes) = run_once(kind, grid, start, goal, probe)?;
     if limit.is_some_and(|l| warm_up > l) {
         return Ok(None);
     }
@@ -105,7 +134,7 @@ pub fn measure(
     }
     let mut times = Vec::with_capacity(repeat);
     for _ in 0..repeat {
-        let (again, elapsed, peak) = run_once(kind, grid, start, goal)?;
+        let (again, elapsed, peak) = run_once(kind, grid, start, goal, probe)?;
         drop(again);
         times.push(elapsed.as_secs_f64());
         peak_bytes = peak_bytes.max(peak);
@@ -115,22 +144,12 @@ pub fn measure(
         grid,
         &planned,
         peak_bytes,
-        (median(&mut times), repeat),
+        (median(&times).unwrap_or(0.0), repeat),
     )))
 }
 
-/// The median of `values` (the mean of the two middle ones for an even count); 0 for none.
-pub fn median(values: &mut [f64]) -> f64 {
-    values.sort_by(f64::total_cmp);
-    let n = values.len();
-    match n {
-        0 => 0.0,
-        _ if n % 2 == 1 => values[n / 2],
-        _ => 0.5 * (values[n / 2 - 1] + values[n / 2]),
-    }
-}
-
 /// Sum of the absolute heading changes along a polyline through cell centres, degrees.
+#[must_use]
 pub fn turning_deg(waypoints: &[CellXy]) -> f64 {
     let dirs: Vec<(f64, f64)> = waypoints
         .windows(2)
@@ -213,20 +232,13 @@ mod tests {
     }
 
     #[test]
-    fn medians() {
-        assert!((median(&mut [3.0, 1.0, 2.0]) - 2.0).abs() < 1e-12);
-        assert!((median(&mut [4.0, 1.0]) - 2.5).abs() < 1e-12);
-        assert!(median(&mut []).abs() < 1e-12);
-    }
-
-    #[test]
     fn measured_paths_are_checked_and_counted() -> Result<()> {
         let mut grid = OccupancyGrid::new(8, 5, 1.0, [0.0; 2], Cell::Free)?;
         for y in 0..4 {
             grid.set(4, y, Cell::Occupied)?;
         }
         for kind in PlannerKind::ALL {
-            let m = measure(kind, &grid, (0, 0), (7, 0), 2, None)?
+            let m = measure(kind, &grid, (0, 0), (7, 0), 2, None, &NoMemoryProbe)?
                 .unwrap_or_else(|| panic!("{kind}: no limit was given"));
             assert!(m.found && m.valid == Some(Ok(())), "{kind}: {m:?}");
             assert!(!m.length_mismatch && m.invalid_alternatives.is_empty());
@@ -241,6 +253,7 @@ mod tests {
             (7, 0),
             3,
             Some(Duration::ZERO),
+            &NoMemoryProbe,
         )?;
         assert!(skipped.is_none());
         Ok(())

@@ -21,6 +21,7 @@ use vpmap_plan::planner::PlannerKind;
 
 use super::maps::{CATEGORY_ORDER, Origin, UNSOLVABLE_PER_MAP};
 use super::{MapResult, OPTIMAL_CORNER_LIMIT, Results};
+use crate::stats::mean;
 
 /// Relative tolerance of "equal lengths" and of "not below the optimum".
 pub const LENGTH_REL_TOL: f64 = 1e-9;
@@ -114,10 +115,6 @@ pub struct Summary {
 
 fn equal_lengths(a: f64, b: f64) -> bool {
     (a - b).abs() <= LENGTH_REL_TOL * a.abs().max(b.abs())
-}
-
-fn mean(values: &[f64]) -> Option<f64> {
-    (!values.is_empty()).then(|| values.iter().sum::<f64>() / values.len() as f64)
 }
 
 /// The length of the optimal planner on query `q` of `m`, when it ran and found one.
@@ -288,6 +285,7 @@ impl Group {
 
 impl Summary {
     /// Every number of the summary.
+    #[must_use]
     pub fn compute(results: &Results) -> Self {
         let mut categories: Vec<String> = Vec::new();
         for m in &results.maps {
@@ -381,6 +379,7 @@ pub const CSV_HEADER: [&str; 27] = [
 
 /// `results.csv`: one row per query and planner run (a skipped `optimal` has no row).
 /// Lengths in cells, times in seconds.
+#[must_use]
 pub fn csv(results: &Results) -> String {
     let mut out = CSV_HEADER.join(",");
     out.push('\n');
@@ -498,6 +497,7 @@ fn label(kind: PlannerKind) -> &'static str {
 }
 
 /// A planner's display name (for plots).
+#[must_use]
 pub fn planner_label(kind: PlannerKind) -> &'static str {
     label(kind)
 }
@@ -520,6 +520,7 @@ fn table_head(out: &mut String, cells: &[String]) {
 }
 
 /// The Markdown summary; images are linked as `{image_prefix}{name}.{image_ext}`.
+#[must_use]
 pub fn markdown(
     results: &Results,
     summary: &Summary,
@@ -823,6 +824,7 @@ fn group_json(results: &Results, g: &Group) -> Value {
 }
 
 /// `summary.json`: the summary's numbers (fractions, seconds, cells).
+#[must_use]
 pub fn json(results: &Results, summary: &Summary) -> Value {
     let maps: Vec<Value> = results
         .maps
@@ -868,6 +870,7 @@ pub fn json(results: &Results, summary: &Summary) -> Value {
 
 /// A few lines for the terminal: per category, MBPP's time ratio and length shares, and
 /// every planner's mean excess.
+#[must_use]
 pub fn console(results: &Results, summary: &Summary) -> String {
     let mut out = String::new();
     let mbpp_at = results.index_of(PlannerKind::Mbpp);

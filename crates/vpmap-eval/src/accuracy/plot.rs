@@ -5,15 +5,15 @@
 //! at the 5th and 95th percentiles (capped); nothing beyond them is drawn. Both panels share
 //! the y range, so the perspectives compare at a glance.
 
-use anyhow::{Result, anyhow};
 use plotters::prelude::*;
 use rayon::prelude::*;
 use vpmap_metrology::calibration::Perspective;
-use vpmap_metrology::eval::Summary;
 use vpmap_render::RenderError;
 
 use super::Config;
 use super::report::{Collected, DESCRIBED, Described, Group};
+use crate::error::{EvalError, Result};
+use crate::stats::Summary;
 
 /// One plot, rendered.
 pub struct Plot {
@@ -46,16 +46,19 @@ struct Panel {
 }
 
 /// Render every plot (SVG, and PNG when fonts allow).
+///
+/// # Errors
+/// When the plot's noise level is not among the run's, or drawing or rendering fails.
 pub fn box_plots(config: &Config, c: &Collected) -> Result<Vec<Plot>> {
     let Some(sigma) = config
         .sigmas
         .iter()
         .position(|s| (s - config.plot_sigma).abs() <= 1e-12)
     else {
-        return Err(anyhow!(
+        return Err(EvalError::Invalid(format!(
             "the plot's noise level {} is not among the noise levels",
             config.plot_sigma
-        ));
+        )));
     };
     DESCRIBED
         .par_iter()
@@ -66,11 +69,16 @@ pub fn box_plots(config: &Config, c: &Collected) -> Result<Vec<Plot>> {
                 .filter_map(|p| panel(config, c, sigma, k, d, p))
                 .collect();
             let svg = draw(config, d, &panels)
-                .map_err(|e| anyhow!("drawing the {} plot: {e}", d.name))?;
+                .map_err(|e| EvalError::Invalid(format!("drawing the {} plot: {e}", d.name)))?;
             let png = match vpmap_render::svg_to_png(&svg) {
                 Ok(png) => Some(png),
                 Err(RenderError::NoFonts) => None,
-                Err(e) => return Err(anyhow!("rendering the {} plot: {e}", d.name)),
+                Err(e) => {
+                    return Err(EvalError::Context {
+                        context: format!("rendering the {} plot", d.name),
+                        source: Box::new(e.into()),
+                    });
+                }
             };
             Ok(Plot {
                 metric: d.name,

@@ -9,10 +9,11 @@
 
 use std::fmt::Write as _;
 
-use anyhow::{Context as _, Result};
+use crate::error::{Result, ResultExt as _};
+use crate::stats::{auc, fraction_at_most, quantile_of};
 use serde_json::json;
 
-use super::eval::{ImageResult, Intrinsics};
+use super::{ImageResult, Intrinsics};
 
 /// Thresholds of the "within" rows, degrees.
 pub const WITHIN_DEG: [f64; 4] = [1.0, 3.0, 5.0, 10.0];
@@ -61,25 +62,8 @@ pub struct Summary {
     pub time_ms: Option<(f64, f64)>,
 }
 
-/// The `q` quantile (0..=1) by linear interpolation between order statistics; infinite values
-/// sort last. `None` for no values.
-pub fn quantile(values: &[f64], q: f64) -> Option<f64> {
-    let mut v = values.to_vec();
-    v.sort_by(f64::total_cmp);
-    let last = v.len().checked_sub(1)?;
-    let pos = q.clamp(0.0, 1.0) * last as f64;
-    let (lo, hi) = (pos.floor() as usize, pos.ceil() as usize);
-    let t = pos - lo as f64;
-    if lo == hi || t == 0.0 {
-        return Some(v[lo]);
-    }
-    if v[hi].is_infinite() {
-        return Some(v[hi]);
-    }
-    Some(v[lo] + (v[hi] - v[lo]) * t)
-}
-
 /// Summarise one kind of run.
+#[must_use]
 pub fn summarise(results: &[ImageResult], which: Intrinsics) -> Summary {
     let slot = usize::from(which == Intrinsics::Estimated);
     let mut errors = Vec::new();
@@ -111,25 +95,16 @@ pub fn summarise(results: &[ImageResult], which: Intrinsics) -> Summary {
         }
         focal.push(focal_error.unwrap_or(f64::INFINITY));
     }
-    let n = errors.len().max(1) as f64;
     let within = WITHIN_DEG
         .iter()
-        .map(|&t| (t, errors.iter().filter(|&&e| e <= t).count() as f64 / n))
+        .map(|&t| (t, fraction_at_most(&errors, t)))
         .collect();
-    let auc = AUC_DEG
-        .iter()
-        .map(|&l| {
-            (
-                l,
-                errors.iter().map(|&e| (1.0 - e / l).max(0.0)).sum::<f64>() / n,
-            )
-        })
-        .collect();
+    let auc = AUC_DEG.iter().map(|&l| (l, auc(&errors, l))).collect();
     let focal = (which == Intrinsics::Estimated && !focal.is_empty()).then(|| {
         (
-            quantile(&focal, 0.5).unwrap_or(f64::INFINITY),
-            quantile(&focal, 0.9).unwrap_or(f64::INFINITY),
-            focal.iter().filter(|&&e| e <= FOCAL_TOLERANCE).count() as f64 / focal.len() as f64,
+            quantile_of(&focal, 0.5).unwrap_or(f64::INFINITY),
+            quantile_of(&focal, 0.9).unwrap_or(f64::INFINITY),
+            fraction_at_most(&focal, FOCAL_TOLERANCE),
         )
     });
     Summary {
@@ -140,14 +115,15 @@ pub fn summarise(results: &[ImageResult], which: Intrinsics) -> Summary {
         missed: errors.iter().filter(|e| e.is_infinite()).count(),
         within,
         auc,
-        median_vertical_deg: quantile(&vertical, 0.5).unwrap_or(f64::INFINITY),
-        median_horizontal_deg: quantile(&horizontal, 0.5).unwrap_or(f64::INFINITY),
+        median_vertical_deg: quantile_of(&vertical, 0.5).unwrap_or(f64::INFINITY),
+        median_horizontal_deg: quantile_of(&horizontal, 0.5).unwrap_or(f64::INFINITY),
         focal,
-        time_ms: quantile(&times, 0.5).zip(quantile(&times, 0.9)),
+        time_ms: quantile_of(&times, 0.5).zip(quantile_of(&times, 0.9)),
     }
 }
 
 /// A short name of a run for messages.
+#[must_use]
 pub fn label_of(which: Intrinsics) -> &'static str {
     match which {
         Intrinsics::Given => "true intrinsics given",
@@ -258,6 +234,7 @@ const HEADERS: [&str; 4] = [
 ];
 
 /// The table printed on stdout.
+#[must_use]
 pub fn table(ctx: &Context, summaries: &[Summary; 2]) -> String {
     let rows = rows(summaries);
     let w0 = rows
@@ -306,6 +283,7 @@ pub fn table(ctx: &Context, summaries: &[Summary; 2]) -> String {
 }
 
 /// `summary.md`.
+#[must_use]
 pub fn markdown(ctx: &Context, results: &[ImageResult], summaries: &[Summary; 2]) -> String {
     let mut out = String::from("# Vanishing-point detection (`vpmap eval-detect`)\n\n");
     let _ = writeln!(
@@ -432,7 +410,7 @@ pub fn json(ctx: &Context, results: &[ImageResult], summaries: &[Summary; 2]) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::detect::eval::{Run, RunOk};
+    use crate::detection::{Run, RunOk};
 
     fn result(errors: [Option<f64>; 3], focal_error: f64) -> ImageResult {
         let ok = |which| Run {
@@ -484,13 +462,5 @@ mod tests {
         assert!((within - 0.5).abs() < 1e-12);
         assert!(s.median_vertical_deg.is_infinite());
         assert!(summarise(&results, Intrinsics::Given).focal.is_none());
-    }
-
-    #[test]
-    fn quantiles_interpolate() {
-        assert_eq!(quantile(&[3.0, 1.0, 2.0], 0.5), Some(2.0));
-        assert_eq!(quantile(&[1.0, 2.0], 0.5), Some(1.5));
-        assert_eq!(quantile(&[1.0, f64::INFINITY], 0.5), Some(f64::INFINITY));
-        assert_eq!(quantile(&[], 0.5), None);
     }
 }

@@ -1,5 +1,6 @@
 //! `vpmap eval`: map accuracy under annotation noise on synthetic scenes, as in the thesis's
-//! section 6.1 (figures 6.8-6.13 for 2PP, 6.18-6.23 for 3PP).
+//! section 6.1 (figures 6.8-6.13 for 2PP, 6.18-6.23 for 3PP); the measurement is
+//! [`vpmap_eval::accuracy`], this is its flags, progress bar and printing.
 //!
 //! Every experiment set-up of [`vpmap_metrology::eval::SETUPS`] draws `--trials` scenes; each
 //! scene is built with every method at every noise level and compared with its truth
@@ -21,25 +22,16 @@
 //! the image of a 3D line in the vanishing direction in front of the true camera, their end
 //! points clicked with the same noise; [`vpmap_metrology::eval::VpEdges`]).
 
-mod plot;
-mod report;
-
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use indicatif::{ProgressBar, ProgressStyle};
-use rayon::prelude::*;
-use vpmap_metrology::eval::{SETUPS, Setup, Trial, TrialOptions, VpEdges, run_trial_with};
+use vpmap_eval::accuracy::{Config, DEFAULT_TRIALS, section_name};
+use vpmap_metrology::eval::{SETUPS, Setup, VpEdges};
 use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::synth::LongEdgeOptions;
 
 use crate::num;
-use crate::output::OutputSet;
-
-/// Trials per set-up by default: 200 scenes x about 4 objects per box of the plots; the
-/// whole default run takes seconds (see the report's timing).
-pub const DEFAULT_TRIALS: u64 = 200;
 
 /// Most trials per set-up accepted (objects.csv grows by about 185 kB per trial).
 const MAX_TRIALS: u64 = 10_000;
@@ -106,24 +98,6 @@ pub struct EvalArgs {
     /// Long edges per vanishing point (with --vp-edges long; default 3).
     #[arg(long, allow_hyphen_values = true)]
     pub vp_edge_count: Option<String>,
-}
-
-/// The validated configuration of a run.
-pub struct Config {
-    /// Trials per set-up.
-    pub trials: u64,
-    /// The run's seed.
-    pub seed: u64,
-    /// Noise levels, pixels, ascending.
-    pub sigmas: Vec<f64>,
-    /// Methods in the order given.
-    pub methods: Vec<Method>,
-    /// The set-ups, in table order.
-    pub setups: Vec<&'static Setup>,
-    /// The box plots' noise level.
-    pub plot_sigma: f64,
-    /// The edges the vanishing points are fitted to.
-    pub vp_edges: VpEdges,
 }
 
 fn parse_sigmas(text: &str) -> Result<Vec<f64>> {
@@ -309,15 +283,6 @@ fn check_writable_folder(dir: &Path) -> Result<()> {
     Ok(())
 }
 
-/// The section of the `--publish` file a run writes: `eval` for the default vanishing-point
-/// edges, `eval-long-edges` for `--vp-edges long`, so that both can be published side by side.
-fn section_name(vp_edges: &VpEdges) -> &'static str {
-    match vp_edges {
-        VpEdges::Objects => "eval",
-        VpEdges::Long(_) => "eval-long-edges",
-    }
-}
-
 /// The publish target must be a Markdown file whose `name` section markers, if any, are in
 /// order, in a folder that can be written.
 fn check_publish_target(path: &Path, name: &str) -> Result<()> {
@@ -327,24 +292,11 @@ fn check_publish_target(path: &Path, name: &str) -> Result<()> {
             path.display()
         );
     }
-    match std::fs::read_to_string(path) {
-        Ok(text) => {
-            let (begin, end) = (
-                format!("<!-- {name}:begin -->"),
-                format!("<!-- {name}:end -->"),
-            );
-            match (text.find(&begin), text.find(&end)) {
-                (Some(b), Some(e)) if b < e => {}
-                (None, None) => {}
-                _ => bail!(
-                    "--publish {} has a broken `{name}` section: it needs `{begin}` before `{end}`",
-                    path.display()
-                ),
-            }
-        }
-        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
-        Err(e) => return Err(e).with_context(|| format!("cannot read {}", path.display())),
-    }
+    vpmap_eval::publish::check_section(path, name).map_err(|e| match e {
+        // "--publish docs/results.md has a broken `eval` section: ..."
+        vpmap_eval::EvalError::Invalid(message) => anyhow::anyhow!("--publish {message}"),
+        other => other.into(),
+    })?;
     let parent = path
         .parent()
         .filter(|p| !p.as_os_str().is_empty())
@@ -352,88 +304,28 @@ fn check_publish_target(path: &Path, name: &str) -> Result<()> {
     check_writable_folder(parent).with_context(|| format!("cannot publish into {}", path.display()))
 }
 
-/// Every trial of every chosen set-up, in (set-up, trial) order.
-pub struct Results {
-    /// Per chosen set-up (index into [`Config::setups`]), its trials in order.
-    pub trials: Vec<Vec<Trial>>,
-}
-
-fn run_trials(config: &Config) -> Results {
-    let work: Vec<(usize, u64)> = (0..config.setups.len())
-        .flat_map(|s| (0..config.trials).map(move |t| (s, t)))
-        .collect();
-    let bar = ProgressBar::new(work.len() as u64);
-    if let Ok(style) =
-        ProgressStyle::with_template("{elapsed_precise} [{bar:40}] {pos}/{len} scenes ({eta} left)")
-    {
-        bar.set_style(style.progress_chars("=> "));
-    }
-    let done: Vec<(usize, Trial)> = work
-        .par_iter()
-        .map(|&(s, t)| {
-            let trial = run_trial_with(
-                config.setups[s],
-                config.seed,
-                t,
-                &config.sigmas,
-                &config.methods,
-                &TrialOptions {
-                    vp_edges: config.vp_edges,
-                },
-            );
-            bar.inc(1);
-            (s, trial)
-        })
-        .collect();
-    bar.finish_and_clear();
-    let mut trials: Vec<Vec<Trial>> = vec![Vec::new(); config.setups.len()];
-    for (s, trial) in done {
-        trials[s].push(trial);
-    }
-    Results { trials }
-}
-
 /// `vpmap eval`.
 pub fn run(args: &EvalArgs) -> Result<()> {
     let config = check_args(args)?;
     let started = Instant::now();
-    let results = run_trials(&config);
-    let collected = report::collect(&config, &results);
-    let mut files = OutputSet::default();
-    files.add("summary.json", report::summary_json(&config, &collected)?);
-    files.add("objects.csv", report::objects_csv(&config, &results));
-    files.add("failures.csv", report::failures_csv(&config, &results));
-    let plots = plot::box_plots(&config, &collected)?;
-    let mut image_of = std::collections::BTreeMap::new();
-    for p in &plots {
-        files.add(&format!("{}.svg", p.stem), p.svg.clone());
-        let link = if let Some(png) = &p.png {
-            files.add(&format!("{}.png", p.stem), png.clone());
-            format!("{}.png", p.stem)
-        } else {
-            format!("{}.svg", p.stem)
-        };
-        image_of.insert(p.metric, link);
-    }
-    if plots.iter().any(|p| p.png.is_none()) {
+    let bar = crate::progress::Bar::new(
+        "{elapsed_precise} [{bar}] {pos}/{len} scenes ({eta} left)",
+        "40",
+    );
+    let results = vpmap_eval::accuracy::run_trials(&config, &bar);
+    let report = vpmap_eval::accuracy::report(&config, &results)?;
+    if report.svg_only {
         eprintln!(
             "warning: no system fonts, so the box plots are written as SVG only (install fonts, e.g. DejaVu Sans, for PNG)"
         );
     }
-    let body = report::markdown(&config, &collected, &image_of, "");
-    files.add(
-        "summary.md",
-        format!("# {}\n\n{body}", report::title(&config)),
-    );
-    let written = files.write_all(&args.out)?;
+    let written = report.files.write_all(&args.out)?;
     let elapsed = started.elapsed();
     if let Some(path) = &args.publish {
-        let prefix = link_prefix(path, &args.out)?;
-        let body = report::markdown(&config, &collected, &image_of, &prefix);
-        let section = report::published(report::title(&config), &body, elapsed);
-        crate::publish::replace_section(path, section_name(&config.vp_edges), &section)?;
+        let section = report.published(&config, path, &args.out, &crate::command_line(), elapsed);
+        vpmap_eval::publish::replace_section(path, section_name(&config.vp_edges), &section)?;
     }
-    report::print_headline(&config, &collected);
+    print!("{}", report.headline(&config));
     println!(
         "{} scenes x {} noise levels x {} methods in {:.1} s",
         config.setups.len() as u64 * config.trials,
@@ -455,72 +347,9 @@ pub fn run(args: &EvalArgs) -> Result<()> {
     }
     Ok(())
 }
-
-/// Lexically normalised absolute path (no `.` or `..`; symbolic links are not resolved).
-fn absolute(path: &Path) -> Result<PathBuf> {
-    use std::path::Component;
-    let abs =
-        std::path::absolute(path).with_context(|| format!("cannot resolve {}", path.display()))?;
-    let mut out = PathBuf::new();
-    for c in abs.components() {
-        match c {
-            Component::ParentDir => {
-                out.pop();
-            }
-            Component::CurDir => {}
-            other => out.push(other),
-        }
-    }
-    Ok(out)
-}
-
-/// The link prefix from the folder of the Markdown file `doc` to the folder `out`, with `/`
-/// separators and a trailing `/` (empty when they are the same folder).
-fn link_prefix(doc: &Path, out: &Path) -> Result<String> {
-    let from = absolute(
-        doc.parent()
-            .filter(|p| !p.as_os_str().is_empty())
-            .unwrap_or(Path::new(".")),
-    )?;
-    let to = absolute(out)?;
-    let (from, to): (Vec<_>, Vec<_>) = (from.components().collect(), to.components().collect());
-    let common = from.iter().zip(&to).take_while(|(a, b)| a == b).count();
-    let mut parts: Vec<String> = vec!["..".to_owned(); from.len() - common];
-    parts.extend(
-        to[common..]
-            .iter()
-            .map(|c| c.as_os_str().to_string_lossy().into_owned()),
-    );
-    let mut prefix = String::new();
-    for p in parts {
-        prefix.push_str(&p);
-        prefix.push('/');
-    }
-    Ok(prefix)
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn link_prefixes_are_relative_to_the_document() {
-        let base = std::env::temp_dir();
-        let doc = base.join("repo/docs/results.md");
-        assert_eq!(
-            link_prefix(&doc, &base.join("repo/out/eval")).unwrap(),
-            "../out/eval/"
-        );
-        assert_eq!(
-            link_prefix(&doc, &base.join("repo/docs/eval")).unwrap(),
-            "eval/"
-        );
-        assert_eq!(link_prefix(&doc, &base.join("repo/docs")).unwrap(), "");
-        assert_eq!(
-            link_prefix(&doc, &base.join("repo/docs/../x")).unwrap(),
-            "../x/"
-        );
-    }
 
     #[test]
     fn arguments_are_parsed_strictly() {

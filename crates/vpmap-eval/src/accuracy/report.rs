@@ -5,14 +5,15 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 use std::time::Duration;
 
-use anyhow::{Context, Result};
 use serde::Serialize;
 use vpmap_metrology::calibration::Perspective;
 use vpmap_metrology::eval::{
-    MapEvaluation, OBJECT_METRICS, SCENE_METRICS, Summary, TRUE_SCALE_SUFFIX, VpEdges,
+    MapEvaluation, OBJECT_METRICS, SCENE_METRICS, TRUE_SCALE_SUFFIX, VpEdges,
 };
 
 use super::{Config, Results};
+use crate::error::{Result, ResultExt as _};
+use crate::stats::Summary;
 
 /// How a metric is shown, with the thesis's figures and reported ranges (quoted from
 /// section 6.1.2 and 6.1.3 of the thesis) and, where it has one, the errata's number.
@@ -120,6 +121,7 @@ pub const DESCRIBED: [Described; 7] = [
 
 /// Every metric name, in the order of the value columns: the `S_k` object metrics, their
 /// true-scale variants, the scene metrics, `scale_factor`.
+#[must_use]
 pub fn metric_names() -> Vec<String> {
     OBJECT_METRICS
         .iter()
@@ -207,6 +209,7 @@ impl Collected {
     }
 
     /// The values of one metric over a group.
+    #[must_use]
     pub fn values(
         &self,
         config: &Config,
@@ -227,6 +230,7 @@ impl Collected {
     }
 
     /// Summary of one metric over a group (`None` without values).
+    #[must_use]
     pub fn summary(
         &self,
         config: &Config,
@@ -239,6 +243,7 @@ impl Collected {
     }
 
     /// Refusals over a group.
+    #[must_use]
     pub fn refusals(&self, config: &Config, method: usize, sigma: usize, group: Group) -> Refusals {
         let mut total = Refusals::default();
         for e in Self::members(config, group) {
@@ -249,6 +254,7 @@ impl Collected {
 }
 
 /// Gather every value and refusal of a run.
+#[must_use]
 pub fn collect(config: &Config, results: &Results) -> Collected {
     let metrics = metric_names();
     let (nm, ns, ne) = (
@@ -319,6 +325,9 @@ struct Row<'a> {
 }
 
 /// `summary.json`: per method, noise level, perspective (then per set-up) and metric.
+///
+/// # Errors
+/// When serialising fails.
 pub fn summary_json(config: &Config, c: &Collected) -> Result<String> {
     let mut rows = Vec::new();
     let mut groups: Vec<(Group, Perspective, Option<&'static str>)> = Vec::new();
@@ -387,6 +396,7 @@ fn perspective_name(p: Perspective) -> &'static str {
 }
 
 /// `objects.csv`: one row per object of every evaluated scene, noise level and method.
+#[must_use]
 pub fn objects_csv(config: &Config, results: &Results) -> String {
     let mut out = String::from(
         "experiment,perspective,trial,scene_seed,sigma_px,method,object,kind,reference",
@@ -430,6 +440,7 @@ pub fn objects_csv(config: &Config, results: &Results) -> String {
 }
 
 /// `failures.csv`: one row per scene a builder refused (or the set-up could not draw).
+#[must_use]
 pub fn failures_csv(config: &Config, results: &Results) -> String {
     let mut out =
         String::from("experiment,perspective,trial,scene_seed,sigma_px,method,category,message\n");
@@ -457,6 +468,7 @@ pub fn failures_csv(config: &Config, results: &Results) -> String {
 
 /// A number for a table: two decimals, or one significant digit when smaller than 0.005
 /// (so an exact result reads `0` or `3e-12`, not `0.00`).
+#[must_use]
 pub fn fmt(v: f64) -> String {
     if v == 0.0 {
         "0".to_owned()
@@ -671,6 +683,7 @@ fn method_note(edges: VpEdges) -> String {
 }
 
 /// The report's title: the default run and a `--vp-edges long` run are told apart.
+#[must_use]
 pub fn title(config: &Config) -> &'static str {
     match config.vp_edges {
         VpEdges::Objects => "Map accuracy under annotation noise (`vpmap eval`)",
@@ -681,18 +694,22 @@ pub fn title(config: &Config) -> &'static str {
 }
 
 /// The published section: where, when and how it was measured, then the report.
-pub fn published(title: &str, body: &str, elapsed: Duration) -> String {
+#[must_use]
+pub fn published(title: &str, body: &str, elapsed: Duration, command: &str) -> String {
     format!(
         "## {title}\n\nMeasured on {}, {} (UTC), in {:.1} s, with\n\n    {}\n\n{body}",
         crate::publish::machine_description(),
         crate::publish::utc_date(),
         elapsed.as_secs_f64(),
-        crate::publish::command_line()
+        command
     )
 }
 
-/// A few lines on stdout: per method and noise level, the centroid shift and the overlap.
-pub fn print_headline(config: &Config, c: &Collected) {
+/// A few lines for the console: per method and noise level, the centroid shift and the
+/// overlap.
+#[must_use]
+pub fn headline(config: &Config, c: &Collected) -> String {
+    let mut out = String::new();
     let shift = 0;
     let overlap = 2;
     for (m, method) in config.methods.iter().enumerate() {
@@ -720,13 +737,15 @@ pub fn print_headline(config: &Config, c: &Collected) {
                     r.scenes
                 ));
             }
-            println!(
+            let _ = writeln!(
+                out,
                 "{method:>10} σ {:>4} px: {}",
                 sigma_text(*sigma),
                 parts.join("; ")
             );
         }
     }
+    out
 }
 
 #[cfg(test)]

@@ -3,7 +3,6 @@
 //! excess over the exact optimum. Grouped horizontal bars, one group per map (so that map
 //! names read horizontally), drawn with plotters' SVG backend.
 
-use anyhow::{Result, anyhow};
 use plotters::coord::Shift;
 use plotters::coord::ranged1d::{DefaultFormatting, KeyPointHint, Ranged};
 use plotters::prelude::*;
@@ -12,6 +11,7 @@ use vpmap_plan::planner::PlannerKind;
 
 use super::Results;
 use super::report::{Summary, planner_label};
+use crate::error::{EvalError, Result};
 
 /// One plot, named without its extension.
 pub struct Plot {
@@ -95,11 +95,14 @@ struct Bars<'a> {
     values: Vec<Vec<Option<f64>>>,
 }
 
-fn drawing_error<E: std::fmt::Debug>(e: E) -> anyhow::Error {
-    anyhow!("drawing a plot: {e:?}")
+fn drawing_error<E: std::fmt::Debug>(e: E) -> EvalError {
+    EvalError::Invalid(format!("drawing a plot: {e:?}"))
 }
 
 /// The runtime, length and (when `optimal` ran) excess plots.
+///
+/// # Errors
+/// When drawing fails.
 pub fn plots(results: &Results, summary: &Summary) -> Result<Vec<Plot>> {
     let labels: Vec<String> = results
         .maps
@@ -176,6 +179,7 @@ pub fn plots(results: &Results, summary: &Summary) -> Result<Vec<Plot>> {
 }
 
 /// Whether the excess plot is drawn: `optimal` ran, and some other planner did.
+#[must_use]
 pub fn has_excess_plot(planners: &[PlannerKind]) -> bool {
     planners.contains(&PlannerKind::Optimal) && planners.len() > 1
 }

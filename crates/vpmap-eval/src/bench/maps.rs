@@ -10,7 +10,8 @@
 use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result, bail};
+use crate::error::{EvalError, Result, ResultExt as _, bail};
+use crate::progress::Progress;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use vpmap_metrology::map::{BuildOptions, build_map};
@@ -153,6 +154,7 @@ pub enum Origin {
 
 impl Origin {
     /// The name written into the results.
+    #[must_use]
     pub fn name(self) -> &'static str {
         match self {
             Self::Scen { .. } => "scen",
@@ -202,6 +204,7 @@ pub struct Components {
 
 impl Components {
     /// Label the free cells of `grid` by breadth-first search.
+    #[must_use]
     pub fn label(grid: &OccupancyGrid) -> Self {
         let (w, h) = (grid.width(), grid.height());
         let free: Vec<bool> = grid.cells().iter().map(|&c| c == Cell::Free).collect();
@@ -242,6 +245,7 @@ impl Components {
     }
 
     /// The component of a cell, `None` when it is blocked or outside.
+    #[must_use]
     pub fn of(&self, c: CellXy) -> Option<u32> {
         if c.0 >= self.width {
             return None;
@@ -253,16 +257,19 @@ impl Components {
     }
 
     /// Whether a path joins `a` and `b`.
+    #[must_use]
     pub fn connected(&self, a: CellXy, b: CellXy) -> bool {
         matches!((self.of(a), self.of(b)), (Some(x), Some(y)) if x == y)
     }
 
     /// Number of components.
+    #[must_use]
     pub fn count(&self) -> usize {
         self.sizes.len()
     }
 
     /// Number of free cells.
+    #[must_use]
     pub fn free_cells(&self) -> usize {
         self.sizes.iter().sum()
     }
@@ -274,7 +281,10 @@ impl Components {
 
 /// The Moving AI folder: `$VPMAP_MOVINGAI` when set, else `../shared/data/movingai` next to
 /// the current folder or one of its ancestors, else next to the workspace this binary was
-/// built from. `Err` carries the text to print when it is absent.
+/// built from.
+///
+/// # Errors
+/// The text to print when it is absent.
 pub fn movingai_dir() -> Result<PathBuf, String> {
     if let Some(dir) = std::env::var_os(MOVINGAI_ENV) {
         let dir = PathBuf::from(dir);
@@ -361,6 +371,9 @@ fn map_stem(path: &Path) -> String {
 }
 
 /// Read a `.map` and sample its queries.
+///
+/// # Errors
+/// When the file cannot be read or is not a Moving AI map.
 pub fn load_map_file(path: &Path, per_map: usize, seed: u64) -> Result<BenchMap> {
     let grid = read_movingai_map(path)?;
     let name = map_stem(path);
@@ -380,6 +393,10 @@ pub fn load_map_file(path: &Path, per_map: usize, seed: u64) -> Result<BenchMap>
 
 /// Read a `.scen` file and the maps it names; `per_map` problems per map, spread evenly
 /// over the file's problems sorted by bucket. `extra_dirs` are searched for the maps too.
+///
+/// # Errors
+/// When a file cannot be read or parsed, a map cannot be found, or a problem does not fit
+/// its map.
 pub fn load_scen_file(
     path: &Path,
     per_map: usize,
@@ -485,8 +502,8 @@ fn find_scen_map(scen: &Path, map_name: &str, extra_dirs: &[PathBuf]) -> Result<
         .iter()
         .find(|c| c.is_file())
         .cloned()
-        .with_context(|| {
-            format!(
+        .ok_or_else(|| {
+            EvalError::Invalid(format!(
                 "{}: cannot find its map {map_name} (looked in {})",
                 scen.display(),
                 candidates
@@ -495,7 +512,7 @@ fn find_scen_map(scen: &Path, map_name: &str, extra_dirs: &[PathBuf]) -> Result<
                     .map(|p| p.display().to_string())
                     .collect::<Vec<_>>()
                     .join(", ")
-            )
+            ))
         })
 }
 
@@ -613,6 +630,9 @@ fn with_sampled_queries(made: MadeGrid, per_map: usize, seed: u64) -> BenchMap {
 /// the bundled example office and synthetic rooms, built by the side-view method and
 /// rasterised at [`BUILT_RESOLUTION_M`] with obstacles grown by [`BUILT_ROBOT_RADIUS_M`];
 /// floor hidden behind objects and the margin are unknown, which no planner enters.
+///
+/// # Errors
+/// When a scene cannot be synthesised, built or rasterised.
 pub fn built_maps(per_map: usize, seed: u64) -> Result<Vec<BenchMap>> {
     let raster = RasterOptions {
         resolution_m: BUILT_RESOLUTION_M,
@@ -657,6 +677,9 @@ pub fn built_maps(per_map: usize, seed: u64) -> Result<Vec<BenchMap>> {
 
 /// Grids generated without the benchmark data: an empty room, rooms with doors (one room
 /// closed, so that there is a second component) and random obstacles.
+///
+/// # Errors
+/// When a grid cannot be made.
 pub fn generated_maps(per_map: usize, seed: u64) -> Result<Vec<BenchMap>> {
     let mut made = vec![MadeGrid {
         name: "generated-empty-48".to_owned(),
@@ -720,14 +743,22 @@ fn rooms_grid(side: usize, room: usize) -> Result<OccupancyGrid> {
 }
 
 /// The default benchmark maps found under `dir` (with their scenario files when present);
-/// missing files are reported on stderr and left out.
-pub fn default_movingai_maps(dir: &Path, per_map: usize, seed: u64) -> Result<Vec<BenchMap>> {
+/// missing files are left out with a warning through `progress`.
+///
+/// # Errors
+/// When a map or scenario file that is present cannot be read.
+pub fn default_movingai_maps(
+    dir: &Path,
+    per_map: usize,
+    seed: u64,
+    progress: &dyn Progress,
+) -> Result<Vec<BenchMap>> {
     let mut maps = Vec::new();
     for (category, map, scen) in DEFAULT_MAPS {
         let map_path = dir.join("maps").join(map);
         let scen_path = dir.join("scen").join(scen);
         if !map_path.is_file() {
-            eprintln!("warning: {} not found; left out", map_path.display());
+            progress.warn(&format!("{} not found; left out", map_path.display()));
             continue;
         }
         let mut loaded = if scen_path.is_file() {

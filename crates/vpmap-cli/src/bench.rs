@@ -1,0 +1,171 @@
+//! `vpmap bench`: MBPP against A* PS and the other planners on benchmark maps, by runtime
+//! and path length — the thesis's section 6.2 (figures 6.25 and 6.26), rerun. The benchmark is
+//! [`vpmap_eval::bench`] (maps, measurement, reports and plots); this is its flags, progress
+//! bar and printing, and the memory probe over the program's global allocator.
+
+use std::path::{Path, PathBuf};
+
+use anyhow::{Result, bail};
+use vpmap_eval::bench::{BenchOptions, MemoryProbe};
+use vpmap_plan::planner::PlannerKind;
+
+use crate::ALLOCATOR;
+
+/// The planners compared by default.
+const DEFAULT_PLANNERS: &str = "mbpp,astar-ps,theta-star,astar,optimal";
+
+/// Default of `--optimal-limit`, seconds: when one `optimal` query's warm-up run takes
+/// longer, `optimal` is dropped for the rest of the map (and its results on the map
+/// discarded).
+const DEFAULT_OPTIMAL_LIMIT_S: f64 = 15.0;
+
+/// Arguments of `vpmap bench`.
+#[derive(clap::Args)]
+pub struct BenchArgs {
+    /// Moving AI `.map` files (queries: random free-cell pairs in one component) or `.scen`
+    /// files (queries from the file, across its buckets). Default: the thesis's map
+    /// categories from ../shared/data/movingai (or $VPMAP_MOVINGAI) and maps vpmap builds
+    /// from synthetic room scenes.
+    inputs: Vec<PathBuf>,
+    /// Planners to compare, comma-separated: mbpp, mbpp-closer, astar-ps, theta-star,
+    /// astar, optimal.
+    #[arg(long, value_delimiter = ',', default_value = DEFAULT_PLANNERS)]
+    planners: Vec<String>,
+    /// Solvable queries per map (spread over scenario buckets or path lengths).
+    #[arg(long, default_value_t = 10)]
+    per_map: usize,
+    /// Timed runs per query and planner, after one warm-up run; the median is reported.
+    #[arg(long, default_value_t = 3)]
+    repeat: usize,
+    /// Output folder.
+    #[arg(long, short, default_value = "bench-out")]
+    out: PathBuf,
+    /// Seed of the sampled queries.
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Drop the exact `optimal` planner on a map when one of its queries takes longer than
+    /// this many seconds (it is also skipped on maps with more than 25,000 corner cells).
+    #[arg(long, default_value_t = DEFAULT_OPTIMAL_LIMIT_S, allow_negative_numbers = true)]
+    optimal_limit: f64,
+    /// Also write the summary into the `bench` section of this Markdown file.
+    #[arg(long)]
+    publish: Option<PathBuf>,
+}
+
+/// The global allocator's counters, lent to the benchmark.
+struct PeakAllocProbe;
+
+impl MemoryProbe for PeakAllocProbe {
+    fn current_bytes(&self) -> usize {
+        ALLOCATOR.current_usage()
+    }
+    fn reset_peak(&self) {
+        ALLOCATOR.reset_peak_usage();
+    }
+    fn peak_bytes(&self) -> usize {
+        ALLOCATOR.peak_usage()
+    }
+}
+
+fn parse_planners(names: &[String]) -> Result<Vec<PlannerKind>> {
+    let mut out = Vec::new();
+    for name in names {
+        let name = name.trim();
+        if name.is_empty() {
+            bail!(
+                "--planners has an empty name; give a comma-separated list such as {DEFAULT_PLANNERS}"
+            );
+        }
+        let kind: PlannerKind = name
+            .parse()
+            .map_err(|e| anyhow::anyhow!("--planners: {e}"))?;
+        if !out.contains(&kind) {
+            out.push(kind);
+        }
+    }
+    if out.is_empty() {
+        bail!("--planners is empty; give a comma-separated list such as {DEFAULT_PLANNERS}");
+    }
+    Ok(out)
+}
+
+/// Fail before measuring when `--publish` names a file whose `bench` section is broken.
+fn check_publish_target(path: &Path) -> Result<()> {
+    if path.is_dir() {
+        bail!(
+            "--publish {}: it is a folder, not a Markdown file",
+            path.display()
+        );
+    }
+    Ok(vpmap_eval::publish::check_section(path, "bench")?)
+}
+
+/// `vpmap bench`.
+pub fn run(args: &BenchArgs) -> Result<()> {
+    let opts = BenchOptions {
+        inputs: args.inputs.clone(),
+        planners: parse_planners(&args.planners)?,
+        per_map: args.per_map,
+        repeat: args.repeat,
+        seed: args.seed,
+        optimal_limit_s: args.optimal_limit,
+        command: crate::command_line(),
+    };
+    if !(args.optimal_limit.is_finite() && args.optimal_limit > 0.0) {
+        bail!(
+            "--optimal-limit must be a positive number of seconds, got {}",
+            crate::num(args.optimal_limit)
+        );
+    }
+    opts.validate()?;
+    if let Some(p) = &args.publish {
+        check_publish_target(p)?;
+    }
+    if args.out.is_file() {
+        bail!("--out {}: it is a file, not a folder", args.out.display());
+    }
+    let bar = crate::progress::Bar::new("{elapsed_precise} [{bar}] {pos}/{len} {msg}", "30");
+    let results = vpmap_eval::bench::run(&opts, &PeakAllocProbe, &bar)?;
+    let report = vpmap_eval::bench::report(&results)?;
+    if report.svg_only {
+        eprintln!("warning: no system fonts to render the plots' PNGs; writing their SVGs only");
+    }
+    let written = report.files.write_all(&args.out)?;
+    if let Some(publish) = &args.publish {
+        vpmap_eval::publish::replace_section(
+            publish,
+            "bench",
+            &report.published(&results, publish, &args.out),
+        )?;
+    }
+    print!("{}", report.console(&results));
+    let names: Vec<String> = written
+        .iter()
+        .filter_map(|p| p.file_name())
+        .map(|n| n.to_string_lossy().into_owned())
+        .collect();
+    println!(
+        "wrote {} in {} ({:.1} s)",
+        names.join(", "),
+        args.out.display(),
+        results.wall_s
+    );
+    if let Some(publish) = &args.publish {
+        println!("published the summary into {}", publish.display());
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn planner_lists_are_parsed_and_checked() {
+        let names = |s: &str| s.split(',').map(str::to_owned).collect::<Vec<_>>();
+        let parsed = parse_planners(&names("mbpp, astar-ps,mbpp")).unwrap_or_default();
+        assert_eq!(parsed, [PlannerKind::Mbpp, PlannerKind::AstarPs]);
+        assert!(parse_planners(&names("mbpp,dijkstra")).is_err());
+        assert!(parse_planners(&names("mbpp,")).is_err());
+    }
+}

@@ -1,0 +1,453 @@
+//! Vanishing-point detection measured on labelled photos (`vpmap eval-detect DIR`).
+//!
+//! The folder holds York Urban-style pairs `<name>.jpg` (or `.jpeg`, `.png`) + `<name>.json` with
+//! `K` (3x3 intrinsics), `vp_dirs_camera_yup` (the three labelled vanishing directions in a
+//! camera frame with y up: pixel = K diag(1, -1, 1) dir) and `most_vertical_vp_index`. Every
+//! photo is detected twice, one at a time (one thread), timing [`vpmap_vision::detect`] only:
+//! with the true intrinsics given, and with them estimated.
+//!
+//! The error of a vanishing point is the angle between the detected and the labelled
+//! direction's lines (sign-free, 0 to 90 degrees). The detected direction is the detected point
+//! through the intrinsics the detector used (given or estimated), or its `direction_camera`
+//! when the point is at infinity. The vertical is matched to the labelled vertical, the two
+//! horizontals to the labelled ones by the assignment with the smaller total error. A photo the
+//! detector refuses, or a vanishing point it does not return, counts as a miss (error
+//! infinite) in every figure.
+
+use std::path::{Path, PathBuf};
+
+pub mod geom;
+pub mod report;
+
+use std::time::Instant;
+
+use image::DynamicImage;
+use serde::Deserialize;
+use vpmap_vision::photo::{PhotoLimits, decode_photo};
+use vpmap_vision::{DetectOptions, Detection, detect};
+
+use crate::error::{Result, ResultExt as _, bail};
+use crate::output::OutputSet;
+use crate::progress::Progress;
+use geom::{Vec3, direction_of_pixel, line_angle_deg, normalize};
+
+/// How to run the detector on the photos.
+#[derive(Clone, Debug, Default)]
+pub struct DetectionOptions {
+    /// The detector's options; its focal length and principal point are set per run (the
+    /// label's, or `None` to estimate them).
+    pub detect: DetectOptions,
+    /// The photos accepted.
+    pub photo_limits: PhotoLimits,
+}
+
+/// A labelled photo.
+pub struct Pair {
+    /// The file stem.
+    pub name: String,
+    /// The photo.
+    pub image: PathBuf,
+    /// Its labels.
+    pub label: PathBuf,
+}
+
+/// What a label file says, in the camera frame of `vpmap_vision` (x right, y down).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Label {
+    /// Focal length, pixels.
+    pub focal_px: f64,
+    /// Principal point, pixels.
+    pub principal_point_px: [f64; 2],
+    /// The three labelled vanishing directions, unit, y down.
+    pub directions: [Vec3; 3],
+    /// Which of them is vertical.
+    pub vertical: usize,
+}
+
+#[derive(Deserialize)]
+struct LabelFile {
+    #[serde(rename = "K")]
+    k: [[f64; 3]; 3],
+    vp_dirs_camera_yup: Vec<[f64; 3]>,
+    most_vertical_vp_index: usize,
+}
+
+/// Parse and check a York Urban label file.
+///
+/// # Errors
+/// Malformed JSON, missing fields, a `K` with skew or non-square pixels, degenerate
+/// directions, a vertical index out of range.
+pub fn parse_label(text: &str) -> Result<Label> {
+    let file: LabelFile = serde_json::from_str(text).context("not a York Urban label file")?;
+    let k = file.k;
+    if !k.iter().flatten().all(|v| v.is_finite()) {
+        bail!("`K` holds a non-finite number");
+    }
+    let (fx, fy) = (k[0][0], k[1][1]);
+    if !(fx > 0.0 && fy > 0.0) || (fx - fy).abs() > 1e-3 * fx {
+        bail!("`K` has focal lengths {fx} and {fy}; square pixels are needed");
+    }
+    let unit_row = k[2]
+        .iter()
+        .zip([0.0, 0.0, 1.0])
+        .all(|(a, b)| (a - b).abs() <= 1e-9);
+    if k[0][1].abs() > 1e-6 * fx || k[1][0].abs() > 1e-9 || !unit_row {
+        bail!("`K` must be [[f, 0, cx], [0, f, cy], [0, 0, 1]], got {k:?}");
+    }
+    if file.vp_dirs_camera_yup.len() != 3 {
+        bail!(
+            "`vp_dirs_camera_yup` holds {} directions; expected 3",
+            file.vp_dirs_camera_yup.len()
+        );
+    }
+    if file.most_vertical_vp_index > 2 {
+        bail!(
+            "`most_vertical_vp_index` is {}; expected 0, 1 or 2",
+            file.most_vertical_vp_index
+        );
+    }
+    let mut directions = [[0.0; 3]; 3];
+    for (i, d) in file.vp_dirs_camera_yup.iter().enumerate() {
+        // y up to y down.
+        let Some(direction) = normalize([d[0], -d[1], d[2]]) else {
+            bail!("`vp_dirs_camera_yup[{i}]` is degenerate: {d:?}");
+        };
+        if let Some(slot) = directions.get_mut(i) {
+            *slot = direction;
+        }
+    }
+    Ok(Label {
+        focal_px: 0.5 * (fx + fy),
+        principal_point_px: [k[0][2], k[1][2]],
+        directions,
+        vertical: file.most_vertical_vp_index,
+    })
+}
+
+/// The labelled photos in `dir`, in name order.
+///
+/// # Errors
+/// When `dir` cannot be listed or holds no pairs.
+pub fn find_pairs(dir: &Path) -> Result<Vec<Pair>> {
+    if !dir.exists() {
+        bail!("folder {} does not exist", dir.display());
+    }
+    if !dir.is_dir() {
+        bail!("{} is not a folder", dir.display());
+    }
+    let entries =
+        std::fs::read_dir(dir).with_context(|| format!("cannot list {}", dir.display()))?;
+    let mut pairs = Vec::new();
+    for entry in entries {
+        let path = entry
+            .with_context(|| format!("cannot list {}", dir.display()))?
+            .path();
+        let is_photo = path.extension().is_some_and(|e| {
+            ["jpg", "jpeg", "png"]
+                .iter()
+                .any(|x| e.eq_ignore_ascii_case(x))
+        });
+        let label = path.with_extension("json");
+        if is_photo && path.is_file() && label.is_file() {
+            let name = path
+                .file_stem()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default();
+            pairs.push(Pair {
+                name,
+                image: path,
+                label,
+            });
+        }
+    }
+    pairs.sort_by(|a, b| a.name.cmp(&b.name).then_with(|| a.image.cmp(&b.image)));
+    if pairs.is_empty() {
+        bail!(
+            "no labelled photos in {}: expected <name>.jpg (or .png) with <name>.json beside it",
+            dir.display()
+        );
+    }
+    Ok(pairs)
+}
+
+/// With the true intrinsics given to the detector, or estimated by it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Intrinsics {
+    /// `--focal-px` and `--principal-point` from the label's `K`.
+    Given,
+    /// Estimated from the photo.
+    Estimated,
+}
+
+impl Intrinsics {
+    /// Both, in report order.
+    pub const BOTH: [Self; 2] = [Self::Given, Self::Estimated];
+
+    /// Key in the JSON report.
+    #[must_use]
+    pub fn key(self) -> &'static str {
+        match self {
+            Self::Given => "given_intrinsics",
+            Self::Estimated => "estimated_intrinsics",
+        }
+    }
+}
+
+/// One detection run on one photo.
+#[derive(Clone, Debug)]
+pub struct Run {
+    /// Wall time of `detect`, milliseconds (`None` when the photo could not be read).
+    pub time_ms: Option<f64>,
+    /// What came out, or why nothing did.
+    pub outcome: std::result::Result<RunOk, String>,
+}
+
+/// A successful run.
+#[derive(Clone, Debug)]
+pub struct RunOk {
+    /// Error of each labelled vanishing point (label order), degrees; `None`: not detected.
+    pub errors_deg: [Option<f64>; 3],
+    /// Focal length used, pixels.
+    pub focal_px: f64,
+    /// Relative focal error `|f - f_true| / f_true` (only when estimated).
+    pub focal_error: Option<f64>,
+    /// Principal point used, pixels.
+    pub principal_point_px: [f64; 2],
+    /// "2pp" or "3pp".
+    pub perspective: &'static str,
+    /// Segments found.
+    pub segments: usize,
+}
+
+/// One photo's two runs.
+#[derive(Clone, Debug)]
+pub struct ImageResult {
+    /// The file stem.
+    pub name: String,
+    /// `[width, height]`, pixels (`None` when unreadable).
+    pub size_px: Option<[u32; 2]>,
+    /// Which labelled vanishing point is the vertical one.
+    pub vertical: usize,
+    /// Runs in [`Intrinsics::BOTH`] order.
+    pub runs: [Run; 2],
+}
+
+/// The detected direction of one vanishing point through the intrinsics the detector used.
+fn detected_direction(det: &Detection, index: usize) -> Option<Vec3> {
+    let vp = det.vanishing_points.get(index)?;
+    let intr = det.intrinsics;
+    vp.point_px
+        .and_then(|p| direction_of_pixel(p, intr.focal_px, intr.principal_point_px))
+        .or_else(|| normalize(vp.direction_camera))
+}
+
+/// Errors of the detected vanishing points against the labelled ones, in label order:
+/// vertical to vertical, horizontals by the assignment with the smaller total error.
+#[must_use]
+pub fn match_errors(det: &Detection, label: &Label) -> [Option<f64>; 3] {
+    let mut errors = [None; 3];
+    let vertical = (0..det.vanishing_points.len())
+        .find(|&i| det.vanishing_points[i].vertical)
+        .and_then(|i| detected_direction(det, i));
+    if let Some(d) = vertical {
+        errors[label.vertical] = Some(line_angle_deg(d, label.directions[label.vertical]));
+    }
+    let horizontals: Vec<Vec3> = (0..det.vanishing_points.len())
+        .filter(|&i| !det.vanishing_points[i].vertical)
+        .filter_map(|i| detected_direction(det, i))
+        .take(2)
+        .collect();
+    let labelled: Vec<usize> = (0..3).filter(|&i| i != label.vertical).collect();
+    let err = |d: Vec3, l: usize| line_angle_deg(d, label.directions[l]);
+    match horizontals.as_slice() {
+        [a, b] => {
+            let straight = [err(*a, labelled[0]), err(*b, labelled[1])];
+            let crossed = [err(*a, labelled[1]), err(*b, labelled[0])];
+            let [e0, e1] = if straight[0] + straight[1] <= crossed[0] + crossed[1] {
+                straight
+            } else {
+                [crossed[1], crossed[0]]
+            };
+            errors[labelled[0]] = Some(e0);
+            errors[labelled[1]] = Some(e1);
+        }
+        [a] => {
+            let (e0, e1) = (err(*a, labelled[0]), err(*a, labelled[1]));
+            if e0 <= e1 {
+                errors[labelled[0]] = Some(e0);
+            } else {
+                errors[labelled[1]] = Some(e1);
+            }
+        }
+        _ => {}
+    }
+    errors
+}
+
+/// Read a JPEG or PNG photo as `vpmap detect` does: one line naming the file and the problem.
+fn read_photo(path: &Path, limits: &PhotoLimits) -> std::result::Result<DynamicImage, String> {
+    let bytes =
+        std::fs::read(path).map_err(|e| format!("cannot read photo {}: {e}", path.display()))?;
+    decode_photo(&bytes, limits)
+        .map(|photo| photo.image)
+        .map_err(|e| format!("{}: {e}", path.display()))
+}
+
+/// Detect one photo with given or estimated intrinsics.
+fn run_one(image: &DynamicImage, label: &Label, which: Intrinsics, opts: &DetectOptions) -> Run {
+    let opts = DetectOptions {
+        focal_px: (which == Intrinsics::Given).then_some(label.focal_px),
+        principal_point_px: (which == Intrinsics::Given).then_some(label.principal_point_px),
+        ..*opts
+    };
+    let started = Instant::now();
+    let result = detect(image, &opts);
+    let elapsed = started.elapsed();
+    let outcome = result.map(|det| RunOk {
+        errors_deg: match_errors(&det, label),
+        focal_px: det.intrinsics.focal_px,
+        focal_error: (which == Intrinsics::Estimated)
+            .then(|| (det.intrinsics.focal_px - label.focal_px).abs() / label.focal_px),
+        principal_point_px: det.intrinsics.principal_point_px,
+        perspective: match det.perspective {
+            vpmap_vision::Perspective::TwoPoint => "2pp",
+            vpmap_vision::Perspective::ThreePoint => "3pp",
+        },
+        segments: det.segments.len(),
+    });
+    Run {
+        time_ms: Some(elapsed.as_secs_f64() * 1e3),
+        outcome: outcome.map_err(|e| e.to_string()),
+    }
+}
+
+/// Evaluate every pair, one photo at a time.
+///
+/// # Errors
+/// A label file that cannot be read or parsed (checked for every pair before any detection).
+pub fn evaluate(
+    pairs: &[Pair],
+    opts: &DetectionOptions,
+    progress: &dyn Progress,
+) -> Result<Vec<ImageResult>> {
+    let labels: Vec<Label> = pairs
+        .iter()
+        .map(|p| {
+            let text = std::fs::read_to_string(&p.label)
+                .with_context(|| format!("cannot read {}", p.label.display()))?;
+            parse_label(&text).with_context(|| format!("{}", p.label.display()))
+        })
+        .collect::<Result<_>>()?;
+    progress.start(pairs.len() as u64);
+    let mut results = Vec::with_capacity(pairs.len());
+    for (pair, label) in pairs.iter().zip(&labels) {
+        progress.message(&pair.name);
+        let result = match read_photo(&pair.image, &opts.photo_limits) {
+            Ok(image) => ImageResult {
+                name: pair.name.clone(),
+                size_px: Some([image.width(), image.height()]),
+                vertical: label.vertical,
+                runs: Intrinsics::BOTH.map(|which| run_one(&image, label, which, &opts.detect)),
+            },
+            Err(e) => {
+                let failed = Run {
+                    time_ms: None,
+                    outcome: Err(e),
+                };
+                ImageResult {
+                    name: pair.name.clone(),
+                    size_px: None,
+                    vertical: label.vertical,
+                    runs: [failed.clone(), failed],
+                }
+            }
+        };
+        results.push(result);
+        progress.step();
+    }
+    progress.finish();
+    Ok(results)
+}
+
+/// An evaluation's report: the summaries of both kinds of run and the files.
+pub struct Report {
+    /// What the run was over.
+    pub context: report::Context,
+    /// The summaries, in [`Intrinsics::BOTH`] order.
+    pub summaries: [report::Summary; 2],
+    /// `eval-detect.json` and `summary.md`.
+    pub files: OutputSet,
+}
+
+/// Summarise an evaluation and make its files.
+///
+/// # Errors
+/// When the JSON report cannot be serialised.
+pub fn report(context: report::Context, results: &[ImageResult]) -> Result<Report> {
+    let summaries = Intrinsics::BOTH.map(|which| report::summarise(results, which));
+    let mut files = OutputSet::default();
+    files.add(
+        "eval-detect.json",
+        report::json(&context, results, &summaries)?,
+    );
+    files.add(
+        "summary.md",
+        report::markdown(&context, results, &summaries),
+    );
+    Ok(Report {
+        context,
+        summaries,
+        files,
+    })
+}
+
+impl Report {
+    /// The console table.
+    #[must_use]
+    pub fn table(&self) -> String {
+        report::table(&self.context, &self.summaries)
+    }
+
+    /// The section to publish into a results file: where, when and how (`command`, the
+    /// command line) it was measured, then the summary.
+    #[must_use]
+    pub fn published(&self, results: &[ImageResult], command: &str) -> String {
+        let body = report::markdown(&self.context, results, &self.summaries);
+        let body = body
+            .split_once('\n')
+            .map_or(body.as_str(), |(_, rest)| rest)
+            .trim_start();
+        format!(
+            "## Vanishing-point detection on real photos (`vpmap eval-detect`)\n\n\
+             Measured on {}, {}, with\n\n    {}\n\n{body}",
+            crate::publish::machine_description(),
+            crate::publish::utc_now(),
+            command
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const LABEL: &str = r#"{"K": [[674.9, 0.0, 307.5], [0.0, 674.9, 251.4], [0.0, 0.0, 1.0]],
+        "vp_dirs_camera_yup": [[-0.83, -0.10, 0.54], [0.02, 0.97, 0.22], [0.54, -0.20, 0.82]],
+        "most_vertical_vp_index": 1, "extra": 1}"#;
+
+    #[test]
+    fn label_directions_turn_to_y_down() {
+        let l = parse_label(LABEL).unwrap_or_else(|e| panic!("{e:#}"));
+        assert_eq!(l.vertical, 1);
+        assert!(l.directions[1][1] < -0.9, "{:?}", l.directions[1]);
+        assert!((l.focal_px - 674.9).abs() < 1e-12);
+        assert!(parse_label(&LABEL.replace("674.9, 0.0, 307.5", "600.0, 0.0, 307.5")).is_err());
+        assert!(
+            parse_label(&LABEL.replace(
+                "\"most_vertical_vp_index\": 1",
+                "\"most_vertical_vp_index\": 3"
+            ))
+            .is_err()
+        );
+    }
+}

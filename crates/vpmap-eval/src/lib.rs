@@ -1,0 +1,35 @@
+//! vpmap's measurements, as a library: what `vpmap eval`, `vpmap bench` and
+//! `vpmap eval-detect` run, callable from a test, a notebook or the web page.
+//!
+//! - [`accuracy`]: map accuracy under annotation noise on synthetic pinhole scenes, the
+//!   thesis's section 6.1 (figures 6.8-6.13 and 6.18-6.23): per object and noise level, the six
+//!   metrics of section 6.1.1, summarised per perspective and set-up, with box plots.
+//! - [`bench`](mod@bench): planners compared on benchmark maps (Moving AI maps and scenarios, maps built
+//!   from synthetic rooms), the thesis's section 6.2 (figures 6.25 and 6.26): runtime, path
+//!   length, excess over the exact any-angle optimum, peak heap, every path checked by the
+//!   independent validator and every "no path" against breadth-first connectivity.
+//! - [`detection`]: vanishing-point detection on labelled photos in the York Urban format:
+//!   angular error per vanishing point (the one York Urban scorer, [`detection::match_errors`]),
+//!   fractions within 1-10 degrees, area under the error curve, focal error and time.
+//! - [`stats`]: every quantile, median, mean and box-plot figure the reports print (type 7
+//!   quantiles, Hyndman and Fan 1996).
+//! - [`publish`]: a report's section of a Markdown file such as `docs/results.md`, and the
+//!   description of the machine that measured it.
+//!
+//! Each measurement is a function with an options struct; it returns its results and the files
+//! of its report and writes them all or nothing ([`output::OutputSet`]). Nothing here prints:
+//! progress goes through [`progress::Progress`], which the command line draws as a bar.
+
+#![deny(missing_docs)]
+
+pub mod accuracy;
+pub mod bench;
+pub mod detection;
+mod error;
+pub mod output;
+pub mod progress;
+pub mod publish;
+pub mod stats;
+
+pub use error::{EvalError, Result};
+pub use progress::{Progress, Silent};

@@ -1,0 +1,84 @@
+//! Real photos: a few York Urban Database images, detected by `vpmap_vision::detect` and scored
+//! by the one York Urban scorer ([`vpmap_eval::detection`]) against their hand-labelled
+//! vanishing points. Skipped (with a message) when `../shared/data/yud-train` is absent.
+//!
+//! The bounds are 1.5 to 2.5 times the errors measured when the test was written (see the
+//! comments), so they catch regressions without tripping on harmless changes. The whole
+//! training half is measured by `vpmap eval-detect ../shared/data/yud-train`.
+
+use std::path::PathBuf;
+
+use vpmap_eval::Silent;
+use vpmap_eval::detection::{DetectionOptions, Intrinsics, evaluate, find_pairs};
+use vpmap_eval::stats::median;
+
+const PHOTOS: [&str; 6] = [
+    "P1020177", "P1020833", "P1040795", "P1080025", "P1080093", "P1080096",
+];
+
+fn data_dir() -> Option<PathBuf> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/yud-train");
+    if dir.join("P1020177.jpg").is_file() {
+        Some(dir)
+    } else {
+        println!("SKIPPED: {} is absent", dir.display());
+        None
+    }
+}
+
+#[test]
+fn yud_photos_with_and_without_the_true_intrinsics() {
+    let Some(dir) = data_dir() else {
+        return;
+    };
+    let pairs: Vec<_> = find_pairs(&dir)
+        .unwrap()
+        .into_iter()
+        .filter(|p| PHOTOS.contains(&p.name.as_str()))
+        .collect();
+    assert_eq!(pairs.len(), PHOTOS.len());
+    let results = evaluate(&pairs, &DetectionOptions::default(), &Silent).unwrap();
+    let (mut with_k, mut without_k, mut focal_errors) = (Vec::new(), Vec::new(), Vec::new());
+    for r in &results {
+        let [given, estimated] = &r.runs;
+        let (given, estimated) = (given.outcome.as_ref(), estimated.outcome.as_ref());
+        let given = given.unwrap_or_else(|e| panic!("{}: with K: {e}", r.name));
+        let estimated = estimated.unwrap_or_else(|e| panic!("{}: without K: {e}", r.name));
+        // A vanishing point not found is an infinite error.
+        let errors = |e: [Option<f64>; 3]| e.map(|e| e.unwrap_or(f64::INFINITY));
+        let (ea, eb) = (errors(given.errors_deg), errors(estimated.errors_deg));
+        let focal_error = estimated.focal_error.unwrap_or(f64::INFINITY);
+        println!(
+            "{}: with K {ea:.2?} deg, without {eb:.2?} deg, focal error {:.1} %",
+            r.name,
+            100.0 * focal_error
+        );
+        with_k.extend(ea);
+        without_k.extend(eb);
+        focal_errors.push(focal_error);
+    }
+    assert_eq!(Intrinsics::BOTH, [Intrinsics::Given, Intrinsics::Estimated]);
+    let max = |v: &[f64]| v.iter().copied().fold(0.0f64, f64::max);
+    let median = |v: &[f64]| median(v).unwrap_or(f64::NAN);
+    // Measured: median 0.36, max 1.93 degrees with K.
+    assert!(median(&with_k) < 0.8, "median with K {}", median(&with_k));
+    assert!(max(&with_k) < 3.0, "max with K {}", max(&with_k));
+    // Measured: median 0.82, max 1.66 degrees without K.
+    assert!(
+        median(&without_k) < 1.6,
+        "median without K {}",
+        median(&without_k)
+    );
+    assert!(max(&without_k) < 3.5, "max without K {}", max(&without_k));
+    // Measured: median 1.7 %, max 3.6 %.
+    assert!(
+        median(&focal_errors) < 0.05,
+        "median focal error {}",
+        median(&focal_errors)
+    );
+    assert!(
+        max(&focal_errors) < 0.08,
+        "max focal error {}",
+        max(&focal_errors)
+    );
+}
