@@ -63,7 +63,10 @@ pub mod validate;
 pub use astar::{AstarOptions, AstarSearch, astar};
 pub use error::{PlanError, Result};
 pub use grid::{Cell, MAX_CELLS, OccupancyGrid};
-pub use los::{LosCounter, Passable, Traversable, line_of_sight, line_of_sight_counted};
+pub use los::{
+    LosCounter, Passable, PassableGrid, Traversable, cell_passable, line_of_sight,
+    line_of_sight_counted,
+};
 pub use mbpp::{Mbpp, MbppOptions, mbpp};
 pub use movingai::{Scenario, parse_movingai_map, parse_scen, read_movingai_map, read_scen};
 pub use optimal::{OptimalAnyAngleOptions, corner_cells, optimal_any_angle};

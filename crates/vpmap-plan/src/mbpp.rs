@@ -110,15 +110,15 @@ use std::collections::{BinaryHeap, HashMap};
 use std::hash::{BuildHasherDefault, Hasher};
 
 use crate::error::Result;
-use crate::grid::{Cell, OccupancyGrid};
-use crate::los::{LosCounter, Passable, line_of_sight_counted};
+use crate::grid::OccupancyGrid;
+use crate::los::{LosCounter, Passable, PassableGrid};
 use crate::plan::{Plan, PlanStats, check_endpoint, path_length};
 use crate::smoothing::smooth_path;
 
 /// Options of [`mbpp`].
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MbppOptions {
-    /// Whether [`Cell::Unknown`] cells may be entered (default: no).
+    /// Whether [`Cell::Unknown`](crate::Cell::Unknown) cells may be entered (default: no).
     pub unknown_passable: bool,
     /// Record every bug's track (the cells it walked) in [`Mbpp::bugs`] (default: no; it
     /// costs memory proportional to the bugs' steps).
@@ -280,7 +280,7 @@ pub fn mbpp(
 ) -> Result<Mbpp> {
     check_endpoint(grid, "start", start, opts.unknown_passable)?;
     check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
-    let padded = PaddedGrid::new(grid, opts.unknown_passable);
+    let padded = PassableGrid::new(grid, opts.unknown_passable);
     let mut stats = MbppStats::default();
     let mut counter = LosCounter::default();
     let outcome = run(
@@ -354,133 +354,6 @@ fn to_i(c: (usize, usize)) -> Xy {
 
 fn to_u(c: Xy) -> (usize, usize) {
     (c.0 as usize, c.1 as usize)
-}
-
-/// Traversability with a blocked one-cell border, so that neighbour tests need no bounds
-/// checks beyond the border.
-struct PaddedGrid {
-    cells: Vec<bool>,
-    padded_width: i64,
-    width: i64,
-    height: i64,
-}
-
-impl PaddedGrid {
-    fn new(grid: &OccupancyGrid, unknown_passable: bool) -> Self {
-        let (width, height) = (grid.width(), grid.height());
-        let padded_width = width + 2;
-        let mut cells = vec![false; padded_width * (height + 2)];
-        if width > 0 {
-            let rows = cells
-                .chunks_exact_mut(padded_width)
-                .skip(1)
-                .zip(grid.cells().chunks_exact(width));
-            for (out, row) in rows {
-                for (slot, &c) in out[1..=width].iter_mut().zip(row) {
-                    *slot = c == Cell::Free || (unknown_passable && c == Cell::Unknown);
-                }
-            }
-        }
-        Self {
-            cells,
-            padded_width: padded_width as i64,
-            width: width as i64,
-            height: height as i64,
-        }
-    }
-
-    #[inline]
-    fn free(&self, (x, y): Xy) -> bool {
-        if x < -1 || y < -1 || x > self.width || y > self.height {
-            return false;
-        }
-        let index = (y + 1) * self.padded_width + x + 1;
-        self.cells.get(index as usize).copied().unwrap_or(false)
-    }
-
-    /// [`line_of_sight_counted`] between the centres of cells `a` and `b`, with the same
-    /// answer and the same counts: it visits the same cells in the same order (the column
-    /// walk of [`crate::los::visit_swept_cells`], restated here on the padded cell array
-    /// so that each lookup is one index step instead of a bounds-checked coordinate
-    /// lookup). Every bug step asks one such query, so this is MBPP's inner loop.
-    fn sight(&self, a: Xy, b: Xy, counter: &mut LosCounter) -> bool {
-        let inside = |(x, y): Xy| x >= 0 && y >= 0 && x < self.width && y < self.height;
-        if !(inside(a) && inside(b)) {
-            return line_of_sight_counted(self, to_u(a), to_u(b), counter);
-        }
-        counter.checks += 1;
-        // The frame of `sweep_columns`: `u` is the major axis; `u_stride` and `v_stride`
-        // are the index steps of one cell along `u` and `v`.
-        let (p0, p1, u_stride, v_stride) = if (b.0 - a.0).abs() >= (b.1 - a.1).abs() {
-            (a, b, 1, self.padded_width)
-        } else {
-            ((a.1, a.0), (b.1, b.0), self.padded_width, 1)
-        };
-        let ((u0, v0), (u1, v1)) = if p1.0 < p0.0 { (p1, p0) } else { (p0, p1) };
-        let du = u1 - u0;
-        let dv = (v1 - v0).abs();
-        let v_step = if v1 < v0 { -v_stride } else { v_stride };
-        // Index of the frame's first cell (u0, v0), back in grid coordinates.
-        let (x0, y0) = if u_stride == 1 { (u0, v0) } else { (v0, u0) };
-        let origin = (y0 + 1) * self.padded_width + x0 + 1;
-        if du == 0 {
-            counter.cells += 1;
-            return self.cells.get(origin as usize).copied().unwrap_or(false);
-        }
-        // Column k covers rows floor(lo dv / du) ..= ceil(hi dv / du) with lo = max(k - 1, 0)
-        // and hi = min(k + 1, du), as in `sweep_columns`. Both quotients are kept as
-        // (quotient, remainder) and advanced by adding dv (at most one carry, dv <= du), so
-        // the walk needs no division.
-        let advance = |(q, r): (i64, i64)| {
-            if r + dv >= du {
-                (q + 1, r + dv - du)
-            } else {
-                (q, r + dv)
-            }
-        };
-        let mut lo = (0, 0);
-        let mut hi = advance((0, 0));
-        // Both ends are inside the grid, so every swept cell is (it lies in their bounding
-        // box) and every index is inside the padded array; `get` still guards it.
-        let mut column = origin;
-        for k in 0..=du {
-            let first = lo.0;
-            let last = hi.0 + i64::from(hi.1 > 0);
-            let mut index = column + first * v_step;
-            for j in first..=last {
-                if !self.cells.get(index as usize).copied().unwrap_or(false) {
-                    counter.cells += (j - first + 1) as usize;
-                    return false;
-                }
-                index += v_step;
-            }
-            counter.cells += (last - first + 1) as usize;
-            if k >= 1 {
-                lo = advance(lo);
-            }
-            if k + 1 < du {
-                hi = advance(hi);
-            }
-            column += u_stride;
-        }
-        true
-    }
-
-    /// Whether the single 8-connected step from `c` by `d` is legal.
-    #[inline]
-    fn step_ok(&self, c: Xy, d: Xy) -> bool {
-        self.free((c.0 + d.0, c.1 + d.1))
-            && (d.0 == 0
-                || d.1 == 0
-                || (self.free((c.0 + d.0, c.1)) && self.free((c.0, c.1 + d.1))))
-    }
-}
-
-impl Passable for PaddedGrid {
-    #[inline]
-    fn passable(&self, x: i64, y: i64) -> bool {
-        self.free((x, y))
-    }
 }
 
 /// The m-line in closed form: the digital straight segment from `start` to `goal` (one
@@ -652,7 +525,7 @@ struct Outcome {
 
 /// The bugs' walk, then selection, check and re-planning.
 fn run(
-    grid: &PaddedGrid,
+    grid: &PassableGrid,
     start: Xy,
     goal: Xy,
     opts: &MbppOptions,
@@ -713,7 +586,7 @@ fn run(
 
 /// The bugs and their shared `v_list` tree during the walk.
 struct Walk<'g> {
-    grid: &'g PaddedGrid,
+    grid: &'g PassableGrid,
     goal: Xy,
     line: MLine,
     leave: LeaveRule,
@@ -729,7 +602,7 @@ struct Walk<'g> {
 }
 
 impl<'g> Walk<'g> {
-    fn new(grid: &'g PaddedGrid, start: Xy, goal: Xy, record: bool, leave: LeaveRule) -> Self {
+    fn new(grid: &'g PassableGrid, start: Xy, goal: Xy, record: bool, leave: LeaveRule) -> Self {
         let line = MLine::new(start, goal);
         let mut owners = HashMap::default();
         owners.insert(
@@ -802,7 +675,7 @@ impl<'g> Walk<'g> {
             Mode::Greedy { line, position } => {
                 let next = line.cell(position + 1);
                 let d = (next.0 - cell.0, next.1 - cell.1);
-                if !self.grid.step_ok(cell, d) {
+                if !self.grid.step_clear(cell, d) {
                     self.hit(b, position, d);
                     return true;
                 }
@@ -826,7 +699,7 @@ impl<'g> Walk<'g> {
                 let Some(h) = hand
                     .order(heading)
                     .into_iter()
-                    .find(|&h| self.grid.free(add(cell, HEADINGS[usize::from(h)])))
+                    .find(|&h| passable(self.grid, add(cell, HEADINGS[usize::from(h)])))
                 else {
                     self.end(b, BugFate::Stuck);
                     return false;
@@ -953,9 +826,9 @@ impl<'g> Walk<'g> {
     fn initial_heading(&self, cell: Xy, d: Xy, hand: Hand) -> u8 {
         let orthogonal = if d.0 == 0 || d.1 == 0 {
             Some(d)
-        } else if !self.grid.free(add(cell, (d.0, 0))) {
+        } else if !passable(self.grid, add(cell, (d.0, 0))) {
             Some((d.0, 0))
-        } else if !self.grid.free(add(cell, (0, d.1))) {
+        } else if !passable(self.grid, add(cell, (0, d.1))) {
             Some((0, d.1))
         } else {
             None
@@ -1021,6 +894,12 @@ impl<'g> Walk<'g> {
             bug.track.fate = fate;
         }
     }
+}
+
+/// Whether a bug may stand on cell `c`.
+#[inline]
+fn passable(grid: &PassableGrid, c: Xy) -> bool {
+    grid.passable(c.0, c.1)
 }
 
 fn add(a: Xy, b: Xy) -> Xy {
@@ -1355,7 +1234,7 @@ impl Ord for HeapEntry {
 /// first blocked segment, repeat.
 fn select(
     graph: &mut Graph,
-    grid: &PaddedGrid,
+    grid: &PassableGrid,
     goal: Xy,
     opts: &MbppOptions,
     depth: usize,
@@ -1409,7 +1288,7 @@ fn alternatives(
     mut graph_clear: Graph,
     goals: &[u32],
     joins: &[Join],
-    grid: &PaddedGrid,
+    grid: &PassableGrid,
     counter: &mut LosCounter,
     selected: Option<&[(usize, usize)]>,
 ) -> Vec<Vec<(usize, usize)>> {
@@ -1475,54 +1354,4 @@ fn alternatives(
         .map(|(_, p)| p)
         .filter(|p| Some(p.as_slice()) != selected)
         .collect()
-}
-
-#[cfg(test)]
-#[allow(clippy::unwrap_used)]
-mod tests {
-    use super::*;
-    use crate::los::Traversable;
-    use rand::{Rng, SeedableRng};
-    use rand_chacha::ChaCha8Rng;
-
-    /// The padded-array line of sight answers and counts exactly as the crate's one.
-    #[test]
-    fn sight_matches_line_of_sight_counted() {
-        let mut rng = ChaCha8Rng::seed_from_u64(11);
-        for (w, h, density) in [(1, 1, 0.0), (7, 3, 0.2), (13, 17, 0.1), (20, 20, 0.3)] {
-            let cells = (0..w * h)
-                .map(|_| match rng.random_range(0.0..1.0) {
-                    p if p < density => Cell::Occupied,
-                    p if p < density + 0.05 => Cell::Unknown,
-                    _ => Cell::Free,
-                })
-                .collect();
-            let grid = OccupancyGrid::from_cells(w, h, 1.0, [0.0; 2], cells).unwrap();
-            for unknown_passable in [false, true] {
-                let padded = PaddedGrid::new(&grid, unknown_passable);
-                let reference = Traversable::new(&grid, unknown_passable);
-                for _ in 0..400 {
-                    let mut cell = || {
-                        (
-                            rng.random_range(-1..=w as i64),
-                            rng.random_range(-1..=h as i64),
-                        )
-                    };
-                    let (a, b) = (cell(), cell());
-                    let mut ours = LosCounter::default();
-                    let mut theirs = LosCounter::default();
-                    let answer = padded.sight(a, b, &mut ours);
-                    let expected = a.0 >= 0
-                        && a.1 >= 0
-                        && b.0 >= 0
-                        && b.1 >= 0
-                        && line_of_sight_counted(&reference, to_u(a), to_u(b), &mut theirs);
-                    assert_eq!(answer, expected, "{a:?} -> {b:?}");
-                    if a.0 >= 0 && a.1 >= 0 && b.0 >= 0 && b.1 >= 0 {
-                        assert_eq!(ours, theirs, "{a:?} -> {b:?}");
-                    }
-                }
-            }
-        }
-    }
 }
