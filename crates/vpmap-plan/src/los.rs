@@ -111,13 +111,14 @@ pub(crate) fn fill_padded<T: Copy>(
         .skip(1)
         .zip(grid.cells().chunks_exact(width));
     for (padded_row, row) in rows {
-        let inner = padded_row.iter_mut().skip(1).take(width);
-        for (slot, &c) in inner.zip(row) {
-            *slot = if cell_passable(c, unknown_passable) {
-                passable
-            } else {
-                blocked
-            };
+        if let Some(inner) = padded_row.get_mut(1..=width) {
+            for (slot, &c) in inner.iter_mut().zip(row) {
+                *slot = if cell_passable(c, unknown_passable) {
+                    passable
+                } else {
+                    blocked
+                };
+            }
         }
     }
 }

@@ -219,10 +219,12 @@ pub fn mbpp(
 /// Cell coordinates as signed integers.
 type Xy = (i64, i64);
 
+#[inline]
 fn to_i(c: (usize, usize)) -> Xy {
     (c.0 as i64, c.1 as i64)
 }
 
+#[inline]
 fn to_u(c: Xy) -> (usize, usize) {
     (c.0 as usize, c.1 as usize)
 }
@@ -302,14 +304,17 @@ fn passable(grid: &PassableGrid, c: Xy) -> bool {
     grid.passable(c.0, c.1)
 }
 
+#[inline]
 fn add(a: Xy, b: Xy) -> Xy {
     (a.0 + b.0, a.1 + b.1)
 }
 
+#[inline]
 fn d2(a: Xy, b: Xy) -> i64 {
     (a.0 - b.0).pow(2) + (a.1 - b.1).pow(2)
 }
 
+#[inline]
 fn dist(a: Xy, b: Xy) -> f64 {
     ((a.0 - b.0) as f64).hypot((a.1 - b.1) as f64)
 }
