@@ -6,8 +6,8 @@
 //! cutting, no squeezing between two blocked cells that share a corner). These are exactly
 //! the single steps that [`crate::los`] calls clear, and the movement model of the Moving
 //! AI benchmarks, whose `.scen` optimal lengths this search reproduces. Cells outside the
-//! grid and [`Cell::Occupied`] cells are never entered;
-//! [`Cell::Unknown`] cells only with
+//! grid and [`Cell::Occupied`](crate::Cell::Occupied) cells are never entered;
+//! [`Cell::Unknown`](crate::Cell::Unknown) cells only with
 //! [`AstarOptions::unknown_passable`].
 //!
 //! The search uses the octile distance heuristic (consistent, so each cell is expanded at
@@ -23,13 +23,14 @@
 use std::f64::consts::SQRT_2;
 
 use crate::error::Result;
-use crate::grid::{Cell, OccupancyGrid};
+use crate::grid::OccupancyGrid;
+use crate::los::fill_padded;
 use crate::plan::{Plan, PlanStats, check_endpoint};
 
 /// Options of [`astar`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct AstarOptions {
-    /// Whether [`Cell::Unknown`] cells may be entered (default: no).
+    /// Whether [`Cell::Unknown`](crate::Cell::Unknown) cells may be entered (default: no).
     pub unknown_passable: bool,
 }
 
@@ -245,25 +246,10 @@ impl AstarSearch {
         (2 * self.generation, 2 * self.generation + 1)
     }
 
-    /// Fill [`Self::passable`] for `grid`, padded with a blocked border.
+    /// Fill [`Self::passable`] for `grid`, padded with a blocked border (the cells
+    /// [`cell_passable`](crate::los::cell_passable) lets a robot enter).
     fn fill_passable(&mut self, grid: &OccupancyGrid, unknown_passable: bool) {
-        let (width, height) = (grid.width(), grid.height());
-        let padded_width = width + 2;
-        self.passable.clear();
-        self.passable.resize(padded_width * (height + 2), 0);
-        if width == 0 {
-            return;
-        }
-        let rows = self
-            .passable
-            .chunks_exact_mut(padded_width)
-            .skip(1)
-            .zip(grid.cells().chunks_exact(width));
-        for (out, row) in rows {
-            for (slot, &c) in out[1..=width].iter_mut().zip(row) {
-                *slot = u8::from(c == Cell::Free || (unknown_passable && c == Cell::Unknown));
-            }
-        }
+        fill_padded(grid, unknown_passable, &mut self.passable, 0, PASSABLE);
     }
 
     /// Find a shortest 8-connected path from `start` to `goal` (see [`astar`]).

@@ -8,7 +8,8 @@
 //! | floor map to grid | [`raster`] | scanline fill of free-space polygons by cell centre; conservative obstacles (every cell a footprint touches) |
 //! | map files | [`ros`] | `map_server` YAML + PGM writer; reader for PGM (P2, P5) and PNG with `negate`, thresholds and the `trinary`, `scale` and `raw` modes |
 //! | benchmark files | [`movingai`] | Moving AI `.map` grids and `.scen` problem lists (Sturtevant 2012) |
-//! | collision rule | [`los`] | a cell-sized square swept between cell centres may touch but not overlap blocked cells; exact integer walk over the swept cells |
+//! | collision rule | [`los`] | a cell-sized square swept between cell centres may touch but not overlap blocked cells; exact integer walk over the swept cells, built once per grid as [`PassableGrid`] for every planner |
+//! | reachability | [`reach`] | connected components of the passable cells by breadth-first search, the reference for "is there a path" |
 //! | path check | [`validate`] | the same rule decided independently, by the separating axis theorem per cell |
 //! | grid path | [`astar`](mod@astar) | A*, 8-connected, octile costs, no corner cutting, octile heuristic (Hart, Nilsson and Raphael 1968) |
 //! | smoothed grid path | [`smoothing`] | A* PS: A*, then greedy farthest-visible line-of-sight shortcuts (Botea, Müller and Schaeffer 2004) |
@@ -55,6 +56,7 @@ pub mod optimal;
 pub mod plan;
 pub mod planner;
 pub mod raster;
+pub mod reach;
 pub mod ros;
 pub mod smoothing;
 pub mod theta_star;
@@ -63,13 +65,17 @@ pub mod validate;
 pub use astar::{AstarOptions, AstarSearch, astar};
 pub use error::{PlanError, Result};
 pub use grid::{Cell, MAX_CELLS, OccupancyGrid};
-pub use los::{LosCounter, Passable, Traversable, line_of_sight, line_of_sight_counted};
+pub use los::{
+    LosCounter, Passable, PassableGrid, Traversable, cell_passable, line_of_sight,
+    line_of_sight_counted,
+};
 pub use mbpp::{Mbpp, MbppOptions, mbpp};
 pub use movingai::{Scenario, parse_movingai_map, parse_scen, read_movingai_map, read_scen};
 pub use optimal::{OptimalAnyAngleOptions, corner_cells, optimal_any_angle};
 pub use plan::{Plan, PlanStats, path_length};
 pub use planner::{Planned, Planner, PlannerKind};
 pub use raster::{RasterOptions, rasterize_map};
+pub use reach::{Components, reachable};
 pub use ros::{encode_ros_map, read_ros_map, write_ros_map};
 pub use smoothing::{AstarPsOptions, astar_ps, smooth_path};
 pub use theta_star::{ThetaStarOptions, theta_star};

@@ -50,7 +50,7 @@ use std::collections::BinaryHeap;
 
 use crate::error::Result;
 use crate::grid::OccupancyGrid;
-use crate::los::{LosCounter, Passable, Traversable, line_of_sight_counted};
+use crate::los::{LosCounter, Passable, PassableGrid};
 use crate::plan::{Plan, PlanStats, check_endpoint, path_length};
 use crate::theta_star::{Entry, distance, trace_back};
 
@@ -79,10 +79,14 @@ const DIAGONALS: [(i64, i64); 4] = [(1, 1), (-1, 1), (-1, -1), (1, -1)];
 /// ```
 #[must_use]
 pub fn corner_cells(grid: &OccupancyGrid, unknown_passable: bool) -> Vec<(usize, usize)> {
-    let passable = Traversable::new(grid, unknown_passable);
+    corners_of(&PassableGrid::new(grid, unknown_passable))
+}
+
+/// [`corner_cells`] of a grid's precomputed passability.
+fn corners_of(passable: &PassableGrid) -> Vec<(usize, usize)> {
     let mut corners = Vec::new();
-    for y in 0..grid.height() {
-        for x in 0..grid.width() {
+    for y in 0..passable.height() {
+        for x in 0..passable.width() {
             let (xi, yi) = (x as i64, y as i64);
             if passable.passable(xi, yi)
                 && DIAGONALS.iter().any(|&(dx, dy)| {
@@ -138,8 +142,8 @@ pub fn optimal_any_angle(
 ) -> Result<Option<Plan>> {
     check_endpoint(grid, "start", start, opts.unknown_passable)?;
     check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
-    let passable = Traversable::new(grid, opts.unknown_passable);
-    let mut nodes = corner_cells(grid, opts.unknown_passable);
+    let passable = PassableGrid::new(grid, opts.unknown_passable);
+    let mut nodes = corners_of(&passable);
     for endpoint in [start, goal] {
         if !nodes.contains(&endpoint) {
             nodes.push(endpoint);
@@ -194,7 +198,7 @@ pub fn optimal_any_angle(
                 continue;
             }
             let candidate = g_from + distance(from, to);
-            if candidate < g_to && line_of_sight_counted(&passable, from, to, &mut counter) {
+            if candidate < g_to && passable.sight_counted(from, to, &mut counter) {
                 if let (Some(gv), Some(pv)) = (g.get_mut(v), parent.get_mut(v)) {
                     *gv = candidate;
                     *pv = u as u32;

@@ -27,7 +27,7 @@
 use crate::astar::{AstarOptions, AstarSearch};
 use crate::error::Result;
 use crate::grid::OccupancyGrid;
-use crate::los::{LosCounter, Passable, Traversable, line_of_sight_counted};
+use crate::los::{LosCounter, Passable, PassableGrid};
 use crate::plan::{Plan, PlanStats, path_length};
 
 /// Options of [`astar_ps`].
@@ -40,7 +40,10 @@ pub struct AstarPsOptions {
 /// Shorten a path whose consecutive waypoints are clear under the rule of [`crate::los`]
 /// by greedy farthest-visible smoothing (see the [module docs](self)): keep the first
 /// waypoint, then repeatedly jump to the farthest later waypoint in line of sight of the
-/// last kept one. Line-of-sight queries are counted in `counter`.
+/// last kept one. Line-of-sight queries are counted in `counter`; they take
+/// [`Passable::sight_counted`], so a [`PassableGrid`] gives the fast walk of
+/// [`crate::los`] (a plain grid or [`Traversable`](crate::los::Traversable) the reference
+/// one, with the same answers).
 ///
 /// The result starts and ends with the input's end waypoints, every segment of it is clear
 /// (checked, or a segment of the input), and it is never longer than the input (triangle
@@ -76,7 +79,7 @@ pub fn smooth_path(
             .rev()
             .find(|&j| {
                 path.get(j)
-                    .is_some_and(|&to| line_of_sight_counted(grid, from, to, counter))
+                    .is_some_and(|&to| grid.sight_counted(from, to, counter))
             })
             .unwrap_or(anchor + 1);
         anchor = farthest;
@@ -123,7 +126,7 @@ pub fn astar_ps(
         return Ok(None);
     };
     let mut counter = LosCounter::default();
-    let passable = Traversable::new(grid, opts.unknown_passable);
+    let passable = PassableGrid::new(grid, opts.unknown_passable);
     let waypoints = smooth_path(&passable, &grid_plan.waypoints, &mut counter);
     let length = path_length(&waypoints);
     Ok(Some(Plan {

@@ -25,7 +25,7 @@ use std::collections::BinaryHeap;
 
 use crate::error::Result;
 use crate::grid::OccupancyGrid;
-use crate::los::{LosCounter, Passable, Traversable, line_of_sight_counted};
+use crate::los::{LosCounter, Passable, PassableGrid};
 use crate::plan::{Plan, PlanStats, check_endpoint, path_length};
 
 /// Options of [`theta_star`].
@@ -127,7 +127,7 @@ pub fn theta_star(
 ) -> Result<Option<Plan>> {
     check_endpoint(grid, "start", start, opts.unknown_passable)?;
     check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
-    let passable = Traversable::new(grid, opts.unknown_passable);
+    let passable = PassableGrid::new(grid, opts.unknown_passable);
     let width = grid.width();
     let cells = width * grid.height();
     let mut g = vec![f64::INFINITY; cells];
@@ -170,11 +170,7 @@ pub fn theta_star(
         let g_parent = g.get(parent_index).copied().unwrap_or(f64::INFINITY);
         let (x, y) = (cell.0 as i64, cell.1 as i64);
         for (dx, dy) in MOVES {
-            if !passable.passable(x + dx, y + dy)
-                || (dx != 0
-                    && dy != 0
-                    && !(passable.passable(x + dx, y) && passable.passable(x, y + dy)))
-            {
+            if !passable.step_clear((x, y), (dx, dy)) {
                 continue;
             }
             let next = ((x + dx) as usize, (y + dy) as usize);
@@ -183,7 +179,7 @@ pub fn theta_star(
                 continue;
             }
             let (candidate_g, candidate_parent) = if parent_index != index
-                && line_of_sight_counted(&passable, parent_cell, next, &mut counter)
+                && passable.sight_counted(parent_cell, next, &mut counter)
             {
                 (g_parent + distance(parent_cell, next), parent_index)
             } else {

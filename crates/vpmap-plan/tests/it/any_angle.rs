@@ -2,8 +2,6 @@
 //! against BFS connectivity, the independent path validator, each other (optimum <= Theta*,
 //! optimum <= A* PS <= A*), and a brute-force complete visibility graph on tiny grids.
 
-use std::collections::VecDeque;
-
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use vpmap_plan::{
@@ -211,44 +209,6 @@ fn generate(rng: &mut ChaCha8Rng, kind: &str, max_side: usize) -> (OccupancyGrid
     (grid, unknown_passable)
 }
 
-/// Whether `goal` can be reached from `start` by 8-connected steps without corner
-/// cutting (breadth-first search).
-fn bfs_reachable(
-    grid: &OccupancyGrid,
-    passable: &impl Passable,
-    start: (usize, usize),
-    goal: (usize, usize),
-) -> bool {
-    let w = grid.width();
-    let mut seen = vec![false; w * grid.height()];
-    let mut queue = VecDeque::from([start]);
-    seen[start.1 * w + start.0] = true;
-    while let Some((x, y)) = queue.pop_front() {
-        if (x, y) == goal {
-            return true;
-        }
-        let (xi, yi) = (x as i64, y as i64);
-        for dy in -1..=1 {
-            for dx in -1..=1 {
-                let (nx, ny) = (xi + dx, yi + dy);
-                if !passable.passable(nx, ny)
-                    || (dx != 0
-                        && dy != 0
-                        && !(passable.passable(nx, yi) && passable.passable(xi, ny)))
-                {
-                    continue;
-                }
-                let i = ny as usize * w + nx as usize;
-                if !seen[i] {
-                    seen[i] = true;
-                    queue.push_back((nx as usize, ny as usize));
-                }
-            }
-        }
-    }
-    false
-}
-
 /// The traversable cells of a grid.
 fn traversable_cells(grid: &OccupancyGrid, unknown_passable: bool) -> Vec<(usize, usize)> {
     let passable = Traversable::new(grid, unknown_passable);
@@ -321,11 +281,10 @@ fn planners_agree_with_bfs_and_are_ordered_on_random_grids() {
         if cells.is_empty() {
             continue;
         }
-        let passable = Traversable::new(&grid, unknown_passable);
         for _ in 0..3 {
             let start = cells[rng.random_range(0..cells.len())];
             let goal = cells[rng.random_range(0..cells.len())];
-            let reachable = bfs_reachable(&grid, &passable, start, goal);
+            let reachable = vpmap_plan::reachable(&grid, start, goal, unknown_passable);
             queries += 1;
             unreachable += usize::from(!reachable);
             let a = search

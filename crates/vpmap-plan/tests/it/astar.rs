@@ -1,15 +1,14 @@
 //! A* against `pathfinding::astar` with exact octile costs, and against BFS connectivity.
 
 use std::cmp::Ordering;
-use std::collections::VecDeque;
 use std::ops::Add;
 
 use pathfinding::num_traits::Zero;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use vpmap_plan::{
-    AstarOptions, AstarSearch, Cell, OccupancyGrid, Passable, PlanError, Traversable, astar,
-    path_length, validate_path,
+    AstarOptions, AstarSearch, Cell, Components, OccupancyGrid, Passable, PlanError, Traversable,
+    astar, path_length, validate_path,
 };
 
 use crate::{random_grid, rng};
@@ -122,32 +121,6 @@ fn reference_length(
     .map(|(_, cost)| cost)
 }
 
-/// Connected-component label of every cell under the same moves (BFS), `usize::MAX` for
-/// blocked cells.
-pub(crate) fn components(map: &Traversable, width: usize, height: usize) -> Vec<usize> {
-    let mut label = vec![usize::MAX; width * height];
-    let mut next = 0;
-    for seed in 0..width * height {
-        let (sx, sy) = ((seed % width) as i64, (seed / width) as i64);
-        if label[seed] != usize::MAX || !map.passable(sx, sy) {
-            continue;
-        }
-        label[seed] = next;
-        let mut queue = VecDeque::from([(sx, sy)]);
-        while let Some(n) = queue.pop_front() {
-            for ((x, y), _) in successors(map, n) {
-                let i = y as usize * width + x as usize;
-                if label[i] == usize::MAX {
-                    label[i] = next;
-                    queue.push_back((x, y));
-                }
-            }
-        }
-        next += 1;
-    }
-    label
-}
-
 fn random_free_cell(
     rng: &mut ChaCha8Rng,
     map: &Traversable,
@@ -172,7 +145,7 @@ fn astar_matches_pathfinding_and_bfs_on_random_grids() {
         let unknown_passable = round % 3 == 0;
         let opts = AstarOptions { unknown_passable };
         let map = Traversable::new(&grid, unknown_passable);
-        let label = components(&map, w, h);
+        let components = Components::label(&grid, unknown_passable);
         for _ in 0..8 {
             let (Some(start), Some(goal)) = (
                 random_free_cell(&mut rng, &map, w, h),
@@ -182,7 +155,7 @@ fn astar_matches_pathfinding_and_bfs_on_random_grids() {
             };
             let plan = search.search(&grid, start, goal, &opts).unwrap();
             let reference = reference_length(&map, start, goal);
-            let connected = label[start.1 * w + start.0] == label[goal.1 * w + goal.0];
+            let connected = components.connected(start, goal);
             assert_eq!(plan.is_some(), connected, "{start:?} -> {goal:?}");
             assert_eq!(reference.is_some(), connected, "{start:?} -> {goal:?}");
             let (Some(plan), Some(reference)) = (plan, reference) else {

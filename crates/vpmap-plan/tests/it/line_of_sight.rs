@@ -3,15 +3,16 @@
 
 use std::collections::BTreeSet;
 
+use proptest::prelude::*;
 use rand::Rng;
-use vpmap_plan::los::visit_swept_cells;
+use vpmap_plan::los::{PassableGrid, visit_swept_cells};
 use vpmap_plan::validate::swept_square_overlaps_cell;
 use vpmap_plan::{
-    Cell, LosCounter, OccupancyGrid, Traversable, line_of_sight, line_of_sight_counted,
+    Cell, LosCounter, OccupancyGrid, Passable, Traversable, line_of_sight, line_of_sight_counted,
     validate_path,
 };
 
-use crate::{random_grid, rng};
+use crate::{random_grid, rng, small_grid};
 
 /// A map from cells to cells (a mirror or a transposition).
 type CellMap<'a> = dyn Fn(usize, usize) -> (usize, usize) + 'a;
@@ -266,6 +267,91 @@ fn los_is_invariant_under_mirroring_and_transposing_the_grid() {
                     line_of_sight(&grid, a, b),
                     line_of_sight(&g, f(a.0, a.1), f(b.0, b.1))
                 );
+            }
+        }
+    }
+}
+
+/// A cell of a `width x height` grid or up to `margin` cells outside it.
+fn cell_around(width: usize, height: usize, margin: i64) -> impl Strategy<Value = (i64, i64)> {
+    (
+        -margin..width as i64 + margin,
+        -margin..height as i64 + margin,
+    )
+}
+
+/// A grid with two cells in or near it; near enough that most segments touch the border.
+fn grid_and_segment() -> impl Strategy<Value = (OccupancyGrid, (i64, i64), (i64, i64), i64)> {
+    (small_grid(24), 1..=3i64).prop_flat_map(|(grid, margin)| {
+        let (w, h) = (grid.width(), grid.height());
+        (
+            Just(grid),
+            cell_around(w, h, margin),
+            cell_around(w, h, margin),
+            Just(margin),
+        )
+    })
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig::with_cases(2000))]
+
+    /// The fast walk of `PassableGrid` against the reference `visit_swept_cells` asking a
+    /// `Traversable`: same answer, same cells looked up in the same order (so the same
+    /// counts), for unknown cells passable or not and for end cells outside the grid
+    /// (the reference is translation invariant, so it walks the segment shifted into
+    /// non-negative coordinates).
+    #[test]
+    fn passable_grid_walks_the_reference_cells((grid, a, b, margin) in grid_and_segment()) {
+        for unknown_passable in [false, true] {
+            let reference = Traversable::new(&grid, unknown_passable);
+            let shift = |(x, y): (i64, i64)| ((x + margin) as usize, (y + margin) as usize);
+            let mut expected = Vec::new();
+            let expected_clear = visit_swept_cells(shift(a), shift(b), |x, y| {
+                let cell = (x - margin, y - margin);
+                expected.push(cell);
+                reference.passable(cell.0, cell.1)
+            });
+            let view = PassableGrid::new(&grid, unknown_passable);
+            let mut walked = Vec::new();
+            let mut counter = LosCounter::default();
+            let clear = view.sight_traced(a, b, &mut counter, |x, y| walked.push((x, y)));
+            prop_assert_eq!(clear, expected_clear, "{:?} -> {:?}", a, b);
+            prop_assert_eq!(&walked, &expected, "{:?} -> {:?}", a, b);
+            prop_assert_eq!(counter, LosCounter { checks: 1, cells: expected.len() });
+            let mut untraced = LosCounter::default();
+            prop_assert_eq!(view.sight(a, b, &mut untraced), clear);
+            prop_assert_eq!(untraced, counter);
+            if a.0 >= 0 && a.1 >= 0 && b.0 >= 0 && b.1 >= 0 {
+                let (ua, ub) = ((a.0 as usize, a.1 as usize), (b.0 as usize, b.1 as usize));
+                let mut slow = LosCounter::default();
+                prop_assert_eq!(line_of_sight_counted(&reference, ua, ub, &mut slow), clear);
+                prop_assert_eq!(slow, counter);
+                prop_assert_eq!(line_of_sight(&view, ua, ub), clear);
+            }
+            for x in -margin..grid.width() as i64 + margin {
+                for y in -margin..grid.height() as i64 + margin {
+                    prop_assert_eq!(view.passable(x, y), reference.passable(x, y));
+                }
+            }
+        }
+    }
+
+    /// Single steps from a passable cell that `PassableGrid::step_clear` allows are
+    /// exactly the one-cell segments in line of sight (the movement rule of A*, Theta* and
+    /// MBPP's bugs agrees with the collision rule).
+    #[test]
+    fn step_clear_is_one_cell_line_of_sight(
+        (grid, a, _, _) in grid_and_segment(),
+        unknown_passable in any::<bool>(),
+    ) {
+        let view = PassableGrid::new(&grid, unknown_passable);
+        for dx in -1..=1 {
+            for dy in -1..=1 {
+                let b = (a.0 + dx, a.1 + dy);
+                let legal = view.passable(a.0, a.1) && view.step_clear(a, (dx, dy));
+                let clear = view.sight(a, b, &mut LosCounter::default());
+                prop_assert_eq!(legal, clear, "{:?} by {:?}", a, (dx, dy));
             }
         }
     }

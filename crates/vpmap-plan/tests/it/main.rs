@@ -1,12 +1,14 @@
 //! Integration tests of vpmap-plan: grids against independent references (geo predicates,
 //! brute-force distances), file round trips, line of sight against the independent
-//! validator, A* against `pathfinding::astar`, BFS and the Moving AI benchmark optima.
+//! validator, A* against `pathfinding::astar`, BFS and the Moving AI benchmark optima, MBPP
+//! against BFS, the validator and the exact optimum.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::float_cmp)]
 
 mod any_angle;
 mod astar;
 mod inflation;
 mod line_of_sight;
+mod mbpp;
 mod movingai_benchmarks;
 mod movingai_files;
 mod raster;

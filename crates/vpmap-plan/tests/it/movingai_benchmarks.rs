@@ -10,8 +10,8 @@ use vpmap_plan::{
     read_scen, validate_path,
 };
 
-use crate::astar::components;
 use crate::movingai_dir;
+use vpmap_plan::Components;
 
 /// Maps up to this many cells have every problem checked.
 const SMALL_MAP_CELLS: usize = 25_000;
@@ -162,13 +162,13 @@ fn no_path_between_components_of_benchmark_maps() {
     for name in ["Berlin_0_256.map", "AR0500SR.map"] {
         let grid = read_movingai_map(&maps[name]).unwrap();
         let map = Traversable::new(&grid, false);
-        let (w, h) = (grid.width(), grid.height());
-        let label = components(&map, w, h);
+        let w = grid.width();
+        let components = Components::label(&grid, false);
         // The first cell of each component, in row-major order.
         let mut firsts: Vec<(usize, usize)> = Vec::new();
         let mut seen = std::collections::HashSet::new();
-        for (i, &l) in label.iter().enumerate() {
-            if l != usize::MAX && seen.insert(l) {
+        for (i, &l) in components.labels().iter().enumerate() {
+            if l != 0 && seen.insert(l) {
                 firsts.push((i % w, i / w));
             }
         }

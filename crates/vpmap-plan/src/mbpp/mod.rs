@@ -1,0 +1,320 @@
+//! Multi-Bug Path Planning (MBPP, the thesis's chapter 5 and Algorithm 2): virtual bugs go
+//! greedily toward the goal along the m-line, split at every obstacle they hit so that one
+//! follows its wall each way, note the corner states they pass (`v_list`), leave the wall
+//! where it meets the m-line again, wait where another bug has gone before, and finally
+//! the shortest `v_list` — completed, line-of-sight checked and re-planned where blocked —
+//! is smoothed into the path. Every other feasible `v_list` is returned as an alternative.
+//!
+//! `docs/mbpp.md` walks through the rules with the thesis's names; this page states them
+//! exactly as implemented.
+//!
+//! # States and moves
+//! A bug stands on a traversable cell. `rr(s) = rr_g - |s - goal|` (errata: no stored
+//! matrix), so the greedy action `argmax rr` over the 8 neighbours is the neighbour
+//! nearest to the goal. From the start, greedy moves in an empty grid go diagonally until
+//! the bug is level with the goal, then straight (the nearest neighbour is unique for
+//! integer offsets): that walk is the **m-line**, and every cell on it has a position
+//! `0..=n` along it with the distance to the goal strictly falling. A bug in **greedy
+//! mode** always stands on the m-line and steps to the next m-line cell when that step is
+//! legal (8-connected, a diagonal step needs both orthogonal neighbours traversable — the
+//! collision rule of [`crate::los`] for single steps).
+//!
+//! # Hit, birth and wall following (C4)
+//! When the greedy step is illegal the bug **hits** the obstacle at its cell `H` (added to
+//! its `hit_list`). It gives birth to a second bug with a copy of its `v_list`; the parent
+//! follows the wall keeping it on its right hand, the newborn keeps it on its left, so the
+//! two go round the obstacle in opposite directions (the thesis's "state on the other side
+//! of its parent"). Both put their hand on the blocked cell of the greedy step (or, for a
+//! diagonal step squeezed between blocked cells, on the first blocked orthogonal
+//! neighbour). Wall following uses the four straight moves and the classic hand rule:
+//! turn towards the hand if that cell is traversable, else go straight, else turn away,
+//! else go back. (The thesis lets the bug choose among its 8 neighbours by `rr` without
+//! revisiting its last two states; that rule is not well defined at concave corners and
+//! can cycle in a dead end, while the hand rule traces the whole boundary of the
+//! obstacle's 8-connected component, and the path's shape comes from the `v_list`, not
+//! from the track.)
+//!
+//! # Leaving (C2) and termination (C1)
+//! - **C2(a)**: a following bug that steps onto an m-line cell *further along than its
+//!   hit* (closer to the goal) leaves the wall, notes the cell in its `leave_list`, and goes
+//!   greedy. The thesis leaves at any m-line cell; that is Bug2 without its "closer than the
+//!   hit point" test, which can circle forever between two m-line crossings, and the
+//!   printed C1(b) does not always catch it. With the test, the hit positions along one
+//!   bug's life strictly increase, so a bug hits at most `n` times.
+//! - **C1(a)**, **C1(b)**: a following bug that cannot move, or whose (cell, heading) state
+//!   repeats (it went round its obstacle without meeting the m-line beyond its hit), is
+//!   terminated. The wall walk is deterministic, so a repeat means a loop; repeats are
+//!   found in `O(1)` memory by Brent's cycle detection, plus a direct test for the state it
+//!   started in.
+//! - **C1(c)** as printed (end a following bug on *any* bug's hit state) is not applied: a
+//!   bug crossing another's hit cell walks a different wall state with a different hit
+//!   distance, and ending it can lose the only path (found by the random-grid tests). The
+//!   waiting condition below already stops duplicate work where it is exact.
+//! - A bug that reaches the goal is done; the goal ends its `v_list`.
+//!
+//! # Waiting (C3) and idle bugs
+//! Greedy behaviour has no memory: two greedy bugs on the same m-line cell walk the same
+//! states from then on. So the first bug to stand greedily on an m-line cell **owns** it;
+//! a bug that would go greedy on an owned cell (by leaving there, or by a greedy step) waits
+//! there instead (the thesis waits only on other bugs' leave states; a greedy step onto an
+//! owned cell can only reach a leave state, and leaving onto a cell another bug walked
+//! greedily would otherwise walk its path again, against Lemma 3). When all bugs are done,
+//! a waiting bug is completed with the corner states the owner (and its descendants) noted
+//! after that cell: its `v_list` joins every continuation of the owner's `v_list` at that
+//! point.
+//!
+//! # `v_list` by line of sight
+//! Each bug keeps the last state of its `v_list` as its anchor. After every step it checks
+//! line of sight from the anchor to its new cell; when it is blocked, the previous cell —
+//! visible from the anchor and one legal step from the new cell — is appended and becomes
+//! the anchor (the thesis's "common neighbour of the previous and current states visible
+//! from the latest state in `v_list`"). A bug leaving the wall also appends its leave cell,
+//! so that bugs waiting there later join clear segments. Hence consecutive states of a
+//! bug's own `v_list` are always in line of sight.
+//!
+//! # Selection, line-of-sight check and re-planning
+//! All `v_list`s form one graph (a tree of shared prefixes plus the joins of waiting bugs).
+//! Its shortest start-goal path (Dijkstra over Euclidean segment lengths) is the thesis's
+//! `select_list`. Its segments are checked for line of sight; a join segment can be
+//! blocked (the owner's next corner need not be visible from where the waiting bug joined).
+//! A blocked segment `(u, v)` is re-planned by running MBPP from `u` to `v` and splicing the
+//! result in (the thesis restarts "with the state just before the first identified
+//! occupied state"; starting at `u` keeps the segment's ends on known states), and the
+//! selection is repeated until the shortest path is clear. A re-planning that fails
+//! (nesting deeper than [`MbppOptions::max_replan_depth`]) drops the segment; bugs' own
+//! `v_list`s are clear, so a path is always left when one was found. The chosen path is
+//! then smoothed by [`smooth_path`] (the thesis's `Path_smooth`: farthest visible state
+//! first).
+//!
+//! # Completeness and bounds
+//! If the goal is reachable, the m-line beyond a hit runs from the obstacle to the goal, and
+//! the wall walk round the obstacle's component crosses it (an 8-connected path from inside
+//! to outside meets a 4-connected closed boundary), so one of the two wall followers
+//! leaves beyond its hit; hits move strictly along the m-line, so some bug reaches the goal.
+//! Every m-line cell is hit at most once (it must be owned first), so there are at most
+//! `2 n + 1` bugs for an m-line of `n + 1` cells, and each walks at most about three times
+//! the boundary of one obstacle component plus the m-line: an unsolvable query ends with
+//! `found = false` after `O(n x free cells)` steps in the worst case, and usually after one
+//! walk round the enclosing wall.
+//!
+//! # References
+//! - The thesis, chapter 5 and Appendix A.2 (Algorithm 2), read with its errata.
+//! - V. J. Lumelsky, A. A. Stepanov, "Path-Planning Strategies for a Point Mobile Automaton
+//!   Moving Amidst Unknown Obstacles of Arbitrary Shape", Algorithmica 2, 1987 (Bug2 and its
+//!   leave rule).
+//! - R. P. Brent, "An Improved Monte Carlo Factorization Algorithm", BIT 20, 1980 (cycle
+//!   detection).
+//!
+//! # Files
+//! - `result.rs`: the options, results and counters;
+//! - `walk.rs`: the m-line and the bugs' walk (greedy moves, hits, wall following,
+//!   leaving, waiting), which builds the `v_list` tree;
+//! - `graph.rs`: every `v_list` as one graph, with its shortest-path searches;
+//! - `select.rs`: selection, line-of-sight check and re-planning, and the alternatives;
+//! - this file: [`mbpp`], which runs those steps and smooths the result.
+
+mod graph;
+mod result;
+mod select;
+mod walk;
+
+pub use result::{BugFate, BugTrack, LeaveRule, Mbpp, MbppOptions, MbppStats};
+pub use walk::m_line;
+
+use crate::error::Result;
+use crate::grid::OccupancyGrid;
+use crate::los::{LosCounter, Passable, PassableGrid};
+use crate::plan::{Plan, PlanStats, check_endpoint, path_length};
+use crate::smoothing::smooth_path;
+
+use graph::Graph;
+use select::{alternatives, select};
+use walk::Walk;
+
+/// Multi-Bug Path Planning from `start` to `goal` (see the [module docs](self)).
+///
+/// # Errors
+/// [`PlanError::EndpointOutsideGrid`](crate::PlanError::EndpointOutsideGrid) when `start`
+/// or `goal` is outside the grid,
+/// [`PlanError::EndpointBlocked`](crate::PlanError::EndpointBlocked) when it is not
+/// traversable.
+///
+/// # Complexity
+/// At most `2 n + 1` bugs for an m-line of `n + 1` cells; each step costs one line-of-sight
+/// query. See the module docs for the bound on unsolvable queries.
+///
+/// # Example
+/// ```
+/// use vpmap_plan::{Cell, OccupancyGrid, mbpp::{mbpp, MbppOptions}};
+/// // ......
+/// // ..#...
+/// // ..#...
+/// // ..#...
+/// // ......
+/// let mut grid = OccupancyGrid::new(6, 5, 1.0, [0.0; 2], Cell::Free).unwrap();
+/// for y in 1..4 {
+///     grid.set(2, y, Cell::Occupied).unwrap();
+/// }
+/// let result = mbpp(&grid, (0, 2), (5, 2), &MbppOptions::default()).unwrap();
+/// let best = result.best.unwrap();
+/// // Round the wall's top end, past the corner cells (1, 0) and (3, 0): the shortest way.
+/// assert_eq!(best.waypoints, [(0, 2), (1, 0), (3, 0), (5, 2)]);
+/// assert!((best.length - (5f64.sqrt() + 2.0 + 8f64.sqrt())).abs() < 1e-12);
+/// // The first bug split once, at the wall; the newborn went round the bottom end and
+/// // waited where the first bug had left the wall; its completed path is the alternative.
+/// assert_eq!(result.bugs.len(), 2);
+/// assert_eq!(result.alternatives.len(), 1);
+/// assert!(result.alternatives[0].length > best.length);
+/// ```
+pub fn mbpp(
+    grid: &OccupancyGrid,
+    start: (usize, usize),
+    goal: (usize, usize),
+    opts: &MbppOptions,
+) -> Result<Mbpp> {
+    check_endpoint(grid, "start", start, opts.unknown_passable)?;
+    check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
+    let padded = PassableGrid::new(grid, opts.unknown_passable);
+    let mut stats = MbppStats::default();
+    let mut counter = LosCounter::default();
+    let outcome = run(
+        &padded,
+        to_i(start),
+        to_i(goal),
+        opts,
+        0,
+        &mut stats,
+        &mut counter,
+    );
+    stats.los_checks = counter.checks;
+    stats.los_cells = counter.cells;
+    let plan_stats = PlanStats {
+        expanded: stats.bug_steps,
+        generated: stats.bugs,
+        los_checks: counter.checks,
+        los_cells: counter.cells,
+    };
+    let best = outcome.best.map(|waypoints| Plan {
+        length: path_length(&waypoints),
+        waypoints,
+        stats: plan_stats,
+    });
+    let alternatives = outcome
+        .alternatives
+        .into_iter()
+        .map(|waypoints| Plan {
+            length: path_length(&waypoints),
+            waypoints,
+            stats: plan_stats,
+        })
+        .collect();
+    Ok(Mbpp {
+        best,
+        alternatives,
+        bugs: outcome.bugs,
+        stats,
+    })
+}
+
+/// Cell coordinates as signed integers.
+type Xy = (i64, i64);
+
+#[inline]
+fn to_i(c: (usize, usize)) -> Xy {
+    (c.0 as i64, c.1 as i64)
+}
+
+#[inline]
+fn to_u(c: Xy) -> (usize, usize) {
+    (c.0 as usize, c.1 as usize)
+}
+
+const NONE: u32 = u32::MAX;
+/// What one (possibly nested) run produces.
+struct Outcome {
+    best: Option<Vec<(usize, usize)>>,
+    alternatives: Vec<Vec<(usize, usize)>>,
+    bugs: Vec<BugTrack>,
+}
+
+/// The bugs' walk, then selection, check and re-planning.
+fn run(
+    grid: &PassableGrid,
+    start: Xy,
+    goal: Xy,
+    opts: &MbppOptions,
+    depth: usize,
+    stats: &mut MbppStats,
+    counter: &mut LosCounter,
+) -> Outcome {
+    if start == goal {
+        stats.bugs += 1;
+        return Outcome {
+            best: Some(vec![to_u(start)]),
+            alternatives: Vec::new(),
+            bugs: vec![BugTrack::born(
+                None,
+                start,
+                opts.record_tracks,
+                BugFate::ReachedGoal,
+            )],
+        };
+    }
+    let mut walk = Walk::new(
+        grid,
+        start,
+        goal,
+        opts.record_tracks && depth == 0,
+        opts.leave,
+    );
+    walk.run(counter);
+    stats.bugs += walk.bugs.len();
+    stats.bug_steps += walk.steps;
+    stats.hits += walk.hits;
+    stats.waits += walk.joins.len();
+    let Walk {
+        vertices,
+        joins,
+        goals,
+        bugs,
+        ..
+    } = walk;
+    let bugs: Vec<BugTrack> = bugs.into_iter().map(|b| b.track).collect();
+    if goals.is_empty() {
+        return Outcome {
+            best: None,
+            alternatives: Vec::new(),
+            bugs,
+        };
+    }
+    let mut graph = Graph::new(&vertices, &joins);
+    let selected = select(&mut graph, grid, goal, opts, depth, stats, counter);
+    let alternatives = alternatives(graph, &goals, &joins, grid, counter, selected.as_deref());
+    let best = selected.map(|path| smooth_path(grid, &path, counter));
+    Outcome {
+        best,
+        alternatives,
+        bugs,
+    }
+}
+
+/// Whether a bug may stand on cell `c`.
+#[inline]
+fn passable(grid: &PassableGrid, c: Xy) -> bool {
+    grid.passable(c.0, c.1)
+}
+
+#[inline]
+fn add(a: Xy, b: Xy) -> Xy {
+    (a.0 + b.0, a.1 + b.1)
+}
+
+#[inline]
+fn d2(a: Xy, b: Xy) -> i64 {
+    (a.0 - b.0).pow(2) + (a.1 - b.1).pow(2)
+}
+
+#[inline]
+fn dist(a: Xy, b: Xy) -> f64 {
+    ((a.0 - b.0) as f64).hypot((a.1 - b.1) as f64)
+}
