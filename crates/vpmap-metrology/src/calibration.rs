@@ -24,6 +24,17 @@ pub enum Perspective {
     ThreePoint,
 }
 
+impl Perspective {
+    /// The scene file's spelling: `"2pp"` or `"3pp"` (as serialised).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::TwoPoint => "2pp",
+            Self::ThreePoint => "3pp",
+        }
+    }
+}
+
 /// The image frame aligned with the horizon, origin at the principal point.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct HorizonFrame {

@@ -55,6 +55,9 @@ pub mod synthetic;
 pub use error::{Result, VisionError};
 pub use prepare::{MAX_SIDE_PX, MIN_SIDE_PX};
 pub use segments::detect_segments;
+/// Two-point (vertical lines parallel in the image) or three-point perspective; the one type
+/// of the workspace, from `vpmap-metrology`.
+pub use vpmap_metrology::calibration::Perspective;
 
 /// A line segment in the image, pixels: origin at the top-left corner of the top-left pixel
 /// (pixel centres at `i + 0.5`), `x` right, `y` down, as in `docs/scene-format.md`.
@@ -94,17 +97,6 @@ pub struct VanishingPoint {
     pub vertical: bool,
 }
 
-/// Two-point (vertical lines parallel in the image) or three-point perspective.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Perspective {
-    /// The vertical direction is within [`DetectOptions::two_point_tolerance_deg`] of the
-    /// image plane: its vanishing point is at (or far towards) infinity, the pitch is taken
-    /// as zero.
-    TwoPoint,
-    /// The vertical direction is tilted more than that: three finite vanishing points.
-    ThreePoint,
-}
-
 /// What [`detect`] found.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Detection {
@@ -121,7 +113,10 @@ pub struct Detection {
     pub focal_estimated: bool,
     /// Whether the principal point was estimated (not given).
     pub principal_point_estimated: bool,
-    /// Two- or three-point perspective, from the vertical direction's tilt.
+    /// Two- or three-point perspective, from the vertical direction's tilt:
+    /// [`Perspective::TwoPoint`] when it is within [`DetectOptions::two_point_tolerance_deg`]
+    /// of the image plane (its vanishing point at, or far towards, infinity; the pitch taken as
+    /// zero), [`Perspective::ThreePoint`] otherwise (three finite vanishing points).
     pub perspective: Perspective,
     /// Angle between the vertical direction and the image plane, degrees: the absolute
     /// camera pitch (whatever the roll).

@@ -247,20 +247,17 @@ fn scene_json(
         "{{\n  \"version\": 1,\n  \"image\": {{\"width\": {}, \"height\": {}}},\n  \"perspective\": \"{}\",\n  \"vanishing_points\": [\n{}\n  ],\n  \"principal_point\": {},\n  \"focal_px\": {},\n  \"objects\": [],\n  \"floor\": []\n}}\n",
         image_size_px[0],
         image_size_px[1],
-        perspective_name(perspective),
+        perspective.name(),
         vps.join(",\n"),
         numbers(&principal_point),
         number(focal_px)
     )
 }
 
-/// `"2pp"` or `"3pp"`.
+/// `"2pp"` or `"3pp"`: [`Perspective::name`], kept for callers of this module.
 #[must_use]
 pub fn perspective_name(perspective: Perspective) -> &'static str {
-    match perspective {
-        Perspective::TwoPoint => "2pp",
-        Perspective::ThreePoint => "3pp",
-    }
+    perspective.name()
 }
 
 /// The scene for `det` (see the module documentation).
@@ -278,10 +275,7 @@ pub fn detected_scene(det: &Detection) -> Result<DetectedScene, SceneError> {
             c[0], c[1]
         ));
     }
-    let perspective = match det.perspective {
-        crate::Perspective::TwoPoint => Perspective::TwoPoint,
-        crate::Perspective::ThreePoint => Perspective::ThreePoint,
-    };
+    let perspective = det.perspective;
     let mut detected = [Vec3::zeros(); 3];
     for (k, &i) in roles.iter().enumerate() {
         let Some(vp) = det.vanishing_points.get(i) else {
@@ -342,7 +336,7 @@ mod tests {
     use super::*;
     use crate::{Intrinsics, Segment, VanishingPoint};
 
-    fn detection(frame: [Vec3; 3], perspective: crate::Perspective) -> Detection {
+    fn detection(frame: [Vec3; 3], perspective: Perspective) -> Detection {
         let (f, c) = (800.0, [320.0, 240.0]);
         Detection {
             image_size_px: [640, 480],
@@ -381,7 +375,7 @@ mod tests {
 
     #[test]
     fn three_point_scene_calibrates_to_the_detected_camera() {
-        let det = detection(world_axes(0.5, 0.3), crate::Perspective::ThreePoint);
+        let det = detection(world_axes(0.5, 0.3), Perspective::ThreePoint);
         let s = detected_scene(&det).unwrap_or_else(|e| panic!("{e}"));
         assert!((s.calibration.focal_px - 800.0).abs() < 1e-3);
         assert!((s.calibration.pitch_rad - 0.3).abs() < 1e-5);
@@ -399,7 +393,7 @@ mod tests {
     fn nearly_level_camera_is_levelled_for_two_point_perspective() {
         let mut frame = world_axes(-0.7, 1.5f64.to_radians());
         frame[1] = rotate(frame[1], frame[2], 0.4f64.to_radians());
-        let det = detection(frame, crate::Perspective::TwoPoint);
+        let det = detection(frame, Perspective::TwoPoint);
         let s = detected_scene(&det).unwrap_or_else(|e| panic!("{e}"));
         assert!(s.points_px[2].is_none());
         assert!(
@@ -416,7 +410,7 @@ mod tests {
 
     #[test]
     fn two_verticals_are_refused() {
-        let mut det = detection(world_axes(0.5, 0.3), crate::Perspective::ThreePoint);
+        let mut det = detection(world_axes(0.5, 0.3), Perspective::ThreePoint);
         det.vanishing_points[0].vertical = true;
         assert!(detected_scene(&det).is_err());
     }
