@@ -10,6 +10,7 @@ use vpmap_metrology::synth::Truth;
 use vpmap_pipeline::{MapOptions, PipelineError};
 use vpmap_plan::grid::{Cell, OccupancyGrid};
 use vpmap_plan::mbpp::{MbppOptions, mbpp};
+use vpmap_plan::reach::Components;
 use vpmap_render::{FloorPlanStyle, floor_plan_svg, svg_to_png};
 
 use crate::output::OutputSet;
@@ -300,43 +301,18 @@ fn demo_path(built: &Built) -> Result<(String, FloorPlanStyle)> {
     Ok((line, style))
 }
 
-/// The free cell reachable from `start` (8-connected, no corner cutting) with the largest
-/// world y: the far side of the room.
+/// The free cell reachable from `start` with the largest world y (the far side of the room),
+/// the leftmost of them on a tie.
 fn deepest_reachable(grid: &OccupancyGrid, start: (usize, usize)) -> (usize, usize) {
-    let (w, h) = (grid.width(), grid.height());
-    let free = |x: i64, y: i64| {
-        x >= 0
-            && y >= 0
-            && (x as usize) < w
-            && (y as usize) < h
-            && grid.get(x as usize, y as usize) == Some(Cell::Free)
+    let components = Components::label(grid, false);
+    let Some(label) = components.of(start) else {
+        return start;
     };
-    let mut seen = vec![false; w * h];
-    let mut queue = std::collections::VecDeque::from([start]);
-    seen[start.1 * w + start.0] = true;
-    let mut best = start;
-    while let Some((x, y)) = queue.pop_front() {
-        // Row 0 is the top, the largest world y.
-        if y < best.1 {
-            best = (x, y);
-        }
-        for (dx, dy) in [
-            (-1, -1),
-            (0, -1),
-            (1, -1),
-            (-1, 0),
-            (1, 0),
-            (-1, 1),
-            (0, 1),
-            (1, 1),
-        ] {
-            let (nx, ny) = (x as i64 + dx, y as i64 + dy);
-            let diagonal_ok = dx == 0 || dy == 0 || (free(nx, y as i64) && free(x as i64, ny));
-            if free(nx, ny) && diagonal_ok && !seen[ny as usize * w + nx as usize] {
-                seen[ny as usize * w + nx as usize] = true;
-                queue.push_back((nx as usize, ny as usize));
-            }
-        }
-    }
-    best
+    // Row 0 is the top, the largest world y: the first cell of the component in row-major
+    // order.
+    components
+        .labels()
+        .iter()
+        .position(|&l| l == label)
+        .map_or(start, |i| components.cell_at(i))
 }

@@ -50,15 +50,7 @@ pub struct BuildArgs {
     pub hidden_free: bool,
 }
 
-/// A number for an error message: plain when readable, scientific when huge or tiny.
-#[must_use]
-pub fn num(v: f64) -> String {
-    if v != 0.0 && v.is_finite() && !(1e-4..1e7).contains(&v.abs()) {
-        format!("{v:e}")
-    } else {
-        format!("{v}")
-    }
-}
+pub use vpmap_pipeline::num;
 
 /// The command line as typed, `vpmap` for the program, arguments quoted for a POSIX shell
 /// where needed (for the reports' "measured with").

@@ -161,8 +161,16 @@ fn occupancy_grid(map: &FloorMap, options: &MapOptions) -> Result<OccupancyGrid,
     .map_err(PipelineError::Grid)
 }
 
-/// A number for a message: plain when readable, scientific when huge or tiny.
-pub(crate) fn num(v: f64) -> String {
+/// A number for a message: plain when readable, scientific when huge or tiny (the one
+/// formatter of numbers in the command line's and the page's error messages).
+///
+/// # Example
+/// ```
+/// assert_eq!(vpmap_pipeline::num(0.05), "0.05");
+/// assert_eq!(vpmap_pipeline::num(1e300), "1e300");
+/// ```
+#[must_use]
+pub fn num(v: f64) -> String {
     if v != 0.0 && v.is_finite() && !(1e-4..1e7).contains(&v.abs()) {
         format!("{v:e}")
     } else {

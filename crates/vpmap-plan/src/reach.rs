@@ -132,6 +132,18 @@ impl Components {
         self.sizes.len()
     }
 
+    /// Number of passable cells (the sum of every component's size).
+    #[must_use]
+    pub fn passable_cells(&self) -> usize {
+        self.sizes.iter().sum()
+    }
+
+    /// The cell `(x, y)` at row-major index `i` of [`Components::labels`].
+    #[must_use]
+    pub fn cell_at(&self, i: usize) -> (usize, usize) {
+        (i % self.width.max(1), i / self.width.max(1))
+    }
+
     /// Cells in component `label` (0 for a number that is not a component).
     #[must_use]
     pub fn size(&self, label: u32) -> usize {

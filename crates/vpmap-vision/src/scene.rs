@@ -254,12 +254,6 @@ fn scene_json(
     )
 }
 
-/// `"2pp"` or `"3pp"`: [`Perspective::name`], kept for callers of this module.
-#[must_use]
-pub fn perspective_name(perspective: Perspective) -> &'static str {
-    perspective.name()
-}
-
 /// The scene for `det` (see the module documentation).
 ///
 /// # Errors

@@ -388,13 +388,6 @@ fn csv_text(s: &str) -> String {
     }
 }
 
-fn perspective_name(p: Perspective) -> &'static str {
-    match p {
-        Perspective::TwoPoint => "2pp",
-        Perspective::ThreePoint => "3pp",
-    }
-}
-
 /// `objects.csv`: one row per object of every evaluated scene, noise level and method.
 #[must_use]
 pub fn objects_csv(config: &Config, results: &Results) -> String {
@@ -415,7 +408,7 @@ pub fn objects_csv(config: &Config, results: &Results) -> String {
                         out,
                         "{},{},{},{},{},{},{},{},{}",
                         setup.name,
-                        perspective_name(setup.perspective),
+                        setup.perspective.name(),
                         trial.trial,
                         trial.scene_seed,
                         o.sigma_px,
@@ -452,7 +445,7 @@ pub fn failures_csv(config: &Config, results: &Results) -> String {
                     out,
                     "{},{},{},{},{},{},{},{}",
                     setup.name,
-                    perspective_name(setup.perspective),
+                    setup.perspective.name(),
                     trial.trial,
                     trial.scene_seed,
                     o.sigma_px,
@@ -530,7 +523,7 @@ pub fn markdown(
             md,
             "| {} | {} | {} | {} | {} | {} | {} x {} | {} boxes + {} footprint | {} |",
             s.name,
-            perspective_name(s.perspective).to_uppercase(),
+            s.perspective.name().to_uppercase(),
             s.height_m,
             s.pitch_deg,
             s.roll_deg,
@@ -643,7 +636,7 @@ pub fn markdown(
                     md,
                     "| {method} | {} | {} |",
                     sigma_text(*sigma),
-                    perspective_name(p).to_uppercase()
+                    p.name().to_uppercase()
                 );
                 for &k in &scene_metrics {
                     let cell = c
@@ -726,7 +719,7 @@ pub fn headline(config: &Config, c: &Collected) -> String {
                 let r = c.refusals(config, m, s, g);
                 parts.push(format!(
                     "{} centroid shift {} % [{} … {}], overlap {} % [{} … {}], refused {}/{}",
-                    perspective_name(p).to_uppercase(),
+                    p.name().to_uppercase(),
                     fmt(a.median),
                     fmt(a.p5),
                     fmt(a.p95),

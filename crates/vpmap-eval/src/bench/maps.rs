@@ -4,10 +4,10 @@
 //!
 //! Connectivity: a diagonal step needs both orthogonal neighbours free (no corner cutting),
 //! so it can always be replaced by two straight steps, and the components of the 8-connected
-//! movement graph are exactly the 4-connected components of the free cells. [`Components`]
-//! labels them by breadth-first search; it is the reference for "is there a path".
+//! movement graph are exactly the 4-connected components of the free cells.
+//! [`vpmap_plan::reach::Components`] labels them by breadth-first search; it is the reference
+//! for "is there a path".
 
-use std::collections::VecDeque;
 use std::path::{Path, PathBuf};
 
 use crate::error::{EvalError, Result, ResultExt as _, bail};
@@ -18,6 +18,7 @@ use vpmap_metrology::map::{BuildOptions, build_map};
 use vpmap_metrology::scene::Scene;
 use vpmap_metrology::synth::{SynthOptions, synthesize};
 use vpmap_plan::movingai::{Scenario, read_movingai_map, read_scen};
+use vpmap_plan::reach::Components;
 use vpmap_plan::{Cell, OccupancyGrid, RasterOptions, rasterize_map};
 
 /// A cell `(x, y)`: column, row from the top.
@@ -192,93 +193,6 @@ pub struct BenchMap {
     pub queries: Vec<Query>,
 }
 
-/// Connected components of the free cells (4-connected, which for no-corner-cutting
-/// 8-connected moves is the same; see the module docs).
-pub struct Components {
-    width: usize,
-    /// Per cell: 0 for a blocked cell, else the component number from 1.
-    labels: Vec<u32>,
-    /// Cells per component (index `label - 1`).
-    sizes: Vec<usize>,
-}
-
-impl Components {
-    /// Label the free cells of `grid` by breadth-first search.
-    #[must_use]
-    pub fn label(grid: &OccupancyGrid) -> Self {
-        let (w, h) = (grid.width(), grid.height());
-        let free: Vec<bool> = grid.cells().iter().map(|&c| c == Cell::Free).collect();
-        let mut labels = vec![0u32; w * h];
-        let mut sizes = Vec::new();
-        let mut queue = VecDeque::new();
-        for seed in 0..w * h {
-            if !free[seed] || labels[seed] != 0 {
-                continue;
-            }
-            let label = sizes.len() as u32 + 1;
-            labels[seed] = label;
-            queue.push_back(seed);
-            let mut size = 0;
-            while let Some(i) = queue.pop_front() {
-                size += 1;
-                let (x, y) = (i % w, i / w);
-                let neighbours = [
-                    (x > 0).then(|| i - 1),
-                    (x + 1 < w).then(|| i + 1),
-                    (y > 0).then(|| i - w),
-                    (y + 1 < h).then(|| i + w),
-                ];
-                for j in neighbours.into_iter().flatten() {
-                    if free[j] && labels[j] == 0 {
-                        labels[j] = label;
-                        queue.push_back(j);
-                    }
-                }
-            }
-            sizes.push(size);
-        }
-        Self {
-            width: w,
-            labels,
-            sizes,
-        }
-    }
-
-    /// The component of a cell, `None` when it is blocked or outside.
-    #[must_use]
-    pub fn of(&self, c: CellXy) -> Option<u32> {
-        if c.0 >= self.width {
-            return None;
-        }
-        match self.labels.get(c.1 * self.width + c.0) {
-            Some(&l) if l > 0 => Some(l),
-            _ => None,
-        }
-    }
-
-    /// Whether a path joins `a` and `b`.
-    #[must_use]
-    pub fn connected(&self, a: CellXy, b: CellXy) -> bool {
-        matches!((self.of(a), self.of(b)), (Some(x), Some(y)) if x == y)
-    }
-
-    /// Number of components.
-    #[must_use]
-    pub fn count(&self) -> usize {
-        self.sizes.len()
-    }
-
-    /// Number of free cells.
-    #[must_use]
-    pub fn free_cells(&self) -> usize {
-        self.sizes.iter().sum()
-    }
-
-    fn cell(&self, i: usize) -> CellXy {
-        (i % self.width, i / self.width)
-    }
-}
-
 /// The Moving AI folder: `$VPMAP_MOVINGAI` when set, else `../shared/data/movingai` next to
 /// the current folder or one of its ancestors, else next to the workspace this binary was
 /// built from.
@@ -377,7 +291,7 @@ fn map_stem(path: &Path) -> String {
 pub fn load_map_file(path: &Path, per_map: usize, seed: u64) -> Result<BenchMap> {
     let grid = read_movingai_map(path)?;
     let name = map_stem(path);
-    let components = Components::label(&grid);
+    let components = Components::label(&grid, false);
     let mut rng = map_rng(seed, &name);
     let mut queries = sample_solvable(&components, per_map, &mut rng);
     queries.extend(sample_unsolvable(&components, &mut rng));
@@ -443,7 +357,7 @@ pub fn load_scen_file(
             })
             .collect();
         let name = map_stem(&map_path);
-        let components = Components::label(&grid);
+        let components = Components::label(&grid, false);
         let mut rng = map_rng(seed, &name);
         queries.extend(sample_unsolvable(&components, &mut rng));
         maps.push(BenchMap {
@@ -521,7 +435,7 @@ fn find_scen_map(scen: &Path, map_name: &str, extra_dirs: &[PathBuf]) -> Result<
 /// over the start's component), sorted by straight-line distance and taken evenly spread.
 pub fn sample_solvable(components: &Components, n: usize, rng: &mut ChaCha8Rng) -> Vec<Query> {
     let mut by_component: Vec<Vec<u32>> = vec![Vec::new(); components.count()];
-    for (i, &l) in components.labels.iter().enumerate() {
+    for (i, &l) in components.labels().iter().enumerate() {
         if l > 0 {
             by_component[l as usize - 1].push(i as u32);
         }
@@ -538,14 +452,14 @@ pub fn sample_solvable(components: &Components, n: usize, rng: &mut ChaCha8Rng) 
     let mut candidates: Vec<(f64, CellXy, CellXy)> = (0..n * CANDIDATES_PER_QUERY)
         .map(|_| {
             let s = eligible[rng.random_range(0..eligible.len())] as usize;
-            let cells = &by_component[components.labels[s] as usize - 1];
+            let cells = &by_component[components.labels()[s] as usize - 1];
             let g = loop {
                 let g = cells[rng.random_range(0..cells.len())] as usize;
                 if g != s {
                     break g;
                 }
             };
-            let (a, b) = (components.cell(s), components.cell(g));
+            let (a, b) = (components.cell_at(s), components.cell_at(g));
             let d = (a.0.abs_diff(b.0) as f64).hypot(a.1.abs_diff(b.1) as f64);
             (d, a, b)
         })
@@ -570,11 +484,11 @@ pub fn sample_unsolvable(components: &Components, rng: &mut ChaCha8Rng) -> Vec<Q
     if components.count() < 2 {
         return Vec::new();
     }
-    let largest = (0..components.sizes.len())
-        .max_by_key(|&i| (components.sizes[i], std::cmp::Reverse(i)))
-        .map_or(1, |i| i as u32 + 1);
+    let largest = (1..=components.count() as u32)
+        .max_by_key(|&l| (components.size(l), std::cmp::Reverse(l)))
+        .unwrap_or(1);
     let (inside, outside): (Vec<usize>, Vec<usize>) = components
-        .labels
+        .labels()
         .iter()
         .enumerate()
         .filter(|(_, l)| **l > 0)
@@ -588,7 +502,7 @@ pub fn sample_unsolvable(components: &Components, rng: &mut ChaCha8Rng) -> Vec<Q
             (a, b)
         });
     let pick = |cells: &[usize], rng: &mut ChaCha8Rng| {
-        components.cell(cells[rng.random_range(0..cells.len())])
+        components.cell_at(cells[rng.random_range(0..cells.len())])
     };
     (0..UNSOLVABLE_PER_MAP)
         .map(|k| {
@@ -612,7 +526,7 @@ struct MadeGrid {
 }
 
 fn with_sampled_queries(made: MadeGrid, per_map: usize, seed: u64) -> BenchMap {
-    let components = Components::label(&made.grid);
+    let components = Components::label(&made.grid, false);
     let mut rng = map_rng(seed, &made.name);
     let mut queries = sample_solvable(&components, per_map, &mut rng);
     queries.extend(sample_unsolvable(&components, &mut rng));
@@ -801,7 +715,7 @@ mod tests {
     fn diagonal_touching_cells_are_separate_components() {
         // The two free cells touch only at a corner: no corner cutting, no path.
         let g = grid(&[".@", "@.", "@@"]);
-        let c = Components::label(&g);
+        let c = Components::label(&g, false);
         assert_eq!(c.count(), 2);
         assert!(!c.connected((0, 0), (1, 1)));
         assert!(c.connected((0, 0), (0, 0)));
@@ -812,7 +726,7 @@ mod tests {
     #[test]
     fn sampled_queries_are_solvable_and_unsolvable_ones_are_not() {
         let g = grid(&["....@...", "....@...", "....@...", "....@..."]);
-        let c = Components::label(&g);
+        let c = Components::label(&g, false);
         let mut rng = map_rng(1, "x");
         let solvable = sample_solvable(&c, 5, &mut rng);
         assert_eq!(solvable.len(), 5);
@@ -831,14 +745,14 @@ mod tests {
         assert!(unsolvable.iter().all(|q| !c.connected(q.start, q.goal)
             && c.of(q.start).is_some()
             && c.of(q.goal).is_some()));
-        let one = Components::label(&grid(&["...", "..."]));
+        let one = Components::label(&grid(&["...", "..."]), false);
         assert!(sample_unsolvable(&one, &mut rng).is_empty());
     }
 
     #[test]
     fn the_rooms_grid_has_a_closed_room() {
         let g = rooms_grid(64, 16).unwrap_or_else(|e| panic!("{e}"));
-        let c = Components::label(&g);
+        let c = Components::label(&g, false);
         assert_eq!(c.count(), 2);
         assert!(c.connected((0, 0), (62, 62)));
         assert!(!c.connected((0, 0), (20, 5)));

@@ -660,7 +660,7 @@ pub fn markdown(
     table_head(&mut out, &head);
     for (m, g) in results.maps.iter().zip(&summary.maps) {
         let (w, h) = (m.map.grid.width(), m.map.grid.height());
-        let free = m.map.components.free_cells() as f64 / (w * h) as f64;
+        let free = m.map.components.passable_cells() as f64 / (w * h) as f64;
         let mut row = vec![
             format!("`{}`", m.map.name),
             m.map.category.clone(),
@@ -839,7 +839,7 @@ pub fn json(results: &Results, summary: &Summary) -> Value {
                 o.insert("height".to_owned(), json!(m.map.grid.height()));
                 o.insert(
                     "free_cells".to_owned(),
-                    json!(m.map.components.free_cells()),
+                    json!(m.map.components.passable_cells()),
                 );
                 o.insert("components".to_owned(), json!(m.map.components.count()));
                 o.insert("corner_cells".to_owned(), json!(m.corner_cells));

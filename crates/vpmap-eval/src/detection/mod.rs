@@ -309,10 +309,7 @@ fn run_one(image: &DynamicImage, label: &Label, which: Intrinsics, opts: &Detect
         focal_error: (which == Intrinsics::Estimated)
             .then(|| (det.intrinsics.focal_px - label.focal_px).abs() / label.focal_px),
         principal_point_px: det.intrinsics.principal_point_px,
-        perspective: match det.perspective {
-            vpmap_vision::Perspective::TwoPoint => "2pp",
-            vpmap_vision::Perspective::ThreePoint => "3pp",
-        },
+        perspective: det.perspective.name(),
         segments: det.segments.len(),
     });
     Run {

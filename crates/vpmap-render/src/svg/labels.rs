@@ -369,7 +369,7 @@ pub(super) fn title(
         c.roll_deg,
         fmt_num(c.height, size_decimals),
         u.short,
-        perspective_name(map),
+        map.camera.perspective.name(),
         map.method,
         u.long
     );
@@ -387,14 +387,6 @@ pub(super) fn title(
         escape_xml(&second)
     );
     let _ = writeln!(out, "</g>");
-}
-
-/// "2pp" or "3pp", as in the map file.
-pub(super) fn perspective_name(map: &FloorMap) -> String {
-    serde_json::to_value(map.camera.perspective)
-        .ok()
-        .and_then(|v| v.as_str().map(str::to_owned))
-        .unwrap_or_default()
 }
 
 /// Polygon in pixels.

@@ -17,7 +17,6 @@ use vpmap_pipeline::{MapOptions, units_name};
 use super::scene::{map_options_from_query, pipeline_error, scene_from_text};
 use super::{elapsed_ms, respond, to_json};
 use crate::{ApiError, AppState, MAX_JSON_BODY_BYTES, params, run_blocking};
-use vpmap_vision::scene::perspective_name;
 
 #[derive(Serialize)]
 struct Occupancy {
@@ -81,7 +80,7 @@ fn horizon(camera: &CameraReport) -> Option<[[f64; 2]; 2]> {
 
 fn camera_summary(camera: &CameraReport) -> CameraSummary {
     CameraSummary {
-        perspective: perspective_name(camera.perspective),
+        perspective: camera.perspective.name(),
         pitch_deg: camera.pitch_deg,
         roll_deg: camera.roll_deg,
         focal_px: camera.focal_px,

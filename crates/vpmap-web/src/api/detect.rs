@@ -16,7 +16,7 @@ use vpmap_vision::{DetectOptions, Detection, VisionError, detect as detect_photo
 use super::{elapsed_ms, respond, to_json};
 use crate::params::{Query, parse_number, parse_point};
 use crate::{ApiError, AppState, MAX_IMAGE_BODY_BYTES, params, run_blocking};
-use vpmap_vision::scene::{detected_scene, perspective_name};
+use vpmap_vision::scene::detected_scene;
 
 /// Largest photo side, pixels.
 pub const MAX_PHOTO_SIDE_PX: u32 = 8000;
@@ -227,7 +227,7 @@ fn detect_answer(bytes: &[u8], query: &DetectQuery) -> Result<Bytes, ApiError> {
                 direction_camera: v.direction_camera,
             })
             .collect(),
-        perspective: perspective_name(scene.perspective),
+        perspective: scene.perspective.name(),
         focal_px: det.intrinsics.focal_px,
         principal_point: det.intrinsics.principal_point_px,
         image: ImageSizeOut {
