@@ -294,7 +294,7 @@ fn demo_path(built: &Built) -> Result<(String, FloorPlanStyle)> {
         b[0],
         b[1],
         vpmap_pipeline::DEFAULT_ROBOT_RADIUS_M,
-        result.stats.bugs,
+        result.mbpp_stats.bugs,
         result.alternatives.len()
     );
     Ok((line, style))

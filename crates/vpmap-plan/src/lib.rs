@@ -69,7 +69,7 @@ pub use los::{
     LosCounter, Passable, PassableGrid, Traversable, cell_passable, line_of_sight,
     line_of_sight_counted,
 };
-pub use mbpp::{Mbpp, MbppOptions, mbpp};
+pub use mbpp::{MbppOptions, mbpp};
 pub use movingai::{Scenario, parse_movingai_map, parse_scen, read_movingai_map, read_scen};
 pub use optimal::{OptimalAnyAngleOptions, corner_cells, optimal_any_angle};
 pub use plan::{Plan, PlanStats, path_length};

@@ -30,14 +30,20 @@ use crate::plan::Plan;
 use crate::smoothing::{AstarPsOptions, astar_ps};
 use crate::theta_star::{ThetaStarOptions, theta_star};
 
-/// What a planner returns for one query.
+/// What a planner returns for one query (also what [`mbpp`] returns).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Planned {
-    /// The path, or `None` when the goal cannot be reached from the start.
+    /// The path, or `None` when the goal cannot be reached from the start. MBPP's is the
+    /// shortest feasible path after smoothing; its statistics count bug steps as `expanded`
+    /// and bugs as `generated`.
     pub best: Option<Plan>,
-    /// Other feasible paths the planner found (MBPP's alternatives; empty for the others).
+    /// Other feasible paths the planner found (empty for all but MBPP). MBPP's: the
+    /// `v_list`s of the bugs that reached the goal and of the waiting bugs completed from
+    /// them whose segments are all clear, unsmoothed, shortest first, without duplicates or
+    /// the path `best` was smoothed from.
     pub alternatives: Vec<Plan>,
-    /// MBPP's bugs (tracks only when asked for; empty for the other planners).
+    /// MBPP's bugs of the top-level run, in order of birth (tracks only when asked for;
+    /// empty for the other planners).
     pub bugs: Vec<BugTrack>,
     /// MBPP's counters (zero for the other planners).
     pub mbpp_stats: MbppStats,
@@ -184,13 +190,7 @@ impl Planner for BuiltIn {
                     leave,
                     ..MbppOptions::default()
                 };
-                let result = mbpp(grid, start, goal, &opts)?;
-                return Ok(Planned {
-                    best: result.best,
-                    alternatives: result.alternatives,
-                    bugs: result.bugs,
-                    mbpp_stats: result.stats,
-                });
+                return mbpp(grid, start, goal, &opts);
             }
             PlannerKind::AstarPs => {
                 astar_ps(grid, start, goal, &AstarPsOptions { unknown_passable })?

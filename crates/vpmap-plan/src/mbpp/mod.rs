@@ -106,7 +106,7 @@
 //!   detection).
 //!
 //! # Files
-//! - `result.rs`: the options, results and counters;
+//! - `result.rs`: the options, the bugs' records and the counters;
 //! - `walk.rs`: the m-line and the bugs' walk (greedy moves, hits, wall following,
 //!   leaving, waiting), which builds the `v_list` tree;
 //! - `graph.rs`: every `v_list` as one graph, with its shortest-path searches;
@@ -118,13 +118,14 @@ mod result;
 mod select;
 mod walk;
 
-pub use result::{BugFate, BugTrack, LeaveRule, Mbpp, MbppOptions, MbppStats};
+pub use result::{BugFate, BugTrack, LeaveRule, MbppOptions, MbppStats};
 pub use walk::m_line;
 
 use crate::error::Result;
 use crate::grid::OccupancyGrid;
 use crate::los::{LosCounter, Passable, PassableGrid};
 use crate::plan::{Plan, PlanStats, check_endpoint, path_length};
+use crate::planner::Planned;
 use crate::smoothing::smooth_path;
 
 use graph::Graph;
@@ -171,7 +172,7 @@ pub fn mbpp(
     start: (usize, usize),
     goal: (usize, usize),
     opts: &MbppOptions,
-) -> Result<Mbpp> {
+) -> Result<Planned> {
     check_endpoint(grid, "start", start, opts.unknown_passable)?;
     check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
     let padded = PassableGrid::new(grid, opts.unknown_passable);
@@ -208,11 +209,11 @@ pub fn mbpp(
             stats: plan_stats,
         })
         .collect();
-    Ok(Mbpp {
+    Ok(Planned {
         best,
         alternatives,
         bugs: outcome.bugs,
-        stats,
+        mbpp_stats: stats,
     })
 }
 

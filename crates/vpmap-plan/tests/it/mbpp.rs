@@ -4,11 +4,11 @@
 
 use proptest::prelude::*;
 use rand::Rng;
-use vpmap_plan::mbpp::{BugFate, LeaveRule, Mbpp, MbppOptions, m_line, mbpp};
+use vpmap_plan::mbpp::{BugFate, LeaveRule, MbppOptions, m_line, mbpp};
 use vpmap_plan::reach::Components;
 use vpmap_plan::{
-    Cell, OccupancyGrid, OptimalAnyAngleOptions, PlanError, optimal_any_angle, path_length,
-    validate_path,
+    Cell, OccupancyGrid, OptimalAnyAngleOptions, PlanError, Planned, optimal_any_angle,
+    path_length, validate_path,
 };
 
 use crate::{random_grid, rng};
@@ -25,7 +25,7 @@ fn opts(unknown_passable: bool, leave: LeaveRule, record_tracks: bool) -> MbppOp
 /// Every path MBPP returns (the best and each alternative) joins `start` to `goal` through
 /// clear segments, has its reported length, and is no shorter than the optimum.
 fn check_paths(
-    result: &Mbpp,
+    result: &Planned,
     grid: &OccupancyGrid,
     (start, goal): ((usize, usize), (usize, usize)),
     unknown_passable: bool,
@@ -58,7 +58,7 @@ fn check_paths(
 /// chain of legal single steps (checked by the validator) from the bug's birth cell, hits
 /// and leaves lie on the track, and a goal was reached exactly when a path was found.
 fn check_bugs(
-    result: &Mbpp,
+    result: &Planned,
     grid: &OccupancyGrid,
     start: (usize, usize),
     unknown_passable: bool,
@@ -93,17 +93,17 @@ fn check_bugs(
     }
     let reached = bugs.iter().any(|b| b.fate == BugFate::ReachedGoal);
     assert_eq!(reached, result.best.is_some(), "{context}");
-    if result.stats.replans == 0 {
+    if result.mbpp_stats.replans == 0 {
         // No nested runs: the counters are the top-level bugs'.
-        assert_eq!(result.stats.bugs, bugs.len(), "{context}");
+        assert_eq!(result.mbpp_stats.bugs, bugs.len(), "{context}");
         let steps: usize = bugs.iter().map(|b| b.steps).sum();
-        assert_eq!(result.stats.bug_steps, steps, "{context}");
+        assert_eq!(result.mbpp_stats.bug_steps, steps, "{context}");
         // Every hit gives birth to one bug, and both note the hit in their `hit_list`.
-        assert_eq!(result.stats.hits, bugs.len() - 1, "{context}");
+        assert_eq!(result.mbpp_stats.hits, bugs.len() - 1, "{context}");
         let hits: usize = bugs.iter().map(|b| b.hits.len()).sum();
-        assert_eq!(hits, 2 * result.stats.hits, "{context}");
+        assert_eq!(hits, 2 * result.mbpp_stats.hits, "{context}");
         let waits = bugs.iter().filter(|b| b.fate == BugFate::Waiting).count();
-        assert_eq!(result.stats.waits, waits, "{context}");
+        assert_eq!(result.mbpp_stats.waits, waits, "{context}");
     }
 }
 
@@ -147,7 +147,7 @@ fn mbpp_solves_exactly_the_bfs_reachable_queries_on_random_grids() {
                 &context,
             );
             check_bugs(&result, &grid, start, unknown_passable, &context);
-            if leave == LeaveRule::MLine && result.stats.replans == 0 {
+            if leave == LeaveRule::MLine && result.mbpp_stats.replans == 0 {
                 // Every m-line cell is hit at most once: at most 2 n + 1 bugs.
                 let n = m_line(start, goal).len() - 1;
                 assert!(result.bugs.len() <= 2 * n + 1, "{context}");
@@ -156,7 +156,7 @@ fn mbpp_solves_exactly_the_bfs_reachable_queries_on_random_grids() {
             let quiet = mbpp(&grid, start, goal, &opts(unknown_passable, leave, false)).unwrap();
             assert_eq!(quiet.best, result.best, "{context}");
             assert_eq!(quiet.alternatives, result.alternatives, "{context}");
-            assert_eq!(quiet.stats, result.stats, "{context}");
+            assert_eq!(quiet.mbpp_stats, result.mbpp_stats, "{context}");
             assert!(quiet.bugs.iter().all(|b| b.cells.is_empty()), "{context}");
             solved += usize::from(reachable);
             with_alternatives += usize::from(!result.alternatives.is_empty());
