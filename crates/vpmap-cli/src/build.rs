@@ -280,7 +280,7 @@ fn demo_path(built: &Built) -> Result<(String, FloorPlanStyle)> {
         .iter()
         .map(|c| grid.world_from_cell(c.0, c.1))
         .collect();
-    let length = plan.length * grid.resolution_m();
+    let length = plan.length_cells * grid.resolution_m();
     let style = FloorPlanStyle {
         path: points.clone(),
         path_label: format!("path (MBPP, {length:.2} m)"),

@@ -287,7 +287,7 @@ fn plan_json(
     let alternatives: Vec<serde_json::Value> = outcome
         .alternatives
         .iter()
-        .map(|p| serde_json::json!({ "length": p.length * scale, "waypoints": waypoints(p) }))
+        .map(|p| serde_json::json!({ "length": p.length_cells * scale, "waypoints": waypoints(p) }))
         .collect();
     let mut stats = serde_json::Map::new();
     if let Some(s) = mbpp_stats(planner, outcome) {
@@ -319,7 +319,7 @@ fn plan_json(
     stats.insert("time_s".to_owned(), seconds.into());
     serde_json::json!({
         "found": plan.is_some(),
-        "length": plan.map(|p| p.length * scale),
+        "length": plan.map(|p| p.length_cells * scale),
         "units": map.unit(),
         "waypoints": plan.map(waypoints).unwrap_or_default(),
         "planner": planner.name(),
@@ -350,7 +350,7 @@ fn plan_text(map: &PlanningMap, planner: PlannerKind, outcome: &Planned, seconds
         Some(p) => format!(
             "{}: path found, length {:.3} {} through {} waypoints ({work})",
             planner.name(),
-            p.length * map.scale(),
+            p.length_cells * map.scale(),
             map.unit(),
             p.waypoints.len(),
         ),

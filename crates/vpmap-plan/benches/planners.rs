@@ -193,10 +193,10 @@ fn check_agreement(case: &Case) {
             (Some(plan), Some(path)) => {
                 let reference = path_length(&path);
                 assert!(
-                    (plan.length - reference).abs() < 1e-3,
+                    (plan.length_cells - reference).abs() < 1e-3,
                     "{}: {start:?} -> {goal:?}: ours {} vs pathfinding {reference}",
                     case.name,
-                    plan.length
+                    plan.length_cells
                 );
                 solved += 1;
             }

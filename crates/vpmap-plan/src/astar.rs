@@ -402,7 +402,7 @@ impl AstarSearch {
         waypoints.reverse();
         Plan {
             waypoints,
-            length: octile_length(steps),
+            length_cells: octile_length(steps),
             stats,
         }
     }
@@ -437,7 +437,7 @@ impl AstarSearch {
 /// let plan = astar(&grid, (0, 0), (2, 0), &AstarOptions::default()).unwrap().unwrap();
 /// // No corner cutting around (1, 0): down, across, up.
 /// assert_eq!(plan.waypoints, [(0, 0), (0, 1), (1, 1), (2, 1), (2, 0)]);
-/// assert_eq!(plan.length, 4.0);
+/// assert_eq!(plan.length_cells, 4.0);
 /// grid.set(1, 1, Cell::Occupied).unwrap();
 /// assert_eq!(astar(&grid, (0, 0), (2, 0), &AstarOptions::default()).unwrap(), None);
 /// assert!(astar(&grid, (0, 0), (1, 1), &AstarOptions::default()).is_err());

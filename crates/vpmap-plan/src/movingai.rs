@@ -60,7 +60,7 @@ pub struct Scenario {
     /// Goal cell `(x, y)`: column, row from the top.
     pub goal: (usize, usize),
     /// Length of a shortest octile path (no corner cutting), cells, as printed in the file.
-    pub optimal_length: f64,
+    pub optimal_length_cells: f64,
 }
 
 impl Scenario {
@@ -358,7 +358,7 @@ fn parse_scen_line(n: usize, line: &str) -> Result<Scenario> {
         height,
         start,
         goal,
-        optimal_length,
+        optimal_length_cells: optimal_length,
     })
 }
 
@@ -377,7 +377,7 @@ fn parse_scen_line(n: usize, line: &str) -> Result<Scenario> {
 /// let text = "version 1.0\n3 maps/bg/AR0500SR.map 512 512 81 452 246 138 421.84";
 /// let scen = parse_scen(text).unwrap();
 /// assert_eq!((scen[0].start, scen[0].goal), ((81, 452), (246, 138)));
-/// assert_eq!(scen[0].optimal_length, 421.84);
+/// assert_eq!(scen[0].optimal_length_cells, 421.84);
 /// ```
 pub fn parse_scen(text: &str) -> Result<Vec<Scenario>> {
     let mut lines = numbered_lines(text).filter(|(_, line)| !line.is_empty());

@@ -132,7 +132,7 @@ fn corners_of(passable: &PassableGrid) -> Vec<(usize, usize)> {
 /// let plan = optimal_any_angle(&grid, (0, 1), (4, 1), &opts).unwrap().unwrap();
 /// // Around the corner cell (1, 0) or (1, 2) and its mirror image.
 /// assert_eq!(plan.waypoints.len(), 4);
-/// assert!((plan.length - (2.0 + 2.0 * 2f64.sqrt())).abs() < 1e-12);
+/// assert!((plan.length_cells - (2.0 + 2.0 * 2f64.sqrt())).abs() < 1e-12);
 /// ```
 pub fn optimal_any_angle(
     grid: &OccupancyGrid,
@@ -181,12 +181,12 @@ pub fn optimal_any_angle(
                 .iter()
                 .filter_map(|&(_, n)| nodes.get(n).copied())
                 .collect();
-            let length = path_length(&waypoints);
+            let length_cells = path_length(&waypoints);
             stats.los_checks = counter.checks;
             stats.los_cells = counter.cells;
             return Ok(Some(Plan {
                 waypoints,
-                length,
+                length_cells,
                 stats,
             }));
         }
@@ -248,12 +248,12 @@ mod tests {
             .unwrap()
             .unwrap();
         assert_eq!(plan.waypoints, [(0, 0), (2, 0), (2, 2), (4, 2)]);
-        assert_eq!(plan.length, 6.0);
+        assert_eq!(plan.length_cells, 6.0);
         assert_eq!(
             optimal_any_angle(&grid, (0, 0), (0, 0), &opts)
                 .unwrap()
                 .unwrap()
-                .length,
+                .length_cells,
             0.0
         );
         grid.set(2, 1, Cell::Occupied).unwrap();

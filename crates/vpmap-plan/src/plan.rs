@@ -13,7 +13,7 @@ pub struct Plan {
     pub waypoints: Vec<(usize, usize)>,
     /// Euclidean length of the polyline, cells (multiply by the grid's resolution for
     /// metres).
-    pub length: f64,
+    pub length_cells: f64,
     /// How much work the search did.
     pub stats: PlanStats,
 }

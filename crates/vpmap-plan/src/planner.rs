@@ -12,7 +12,7 @@
 //! for kind in PlannerKind::ALL {
 //!     let mut planner = kind.planner(false);
 //!     let planned = planner.plan(&grid, (0, 0), (7, 0)).unwrap();
-//!     lengths.push((planner.name(), planned.best.unwrap().length));
+//!     lengths.push((planner.name(), planned.best.unwrap().length_cells));
 //! }
 //! let optimal = lengths.iter().find(|(name, _)| *name == "optimal").unwrap().1;
 //! assert!(lengths.iter().all(|&(_, length)| length >= optimal - 1e-9));

@@ -111,7 +111,7 @@ pub fn smooth_path(
 /// let grid = OccupancyGrid::new(5, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
 /// let plan = astar_ps(&grid, (0, 0), (4, 2), &AstarPsOptions::default()).unwrap().unwrap();
 /// assert_eq!(plan.waypoints, [(0, 0), (4, 2)]);
-/// assert!((plan.length - 20f64.sqrt()).abs() < 1e-12);
+/// assert!((plan.length_cells - 20f64.sqrt()).abs() < 1e-12);
 /// ```
 pub fn astar_ps(
     grid: &OccupancyGrid,
@@ -128,10 +128,10 @@ pub fn astar_ps(
     let mut counter = LosCounter::default();
     let passable = PassableGrid::new(grid, opts.unknown_passable);
     let waypoints = smooth_path(&passable, &grid_plan.waypoints, &mut counter);
-    let length = path_length(&waypoints);
+    let length_cells = path_length(&waypoints);
     Ok(Some(Plan {
         waypoints,
-        length,
+        length_cells,
         stats: PlanStats {
             los_checks: counter.checks,
             los_cells: counter.cells,

@@ -117,7 +117,7 @@ pub(crate) fn trace_back(parent: &[u32], width: usize, goal_index: usize) -> Vec
 /// let plan = theta_star(&grid, (0, 2), (3, 0), &opts).unwrap().unwrap();
 /// assert_eq!(plan.waypoints.first(), Some(&(0, 2)));
 /// assert_eq!(plan.waypoints.last(), Some(&(3, 0)));
-/// assert!(plan.length < 3.0 + 2f64.sqrt()); // shorter than any grid path
+/// assert!(plan.length_cells < 3.0 + 2f64.sqrt()); // shorter than any grid path
 /// ```
 pub fn theta_star(
     grid: &OccupancyGrid,
@@ -154,12 +154,12 @@ pub fn theta_star(
         stats.expanded += 1;
         if index == goal_index {
             let waypoints = trace_back(&parent, width, goal_index);
-            let length = path_length(&waypoints);
+            let length_cells = path_length(&waypoints);
             stats.los_checks = counter.checks;
             stats.los_cells = counter.cells;
             return Ok(Some(Plan {
                 waypoints,
-                length,
+                length_cells,
                 stats,
             }));
         }
@@ -215,7 +215,7 @@ mod tests {
             .unwrap()
             .unwrap();
         assert_eq!(plan.waypoints, [(0, 0), (8, 3)]);
-        assert!((plan.length - 73f64.sqrt()).abs() < 1e-12);
+        assert!((plan.length_cells - 73f64.sqrt()).abs() < 1e-12);
         assert!(plan.stats.los_checks > 0);
     }
 
@@ -225,7 +225,7 @@ mod tests {
         let opts = ThetaStarOptions::default();
         let plan = theta_star(&grid, (1, 1), (1, 1), &opts).unwrap().unwrap();
         assert_eq!(plan.waypoints, [(1, 1)]);
-        assert_eq!(plan.length, 0.0);
+        assert_eq!(plan.length_cells, 0.0);
         for (x, y) in [(1, 0), (0, 1)] {
             grid.set(x, y, Cell::Occupied).unwrap();
         }

@@ -144,7 +144,7 @@ pub enum Origin {
         /// The problem's bucket.
         bucket: u32,
         /// The octile optimal length printed in the file, cells.
-        octile_optimum: f64,
+        octile_optimum_cells: f64,
     },
     /// A random pair of free cells in one connected component.
     Sampled,
@@ -437,7 +437,7 @@ pub fn load_scen_file(
                     goal: p.goal,
                     origin: Origin::Scen {
                         bucket: p.bucket,
-                        octile_optimum: p.optimal_length,
+                        octile_optimum_cells: p.optimal_length_cells,
                     },
                 }
             })

@@ -32,7 +32,7 @@ pub struct Measured {
     /// The plan's length disagrees with the length of its own waypoints.
     pub length_mismatch: bool,
     /// Path length, cells.
-    pub length: Option<f64>,
+    pub length_cells: Option<f64>,
     /// Number of waypoints.
     pub waypoints: usize,
     /// Sum of the absolute heading changes at the waypoints, degrees.
@@ -185,7 +185,7 @@ fn describe(
         .collect();
     let length_mismatch = best.is_some_and(|p| {
         let own = path_length(&p.waypoints);
-        (own - p.length).abs() > 1e-9 * own.max(1.0)
+        (own - p.length_cells).abs() > 1e-9 * own.max(1.0)
     });
     let (expanded, los_checks) = if mbpp {
         (
@@ -203,7 +203,7 @@ fn describe(
         valid,
         invalid_alternatives,
         length_mismatch,
-        length: best.map(|p| p.length),
+        length_cells: best.map(|p| p.length_cells),
         waypoints: best.map_or(0, |p| p.waypoints.len()),
         turning_deg: best.map(|p| turning_deg(&p.waypoints)),
         alternatives: mbpp.then_some(planned.alternatives.len()),

@@ -160,12 +160,12 @@ use walk::Walk;
 /// let best = result.best.unwrap();
 /// // Round the wall's top end, past the corner cells (1, 0) and (3, 0): the shortest way.
 /// assert_eq!(best.waypoints, [(0, 2), (1, 0), (3, 0), (5, 2)]);
-/// assert!((best.length - (5f64.sqrt() + 2.0 + 8f64.sqrt())).abs() < 1e-12);
+/// assert!((best.length_cells - (5f64.sqrt() + 2.0 + 8f64.sqrt())).abs() < 1e-12);
 /// // The first bug split once, at the wall; the newborn went round the bottom end and
 /// // waited where the first bug had left the wall; its completed path is the alternative.
 /// assert_eq!(result.bugs.len(), 2);
 /// assert_eq!(result.alternatives.len(), 1);
-/// assert!(result.alternatives[0].length > best.length);
+/// assert!(result.alternatives[0].length_cells > best.length_cells);
 /// ```
 pub fn mbpp(
     grid: &OccupancyGrid,
@@ -196,7 +196,7 @@ pub fn mbpp(
         los_cells: counter.cells,
     };
     let best = outcome.best.map(|waypoints| Plan {
-        length: path_length(&waypoints),
+        length_cells: path_length(&waypoints),
         waypoints,
         stats: plan_stats,
     });
@@ -204,7 +204,7 @@ pub fn mbpp(
         .alternatives
         .into_iter()
         .map(|waypoints| Plan {
-            length: path_length(&waypoints),
+            length_cells: path_length(&waypoints),
             waypoints,
             stats: plan_stats,
         })

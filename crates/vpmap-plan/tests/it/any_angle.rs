@@ -237,7 +237,7 @@ fn check_plan(
         panic!("{name} path {:?} invalid: {e}\n{grid:?}", plan.waypoints);
     }
     assert!(
-        (plan.length - path_length(&plan.waypoints)).abs() < 1e-9,
+        (plan.length_cells - path_length(&plan.waypoints)).abs() < 1e-9,
         "{name}"
     );
 }
@@ -327,10 +327,10 @@ fn planners_agree_with_bfs_and_are_ordered_on_random_grids() {
             if let (Some(p), Some(o)) = (&mb_closer.best, &op) {
                 check_plan("MBPP closer", &grid, p, start, goal, unknown_passable);
                 assert!(
-                    o.length <= p.length + 1e-9,
+                    o.length_cells <= p.length_cells + 1e-9,
                     "optimal > MBPP closer: {context}"
                 );
-                closer_excess.add(p.length, o.length);
+                closer_excess.add(p.length_cells, o.length_cells);
             }
             for alt in &mb.alternatives {
                 check_plan(
@@ -341,7 +341,7 @@ fn planners_agree_with_bfs_and_are_ordered_on_random_grids() {
                     goal,
                     unknown_passable,
                 );
-                assert!(alt.length + 1e-9 >= op.as_ref().map_or(0.0, |p| p.length));
+                assert!(alt.length_cells + 1e-9 >= op.as_ref().map_or(0.0, |p| p.length_cells));
             }
             assert_eq!(a.is_some(), reachable, "A* {context}");
             assert_eq!(ps.is_some(), reachable, "A* PS {context}");
@@ -359,15 +359,27 @@ fn planners_agree_with_bfs_and_are_ordered_on_random_grids() {
             ] {
                 check_plan(name, &grid, plan, start, goal, unknown_passable);
             }
-            assert!(op.length <= th.length + 1e-9, "optimal > Theta*: {context}");
-            assert!(op.length <= ps.length + 1e-9, "optimal > A* PS: {context}");
-            assert!(ps.length <= a.length + 2e-9, "A* PS > A*: {context}");
-            assert!(op.length <= mb.length + 1e-9, "optimal > MBPP: {context}");
-            mbpp_shorter_than_ps += usize::from(mb.length < ps.length - 1e-9);
-            mbpp_excess.add(mb.length, op.length);
-            theta_excess.add(th.length, op.length);
-            ps_excess.add(ps.length, op.length);
-            astar_excess.add(a.length, op.length);
+            assert!(
+                op.length_cells <= th.length_cells + 1e-9,
+                "optimal > Theta*: {context}"
+            );
+            assert!(
+                op.length_cells <= ps.length_cells + 1e-9,
+                "optimal > A* PS: {context}"
+            );
+            assert!(
+                ps.length_cells <= a.length_cells + 2e-9,
+                "A* PS > A*: {context}"
+            );
+            assert!(
+                op.length_cells <= mb.length_cells + 1e-9,
+                "optimal > MBPP: {context}"
+            );
+            mbpp_shorter_than_ps += usize::from(mb.length_cells < ps.length_cells - 1e-9);
+            mbpp_excess.add(mb.length_cells, op.length_cells);
+            theta_excess.add(th.length_cells, op.length_cells);
+            ps_excess.add(ps.length_cells, op.length_cells);
+            astar_excess.add(a.length_cells, op.length_cells);
         }
     }
     eprintln!(
@@ -446,9 +458,9 @@ fn optimal_matches_brute_force_visibility_graph_on_tiny_grids() {
             match plan {
                 Some(plan) => {
                     assert!(
-                        (plan.length - reference[goal]).abs() < 1e-9,
+                        (plan.length_cells - reference[goal]).abs() < 1e-9,
                         "optimal {} vs brute force {}: {context}",
-                        plan.length,
+                        plan.length_cells,
                         reference[goal]
                     );
                     compared += 1;
@@ -532,13 +544,19 @@ fn optimal_on_movingai_room_and_random_maps() {
             ] {
                 check_plan(name, &grid, plan, p.start, p.goal, false);
             }
-            assert!(op.length <= mb.length + 1e-9, "{map} {p:?}");
-            excess.2.add(mb.length, op.length);
+            assert!(op.length_cells <= mb.length_cells + 1e-9, "{map} {p:?}");
+            excess.2.add(mb.length_cells, op.length_cells);
             // The octile optimum is an 8-connected path, so never shorter than the optimum.
-            assert!(op.length <= p.optimal_length + 1e-3, "{map} {p:?}");
-            assert!(op.length <= th.length + 1e-9 && op.length <= ps.length + 1e-9);
-            excess.0.add(th.length, op.length);
-            excess.1.add(ps.length, op.length);
+            assert!(
+                op.length_cells <= p.optimal_length_cells + 1e-3,
+                "{map} {p:?}"
+            );
+            assert!(
+                op.length_cells <= th.length_cells + 1e-9
+                    && op.length_cells <= ps.length_cells + 1e-9
+            );
+            excess.0.add(th.length_cells, op.length_cells);
+            excess.1.add(ps.length_cells, op.length_cells);
             solved += 1;
         }
     }

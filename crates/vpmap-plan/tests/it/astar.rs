@@ -164,9 +164,9 @@ fn astar_matches_pathfinding_and_bfs_on_random_grids() {
             };
             found += 1;
             assert!(
-                (plan.length - reference.value()).abs() < 1e-9,
+                (plan.length_cells - reference.value()).abs() < 1e-9,
                 "{start:?} -> {goal:?}: {} vs {reference:?}",
-                plan.length
+                plan.length_cells
             );
             assert_eq!(plan.waypoints.first(), Some(&start));
             assert_eq!(plan.waypoints.last(), Some(&goal));
@@ -174,7 +174,7 @@ fn astar_matches_pathfinding_and_bfs_on_random_grids() {
                 let (dx, dy) = (pair[0].0.abs_diff(pair[1].0), pair[0].1.abs_diff(pair[1].1));
                 assert!(dx <= 1 && dy <= 1 && dx + dy > 0, "{pair:?}");
             }
-            assert!((path_length(&plan.waypoints) - plan.length).abs() < 1e-9);
+            assert!((path_length(&plan.waypoints) - plan.length_cells).abs() < 1e-9);
             validate_path(&grid, &plan.waypoints, unknown_passable).unwrap();
             assert!(plan.stats.expanded >= plan.waypoints.len());
             assert_eq!(plan.stats.los_checks, 0);
@@ -218,7 +218,7 @@ fn start_equal_to_goal_is_a_one_cell_plan() {
         .unwrap()
         .unwrap();
     assert_eq!(plan.waypoints, [(1, 2)]);
-    assert_eq!(plan.length, 0.0);
+    assert_eq!(plan.length_cells, 0.0);
 }
 
 #[test]
@@ -227,7 +227,7 @@ fn octile_costs_and_no_corner_cutting() {
     let plan = astar(&grid, (0, 0), (9, 5), &AstarOptions::default())
         .unwrap()
         .unwrap();
-    assert!((plan.length - (4.0 + 5.0 * std::f64::consts::SQRT_2)).abs() < 1e-12);
+    assert!((plan.length_cells - (4.0 + 5.0 * std::f64::consts::SQRT_2)).abs() < 1e-12);
     // A wall with a one-cell gap at (5, 5): the path goes straight through the gap.
     let mut grid = grid.clone();
     for y in 0..10 {
@@ -239,7 +239,7 @@ fn octile_costs_and_no_corner_cutting() {
         .unwrap()
         .unwrap();
     assert_eq!(plan.waypoints, [(4, 4), (4, 5), (5, 5), (6, 5), (6, 6)]);
-    assert_eq!(plan.length, 4.0);
+    assert_eq!(plan.length_cells, 4.0);
 }
 
 #[test]

@@ -39,10 +39,10 @@ fn check_paths(
         if let Err(e) = validate_path(grid, &plan.waypoints, unknown_passable) {
             panic!("path {i} {:?} invalid: {e}\n{context}", plan.waypoints);
         }
-        assert!((plan.length - path_length(&plan.waypoints)).abs() < 1e-9);
-        assert!(plan.length >= optimum - 1e-9, "path {i} {context}");
+        assert!((plan.length_cells - path_length(&plan.waypoints)).abs() < 1e-9);
+        assert!(plan.length_cells >= optimum - 1e-9, "path {i} {context}");
     }
-    let lengths: Vec<f64> = result.alternatives.iter().map(|p| p.length).collect();
+    let lengths: Vec<f64> = result.alternatives.iter().map(|p| p.length_cells).collect();
     assert!(
         lengths.windows(2).all(|w| w[0] <= w[1]),
         "alternatives not shortest first: {lengths:?} {context}"
@@ -132,7 +132,7 @@ fn mbpp_solves_exactly_the_bfs_reachable_queries_on_random_grids() {
             &OptimalAnyAngleOptions { unknown_passable },
         )
         .unwrap()
-        .map_or(f64::INFINITY, |p| p.length);
+        .map_or(f64::INFINITY, |p| p.length_cells);
         assert_eq!(optimum.is_finite(), reachable, "optimum and BFS disagree");
         for leave in [LeaveRule::MLine, LeaveRule::Closer] {
             let context = format!("round {round} {leave:?} {start:?} -> {goal:?}\n{grid:?}");
@@ -224,7 +224,7 @@ fn start_equal_to_goal_is_a_one_cell_path() {
     let result = mbpp(&grid, (1, 2), (1, 2), &MbppOptions::default()).unwrap();
     let best = result.best.unwrap();
     assert_eq!(best.waypoints, [(1, 2)]);
-    assert_eq!(best.length, 0.0);
+    assert_eq!(best.length_cells, 0.0);
     assert_eq!(result.bugs.len(), 1);
     assert_eq!(result.bugs[0].fate, BugFate::ReachedGoal);
 }
@@ -270,7 +270,7 @@ fn mbpp_on_movingai_maps_is_valid_and_no_shorter_than_the_optimum() {
         let optimum = optimal_any_angle(&grid, p.start, p.goal, &OptimalAnyAngleOptions::default())
             .unwrap()
             .unwrap()
-            .length;
+            .length_cells;
         for leave in [LeaveRule::MLine, LeaveRule::Closer] {
             let context = format!("{leave:?} {p:?}");
             let result = mbpp(&grid, p.start, p.goal, &opts(false, leave, true)).unwrap();

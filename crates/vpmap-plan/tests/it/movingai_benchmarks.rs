@@ -99,15 +99,15 @@ fn check_scenarios(
                 .search(&grid, s.start, s.goal, &AstarOptions::default())
                 .unwrap()
                 .unwrap_or_else(|| panic!("{}: no path for {s:?}", scen_path.display()));
-            let error = (plan.length - s.optimal_length).abs();
+            let error = (plan.length_cells - s.optimal_length_cells).abs();
             assert!(
-                error <= tolerance(s.optimal_length),
+                error <= tolerance(s.optimal_length_cells),
                 "{}: {s:?}: A* length {} is off by {error}",
                 scen_path.display(),
-                plan.length
+                plan.length_cells
             );
             validate_path(&grid, &plan.waypoints, false).unwrap();
-            tally.worst = tally.worst.max(error / tolerance(s.optimal_length));
+            tally.worst = tally.worst.max(error / tolerance(s.optimal_length_cells));
             tally.expanded += plan.stats.expanded;
             checked += 1;
         }
@@ -221,10 +221,13 @@ fn every_planner_solves_samples_of_every_benchmark_map() {
                 assert_eq!(plan.waypoints.last(), Some(&s.goal));
                 let straight = (s.start.0.abs_diff(s.goal.0) as f64)
                     .hypot(s.start.1.abs_diff(s.goal.1) as f64);
-                assert!(plan.length >= straight - 1e-9, "{kind} {s:?}");
+                assert!(plan.length_cells >= straight - 1e-9, "{kind} {s:?}");
                 // Smoothing never lengthens the octile-optimal A* path.
                 if kind == PlannerKind::AstarPs {
-                    assert!(plan.length <= s.optimal_length + tolerance(s.optimal_length));
+                    assert!(
+                        plan.length_cells
+                            <= s.optimal_length_cells + tolerance(s.optimal_length_cells)
+                    );
                 }
                 solved += 1;
             }

@@ -120,7 +120,7 @@ fn scenario_quirks_read_alike() {
         (3, "maps/dao/arena2.map", 281, 209)
     );
     assert_eq!((s.start, s.goal), ((100, 41), (98, 44)));
-    assert!((s.optimal_length - 3.82843).abs() < 1e-12);
+    assert!((s.optimal_length_cells - 3.82843).abs() < 1e-12);
     assert_eq!(s.map_file_name(), "arena2.map");
     for variant in [
         "version 1.0\n3 maps/dao/arena2.map 281 209 100 41 98 44 3.82843",

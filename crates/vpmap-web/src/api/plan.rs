@@ -251,7 +251,7 @@ fn planners(names: Option<&[String]>) -> Result<Vec<PlannerKind>, ApiError> {
 /// A path in map units.
 fn path_out(grid: &OccupancyGrid, plan: &Plan) -> PathOut {
     PathOut {
-        length_m: plan.length * grid.resolution_m(),
+        length_m: plan.length_cells * grid.resolution_m(),
         waypoints: world(grid, &plan.waypoints),
     }
 }
