@@ -8,7 +8,7 @@ use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::scene::Scene;
 use vpmap_metrology::synth::Truth;
 use vpmap_pipeline::{MapOptions, PipelineError};
-use vpmap_plan::grid::{Cell, OccupancyGrid};
+use vpmap_plan::grid::{Occupancy, OccupancyGrid};
 use vpmap_plan::mbpp::{MbppOptions, mbpp};
 use vpmap_render::{FloorPlanStyle, floor_plan_svg, svg_to_png};
 
@@ -254,7 +254,7 @@ fn demo_path(built: &Built) -> Result<(String, FloorPlanStyle)> {
     let target = [0.0, near_y + 0.5];
     let free: Vec<(usize, usize)> = (0..grid.height())
         .flat_map(|y| (0..grid.width()).map(move |x| (x, y)))
-        .filter(|&(x, y)| grid.get(x, y) == Some(Cell::Free))
+        .filter(|&(x, y)| grid.get(x, y) == Some(Occupancy::Free))
         .collect();
     let dist = |c: (usize, usize)| {
         let w = grid.world_from_cell(c.0, c.1);
@@ -309,7 +309,7 @@ fn deepest_reachable(grid: &OccupancyGrid, start: (usize, usize)) -> (usize, usi
             && y >= 0
             && (x as usize) < w
             && (y as usize) < h
-            && grid.get(x as usize, y as usize) == Some(Cell::Free)
+            && grid.get(x as usize, y as usize) == Some(Occupancy::Free)
     };
     let mut seen = vec![false; w * h];
     let mut queue = std::collections::VecDeque::from([start]);

@@ -364,14 +364,14 @@ fn plan_text(map: &PlanningMap, planner: PlannerKind, outcome: &Planned, seconds
 #[cfg(test)]
 mod tests {
     use super::*;
-    use vpmap_plan::grid::Cell;
+    use vpmap_plan::grid::Occupancy;
 
     #[test]
     fn mbpp_tracks_are_recorded_only_when_asked() -> Result<()> {
         // A wall across the straight line, open at both ends.
-        let mut grid = OccupancyGrid::new(6, 5, 1.0, [0.0; 2], Cell::Free)?;
+        let mut grid = OccupancyGrid::new(6, 5, 1.0, [0.0; 2], Occupancy::Free)?;
         for y in 1..4 {
-            grid.set(2, y, Cell::Occupied)?;
+            grid.set(2, y, Occupancy::Occupied)?;
         }
         let (start, goal) = ((0, 2), (5, 2));
         let quiet = run_planner(PlannerKind::Mbpp, &grid, start, goal, false, false)?;

@@ -20,7 +20,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use vpmap_plan::{
-    AstarOptions, AstarPsOptions, AstarSearch, Cell, OccupancyGrid, OptimalAnyAngleOptions,
+    AstarOptions, AstarPsOptions, AstarSearch, Occupancy, OccupancyGrid, OptimalAnyAngleOptions,
     ThetaStarOptions, astar, astar_ps,
     mbpp::{LeaveRule, MbppOptions, mbpp},
     optimal_any_angle, path_length, read_movingai_map, read_scen, theta_star,
@@ -104,9 +104,9 @@ fn generated_case() -> Case {
     let cells = (0..w * h)
         .map(|_| {
             if rng.random_bool(0.2) {
-                Cell::Occupied
+                Occupancy::Occupied
             } else {
-                Cell::Free
+                Occupancy::Free
             }
         })
         .collect();
@@ -139,7 +139,7 @@ fn reference_astar(
     let (w, h) = (grid.width() as i64, grid.height() as i64);
     let cells = grid.cells();
     let free = |x: i64, y: i64| {
-        x >= 0 && y >= 0 && x < w && y < h && cells[(y * w + x) as usize] == Cell::Free
+        x >= 0 && y >= 0 && x < w && y < h && cells[(y * w + x) as usize] == Occupancy::Free
     };
     let goal_index = (goal.1 as i64 * w + goal.0 as i64) as u32;
     let (gx, gy) = (goal.0 as i64, goal.1 as i64);

@@ -6,8 +6,8 @@
 //! cutting, no squeezing between two blocked cells that share a corner). These are exactly
 //! the single steps that [`crate::los`] calls clear, and the movement model of the Moving
 //! AI benchmarks, whose `.scen` optimal lengths this search reproduces. Cells outside the
-//! grid and [`Cell::Occupied`](crate::Cell::Occupied) cells are never entered;
-//! [`Cell::Unknown`](crate::Cell::Unknown) cells only with
+//! grid and [`Occupancy::Occupied`](crate::Occupancy::Occupied) cells are never entered;
+//! [`Occupancy::Unknown`](crate::Occupancy::Unknown) cells only with
 //! [`AstarOptions::unknown_passable`].
 //!
 //! The search uses the octile distance heuristic (consistent, so each cell is expanded at
@@ -30,7 +30,7 @@ use crate::plan::{Plan, PlanStats, check_endpoint};
 /// Options of [`astar`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct AstarOptions {
-    /// Whether [`Cell::Unknown`](crate::Cell::Unknown) cells may be entered (default: no).
+    /// Whether [`Occupancy::Unknown`](crate::Occupancy::Unknown) cells may be entered (default: no).
     pub unknown_passable: bool,
 }
 
@@ -208,8 +208,8 @@ fn priority(g: [u32; 2], h: [u32; 2]) -> f64 {
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, astar::{AstarOptions, AstarSearch}};
-/// let grid = OccupancyGrid::new(8, 8, 1.0, [0.0; 2], Cell::Free).unwrap();
+/// use vpmap_plan::{Occupancy, OccupancyGrid, astar::{AstarOptions, AstarSearch}};
+/// let grid = OccupancyGrid::new(8, 8, 1.0, [0.0; 2], Occupancy::Free).unwrap();
 /// let mut search = AstarSearch::new();
 /// for goal in [(7, 7), (7, 0), (3, 5)] {
 ///     let plan = search.search(&grid, (0, 0), goal, &AstarOptions::default()).unwrap().unwrap();
@@ -429,16 +429,16 @@ impl AstarSearch {
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, astar::{astar, AstarOptions}};
+/// use vpmap_plan::{Occupancy, OccupancyGrid, astar::{astar, AstarOptions}};
 /// // .#.
 /// // ...
-/// let mut grid = OccupancyGrid::new(3, 2, 1.0, [0.0; 2], Cell::Free).unwrap();
-/// grid.set(1, 0, Cell::Occupied).unwrap();
+/// let mut grid = OccupancyGrid::new(3, 2, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+/// grid.set(1, 0, Occupancy::Occupied).unwrap();
 /// let plan = astar(&grid, (0, 0), (2, 0), &AstarOptions::default()).unwrap().unwrap();
 /// // No corner cutting around (1, 0): down, across, up.
 /// assert_eq!(plan.waypoints, [(0, 0), (0, 1), (1, 1), (2, 1), (2, 0)]);
 /// assert_eq!(plan.length_cells, 4.0);
-/// grid.set(1, 1, Cell::Occupied).unwrap();
+/// grid.set(1, 1, Occupancy::Occupied).unwrap();
 /// assert_eq!(astar(&grid, (0, 0), (2, 0), &AstarOptions::default()).unwrap(), None);
 /// assert!(astar(&grid, (0, 0), (1, 1), &AstarOptions::default()).is_err());
 /// ```

@@ -57,7 +57,7 @@ use crate::theta_star::{Entry, distance, trace_back};
 /// Options of [`optimal_any_angle`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct OptimalAnyAngleOptions {
-    /// Whether [`Cell::Unknown`](crate::Cell::Unknown) cells may be entered (default: no).
+    /// Whether [`Occupancy::Unknown`](crate::Occupancy::Unknown) cells may be entered (default: no).
     pub unknown_passable: bool,
 }
 
@@ -71,10 +71,10 @@ const DIAGONALS: [(i64, i64); 4] = [(1, 1), (-1, 1), (-1, -1), (1, -1)];
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, optimal::corner_cells};
-/// let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
+/// use vpmap_plan::{Occupancy, OccupancyGrid, optimal::corner_cells};
+/// let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
 /// assert!(corner_cells(&grid, false).is_empty());
-/// grid.set(1, 1, Cell::Occupied).unwrap();
+/// grid.set(1, 1, Occupancy::Occupied).unwrap();
 /// assert_eq!(corner_cells(&grid, false), [(0, 0), (2, 0), (0, 2), (2, 2)]);
 /// ```
 #[must_use]
@@ -122,12 +122,12 @@ fn corners_of(passable: &PassableGrid) -> Vec<(usize, usize)> {
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, optimal::{optimal_any_angle, OptimalAnyAngleOptions}};
+/// use vpmap_plan::{Occupancy, OccupancyGrid, optimal::{optimal_any_angle, OptimalAnyAngleOptions}};
 /// // .....
 /// // ..#..
 /// // .....
-/// let mut grid = OccupancyGrid::new(5, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
-/// grid.set(2, 1, Cell::Occupied).unwrap();
+/// let mut grid = OccupancyGrid::new(5, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+/// grid.set(2, 1, Occupancy::Occupied).unwrap();
 /// let opts = OptimalAnyAngleOptions::default();
 /// let plan = optimal_any_angle(&grid, (0, 1), (4, 1), &opts).unwrap().unwrap();
 /// // Around the corner cell (1, 0) or (1, 2) and its mirror image.
@@ -219,16 +219,16 @@ pub fn optimal_any_angle(
 #[allow(clippy::unwrap_used, clippy::float_cmp)]
 mod tests {
     use super::*;
-    use crate::grid::Cell;
+    use crate::grid::Occupancy;
 
     #[test]
     fn corners_of_cells_touching_at_a_corner() {
         // .#.
         // #..
         // ...
-        let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
-        grid.set(1, 0, Cell::Occupied).unwrap();
-        grid.set(0, 1, Cell::Occupied).unwrap();
+        let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+        grid.set(1, 0, Occupancy::Occupied).unwrap();
+        grid.set(0, 1, Occupancy::Occupied).unwrap();
         let corners = corner_cells(&grid, false);
         // (1, 1) is diagonal to no blocked cell; (2, 1) and (1, 2) wrap the two corners.
         assert_eq!(corners, [(2, 1), (1, 2)]);
@@ -239,9 +239,9 @@ mod tests {
         // .....
         // ##.##
         // .....
-        let mut grid = OccupancyGrid::new(5, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
+        let mut grid = OccupancyGrid::new(5, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
         for x in [0, 1, 3, 4] {
-            grid.set(x, 1, Cell::Occupied).unwrap();
+            grid.set(x, 1, Occupancy::Occupied).unwrap();
         }
         let opts = OptimalAnyAngleOptions::default();
         let plan = optimal_any_angle(&grid, (0, 0), (4, 2), &opts)
@@ -256,7 +256,7 @@ mod tests {
                 .length_cells,
             0.0
         );
-        grid.set(2, 1, Cell::Occupied).unwrap();
+        grid.set(2, 1, Occupancy::Occupied).unwrap();
         assert_eq!(
             optimal_any_angle(&grid, (0, 0), (4, 2), &opts).unwrap(),
             None

@@ -3,10 +3,10 @@
 //!
 //! # Example
 //! ```
-//! use vpmap_plan::{Cell, OccupancyGrid, planner::{Planner, PlannerKind}};
-//! let mut grid = OccupancyGrid::new(8, 5, 1.0, [0.0; 2], Cell::Free).unwrap();
+//! use vpmap_plan::{Occupancy, OccupancyGrid, planner::{Planner, PlannerKind}};
+//! let mut grid = OccupancyGrid::new(8, 5, 1.0, [0.0; 2], Occupancy::Free).unwrap();
 //! for y in 0..4 {
-//!     grid.set(4, y, Cell::Occupied).unwrap();
+//!     grid.set(4, y, Occupancy::Occupied).unwrap();
 //! }
 //! let mut lengths = Vec::new();
 //! for kind in PlannerKind::ALL {

@@ -17,12 +17,12 @@ use crate::los::cell_passable;
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, reach::Components};
+/// use vpmap_plan::{Occupancy, OccupancyGrid, reach::Components};
 /// // ..#.
 /// // .#..
-/// let mut grid = OccupancyGrid::new(4, 2, 1.0, [0.0; 2], Cell::Free).unwrap();
-/// grid.set(2, 0, Cell::Occupied).unwrap();
-/// grid.set(1, 1, Cell::Occupied).unwrap();
+/// let mut grid = OccupancyGrid::new(4, 2, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+/// grid.set(2, 0, Occupancy::Occupied).unwrap();
+/// grid.set(1, 1, Occupancy::Occupied).unwrap();
 /// let components = Components::label(&grid, false);
 /// assert_eq!(components.count(), 2); // no squeezing between (2, 0) and (1, 1)
 /// assert!(components.connected((0, 0), (1, 0)));
@@ -149,9 +149,9 @@ impl Components {
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, reach::reachable};
-/// let mut grid = OccupancyGrid::new(3, 1, 1.0, [0.0; 2], Cell::Free).unwrap();
-/// grid.set(1, 0, Cell::Unknown).unwrap();
+/// use vpmap_plan::{Occupancy, OccupancyGrid, reach::reachable};
+/// let mut grid = OccupancyGrid::new(3, 1, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+/// grid.set(1, 0, Occupancy::Unknown).unwrap();
 /// assert!(!reachable(&grid, (0, 0), (2, 0), false));
 /// assert!(reachable(&grid, (0, 0), (2, 0), true));
 /// ```

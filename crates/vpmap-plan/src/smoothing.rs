@@ -33,7 +33,7 @@ use crate::plan::{Plan, PlanStats, path_length};
 /// Options of [`astar_ps`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct AstarPsOptions {
-    /// Whether [`Cell::Unknown`](crate::Cell::Unknown) cells may be entered (default: no).
+    /// Whether [`Occupancy::Unknown`](crate::Occupancy::Unknown) cells may be entered (default: no).
     pub unknown_passable: bool,
 }
 
@@ -55,9 +55,9 @@ pub struct AstarPsOptions {
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, los::LosCounter, smoothing::smooth_path};
-/// let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
-/// grid.set(1, 1, Cell::Occupied).unwrap();
+/// use vpmap_plan::{Occupancy, OccupancyGrid, los::LosCounter, smoothing::smooth_path};
+/// let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+/// grid.set(1, 1, Occupancy::Occupied).unwrap();
 /// let path = [(0, 0), (1, 0), (2, 0), (2, 1), (2, 2)];
 /// let mut counter = LosCounter::default();
 /// assert_eq!(smooth_path(&grid, &path, &mut counter), [(0, 0), (2, 0), (2, 2)]);
@@ -107,8 +107,8 @@ pub fn smooth_path(
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, smoothing::{astar_ps, AstarPsOptions}};
-/// let grid = OccupancyGrid::new(5, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
+/// use vpmap_plan::{Occupancy, OccupancyGrid, smoothing::{astar_ps, AstarPsOptions}};
+/// let grid = OccupancyGrid::new(5, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
 /// let plan = astar_ps(&grid, (0, 0), (4, 2), &AstarPsOptions::default()).unwrap().unwrap();
 /// assert_eq!(plan.waypoints, [(0, 0), (4, 2)]);
 /// assert!((plan.length_cells - 20f64.sqrt()).abs() < 1e-12);
@@ -144,15 +144,15 @@ pub fn astar_ps(
 #[allow(clippy::unwrap_used)]
 mod tests {
     use super::*;
-    use crate::grid::Cell;
+    use crate::grid::Occupancy;
 
     #[test]
     fn farthest_visible_waypoint_skips_a_hidden_one() {
         // A path that dips behind a wall and comes back: from (0, 0), waypoint (1, 2) is
         // hidden by the wall at (1, 1) (the incremental variant would keep (0, 2)), but
         // (3, 0) is visible again.
-        let mut grid = OccupancyGrid::new(4, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
-        grid.set(1, 1, Cell::Occupied).unwrap();
+        let mut grid = OccupancyGrid::new(4, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+        grid.set(1, 1, Occupancy::Occupied).unwrap();
         let path = [(0, 0), (0, 1), (0, 2), (1, 2), (2, 2), (3, 1), (3, 0)];
         let mut counter = LosCounter::default();
         assert_eq!(smooth_path(&grid, &path, &mut counter), [(0, 0), (3, 0)]);
@@ -160,7 +160,7 @@ mod tests {
 
     #[test]
     fn short_paths_are_kept() {
-        let grid = OccupancyGrid::new(2, 1, 1.0, [0.0; 2], Cell::Free).unwrap();
+        let grid = OccupancyGrid::new(2, 1, 1.0, [0.0; 2], Occupancy::Free).unwrap();
         let mut counter = LosCounter::default();
         assert!(smooth_path(&grid, &[], &mut counter).is_empty());
         assert_eq!(smooth_path(&grid, &[(1, 0)], &mut counter), [(1, 0)]);
@@ -173,8 +173,8 @@ mod tests {
 
     #[test]
     fn unreachable_goal_and_bad_endpoints() {
-        let mut grid = OccupancyGrid::new(3, 1, 1.0, [0.0; 2], Cell::Free).unwrap();
-        grid.set(1, 0, Cell::Unknown).unwrap();
+        let mut grid = OccupancyGrid::new(3, 1, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+        grid.set(1, 0, Occupancy::Unknown).unwrap();
         let opts = AstarPsOptions::default();
         assert_eq!(astar_ps(&grid, (0, 0), (2, 0), &opts).unwrap(), None);
         let through = AstarPsOptions {

@@ -31,7 +31,7 @@ use crate::plan::{Plan, PlanStats, check_endpoint, path_length};
 /// Options of [`theta_star`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ThetaStarOptions {
-    /// Whether [`Cell::Unknown`](crate::Cell::Unknown) cells may be entered (default: no).
+    /// Whether [`Occupancy::Unknown`](crate::Occupancy::Unknown) cells may be entered (default: no).
     pub unknown_passable: bool,
 }
 
@@ -107,12 +107,12 @@ pub(crate) fn trace_back(parent: &[u32], width: usize, goal_index: usize) -> Vec
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, theta_star::{theta_star, ThetaStarOptions}};
+/// use vpmap_plan::{Occupancy, OccupancyGrid, theta_star::{theta_star, ThetaStarOptions}};
 /// // ....
 /// // .#..
 /// // ....
-/// let mut grid = OccupancyGrid::new(4, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
-/// grid.set(1, 1, Cell::Occupied).unwrap();
+/// let mut grid = OccupancyGrid::new(4, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+/// grid.set(1, 1, Occupancy::Occupied).unwrap();
 /// let opts = ThetaStarOptions::default();
 /// let plan = theta_star(&grid, (0, 2), (3, 0), &opts).unwrap().unwrap();
 /// assert_eq!(plan.waypoints.first(), Some(&(0, 2)));
@@ -206,11 +206,11 @@ pub fn theta_star(
 #[allow(clippy::unwrap_used, clippy::float_cmp)]
 mod tests {
     use super::*;
-    use crate::grid::Cell;
+    use crate::grid::Occupancy;
 
     #[test]
     fn open_grid_gives_a_straight_segment() {
-        let grid = OccupancyGrid::new(9, 5, 1.0, [0.0; 2], Cell::Free).unwrap();
+        let grid = OccupancyGrid::new(9, 5, 1.0, [0.0; 2], Occupancy::Free).unwrap();
         let plan = theta_star(&grid, (0, 0), (8, 3), &ThetaStarOptions::default())
             .unwrap()
             .unwrap();
@@ -221,13 +221,13 @@ mod tests {
 
     #[test]
     fn start_equal_to_goal_and_unreachable_goal() {
-        let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
+        let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
         let opts = ThetaStarOptions::default();
         let plan = theta_star(&grid, (1, 1), (1, 1), &opts).unwrap().unwrap();
         assert_eq!(plan.waypoints, [(1, 1)]);
         assert_eq!(plan.length_cells, 0.0);
         for (x, y) in [(1, 0), (0, 1)] {
-            grid.set(x, y, Cell::Occupied).unwrap();
+            grid.set(x, y, Occupancy::Occupied).unwrap();
         }
         // (0, 0) is cut off: the diagonal step to (1, 1) would cut both corners.
         assert_eq!(theta_star(&grid, (0, 0), (2, 2), &opts).unwrap(), None);

@@ -17,7 +17,7 @@
 
 use thiserror::Error;
 
-use crate::grid::{Cell, OccupancyGrid};
+use crate::grid::{Occupancy, OccupancyGrid};
 
 /// Why a path breaks the collision rule.
 #[derive(Clone, Debug, PartialEq, Eq, Error)]
@@ -46,7 +46,7 @@ pub enum PathViolation {
         /// The waypoint `(x, y)`.
         cell: (usize, usize),
         /// What the cell holds.
-        state: Cell,
+        state: Occupancy,
     },
     /// The robot's square, swept along a segment, overlaps a blocked cell's interior.
     #[error("segment {segment} from {from:?} to {to:?} overlaps blocked cell {cell:?}")]
@@ -69,8 +69,8 @@ fn passable(grid: &OccupancyGrid, x: i64, y: i64, unknown_passable: bool) -> boo
         return false;
     };
     match grid.get(x, y) {
-        Some(Cell::Free) => true,
-        Some(Cell::Unknown) => unknown_passable,
+        Some(Occupancy::Free) => true,
+        Some(Occupancy::Unknown) => unknown_passable,
         _ => false,
     }
 }
@@ -126,9 +126,9 @@ pub fn swept_square_overlaps_cell(a: (i64, i64), b: (i64, i64), c: (i64, i64)) -
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, validate::{validate_path, PathViolation}};
-/// let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
-/// grid.set(1, 0, Cell::Occupied).unwrap();
+/// use vpmap_plan::{Occupancy, OccupancyGrid, validate::{validate_path, PathViolation}};
+/// let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+/// grid.set(1, 0, Occupancy::Occupied).unwrap();
 /// assert_eq!(validate_path(&grid, &[(0, 0), (0, 2), (2, 2)], false), Ok(()));
 /// assert_eq!(
 ///     validate_path(&grid, &[(0, 1), (2, 0)], false),
@@ -153,10 +153,10 @@ pub fn validate_path(
                     height: grid.height(),
                 });
             }
-            Some(state @ Cell::Occupied) => {
+            Some(state @ Occupancy::Occupied) => {
                 return Err(PathViolation::WaypointBlocked { index, cell, state });
             }
-            Some(state @ Cell::Unknown) if !unknown_passable => {
+            Some(state @ Occupancy::Unknown) if !unknown_passable => {
                 return Err(PathViolation::WaypointBlocked { index, cell, state });
             }
             Some(_) => {}
@@ -206,8 +206,8 @@ mod tests {
 
     #[test]
     fn waypoint_violations_are_reported_in_order() {
-        let mut grid = OccupancyGrid::new(3, 2, 1.0, [0.0; 2], Cell::Free).unwrap();
-        grid.set(2, 1, Cell::Unknown).unwrap();
+        let mut grid = OccupancyGrid::new(3, 2, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+        grid.set(2, 1, Occupancy::Unknown).unwrap();
         assert_eq!(validate_path(&grid, &[], false), Err(PathViolation::Empty));
         assert_eq!(
             validate_path(&grid, &[(0, 0), (3, 0)], false),
@@ -223,7 +223,7 @@ mod tests {
             Err(PathViolation::WaypointBlocked {
                 index: 1,
                 cell: (2, 1),
-                state: Cell::Unknown
+                state: Occupancy::Unknown
             })
         );
         assert_eq!(validate_path(&grid, &[(0, 0), (2, 1)], true), Ok(()));

@@ -7,7 +7,7 @@
 use std::fmt::Write as _;
 
 use vpmap_plan::Planned;
-use vpmap_plan::grid::{Cell, OccupancyGrid};
+use vpmap_plan::grid::{Occupancy, OccupancyGrid};
 use vpmap_plan::mbpp::BugTrack;
 
 use crate::{SVG_FROM_MAP_ATTRIBUTE, escape_xml, matrix_text};
@@ -98,15 +98,15 @@ pub fn plan_svg(
     for y in 0..h {
         let mut x = 0;
         while x < w {
-            let cell = grid.get(x, y).unwrap_or(Cell::Unknown);
+            let cell = grid.get(x, y).unwrap_or(Occupancy::Unknown);
             let mut end = x + 1;
             while end < w && grid.get(end, y) == Some(cell) {
                 end += 1;
             }
             let fill = match cell {
-                Cell::Free => None,
-                Cell::Occupied => Some("#222222"),
-                Cell::Unknown => Some("#b8b8b8"),
+                Occupancy::Free => None,
+                Occupancy::Occupied => Some("#222222"),
+                Occupancy::Unknown => Some("#b8b8b8"),
             };
             if let Some(fill) = fill {
                 let _ = writeln!(

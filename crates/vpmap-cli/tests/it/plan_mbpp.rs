@@ -5,7 +5,7 @@
 use std::path::Path;
 
 use serde_json::Value;
-use vpmap_plan::{Cell, OccupancyGrid, parse_movingai_map, validate_path, write_ros_map};
+use vpmap_plan::{Occupancy, OccupancyGrid, parse_movingai_map, validate_path, write_ros_map};
 
 use super::{WALLED, vpmap};
 
@@ -176,7 +176,7 @@ fn plan_mbpp_lengths_and_alternatives_are_in_metres_on_a_ros_map() {
         cells.height(),
         resolution,
         origin,
-        Cell::Free,
+        Occupancy::Free,
     )
     .unwrap();
     for y in 0..cells.height() {

@@ -18,7 +18,7 @@ use vpmap_metrology::map::{BuildOptions, build_map};
 use vpmap_metrology::scene::Scene;
 use vpmap_metrology::synth::{SynthOptions, synthesize};
 use vpmap_plan::movingai::{Scenario, read_movingai_map, read_scen};
-use vpmap_plan::{Cell, OccupancyGrid, RasterOptions, rasterize_map};
+use vpmap_plan::{Occupancy, OccupancyGrid, RasterOptions, rasterize_map};
 
 /// A cell `(x, y)`: column, row from the top.
 pub type CellXy = (usize, usize);
@@ -207,7 +207,7 @@ impl Components {
     #[must_use]
     pub fn label(grid: &OccupancyGrid) -> Self {
         let (w, h) = (grid.width(), grid.height());
-        let free: Vec<bool> = grid.cells().iter().map(|&c| c == Cell::Free).collect();
+        let free: Vec<bool> = grid.cells().iter().map(|&c| c == Occupancy::Free).collect();
         let mut labels = vec![0u32; w * h];
         let mut sizes = Vec::new();
         let mut queue = VecDeque::new();
@@ -685,7 +685,7 @@ pub fn generated_maps(per_map: usize, seed: u64) -> Result<Vec<BenchMap>> {
         name: "generated-empty-48".to_owned(),
         category: "free",
         source: "generated: 48 x 48, no obstacles".to_owned(),
-        grid: OccupancyGrid::new(48, 48, 1.0, [0.0; 2], Cell::Free)?,
+        grid: OccupancyGrid::new(48, 48, 1.0, [0.0; 2], Occupancy::Free)?,
     }];
     made.push(MadeGrid {
         name: "generated-rooms-128".to_owned(),
@@ -698,9 +698,9 @@ pub fn generated_maps(per_map: usize, seed: u64) -> Result<Vec<BenchMap>> {
     let cells = (0..128 * 128)
         .map(|_| {
             if rng.random_bool(0.2) {
-                Cell::Occupied
+                Occupancy::Occupied
             } else {
-                Cell::Free
+                Occupancy::Free
             }
         })
         .collect();
@@ -720,7 +720,7 @@ pub fn generated_maps(per_map: usize, seed: u64) -> Result<Vec<BenchMap>> {
 /// grid lines), each wall with a door of three cells in its middle, except the walls of the
 /// second room of the first row, which is closed.
 fn rooms_grid(side: usize, room: usize) -> Result<OccupancyGrid> {
-    let mut grid = OccupancyGrid::new(side, side, 1.0, [0.0; 2], Cell::Free)?;
+    let mut grid = OccupancyGrid::new(side, side, 1.0, [0.0; 2], Occupancy::Free)?;
     let door = |i: usize| {
         let k = i % room;
         k + 1 >= room / 2 && k <= room / 2 + 1
@@ -735,7 +735,7 @@ fn rooms_grid(side: usize, room: usize) -> Result<OccupancyGrid> {
             let closed = (x + 1 == room || x + 1 == 2 * room) && y < room
                 || y + 1 == room && (room - 1..2 * room).contains(&x);
             if wall || closed {
-                grid.set(x, y, Cell::Occupied)?;
+                grid.set(x, y, Occupancy::Occupied)?;
             }
         }
     }
@@ -789,8 +789,13 @@ mod tests {
         let cells = rows
             .iter()
             .flat_map(|r| {
-                r.chars()
-                    .map(|c| if c == '@' { Cell::Occupied } else { Cell::Free })
+                r.chars().map(|c| {
+                    if c == '@' {
+                        Occupancy::Occupied
+                    } else {
+                        Occupancy::Free
+                    }
+                })
             })
             .collect();
         OccupancyGrid::from_cells(rows[0].len(), rows.len(), 1.0, [0.0; 2], cells)

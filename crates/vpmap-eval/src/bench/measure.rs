@@ -219,7 +219,7 @@ fn describe(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use vpmap_plan::Cell;
+    use vpmap_plan::Occupancy;
 
     #[test]
     fn turning_sums_absolute_heading_changes() {
@@ -233,9 +233,9 @@ mod tests {
 
     #[test]
     fn measured_paths_are_checked_and_counted() -> Result<()> {
-        let mut grid = OccupancyGrid::new(8, 5, 1.0, [0.0; 2], Cell::Free)?;
+        let mut grid = OccupancyGrid::new(8, 5, 1.0, [0.0; 2], Occupancy::Free)?;
         for y in 0..4 {
-            grid.set(4, y, Cell::Occupied)?;
+            grid.set(4, y, Occupancy::Occupied)?;
         }
         for kind in PlannerKind::ALL {
             let m = measure(kind, &grid, (0, 0), (7, 0), 2, None, &NoMemoryProbe)?

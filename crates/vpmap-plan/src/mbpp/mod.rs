@@ -146,15 +146,15 @@ use walk::Walk;
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, mbpp::{mbpp, MbppOptions}};
+/// use vpmap_plan::{Occupancy, OccupancyGrid, mbpp::{mbpp, MbppOptions}};
 /// // ......
 /// // ..#...
 /// // ..#...
 /// // ..#...
 /// // ......
-/// let mut grid = OccupancyGrid::new(6, 5, 1.0, [0.0; 2], Cell::Free).unwrap();
+/// let mut grid = OccupancyGrid::new(6, 5, 1.0, [0.0; 2], Occupancy::Free).unwrap();
 /// for y in 1..4 {
-///     grid.set(2, y, Cell::Occupied).unwrap();
+///     grid.set(2, y, Occupancy::Occupied).unwrap();
 /// }
 /// let result = mbpp(&grid, (0, 2), (5, 2), &MbppOptions::default()).unwrap();
 /// let best = result.best.unwrap();

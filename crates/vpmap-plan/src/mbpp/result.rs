@@ -7,7 +7,7 @@ use super::to_u;
 /// Options of [`mbpp`](super::mbpp).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MbppOptions {
-    /// Whether [`Cell::Unknown`](crate::Cell::Unknown) cells may be entered (default: no).
+    /// Whether [`Occupancy::Unknown`](crate::Occupancy::Unknown) cells may be entered (default: no).
     pub unknown_passable: bool,
     /// Record every bug's track (the cells it walked) in [`Planned::bugs`](crate::Planned::bugs) (default: no; it
     /// costs memory proportional to the bugs' steps).

@@ -5,7 +5,7 @@
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use vpmap_plan::{
-    AstarOptions, AstarPsOptions, AstarSearch, Cell, OccupancyGrid, OptimalAnyAngleOptions,
+    AstarOptions, AstarPsOptions, AstarSearch, Occupancy, OccupancyGrid, OptimalAnyAngleOptions,
     Passable, PlanError, ThetaStarOptions, Traversable, astar_ps,
     mbpp::{LeaveRule, MbppOptions, mbpp},
     optimal_any_angle, path_length, theta_star, validate_path,
@@ -24,19 +24,19 @@ const KINDS: [&str; 7] = [
     "diagonal-gaps",
 ];
 
-fn grid_of(width: usize, height: usize, cell: Cell) -> OccupancyGrid {
+fn grid_of(width: usize, height: usize, cell: Occupancy) -> OccupancyGrid {
     OccupancyGrid::new(width, height, 1.0, [0.0; 2], cell).unwrap()
 }
 
 fn block(grid: &mut OccupancyGrid, x: i64, y: i64) {
     if let (Ok(x), Ok(y)) = (usize::try_from(x), usize::try_from(y)) {
-        let _ = grid.set(x, y, Cell::Occupied);
+        let _ = grid.set(x, y, Occupancy::Occupied);
     }
 }
 
 fn clear(grid: &mut OccupancyGrid, x: i64, y: i64) {
     if let (Ok(x), Ok(y)) = (usize::try_from(x), usize::try_from(y)) {
-        let _ = grid.set(x, y, Cell::Free);
+        let _ = grid.set(x, y, Occupancy::Free);
     }
 }
 
@@ -54,7 +54,7 @@ fn generate(rng: &mut ChaCha8Rng, kind: &str, max_side: usize) -> (OccupancyGrid
     let mut unknown_passable = false;
     let grid = match kind {
         "open" => {
-            let mut g = grid_of(w, h, Cell::Free);
+            let mut g = grid_of(w, h, Occupancy::Free);
             for _ in 0..rng.random_range(0..=2) {
                 block(&mut g, rng.random_range(0..wi), rng.random_range(0..hi));
             }
@@ -67,7 +67,7 @@ fn generate(rng: &mut ChaCha8Rng, kind: &str, max_side: usize) -> (OccupancyGrid
             crate::random_grid(rng, w, h, occupied, unknown)
         }
         "rooms" => {
-            let mut g = grid_of(w, h, Cell::Free);
+            let mut g = grid_of(w, h, Occupancy::Free);
             let k = rng.random_range(3..=5);
             for x in (k..wi).step_by(k as usize) {
                 for y in 0..hi {
@@ -100,7 +100,7 @@ fn generate(rng: &mut ChaCha8Rng, kind: &str, max_side: usize) -> (OccupancyGrid
         }
         "maze" => {
             // Recursive backtracker on the odd cells, sometimes with a few walls knocked out.
-            let mut g = grid_of(w, h, Cell::Occupied);
+            let mut g = grid_of(w, h, Occupancy::Occupied);
             let (cw, ch) = ((wi - 1) / 2, (hi - 1) / 2);
             let mut seen = vec![false; (cw * ch) as usize];
             let mut stack = vec![(0i64, 0i64)];
@@ -132,7 +132,7 @@ fn generate(rng: &mut ChaCha8Rng, kind: &str, max_side: usize) -> (OccupancyGrid
             g
         }
         "u-trap" => {
-            let mut g = grid_of(w, h, Cell::Free);
+            let mut g = grid_of(w, h, Occupancy::Free);
             for _ in 0..rng.random_range(1..=2) {
                 let (x0, y0) = (rng.random_range(0..wi), rng.random_range(0..hi));
                 let (x1, y1) = (
@@ -162,7 +162,7 @@ fn generate(rng: &mut ChaCha8Rng, kind: &str, max_side: usize) -> (OccupancyGrid
         "spiral" => {
             // Concentric square walls two cells apart, each with one gap on an alternating
             // side.
-            let mut g = grid_of(w, h, Cell::Free);
+            let mut g = grid_of(w, h, Occupancy::Free);
             let mut ring = 1;
             while 2 * ring < wi.min(hi) - 1 {
                 let (x0, y0, x1, y1) = (ring, ring, wi - 1 - ring, hi - 1 - ring);
@@ -187,7 +187,7 @@ fn generate(rng: &mut ChaCha8Rng, kind: &str, max_side: usize) -> (OccupancyGrid
         _ => {
             // Diagonal walls (impassable without corner cutting) with one-cell gaps and
             // cells touching at corners.
-            let mut g = grid_of(w, h, Cell::Free);
+            let mut g = grid_of(w, h, Occupancy::Free);
             for _ in 0..rng.random_range(1..=3) {
                 let c = rng.random_range(1..wi + hi - 2);
                 let rising = rng.random_bool(0.5);
@@ -474,9 +474,9 @@ fn optimal_matches_brute_force_visibility_graph_on_tiny_grids() {
 
 #[test]
 fn bad_endpoints_are_errors_for_every_planner() {
-    let mut grid = grid_of(4, 3, Cell::Free);
-    grid.set(1, 1, Cell::Occupied).unwrap();
-    grid.set(2, 1, Cell::Unknown).unwrap();
+    let mut grid = grid_of(4, 3, Occupancy::Free);
+    grid.set(1, 1, Occupancy::Occupied).unwrap();
+    grid.set(2, 1, Occupancy::Unknown).unwrap();
     for (start, goal) in [((0, 0), (4, 0)), ((1, 1), (0, 0)), ((0, 0), (2, 1))] {
         let results = [
             astar_ps(&grid, start, goal, &AstarPsOptions::default()).err(),

@@ -7,8 +7,8 @@ use pathfinding::num_traits::Zero;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use vpmap_plan::{
-    AstarOptions, AstarSearch, Cell, Components, OccupancyGrid, Passable, PlanError, Traversable,
-    astar, path_length, validate_path,
+    AstarOptions, AstarSearch, Components, Occupancy, OccupancyGrid, Passable, PlanError,
+    Traversable, astar, path_length, validate_path,
 };
 
 use crate::{random_grid, rng};
@@ -213,7 +213,7 @@ fn reused_search_matches_fresh_searches_across_grid_sizes() {
 
 #[test]
 fn start_equal_to_goal_is_a_one_cell_plan() {
-    let grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
+    let grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
     let plan = astar(&grid, (1, 2), (1, 2), &AstarOptions::default())
         .unwrap()
         .unwrap();
@@ -223,7 +223,7 @@ fn start_equal_to_goal_is_a_one_cell_plan() {
 
 #[test]
 fn octile_costs_and_no_corner_cutting() {
-    let grid = OccupancyGrid::new(10, 10, 1.0, [0.0; 2], Cell::Free).unwrap();
+    let grid = OccupancyGrid::new(10, 10, 1.0, [0.0; 2], Occupancy::Free).unwrap();
     let plan = astar(&grid, (0, 0), (9, 5), &AstarOptions::default())
         .unwrap()
         .unwrap();
@@ -232,7 +232,7 @@ fn octile_costs_and_no_corner_cutting() {
     let mut grid = grid.clone();
     for y in 0..10 {
         if y != 5 {
-            grid.set(5, y, Cell::Occupied).unwrap();
+            grid.set(5, y, Occupancy::Occupied).unwrap();
         }
     }
     let plan = astar(&grid, (4, 4), (6, 6), &AstarOptions::default())
@@ -244,9 +244,9 @@ fn octile_costs_and_no_corner_cutting() {
 
 #[test]
 fn bad_endpoints_are_errors_naming_the_cell() {
-    let mut grid = OccupancyGrid::new(4, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
-    grid.set(1, 1, Cell::Occupied).unwrap();
-    grid.set(2, 1, Cell::Unknown).unwrap();
+    let mut grid = OccupancyGrid::new(4, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+    grid.set(1, 1, Occupancy::Occupied).unwrap();
+    grid.set(2, 1, Occupancy::Unknown).unwrap();
     let opts = AstarOptions::default();
     let e = astar(&grid, (4, 0), (0, 0), &opts).unwrap_err();
     assert!(

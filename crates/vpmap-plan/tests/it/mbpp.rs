@@ -7,7 +7,7 @@ use rand::Rng;
 use vpmap_plan::mbpp::{BugFate, LeaveRule, MbppOptions, m_line, mbpp};
 use vpmap_plan::reach::Components;
 use vpmap_plan::{
-    Cell, OccupancyGrid, OptimalAnyAngleOptions, PlanError, Planned, optimal_any_angle,
+    Occupancy, OccupancyGrid, OptimalAnyAngleOptions, PlanError, Planned, optimal_any_angle,
     path_length, validate_path,
 };
 
@@ -174,7 +174,7 @@ fn enclosed_goal_is_not_found_and_no_bug_reaches_it() {
     // ..#.#..
     // ..###..
     // .......
-    let mut grid = OccupancyGrid::new(7, 5, 1.0, [0.0; 2], Cell::Free).unwrap();
+    let mut grid = OccupancyGrid::new(7, 5, 1.0, [0.0; 2], Occupancy::Free).unwrap();
     for (x, y) in [
         (2, 1),
         (3, 1),
@@ -185,7 +185,7 @@ fn enclosed_goal_is_not_found_and_no_bug_reaches_it() {
         (3, 3),
         (4, 3),
     ] {
-        grid.set(x, y, Cell::Occupied).unwrap();
+        grid.set(x, y, Occupancy::Occupied).unwrap();
     }
     for (start, goal) in [((0, 2), (3, 2)), ((3, 2), (6, 2))] {
         for leave in [LeaveRule::MLine, LeaveRule::Closer] {
@@ -208,9 +208,9 @@ fn enclosed_goal_is_not_found_and_no_bug_reaches_it() {
 #[test]
 fn unknown_cells_are_walls_unless_passable() {
     // A wall of unknown cells across the grid.
-    let mut grid = OccupancyGrid::new(5, 4, 1.0, [0.0; 2], Cell::Free).unwrap();
+    let mut grid = OccupancyGrid::new(5, 4, 1.0, [0.0; 2], Occupancy::Free).unwrap();
     for y in 0..4 {
-        grid.set(2, y, Cell::Unknown).unwrap();
+        grid.set(2, y, Occupancy::Unknown).unwrap();
     }
     let closed = mbpp(&grid, (0, 1), (4, 2), &MbppOptions::default()).unwrap();
     assert_eq!(closed.best, None);
@@ -220,7 +220,7 @@ fn unknown_cells_are_walls_unless_passable() {
 
 #[test]
 fn start_equal_to_goal_is_a_one_cell_path() {
-    let grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
+    let grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
     let result = mbpp(&grid, (1, 2), (1, 2), &MbppOptions::default()).unwrap();
     let best = result.best.unwrap();
     assert_eq!(best.waypoints, [(1, 2)]);
@@ -231,9 +231,9 @@ fn start_equal_to_goal_is_a_one_cell_path() {
 
 #[test]
 fn bad_endpoints_are_errors() {
-    let mut grid = OccupancyGrid::new(4, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
-    grid.set(1, 1, Cell::Occupied).unwrap();
-    grid.set(2, 1, Cell::Unknown).unwrap();
+    let mut grid = OccupancyGrid::new(4, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+    grid.set(1, 1, Occupancy::Occupied).unwrap();
+    grid.set(2, 1, Occupancy::Unknown).unwrap();
     for (start, goal) in [
         ((0, 0), (4, 0)),
         ((0, 3), (0, 0)),

@@ -3,12 +3,14 @@
 
 use std::collections::HashMap;
 
-use vpmap_plan::{Cell, PlanError, parse_movingai_map, parse_scen, read_movingai_map, read_scen};
+use vpmap_plan::{
+    Occupancy, PlanError, parse_movingai_map, parse_scen, read_movingai_map, read_scen,
+};
 
 use crate::movingai_dir;
 
-const F: Cell = Cell::Free;
-const O: Cell = Cell::Occupied;
+const F: Occupancy = Occupancy::Free;
+const O: Occupancy = Occupancy::Occupied;
 
 /// The message of a format error, after checking its line number.
 fn map_error_at(text: &str, line: usize) -> String {
