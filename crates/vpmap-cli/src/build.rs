@@ -278,7 +278,7 @@ fn demo_path(built: &Built) -> Result<(String, FloorPlanStyle)> {
     let points: Vec<[f64; 2]> = plan
         .waypoints
         .iter()
-        .map(|c| grid.world_from_cell(c.0, c.1))
+        .map(|c| grid.world_from_cell(c.x, c.y))
         .collect();
     let length = plan.length_cells * grid.resolution_m();
     let style = FloorPlanStyle {

@@ -9,7 +9,7 @@ use vpmap_pipeline::{
     Coordinates, DEFAULT_ROBOT_RADIUS_M, Endpoint, EndpointRules, OptionNames, endpoint_cell,
 };
 use vpmap_plan::Planned;
-use vpmap_plan::grid::OccupancyGrid;
+use vpmap_plan::grid::{CellXy, OccupancyGrid};
 use vpmap_plan::mbpp::MbppStats;
 use vpmap_plan::plan::Plan;
 use vpmap_plan::planner::{Planner, PlannerKind};
@@ -118,11 +118,11 @@ impl PlanningMap {
     }
 
     /// A waypoint in the map's coordinates.
-    fn coords(&self, cell: (usize, usize)) -> [f64; 2] {
+    fn coords(&self, cell: CellXy) -> [f64; 2] {
         if self.in_cells {
-            [cell.0 as f64, cell.1 as f64]
+            [cell.x as f64, cell.y as f64]
         } else {
-            self.grid.world_from_cell(cell.0, cell.1)
+            self.grid.world_from_cell(cell.x, cell.y)
         }
     }
 
@@ -212,15 +212,15 @@ pub fn load_map(path: &Path, robot_radius: Option<f64>, resolution: f64) -> Resu
 pub fn run_planner(
     kind: PlannerKind,
     grid: &OccupancyGrid,
-    start: (usize, usize),
-    goal: (usize, usize),
+    start: impl Into<CellXy>,
+    goal: impl Into<CellXy>,
     unknown_passable: bool,
     record_tracks: bool,
 ) -> Result<Planned> {
     Ok(kind
         .planner(unknown_passable)
         .with_tracks(record_tracks)
-        .plan(grid, start, goal)?)
+        .plan(grid, start.into(), goal.into())?)
 }
 
 /// MBPP's counters, for the MBPP planners only.
@@ -380,7 +380,7 @@ mod tests {
         assert_eq!(drawn.bugs.len(), quiet.bugs.len());
         assert_eq!(
             drawn.bugs.first().and_then(|b| b.cells.first()),
-            Some(&start)
+            Some(&CellXy::from(start))
         );
         assert!(drawn.bugs.iter().all(|b| !b.cells.is_empty()));
         assert_eq!(drawn.best, quiet.best);

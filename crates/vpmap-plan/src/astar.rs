@@ -23,9 +23,9 @@
 use std::f64::consts::SQRT_2;
 
 use crate::error::Result;
-use crate::grid::OccupancyGrid;
+use crate::grid::{CellXy, OccupancyGrid};
 use crate::los::fill_padded;
-use crate::plan::{Plan, PlanStats, check_endpoint};
+use crate::plan::{Plan, PlanStats, cells_of, check_endpoint, xy};
 
 /// Options of [`astar`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -213,7 +213,7 @@ fn priority(g: [u32; 2], h: [u32; 2]) -> f64 {
 /// let mut search = AstarSearch::new();
 /// for goal in [(7, 7), (7, 0), (3, 5)] {
 ///     let plan = search.search(&grid, (0, 0), goal, &AstarOptions::default()).unwrap().unwrap();
-///     assert_eq!(plan.waypoints.last(), Some(&goal));
+///     assert_eq!(*plan.waypoints.last().unwrap(), goal);
 /// }
 /// ```
 #[derive(Clone, Debug, Default)]
@@ -259,10 +259,11 @@ impl AstarSearch {
     pub fn search(
         &mut self,
         grid: &OccupancyGrid,
-        start: (usize, usize),
-        goal: (usize, usize),
+        start: impl Into<CellXy>,
+        goal: impl Into<CellXy>,
         opts: &AstarOptions,
     ) -> Result<Option<Plan>> {
+        let (start, goal) = (xy(start), xy(goal));
         check_endpoint(grid, "start", start, opts.unknown_passable)?;
         check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
         // Padded coordinates: cell (x, y) is (x + 1, y + 1) in a grid one cell larger on
@@ -401,7 +402,7 @@ impl AstarSearch {
         }
         waypoints.reverse();
         Plan {
-            waypoints,
+            waypoints: cells_of(waypoints),
             length_cells: octile_length(steps),
             stats,
         }
@@ -444,8 +445,8 @@ impl AstarSearch {
 /// ```
 pub fn astar(
     grid: &OccupancyGrid,
-    start: (usize, usize),
-    goal: (usize, usize),
+    start: impl Into<CellXy>,
+    goal: impl Into<CellXy>,
     opts: &AstarOptions,
 ) -> Result<Option<Plan>> {
     AstarSearch::new().search(grid, start, goal, opts)

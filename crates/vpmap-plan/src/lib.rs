@@ -64,7 +64,7 @@ pub mod validate;
 
 pub use astar::{AstarOptions, AstarSearch, astar};
 pub use error::{PlanError, Result};
-pub use grid::{MAX_CELLS, Occupancy, OccupancyGrid};
+pub use grid::{CellXy, MAX_CELLS, Occupancy, OccupancyGrid};
 pub use los::{
     LosCounter, Passable, PassableGrid, Traversable, cell_passable, line_of_sight,
     line_of_sight_counted,

@@ -42,7 +42,7 @@
 use std::path::Path;
 
 use crate::error::{PlanError, Result};
-use crate::grid::{Occupancy, OccupancyGrid, checked_cell_count};
+use crate::grid::{CellXy, Occupancy, OccupancyGrid, checked_cell_count};
 
 /// One problem of a Moving AI `.scen` file.
 #[derive(Clone, PartialEq, Debug)]
@@ -56,9 +56,9 @@ pub struct Scenario {
     /// Height of the map, cells.
     pub height: usize,
     /// Start cell `(x, y)`: column, row from the top.
-    pub start: (usize, usize),
+    pub start: CellXy,
     /// Goal cell `(x, y)`: column, row from the top.
-    pub goal: (usize, usize),
+    pub goal: CellXy,
     /// Length of a shortest octile path (no corner cutting), cells, as printed in the file.
     pub optimal_length_cells: f64,
 }
@@ -356,8 +356,8 @@ fn parse_scen_line(n: usize, line: &str) -> Result<Scenario> {
         map: map.to_owned(),
         width,
         height,
-        start,
-        goal,
+        start: start.into(),
+        goal: goal.into(),
         optimal_length_cells: optimal_length,
     })
 }
@@ -376,7 +376,7 @@ fn parse_scen_line(n: usize, line: &str) -> Result<Scenario> {
 /// use vpmap_plan::movingai::parse_scen;
 /// let text = "version 1.0\n3 maps/bg/AR0500SR.map 512 512 81 452 246 138 421.84";
 /// let scen = parse_scen(text).unwrap();
-/// assert_eq!((scen[0].start, scen[0].goal), ((81, 452), (246, 138)));
+/// assert_eq!((scen[0].start, scen[0].goal), ((81, 452).into(), (246, 138).into()));
 /// assert_eq!(scen[0].optimal_length_cells, 421.84);
 /// ```
 pub fn parse_scen(text: &str) -> Result<Vec<Scenario>> {

@@ -49,9 +49,9 @@
 use std::collections::BinaryHeap;
 
 use crate::error::Result;
-use crate::grid::OccupancyGrid;
+use crate::grid::{CellXy, OccupancyGrid};
 use crate::los::{LosCounter, Passable, PassableGrid};
-use crate::plan::{Plan, PlanStats, check_endpoint, path_length};
+use crate::plan::{Plan, PlanStats, check_endpoint, path_length, xy};
 use crate::theta_star::{Entry, distance, trace_back};
 
 /// Options of [`optimal_any_angle`].
@@ -136,10 +136,11 @@ fn corners_of(passable: &PassableGrid) -> Vec<(usize, usize)> {
 /// ```
 pub fn optimal_any_angle(
     grid: &OccupancyGrid,
-    start: (usize, usize),
-    goal: (usize, usize),
+    start: impl Into<CellXy>,
+    goal: impl Into<CellXy>,
     opts: &OptimalAnyAngleOptions,
 ) -> Result<Option<Plan>> {
+    let (start, goal) = (xy(start), xy(goal));
     check_endpoint(grid, "start", start, opts.unknown_passable)?;
     check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
     let passable = PassableGrid::new(grid, opts.unknown_passable);
@@ -177,9 +178,9 @@ pub fn optimal_any_angle(
         if from == goal {
             // Parent links between node numbers (as `(0, node)` with width 1), mapped to cells.
             let chain = trace_back(&parent, 1, u);
-            let waypoints: Vec<(usize, usize)> = chain
+            let waypoints: Vec<CellXy> = chain
                 .iter()
-                .filter_map(|&(_, n)| nodes.get(n).copied())
+                .filter_map(|&(_, n)| nodes.get(n).copied().map(CellXy::from))
                 .collect();
             let length_cells = path_length(&waypoints);
             stats.los_checks = counter.checks;

@@ -11,7 +11,7 @@
 //! let mut lengths = Vec::new();
 //! for kind in PlannerKind::ALL {
 //!     let mut planner = kind.planner(false);
-//!     let planned = planner.plan(&grid, (0, 0), (7, 0)).unwrap();
+//!     let planned = planner.plan(&grid, (0, 0).into(), (7, 0).into()).unwrap();
 //!     lengths.push((planner.name(), planned.best.unwrap().length_cells));
 //! }
 //! let optimal = lengths.iter().find(|(name, _)| *name == "optimal").unwrap().1;
@@ -23,7 +23,7 @@ use std::str::FromStr;
 
 use crate::astar::{AstarOptions, AstarSearch};
 use crate::error::{PlanError, Result};
-use crate::grid::OccupancyGrid;
+use crate::grid::{CellXy, OccupancyGrid};
 use crate::mbpp::{BugTrack, LeaveRule, MbppOptions, MbppStats, mbpp};
 use crate::optimal::{OptimalAnyAngleOptions, optimal_any_angle};
 use crate::plan::Plan;
@@ -58,12 +58,7 @@ pub trait Planner {
     ///
     /// # Errors
     /// When `start` or `goal` is outside the grid or not traversable.
-    fn plan(
-        &mut self,
-        grid: &OccupancyGrid,
-        start: (usize, usize),
-        goal: (usize, usize),
-    ) -> Result<Planned>;
+    fn plan(&mut self, grid: &OccupancyGrid, start: CellXy, goal: CellXy) -> Result<Planned>;
 }
 
 /// The built-in planners.
@@ -170,12 +165,7 @@ impl Planner for BuiltIn {
         self.kind.name()
     }
 
-    fn plan(
-        &mut self,
-        grid: &OccupancyGrid,
-        start: (usize, usize),
-        goal: (usize, usize),
-    ) -> Result<Planned> {
+    fn plan(&mut self, grid: &OccupancyGrid, start: CellXy, goal: CellXy) -> Result<Planned> {
         let unknown_passable = self.unknown_passable;
         let best = match self.kind {
             PlannerKind::Mbpp | PlannerKind::MbppCloser => {

@@ -10,7 +10,7 @@
 
 use std::collections::VecDeque;
 
-use crate::grid::OccupancyGrid;
+use crate::grid::{CellXy, OccupancyGrid};
 use crate::los::cell_passable;
 
 /// The connected components of a grid's passable cells (see the [module docs](self)).
@@ -102,7 +102,8 @@ impl Components {
     /// The component number (from 1) of cell `(x, y)`, `None` when it is blocked or
     /// outside the grid.
     #[must_use]
-    pub fn of(&self, (x, y): (usize, usize)) -> Option<u32> {
+    pub fn of(&self, cell: impl Into<CellXy>) -> Option<u32> {
+        let CellXy { x, y } = cell.into();
         if x >= self.width || y >= self.height {
             return None;
         }
@@ -115,7 +116,7 @@ impl Components {
     /// Whether a planner can get from cell `a` to cell `b`: both passable and in one
     /// component.
     #[must_use]
-    pub fn connected(&self, a: (usize, usize), b: (usize, usize)) -> bool {
+    pub fn connected(&self, a: impl Into<CellXy>, b: impl Into<CellXy>) -> bool {
         matches!((self.of(a), self.of(b)), (Some(p), Some(q)) if p == q)
     }
 
@@ -158,8 +159,8 @@ impl Components {
 #[must_use]
 pub fn reachable(
     grid: &OccupancyGrid,
-    start: (usize, usize),
-    goal: (usize, usize),
+    start: impl Into<CellXy>,
+    goal: impl Into<CellXy>,
     unknown_passable: bool,
 ) -> bool {
     Components::label(grid, unknown_passable).connected(start, goal)

@@ -26,7 +26,7 @@
 
 use crate::astar::{AstarOptions, AstarSearch};
 use crate::error::Result;
-use crate::grid::OccupancyGrid;
+use crate::grid::{CellXy, OccupancyGrid};
 use crate::los::{LosCounter, Passable, PassableGrid};
 use crate::plan::{Plan, PlanStats, path_length};
 
@@ -55,19 +55,15 @@ pub struct AstarPsOptions {
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Occupancy, OccupancyGrid, los::LosCounter, smoothing::smooth_path};
+/// use vpmap_plan::{CellXy, Occupancy, OccupancyGrid, los::LosCounter, smoothing::smooth_path};
 /// let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
 /// grid.set(1, 1, Occupancy::Occupied).unwrap();
-/// let path = [(0, 0), (1, 0), (2, 0), (2, 1), (2, 2)];
+/// let path = [(0, 0), (1, 0), (2, 0), (2, 1), (2, 2)].map(CellXy::from);
 /// let mut counter = LosCounter::default();
 /// assert_eq!(smooth_path(&grid, &path, &mut counter), [(0, 0), (2, 0), (2, 2)]);
 /// assert!(counter.checks > 0);
 /// ```
-pub fn smooth_path(
-    grid: &impl Passable,
-    path: &[(usize, usize)],
-    counter: &mut LosCounter,
-) -> Vec<(usize, usize)> {
+pub fn smooth_path(grid: &impl Passable, path: &[CellXy], counter: &mut LosCounter) -> Vec<CellXy> {
     let mut anchor = 0;
     let mut kept = Vec::new();
     while let Some(&from) = path.get(anchor) {
@@ -79,7 +75,7 @@ pub fn smooth_path(
             .rev()
             .find(|&j| {
                 path.get(j)
-                    .is_some_and(|&to| grid.sight_counted(from, to, counter))
+                    .is_some_and(|&to| grid.sight_counted(from.into(), to.into(), counter))
             })
             .unwrap_or(anchor + 1);
         anchor = farthest;
@@ -115,8 +111,8 @@ pub fn smooth_path(
 /// ```
 pub fn astar_ps(
     grid: &OccupancyGrid,
-    start: (usize, usize),
-    goal: (usize, usize),
+    start: impl Into<CellXy>,
+    goal: impl Into<CellXy>,
     opts: &AstarPsOptions,
 ) -> Result<Option<Plan>> {
     let astar_opts = AstarOptions {
@@ -153,7 +149,7 @@ mod tests {
         // (3, 0) is visible again.
         let mut grid = OccupancyGrid::new(4, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
         grid.set(1, 1, Occupancy::Occupied).unwrap();
-        let path = [(0, 0), (0, 1), (0, 2), (1, 2), (2, 2), (3, 1), (3, 0)];
+        let path = [(0, 0), (0, 1), (0, 2), (1, 2), (2, 2), (3, 1), (3, 0)].map(CellXy::from);
         let mut counter = LosCounter::default();
         assert_eq!(smooth_path(&grid, &path, &mut counter), [(0, 0), (3, 0)]);
     }
@@ -163,9 +159,12 @@ mod tests {
         let grid = OccupancyGrid::new(2, 1, 1.0, [0.0; 2], Occupancy::Free).unwrap();
         let mut counter = LosCounter::default();
         assert!(smooth_path(&grid, &[], &mut counter).is_empty());
-        assert_eq!(smooth_path(&grid, &[(1, 0)], &mut counter), [(1, 0)]);
         assert_eq!(
-            smooth_path(&grid, &[(0, 0), (1, 0)], &mut counter),
+            smooth_path(&grid, &[CellXy::new(1, 0)], &mut counter),
+            [(1, 0)]
+        );
+        assert_eq!(
+            smooth_path(&grid, &[CellXy::new(0, 0), CellXy::new(1, 0)], &mut counter),
             [(0, 0), (1, 0)]
         );
         assert_eq!(counter.checks, 0);

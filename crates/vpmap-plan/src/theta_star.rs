@@ -24,9 +24,9 @@
 use std::collections::BinaryHeap;
 
 use crate::error::Result;
-use crate::grid::OccupancyGrid;
+use crate::grid::{CellXy, OccupancyGrid};
 use crate::los::{LosCounter, Passable, PassableGrid};
-use crate::plan::{Plan, PlanStats, check_endpoint, path_length};
+use crate::plan::{Plan, PlanStats, cells_of, check_endpoint, path_length, xy};
 
 /// Options of [`theta_star`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -107,7 +107,7 @@ pub(crate) fn trace_back(parent: &[u32], width: usize, goal_index: usize) -> Vec
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Occupancy, OccupancyGrid, theta_star::{theta_star, ThetaStarOptions}};
+/// use vpmap_plan::{CellXy, Occupancy, OccupancyGrid, theta_star::{theta_star, ThetaStarOptions}};
 /// // ....
 /// // .#..
 /// // ....
@@ -115,16 +115,17 @@ pub(crate) fn trace_back(parent: &[u32], width: usize, goal_index: usize) -> Vec
 /// grid.set(1, 1, Occupancy::Occupied).unwrap();
 /// let opts = ThetaStarOptions::default();
 /// let plan = theta_star(&grid, (0, 2), (3, 0), &opts).unwrap().unwrap();
-/// assert_eq!(plan.waypoints.first(), Some(&(0, 2)));
-/// assert_eq!(plan.waypoints.last(), Some(&(3, 0)));
+/// assert_eq!(plan.waypoints.first(), Some(&CellXy::new(0, 2)));
+/// assert_eq!(plan.waypoints.last(), Some(&CellXy::new(3, 0)));
 /// assert!(plan.length_cells < 3.0 + 2f64.sqrt()); // shorter than any grid path
 /// ```
 pub fn theta_star(
     grid: &OccupancyGrid,
-    start: (usize, usize),
-    goal: (usize, usize),
+    start: impl Into<CellXy>,
+    goal: impl Into<CellXy>,
     opts: &ThetaStarOptions,
 ) -> Result<Option<Plan>> {
+    let (start, goal) = (xy(start), xy(goal));
     check_endpoint(grid, "start", start, opts.unknown_passable)?;
     check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
     let passable = PassableGrid::new(grid, opts.unknown_passable);
@@ -153,7 +154,7 @@ pub fn theta_star(
         }
         stats.expanded += 1;
         if index == goal_index {
-            let waypoints = trace_back(&parent, width, goal_index);
+            let waypoints = cells_of(trace_back(&parent, width, goal_index));
             let length_cells = path_length(&waypoints);
             stats.los_checks = counter.checks;
             stats.los_cells = counter.cells;

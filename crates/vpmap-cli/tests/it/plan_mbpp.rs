@@ -5,7 +5,9 @@
 use std::path::Path;
 
 use serde_json::Value;
-use vpmap_plan::{Occupancy, OccupancyGrid, parse_movingai_map, validate_path, write_ros_map};
+use vpmap_plan::{
+    CellXy, Occupancy, OccupancyGrid, parse_movingai_map, validate_path, write_ros_map,
+};
 
 use super::{WALLED, vpmap};
 
@@ -56,12 +58,12 @@ fn polyline_length(points: &[[f64; 2]]) -> f64 {
 }
 
 /// Moving AI coordinates are whole cells.
-fn cells(points: &[[f64; 2]]) -> Vec<(usize, usize)> {
+fn cells(points: &[[f64; 2]]) -> Vec<CellXy> {
     points
         .iter()
         .map(|p| {
             assert!(p[0].fract() == 0.0 && p[1].fract() == 0.0, "{p:?}");
-            (p[0] as usize, p[1] as usize)
+            CellXy::new(p[0] as usize, p[1] as usize)
         })
         .collect()
 }

@@ -21,7 +21,7 @@ use vpmap_plan::movingai::{Scenario, read_movingai_map, read_scen};
 use vpmap_plan::{Occupancy, OccupancyGrid, RasterOptions, rasterize_map};
 
 /// A cell `(x, y)`: column, row from the top.
-pub type CellXy = (usize, usize);
+pub use vpmap_plan::CellXy;
 
 /// Where the benchmark data lives by default, relative to the workspace root.
 pub const MOVINGAI_RELATIVE: &str = "../shared/data/movingai";
@@ -246,11 +246,12 @@ impl Components {
 
     /// The component of a cell, `None` when it is blocked or outside.
     #[must_use]
-    pub fn of(&self, c: CellXy) -> Option<u32> {
-        if c.0 >= self.width {
+    pub fn of(&self, c: impl Into<CellXy>) -> Option<u32> {
+        let c = c.into();
+        if c.x >= self.width {
             return None;
         }
-        match self.labels.get(c.1 * self.width + c.0) {
+        match self.labels.get(c.y * self.width + c.x) {
             Some(&l) if l > 0 => Some(l),
             _ => None,
         }
@@ -258,7 +259,7 @@ impl Components {
 
     /// Whether a path joins `a` and `b`.
     #[must_use]
-    pub fn connected(&self, a: CellXy, b: CellXy) -> bool {
+    pub fn connected(&self, a: impl Into<CellXy>, b: impl Into<CellXy>) -> bool {
         matches!((self.of(a), self.of(b)), (Some(x), Some(y)) if x == y)
     }
 
@@ -275,7 +276,7 @@ impl Components {
     }
 
     fn cell(&self, i: usize) -> CellXy {
-        (i % self.width, i / self.width)
+        CellXy::new(i % self.width, i / self.width)
     }
 }
 
@@ -472,13 +473,13 @@ fn check_problem(scen: &Path, index: usize, p: &Scenario, grid: &OccupancyGrid) 
         );
     }
     for (what, c) in [("start", p.start), ("goal", p.goal)] {
-        if !grid.is_free(c.0, c.1) {
+        if !grid.is_free(c.x, c.y) {
             bail!(
                 "{}: problem {}: {what} ({}, {}) is not a free cell of {}",
                 scen.display(),
                 index + 1,
-                c.0,
-                c.1,
+                c.x,
+                c.y,
                 p.map
             );
         }
@@ -546,7 +547,7 @@ pub fn sample_solvable(components: &Components, n: usize, rng: &mut ChaCha8Rng) 
                 }
             };
             let (a, b) = (components.cell(s), components.cell(g));
-            let d = (a.0.abs_diff(b.0) as f64).hypot(a.1.abs_diff(b.1) as f64);
+            let d = (a.x.abs_diff(b.x) as f64).hypot(a.y.abs_diff(b.y) as f64);
             (d, a, b)
         })
         .collect();
@@ -828,7 +829,7 @@ mod tests {
         );
         // Spread over lengths: sorted by distance.
         let d = |q: &Query| {
-            (q.start.0.abs_diff(q.goal.0) as f64).hypot(q.start.1.abs_diff(q.goal.1) as f64)
+            (q.start.x.abs_diff(q.goal.x) as f64).hypot(q.start.y.abs_diff(q.goal.y) as f64)
         };
         assert!(solvable.windows(2).all(|w| d(&w[0]) <= d(&w[1])));
         let unsolvable = sample_unsolvable(&c, &mut rng);

@@ -19,7 +19,7 @@ use std::fmt::Write as _;
 use serde_json::{Value, json};
 use vpmap_plan::planner::PlannerKind;
 
-use super::maps::{CATEGORY_ORDER, Origin, UNSOLVABLE_PER_MAP};
+use super::maps::{CATEGORY_ORDER, CellXy, Origin, UNSOLVABLE_PER_MAP};
 use super::{MapResult, OPTIMAL_CORNER_LIMIT, Results};
 use crate::stats::mean;
 
@@ -209,8 +209,8 @@ fn query_failures(results: &Results, m: &MapResult, q: usize) -> Vec<String> {
     out
 }
 
-fn cell_text(c: (usize, usize)) -> String {
-    format!("({}, {})", c.0, c.1)
+fn cell_text(c: CellXy) -> String {
+    format!("({}, {})", c.x, c.y)
 }
 
 impl Group {
@@ -415,10 +415,10 @@ pub fn csv(results: &Results) -> String {
                     (q + 1).to_string(),
                     query.origin.name().to_owned(),
                     opt(bucket),
-                    query.start.0.to_string(),
-                    query.start.1.to_string(),
-                    query.goal.0.to_string(),
-                    query.goal.1.to_string(),
+                    query.start.x.to_string(),
+                    query.start.y.to_string(),
+                    query.goal.x.to_string(),
+                    query.goal.y.to_string(),
                     m.map
                         .components
                         .connected(query.start, query.goal)

@@ -122,6 +122,7 @@ pub use result::{BugFate, BugTrack, LeaveRule, MbppOptions, MbppStats};
 pub use walk::m_line;
 
 use crate::error::Result;
+use crate::grid::CellXy;
 use crate::grid::OccupancyGrid;
 use crate::los::{LosCounter, Passable, PassableGrid};
 use crate::plan::{Plan, PlanStats, check_endpoint, path_length};
@@ -169,10 +170,11 @@ use walk::Walk;
 /// ```
 pub fn mbpp(
     grid: &OccupancyGrid,
-    start: (usize, usize),
-    goal: (usize, usize),
+    start: impl Into<CellXy>,
+    goal: impl Into<CellXy>,
     opts: &MbppOptions,
 ) -> Result<Planned> {
+    let (start, goal) = (start.into(), goal.into());
     check_endpoint(grid, "start", start, opts.unknown_passable)?;
     check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
     let padded = PassableGrid::new(grid, opts.unknown_passable);
@@ -221,20 +223,20 @@ pub fn mbpp(
 type Xy = (i64, i64);
 
 #[inline]
-fn to_i(c: (usize, usize)) -> Xy {
-    (c.0 as i64, c.1 as i64)
+fn to_i(c: CellXy) -> Xy {
+    (c.x as i64, c.y as i64)
 }
 
 #[inline]
-fn to_u(c: Xy) -> (usize, usize) {
-    (c.0 as usize, c.1 as usize)
+fn to_u(c: Xy) -> CellXy {
+    CellXy::new(c.0 as usize, c.1 as usize)
 }
 
 const NONE: u32 = u32::MAX;
 /// What one (possibly nested) run produces.
 struct Outcome {
-    best: Option<Vec<(usize, usize)>>,
-    alternatives: Vec<Vec<(usize, usize)>>,
+    best: Option<Vec<CellXy>>,
+    alternatives: Vec<Vec<CellXy>>,
     bugs: Vec<BugTrack>,
 }
 

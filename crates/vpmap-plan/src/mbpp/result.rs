@@ -3,6 +3,7 @@
 
 use super::Xy;
 use super::to_u;
+use crate::grid::CellXy;
 
 /// Options of [`mbpp`](super::mbpp).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -64,11 +65,11 @@ pub struct BugTrack {
     pub parent: Option<usize>,
     /// The cells it walked, from its birth cell (empty unless
     /// [`MbppOptions::record_tracks`] is set).
-    pub cells: Vec<(usize, usize)>,
+    pub cells: Vec<CellXy>,
     /// Where it hit obstacles (its `hit_list`).
-    pub hits: Vec<(usize, usize)>,
+    pub hits: Vec<CellXy>,
     /// Where it left walls for the m-line (its `leave_list`).
-    pub leaves: Vec<(usize, usize)>,
+    pub leaves: Vec<CellXy>,
     /// Steps it took.
     pub steps: usize,
     /// How it ended.

@@ -5,8 +5,8 @@
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use vpmap_plan::{
-    AstarOptions, AstarPsOptions, AstarSearch, Occupancy, OccupancyGrid, OptimalAnyAngleOptions,
-    Passable, PlanError, ThetaStarOptions, Traversable, astar_ps,
+    AstarOptions, AstarPsOptions, AstarSearch, CellXy, Occupancy, OccupancyGrid,
+    OptimalAnyAngleOptions, Passable, PlanError, ThetaStarOptions, Traversable, astar_ps,
     mbpp::{LeaveRule, MbppOptions, mbpp},
     optimal_any_angle, path_length, theta_star, validate_path,
 };
@@ -227,10 +227,11 @@ fn check_plan(
     name: &str,
     grid: &OccupancyGrid,
     plan: &vpmap_plan::Plan,
-    start: (usize, usize),
-    goal: (usize, usize),
+    start: impl Into<CellXy>,
+    goal: impl Into<CellXy>,
     unknown_passable: bool,
 ) {
+    let (start, goal): (CellXy, CellXy) = (start.into(), goal.into());
     assert_eq!(plan.waypoints.first(), Some(&start), "{name}");
     assert_eq!(plan.waypoints.last(), Some(&goal), "{name}");
     if let Err(e) = validate_path(grid, &plan.waypoints, unknown_passable) {
@@ -409,7 +410,8 @@ fn brute_force_lengths(
     let mut visible = vec![false; n * n];
     for i in 0..n {
         for j in i..n {
-            let ok = validate_path(grid, &[cells[i], cells[j]], unknown_passable).is_ok();
+            let ok =
+                validate_path(grid, &[cells[i].into(), cells[j].into()], unknown_passable).is_ok();
             visible[i * n + j] = ok;
             visible[j * n + i] = ok;
         }
@@ -424,7 +426,7 @@ fn brute_force_lengths(
         done[u] = true;
         for v in 0..n {
             if !done[v] && visible[u * n + v] {
-                let d = dist[u] + path_length(&[cells[u], cells[v]]);
+                let d = dist[u] + path_length(&[cells[u].into(), cells[v].into()]);
                 if d < dist[v] {
                     dist[v] = d;
                 }

@@ -168,10 +168,10 @@ fn astar_matches_pathfinding_and_bfs_on_random_grids() {
                 "{start:?} -> {goal:?}: {} vs {reference:?}",
                 plan.length_cells
             );
-            assert_eq!(plan.waypoints.first(), Some(&start));
-            assert_eq!(plan.waypoints.last(), Some(&goal));
+            assert_eq!(plan.waypoints.first(), Some(&start.into()));
+            assert_eq!(plan.waypoints.last(), Some(&goal.into()));
             for pair in plan.waypoints.windows(2) {
-                let (dx, dy) = (pair[0].0.abs_diff(pair[1].0), pair[0].1.abs_diff(pair[1].1));
+                let (dx, dy) = (pair[0].x.abs_diff(pair[1].x), pair[0].y.abs_diff(pair[1].y));
                 assert!(dx <= 1 && dy <= 1 && dx + dy > 0, "{pair:?}");
             }
             assert!((path_length(&plan.waypoints) - plan.length_cells).abs() < 1e-9);

@@ -35,7 +35,7 @@ fn clear_both_ways(grid: &OccupancyGrid, a: (usize, usize), b: (usize, usize)) -
     assert_eq!(forward, line_of_sight(grid, b, a), "{a:?} {b:?}");
     assert_eq!(
         forward,
-        validate_path(grid, &[a, b], false).is_ok(),
+        validate_path(grid, &[a.into(), b.into()], false).is_ok(),
         "los and validator disagree on {a:?} -> {b:?}"
     );
     forward
@@ -86,7 +86,7 @@ fn los_and_validator_agree_on_random_grids() {
             for unknown_passable in [false, true] {
                 let map = Traversable::new(&grid, unknown_passable);
                 let los = line_of_sight(&map, a, b);
-                let valid = validate_path(&grid, &[a, b], unknown_passable);
+                let valid = validate_path(&grid, &[a.into(), b.into()], unknown_passable);
                 assert_eq!(los, valid.is_ok(), "{a:?} -> {b:?}: {valid:?}\n{grid:?}");
                 if los {
                     clear += 1;

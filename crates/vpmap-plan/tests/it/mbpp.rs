@@ -7,8 +7,8 @@ use rand::Rng;
 use vpmap_plan::mbpp::{BugFate, LeaveRule, MbppOptions, m_line, mbpp};
 use vpmap_plan::reach::Components;
 use vpmap_plan::{
-    Occupancy, OccupancyGrid, OptimalAnyAngleOptions, PlanError, Planned, optimal_any_angle,
-    path_length, validate_path,
+    CellXy, Occupancy, OccupancyGrid, OptimalAnyAngleOptions, PlanError, Planned,
+    optimal_any_angle, path_length, validate_path,
 };
 
 use crate::{random_grid, rng};
@@ -27,11 +27,12 @@ fn opts(unknown_passable: bool, leave: LeaveRule, record_tracks: bool) -> MbppOp
 fn check_paths(
     result: &Planned,
     grid: &OccupancyGrid,
-    (start, goal): ((usize, usize), (usize, usize)),
+    (start, goal): (impl Into<CellXy>, impl Into<CellXy>),
     unknown_passable: bool,
     optimum: f64,
     context: &str,
 ) {
+    let (start, goal): (CellXy, CellXy) = (start.into(), goal.into());
     let best = result.best.iter();
     for (i, plan) in best.chain(&result.alternatives).enumerate() {
         assert_eq!(plan.waypoints.first(), Some(&start), "path {i} {context}");
@@ -60,10 +61,11 @@ fn check_paths(
 fn check_bugs(
     result: &Planned,
     grid: &OccupancyGrid,
-    start: (usize, usize),
+    start: impl Into<CellXy>,
     unknown_passable: bool,
     context: &str,
 ) {
+    let start: CellXy = start.into();
     let bugs = &result.bugs;
     assert!(!bugs.is_empty(), "{context}");
     assert_eq!(bugs[0].parent, None, "{context}");
@@ -77,7 +79,7 @@ fn check_bugs(
         }
         assert_eq!(bug.cells.len(), bug.steps + 1, "bug {b} {context}");
         for step in bug.cells.windows(2) {
-            let (dx, dy) = (step[0].0.abs_diff(step[1].0), step[0].1.abs_diff(step[1].1));
+            let (dx, dy) = (step[0].x.abs_diff(step[1].x), step[0].y.abs_diff(step[1].y));
             assert!(
                 dx <= 1 && dy <= 1 && dx + dy > 0,
                 "bug {b} {step:?} {context}"
@@ -290,20 +292,21 @@ proptest! {
         goal in (0usize..60, 0usize..60),
     ) {
         let line = m_line(start, goal);
+        let (start, goal) = (CellXy::from(start), CellXy::from(goal));
         prop_assert_eq!(line.first(), Some(&start));
         prop_assert_eq!(line.last(), Some(&goal));
-        let long = start.0.abs_diff(goal.0).max(start.1.abs_diff(goal.1));
+        let long = start.x.abs_diff(goal.x).max(start.y.abs_diff(goal.y));
         prop_assert_eq!(line.len(), long + 1);
-        let d2 = |c: (usize, usize)| c.0.abs_diff(goal.0).pow(2) + c.1.abs_diff(goal.1).pow(2);
+        let d2 = |c: CellXy| c.x.abs_diff(goal.x).pow(2) + c.y.abs_diff(goal.y).pow(2);
         for w in line.windows(2) {
-            prop_assert!(w[0].0.abs_diff(w[1].0) <= 1 && w[0].1.abs_diff(w[1].1) <= 1);
+            prop_assert!(w[0].x.abs_diff(w[1].x) <= 1 && w[0].y.abs_diff(w[1].y) <= 1);
             prop_assert!(d2(w[1]) < d2(w[0]), "{:?}", w);
         }
         // Each cell lies within half a cell of the straight segment, measured across the
         // longer axis: |cross| <= long / 2 in units of the segment's major extent.
-        let (dx, dy) = (goal.0 as i64 - start.0 as i64, goal.1 as i64 - start.1 as i64);
-        for &(x, y) in &line {
-            let (px, py) = (x as i64 - start.0 as i64, y as i64 - start.1 as i64);
+        let (dx, dy) = (goal.x as i64 - start.x as i64, goal.y as i64 - start.y as i64);
+        for &CellXy { x, y } in &line {
+            let (px, py) = (x as i64 - start.x as i64, y as i64 - start.y as i64);
             let cross = (px * dy - py * dx).abs();
             prop_assert!(2 * cross <= long as i64, "{:?} off the line", (x, y));
         }

@@ -184,7 +184,10 @@ fn no_path_between_components_of_benchmark_maps() {
                 PlannerKind::AstarPs,
                 PlannerKind::ThetaStar,
             ] {
-                let planned = kind.planner(false).plan(&grid, pair[0], pair[1]).unwrap();
+                let planned = kind
+                    .planner(false)
+                    .plan(&grid, pair[0].into(), pair[1].into())
+                    .unwrap();
                 assert_eq!(planned.best, None, "{kind} {name}: {pair:?}");
                 assert!(planned.alternatives.is_empty());
             }
@@ -219,8 +222,8 @@ fn every_planner_solves_samples_of_every_benchmark_map() {
                     .unwrap_or_else(|e| panic!("{kind} {s:?}: {e}"));
                 assert_eq!(plan.waypoints.first(), Some(&s.start));
                 assert_eq!(plan.waypoints.last(), Some(&s.goal));
-                let straight = (s.start.0.abs_diff(s.goal.0) as f64)
-                    .hypot(s.start.1.abs_diff(s.goal.1) as f64);
+                let straight = (s.start.x.abs_diff(s.goal.x) as f64)
+                    .hypot(s.start.y.abs_diff(s.goal.y) as f64);
                 assert!(plan.length_cells >= straight - 1e-9, "{kind} {s:?}");
                 // Smoothing never lengthens the octile-optimal A* path.
                 if kind == PlannerKind::AstarPs {

@@ -121,7 +121,7 @@ fn scenario_quirks_read_alike() {
         (s.bucket, s.map.as_str(), s.width, s.height),
         (3, "maps/dao/arena2.map", 281, 209)
     );
-    assert_eq!((s.start, s.goal), ((100, 41), (98, 44)));
+    assert_eq!((s.start, s.goal), ((100, 41).into(), (98, 44).into()));
     assert!((s.optimal_length_cells - 3.82843).abs() < 1e-12);
     assert_eq!(s.map_file_name(), "arena2.map");
     for variant in [

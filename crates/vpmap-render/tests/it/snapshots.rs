@@ -39,7 +39,7 @@ fn two_walls() -> (OccupancyGrid, Planned) {
     let planned = PlannerKind::Mbpp
         .planner(false)
         .with_tracks(true)
-        .plan(&grid, (0, 4), (11, 4))
+        .plan(&grid, (0, 4).into(), (11, 4).into())
         .unwrap();
     (grid, planned)
 }
