@@ -8,7 +8,7 @@ use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::scene::Scene;
 use vpmap_metrology::synth::Truth;
 use vpmap_pipeline::{MapOptions, PipelineError};
-use vpmap_plan::grid::{Cell, OccupancyGrid};
+use vpmap_plan::grid::{Occupancy, OccupancyGrid};
 use vpmap_plan::mbpp::{MbppOptions, mbpp};
 use vpmap_plan::reach::Components;
 use vpmap_render::{FloorPlanStyle, floor_plan_svg, svg_to_png};
@@ -255,7 +255,7 @@ fn demo_path(built: &Built) -> Result<(String, FloorPlanStyle)> {
     let target = [0.0, near_y + 0.5];
     let free: Vec<(usize, usize)> = (0..grid.height())
         .flat_map(|y| (0..grid.width()).map(move |x| (x, y)))
-        .filter(|&(x, y)| grid.get(x, y) == Some(Cell::Free))
+        .filter(|&(x, y)| grid.get(x, y) == Some(Occupancy::Free))
         .collect();
     let dist = |c: (usize, usize)| {
         let w = grid.world_from_cell(c.0, c.1);
@@ -279,9 +279,9 @@ fn demo_path(built: &Built) -> Result<(String, FloorPlanStyle)> {
     let points: Vec<[f64; 2]> = plan
         .waypoints
         .iter()
-        .map(|c| grid.world_from_cell(c.0, c.1))
+        .map(|c| grid.world_from_cell(c.x, c.y))
         .collect();
-    let length = plan.length * grid.resolution_m();
+    let length = plan.length_cells * grid.resolution_m();
     let style = FloorPlanStyle {
         path: points.clone(),
         path_label: format!("path (MBPP, {length:.2} m)"),
@@ -295,7 +295,7 @@ fn demo_path(built: &Built) -> Result<(String, FloorPlanStyle)> {
         b[0],
         b[1],
         vpmap_pipeline::DEFAULT_ROBOT_RADIUS_M,
-        result.stats.bugs,
+        result.mbpp_stats.bugs,
         result.alternatives.len()
     );
     Ok((line, style))
@@ -314,5 +314,5 @@ fn deepest_reachable(grid: &OccupancyGrid, start: (usize, usize)) -> (usize, usi
         .labels()
         .iter()
         .position(|&l| l == label)
-        .map_or(start, |i| components.cell_at(i))
+        .map_or(start, |i| components.cell_at(i).into())
 }

@@ -9,7 +9,7 @@ use vpmap_pipeline::{
     Coordinates, DEFAULT_ROBOT_RADIUS_M, Endpoint, EndpointRules, OptionNames, endpoint_cell,
 };
 use vpmap_plan::Planned;
-use vpmap_plan::grid::OccupancyGrid;
+use vpmap_plan::grid::{CellXy, OccupancyGrid};
 use vpmap_plan::mbpp::MbppStats;
 use vpmap_plan::plan::Plan;
 use vpmap_plan::planner::{Planner, PlannerKind};
@@ -118,11 +118,11 @@ impl PlanningMap {
     }
 
     /// A waypoint in the map's coordinates.
-    fn coords(&self, cell: (usize, usize)) -> [f64; 2] {
+    fn coords(&self, cell: CellXy) -> [f64; 2] {
         if self.in_cells {
-            [cell.0 as f64, cell.1 as f64]
+            [cell.x as f64, cell.y as f64]
         } else {
-            self.grid.world_from_cell(cell.0, cell.1)
+            self.grid.world_from_cell(cell.x, cell.y)
         }
     }
 
@@ -212,15 +212,15 @@ pub fn load_map(path: &Path, robot_radius: Option<f64>, resolution: f64) -> Resu
 pub fn run_planner(
     kind: PlannerKind,
     grid: &OccupancyGrid,
-    start: (usize, usize),
-    goal: (usize, usize),
+    start: impl Into<CellXy>,
+    goal: impl Into<CellXy>,
     unknown_passable: bool,
     record_tracks: bool,
 ) -> Result<Planned> {
     Ok(kind
         .planner(unknown_passable)
         .with_tracks(record_tracks)
-        .plan(grid, start, goal)?)
+        .plan(grid, start.into(), goal.into())?)
 }
 
 /// MBPP's counters, for the MBPP planners only.
@@ -287,7 +287,7 @@ fn plan_json(
     let alternatives: Vec<serde_json::Value> = outcome
         .alternatives
         .iter()
-        .map(|p| serde_json::json!({ "length": p.length * scale, "waypoints": waypoints(p) }))
+        .map(|p| serde_json::json!({ "length": p.length_cells * scale, "waypoints": waypoints(p) }))
         .collect();
     let mut stats = serde_json::Map::new();
     if let Some(s) = mbpp_stats(planner, outcome) {
@@ -319,7 +319,7 @@ fn plan_json(
     stats.insert("time_s".to_owned(), seconds.into());
     serde_json::json!({
         "found": plan.is_some(),
-        "length": plan.map(|p| p.length * scale),
+        "length": plan.map(|p| p.length_cells * scale),
         "units": map.unit(),
         "waypoints": plan.map(waypoints).unwrap_or_default(),
         "planner": planner.name(),
@@ -350,7 +350,7 @@ fn plan_text(map: &PlanningMap, planner: PlannerKind, outcome: &Planned, seconds
         Some(p) => format!(
             "{}: path found, length {:.3} {} through {} waypoints ({work})",
             planner.name(),
-            p.length * map.scale(),
+            p.length_cells * map.scale(),
             map.unit(),
             p.waypoints.len(),
         ),
@@ -364,14 +364,14 @@ fn plan_text(map: &PlanningMap, planner: PlannerKind, outcome: &Planned, seconds
 #[cfg(test)]
 mod tests {
     use super::*;
-    use vpmap_plan::grid::Cell;
+    use vpmap_plan::grid::Occupancy;
 
     #[test]
     fn mbpp_tracks_are_recorded_only_when_asked() -> Result<()> {
         // A wall across the straight line, open at both ends.
-        let mut grid = OccupancyGrid::new(6, 5, 1.0, [0.0; 2], Cell::Free)?;
+        let mut grid = OccupancyGrid::new(6, 5, 1.0, [0.0; 2], Occupancy::Free)?;
         for y in 1..4 {
-            grid.set(2, y, Cell::Occupied)?;
+            grid.set(2, y, Occupancy::Occupied)?;
         }
         let (start, goal) = ((0, 2), (5, 2));
         let quiet = run_planner(PlannerKind::Mbpp, &grid, start, goal, false, false)?;
@@ -380,7 +380,7 @@ mod tests {
         assert_eq!(drawn.bugs.len(), quiet.bugs.len());
         assert_eq!(
             drawn.bugs.first().and_then(|b| b.cells.first()),
-            Some(&start)
+            Some(&CellXy::from(start))
         );
         assert!(drawn.bugs.iter().all(|b| !b.cells.is_empty()));
         assert_eq!(drawn.best, quiet.best);

@@ -1,7 +1,7 @@
 //! A path's start or goal given in map coordinates, to its grid cell: one conversion, with
 //! one set of messages, for `vpmap plan` and the page's `/api/plan`.
 
-use vpmap_plan::{Cell, OccupancyGrid};
+use vpmap_plan::{Occupancy, OccupancyGrid};
 
 use crate::options::BuildOption;
 use crate::{PipelineError, num};
@@ -109,10 +109,10 @@ pub fn endpoint_cell(
             ))
         })?,
     };
-    let what_is_there = match grid.get(cell.0, cell.1).unwrap_or(Cell::Unknown) {
-        Cell::Free => return Ok(cell),
-        Cell::Unknown if rules.unknown_passable => return Ok(cell),
-        Cell::Occupied if rules.robot_radius > 0.0 => {
+    let what_is_there = match grid.get(cell.0, cell.1).unwrap_or(Occupancy::Unknown) {
+        Occupancy::Free => return Ok(cell),
+        Occupancy::Unknown if rules.unknown_passable => return Ok(cell),
+        Occupancy::Occupied if rules.robot_radius > 0.0 => {
             let radius = match rules.names {
                 OptionNames::CommandLine => BuildOption::RobotRadius.flag(),
                 OptionNames::WebApi => BuildOption::RobotRadius.key(),
@@ -122,9 +122,9 @@ pub fn endpoint_cell(
                 num(rules.robot_radius)
             )
         }
-        Cell::Occupied => "an obstacle".to_owned(),
+        Occupancy::Occupied => "an obstacle".to_owned(),
         // A map from a photo (the page's) has unknown floor; a ROS or Moving AI map has cells.
-        Cell::Unknown => match rules.names {
+        Occupancy::Unknown => match rules.names {
             OptionNames::CommandLine => {
                 "an unknown cell (use --unknown-passable to allow it)".to_owned()
             }
@@ -146,9 +146,9 @@ mod tests {
 
     fn grid() -> OccupancyGrid {
         // 4 x 2 cells of 0.5 m from (-1, 0): free, occupied, unknown, free on row 0.
-        let mut g = OccupancyGrid::new(4, 2, 0.5, [-1.0, 0.0], Cell::Free)
+        let mut g = OccupancyGrid::new(4, 2, 0.5, [-1.0, 0.0], Occupancy::Free)
             .unwrap_or_else(|e| panic!("{e}"));
-        for (x, c) in [(1, Cell::Occupied), (2, Cell::Unknown)] {
+        for (x, c) in [(1, Occupancy::Occupied), (2, Occupancy::Unknown)] {
             g.set(x, 0, c).unwrap_or_else(|e| panic!("{e}"));
         }
         g

@@ -20,8 +20,8 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use vpmap_plan::{
-    AstarOptions, AstarPsOptions, AstarSearch, Cell, OccupancyGrid, OptimalAnyAngleOptions,
-    ThetaStarOptions, astar, astar_ps,
+    AstarOptions, AstarPsOptions, AstarSearch, CellXy, Occupancy, OccupancyGrid,
+    OptimalAnyAngleOptions, ThetaStarOptions, astar, astar_ps,
     mbpp::{LeaveRule, MbppOptions, mbpp},
     optimal_any_angle, path_length, read_movingai_map, read_scen, theta_star,
 };
@@ -54,7 +54,7 @@ const MAPS: [(&str, &str, &str); 4] = [
 /// A single optimal any-angle query slower than this skips that planner on the map.
 const OPTIMAL_LIMIT: Duration = Duration::from_secs(1);
 
-type Query = ((usize, usize), (usize, usize));
+type Query = (CellXy, CellXy);
 
 struct Case {
     name: String,
@@ -104,16 +104,16 @@ fn generated_case() -> Case {
     let cells = (0..w * h)
         .map(|_| {
             if rng.random_bool(0.2) {
-                Cell::Occupied
+                Occupancy::Occupied
             } else {
-                Cell::Free
+                Occupancy::Free
             }
         })
         .collect();
     let grid = OccupancyGrid::from_cells(w, h, 1.0, [0.0; 2], cells).unwrap();
     let free_cell = |rng: &mut ChaCha8Rng| loop {
-        let c = (rng.random_range(0..w), rng.random_range(0..h));
-        if grid.is_free(c.0, c.1) {
+        let c = CellXy::new(rng.random_range(0..w), rng.random_range(0..h));
+        if grid.is_free(c.x, c.y) {
             break c;
         }
     };
@@ -131,19 +131,15 @@ const STRAIGHT: u64 = 10_000;
 const DIAGONAL: u64 = 14_142;
 
 /// The reference: `pathfinding`'s A* with 8-connected, no-corner-cutting successors.
-fn reference_astar(
-    grid: &OccupancyGrid,
-    start: (usize, usize),
-    goal: (usize, usize),
-) -> Option<Vec<(usize, usize)>> {
+fn reference_astar(grid: &OccupancyGrid, start: CellXy, goal: CellXy) -> Option<Vec<CellXy>> {
     let (w, h) = (grid.width() as i64, grid.height() as i64);
     let cells = grid.cells();
     let free = |x: i64, y: i64| {
-        x >= 0 && y >= 0 && x < w && y < h && cells[(y * w + x) as usize] == Cell::Free
+        x >= 0 && y >= 0 && x < w && y < h && cells[(y * w + x) as usize] == Occupancy::Free
     };
-    let goal_index = (goal.1 as i64 * w + goal.0 as i64) as u32;
-    let (gx, gy) = (goal.0 as i64, goal.1 as i64);
-    let start_index = (start.1 as i64 * w + start.0 as i64) as u32;
+    let goal_index = (goal.y as i64 * w + goal.x as i64) as u32;
+    let (gx, gy) = (goal.x as i64, goal.y as i64);
+    let start_index = (start.y as i64 * w + start.x as i64) as u32;
     let (path, _) = pathfinding::directed::astar::astar(
         &start_index,
         |&n| {
@@ -175,7 +171,7 @@ fn reference_astar(
     let width = grid.width();
     Some(
         path.into_iter()
-            .map(|n| (n as usize % width, n as usize / width))
+            .map(|n| CellXy::new(n as usize % width, n as usize / width))
             .collect(),
     )
 }
@@ -193,10 +189,10 @@ fn check_agreement(case: &Case) {
             (Some(plan), Some(path)) => {
                 let reference = path_length(&path);
                 assert!(
-                    (plan.length - reference).abs() < 1e-3,
+                    (plan.length_cells - reference).abs() < 1e-3,
                     "{}: {start:?} -> {goal:?}: ours {} vs pathfinding {reference}",
                     case.name,
-                    plan.length
+                    plan.length_cells
                 );
                 solved += 1;
             }

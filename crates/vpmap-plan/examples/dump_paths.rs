@@ -108,10 +108,12 @@ fn main() -> ExitCode {
                         match &planned.best {
                             None => line.push_str("none"),
                             Some(plan) => {
-                                let _ = write!(line, "{:.9} {:?}", plan.length, plan.waypoints);
+                                let _ =
+                                    write!(line, "{:.9} {:?}", plan.length_cells, plan.waypoints);
                             }
                         }
-                        let alt_sum: f64 = planned.alternatives.iter().map(|p| p.length).sum();
+                        let alt_sum: f64 =
+                            planned.alternatives.iter().map(|p| p.length_cells).sum();
                         let _ = write!(
                             line,
                             " alternatives {} {alt_sum:.9}",

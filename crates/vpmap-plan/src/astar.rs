@@ -6,8 +6,8 @@
 //! cutting, no squeezing between two blocked cells that share a corner). These are exactly
 //! the single steps that [`crate::los`] calls clear, and the movement model of the Moving
 //! AI benchmarks, whose `.scen` optimal lengths this search reproduces. Cells outside the
-//! grid and [`Cell::Occupied`](crate::Cell::Occupied) cells are never entered;
-//! [`Cell::Unknown`](crate::Cell::Unknown) cells only with
+//! grid and [`Occupancy::Occupied`](crate::Occupancy::Occupied) cells are never entered;
+//! [`Occupancy::Unknown`](crate::Occupancy::Unknown) cells only with
 //! [`AstarOptions::unknown_passable`].
 //!
 //! The search uses the octile distance heuristic (consistent, so each cell is expanded at
@@ -23,14 +23,14 @@
 use std::f64::consts::SQRT_2;
 
 use crate::error::Result;
-use crate::grid::OccupancyGrid;
+use crate::grid::{CellXy, OccupancyGrid};
 use crate::los::fill_padded;
-use crate::plan::{Plan, PlanStats, check_endpoint};
+use crate::plan::{Plan, PlanStats, cells_of, check_endpoint, xy};
 
 /// Options of [`astar`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct AstarOptions {
-    /// Whether [`Cell::Unknown`](crate::Cell::Unknown) cells may be entered (default: no).
+    /// Whether [`Occupancy::Unknown`](crate::Occupancy::Unknown) cells may be entered (default: no).
     pub unknown_passable: bool,
 }
 
@@ -208,12 +208,12 @@ fn priority(g: [u32; 2], h: [u32; 2]) -> f64 {
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, astar::{AstarOptions, AstarSearch}};
-/// let grid = OccupancyGrid::new(8, 8, 1.0, [0.0; 2], Cell::Free).unwrap();
+/// use vpmap_plan::{Occupancy, OccupancyGrid, astar::{AstarOptions, AstarSearch}};
+/// let grid = OccupancyGrid::new(8, 8, 1.0, [0.0; 2], Occupancy::Free).unwrap();
 /// let mut search = AstarSearch::new();
 /// for goal in [(7, 7), (7, 0), (3, 5)] {
 ///     let plan = search.search(&grid, (0, 0), goal, &AstarOptions::default()).unwrap().unwrap();
-///     assert_eq!(plan.waypoints.last(), Some(&goal));
+///     assert_eq!(*plan.waypoints.last().unwrap(), goal);
 /// }
 /// ```
 #[derive(Clone, Debug, Default)]
@@ -259,10 +259,11 @@ impl AstarSearch {
     pub fn search(
         &mut self,
         grid: &OccupancyGrid,
-        start: (usize, usize),
-        goal: (usize, usize),
+        start: impl Into<CellXy>,
+        goal: impl Into<CellXy>,
         opts: &AstarOptions,
     ) -> Result<Option<Plan>> {
+        let (start, goal) = (xy(start), xy(goal));
         check_endpoint(grid, "start", start, opts.unknown_passable)?;
         check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
         // Padded coordinates: cell (x, y) is (x + 1, y + 1) in a grid one cell larger on
@@ -401,8 +402,8 @@ impl AstarSearch {
         }
         waypoints.reverse();
         Plan {
-            waypoints,
-            length: octile_length(steps),
+            waypoints: cells_of(waypoints),
+            length_cells: octile_length(steps),
             stats,
         }
     }
@@ -429,23 +430,23 @@ impl AstarSearch {
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, astar::{astar, AstarOptions}};
+/// use vpmap_plan::{Occupancy, OccupancyGrid, astar::{astar, AstarOptions}};
 /// // .#.
 /// // ...
-/// let mut grid = OccupancyGrid::new(3, 2, 1.0, [0.0; 2], Cell::Free).unwrap();
-/// grid.set(1, 0, Cell::Occupied).unwrap();
+/// let mut grid = OccupancyGrid::new(3, 2, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+/// grid.set(1, 0, Occupancy::Occupied).unwrap();
 /// let plan = astar(&grid, (0, 0), (2, 0), &AstarOptions::default()).unwrap().unwrap();
 /// // No corner cutting around (1, 0): down, across, up.
 /// assert_eq!(plan.waypoints, [(0, 0), (0, 1), (1, 1), (2, 1), (2, 0)]);
-/// assert_eq!(plan.length, 4.0);
-/// grid.set(1, 1, Cell::Occupied).unwrap();
+/// assert_eq!(plan.length_cells, 4.0);
+/// grid.set(1, 1, Occupancy::Occupied).unwrap();
 /// assert_eq!(astar(&grid, (0, 0), (2, 0), &AstarOptions::default()).unwrap(), None);
 /// assert!(astar(&grid, (0, 0), (1, 1), &AstarOptions::default()).is_err());
 /// ```
 pub fn astar(
     grid: &OccupancyGrid,
-    start: (usize, usize),
-    goal: (usize, usize),
+    start: impl Into<CellXy>,
+    goal: impl Into<CellXy>,
     opts: &AstarOptions,
 ) -> Result<Option<Plan>> {
     AstarSearch::new().search(grid, start, goal, opts)

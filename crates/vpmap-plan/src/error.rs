@@ -4,7 +4,7 @@ use std::path::{Path, PathBuf};
 
 use thiserror::Error;
 
-use crate::grid::Cell;
+use crate::grid::Occupancy;
 
 /// Everything that can go wrong when building, reading or writing an occupancy grid.
 ///
@@ -174,7 +174,7 @@ pub enum PlanError {
         /// Row of the cell, from the top.
         y: usize,
         /// What the cell holds.
-        cell: Cell,
+        cell: Occupancy,
     },
 }
 
@@ -183,11 +183,11 @@ fn file_prefix(file: Option<&Path>) -> String {
         .unwrap_or_default()
 }
 
-fn cell_name(cell: Cell) -> &'static str {
+fn cell_name(cell: Occupancy) -> &'static str {
     match cell {
-        Cell::Free => "free",
-        Cell::Occupied => "occupied",
-        Cell::Unknown => "unknown",
+        Occupancy::Free => "free",
+        Occupancy::Occupied => "occupied",
+        Occupancy::Unknown => "unknown",
     }
 }
 

@@ -1,4 +1,4 @@
-//! The occupancy grid: a row-major raster of [`Cell`]s with a metric frame.
+//! The occupancy grid: a row-major raster of [`Occupancy`]s with a metric frame.
 //!
 //! Semantics, fixed for every module of this crate:
 //! - Cells are indexed `(x, y)`: `x` is the column (left to right), `y` is the row counted
@@ -12,14 +12,76 @@
 //! - Lengths are metres when the floor map is metric; for an unscaled map they are in camera
 //!   heights (the names keep `_m`).
 
+use std::fmt;
+
 use crate::error::{PlanError, Result};
 
-/// Largest number of cells a grid may have (2e8 cells, 200 MB of [`Cell`]s).
+/// Largest number of cells a grid may have (2e8 cells, 200 MB of [`Occupancy`]s).
 pub const MAX_CELLS: usize = 200_000_000;
 
-/// The state of one grid cell.
+/// Where a grid cell is: column `x` (left to right) and row `y` (from the top), both in
+/// cells. Converts from and to the tuple `(x, y)` and compares equal to it, so
+/// `plan.waypoints == [(0, 2), (5, 2)]` reads as before.
+///
+/// # Example
+/// ```
+/// use vpmap_plan::CellXy;
+/// let c = CellXy::from((3, 1));
+/// assert_eq!((c.x, c.y), (3, 1));
+/// assert_eq!(c, (3, 1));
+/// assert_eq!(<(usize, usize)>::from(c), (3, 1));
+/// assert!(CellXy::new(0, 5) < CellXy::new(1, 0)); // ordered by x, then y
+/// assert_eq!(format!("{c:?}"), "(3, 1)");
+/// ```
+#[derive(Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct CellXy {
+    /// Column, cells, left to right.
+    pub x: usize,
+    /// Row, cells, counted from the top.
+    pub y: usize,
+}
+
+impl CellXy {
+    /// The cell in column `x`, row `y`.
+    #[inline]
+    #[must_use]
+    pub const fn new(x: usize, y: usize) -> Self {
+        Self { x, y }
+    }
+}
+
+/// Formats as the tuple `(x, y)`, as cells were printed before this type existed: error
+/// messages and dumped paths stay the same.
+impl fmt::Debug for CellXy {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        fmt::Debug::fmt(&(self.x, self.y), f)
+    }
+}
+
+impl From<(usize, usize)> for CellXy {
+    #[inline]
+    fn from((x, y): (usize, usize)) -> Self {
+        Self { x, y }
+    }
+}
+
+impl From<CellXy> for (usize, usize) {
+    #[inline]
+    fn from(c: CellXy) -> Self {
+        (c.x, c.y)
+    }
+}
+
+impl PartialEq<(usize, usize)> for CellXy {
+    #[inline]
+    fn eq(&self, other: &(usize, usize)) -> bool {
+        (self.x, self.y) == *other
+    }
+}
+
+/// The occupancy of one grid cell: what may be there, not where it is.
 #[derive(Clone, Copy, PartialEq, Eq, Debug, Hash)]
-pub enum Cell {
+pub enum Occupancy {
     /// Seen floor, traversable.
     Free,
     /// An obstacle (or within the robot radius of one after inflation).
@@ -33,7 +95,7 @@ pub enum Cell {
 pub struct OccupancyGrid {
     width: usize,
     height: usize,
-    cells: Vec<Cell>,
+    cells: Vec<Occupancy>,
     resolution_m: f64,
     origin_m: [f64; 2],
 }
@@ -145,18 +207,18 @@ impl OccupancyGrid {
     ///
     /// # Example
     /// ```
-    /// use vpmap_plan::{Cell, OccupancyGrid};
-    /// let grid = OccupancyGrid::new(4, 3, 0.05, [-0.1, 0.0], Cell::Free).unwrap();
+    /// use vpmap_plan::{Occupancy, OccupancyGrid};
+    /// let grid = OccupancyGrid::new(4, 3, 0.05, [-0.1, 0.0], Occupancy::Free).unwrap();
     /// assert_eq!((grid.width(), grid.height()), (4, 3));
     /// assert_eq!(grid.counts(), (12, 0, 0));
-    /// assert!(OccupancyGrid::new(100_000, 100_000, 0.05, [0.0; 2], Cell::Free).is_err());
+    /// assert!(OccupancyGrid::new(100_000, 100_000, 0.05, [0.0; 2], Occupancy::Free).is_err());
     /// ```
     pub fn new(
         width: usize,
         height: usize,
         resolution_m: f64,
         origin_m: [f64; 2],
-        fill: Cell,
+        fill: Occupancy,
     ) -> Result<Self> {
         check_frame(resolution_m, origin_m)?;
         let n = checked_cell_count(width, height)?;
@@ -177,8 +239,8 @@ impl OccupancyGrid {
     ///
     /// # Example
     /// ```
-    /// use vpmap_plan::{Cell, OccupancyGrid};
-    /// use Cell::{Free as F, Occupied as O};
+    /// use vpmap_plan::{Occupancy, OccupancyGrid};
+    /// use Occupancy::{Free as F, Occupied as O};
     /// let grid = OccupancyGrid::from_cells(2, 2, 1.0, [0.0; 2], vec![O, F, F, F]).unwrap();
     /// assert_eq!(grid.get(0, 0), Some(O));
     /// assert_eq!(grid.world_from_cell(0, 0), [0.5, 1.5]);
@@ -188,7 +250,7 @@ impl OccupancyGrid {
         height: usize,
         resolution_m: f64,
         origin_m: [f64; 2],
-        cells: Vec<Cell>,
+        cells: Vec<Occupancy>,
     ) -> Result<Self> {
         check_frame(resolution_m, origin_m)?;
         let n = checked_cell_count(width, height)?;
@@ -235,13 +297,13 @@ impl OccupancyGrid {
 
     /// Every cell, row-major, row 0 at the top.
     #[must_use]
-    pub fn cells(&self) -> &[Cell] {
+    pub fn cells(&self) -> &[Occupancy] {
         &self.cells
     }
 
     /// Every cell, mutable, row-major, row 0 at the top.
     #[must_use]
-    pub fn cells_mut(&mut self) -> &mut [Cell] {
+    pub fn cells_mut(&mut self) -> &mut [Occupancy] {
         &mut self.cells
     }
 
@@ -249,8 +311,8 @@ impl OccupancyGrid {
     ///
     /// # Example
     /// ```
-    /// use vpmap_plan::{Cell, OccupancyGrid};
-    /// let grid = OccupancyGrid::new(3, 2, 1.0, [0.0; 2], Cell::Free).unwrap();
+    /// use vpmap_plan::{Occupancy, OccupancyGrid};
+    /// let grid = OccupancyGrid::new(3, 2, 1.0, [0.0; 2], Occupancy::Free).unwrap();
     /// assert_eq!(grid.index(2, 1), Some(5));
     /// assert_eq!(grid.index(3, 0), None);
     /// ```
@@ -264,30 +326,30 @@ impl OccupancyGrid {
     ///
     /// # Example
     /// ```
-    /// use vpmap_plan::{Cell, OccupancyGrid};
-    /// let grid = OccupancyGrid::new(3, 2, 1.0, [0.0; 2], Cell::Unknown).unwrap();
-    /// assert_eq!(grid.get(2, 1), Some(Cell::Unknown));
+    /// use vpmap_plan::{Occupancy, OccupancyGrid};
+    /// let grid = OccupancyGrid::new(3, 2, 1.0, [0.0; 2], Occupancy::Unknown).unwrap();
+    /// assert_eq!(grid.get(2, 1), Some(Occupancy::Unknown));
     /// assert_eq!(grid.get(0, 2), None);
     /// ```
     #[inline]
     #[must_use]
-    pub fn get(&self, x: usize, y: usize) -> Option<Cell> {
+    pub fn get(&self, x: usize, y: usize) -> Option<Occupancy> {
         self.index(x, y).and_then(|i| self.cells.get(i).copied())
     }
 
-    /// Whether `(x, y)` is inside the grid and [`Cell::Free`].
+    /// Whether `(x, y)` is inside the grid and [`Occupancy::Free`].
     ///
     /// # Example
     /// ```
-    /// use vpmap_plan::{Cell, OccupancyGrid};
-    /// let grid = OccupancyGrid::new(2, 2, 1.0, [0.0; 2], Cell::Free).unwrap();
+    /// use vpmap_plan::{Occupancy, OccupancyGrid};
+    /// let grid = OccupancyGrid::new(2, 2, 1.0, [0.0; 2], Occupancy::Free).unwrap();
     /// assert!(grid.is_free(1, 1));
     /// assert!(!grid.is_free(2, 1));
     /// ```
     #[inline]
     #[must_use]
     pub fn is_free(&self, x: usize, y: usize) -> bool {
-        self.get(x, y) == Some(Cell::Free)
+        self.get(x, y) == Some(Occupancy::Free)
     }
 
     /// Set the cell at `(x, y)`.
@@ -297,13 +359,13 @@ impl OccupancyGrid {
     ///
     /// # Example
     /// ```
-    /// use vpmap_plan::{Cell, OccupancyGrid};
-    /// let mut grid = OccupancyGrid::new(2, 2, 1.0, [0.0; 2], Cell::Free).unwrap();
-    /// grid.set(1, 0, Cell::Occupied).unwrap();
+    /// use vpmap_plan::{Occupancy, OccupancyGrid};
+    /// let mut grid = OccupancyGrid::new(2, 2, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+    /// grid.set(1, 0, Occupancy::Occupied).unwrap();
     /// assert_eq!(grid.counts(), (3, 1, 0));
-    /// assert!(grid.set(2, 0, Cell::Occupied).is_err());
+    /// assert!(grid.set(2, 0, Occupancy::Occupied).is_err());
     /// ```
-    pub fn set(&mut self, x: usize, y: usize, cell: Cell) -> Result<()> {
+    pub fn set(&mut self, x: usize, y: usize, cell: Occupancy) -> Result<()> {
         let slot = self.index(x, y).and_then(|i| self.cells.get_mut(i)).ok_or(
             PlanError::CellOutOfBounds {
                 x,
@@ -321,8 +383,8 @@ impl OccupancyGrid {
     ///
     /// # Example
     /// ```
-    /// use vpmap_plan::{Cell, OccupancyGrid};
-    /// let grid = OccupancyGrid::new(4, 3, 0.5, [-1.0, 2.0], Cell::Free).unwrap();
+    /// use vpmap_plan::{Occupancy, OccupancyGrid};
+    /// let grid = OccupancyGrid::new(4, 3, 0.5, [-1.0, 2.0], Occupancy::Free).unwrap();
     /// // Row 0 is the top row: highest world y.
     /// assert_eq!(grid.world_from_cell(0, 0), [-0.75, 3.25]);
     /// assert_eq!(grid.world_from_cell(3, 2), [0.75, 2.25]);
@@ -342,8 +404,8 @@ impl OccupancyGrid {
     ///
     /// # Example
     /// ```
-    /// use vpmap_plan::{Cell, OccupancyGrid};
-    /// let grid = OccupancyGrid::new(4, 3, 0.5, [-1.0, 2.0], Cell::Free).unwrap();
+    /// use vpmap_plan::{Occupancy, OccupancyGrid};
+    /// let grid = OccupancyGrid::new(4, 3, 0.5, [-1.0, 2.0], Occupancy::Free).unwrap();
     /// assert_eq!(grid.cell_from_world([-0.75, 3.25]), Some((0, 0)));
     /// assert_eq!(grid.cell_from_world([-1.0, 2.0]), Some((0, 2)));
     /// assert_eq!(grid.cell_from_world([1.0, 2.0]), None);
@@ -364,8 +426,8 @@ impl OccupancyGrid {
     ///
     /// # Example
     /// ```
-    /// use vpmap_plan::{Cell, OccupancyGrid};
-    /// let grid = OccupancyGrid::new(2, 3, 1.0, [0.0; 2], Cell::Unknown).unwrap();
+    /// use vpmap_plan::{Occupancy, OccupancyGrid};
+    /// let grid = OccupancyGrid::new(2, 3, 1.0, [0.0; 2], Occupancy::Unknown).unwrap();
     /// assert_eq!(grid.counts(), (0, 0, 6));
     /// ```
     #[must_use]
@@ -373,9 +435,9 @@ impl OccupancyGrid {
         let mut counts = (0, 0, 0);
         for c in &self.cells {
             match c {
-                Cell::Free => counts.0 += 1,
-                Cell::Occupied => counts.1 += 1,
-                Cell::Unknown => counts.2 += 1,
+                Occupancy::Free => counts.0 += 1,
+                Occupancy::Occupied => counts.1 += 1,
+                Occupancy::Unknown => counts.2 += 1,
             }
         }
         counts
@@ -395,7 +457,7 @@ impl OccupancyGrid {
         for (row, out) in self.cells.chunks(w).zip(column_cost.chunks_mut(w)) {
             let mut nearest: Option<usize> = None;
             for (x, (c, o)) in row.iter().zip(out.iter_mut()).enumerate() {
-                if *c == Cell::Occupied {
+                if *c == Occupancy::Occupied {
                     nearest = Some(x);
                 }
                 if let Some(a) = nearest {
@@ -404,7 +466,7 @@ impl OccupancyGrid {
             }
             nearest = None;
             for (x, (c, o)) in row.iter().zip(out.iter_mut()).enumerate().rev() {
-                if *c == Cell::Occupied {
+                if *c == Occupancy::Occupied {
                     nearest = Some(x);
                 }
                 if let Some(a) = nearest {
@@ -440,9 +502,9 @@ impl OccupancyGrid {
     ///
     /// # Example
     /// ```
-    /// use vpmap_plan::{Cell, OccupancyGrid};
-    /// let mut grid = OccupancyGrid::new(4, 1, 0.1, [0.0; 2], Cell::Free).unwrap();
-    /// grid.set(0, 0, Cell::Occupied).unwrap();
+    /// use vpmap_plan::{Occupancy, OccupancyGrid};
+    /// let mut grid = OccupancyGrid::new(4, 1, 0.1, [0.0; 2], Occupancy::Free).unwrap();
+    /// grid.set(0, 0, Occupancy::Occupied).unwrap();
     /// let d = grid.obstacle_distance_m();
     /// assert!((d[3] - 0.25).abs() < 1e-12); // centre 0.35 m, obstacle square ends at 0.1 m
     /// ```
@@ -456,8 +518,8 @@ impl OccupancyGrid {
     }
 
     /// The grid with obstacles grown by `radius_m`: every cell whose centre lies within
-    /// `radius_m` (inclusive) of an occupied cell's square becomes [`Cell::Occupied`],
-    /// whether it was [`Cell::Free`] or [`Cell::Unknown`] (a robot centred there would
+    /// `radius_m` (inclusive) of an occupied cell's square becomes [`Occupancy::Occupied`],
+    /// whether it was [`Occupancy::Free`] or [`Occupancy::Unknown`] (a robot centred there would
     /// overlap the obstacle either way). Other cells keep their state, so unknown cells
     /// farther from obstacles stay unknown. A radius of 0 returns an identical grid.
     ///
@@ -474,9 +536,9 @@ impl OccupancyGrid {
     ///
     /// # Example
     /// ```
-    /// use vpmap_plan::{Cell, OccupancyGrid};
-    /// let mut grid = OccupancyGrid::new(5, 5, 0.1, [0.0; 2], Cell::Free).unwrap();
-    /// grid.set(2, 2, Cell::Occupied).unwrap();
+    /// use vpmap_plan::{Occupancy, OccupancyGrid};
+    /// let mut grid = OccupancyGrid::new(5, 5, 0.1, [0.0; 2], Occupancy::Free).unwrap();
+    /// grid.set(2, 2, Occupancy::Occupied).unwrap();
     /// // 0.06 m reaches the 4 side neighbours (0.05 m away), not the diagonals (0.0707 m)...
     /// assert_eq!(grid.inflate(0.06).unwrap().counts().1, 5);
     /// // ...which 0.075 m reaches.
@@ -491,14 +553,14 @@ impl OccupancyGrid {
             });
         }
         let mut out = self.clone();
-        if radius_m == 0.0 || !self.cells.contains(&Cell::Occupied) {
+        if radius_m == 0.0 || !self.cells.contains(&Occupancy::Occupied) {
             return Ok(out);
         }
         let limit_sq_cells = (radius_m / self.resolution_m).powi(2);
         let distance = self.obstacle_distance_sq_cells();
         for (c, d) in out.cells.iter_mut().zip(distance) {
             if d <= limit_sq_cells {
-                *c = Cell::Occupied;
+                *c = Occupancy::Occupied;
             }
         }
         Ok(out)
@@ -515,7 +577,7 @@ mod tests {
         let mut best = f64::INFINITY;
         for b in 0..grid.height() {
             for a in 0..grid.width() {
-                if grid.get(a, b) == Some(Cell::Occupied) {
+                if grid.get(a, b) == Some(Occupancy::Occupied) {
                     best = best.min(axis_gap_sq(a.abs_diff(x)) + axis_gap_sq(b.abs_diff(y)));
                 }
             }
@@ -525,7 +587,7 @@ mod tests {
 
     #[test]
     fn world_and_cell_transforms_are_inverse() {
-        let grid = OccupancyGrid::new(7, 5, 0.2, [-3.0, 1.5], Cell::Free).unwrap();
+        let grid = OccupancyGrid::new(7, 5, 0.2, [-3.0, 1.5], Occupancy::Free).unwrap();
         for y in 0..5 {
             for x in 0..7 {
                 assert_eq!(
@@ -544,17 +606,18 @@ mod tests {
 
     #[test]
     fn invalid_frames_and_sizes_are_refused() {
-        let e = OccupancyGrid::new(2, 2, 0.0, [0.0; 2], Cell::Free).unwrap_err();
+        let e = OccupancyGrid::new(2, 2, 0.0, [0.0; 2], Occupancy::Free).unwrap_err();
         assert!(e.to_string().contains("resolution_m"), "{e}");
-        let e = OccupancyGrid::new(2, 2, 1.0, [0.0, f64::NAN], Cell::Free).unwrap_err();
+        let e = OccupancyGrid::new(2, 2, 1.0, [0.0, f64::NAN], Occupancy::Free).unwrap_err();
         assert!(e.to_string().contains("origin_m[1]"), "{e}");
-        let e = OccupancyGrid::new(0, 2, 1.0, [0.0; 2], Cell::Free).unwrap_err();
+        let e = OccupancyGrid::new(0, 2, 1.0, [0.0; 2], Occupancy::Free).unwrap_err();
         assert!(matches!(e, PlanError::EmptyGrid { .. }));
-        let e = OccupancyGrid::new(usize::MAX, 2, 1.0, [0.0; 2], Cell::Free).unwrap_err();
+        let e = OccupancyGrid::new(usize::MAX, 2, 1.0, [0.0; 2], Occupancy::Free).unwrap_err();
         assert!(matches!(e, PlanError::GridTooLarge { .. }));
-        let e = OccupancyGrid::new(20_001, 10_000, 1.0, [0.0; 2], Cell::Free).unwrap_err();
+        let e = OccupancyGrid::new(20_001, 10_000, 1.0, [0.0; 2], Occupancy::Free).unwrap_err();
         assert!(e.to_string().contains("20001 x 10000"), "{e}");
-        let e = OccupancyGrid::from_cells(2, 2, 1.0, [0.0; 2], vec![Cell::Free; 3]).unwrap_err();
+        let e =
+            OccupancyGrid::from_cells(2, 2, 1.0, [0.0; 2], vec![Occupancy::Free; 3]).unwrap_err();
         assert!(matches!(
             e,
             PlanError::CellCount {
@@ -567,9 +630,9 @@ mod tests {
 
     #[test]
     fn distance_transform_matches_brute_force() {
-        let mut grid = OccupancyGrid::new(13, 9, 1.0, [0.0; 2], Cell::Free).unwrap();
+        let mut grid = OccupancyGrid::new(13, 9, 1.0, [0.0; 2], Occupancy::Free).unwrap();
         for (x, y) in [(0, 0), (5, 4), (6, 4), (12, 8), (3, 7)] {
-            grid.set(x, y, Cell::Occupied).unwrap();
+            grid.set(x, y, Occupancy::Occupied).unwrap();
         }
         let d = grid.obstacle_distance_sq_cells();
         for y in 0..9 {
@@ -581,10 +644,10 @@ mod tests {
 
     #[test]
     fn inflation_without_obstacles_or_radius_is_identity() {
-        let mut grid = OccupancyGrid::new(4, 3, 0.1, [0.0; 2], Cell::Unknown).unwrap();
+        let mut grid = OccupancyGrid::new(4, 3, 0.1, [0.0; 2], Occupancy::Unknown).unwrap();
         assert_eq!(grid.inflate(1.0).unwrap(), grid);
         assert!(grid.obstacle_distance_m().iter().all(|d| d.is_infinite()));
-        grid.set(1, 1, Cell::Occupied).unwrap();
+        grid.set(1, 1, Occupancy::Occupied).unwrap();
         assert_eq!(grid.inflate(0.0).unwrap(), grid);
         assert_eq!(grid.inflate(0.049).unwrap(), grid);
         assert!(grid.inflate(-0.1).is_err());
@@ -593,11 +656,11 @@ mod tests {
 
     #[test]
     fn inflation_turns_unknown_cells_into_obstacles() {
-        let mut grid = OccupancyGrid::new(5, 1, 1.0, [0.0; 2], Cell::Unknown).unwrap();
-        grid.set(0, 0, Cell::Occupied).unwrap();
-        grid.set(4, 0, Cell::Free).unwrap();
+        let mut grid = OccupancyGrid::new(5, 1, 1.0, [0.0; 2], Occupancy::Unknown).unwrap();
+        grid.set(0, 0, Occupancy::Occupied).unwrap();
+        grid.set(4, 0, Occupancy::Free).unwrap();
         let inflated = grid.inflate(1.5).unwrap();
-        let (f, o, u) = (Cell::Free, Cell::Occupied, Cell::Unknown);
+        let (f, o, u) = (Occupancy::Free, Occupancy::Occupied, Occupancy::Unknown);
         assert_eq!(inflated.cells(), &[o, o, o, u, f]);
     }
 }

@@ -3,7 +3,7 @@
 //!
 //! | step | module | method |
 //! |---|---|---|
-//! | grid model | [`grid`] | row-major [`Cell`]s, `(x, y)` = (column, row from the top), ROS origin at the lower-left corner |
+//! | grid model | [`grid`] | row-major [`Occupancy`]s, `(x, y)` = (column, row from the top), ROS origin at the lower-left corner |
 //! | obstacle inflation | [`grid`] | exact Euclidean distance transform to the obstacles' squares (Felzenszwalb and Huttenlocher 2012), thresholded at the robot radius |
 //! | floor map to grid | [`raster`] | scanline fill of free-space polygons by cell centre; conservative obstacles (every cell a footprint touches) |
 //! | map files | [`ros`] | `map_server` YAML + PGM writer; reader for PGM (P2, P5) and PNG with `negate`, thresholds and the `trinary`, `scale` and `raw` modes |
@@ -64,12 +64,12 @@ pub mod validate;
 
 pub use astar::{AstarOptions, AstarSearch, astar};
 pub use error::{PlanError, Result};
-pub use grid::{Cell, MAX_CELLS, OccupancyGrid};
+pub use grid::{CellXy, MAX_CELLS, Occupancy, OccupancyGrid};
 pub use los::{
     LosCounter, Passable, PassableGrid, Traversable, cell_passable, line_of_sight,
     line_of_sight_counted,
 };
-pub use mbpp::{Mbpp, MbppOptions, mbpp};
+pub use mbpp::{MbppOptions, mbpp};
 pub use movingai::{Scenario, parse_movingai_map, parse_scen, read_movingai_map, read_scen};
 pub use optimal::{OptimalAnyAngleOptions, corner_cells, optimal_any_angle};
 pub use plan::{Plan, PlanStats, path_length};

@@ -37,8 +37,8 @@
 //! [`crate::validate`] uses the separating axis theorem instead.
 //!
 //! # Which cells can be entered
-//! [`cell_passable`] is the one answer: [`Cell::Free`] always, [`Cell::Unknown`] when the
-//! planner's `unknown_passable` option is set, [`Cell::Occupied`] never, and a cell
+//! [`cell_passable`] is the one answer: [`Occupancy::Free`] always, [`Occupancy::Unknown`] when the
+//! planner's `unknown_passable` option is set, [`Occupancy::Occupied`] never, and a cell
 //! outside the grid never. [`Traversable`] (a grid plus that choice, looked up with bounds
 //! checks) and [`PassableGrid`] (the same answers precomputed) both follow it, and so do
 //! the planners' endpoint checks and A*'s own neighbour flags.
@@ -66,26 +66,26 @@
 //! `O(cells swept)`: `du + 1` columns of at most `|dv| / du + 3` cells, integer arithmetic
 //! only, stopping at the first blocked cell.
 
-use crate::grid::{Cell, OccupancyGrid};
+use crate::grid::{Occupancy, OccupancyGrid};
 
-/// Whether a robot may stand on a cell holding `cell`: [`Cell::Free`] cells always,
-/// [`Cell::Unknown`] cells when `unknown_passable`, [`Cell::Occupied`] cells never. The
+/// Whether a robot may stand on a cell holding `cell`: [`Occupancy::Free`] cells always,
+/// [`Occupancy::Unknown`] cells when `unknown_passable`, [`Occupancy::Occupied`] cells never. The
 /// one definition every planner, endpoint check and [`PassableGrid`] uses.
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, los::cell_passable};
-/// assert!(cell_passable(Cell::Free, false));
-/// assert!(!cell_passable(Cell::Unknown, false) && cell_passable(Cell::Unknown, true));
-/// assert!(!cell_passable(Cell::Occupied, true));
+/// use vpmap_plan::{Occupancy, los::cell_passable};
+/// assert!(cell_passable(Occupancy::Free, false));
+/// assert!(!cell_passable(Occupancy::Unknown, false) && cell_passable(Occupancy::Unknown, true));
+/// assert!(!cell_passable(Occupancy::Occupied, true));
 /// ```
 #[inline]
 #[must_use]
-pub fn cell_passable(cell: Cell, unknown_passable: bool) -> bool {
+pub fn cell_passable(cell: Occupancy, unknown_passable: bool) -> bool {
     match cell {
-        Cell::Free => true,
-        Cell::Unknown => unknown_passable,
-        Cell::Occupied => false,
+        Occupancy::Free => true,
+        Occupancy::Unknown => unknown_passable,
+        Occupancy::Occupied => false,
     }
 }
 
@@ -164,7 +164,7 @@ impl<T: Passable + ?Sized> Passable for &T {
     }
 }
 
-/// Only [`Cell::Free`] cells are passable.
+/// Only [`Occupancy::Free`] cells are passable.
 impl Passable for OccupancyGrid {
     #[inline]
     fn passable(&self, x: i64, y: i64) -> bool {
@@ -172,14 +172,14 @@ impl Passable for OccupancyGrid {
     }
 }
 
-/// An occupancy grid with a choice about its unknown cells: [`Cell::Free`] cells are
-/// passable, [`Cell::Occupied`] cells and cells outside the grid are not, and
-/// [`Cell::Unknown`] cells are passable when `unknown_passable` is set.
+/// An occupancy grid with a choice about its unknown cells: [`Occupancy::Free`] cells are
+/// passable, [`Occupancy::Occupied`] cells and cells outside the grid are not, and
+/// [`Occupancy::Unknown`] cells are passable when `unknown_passable` is set.
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, los::{Passable, Traversable}};
-/// let grid = OccupancyGrid::new(2, 1, 1.0, [0.0; 2], Cell::Unknown).unwrap();
+/// use vpmap_plan::{Occupancy, OccupancyGrid, los::{Passable, Traversable}};
+/// let grid = OccupancyGrid::new(2, 1, 1.0, [0.0; 2], Occupancy::Unknown).unwrap();
 /// assert!(!Traversable::new(&grid, false).passable(0, 0));
 /// assert!(Traversable::new(&grid, true).passable(0, 0));
 /// assert!(!Traversable::new(&grid, true).passable(-1, 0));
@@ -188,7 +188,7 @@ impl Passable for OccupancyGrid {
 pub struct Traversable<'a> {
     /// The grid.
     pub grid: &'a OccupancyGrid,
-    /// Whether [`Cell::Unknown`] cells may be entered.
+    /// Whether [`Occupancy::Unknown`] cells may be entered.
     pub unknown_passable: bool,
 }
 
@@ -295,11 +295,11 @@ fn sweep_columns(p0: (i64, i64), p1: (i64, i64), mut visit: impl FnMut(i64, i64)
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, los::line_of_sight};
-/// let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
-/// grid.set(2, 0, Cell::Occupied).unwrap();
+/// use vpmap_plan::{Occupancy, OccupancyGrid, los::line_of_sight};
+/// let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+/// grid.set(2, 0, Occupancy::Occupied).unwrap();
 /// assert!(line_of_sight(&grid, (0, 0), (2, 2))); // touches (2, 0) at a corner only
-/// grid.set(1, 0, Cell::Occupied).unwrap();
+/// grid.set(1, 0, Occupancy::Occupied).unwrap();
 /// assert!(!line_of_sight(&grid, (0, 0), (2, 2))); // overlaps (1, 0)
 /// assert!(line_of_sight(&grid, (0, 1), (2, 1))); // slides along (1, 0)'s edge
 /// ```
@@ -312,8 +312,8 @@ pub fn line_of_sight(grid: &impl Passable, a: (usize, usize), b: (usize, usize))
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, los::{line_of_sight_counted, LosCounter}};
-/// let grid = OccupancyGrid::new(4, 1, 1.0, [0.0; 2], Cell::Free).unwrap();
+/// use vpmap_plan::{Occupancy, OccupancyGrid, los::{line_of_sight_counted, LosCounter}};
+/// let grid = OccupancyGrid::new(4, 1, 1.0, [0.0; 2], Occupancy::Free).unwrap();
 /// let mut counter = LosCounter::default();
 /// assert!(line_of_sight_counted(&grid, (0, 0), (3, 0), &mut counter));
 /// assert_eq!(counter, LosCounter { checks: 1, cells: 4 });
@@ -339,9 +339,9 @@ pub fn line_of_sight_counted(
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, los::{LosCounter, Passable, PassableGrid}};
-/// let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
-/// grid.set(2, 0, Cell::Unknown).unwrap();
+/// use vpmap_plan::{Occupancy, OccupancyGrid, los::{LosCounter, Passable, PassableGrid}};
+/// let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+/// grid.set(2, 0, Occupancy::Unknown).unwrap();
 /// let view = PassableGrid::new(&grid, false);
 /// assert!(!view.passable(2, 0) && !view.passable(-1, 0) && view.passable(2, 2));
 /// assert!(!view.step_clear((1, 0), (1, 1))); // would cut the corner of (2, 0)
@@ -394,7 +394,7 @@ impl PassableGrid {
         self.height as usize
     }
 
-    /// Whether [`Cell::Unknown`] cells count as passable.
+    /// Whether [`Occupancy::Unknown`] cells count as passable.
     #[must_use]
     pub fn unknown_passable(&self) -> bool {
         self.unknown_passable
@@ -600,8 +600,8 @@ mod tests {
 
     #[test]
     fn counter_counts_cells_until_the_first_blocked_one() {
-        let mut grid = OccupancyGrid::new(5, 1, 1.0, [0.0; 2], Cell::Free).unwrap();
-        grid.set(2, 0, Cell::Occupied).unwrap();
+        let mut grid = OccupancyGrid::new(5, 1, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+        grid.set(2, 0, Occupancy::Occupied).unwrap();
         let mut counter = LosCounter::default();
         assert!(!line_of_sight_counted(&grid, (0, 0), (4, 0), &mut counter));
         assert_eq!(

@@ -22,9 +22,9 @@
 //!   Trailing spaces, tabs and `\r` are ignored (so CRLF files read like LF files), and so
 //!   are blank lines after the last row and a missing final newline.
 //! - **Terrain**, as the benchmark's octile-movement problems use it: `.` (ground), `G`
-//!   (ground) and `S` (swamp, passable) are [`Cell::Free`]; `@` and `O` (out of bounds), `T`
-//!   (trees) and `W` (water) are [`Cell::Occupied`]. Any other character is an error. No
-//!   cell is [`Cell::Unknown`].
+//!   (ground) and `S` (swamp, passable) are [`Occupancy::Free`]; `@` and `O` (out of bounds), `T`
+//!   (trees) and `W` (water) are [`Occupancy::Occupied`]. Any other character is an error. No
+//!   cell is [`Occupancy::Unknown`].
 //! - The grid has resolution 1 and origin `[0, 0]`: lengths are in cells.
 //!
 //! A `.scen` file starts with `version 1` (or `version 1.0`), then has one problem a line
@@ -42,7 +42,7 @@
 use std::path::Path;
 
 use crate::error::{PlanError, Result};
-use crate::grid::{Cell, OccupancyGrid, checked_cell_count};
+use crate::grid::{CellXy, Occupancy, OccupancyGrid, checked_cell_count};
 
 /// One problem of a Moving AI `.scen` file.
 #[derive(Clone, PartialEq, Debug)]
@@ -56,11 +56,11 @@ pub struct Scenario {
     /// Height of the map, cells.
     pub height: usize,
     /// Start cell `(x, y)`: column, row from the top.
-    pub start: (usize, usize),
+    pub start: CellXy,
     /// Goal cell `(x, y)`: column, row from the top.
-    pub goal: (usize, usize),
+    pub goal: CellXy,
     /// Length of a shortest octile path (no corner cutting), cells, as printed in the file.
-    pub optimal_length: f64,
+    pub optimal_length_cells: f64,
 }
 
 impl Scenario {
@@ -79,10 +79,10 @@ impl Scenario {
 }
 
 /// The terrain characters of a `.map` file and the cell each becomes.
-fn terrain(c: char) -> Option<Cell> {
+fn terrain(c: char) -> Option<Occupancy> {
     match c {
-        '.' | 'G' | 'S' => Some(Cell::Free),
-        '@' | 'O' | 'T' | 'W' => Some(Cell::Occupied),
+        '.' | 'G' | 'S' => Some(Occupancy::Free),
+        '@' | 'O' | 'T' | 'W' => Some(Occupancy::Occupied),
         _ => None,
     }
 }
@@ -160,11 +160,11 @@ fn parse_side(line: usize, key: &str, value: &str) -> Result<usize> {
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, movingai::parse_movingai_map};
+/// use vpmap_plan::{Occupancy, movingai::parse_movingai_map};
 /// let grid = parse_movingai_map("type octile\r\nheight 2\r\nwidth\t3\r\nmap\r\n.@.\r\nT.S").unwrap();
 /// assert_eq!((grid.width(), grid.height()), (3, 2));
-/// assert_eq!(grid.get(1, 0), Some(Cell::Occupied));
-/// assert_eq!(grid.get(2, 1), Some(Cell::Free));
+/// assert_eq!(grid.get(1, 0), Some(Occupancy::Occupied));
+/// assert_eq!(grid.get(2, 1), Some(Occupancy::Free));
 /// assert!(parse_movingai_map("type octile\nheight 1\nwidth 2\nmap\n.x\n").is_err());
 /// ```
 pub fn parse_movingai_map(text: &str) -> Result<OccupancyGrid> {
@@ -356,9 +356,9 @@ fn parse_scen_line(n: usize, line: &str) -> Result<Scenario> {
         map: map.to_owned(),
         width,
         height,
-        start,
-        goal,
-        optimal_length,
+        start: start.into(),
+        goal: goal.into(),
+        optimal_length_cells: optimal_length,
     })
 }
 
@@ -376,8 +376,8 @@ fn parse_scen_line(n: usize, line: &str) -> Result<Scenario> {
 /// use vpmap_plan::movingai::parse_scen;
 /// let text = "version 1.0\n3 maps/bg/AR0500SR.map 512 512 81 452 246 138 421.84";
 /// let scen = parse_scen(text).unwrap();
-/// assert_eq!((scen[0].start, scen[0].goal), ((81, 452), (246, 138)));
-/// assert_eq!(scen[0].optimal_length, 421.84);
+/// assert_eq!((scen[0].start, scen[0].goal), ((81, 452).into(), (246, 138).into()));
+/// assert_eq!(scen[0].optimal_length_cells, 421.84);
 /// ```
 pub fn parse_scen(text: &str) -> Result<Vec<Scenario>> {
     let mut lines = numbered_lines(text).filter(|(_, line)| !line.is_empty());
@@ -421,7 +421,7 @@ mod tests {
     fn header_in_any_order_with_tabs_and_blank_lines() {
         let grid =
             parse_movingai_map("width \t2\n\nTYPE octile  \nheight 1\nmap\n.W\n\n\n").unwrap();
-        assert_eq!(grid.cells(), &[Cell::Free, Cell::Occupied]);
+        assert_eq!(grid.cells(), &[Occupancy::Free, Occupancy::Occupied]);
         assert_eq!(grid.resolution_m(), 1.0);
         assert_eq!(grid.origin_m(), [0.0, 0.0]);
     }

@@ -49,15 +49,15 @@
 use std::collections::BinaryHeap;
 
 use crate::error::Result;
-use crate::grid::OccupancyGrid;
+use crate::grid::{CellXy, OccupancyGrid};
 use crate::los::{LosCounter, Passable, PassableGrid};
-use crate::plan::{Plan, PlanStats, check_endpoint, path_length};
+use crate::plan::{Plan, PlanStats, check_endpoint, path_length, xy};
 use crate::theta_star::{Entry, distance, trace_back};
 
 /// Options of [`optimal_any_angle`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct OptimalAnyAngleOptions {
-    /// Whether [`Cell::Unknown`](crate::Cell::Unknown) cells may be entered (default: no).
+    /// Whether [`Occupancy::Unknown`](crate::Occupancy::Unknown) cells may be entered (default: no).
     pub unknown_passable: bool,
 }
 
@@ -71,10 +71,10 @@ const DIAGONALS: [(i64, i64); 4] = [(1, 1), (-1, 1), (-1, -1), (1, -1)];
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, optimal::corner_cells};
-/// let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
+/// use vpmap_plan::{Occupancy, OccupancyGrid, optimal::corner_cells};
+/// let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
 /// assert!(corner_cells(&grid, false).is_empty());
-/// grid.set(1, 1, Cell::Occupied).unwrap();
+/// grid.set(1, 1, Occupancy::Occupied).unwrap();
 /// assert_eq!(corner_cells(&grid, false), [(0, 0), (2, 0), (0, 2), (2, 2)]);
 /// ```
 #[must_use]
@@ -122,24 +122,25 @@ fn corners_of(passable: &PassableGrid) -> Vec<(usize, usize)> {
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, optimal::{optimal_any_angle, OptimalAnyAngleOptions}};
+/// use vpmap_plan::{Occupancy, OccupancyGrid, optimal::{optimal_any_angle, OptimalAnyAngleOptions}};
 /// // .....
 /// // ..#..
 /// // .....
-/// let mut grid = OccupancyGrid::new(5, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
-/// grid.set(2, 1, Cell::Occupied).unwrap();
+/// let mut grid = OccupancyGrid::new(5, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+/// grid.set(2, 1, Occupancy::Occupied).unwrap();
 /// let opts = OptimalAnyAngleOptions::default();
 /// let plan = optimal_any_angle(&grid, (0, 1), (4, 1), &opts).unwrap().unwrap();
 /// // Around the corner cell (1, 0) or (1, 2) and its mirror image.
 /// assert_eq!(plan.waypoints.len(), 4);
-/// assert!((plan.length - (2.0 + 2.0 * 2f64.sqrt())).abs() < 1e-12);
+/// assert!((plan.length_cells - (2.0 + 2.0 * 2f64.sqrt())).abs() < 1e-12);
 /// ```
 pub fn optimal_any_angle(
     grid: &OccupancyGrid,
-    start: (usize, usize),
-    goal: (usize, usize),
+    start: impl Into<CellXy>,
+    goal: impl Into<CellXy>,
     opts: &OptimalAnyAngleOptions,
 ) -> Result<Option<Plan>> {
+    let (start, goal) = (xy(start), xy(goal));
     check_endpoint(grid, "start", start, opts.unknown_passable)?;
     check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
     let passable = PassableGrid::new(grid, opts.unknown_passable);
@@ -177,16 +178,16 @@ pub fn optimal_any_angle(
         if from == goal {
             // Parent links between node numbers (as `(0, node)` with width 1), mapped to cells.
             let chain = trace_back(&parent, 1, u);
-            let waypoints: Vec<(usize, usize)> = chain
+            let waypoints: Vec<CellXy> = chain
                 .iter()
-                .filter_map(|&(_, n)| nodes.get(n).copied())
+                .filter_map(|&(_, n)| nodes.get(n).copied().map(CellXy::from))
                 .collect();
-            let length = path_length(&waypoints);
+            let length_cells = path_length(&waypoints);
             stats.los_checks = counter.checks;
             stats.los_cells = counter.cells;
             return Ok(Some(Plan {
                 waypoints,
-                length,
+                length_cells,
                 stats,
             }));
         }
@@ -219,16 +220,16 @@ pub fn optimal_any_angle(
 #[allow(clippy::unwrap_used, clippy::float_cmp)]
 mod tests {
     use super::*;
-    use crate::grid::Cell;
+    use crate::grid::Occupancy;
 
     #[test]
     fn corners_of_cells_touching_at_a_corner() {
         // .#.
         // #..
         // ...
-        let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
-        grid.set(1, 0, Cell::Occupied).unwrap();
-        grid.set(0, 1, Cell::Occupied).unwrap();
+        let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+        grid.set(1, 0, Occupancy::Occupied).unwrap();
+        grid.set(0, 1, Occupancy::Occupied).unwrap();
         let corners = corner_cells(&grid, false);
         // (1, 1) is diagonal to no blocked cell; (2, 1) and (1, 2) wrap the two corners.
         assert_eq!(corners, [(2, 1), (1, 2)]);
@@ -239,24 +240,24 @@ mod tests {
         // .....
         // ##.##
         // .....
-        let mut grid = OccupancyGrid::new(5, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
+        let mut grid = OccupancyGrid::new(5, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
         for x in [0, 1, 3, 4] {
-            grid.set(x, 1, Cell::Occupied).unwrap();
+            grid.set(x, 1, Occupancy::Occupied).unwrap();
         }
         let opts = OptimalAnyAngleOptions::default();
         let plan = optimal_any_angle(&grid, (0, 0), (4, 2), &opts)
             .unwrap()
             .unwrap();
         assert_eq!(plan.waypoints, [(0, 0), (2, 0), (2, 2), (4, 2)]);
-        assert_eq!(plan.length, 6.0);
+        assert_eq!(plan.length_cells, 6.0);
         assert_eq!(
             optimal_any_angle(&grid, (0, 0), (0, 0), &opts)
                 .unwrap()
                 .unwrap()
-                .length,
+                .length_cells,
             0.0
         );
-        grid.set(2, 1, Cell::Occupied).unwrap();
+        grid.set(2, 1, Occupancy::Occupied).unwrap();
         assert_eq!(
             optimal_any_angle(&grid, (0, 0), (4, 2), &opts).unwrap(),
             None

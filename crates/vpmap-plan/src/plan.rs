@@ -1,7 +1,7 @@
 //! What every planner returns: [`Plan`], its [`PlanStats`], and shared input checks.
 
 use crate::error::{PlanError, Result};
-use crate::grid::OccupancyGrid;
+use crate::grid::{CellXy, OccupancyGrid};
 use crate::los::{Passable, Traversable};
 
 /// A path found by a planner.
@@ -10,10 +10,10 @@ pub struct Plan {
     /// Cells `(x, y)` whose centres the path joins with straight segments, from the start
     /// cell to the goal cell (a single cell when they coincide). Every segment is clear
     /// under the rule of [`crate::los`].
-    pub waypoints: Vec<(usize, usize)>,
+    pub waypoints: Vec<CellXy>,
     /// Euclidean length of the polyline, cells (multiply by the grid's resolution for
     /// metres).
-    pub length: f64,
+    pub length_cells: f64,
     /// How much work the search did.
     pub stats: PlanStats,
 }
@@ -36,16 +36,18 @@ pub struct PlanStats {
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::plan::path_length;
-/// assert_eq!(path_length(&[(0, 0), (3, 4), (3, 6)]), 7.0);
-/// assert!(path_length(&[(2, 2)]) == 0.0 && path_length(&[(2, 2)]).is_sign_positive());
+/// use vpmap_plan::{CellXy, plan::path_length};
+/// let path = [(0, 0), (3, 4), (3, 6)].map(CellXy::from);
+/// assert_eq!(path_length(&path), 7.0);
+/// let one = [CellXy::new(2, 2)];
+/// assert!(path_length(&one) == 0.0 && path_length(&one).is_sign_positive());
 /// ```
 #[must_use]
-pub fn path_length(waypoints: &[(usize, usize)]) -> f64 {
+pub fn path_length(waypoints: &[CellXy]) -> f64 {
     waypoints
         .windows(2)
         .map(|w| match w {
-            [a, b] => (a.0.abs_diff(b.0) as f64).hypot(a.1.abs_diff(b.1) as f64),
+            [a, b] => (a.x.abs_diff(b.x) as f64).hypot(a.y.abs_diff(b.y) as f64),
             _ => 0.0,
         })
         .sum::<f64>()
@@ -53,14 +55,25 @@ pub fn path_length(waypoints: &[(usize, usize)]) -> f64 {
         + 0.0
 }
 
+/// A planner's endpoint as the `(x, y)` tuple its inner loops work with.
+#[inline]
+pub(crate) fn xy(cell: impl Into<CellXy>) -> (usize, usize) {
+    cell.into().into()
+}
+
+/// Waypoints from the inner loops' tuples.
+pub(crate) fn cells_of(waypoints: Vec<(usize, usize)>) -> Vec<CellXy> {
+    waypoints.into_iter().map(CellXy::from).collect()
+}
+
 /// Check that a planner's `start` or `goal` (named by `endpoint`) is a traversable cell.
 pub(crate) fn check_endpoint(
     grid: &OccupancyGrid,
     endpoint: &'static str,
-    cell: (usize, usize),
+    cell: impl Into<CellXy>,
     unknown_passable: bool,
 ) -> Result<()> {
-    let (x, y) = cell;
+    let CellXy { x, y } = cell.into();
     let Some(state) = grid.get(x, y) else {
         return Err(PlanError::EndpointOutsideGrid {
             endpoint,

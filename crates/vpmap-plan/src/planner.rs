@@ -3,16 +3,16 @@
 //!
 //! # Example
 //! ```
-//! use vpmap_plan::{Cell, OccupancyGrid, planner::{Planner, PlannerKind}};
-//! let mut grid = OccupancyGrid::new(8, 5, 1.0, [0.0; 2], Cell::Free).unwrap();
+//! use vpmap_plan::{Occupancy, OccupancyGrid, planner::{Planner, PlannerKind}};
+//! let mut grid = OccupancyGrid::new(8, 5, 1.0, [0.0; 2], Occupancy::Free).unwrap();
 //! for y in 0..4 {
-//!     grid.set(4, y, Cell::Occupied).unwrap();
+//!     grid.set(4, y, Occupancy::Occupied).unwrap();
 //! }
 //! let mut lengths = Vec::new();
 //! for kind in PlannerKind::ALL {
 //!     let mut planner = kind.planner(false);
-//!     let planned = planner.plan(&grid, (0, 0), (7, 0)).unwrap();
-//!     lengths.push((planner.name(), planned.best.unwrap().length));
+//!     let planned = planner.plan(&grid, (0, 0).into(), (7, 0).into()).unwrap();
+//!     lengths.push((planner.name(), planned.best.unwrap().length_cells));
 //! }
 //! let optimal = lengths.iter().find(|(name, _)| *name == "optimal").unwrap().1;
 //! assert!(lengths.iter().all(|&(_, length)| length >= optimal - 1e-9));
@@ -23,21 +23,27 @@ use std::str::FromStr;
 
 use crate::astar::{AstarOptions, AstarSearch};
 use crate::error::{PlanError, Result};
-use crate::grid::OccupancyGrid;
+use crate::grid::{CellXy, OccupancyGrid};
 use crate::mbpp::{BugTrack, LeaveRule, MbppOptions, MbppStats, mbpp};
 use crate::optimal::{OptimalAnyAngleOptions, optimal_any_angle};
 use crate::plan::Plan;
 use crate::smoothing::{AstarPsOptions, astar_ps};
 use crate::theta_star::{ThetaStarOptions, theta_star};
 
-/// What a planner returns for one query.
+/// What a planner returns for one query (also what [`mbpp`] returns).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Planned {
-    /// The path, or `None` when the goal cannot be reached from the start.
+    /// The path, or `None` when the goal cannot be reached from the start. MBPP's is the
+    /// shortest feasible path after smoothing; its statistics count bug steps as `expanded`
+    /// and bugs as `generated`.
     pub best: Option<Plan>,
-    /// Other feasible paths the planner found (MBPP's alternatives; empty for the others).
+    /// Other feasible paths the planner found (empty for all but MBPP). MBPP's: the
+    /// `v_list`s of the bugs that reached the goal and of the waiting bugs completed from
+    /// them whose segments are all clear, unsmoothed, shortest first, without duplicates or
+    /// the path `best` was smoothed from.
     pub alternatives: Vec<Plan>,
-    /// MBPP's bugs (tracks only when asked for; empty for the other planners).
+    /// MBPP's bugs of the top-level run, in order of birth (tracks only when asked for;
+    /// empty for the other planners).
     pub bugs: Vec<BugTrack>,
     /// MBPP's counters (zero for the other planners).
     pub mbpp_stats: MbppStats,
@@ -52,12 +58,7 @@ pub trait Planner {
     ///
     /// # Errors
     /// When `start` or `goal` is outside the grid or not traversable.
-    fn plan(
-        &mut self,
-        grid: &OccupancyGrid,
-        start: (usize, usize),
-        goal: (usize, usize),
-    ) -> Result<Planned>;
+    fn plan(&mut self, grid: &OccupancyGrid, start: CellXy, goal: CellXy) -> Result<Planned>;
 }
 
 /// The built-in planners.
@@ -164,12 +165,7 @@ impl Planner for BuiltIn {
         self.kind.name()
     }
 
-    fn plan(
-        &mut self,
-        grid: &OccupancyGrid,
-        start: (usize, usize),
-        goal: (usize, usize),
-    ) -> Result<Planned> {
+    fn plan(&mut self, grid: &OccupancyGrid, start: CellXy, goal: CellXy) -> Result<Planned> {
         let unknown_passable = self.unknown_passable;
         let best = match self.kind {
             PlannerKind::Mbpp | PlannerKind::MbppCloser => {
@@ -184,13 +180,7 @@ impl Planner for BuiltIn {
                     leave,
                     ..MbppOptions::default()
                 };
-                let result = mbpp(grid, start, goal, &opts)?;
-                return Ok(Planned {
-                    best: result.best,
-                    alternatives: result.alternatives,
-                    bugs: result.bugs,
-                    mbpp_stats: result.stats,
-                });
+                return mbpp(grid, start, goal, &opts);
             }
             PlannerKind::AstarPs => {
                 astar_ps(grid, start, goal, &AstarPsOptions { unknown_passable })?

@@ -1,6 +1,6 @@
 //! Floor map to occupancy grid.
 //!
-//! Rules, in the order they are applied to a grid that starts all [`Cell::Unknown`]:
+//! Rules, in the order they are applied to a grid that starts all [`Occupancy::Unknown`]:
 //! 1. **Free**: a cell whose centre lies inside a free-space polygon (the floor minus the
 //!    footprints): inside its exterior ring and outside every hole, each ring read with the
 //!    even-odd rule. A centre exactly on a boundary is decided by the half-open scanline
@@ -24,7 +24,7 @@
 use vpmap_metrology::map::{FloorMap, MapPoint};
 
 use crate::error::{PlanError, Result};
-use crate::grid::{Cell, MAX_CELLS, OccupancyGrid};
+use crate::grid::{MAX_CELLS, Occupancy, OccupancyGrid};
 
 /// Options of [`rasterize_map`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -156,7 +156,7 @@ fn fill_centres(
     grid: &mut OccupancyGrid,
     exterior: &[GridPoint],
     holes: &[Vec<GridPoint>],
-    value: Cell,
+    value: Occupancy,
 ) {
     let (w, h) = (grid.width(), grid.height());
     let (mut v_min, mut v_max) = (f64::INFINITY, f64::NEG_INFINITY);
@@ -210,7 +210,7 @@ fn fill_centres(
 }
 
 /// Set every cell whose closed square the segment `p`-`q` touches to `value`.
-fn mark_segment(grid: &mut OccupancyGrid, p: GridPoint, q: GridPoint, value: Cell) {
+fn mark_segment(grid: &mut OccupancyGrid, p: GridPoint, q: GridPoint, value: Occupancy) {
     let (w, h) = (grid.width(), grid.height());
     let (v_lo, v_hi) = (p.v.min(q.v), p.v.max(q.v));
     let Some((y0, y1)) = clamped_range(v_lo.ceil() - 1.0, v_hi.floor(), h) else {
@@ -293,12 +293,12 @@ fn check_map(map: &FloorMap) -> Result<()> {
 /// ```
 /// use vpmap_metrology::map::{build_map, BuildOptions};
 /// use vpmap_metrology::synth::{synthesize, SynthOptions};
-/// use vpmap_plan::{rasterize_map, Cell, RasterOptions};
+/// use vpmap_plan::{rasterize_map, Occupancy, RasterOptions};
 /// let (scene, _) = synthesize(&SynthOptions::default()).unwrap();
 /// let map = build_map(&scene, &BuildOptions::default()).unwrap();
 /// let grid = rasterize_map(&map, &RasterOptions::default()).unwrap();
 /// let (x, y) = grid.cell_from_world(map.objects[0].centroid).unwrap();
-/// assert_eq!(grid.get(x, y), Some(Cell::Occupied));
+/// assert_eq!(grid.get(x, y), Some(Occupancy::Occupied));
 /// ```
 pub fn rasterize_map(map: &FloorMap, opts: &RasterOptions) -> Result<OccupancyGrid> {
     opts.validate()?;
@@ -330,7 +330,7 @@ pub fn rasterize_map(map: &FloorMap, opts: &RasterOptions) -> Result<OccupancyGr
         });
     }
     let (width, height) = (width_f as usize, height_f as usize);
-    let mut grid = OccupancyGrid::new(width, height, res, origin_m, Cell::Unknown)?;
+    let mut grid = OccupancyGrid::new(width, height, res, origin_m, Occupancy::Unknown)?;
     let frame = Frame {
         origin_m,
         resolution_m: res,
@@ -338,7 +338,12 @@ pub fn rasterize_map(map: &FloorMap, opts: &RasterOptions) -> Result<OccupancyGr
     };
     for poly in &map.free_space {
         let holes: Vec<Vec<GridPoint>> = poly.holes.iter().map(|r| frame.ring(r)).collect();
-        fill_centres(&mut grid, &frame.ring(&poly.exterior), &holes, Cell::Free);
+        fill_centres(
+            &mut grid,
+            &frame.ring(&poly.exterior),
+            &holes,
+            Occupancy::Free,
+        );
     }
     if !opts.hidden_free {
         for poly in &map.hidden {
@@ -347,16 +352,16 @@ pub fn rasterize_map(map: &FloorMap, opts: &RasterOptions) -> Result<OccupancyGr
                 &mut grid,
                 &frame.ring(&poly.exterior),
                 &holes,
-                Cell::Unknown,
+                Occupancy::Unknown,
             );
         }
     }
     for object in &map.objects {
         let ring = frame.ring(&object.footprint);
         for (p, q) in edges(&ring) {
-            mark_segment(&mut grid, p, q, Cell::Occupied);
+            mark_segment(&mut grid, p, q, Occupancy::Occupied);
         }
-        fill_centres(&mut grid, &ring, &[], Cell::Occupied);
+        fill_centres(&mut grid, &ring, &[], Occupancy::Occupied);
     }
     grid.inflate(opts.robot_radius_m)
 }
@@ -367,14 +372,14 @@ mod tests {
     use super::*;
 
     fn grid(w: usize, h: usize) -> OccupancyGrid {
-        OccupancyGrid::new(w, h, 1.0, [0.0; 2], Cell::Free).unwrap()
+        OccupancyGrid::new(w, h, 1.0, [0.0; 2], Occupancy::Free).unwrap()
     }
 
     fn occupied(g: &OccupancyGrid) -> Vec<(usize, usize)> {
         let mut out = Vec::new();
         for y in 0..g.height() {
             for x in 0..g.width() {
-                if g.get(x, y) == Some(Cell::Occupied) {
+                if g.get(x, y) == Some(Occupancy::Occupied) {
                     out.push((x, y));
                 }
             }
@@ -389,20 +394,20 @@ mod tests {
     #[test]
     fn segment_marks_touched_squares_only() {
         let mut g = grid(5, 5);
-        mark_segment(&mut g, gp(0.5, 0.5), gp(2.5, 0.5), Cell::Occupied);
+        mark_segment(&mut g, gp(0.5, 0.5), gp(2.5, 0.5), Occupancy::Occupied);
         assert_eq!(occupied(&g), vec![(0, 0), (1, 0), (2, 0)]);
         let mut g = grid(5, 5);
         // A diagonal through cell corners touches the corner-adjacent cells too (closed squares).
-        mark_segment(&mut g, gp(0.5, 0.5), gp(2.5, 2.5), Cell::Occupied);
+        mark_segment(&mut g, gp(0.5, 0.5), gp(2.5, 2.5), Occupancy::Occupied);
         assert_eq!(
             occupied(&g),
             vec![(0, 0), (1, 0), (0, 1), (1, 1), (2, 1), (1, 2), (2, 2)]
         );
         let mut g = grid(5, 5);
-        mark_segment(&mut g, gp(1.2, 3.7), gp(1.2, 3.7), Cell::Occupied);
+        mark_segment(&mut g, gp(1.2, 3.7), gp(1.2, 3.7), Occupancy::Occupied);
         assert_eq!(occupied(&g), vec![(1, 3)]);
         let mut g = grid(3, 3);
-        mark_segment(&mut g, gp(-5.0, 1.5), gp(10.0, 1.5), Cell::Occupied);
+        mark_segment(&mut g, gp(-5.0, 1.5), gp(10.0, 1.5), Occupancy::Occupied);
         assert_eq!(occupied(&g), vec![(0, 1), (1, 1), (2, 1)]);
     }
 
@@ -411,11 +416,11 @@ mod tests {
         let mut g = grid(6, 6);
         let outer = vec![gp(0.0, 0.0), gp(6.0, 0.0), gp(6.0, 6.0), gp(0.0, 6.0)];
         let hole = vec![gp(2.0, 2.0), gp(4.0, 2.0), gp(4.0, 4.0), gp(2.0, 4.0)];
-        fill_centres(&mut g, &outer, &[hole], Cell::Occupied);
+        fill_centres(&mut g, &outer, &[hole], Occupancy::Occupied);
         assert_eq!(g.counts(), (4, 32, 0));
-        assert_eq!(g.get(2, 2), Some(Cell::Free));
-        assert_eq!(g.get(3, 3), Some(Cell::Free));
-        assert_eq!(g.get(1, 2), Some(Cell::Occupied));
+        assert_eq!(g.get(2, 2), Some(Occupancy::Free));
+        assert_eq!(g.get(3, 3), Some(Occupancy::Free));
+        assert_eq!(g.get(1, 2), Some(Occupancy::Occupied));
         // Overlapping holes, and a hole reaching outside the exterior.
         let mut g = grid(8, 1);
         let outer = vec![gp(1.0, 0.0), gp(7.0, 0.0), gp(7.0, 1.0), gp(1.0, 1.0)];
@@ -424,9 +429,9 @@ mod tests {
             vec![gp(3.0, 0.0), gp(5.0, 0.0), gp(5.0, 1.0), gp(3.0, 1.0)],
             vec![gp(6.0, 0.0), gp(9.0, 0.0), gp(9.0, 1.0), gp(6.0, 1.0)],
         ];
-        fill_centres(&mut g, &outer, &holes, Cell::Occupied);
-        let o = Cell::Occupied;
-        let f = Cell::Free;
+        fill_centres(&mut g, &outer, &holes, Occupancy::Occupied);
+        let o = Occupancy::Occupied;
+        let f = Occupancy::Free;
         assert_eq!(g.cells(), &[f, o, f, f, f, o, f, f]);
     }
 

@@ -10,19 +10,19 @@
 
 use std::collections::VecDeque;
 
-use crate::grid::OccupancyGrid;
+use crate::grid::{CellXy, OccupancyGrid};
 use crate::los::cell_passable;
 
 /// The connected components of a grid's passable cells (see the [module docs](self)).
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, reach::Components};
+/// use vpmap_plan::{Occupancy, OccupancyGrid, reach::Components};
 /// // ..#.
 /// // .#..
-/// let mut grid = OccupancyGrid::new(4, 2, 1.0, [0.0; 2], Cell::Free).unwrap();
-/// grid.set(2, 0, Cell::Occupied).unwrap();
-/// grid.set(1, 1, Cell::Occupied).unwrap();
+/// let mut grid = OccupancyGrid::new(4, 2, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+/// grid.set(2, 0, Occupancy::Occupied).unwrap();
+/// grid.set(1, 1, Occupancy::Occupied).unwrap();
 /// let components = Components::label(&grid, false);
 /// assert_eq!(components.count(), 2); // no squeezing between (2, 0) and (1, 1)
 /// assert!(components.connected((0, 0), (1, 0)));
@@ -102,7 +102,8 @@ impl Components {
     /// The component number (from 1) of cell `(x, y)`, `None` when it is blocked or
     /// outside the grid.
     #[must_use]
-    pub fn of(&self, (x, y): (usize, usize)) -> Option<u32> {
+    pub fn of(&self, cell: impl Into<CellXy>) -> Option<u32> {
+        let CellXy { x, y } = cell.into();
         if x >= self.width || y >= self.height {
             return None;
         }
@@ -115,7 +116,7 @@ impl Components {
     /// Whether a planner can get from cell `a` to cell `b`: both passable and in one
     /// component.
     #[must_use]
-    pub fn connected(&self, a: (usize, usize), b: (usize, usize)) -> bool {
+    pub fn connected(&self, a: impl Into<CellXy>, b: impl Into<CellXy>) -> bool {
         matches!((self.of(a), self.of(b)), (Some(p), Some(q)) if p == q)
     }
 
@@ -138,10 +139,10 @@ impl Components {
         self.sizes.iter().sum()
     }
 
-    /// The cell `(x, y)` at row-major index `i` of [`Components::labels`].
+    /// The cell at row-major index `i` of [`Components::labels`].
     #[must_use]
-    pub fn cell_at(&self, i: usize) -> (usize, usize) {
-        (i % self.width.max(1), i / self.width.max(1))
+    pub fn cell_at(&self, i: usize) -> CellXy {
+        CellXy::new(i % self.width.max(1), i / self.width.max(1))
     }
 
     /// Cells in component `label` (0 for a number that is not a component).
@@ -161,17 +162,17 @@ impl Components {
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, reach::reachable};
-/// let mut grid = OccupancyGrid::new(3, 1, 1.0, [0.0; 2], Cell::Free).unwrap();
-/// grid.set(1, 0, Cell::Unknown).unwrap();
+/// use vpmap_plan::{Occupancy, OccupancyGrid, reach::reachable};
+/// let mut grid = OccupancyGrid::new(3, 1, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+/// grid.set(1, 0, Occupancy::Unknown).unwrap();
 /// assert!(!reachable(&grid, (0, 0), (2, 0), false));
 /// assert!(reachable(&grid, (0, 0), (2, 0), true));
 /// ```
 #[must_use]
 pub fn reachable(
     grid: &OccupancyGrid,
-    start: (usize, usize),
-    goal: (usize, usize),
+    start: impl Into<CellXy>,
+    goal: impl Into<CellXy>,
     unknown_passable: bool,
 ) -> bool {
     Components::label(grid, unknown_passable).connected(start, goal)

@@ -28,7 +28,7 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 
 use crate::error::{PlanError, Result};
-use crate::grid::{Cell, MAX_CELLS, OccupancyGrid, checked_cell_count};
+use crate::grid::{MAX_CELLS, Occupancy, OccupancyGrid, checked_cell_count};
 
 /// Pixel value written for a free cell.
 pub const FREE_PIXEL: u8 = 254;
@@ -90,10 +90,10 @@ fn yaml_string(value: &str) -> String {
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{encode_ros_map, Cell, OccupancyGrid};
-/// let mut grid = OccupancyGrid::new(3, 2, 0.05, [-1.0, 0.5], Cell::Free).unwrap();
-/// grid.set(0, 0, Cell::Occupied).unwrap();
-/// grid.set(2, 1, Cell::Unknown).unwrap();
+/// use vpmap_plan::{encode_ros_map, Occupancy, OccupancyGrid};
+/// let mut grid = OccupancyGrid::new(3, 2, 0.05, [-1.0, 0.5], Occupancy::Free).unwrap();
+/// grid.set(0, 0, Occupancy::Occupied).unwrap();
+/// grid.set(2, 1, Occupancy::Unknown).unwrap();
 /// let (yaml, pgm) = encode_ros_map(&grid, "room.pgm");
 /// assert!(yaml.contains("image: room.pgm\n"));
 /// assert!(yaml.contains("origin: [-1.0, 0.5, 0.0]\n"));
@@ -117,9 +117,9 @@ pub fn encode_ros_map(grid: &OccupancyGrid, image_file_name: &str) -> (String, V
     let mut pgm = Vec::with_capacity(header.len() + grid.cells().len());
     pgm.extend_from_slice(header.as_bytes());
     pgm.extend(grid.cells().iter().map(|c| match c {
-        Cell::Free => FREE_PIXEL,
-        Cell::Occupied => OCCUPIED_PIXEL,
-        Cell::Unknown => UNKNOWN_PIXEL,
+        Occupancy::Free => FREE_PIXEL,
+        Occupancy::Occupied => OCCUPIED_PIXEL,
+        Occupancy::Unknown => UNKNOWN_PIXEL,
     }));
     (yaml, pgm)
 }
@@ -163,9 +163,9 @@ fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{read_ros_map, write_ros_map, Cell, OccupancyGrid};
+/// use vpmap_plan::{read_ros_map, write_ros_map, Occupancy, OccupancyGrid};
 /// let dir = tempfile::tempdir().unwrap();
-/// let grid = OccupancyGrid::new(4, 2, 0.1, [0.0, -0.2], Cell::Unknown).unwrap();
+/// let grid = OccupancyGrid::new(4, 2, 0.1, [0.0, -0.2], Occupancy::Unknown).unwrap();
 /// let image = write_ros_map(&grid, &dir.path().join("room.yaml")).unwrap();
 /// assert_eq!(image, dir.path().join("room.pgm"));
 /// assert_eq!(read_ros_map(&dir.path().join("room.yaml")).unwrap(), grid);
@@ -548,18 +548,18 @@ fn decode_image(bytes: &[u8], path: &Path) -> Result<GreyImage> {
 }
 
 /// The cell of an occupancy probability `p`.
-fn threshold(p: f64, meta: &MapYaml) -> Cell {
+fn threshold(p: f64, meta: &MapYaml) -> Occupancy {
     if p > meta.occupied_thresh {
-        Cell::Occupied
+        Occupancy::Occupied
     } else if p < meta.free_thresh {
-        Cell::Free
+        Occupancy::Free
     } else {
-        Cell::Unknown
+        Occupancy::Unknown
     }
 }
 
 /// The cell of a pixel (rules in the [module docs](self)).
-fn cell_from_pixel(value: u8, alpha: u8, max_value: u8, meta: &MapYaml) -> Cell {
+fn cell_from_pixel(value: u8, alpha: u8, max_value: u8, meta: &MapYaml) -> Occupancy {
     let m = f64::from(max_value);
     let v = f64::from(value);
     match meta.mode {
@@ -568,10 +568,10 @@ fn cell_from_pixel(value: u8, alpha: u8, max_value: u8, meta: &MapYaml) -> Cell 
             if percent <= 100.0 {
                 threshold(percent / 100.0, meta)
             } else {
-                Cell::Unknown
+                Occupancy::Unknown
             }
         }
-        MapMode::Scale if alpha < u8::MAX => Cell::Unknown,
+        MapMode::Scale if alpha < u8::MAX => Occupancy::Unknown,
         MapMode::Trinary | MapMode::Scale => {
             let p = if meta.negate { v / m } else { (m - v) / m };
             threshold(p, meta)
@@ -591,12 +591,12 @@ fn cell_from_pixel(value: u8, alpha: u8, max_value: u8, meta: &MapYaml) -> Cell 
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{read_ros_map, Cell};
+/// use vpmap_plan::{read_ros_map, Occupancy};
 /// let dir = tempfile::tempdir().unwrap();
 /// std::fs::write(dir.path().join("m.pgm"), b"P2 2 1 255\n0 254\n").unwrap();
 /// std::fs::write(dir.path().join("m.yaml"), "image: m.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n").unwrap();
 /// let grid = read_ros_map(&dir.path().join("m.yaml")).unwrap();
-/// assert_eq!(grid.cells(), &[Cell::Occupied, Cell::Free]);
+/// assert_eq!(grid.cells(), &[Occupancy::Occupied, Occupancy::Free]);
 /// ```
 pub fn read_ros_map(yaml_path: &Path) -> Result<OccupancyGrid> {
     let text = std::fs::read_to_string(yaml_path).map_err(|source| PlanError::Io {
@@ -653,45 +653,48 @@ mod tests {
     #[test]
     fn written_pixel_values_read_back_as_their_cells() {
         let m = meta(MapMode::Trinary, false);
-        assert_eq!(cell_from_pixel(FREE_PIXEL, 255, 255, &m), Cell::Free);
+        assert_eq!(cell_from_pixel(FREE_PIXEL, 255, 255, &m), Occupancy::Free);
         assert_eq!(
             cell_from_pixel(OCCUPIED_PIXEL, 255, 255, &m),
-            Cell::Occupied
+            Occupancy::Occupied
         );
-        assert_eq!(cell_from_pixel(UNKNOWN_PIXEL, 255, 255, &m), Cell::Unknown);
+        assert_eq!(
+            cell_from_pixel(UNKNOWN_PIXEL, 255, 255, &m),
+            Occupancy::Unknown
+        );
     }
 
     #[test]
     fn negate_swaps_black_and_white() {
         let m = meta(MapMode::Trinary, true);
-        assert_eq!(cell_from_pixel(0, 255, 255, &m), Cell::Free);
-        assert_eq!(cell_from_pixel(255, 255, 255, &m), Cell::Occupied);
+        assert_eq!(cell_from_pixel(0, 255, 255, &m), Occupancy::Free);
+        assert_eq!(cell_from_pixel(255, 255, 255, &m), Occupancy::Occupied);
     }
 
     #[test]
     fn scale_mode_makes_transparent_pixels_unknown() {
         let m = meta(MapMode::Scale, false);
-        assert_eq!(cell_from_pixel(0, 254, 255, &m), Cell::Unknown);
-        assert_eq!(cell_from_pixel(0, 255, 255, &m), Cell::Occupied);
+        assert_eq!(cell_from_pixel(0, 254, 255, &m), Occupancy::Unknown);
+        assert_eq!(cell_from_pixel(0, 255, 255, &m), Occupancy::Occupied);
         let t = meta(MapMode::Trinary, false);
-        assert_eq!(cell_from_pixel(0, 0, 255, &t), Cell::Occupied);
+        assert_eq!(cell_from_pixel(0, 0, 255, &t), Occupancy::Occupied);
     }
 
     #[test]
     fn raw_mode_reads_percentages() {
         let m = meta(MapMode::Raw, false);
-        assert_eq!(cell_from_pixel(0, 255, 255, &m), Cell::Free);
-        assert_eq!(cell_from_pixel(100, 255, 255, &m), Cell::Occupied);
-        assert_eq!(cell_from_pixel(50, 255, 255, &m), Cell::Unknown);
-        assert_eq!(cell_from_pixel(101, 255, 255, &m), Cell::Unknown);
-        assert_eq!(cell_from_pixel(255, 255, 255, &m), Cell::Unknown);
+        assert_eq!(cell_from_pixel(0, 255, 255, &m), Occupancy::Free);
+        assert_eq!(cell_from_pixel(100, 255, 255, &m), Occupancy::Occupied);
+        assert_eq!(cell_from_pixel(50, 255, 255, &m), Occupancy::Unknown);
+        assert_eq!(cell_from_pixel(101, 255, 255, &m), Occupancy::Unknown);
+        assert_eq!(cell_from_pixel(255, 255, 255, &m), Occupancy::Unknown);
     }
 
     #[test]
     fn smaller_maxval_scales_values() {
         let m = meta(MapMode::Trinary, false);
-        assert_eq!(cell_from_pixel(1, 255, 1, &m), Cell::Free);
-        assert_eq!(cell_from_pixel(0, 255, 1, &m), Cell::Occupied);
+        assert_eq!(cell_from_pixel(1, 255, 1, &m), Occupancy::Free);
+        assert_eq!(cell_from_pixel(0, 255, 1, &m), Occupancy::Occupied);
     }
 
     #[test]

@@ -26,14 +26,14 @@
 
 use crate::astar::{AstarOptions, AstarSearch};
 use crate::error::Result;
-use crate::grid::OccupancyGrid;
+use crate::grid::{CellXy, OccupancyGrid};
 use crate::los::{LosCounter, Passable, PassableGrid};
 use crate::plan::{Plan, PlanStats, path_length};
 
 /// Options of [`astar_ps`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct AstarPsOptions {
-    /// Whether [`Cell::Unknown`](crate::Cell::Unknown) cells may be entered (default: no).
+    /// Whether [`Occupancy::Unknown`](crate::Occupancy::Unknown) cells may be entered (default: no).
     pub unknown_passable: bool,
 }
 
@@ -55,19 +55,15 @@ pub struct AstarPsOptions {
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, los::LosCounter, smoothing::smooth_path};
-/// let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
-/// grid.set(1, 1, Cell::Occupied).unwrap();
-/// let path = [(0, 0), (1, 0), (2, 0), (2, 1), (2, 2)];
+/// use vpmap_plan::{CellXy, Occupancy, OccupancyGrid, los::LosCounter, smoothing::smooth_path};
+/// let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+/// grid.set(1, 1, Occupancy::Occupied).unwrap();
+/// let path = [(0, 0), (1, 0), (2, 0), (2, 1), (2, 2)].map(CellXy::from);
 /// let mut counter = LosCounter::default();
 /// assert_eq!(smooth_path(&grid, &path, &mut counter), [(0, 0), (2, 0), (2, 2)]);
 /// assert!(counter.checks > 0);
 /// ```
-pub fn smooth_path(
-    grid: &impl Passable,
-    path: &[(usize, usize)],
-    counter: &mut LosCounter,
-) -> Vec<(usize, usize)> {
+pub fn smooth_path(grid: &impl Passable, path: &[CellXy], counter: &mut LosCounter) -> Vec<CellXy> {
     let mut anchor = 0;
     let mut kept = Vec::new();
     while let Some(&from) = path.get(anchor) {
@@ -79,7 +75,7 @@ pub fn smooth_path(
             .rev()
             .find(|&j| {
                 path.get(j)
-                    .is_some_and(|&to| grid.sight_counted(from, to, counter))
+                    .is_some_and(|&to| grid.sight_counted(from.into(), to.into(), counter))
             })
             .unwrap_or(anchor + 1);
         anchor = farthest;
@@ -107,16 +103,16 @@ pub fn smooth_path(
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, smoothing::{astar_ps, AstarPsOptions}};
-/// let grid = OccupancyGrid::new(5, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
+/// use vpmap_plan::{Occupancy, OccupancyGrid, smoothing::{astar_ps, AstarPsOptions}};
+/// let grid = OccupancyGrid::new(5, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
 /// let plan = astar_ps(&grid, (0, 0), (4, 2), &AstarPsOptions::default()).unwrap().unwrap();
 /// assert_eq!(plan.waypoints, [(0, 0), (4, 2)]);
-/// assert!((plan.length - 20f64.sqrt()).abs() < 1e-12);
+/// assert!((plan.length_cells - 20f64.sqrt()).abs() < 1e-12);
 /// ```
 pub fn astar_ps(
     grid: &OccupancyGrid,
-    start: (usize, usize),
-    goal: (usize, usize),
+    start: impl Into<CellXy>,
+    goal: impl Into<CellXy>,
     opts: &AstarPsOptions,
 ) -> Result<Option<Plan>> {
     let astar_opts = AstarOptions {
@@ -128,10 +124,10 @@ pub fn astar_ps(
     let mut counter = LosCounter::default();
     let passable = PassableGrid::new(grid, opts.unknown_passable);
     let waypoints = smooth_path(&passable, &grid_plan.waypoints, &mut counter);
-    let length = path_length(&waypoints);
+    let length_cells = path_length(&waypoints);
     Ok(Some(Plan {
         waypoints,
-        length,
+        length_cells,
         stats: PlanStats {
             los_checks: counter.checks,
             los_cells: counter.cells,
@@ -144,28 +140,31 @@ pub fn astar_ps(
 #[allow(clippy::unwrap_used)]
 mod tests {
     use super::*;
-    use crate::grid::Cell;
+    use crate::grid::Occupancy;
 
     #[test]
     fn farthest_visible_waypoint_skips_a_hidden_one() {
         // A path that dips behind a wall and comes back: from (0, 0), waypoint (1, 2) is
         // hidden by the wall at (1, 1) (the incremental variant would keep (0, 2)), but
         // (3, 0) is visible again.
-        let mut grid = OccupancyGrid::new(4, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
-        grid.set(1, 1, Cell::Occupied).unwrap();
-        let path = [(0, 0), (0, 1), (0, 2), (1, 2), (2, 2), (3, 1), (3, 0)];
+        let mut grid = OccupancyGrid::new(4, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+        grid.set(1, 1, Occupancy::Occupied).unwrap();
+        let path = [(0, 0), (0, 1), (0, 2), (1, 2), (2, 2), (3, 1), (3, 0)].map(CellXy::from);
         let mut counter = LosCounter::default();
         assert_eq!(smooth_path(&grid, &path, &mut counter), [(0, 0), (3, 0)]);
     }
 
     #[test]
     fn short_paths_are_kept() {
-        let grid = OccupancyGrid::new(2, 1, 1.0, [0.0; 2], Cell::Free).unwrap();
+        let grid = OccupancyGrid::new(2, 1, 1.0, [0.0; 2], Occupancy::Free).unwrap();
         let mut counter = LosCounter::default();
         assert!(smooth_path(&grid, &[], &mut counter).is_empty());
-        assert_eq!(smooth_path(&grid, &[(1, 0)], &mut counter), [(1, 0)]);
         assert_eq!(
-            smooth_path(&grid, &[(0, 0), (1, 0)], &mut counter),
+            smooth_path(&grid, &[CellXy::new(1, 0)], &mut counter),
+            [(1, 0)]
+        );
+        assert_eq!(
+            smooth_path(&grid, &[CellXy::new(0, 0), CellXy::new(1, 0)], &mut counter),
             [(0, 0), (1, 0)]
         );
         assert_eq!(counter.checks, 0);
@@ -173,8 +172,8 @@ mod tests {
 
     #[test]
     fn unreachable_goal_and_bad_endpoints() {
-        let mut grid = OccupancyGrid::new(3, 1, 1.0, [0.0; 2], Cell::Free).unwrap();
-        grid.set(1, 0, Cell::Unknown).unwrap();
+        let mut grid = OccupancyGrid::new(3, 1, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+        grid.set(1, 0, Occupancy::Unknown).unwrap();
         let opts = AstarPsOptions::default();
         assert_eq!(astar_ps(&grid, (0, 0), (2, 0), &opts).unwrap(), None);
         let through = AstarPsOptions {

@@ -24,14 +24,14 @@
 use std::collections::BinaryHeap;
 
 use crate::error::Result;
-use crate::grid::OccupancyGrid;
+use crate::grid::{CellXy, OccupancyGrid};
 use crate::los::{LosCounter, Passable, PassableGrid};
-use crate::plan::{Plan, PlanStats, check_endpoint, path_length};
+use crate::plan::{Plan, PlanStats, cells_of, check_endpoint, path_length, xy};
 
 /// Options of [`theta_star`].
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct ThetaStarOptions {
-    /// Whether [`Cell::Unknown`](crate::Cell::Unknown) cells may be entered (default: no).
+    /// Whether [`Occupancy::Unknown`](crate::Occupancy::Unknown) cells may be entered (default: no).
     pub unknown_passable: bool,
 }
 
@@ -107,24 +107,25 @@ pub(crate) fn trace_back(parent: &[u32], width: usize, goal_index: usize) -> Vec
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, theta_star::{theta_star, ThetaStarOptions}};
+/// use vpmap_plan::{CellXy, Occupancy, OccupancyGrid, theta_star::{theta_star, ThetaStarOptions}};
 /// // ....
 /// // .#..
 /// // ....
-/// let mut grid = OccupancyGrid::new(4, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
-/// grid.set(1, 1, Cell::Occupied).unwrap();
+/// let mut grid = OccupancyGrid::new(4, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+/// grid.set(1, 1, Occupancy::Occupied).unwrap();
 /// let opts = ThetaStarOptions::default();
 /// let plan = theta_star(&grid, (0, 2), (3, 0), &opts).unwrap().unwrap();
-/// assert_eq!(plan.waypoints.first(), Some(&(0, 2)));
-/// assert_eq!(plan.waypoints.last(), Some(&(3, 0)));
-/// assert!(plan.length < 3.0 + 2f64.sqrt()); // shorter than any grid path
+/// assert_eq!(plan.waypoints.first(), Some(&CellXy::new(0, 2)));
+/// assert_eq!(plan.waypoints.last(), Some(&CellXy::new(3, 0)));
+/// assert!(plan.length_cells < 3.0 + 2f64.sqrt()); // shorter than any grid path
 /// ```
 pub fn theta_star(
     grid: &OccupancyGrid,
-    start: (usize, usize),
-    goal: (usize, usize),
+    start: impl Into<CellXy>,
+    goal: impl Into<CellXy>,
     opts: &ThetaStarOptions,
 ) -> Result<Option<Plan>> {
+    let (start, goal) = (xy(start), xy(goal));
     check_endpoint(grid, "start", start, opts.unknown_passable)?;
     check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
     let passable = PassableGrid::new(grid, opts.unknown_passable);
@@ -153,13 +154,13 @@ pub fn theta_star(
         }
         stats.expanded += 1;
         if index == goal_index {
-            let waypoints = trace_back(&parent, width, goal_index);
-            let length = path_length(&waypoints);
+            let waypoints = cells_of(trace_back(&parent, width, goal_index));
+            let length_cells = path_length(&waypoints);
             stats.los_checks = counter.checks;
             stats.los_cells = counter.cells;
             return Ok(Some(Plan {
                 waypoints,
-                length,
+                length_cells,
                 stats,
             }));
         }
@@ -206,28 +207,28 @@ pub fn theta_star(
 #[allow(clippy::unwrap_used, clippy::float_cmp)]
 mod tests {
     use super::*;
-    use crate::grid::Cell;
+    use crate::grid::Occupancy;
 
     #[test]
     fn open_grid_gives_a_straight_segment() {
-        let grid = OccupancyGrid::new(9, 5, 1.0, [0.0; 2], Cell::Free).unwrap();
+        let grid = OccupancyGrid::new(9, 5, 1.0, [0.0; 2], Occupancy::Free).unwrap();
         let plan = theta_star(&grid, (0, 0), (8, 3), &ThetaStarOptions::default())
             .unwrap()
             .unwrap();
         assert_eq!(plan.waypoints, [(0, 0), (8, 3)]);
-        assert!((plan.length - 73f64.sqrt()).abs() < 1e-12);
+        assert!((plan.length_cells - 73f64.sqrt()).abs() < 1e-12);
         assert!(plan.stats.los_checks > 0);
     }
 
     #[test]
     fn start_equal_to_goal_and_unreachable_goal() {
-        let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
+        let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
         let opts = ThetaStarOptions::default();
         let plan = theta_star(&grid, (1, 1), (1, 1), &opts).unwrap().unwrap();
         assert_eq!(plan.waypoints, [(1, 1)]);
-        assert_eq!(plan.length, 0.0);
+        assert_eq!(plan.length_cells, 0.0);
         for (x, y) in [(1, 0), (0, 1)] {
-            grid.set(x, y, Cell::Occupied).unwrap();
+            grid.set(x, y, Occupancy::Occupied).unwrap();
         }
         // (0, 0) is cut off: the diagonal step to (1, 1) would cut both corners.
         assert_eq!(theta_star(&grid, (0, 0), (2, 2), &opts).unwrap(), None);

@@ -17,7 +17,7 @@
 
 use thiserror::Error;
 
-use crate::grid::{Cell, OccupancyGrid};
+use crate::grid::{CellXy, Occupancy, OccupancyGrid};
 
 /// Why a path breaks the collision rule.
 #[derive(Clone, Debug, PartialEq, Eq, Error)]
@@ -32,7 +32,7 @@ pub enum PathViolation {
         /// Index of the waypoint.
         index: usize,
         /// The waypoint `(x, y)`.
-        cell: (usize, usize),
+        cell: CellXy,
         /// Grid width, cells.
         width: usize,
         /// Grid height, cells.
@@ -44,9 +44,9 @@ pub enum PathViolation {
         /// Index of the waypoint.
         index: usize,
         /// The waypoint `(x, y)`.
-        cell: (usize, usize),
+        cell: CellXy,
         /// What the cell holds.
-        state: Cell,
+        state: Occupancy,
     },
     /// The robot's square, swept along a segment, overlaps a blocked cell's interior.
     #[error("segment {segment} from {from:?} to {to:?} overlaps blocked cell {cell:?}")]
@@ -54,9 +54,9 @@ pub enum PathViolation {
         /// Index of the segment (segment `i` joins waypoints `i` and `i + 1`).
         segment: usize,
         /// Its first waypoint.
-        from: (usize, usize),
+        from: CellXy,
         /// Its last waypoint.
-        to: (usize, usize),
+        to: CellXy,
         /// A blocked cell it overlaps (possibly outside the grid).
         cell: (i64, i64),
     },
@@ -69,8 +69,8 @@ fn passable(grid: &OccupancyGrid, x: i64, y: i64, unknown_passable: bool) -> boo
         return false;
     };
     match grid.get(x, y) {
-        Some(Cell::Free) => true,
-        Some(Cell::Unknown) => unknown_passable,
+        Some(Occupancy::Free) => true,
+        Some(Occupancy::Unknown) => unknown_passable,
         _ => false,
     }
 }
@@ -126,25 +126,31 @@ pub fn swept_square_overlaps_cell(a: (i64, i64), b: (i64, i64), c: (i64, i64)) -
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, validate::{validate_path, PathViolation}};
-/// let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
-/// grid.set(1, 0, Cell::Occupied).unwrap();
-/// assert_eq!(validate_path(&grid, &[(0, 0), (0, 2), (2, 2)], false), Ok(()));
+/// use vpmap_plan::{CellXy, Occupancy, OccupancyGrid, validate::{validate_path, PathViolation}};
+/// let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+/// grid.set(1, 0, Occupancy::Occupied).unwrap();
+/// let path = |cells: &[(usize, usize)]| cells.iter().map(|&c| CellXy::from(c)).collect::<Vec<_>>();
+/// assert_eq!(validate_path(&grid, &path(&[(0, 0), (0, 2), (2, 2)]), false), Ok(()));
 /// assert_eq!(
-///     validate_path(&grid, &[(0, 1), (2, 0)], false),
-///     Err(PathViolation::SegmentBlocked { segment: 0, from: (0, 1), to: (2, 0), cell: (1, 0) }),
+///     validate_path(&grid, &path(&[(0, 1), (2, 0)]), false),
+///     Err(PathViolation::SegmentBlocked {
+///         segment: 0,
+///         from: CellXy::new(0, 1),
+///         to: CellXy::new(2, 0),
+///         cell: (1, 0),
+///     }),
 /// );
 /// ```
 pub fn validate_path(
     grid: &OccupancyGrid,
-    waypoints: &[(usize, usize)],
+    waypoints: &[CellXy],
     unknown_passable: bool,
 ) -> Result<(), PathViolation> {
     if waypoints.is_empty() {
         return Err(PathViolation::Empty);
     }
     for (index, &cell) in waypoints.iter().enumerate() {
-        match grid.get(cell.0, cell.1) {
+        match grid.get(cell.x, cell.y) {
             None => {
                 return Err(PathViolation::WaypointOutsideGrid {
                     index,
@@ -153,10 +159,10 @@ pub fn validate_path(
                     height: grid.height(),
                 });
             }
-            Some(state @ Cell::Occupied) => {
+            Some(state @ Occupancy::Occupied) => {
                 return Err(PathViolation::WaypointBlocked { index, cell, state });
             }
-            Some(state @ Cell::Unknown) if !unknown_passable => {
+            Some(state @ Occupancy::Unknown) if !unknown_passable => {
                 return Err(PathViolation::WaypointBlocked { index, cell, state });
             }
             Some(_) => {}
@@ -164,8 +170,8 @@ pub fn validate_path(
     }
     for (segment, pair) in waypoints.windows(2).enumerate() {
         let &[from, to] = pair else { continue };
-        let a = (from.0 as i64, from.1 as i64);
-        let b = (to.0 as i64, to.1 as i64);
+        let a = (from.x as i64, from.y as i64);
+        let b = (to.x as i64, to.y as i64);
         for y in a.1.min(b.1) - 1..=a.1.max(b.1) + 1 {
             for x in a.0.min(b.0) - 1..=a.0.max(b.0) + 1 {
                 if !passable(grid, x, y, unknown_passable)
@@ -204,28 +210,35 @@ mod tests {
         assert!(!swept_square_overlaps_cell((3, 3), (3, 3), (4, 4)));
     }
 
+    fn cells(xy: &[(usize, usize)]) -> Vec<CellXy> {
+        xy.iter().map(|&c| CellXy::from(c)).collect()
+    }
+
     #[test]
     fn waypoint_violations_are_reported_in_order() {
-        let mut grid = OccupancyGrid::new(3, 2, 1.0, [0.0; 2], Cell::Free).unwrap();
-        grid.set(2, 1, Cell::Unknown).unwrap();
+        let mut grid = OccupancyGrid::new(3, 2, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+        grid.set(2, 1, Occupancy::Unknown).unwrap();
         assert_eq!(validate_path(&grid, &[], false), Err(PathViolation::Empty));
         assert_eq!(
-            validate_path(&grid, &[(0, 0), (3, 0)], false),
+            validate_path(&grid, &cells(&[(0, 0), (3, 0)]), false),
             Err(PathViolation::WaypointOutsideGrid {
                 index: 1,
-                cell: (3, 0),
+                cell: CellXy::new(3, 0),
                 width: 3,
                 height: 2
             })
         );
         assert_eq!(
-            validate_path(&grid, &[(0, 0), (2, 1)], false),
+            validate_path(&grid, &cells(&[(0, 0), (2, 1)]), false),
             Err(PathViolation::WaypointBlocked {
                 index: 1,
-                cell: (2, 1),
-                state: Cell::Unknown
+                cell: CellXy::new(2, 1),
+                state: Occupancy::Unknown
             })
         );
-        assert_eq!(validate_path(&grid, &[(0, 0), (2, 1)], true), Ok(()));
+        assert_eq!(
+            validate_path(&grid, &cells(&[(0, 0), (2, 1)]), true),
+            Ok(())
+        );
     }
 }

@@ -7,7 +7,7 @@
 use std::fmt::Write as _;
 
 use vpmap_plan::Planned;
-use vpmap_plan::grid::{Cell, OccupancyGrid};
+use vpmap_plan::grid::{CellXy, Occupancy, OccupancyGrid};
 use vpmap_plan::mbpp::BugTrack;
 
 use crate::{SVG_FROM_MAP_ATTRIBUTE, escape_xml, matrix_text};
@@ -68,8 +68,8 @@ const LEGEND_FONT_PX: f64 = 11.0;
 pub fn plan_svg(
     grid: &OccupancyGrid,
     planned: &Planned,
-    start: (usize, usize),
-    goal: (usize, usize),
+    start: impl Into<CellXy>,
+    goal: impl Into<CellXy>,
     coordinates: GridCoordinates,
 ) -> String {
     let (w, h) = (grid.width(), grid.height());
@@ -98,15 +98,15 @@ pub fn plan_svg(
     for y in 0..h {
         let mut x = 0;
         while x < w {
-            let cell = grid.get(x, y).unwrap_or(Cell::Unknown);
+            let cell = grid.get(x, y).unwrap_or(Occupancy::Unknown);
             let mut end = x + 1;
             while end < w && grid.get(end, y) == Some(cell) {
                 end += 1;
             }
             let fill = match cell {
-                Cell::Free => None,
-                Cell::Occupied => Some("#222222"),
-                Cell::Unknown => Some("#b8b8b8"),
+                Occupancy::Free => None,
+                Occupancy::Occupied => Some("#222222"),
+                Occupancy::Unknown => Some("#b8b8b8"),
             };
             if let Some(fill) = fill {
                 let _ = writeln!(
@@ -142,7 +142,7 @@ pub fn plan_svg(
             svg_points(&p.waypoints)
         );
     }
-    for ((x, y), colour) in [(start, "#2ca02c"), (goal, "#1f77b4")] {
+    for (CellXy { x, y }, colour) in [(start.into(), "#2ca02c"), (goal.into(), "#1f77b4")] {
         let _ = writeln!(
             out,
             r#"<circle cx="{x}.5" cy="{y}.5" r="{:.3}" fill="{colour}"/>"#,
@@ -157,9 +157,9 @@ pub fn plan_svg(
 }
 
 /// Cell centres as an SVG `points` list.
-fn svg_points(cells: &[(usize, usize)]) -> String {
+fn svg_points(cells: &[CellXy]) -> String {
     let mut points = String::with_capacity(cells.len() * 10);
-    for (i, (x, y)) in cells.iter().enumerate() {
+    for (i, CellXy { x, y }) in cells.iter().enumerate() {
         if i > 0 {
             points.push(' ');
         }
@@ -171,15 +171,15 @@ fn svg_points(cells: &[(usize, usize)]) -> String {
 /// The cells where a walk turns: its first and last cell and every cell where the direction
 /// changes (a reversal counts as a change); cells in a straight run between them, and
 /// repeated cells, are left out. The polyline through them is the walk's.
-fn turning_cells(cells: &[(usize, usize)]) -> Vec<(usize, usize)> {
-    let mut out: Vec<(usize, usize)> = Vec::new();
+fn turning_cells(cells: &[CellXy]) -> Vec<CellXy> {
+    let mut out: Vec<CellXy> = Vec::new();
     for &c in cells {
         if out.last() == Some(&c) {
             continue;
         }
         if let [.., a, b] = out.as_slice() {
-            let d1 = (b.0 as i64 - a.0 as i64, b.1 as i64 - a.1 as i64);
-            let d2 = (c.0 as i64 - b.0 as i64, c.1 as i64 - b.1 as i64);
+            let d1 = (b.x as i64 - a.x as i64, b.y as i64 - a.y as i64);
+            let d2 = (c.x as i64 - b.x as i64, c.y as i64 - b.y as i64);
             let cross = d1.0 * d2.1 - d1.1 * d2.0;
             let dot = d1.0 * d2.0 + d1.1 * d2.1;
             if cross == 0 && dot > 0 {
@@ -226,7 +226,7 @@ fn draw_bugs(out: &mut String, bugs: &[BugTrack], stroke: f64, px: f64) {
         let colour = BUG_COLOURS[i % BUG_COLOURS.len()];
         if !bug.hits.is_empty() {
             let mut d = String::new();
-            for &(x, y) in &bug.hits {
+            for &CellXy { x, y } in &bug.hits {
                 let (cx, cy) = (x as f64 + 0.5, y as f64 + 0.5);
                 let _ = write!(
                     d,
@@ -246,7 +246,7 @@ fn draw_bugs(out: &mut String, bugs: &[BugTrack], stroke: f64, px: f64) {
                 r#"<path class="bug-hits" data-bug="{i}" stroke="{colour}" d="{d}"/>"#
             );
         }
-        for &(x, y) in &bug.leaves {
+        for &CellXy { x, y } in &bug.leaves {
             let _ = writeln!(
                 out,
                 r##"<circle class="bug-leave" data-bug="{i}" cx="{x}.5" cy="{y}.5" r="{ring:.3}" fill="#ffffff" stroke="{colour}"/>"##
@@ -404,11 +404,12 @@ mod tests {
             (4, 3),
             (4, 2),
         ];
+        let walk = walk.map(CellXy::from);
         assert_eq!(
             turning_cells(&walk),
             [(0, 0), (2, 0), (4, 2), (4, 4), (4, 2)]
         );
-        assert_eq!(turning_cells(&[(3, 3), (3, 3)]), [(3, 3)]);
+        assert_eq!(turning_cells(&[CellXy::new(3, 3); 2]), [(3, 3)]);
         assert!(turning_cells(&[]).is_empty());
     }
 

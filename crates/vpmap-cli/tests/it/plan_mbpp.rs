@@ -5,7 +5,9 @@
 use std::path::Path;
 
 use serde_json::Value;
-use vpmap_plan::{Cell, OccupancyGrid, parse_movingai_map, validate_path, write_ros_map};
+use vpmap_plan::{
+    CellXy, Occupancy, OccupancyGrid, parse_movingai_map, validate_path, write_ros_map,
+};
 
 use super::{WALLED, vpmap};
 
@@ -56,12 +58,12 @@ fn polyline_length(points: &[[f64; 2]]) -> f64 {
 }
 
 /// Moving AI coordinates are whole cells.
-fn cells(points: &[[f64; 2]]) -> Vec<(usize, usize)> {
+fn cells(points: &[[f64; 2]]) -> Vec<CellXy> {
     points
         .iter()
         .map(|p| {
             assert!(p[0].fract() == 0.0 && p[1].fract() == 0.0, "{p:?}");
-            (p[0] as usize, p[1] as usize)
+            CellXy::new(p[0] as usize, p[1] as usize)
         })
         .collect()
 }
@@ -176,7 +178,7 @@ fn plan_mbpp_lengths_and_alternatives_are_in_metres_on_a_ros_map() {
         cells.height(),
         resolution,
         origin,
-        Cell::Free,
+        Occupancy::Free,
     )
     .unwrap();
     for y in 0..cells.height() {

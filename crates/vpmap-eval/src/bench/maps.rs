@@ -19,10 +19,10 @@ use vpmap_metrology::scene::Scene;
 use vpmap_metrology::synth::{SynthOptions, synthesize};
 use vpmap_plan::movingai::{Scenario, read_movingai_map, read_scen};
 use vpmap_plan::reach::Components;
-use vpmap_plan::{Cell, OccupancyGrid, RasterOptions, rasterize_map};
+use vpmap_plan::{Occupancy, OccupancyGrid, RasterOptions, rasterize_map};
 
 /// A cell `(x, y)`: column, row from the top.
-pub type CellXy = (usize, usize);
+pub use vpmap_plan::CellXy;
 
 /// Where the benchmark data lives by default, relative to the workspace root.
 pub const MOVINGAI_RELATIVE: &str = "../shared/data/movingai";
@@ -145,7 +145,7 @@ pub enum Origin {
         /// The problem's bucket.
         bucket: u32,
         /// The octile optimal length printed in the file, cells.
-        octile_optimum: f64,
+        octile_optimum_cells: f64,
     },
     /// A random pair of free cells in one connected component.
     Sampled,
@@ -351,7 +351,7 @@ pub fn load_scen_file(
                     goal: p.goal,
                     origin: Origin::Scen {
                         bucket: p.bucket,
-                        octile_optimum: p.optimal_length,
+                        octile_optimum_cells: p.optimal_length_cells,
                     },
                 }
             })
@@ -386,13 +386,13 @@ fn check_problem(scen: &Path, index: usize, p: &Scenario, grid: &OccupancyGrid) 
         );
     }
     for (what, c) in [("start", p.start), ("goal", p.goal)] {
-        if !grid.is_free(c.0, c.1) {
+        if !grid.is_free(c.x, c.y) {
             bail!(
                 "{}: problem {}: {what} ({}, {}) is not a free cell of {}",
                 scen.display(),
                 index + 1,
-                c.0,
-                c.1,
+                c.x,
+                c.y,
                 p.map
             );
         }
@@ -460,7 +460,7 @@ pub fn sample_solvable(components: &Components, n: usize, rng: &mut ChaCha8Rng) 
                 }
             };
             let (a, b) = (components.cell_at(s), components.cell_at(g));
-            let d = (a.0.abs_diff(b.0) as f64).hypot(a.1.abs_diff(b.1) as f64);
+            let d = (a.x.abs_diff(b.x) as f64).hypot(a.y.abs_diff(b.y) as f64);
             (d, a, b)
         })
         .collect();
@@ -599,7 +599,7 @@ pub fn generated_maps(per_map: usize, seed: u64) -> Result<Vec<BenchMap>> {
         name: "generated-empty-48".to_owned(),
         category: "free",
         source: "generated: 48 x 48, no obstacles".to_owned(),
-        grid: OccupancyGrid::new(48, 48, 1.0, [0.0; 2], Cell::Free)?,
+        grid: OccupancyGrid::new(48, 48, 1.0, [0.0; 2], Occupancy::Free)?,
     }];
     made.push(MadeGrid {
         name: "generated-rooms-128".to_owned(),
@@ -612,9 +612,9 @@ pub fn generated_maps(per_map: usize, seed: u64) -> Result<Vec<BenchMap>> {
     let cells = (0..128 * 128)
         .map(|_| {
             if rng.random_bool(0.2) {
-                Cell::Occupied
+                Occupancy::Occupied
             } else {
-                Cell::Free
+                Occupancy::Free
             }
         })
         .collect();
@@ -634,7 +634,7 @@ pub fn generated_maps(per_map: usize, seed: u64) -> Result<Vec<BenchMap>> {
 /// grid lines), each wall with a door of three cells in its middle, except the walls of the
 /// second room of the first row, which is closed.
 fn rooms_grid(side: usize, room: usize) -> Result<OccupancyGrid> {
-    let mut grid = OccupancyGrid::new(side, side, 1.0, [0.0; 2], Cell::Free)?;
+    let mut grid = OccupancyGrid::new(side, side, 1.0, [0.0; 2], Occupancy::Free)?;
     let door = |i: usize| {
         let k = i % room;
         k + 1 >= room / 2 && k <= room / 2 + 1
@@ -649,7 +649,7 @@ fn rooms_grid(side: usize, room: usize) -> Result<OccupancyGrid> {
             let closed = (x + 1 == room || x + 1 == 2 * room) && y < room
                 || y + 1 == room && (room - 1..2 * room).contains(&x);
             if wall || closed {
-                grid.set(x, y, Cell::Occupied)?;
+                grid.set(x, y, Occupancy::Occupied)?;
             }
         }
     }
@@ -703,8 +703,13 @@ mod tests {
         let cells = rows
             .iter()
             .flat_map(|r| {
-                r.chars()
-                    .map(|c| if c == '@' { Cell::Occupied } else { Cell::Free })
+                r.chars().map(|c| {
+                    if c == '@' {
+                        Occupancy::Occupied
+                    } else {
+                        Occupancy::Free
+                    }
+                })
             })
             .collect();
         OccupancyGrid::from_cells(rows[0].len(), rows.len(), 1.0, [0.0; 2], cells)
@@ -737,7 +742,7 @@ mod tests {
         );
         // Spread over lengths: sorted by distance.
         let d = |q: &Query| {
-            (q.start.0.abs_diff(q.goal.0) as f64).hypot(q.start.1.abs_diff(q.goal.1) as f64)
+            (q.start.x.abs_diff(q.goal.x) as f64).hypot(q.start.y.abs_diff(q.goal.y) as f64)
         };
         assert!(solvable.windows(2).all(|w| d(&w[0]) <= d(&w[1])));
         let unsolvable = sample_unsolvable(&c, &mut rng);

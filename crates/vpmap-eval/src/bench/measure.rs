@@ -32,7 +32,7 @@ pub struct Measured {
     /// The plan's length disagrees with the length of its own waypoints.
     pub length_mismatch: bool,
     /// Path length, cells.
-    pub length: Option<f64>,
+    pub length_cells: Option<f64>,
     /// Number of waypoints.
     pub waypoints: usize,
     /// Sum of the absolute heading changes at the waypoints, degrees.
@@ -154,7 +154,7 @@ pub fn turning_deg(waypoints: &[CellXy]) -> f64 {
     let dirs: Vec<(f64, f64)> = waypoints
         .windows(2)
         .filter_map(|w| match w {
-            [a, b] if a != b => Some((b.0 as f64 - a.0 as f64, b.1 as f64 - a.1 as f64)),
+            [a, b] if a != b => Some((b.x as f64 - a.x as f64, b.y as f64 - a.y as f64)),
             _ => None,
         })
         .collect();
@@ -185,7 +185,7 @@ fn describe(
         .collect();
     let length_mismatch = best.is_some_and(|p| {
         let own = path_length(&p.waypoints);
-        (own - p.length).abs() > 1e-9 * own.max(1.0)
+        (own - p.length_cells).abs() > 1e-9 * own.max(1.0)
     });
     let (expanded, los_checks) = if mbpp {
         (
@@ -203,7 +203,7 @@ fn describe(
         valid,
         invalid_alternatives,
         length_mismatch,
-        length: best.map(|p| p.length),
+        length_cells: best.map(|p| p.length_cells),
         waypoints: best.map_or(0, |p| p.waypoints.len()),
         turning_deg: best.map(|p| turning_deg(&p.waypoints)),
         alternatives: mbpp.then_some(planned.alternatives.len()),
@@ -219,27 +219,39 @@ fn describe(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use vpmap_plan::Cell;
+    use vpmap_plan::Occupancy;
+
+    fn cells(xy: &[(usize, usize)]) -> Vec<CellXy> {
+        xy.iter().map(|&c| CellXy::from(c)).collect()
+    }
 
     #[test]
     fn turning_sums_absolute_heading_changes() {
-        assert!(turning_deg(&[(0, 0), (5, 0)]).abs() < 1e-12);
-        assert!((turning_deg(&[(0, 0), (5, 0), (5, 5)]) - 90.0).abs() < 1e-9);
+        assert!(turning_deg(&cells(&[(0, 0), (5, 0)])).abs() < 1e-12);
+        assert!((turning_deg(&cells(&[(0, 0), (5, 0), (5, 5)])) - 90.0).abs() < 1e-9);
         // Left then right: both count.
-        assert!((turning_deg(&[(0, 0), (2, 0), (2, 2), (4, 2)]) - 180.0).abs() < 1e-9);
-        assert!((turning_deg(&[(0, 0), (1, 1), (2, 1)]) - 45.0).abs() < 1e-9);
-        assert!(turning_deg(&[(3, 3)]).abs() < 1e-12);
+        assert!((turning_deg(&cells(&[(0, 0), (2, 0), (2, 2), (4, 2)])) - 180.0).abs() < 1e-9);
+        assert!((turning_deg(&cells(&[(0, 0), (1, 1), (2, 1)])) - 45.0).abs() < 1e-9);
+        assert!(turning_deg(&cells(&[(3, 3)])).abs() < 1e-12);
     }
 
     #[test]
     fn measured_paths_are_checked_and_counted() -> Result<()> {
-        let mut grid = OccupancyGrid::new(8, 5, 1.0, [0.0; 2], Cell::Free)?;
+        let mut grid = OccupancyGrid::new(8, 5, 1.0, [0.0; 2], Occupancy::Free)?;
         for y in 0..4 {
-            grid.set(4, y, Cell::Occupied)?;
+            grid.set(4, y, Occupancy::Occupied)?;
         }
         for kind in PlannerKind::ALL {
-            let m = measure(kind, &grid, (0, 0), (7, 0), 2, None, &NoMemoryProbe)?
-                .unwrap_or_else(|| panic!("{kind}: no limit was given"));
+            let m = measure(
+                kind,
+                &grid,
+                (0, 0).into(),
+                (7, 0).into(),
+                2,
+                None,
+                &NoMemoryProbe,
+            )?
+            .unwrap_or_else(|| panic!("{kind}: no limit was given"));
             assert!(m.found && m.valid == Some(Ok(())), "{kind}: {m:?}");
             assert!(!m.length_mismatch && m.invalid_alternatives.is_empty());
             assert_eq!(m.alternatives.is_some(), is_mbpp(kind));
@@ -249,8 +261,8 @@ mod tests {
         let skipped = measure(
             PlannerKind::Optimal,
             &grid,
-            (0, 0),
-            (7, 0),
+            (0, 0).into(),
+            (7, 0).into(),
             3,
             Some(Duration::ZERO),
             &NoMemoryProbe,

@@ -137,7 +137,7 @@ pub fn plots(results: &Results, summary: &Summary) -> Result<Vec<Plot>> {
                 log: false,
                 labels: labels.clone(),
                 planners: &results.planners,
-                values: column(&|s| s.mean_length),
+                values: column(&|s| s.mean_length_cells),
             })?,
         },
     ];

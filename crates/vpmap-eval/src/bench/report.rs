@@ -19,7 +19,7 @@ use std::fmt::Write as _;
 use serde_json::{Value, json};
 use vpmap_plan::planner::PlannerKind;
 
-use super::maps::{CATEGORY_ORDER, Origin, UNSOLVABLE_PER_MAP};
+use super::maps::{CATEGORY_ORDER, CellXy, Origin, UNSOLVABLE_PER_MAP};
 use super::{MapResult, OPTIMAL_CORNER_LIMIT, Results};
 use crate::stats::mean;
 
@@ -73,7 +73,7 @@ pub struct PlannerStats {
     /// Queries in the excess means.
     pub excess_queries: usize,
     /// Mean length over the solvable queries it found a path for, cells.
-    pub mean_length: Option<f64>,
+    pub mean_length_cells: Option<f64>,
     /// Mean total turning, degrees.
     pub mean_turning_deg: Option<f64>,
     /// Largest peak heap, bytes.
@@ -120,12 +120,12 @@ fn equal_lengths(a: f64, b: f64) -> bool {
 /// The length of the optimal planner on query `q` of `m`, when it ran and found one.
 fn optimal_length(results: &Results, m: &MapResult, q: usize) -> Option<f64> {
     let at = results.index_of(PlannerKind::Optimal)?;
-    m.records[q][at].as_ref()?.length
+    m.records[q][at].as_ref()?.length_cells
 }
 
 fn astar_ps_length(results: &Results, m: &MapResult, q: usize) -> Option<f64> {
     let at = results.index_of(PlannerKind::AstarPs)?;
-    m.records[q][at].as_ref()?.length
+    m.records[q][at].as_ref()?.length_cells
 }
 
 fn excess(length: f64, optimal: f64) -> Option<f64> {
@@ -175,7 +175,7 @@ fn query_failures(results: &Results, m: &MapResult, q: usize) -> Vec<String> {
                 at(kind)
             ));
         }
-        if let (Some(len), Some(opt)) = (r.length, optimal)
+        if let (Some(len), Some(opt)) = (r.length_cells, optimal)
             && len < opt - LENGTH_REL_TOL * opt.max(1.0)
         {
             out.push(format!(
@@ -183,7 +183,14 @@ fn query_failures(results: &Results, m: &MapResult, q: usize) -> Vec<String> {
                 at(kind)
             ));
         }
-        if let (Origin::Scen { octile_optimum, .. }, Some(len)) = (query.origin, r.length) {
+        if let (
+            Origin::Scen {
+                octile_optimum_cells: octile_optimum,
+                ..
+            },
+            Some(len),
+        ) = (query.origin, r.length_cells)
+        {
             let tol = (5e-6 * octile_optimum).max(0.005);
             if kind == PlannerKind::Astar && (len - octile_optimum).abs() > tol {
                 out.push(format!(
@@ -202,8 +209,8 @@ fn query_failures(results: &Results, m: &MapResult, q: usize) -> Vec<String> {
     out
 }
 
-fn cell_text(c: (usize, usize)) -> String {
-    format!("({}, {})", c.0, c.1)
+fn cell_text(c: CellXy) -> String {
+    format!("({}, {})", c.x, c.y)
 }
 
 impl Group {
@@ -245,13 +252,13 @@ impl Group {
                     {
                         log_ratios[p].push((r.time_s / reference.time_s).ln());
                     }
-                    let Some(len) = r.length else { continue };
+                    let Some(len) = r.length_cells else { continue };
                     lengths[p].push(len);
                     turning[p].extend(r.turning_deg);
                     if let Some(e) = optimal.and_then(|opt| excess(len, opt)) {
                         excesses[p].push(e);
                     }
-                    if let Some(ref_len) = reference.and_then(|x| x.length) {
+                    if let Some(ref_len) = reference.and_then(|x| x.length_cells) {
                         let v = &mut versus[p];
                         if equal_lengths(len, ref_len) {
                             v.equal += 1;
@@ -273,7 +280,7 @@ impl Group {
                 mean_excess: mean(&excesses[p]),
                 max_excess: excesses[p].iter().copied().reduce(f64::max),
                 excess_queries: excesses[p].len(),
-                mean_length: mean(&lengths[p]),
+                mean_length_cells: mean(&lengths[p]),
                 mean_turning_deg: mean(&turning[p]),
                 max_peak_bytes: peaks[p],
                 vs_astar_ps: (Some(p) != astar_ps_at && astar_ps_at.is_some()).then_some(versus[p]),
@@ -390,15 +397,15 @@ pub fn csv(results: &Results) -> String {
             let (bucket, octile) = match query.origin {
                 Origin::Scen {
                     bucket,
-                    octile_optimum,
-                } => (Some(bucket), Some(octile_optimum)),
+                    octile_optimum_cells,
+                } => (Some(bucket), Some(octile_optimum_cells)),
                 _ => (None, None),
             };
             for (&kind, record) in results.planners.iter().zip(&m.records[q]) {
                 let Some(r) = record else { continue };
                 let ratio = |reference: Option<f64>| {
                     opt(r
-                        .length
+                        .length_cells
                         .zip(reference)
                         .and_then(|(l, x)| (x > 0.0).then(|| l / x)))
                 };
@@ -408,10 +415,10 @@ pub fn csv(results: &Results) -> String {
                     (q + 1).to_string(),
                     query.origin.name().to_owned(),
                     opt(bucket),
-                    query.start.0.to_string(),
-                    query.start.1.to_string(),
-                    query.goal.0.to_string(),
-                    query.goal.1.to_string(),
+                    query.start.x.to_string(),
+                    query.start.y.to_string(),
+                    query.goal.x.to_string(),
+                    query.goal.y.to_string(),
                     m.map
                         .components
                         .connected(query.start, query.goal)
@@ -422,7 +429,7 @@ pub fn csv(results: &Results) -> String {
                         None => "n/a".to_owned(),
                         Some(v) => v.is_ok().to_string(),
                     },
-                    opt(r.length),
+                    opt(r.length_cells),
                     opt(optimal),
                     ratio(optimal),
                     ratio(astar_ps),
@@ -714,7 +721,7 @@ pub fn markdown(
         row.extend(
             g.planners
                 .iter()
-                .map(|s| match (s.mean_length, s.mean_excess) {
+                .map(|s| match (s.mean_length_cells, s.mean_excess) {
                     (None, _) => "n/a".to_owned(),
                     (Some(l), None) => format!("{l:.2}"),
                     (Some(l), Some(e)) => format!("{l:.2} (+{:.2} %)", 100.0 * e),
@@ -805,7 +812,7 @@ fn group_json(results: &Results, g: &Group) -> Value {
                 "mean_excess_over_optimal": s.mean_excess,
                 "max_excess_over_optimal": s.max_excess,
                 "excess_queries": s.excess_queries,
-                "mean_length": s.mean_length,
+                "mean_length": s.mean_length_cells,
                 "mean_turning_deg": s.mean_turning_deg,
                 "max_peak_bytes": s.max_peak_bytes,
                 "vs_astar_ps": versus,

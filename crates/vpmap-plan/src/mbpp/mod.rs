@@ -106,7 +106,7 @@
 //!   detection).
 //!
 //! # Files
-//! - `result.rs`: the options, results and counters;
+//! - `result.rs`: the options, the bugs' records and the counters;
 //! - `walk.rs`: the m-line and the bugs' walk (greedy moves, hits, wall following,
 //!   leaving, waiting), which builds the `v_list` tree;
 //! - `graph.rs`: every `v_list` as one graph, with its shortest-path searches;
@@ -118,13 +118,15 @@ mod result;
 mod select;
 mod walk;
 
-pub use result::{BugFate, BugTrack, LeaveRule, Mbpp, MbppOptions, MbppStats};
+pub use result::{BugFate, BugTrack, LeaveRule, MbppOptions, MbppStats};
 pub use walk::m_line;
 
 use crate::error::Result;
+use crate::grid::CellXy;
 use crate::grid::OccupancyGrid;
 use crate::los::{LosCounter, Passable, PassableGrid};
 use crate::plan::{Plan, PlanStats, check_endpoint, path_length};
+use crate::planner::Planned;
 use crate::smoothing::smooth_path;
 
 use graph::Graph;
@@ -145,33 +147,34 @@ use walk::Walk;
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Cell, OccupancyGrid, mbpp::{mbpp, MbppOptions}};
+/// use vpmap_plan::{Occupancy, OccupancyGrid, mbpp::{mbpp, MbppOptions}};
 /// // ......
 /// // ..#...
 /// // ..#...
 /// // ..#...
 /// // ......
-/// let mut grid = OccupancyGrid::new(6, 5, 1.0, [0.0; 2], Cell::Free).unwrap();
+/// let mut grid = OccupancyGrid::new(6, 5, 1.0, [0.0; 2], Occupancy::Free).unwrap();
 /// for y in 1..4 {
-///     grid.set(2, y, Cell::Occupied).unwrap();
+///     grid.set(2, y, Occupancy::Occupied).unwrap();
 /// }
 /// let result = mbpp(&grid, (0, 2), (5, 2), &MbppOptions::default()).unwrap();
 /// let best = result.best.unwrap();
 /// // Round the wall's top end, past the corner cells (1, 0) and (3, 0): the shortest way.
 /// assert_eq!(best.waypoints, [(0, 2), (1, 0), (3, 0), (5, 2)]);
-/// assert!((best.length - (5f64.sqrt() + 2.0 + 8f64.sqrt())).abs() < 1e-12);
+/// assert!((best.length_cells - (5f64.sqrt() + 2.0 + 8f64.sqrt())).abs() < 1e-12);
 /// // The first bug split once, at the wall; the newborn went round the bottom end and
 /// // waited where the first bug had left the wall; its completed path is the alternative.
 /// assert_eq!(result.bugs.len(), 2);
 /// assert_eq!(result.alternatives.len(), 1);
-/// assert!(result.alternatives[0].length > best.length);
+/// assert!(result.alternatives[0].length_cells > best.length_cells);
 /// ```
 pub fn mbpp(
     grid: &OccupancyGrid,
-    start: (usize, usize),
-    goal: (usize, usize),
+    start: impl Into<CellXy>,
+    goal: impl Into<CellXy>,
     opts: &MbppOptions,
-) -> Result<Mbpp> {
+) -> Result<Planned> {
+    let (start, goal) = (start.into(), goal.into());
     check_endpoint(grid, "start", start, opts.unknown_passable)?;
     check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
     let padded = PassableGrid::new(grid, opts.unknown_passable);
@@ -195,7 +198,7 @@ pub fn mbpp(
         los_cells: counter.cells,
     };
     let best = outcome.best.map(|waypoints| Plan {
-        length: path_length(&waypoints),
+        length_cells: path_length(&waypoints),
         waypoints,
         stats: plan_stats,
     });
@@ -203,16 +206,16 @@ pub fn mbpp(
         .alternatives
         .into_iter()
         .map(|waypoints| Plan {
-            length: path_length(&waypoints),
+            length_cells: path_length(&waypoints),
             waypoints,
             stats: plan_stats,
         })
         .collect();
-    Ok(Mbpp {
+    Ok(Planned {
         best,
         alternatives,
         bugs: outcome.bugs,
-        stats,
+        mbpp_stats: stats,
     })
 }
 
@@ -220,20 +223,20 @@ pub fn mbpp(
 type Xy = (i64, i64);
 
 #[inline]
-fn to_i(c: (usize, usize)) -> Xy {
-    (c.0 as i64, c.1 as i64)
+fn to_i(c: CellXy) -> Xy {
+    (c.x as i64, c.y as i64)
 }
 
 #[inline]
-fn to_u(c: Xy) -> (usize, usize) {
-    (c.0 as usize, c.1 as usize)
+fn to_u(c: Xy) -> CellXy {
+    CellXy::new(c.0 as usize, c.1 as usize)
 }
 
 const NONE: u32 = u32::MAX;
 /// What one (possibly nested) run produces.
 struct Outcome {
-    best: Option<Vec<(usize, usize)>>,
-    alternatives: Vec<Vec<(usize, usize)>>,
+    best: Option<Vec<CellXy>>,
+    alternatives: Vec<Vec<CellXy>>,
     bugs: Vec<BugTrack>,
 }
 

@@ -1,16 +1,16 @@
-//! What [`mbpp`](super::mbpp) takes and returns: options, results, the bugs' records and
-//! the work counters.
+//! What [`mbpp`](super::mbpp) takes and records: options, the bugs' records and the work
+//! counters (its result is a [`Planned`](crate::Planned)).
 
 use super::Xy;
 use super::to_u;
-use crate::plan::Plan;
+use crate::grid::CellXy;
 
 /// Options of [`mbpp`](super::mbpp).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct MbppOptions {
-    /// Whether [`Cell::Unknown`](crate::Cell::Unknown) cells may be entered (default: no).
+    /// Whether [`Occupancy::Unknown`](crate::Occupancy::Unknown) cells may be entered (default: no).
     pub unknown_passable: bool,
-    /// Record every bug's track (the cells it walked) in [`Mbpp::bugs`] (default: no; it
+    /// Record every bug's track (the cells it walked) in [`Planned::bugs`](crate::Planned::bugs) (default: no; it
     /// costs memory proportional to the bugs' steps).
     pub record_tracks: bool,
     /// How deeply re-planning may nest (default 4).
@@ -65,11 +65,11 @@ pub struct BugTrack {
     pub parent: Option<usize>,
     /// The cells it walked, from its birth cell (empty unless
     /// [`MbppOptions::record_tracks`] is set).
-    pub cells: Vec<(usize, usize)>,
+    pub cells: Vec<CellXy>,
     /// Where it hit obstacles (its `hit_list`).
-    pub hits: Vec<(usize, usize)>,
+    pub hits: Vec<CellXy>,
     /// Where it left walls for the m-line (its `leave_list`).
-    pub leaves: Vec<(usize, usize)>,
+    pub leaves: Vec<CellXy>,
     /// Steps it took.
     pub steps: usize,
     /// How it ended.
@@ -108,21 +108,4 @@ pub struct MbppStats {
     pub los_cells: usize,
     /// Blocked segments re-planned.
     pub replans: usize,
-}
-
-/// The result of [`mbpp`](super::mbpp).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Mbpp {
-    /// The shortest feasible path after smoothing, or `None` when no bug reached the goal
-    /// (the goal is unreachable). Its statistics count bug steps as `expanded` and bugs as
-    /// `generated`.
-    pub best: Option<Plan>,
-    /// Every other feasible path found: the `v_list`s of the bugs that reached the goal and
-    /// of the waiting bugs completed from them whose segments are all clear, unsmoothed,
-    /// shortest first, without duplicates or the path `best` was smoothed from.
-    pub alternatives: Vec<Plan>,
-    /// The bugs of the top-level run, in order of birth.
-    pub bugs: Vec<BugTrack>,
-    /// Work counters.
-    pub stats: MbppStats,
 }

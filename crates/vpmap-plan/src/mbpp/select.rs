@@ -5,6 +5,7 @@ use super::graph::Graph;
 use super::result::MbppOptions;
 use super::walk::Join;
 use super::{MbppStats, NONE, Xy, run, to_i, to_u};
+use crate::grid::CellXy;
 use crate::los::{LosCounter, PassableGrid};
 use crate::plan::path_length;
 
@@ -18,7 +19,7 @@ pub(super) fn select(
     depth: usize,
     stats: &mut MbppStats,
     counter: &mut LosCounter,
-) -> Option<Vec<(usize, usize)>> {
+) -> Option<Vec<CellXy>> {
     loop {
         let path = graph.shortest(goal, false)?;
         let mut blocked = None;
@@ -68,8 +69,8 @@ pub(super) fn alternatives(
     joins: &[Join],
     grid: &PassableGrid,
     counter: &mut LosCounter,
-    selected: Option<&[(usize, usize)]>,
-) -> Vec<Vec<(usize, usize)>> {
+    selected: Option<&[CellXy]>,
+) -> Vec<Vec<CellXy>> {
     // Decide the join segments not yet known.
     for join in joins {
         let from = join.vertex;
@@ -95,7 +96,7 @@ pub(super) fn alternatives(
         return Vec::new();
     };
     let (to_goal, next) = graph_clear.to_goal(goal);
-    let mut paths: Vec<Vec<(usize, usize)>> = Vec::new();
+    let mut paths: Vec<Vec<CellXy>> = Vec::new();
     for &g in goals {
         paths.push(
             graph_clear
@@ -123,7 +124,7 @@ pub(super) fn alternatives(
         }
         paths.push(ids.iter().map(|&v| to_u(graph_clear.cell(v))).collect());
     }
-    let mut keyed: Vec<(f64, Vec<(usize, usize)>)> =
+    let mut keyed: Vec<(f64, Vec<CellXy>)> =
         paths.into_iter().map(|p| (path_length(&p), p)).collect();
     keyed.sort_by(|a, b| a.0.total_cmp(&b.0).then_with(|| a.1.cmp(&b.1)));
     keyed.dedup_by(|a, b| a.1 == b.1);

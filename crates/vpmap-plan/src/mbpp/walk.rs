@@ -7,6 +7,7 @@ use std::hash::{BuildHasherDefault, Hasher};
 
 use super::result::{BugFate, BugTrack, LeaveRule};
 use super::{NONE, Xy, add, d2, passable, to_i, to_u};
+use crate::grid::CellXy;
 use crate::los::{LosCounter, PassableGrid};
 
 /// The cells of the m-line from `start` to `goal`: the digital straight segment between
@@ -22,14 +23,9 @@ use crate::los::{LosCounter, PassableGrid};
 /// assert_eq!(m_line((2, 2), (2, 2)), [(2, 2)]);
 /// ```
 #[must_use]
-pub fn m_line(start: (usize, usize), goal: (usize, usize)) -> Vec<(usize, usize)> {
-    let line = MLine::new(to_i(start), to_i(goal));
-    (0..=line.last)
-        .map(|k| {
-            let (x, y) = line.cell(k);
-            (x as usize, y as usize)
-        })
-        .collect()
+pub fn m_line(start: impl Into<CellXy>, goal: impl Into<CellXy>) -> Vec<CellXy> {
+    let line = MLine::new(to_i(start.into()), to_i(goal.into()));
+    (0..=line.last).map(|k| to_u(line.cell(k))).collect()
 }
 
 /// The m-line in closed form: the digital straight segment from `start` to `goal` (one

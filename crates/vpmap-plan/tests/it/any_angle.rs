@@ -5,8 +5,8 @@
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use vpmap_plan::{
-    AstarOptions, AstarPsOptions, AstarSearch, Cell, OccupancyGrid, OptimalAnyAngleOptions,
-    Passable, PlanError, ThetaStarOptions, Traversable, astar_ps,
+    AstarOptions, AstarPsOptions, AstarSearch, CellXy, Occupancy, OccupancyGrid,
+    OptimalAnyAngleOptions, Passable, PlanError, ThetaStarOptions, Traversable, astar_ps,
     mbpp::{LeaveRule, MbppOptions, mbpp},
     optimal_any_angle, path_length, theta_star, validate_path,
 };
@@ -24,19 +24,19 @@ const KINDS: [&str; 7] = [
     "diagonal-gaps",
 ];
 
-fn grid_of(width: usize, height: usize, cell: Cell) -> OccupancyGrid {
+fn grid_of(width: usize, height: usize, cell: Occupancy) -> OccupancyGrid {
     OccupancyGrid::new(width, height, 1.0, [0.0; 2], cell).unwrap()
 }
 
 fn block(grid: &mut OccupancyGrid, x: i64, y: i64) {
     if let (Ok(x), Ok(y)) = (usize::try_from(x), usize::try_from(y)) {
-        let _ = grid.set(x, y, Cell::Occupied);
+        let _ = grid.set(x, y, Occupancy::Occupied);
     }
 }
 
 fn clear(grid: &mut OccupancyGrid, x: i64, y: i64) {
     if let (Ok(x), Ok(y)) = (usize::try_from(x), usize::try_from(y)) {
-        let _ = grid.set(x, y, Cell::Free);
+        let _ = grid.set(x, y, Occupancy::Free);
     }
 }
 
@@ -54,7 +54,7 @@ fn generate(rng: &mut ChaCha8Rng, kind: &str, max_side: usize) -> (OccupancyGrid
     let mut unknown_passable = false;
     let grid = match kind {
         "open" => {
-            let mut g = grid_of(w, h, Cell::Free);
+            let mut g = grid_of(w, h, Occupancy::Free);
             for _ in 0..rng.random_range(0..=2) {
                 block(&mut g, rng.random_range(0..wi), rng.random_range(0..hi));
             }
@@ -67,7 +67,7 @@ fn generate(rng: &mut ChaCha8Rng, kind: &str, max_side: usize) -> (OccupancyGrid
             crate::random_grid(rng, w, h, occupied, unknown)
         }
         "rooms" => {
-            let mut g = grid_of(w, h, Cell::Free);
+            let mut g = grid_of(w, h, Occupancy::Free);
             let k = rng.random_range(3..=5);
             for x in (k..wi).step_by(k as usize) {
                 for y in 0..hi {
@@ -100,7 +100,7 @@ fn generate(rng: &mut ChaCha8Rng, kind: &str, max_side: usize) -> (OccupancyGrid
         }
         "maze" => {
             // Recursive backtracker on the odd cells, sometimes with a few walls knocked out.
-            let mut g = grid_of(w, h, Cell::Occupied);
+            let mut g = grid_of(w, h, Occupancy::Occupied);
             let (cw, ch) = ((wi - 1) / 2, (hi - 1) / 2);
             let mut seen = vec![false; (cw * ch) as usize];
             let mut stack = vec![(0i64, 0i64)];
@@ -132,7 +132,7 @@ fn generate(rng: &mut ChaCha8Rng, kind: &str, max_side: usize) -> (OccupancyGrid
             g
         }
         "u-trap" => {
-            let mut g = grid_of(w, h, Cell::Free);
+            let mut g = grid_of(w, h, Occupancy::Free);
             for _ in 0..rng.random_range(1..=2) {
                 let (x0, y0) = (rng.random_range(0..wi), rng.random_range(0..hi));
                 let (x1, y1) = (
@@ -162,7 +162,7 @@ fn generate(rng: &mut ChaCha8Rng, kind: &str, max_side: usize) -> (OccupancyGrid
         "spiral" => {
             // Concentric square walls two cells apart, each with one gap on an alternating
             // side.
-            let mut g = grid_of(w, h, Cell::Free);
+            let mut g = grid_of(w, h, Occupancy::Free);
             let mut ring = 1;
             while 2 * ring < wi.min(hi) - 1 {
                 let (x0, y0, x1, y1) = (ring, ring, wi - 1 - ring, hi - 1 - ring);
@@ -187,7 +187,7 @@ fn generate(rng: &mut ChaCha8Rng, kind: &str, max_side: usize) -> (OccupancyGrid
         _ => {
             // Diagonal walls (impassable without corner cutting) with one-cell gaps and
             // cells touching at corners.
-            let mut g = grid_of(w, h, Cell::Free);
+            let mut g = grid_of(w, h, Occupancy::Free);
             for _ in 0..rng.random_range(1..=3) {
                 let c = rng.random_range(1..wi + hi - 2);
                 let rising = rng.random_bool(0.5);
@@ -227,17 +227,18 @@ fn check_plan(
     name: &str,
     grid: &OccupancyGrid,
     plan: &vpmap_plan::Plan,
-    start: (usize, usize),
-    goal: (usize, usize),
+    start: impl Into<CellXy>,
+    goal: impl Into<CellXy>,
     unknown_passable: bool,
 ) {
+    let (start, goal): (CellXy, CellXy) = (start.into(), goal.into());
     assert_eq!(plan.waypoints.first(), Some(&start), "{name}");
     assert_eq!(plan.waypoints.last(), Some(&goal), "{name}");
     if let Err(e) = validate_path(grid, &plan.waypoints, unknown_passable) {
         panic!("{name} path {:?} invalid: {e}\n{grid:?}", plan.waypoints);
     }
     assert!(
-        (plan.length - path_length(&plan.waypoints)).abs() < 1e-9,
+        (plan.length_cells - path_length(&plan.waypoints)).abs() < 1e-9,
         "{name}"
     );
 }
@@ -327,10 +328,10 @@ fn planners_agree_with_bfs_and_are_ordered_on_random_grids() {
             if let (Some(p), Some(o)) = (&mb_closer.best, &op) {
                 check_plan("MBPP closer", &grid, p, start, goal, unknown_passable);
                 assert!(
-                    o.length <= p.length + 1e-9,
+                    o.length_cells <= p.length_cells + 1e-9,
                     "optimal > MBPP closer: {context}"
                 );
-                closer_excess.add(p.length, o.length);
+                closer_excess.add(p.length_cells, o.length_cells);
             }
             for alt in &mb.alternatives {
                 check_plan(
@@ -341,7 +342,7 @@ fn planners_agree_with_bfs_and_are_ordered_on_random_grids() {
                     goal,
                     unknown_passable,
                 );
-                assert!(alt.length + 1e-9 >= op.as_ref().map_or(0.0, |p| p.length));
+                assert!(alt.length_cells + 1e-9 >= op.as_ref().map_or(0.0, |p| p.length_cells));
             }
             assert_eq!(a.is_some(), reachable, "A* {context}");
             assert_eq!(ps.is_some(), reachable, "A* PS {context}");
@@ -359,15 +360,27 @@ fn planners_agree_with_bfs_and_are_ordered_on_random_grids() {
             ] {
                 check_plan(name, &grid, plan, start, goal, unknown_passable);
             }
-            assert!(op.length <= th.length + 1e-9, "optimal > Theta*: {context}");
-            assert!(op.length <= ps.length + 1e-9, "optimal > A* PS: {context}");
-            assert!(ps.length <= a.length + 2e-9, "A* PS > A*: {context}");
-            assert!(op.length <= mb.length + 1e-9, "optimal > MBPP: {context}");
-            mbpp_shorter_than_ps += usize::from(mb.length < ps.length - 1e-9);
-            mbpp_excess.add(mb.length, op.length);
-            theta_excess.add(th.length, op.length);
-            ps_excess.add(ps.length, op.length);
-            astar_excess.add(a.length, op.length);
+            assert!(
+                op.length_cells <= th.length_cells + 1e-9,
+                "optimal > Theta*: {context}"
+            );
+            assert!(
+                op.length_cells <= ps.length_cells + 1e-9,
+                "optimal > A* PS: {context}"
+            );
+            assert!(
+                ps.length_cells <= a.length_cells + 2e-9,
+                "A* PS > A*: {context}"
+            );
+            assert!(
+                op.length_cells <= mb.length_cells + 1e-9,
+                "optimal > MBPP: {context}"
+            );
+            mbpp_shorter_than_ps += usize::from(mb.length_cells < ps.length_cells - 1e-9);
+            mbpp_excess.add(mb.length_cells, op.length_cells);
+            theta_excess.add(th.length_cells, op.length_cells);
+            ps_excess.add(ps.length_cells, op.length_cells);
+            astar_excess.add(a.length_cells, op.length_cells);
         }
     }
     eprintln!(
@@ -397,7 +410,8 @@ fn brute_force_lengths(
     let mut visible = vec![false; n * n];
     for i in 0..n {
         for j in i..n {
-            let ok = validate_path(grid, &[cells[i], cells[j]], unknown_passable).is_ok();
+            let ok =
+                validate_path(grid, &[cells[i].into(), cells[j].into()], unknown_passable).is_ok();
             visible[i * n + j] = ok;
             visible[j * n + i] = ok;
         }
@@ -412,7 +426,7 @@ fn brute_force_lengths(
         done[u] = true;
         for v in 0..n {
             if !done[v] && visible[u * n + v] {
-                let d = dist[u] + path_length(&[cells[u], cells[v]]);
+                let d = dist[u] + path_length(&[cells[u].into(), cells[v].into()]);
                 if d < dist[v] {
                     dist[v] = d;
                 }
@@ -446,9 +460,9 @@ fn optimal_matches_brute_force_visibility_graph_on_tiny_grids() {
             match plan {
                 Some(plan) => {
                     assert!(
-                        (plan.length - reference[goal]).abs() < 1e-9,
+                        (plan.length_cells - reference[goal]).abs() < 1e-9,
                         "optimal {} vs brute force {}: {context}",
-                        plan.length,
+                        plan.length_cells,
                         reference[goal]
                     );
                     compared += 1;
@@ -462,9 +476,9 @@ fn optimal_matches_brute_force_visibility_graph_on_tiny_grids() {
 
 #[test]
 fn bad_endpoints_are_errors_for_every_planner() {
-    let mut grid = grid_of(4, 3, Cell::Free);
-    grid.set(1, 1, Cell::Occupied).unwrap();
-    grid.set(2, 1, Cell::Unknown).unwrap();
+    let mut grid = grid_of(4, 3, Occupancy::Free);
+    grid.set(1, 1, Occupancy::Occupied).unwrap();
+    grid.set(2, 1, Occupancy::Unknown).unwrap();
     for (start, goal) in [((0, 0), (4, 0)), ((1, 1), (0, 0)), ((0, 0), (2, 1))] {
         let results = [
             astar_ps(&grid, start, goal, &AstarPsOptions::default()).err(),
@@ -532,13 +546,19 @@ fn optimal_on_movingai_room_and_random_maps() {
             ] {
                 check_plan(name, &grid, plan, p.start, p.goal, false);
             }
-            assert!(op.length <= mb.length + 1e-9, "{map} {p:?}");
-            excess.2.add(mb.length, op.length);
+            assert!(op.length_cells <= mb.length_cells + 1e-9, "{map} {p:?}");
+            excess.2.add(mb.length_cells, op.length_cells);
             // The octile optimum is an 8-connected path, so never shorter than the optimum.
-            assert!(op.length <= p.optimal_length + 1e-3, "{map} {p:?}");
-            assert!(op.length <= th.length + 1e-9 && op.length <= ps.length + 1e-9);
-            excess.0.add(th.length, op.length);
-            excess.1.add(ps.length, op.length);
+            assert!(
+                op.length_cells <= p.optimal_length_cells + 1e-3,
+                "{map} {p:?}"
+            );
+            assert!(
+                op.length_cells <= th.length_cells + 1e-9
+                    && op.length_cells <= ps.length_cells + 1e-9
+            );
+            excess.0.add(th.length_cells, op.length_cells);
+            excess.1.add(ps.length_cells, op.length_cells);
             solved += 1;
         }
     }

@@ -7,8 +7,8 @@ use pathfinding::num_traits::Zero;
 use rand::Rng;
 use rand_chacha::ChaCha8Rng;
 use vpmap_plan::{
-    AstarOptions, AstarSearch, Cell, Components, OccupancyGrid, Passable, PlanError, Traversable,
-    astar, path_length, validate_path,
+    AstarOptions, AstarSearch, Components, Occupancy, OccupancyGrid, Passable, PlanError,
+    Traversable, astar, path_length, validate_path,
 };
 
 use crate::{random_grid, rng};
@@ -164,17 +164,17 @@ fn astar_matches_pathfinding_and_bfs_on_random_grids() {
             };
             found += 1;
             assert!(
-                (plan.length - reference.value()).abs() < 1e-9,
+                (plan.length_cells - reference.value()).abs() < 1e-9,
                 "{start:?} -> {goal:?}: {} vs {reference:?}",
-                plan.length
+                plan.length_cells
             );
-            assert_eq!(plan.waypoints.first(), Some(&start));
-            assert_eq!(plan.waypoints.last(), Some(&goal));
+            assert_eq!(plan.waypoints.first(), Some(&start.into()));
+            assert_eq!(plan.waypoints.last(), Some(&goal.into()));
             for pair in plan.waypoints.windows(2) {
-                let (dx, dy) = (pair[0].0.abs_diff(pair[1].0), pair[0].1.abs_diff(pair[1].1));
+                let (dx, dy) = (pair[0].x.abs_diff(pair[1].x), pair[0].y.abs_diff(pair[1].y));
                 assert!(dx <= 1 && dy <= 1 && dx + dy > 0, "{pair:?}");
             }
-            assert!((path_length(&plan.waypoints) - plan.length).abs() < 1e-9);
+            assert!((path_length(&plan.waypoints) - plan.length_cells).abs() < 1e-9);
             validate_path(&grid, &plan.waypoints, unknown_passable).unwrap();
             assert!(plan.stats.expanded >= plan.waypoints.len());
             assert_eq!(plan.stats.los_checks, 0);
@@ -213,40 +213,40 @@ fn reused_search_matches_fresh_searches_across_grid_sizes() {
 
 #[test]
 fn start_equal_to_goal_is_a_one_cell_plan() {
-    let grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
+    let grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
     let plan = astar(&grid, (1, 2), (1, 2), &AstarOptions::default())
         .unwrap()
         .unwrap();
     assert_eq!(plan.waypoints, [(1, 2)]);
-    assert_eq!(plan.length, 0.0);
+    assert_eq!(plan.length_cells, 0.0);
 }
 
 #[test]
 fn octile_costs_and_no_corner_cutting() {
-    let grid = OccupancyGrid::new(10, 10, 1.0, [0.0; 2], Cell::Free).unwrap();
+    let grid = OccupancyGrid::new(10, 10, 1.0, [0.0; 2], Occupancy::Free).unwrap();
     let plan = astar(&grid, (0, 0), (9, 5), &AstarOptions::default())
         .unwrap()
         .unwrap();
-    assert!((plan.length - (4.0 + 5.0 * std::f64::consts::SQRT_2)).abs() < 1e-12);
+    assert!((plan.length_cells - (4.0 + 5.0 * std::f64::consts::SQRT_2)).abs() < 1e-12);
     // A wall with a one-cell gap at (5, 5): the path goes straight through the gap.
     let mut grid = grid.clone();
     for y in 0..10 {
         if y != 5 {
-            grid.set(5, y, Cell::Occupied).unwrap();
+            grid.set(5, y, Occupancy::Occupied).unwrap();
         }
     }
     let plan = astar(&grid, (4, 4), (6, 6), &AstarOptions::default())
         .unwrap()
         .unwrap();
     assert_eq!(plan.waypoints, [(4, 4), (4, 5), (5, 5), (6, 5), (6, 6)]);
-    assert_eq!(plan.length, 4.0);
+    assert_eq!(plan.length_cells, 4.0);
 }
 
 #[test]
 fn bad_endpoints_are_errors_naming_the_cell() {
-    let mut grid = OccupancyGrid::new(4, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
-    grid.set(1, 1, Cell::Occupied).unwrap();
-    grid.set(2, 1, Cell::Unknown).unwrap();
+    let mut grid = OccupancyGrid::new(4, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+    grid.set(1, 1, Occupancy::Occupied).unwrap();
+    grid.set(2, 1, Occupancy::Unknown).unwrap();
     let opts = AstarOptions::default();
     let e = astar(&grid, (4, 0), (0, 0), &opts).unwrap_err();
     assert!(

@@ -1,7 +1,7 @@
 //! Obstacle inflation against brute-force references.
 
 use proptest::prelude::*;
-use vpmap_plan::{Cell, OccupancyGrid};
+use vpmap_plan::{Occupancy, OccupancyGrid};
 
 use crate::small_grid;
 
@@ -17,19 +17,19 @@ fn distance_to_cell_square(grid: &OccupancyGrid, p: [f64; 2], x: usize, y: usize
 fn occupied_cells(grid: &OccupancyGrid) -> Vec<(usize, usize)> {
     (0..grid.height())
         .flat_map(|y| (0..grid.width()).map(move |x| (x, y)))
-        .filter(|&(x, y)| grid.get(x, y) == Some(Cell::Occupied))
+        .filter(|&(x, y)| grid.get(x, y) == Some(Occupancy::Occupied))
         .collect()
 }
 
 #[test]
 fn every_cell_within_the_radius_is_occupied_and_none_much_farther() {
     let res = 0.05;
-    let mut grid = OccupancyGrid::new(40, 30, res, [-1.0, -0.5], Cell::Free).unwrap();
+    let mut grid = OccupancyGrid::new(40, 30, res, [-1.0, -0.5], Occupancy::Free).unwrap();
     for (x, y) in [(5, 5), (6, 5), (20, 15), (39, 29), (0, 29), (30, 3)] {
-        grid.set(x, y, Cell::Occupied).unwrap();
+        grid.set(x, y, Occupancy::Occupied).unwrap();
     }
     for y in 10..20 {
-        grid.set(12, y, Cell::Unknown).unwrap();
+        grid.set(12, y, Occupancy::Unknown).unwrap();
     }
     let obstacles = occupied_cells(&grid);
     for radius in [0.0, 0.03, 0.05, 0.12, 0.2, 0.37] {
@@ -48,7 +48,7 @@ fn every_cell_within_the_radius_is_occupied_and_none_much_farther() {
                 let was = grid.get(x, y).unwrap();
                 let now = inflated.get(x, y).unwrap();
                 if nearest_centre <= radius {
-                    assert_eq!(now, Cell::Occupied, "({x}, {y}) r = {radius}");
+                    assert_eq!(now, Occupancy::Occupied, "({x}, {y}) r = {radius}");
                 }
                 if nearest_centre > radius + diagonal {
                     assert_eq!(now, was, "({x}, {y}) r = {radius}");
@@ -85,7 +85,7 @@ proptest! {
                 if (d - radius_m).abs() < 1e-9 * (1.0 + d) {
                     continue; // a tie: rounding decides
                 }
-                let expected = if d <= radius_m { Cell::Occupied } else { grid.get(x, y).unwrap() };
+                let expected = if d <= radius_m { Occupancy::Occupied } else { grid.get(x, y).unwrap() };
                 prop_assert_eq!(inflated.get(x, y).unwrap(), expected, "({}, {})", x, y);
             }
         }
@@ -96,7 +96,7 @@ proptest! {
     fn inflation_only_adds_obstacles(grid in small_grid(12), r in 0.0f64..3.0) {
         let inflated = grid.inflate(r * grid.resolution_m()).unwrap();
         for (before, after) in grid.cells().iter().zip(inflated.cells()) {
-            prop_assert!(after == before || *after == Cell::Occupied);
+            prop_assert!(after == before || *after == Occupancy::Occupied);
         }
     }
 }

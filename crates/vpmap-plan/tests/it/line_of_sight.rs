@@ -8,8 +8,8 @@ use rand::Rng;
 use vpmap_plan::los::{PassableGrid, visit_swept_cells};
 use vpmap_plan::validate::swept_square_overlaps_cell;
 use vpmap_plan::{
-    Cell, LosCounter, OccupancyGrid, Passable, Traversable, line_of_sight, line_of_sight_counted,
-    validate_path,
+    LosCounter, Occupancy, OccupancyGrid, Passable, Traversable, line_of_sight,
+    line_of_sight_counted, validate_path,
 };
 
 use crate::{random_grid, rng, small_grid};
@@ -22,9 +22,9 @@ fn grid_from_rows(rows: &[&str]) -> OccupancyGrid {
         .iter()
         .flat_map(|r| r.chars())
         .map(|c| match c {
-            '#' => Cell::Occupied,
-            '?' => Cell::Unknown,
-            _ => Cell::Free,
+            '#' => Occupancy::Occupied,
+            '?' => Occupancy::Unknown,
+            _ => Occupancy::Free,
         })
         .collect();
     OccupancyGrid::from_cells(rows[0].len(), rows.len(), 1.0, [0.0; 2], cells).unwrap()
@@ -35,7 +35,7 @@ fn clear_both_ways(grid: &OccupancyGrid, a: (usize, usize), b: (usize, usize)) -
     assert_eq!(forward, line_of_sight(grid, b, a), "{a:?} {b:?}");
     assert_eq!(
         forward,
-        validate_path(grid, &[a, b], false).is_ok(),
+        validate_path(grid, &[a.into(), b.into()], false).is_ok(),
         "los and validator disagree on {a:?} -> {b:?}"
     );
     forward
@@ -86,7 +86,7 @@ fn los_and_validator_agree_on_random_grids() {
             for unknown_passable in [false, true] {
                 let map = Traversable::new(&grid, unknown_passable);
                 let los = line_of_sight(&map, a, b);
-                let valid = validate_path(&grid, &[a, b], unknown_passable);
+                let valid = validate_path(&grid, &[a.into(), b.into()], unknown_passable);
                 assert_eq!(los, valid.is_ok(), "{a:?} -> {b:?}: {valid:?}\n{grid:?}");
                 if los {
                     clear += 1;
@@ -117,14 +117,14 @@ fn single_steps_follow_the_no_corner_cutting_rule_exhaustively() {
         (1, -1),
     ];
     for pattern in 0u32..256 {
-        let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
+        let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
         let blocked = |dx: i64, dy: i64| {
             let i = MOVES.iter().position(|&m| m == (dx, dy)).unwrap();
             pattern & (1 << i) != 0
         };
         for &(dx, dy) in &MOVES {
             if blocked(dx, dy) {
-                grid.set((1 + dx) as usize, (1 + dy) as usize, Cell::Occupied)
+                grid.set((1 + dx) as usize, (1 + dy) as usize, Occupancy::Occupied)
                     .unwrap();
             }
         }
@@ -163,8 +163,8 @@ fn touching_a_corner_is_allowed_overlapping_is_not() {
     assert!(!clear_both_ways(&grid, (0, 0), (2, 2)));
     // A knight's move sweeps the whole 3 x 2 block.
     for blocked in [(1, 0), (2, 0), (0, 1), (1, 1)] {
-        let mut grid = OccupancyGrid::new(3, 2, 1.0, [0.0; 2], Cell::Free).unwrap();
-        grid.set(blocked.0, blocked.1, Cell::Occupied).unwrap();
+        let mut grid = OccupancyGrid::new(3, 2, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+        grid.set(blocked.0, blocked.1, Occupancy::Occupied).unwrap();
         assert!(!clear_both_ways(&grid, (0, 0), (2, 1)), "{blocked:?}");
     }
 }
@@ -183,11 +183,11 @@ fn axis_aligned_segments_slide_along_blocked_neighbours() {
 fn long_shallow_lines_are_exact_at_the_touching_corners() {
     // Segment from (0, 0) to (100, 2): the swept square leaves row 0 after column 50 and
     // enters row 2 from column 50; cells (49, 2) and (51, 0) are touched at a corner only.
-    let free = OccupancyGrid::new(101, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
+    let free = OccupancyGrid::new(101, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
     let with = |cells: &[(usize, usize)]| {
         let mut g = free.clone();
         for &(x, y) in cells {
-            g.set(x, y, Cell::Occupied).unwrap();
+            g.set(x, y, Occupancy::Occupied).unwrap();
         }
         g
     };
@@ -208,12 +208,12 @@ fn long_shallow_lines_are_exact_at_the_touching_corners() {
         (100, 1)
     ));
     // The same, steep and mirrored.
-    let tall = OccupancyGrid::new(3, 101, 1.0, [0.0; 2], Cell::Free).unwrap();
+    let tall = OccupancyGrid::new(3, 101, 1.0, [0.0; 2], Occupancy::Free).unwrap();
     let mut g = tall.clone();
-    g.set(0, 49, Cell::Occupied).unwrap();
-    g.set(2, 51, Cell::Occupied).unwrap();
+    g.set(0, 49, Occupancy::Occupied).unwrap();
+    g.set(2, 51, Occupancy::Occupied).unwrap();
     assert!(clear_both_ways(&g, (2, 0), (0, 100)));
-    g.set(2, 50, Cell::Occupied).unwrap();
+    g.set(2, 50, Occupancy::Occupied).unwrap();
     assert!(!clear_both_ways(&g, (2, 0), (0, 100)));
 }
 
@@ -244,7 +244,7 @@ fn los_is_invariant_under_mirroring_and_transposing_the_grid() {
         let (w, h) = (rng.random_range(1..=16), rng.random_range(1..=16));
         let grid = random_grid(&mut rng, w, h, 0.2, 0.0);
         let transform = |f: &CellMap<'_>, tw: usize, th: usize| {
-            let mut g = OccupancyGrid::new(tw, th, 1.0, [0.0; 2], Cell::Free).unwrap();
+            let mut g = OccupancyGrid::new(tw, th, 1.0, [0.0; 2], Occupancy::Free).unwrap();
             for y in 0..h {
                 for x in 0..w {
                     let (u, v) = f(x, y);

@@ -20,11 +20,15 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use proptest::prelude::*;
-use vpmap_plan::{Cell, OccupancyGrid};
+use vpmap_plan::{Occupancy, OccupancyGrid};
 
 /// Any cell state.
-pub(crate) fn any_cell() -> impl Strategy<Value = Cell> {
-    prop_oneof![Just(Cell::Free), Just(Cell::Occupied), Just(Cell::Unknown)]
+pub(crate) fn any_cell() -> impl Strategy<Value = Occupancy> {
+    prop_oneof![
+        Just(Occupancy::Free),
+        Just(Occupancy::Occupied),
+        Just(Occupancy::Unknown)
+    ]
 }
 
 /// Small random grids with random frames.
@@ -60,11 +64,11 @@ pub(crate) fn random_grid(
         .map(|_| {
             let r: f64 = rng.random();
             if r < occupied {
-                Cell::Occupied
+                Occupancy::Occupied
             } else if r < occupied + unknown {
-                Cell::Unknown
+                Occupancy::Unknown
             } else {
-                Cell::Free
+                Occupancy::Free
             }
         })
         .collect();

@@ -4,11 +4,11 @@
 
 use proptest::prelude::*;
 use rand::Rng;
-use vpmap_plan::mbpp::{BugFate, LeaveRule, Mbpp, MbppOptions, m_line, mbpp};
+use vpmap_plan::mbpp::{BugFate, LeaveRule, MbppOptions, m_line, mbpp};
 use vpmap_plan::reach::Components;
 use vpmap_plan::{
-    Cell, OccupancyGrid, OptimalAnyAngleOptions, PlanError, optimal_any_angle, path_length,
-    validate_path,
+    CellXy, Occupancy, OccupancyGrid, OptimalAnyAngleOptions, PlanError, Planned,
+    optimal_any_angle, path_length, validate_path,
 };
 
 use crate::{random_grid, rng};
@@ -25,13 +25,14 @@ fn opts(unknown_passable: bool, leave: LeaveRule, record_tracks: bool) -> MbppOp
 /// Every path MBPP returns (the best and each alternative) joins `start` to `goal` through
 /// clear segments, has its reported length, and is no shorter than the optimum.
 fn check_paths(
-    result: &Mbpp,
+    result: &Planned,
     grid: &OccupancyGrid,
-    (start, goal): ((usize, usize), (usize, usize)),
+    (start, goal): (impl Into<CellXy>, impl Into<CellXy>),
     unknown_passable: bool,
     optimum: f64,
     context: &str,
 ) {
+    let (start, goal): (CellXy, CellXy) = (start.into(), goal.into());
     let best = result.best.iter();
     for (i, plan) in best.chain(&result.alternatives).enumerate() {
         assert_eq!(plan.waypoints.first(), Some(&start), "path {i} {context}");
@@ -39,10 +40,10 @@ fn check_paths(
         if let Err(e) = validate_path(grid, &plan.waypoints, unknown_passable) {
             panic!("path {i} {:?} invalid: {e}\n{context}", plan.waypoints);
         }
-        assert!((plan.length - path_length(&plan.waypoints)).abs() < 1e-9);
-        assert!(plan.length >= optimum - 1e-9, "path {i} {context}");
+        assert!((plan.length_cells - path_length(&plan.waypoints)).abs() < 1e-9);
+        assert!(plan.length_cells >= optimum - 1e-9, "path {i} {context}");
     }
-    let lengths: Vec<f64> = result.alternatives.iter().map(|p| p.length).collect();
+    let lengths: Vec<f64> = result.alternatives.iter().map(|p| p.length_cells).collect();
     assert!(
         lengths.windows(2).all(|w| w[0] <= w[1]),
         "alternatives not shortest first: {lengths:?} {context}"
@@ -58,12 +59,13 @@ fn check_paths(
 /// chain of legal single steps (checked by the validator) from the bug's birth cell, hits
 /// and leaves lie on the track, and a goal was reached exactly when a path was found.
 fn check_bugs(
-    result: &Mbpp,
+    result: &Planned,
     grid: &OccupancyGrid,
-    start: (usize, usize),
+    start: impl Into<CellXy>,
     unknown_passable: bool,
     context: &str,
 ) {
+    let start: CellXy = start.into();
     let bugs = &result.bugs;
     assert!(!bugs.is_empty(), "{context}");
     assert_eq!(bugs[0].parent, None, "{context}");
@@ -77,7 +79,7 @@ fn check_bugs(
         }
         assert_eq!(bug.cells.len(), bug.steps + 1, "bug {b} {context}");
         for step in bug.cells.windows(2) {
-            let (dx, dy) = (step[0].0.abs_diff(step[1].0), step[0].1.abs_diff(step[1].1));
+            let (dx, dy) = (step[0].x.abs_diff(step[1].x), step[0].y.abs_diff(step[1].y));
             assert!(
                 dx <= 1 && dy <= 1 && dx + dy > 0,
                 "bug {b} {step:?} {context}"
@@ -93,17 +95,17 @@ fn check_bugs(
     }
     let reached = bugs.iter().any(|b| b.fate == BugFate::ReachedGoal);
     assert_eq!(reached, result.best.is_some(), "{context}");
-    if result.stats.replans == 0 {
+    if result.mbpp_stats.replans == 0 {
         // No nested runs: the counters are the top-level bugs'.
-        assert_eq!(result.stats.bugs, bugs.len(), "{context}");
+        assert_eq!(result.mbpp_stats.bugs, bugs.len(), "{context}");
         let steps: usize = bugs.iter().map(|b| b.steps).sum();
-        assert_eq!(result.stats.bug_steps, steps, "{context}");
+        assert_eq!(result.mbpp_stats.bug_steps, steps, "{context}");
         // Every hit gives birth to one bug, and both note the hit in their `hit_list`.
-        assert_eq!(result.stats.hits, bugs.len() - 1, "{context}");
+        assert_eq!(result.mbpp_stats.hits, bugs.len() - 1, "{context}");
         let hits: usize = bugs.iter().map(|b| b.hits.len()).sum();
-        assert_eq!(hits, 2 * result.stats.hits, "{context}");
+        assert_eq!(hits, 2 * result.mbpp_stats.hits, "{context}");
         let waits = bugs.iter().filter(|b| b.fate == BugFate::Waiting).count();
-        assert_eq!(result.stats.waits, waits, "{context}");
+        assert_eq!(result.mbpp_stats.waits, waits, "{context}");
     }
 }
 
@@ -132,7 +134,7 @@ fn mbpp_solves_exactly_the_bfs_reachable_queries_on_random_grids() {
             &OptimalAnyAngleOptions { unknown_passable },
         )
         .unwrap()
-        .map_or(f64::INFINITY, |p| p.length);
+        .map_or(f64::INFINITY, |p| p.length_cells);
         assert_eq!(optimum.is_finite(), reachable, "optimum and BFS disagree");
         for leave in [LeaveRule::MLine, LeaveRule::Closer] {
             let context = format!("round {round} {leave:?} {start:?} -> {goal:?}\n{grid:?}");
@@ -147,7 +149,7 @@ fn mbpp_solves_exactly_the_bfs_reachable_queries_on_random_grids() {
                 &context,
             );
             check_bugs(&result, &grid, start, unknown_passable, &context);
-            if leave == LeaveRule::MLine && result.stats.replans == 0 {
+            if leave == LeaveRule::MLine && result.mbpp_stats.replans == 0 {
                 // Every m-line cell is hit at most once: at most 2 n + 1 bugs.
                 let n = m_line(start, goal).len() - 1;
                 assert!(result.bugs.len() <= 2 * n + 1, "{context}");
@@ -156,7 +158,7 @@ fn mbpp_solves_exactly_the_bfs_reachable_queries_on_random_grids() {
             let quiet = mbpp(&grid, start, goal, &opts(unknown_passable, leave, false)).unwrap();
             assert_eq!(quiet.best, result.best, "{context}");
             assert_eq!(quiet.alternatives, result.alternatives, "{context}");
-            assert_eq!(quiet.stats, result.stats, "{context}");
+            assert_eq!(quiet.mbpp_stats, result.mbpp_stats, "{context}");
             assert!(quiet.bugs.iter().all(|b| b.cells.is_empty()), "{context}");
             solved += usize::from(reachable);
             with_alternatives += usize::from(!result.alternatives.is_empty());
@@ -174,7 +176,7 @@ fn enclosed_goal_is_not_found_and_no_bug_reaches_it() {
     // ..#.#..
     // ..###..
     // .......
-    let mut grid = OccupancyGrid::new(7, 5, 1.0, [0.0; 2], Cell::Free).unwrap();
+    let mut grid = OccupancyGrid::new(7, 5, 1.0, [0.0; 2], Occupancy::Free).unwrap();
     for (x, y) in [
         (2, 1),
         (3, 1),
@@ -185,7 +187,7 @@ fn enclosed_goal_is_not_found_and_no_bug_reaches_it() {
         (3, 3),
         (4, 3),
     ] {
-        grid.set(x, y, Cell::Occupied).unwrap();
+        grid.set(x, y, Occupancy::Occupied).unwrap();
     }
     for (start, goal) in [((0, 2), (3, 2)), ((3, 2), (6, 2))] {
         for leave in [LeaveRule::MLine, LeaveRule::Closer] {
@@ -208,9 +210,9 @@ fn enclosed_goal_is_not_found_and_no_bug_reaches_it() {
 #[test]
 fn unknown_cells_are_walls_unless_passable() {
     // A wall of unknown cells across the grid.
-    let mut grid = OccupancyGrid::new(5, 4, 1.0, [0.0; 2], Cell::Free).unwrap();
+    let mut grid = OccupancyGrid::new(5, 4, 1.0, [0.0; 2], Occupancy::Free).unwrap();
     for y in 0..4 {
-        grid.set(2, y, Cell::Unknown).unwrap();
+        grid.set(2, y, Occupancy::Unknown).unwrap();
     }
     let closed = mbpp(&grid, (0, 1), (4, 2), &MbppOptions::default()).unwrap();
     assert_eq!(closed.best, None);
@@ -220,20 +222,20 @@ fn unknown_cells_are_walls_unless_passable() {
 
 #[test]
 fn start_equal_to_goal_is_a_one_cell_path() {
-    let grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
+    let grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
     let result = mbpp(&grid, (1, 2), (1, 2), &MbppOptions::default()).unwrap();
     let best = result.best.unwrap();
     assert_eq!(best.waypoints, [(1, 2)]);
-    assert_eq!(best.length, 0.0);
+    assert_eq!(best.length_cells, 0.0);
     assert_eq!(result.bugs.len(), 1);
     assert_eq!(result.bugs[0].fate, BugFate::ReachedGoal);
 }
 
 #[test]
 fn bad_endpoints_are_errors() {
-    let mut grid = OccupancyGrid::new(4, 3, 1.0, [0.0; 2], Cell::Free).unwrap();
-    grid.set(1, 1, Cell::Occupied).unwrap();
-    grid.set(2, 1, Cell::Unknown).unwrap();
+    let mut grid = OccupancyGrid::new(4, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+    grid.set(1, 1, Occupancy::Occupied).unwrap();
+    grid.set(2, 1, Occupancy::Unknown).unwrap();
     for (start, goal) in [
         ((0, 0), (4, 0)),
         ((0, 3), (0, 0)),
@@ -270,7 +272,7 @@ fn mbpp_on_movingai_maps_is_valid_and_no_shorter_than_the_optimum() {
         let optimum = optimal_any_angle(&grid, p.start, p.goal, &OptimalAnyAngleOptions::default())
             .unwrap()
             .unwrap()
-            .length;
+            .length_cells;
         for leave in [LeaveRule::MLine, LeaveRule::Closer] {
             let context = format!("{leave:?} {p:?}");
             let result = mbpp(&grid, p.start, p.goal, &opts(false, leave, true)).unwrap();
@@ -290,20 +292,21 @@ proptest! {
         goal in (0usize..60, 0usize..60),
     ) {
         let line = m_line(start, goal);
+        let (start, goal) = (CellXy::from(start), CellXy::from(goal));
         prop_assert_eq!(line.first(), Some(&start));
         prop_assert_eq!(line.last(), Some(&goal));
-        let long = start.0.abs_diff(goal.0).max(start.1.abs_diff(goal.1));
+        let long = start.x.abs_diff(goal.x).max(start.y.abs_diff(goal.y));
         prop_assert_eq!(line.len(), long + 1);
-        let d2 = |c: (usize, usize)| c.0.abs_diff(goal.0).pow(2) + c.1.abs_diff(goal.1).pow(2);
+        let d2 = |c: CellXy| c.x.abs_diff(goal.x).pow(2) + c.y.abs_diff(goal.y).pow(2);
         for w in line.windows(2) {
-            prop_assert!(w[0].0.abs_diff(w[1].0) <= 1 && w[0].1.abs_diff(w[1].1) <= 1);
+            prop_assert!(w[0].x.abs_diff(w[1].x) <= 1 && w[0].y.abs_diff(w[1].y) <= 1);
             prop_assert!(d2(w[1]) < d2(w[0]), "{:?}", w);
         }
         // Each cell lies within half a cell of the straight segment, measured across the
         // longer axis: |cross| <= long / 2 in units of the segment's major extent.
-        let (dx, dy) = (goal.0 as i64 - start.0 as i64, goal.1 as i64 - start.1 as i64);
-        for &(x, y) in &line {
-            let (px, py) = (x as i64 - start.0 as i64, y as i64 - start.1 as i64);
+        let (dx, dy) = (goal.x as i64 - start.x as i64, goal.y as i64 - start.y as i64);
+        for &CellXy { x, y } in &line {
+            let (px, py) = (x as i64 - start.x as i64, y as i64 - start.y as i64);
             let cross = (px * dy - py * dx).abs();
             prop_assert!(2 * cross <= long as i64, "{:?} off the line", (x, y));
         }

@@ -99,15 +99,15 @@ fn check_scenarios(
                 .search(&grid, s.start, s.goal, &AstarOptions::default())
                 .unwrap()
                 .unwrap_or_else(|| panic!("{}: no path for {s:?}", scen_path.display()));
-            let error = (plan.length - s.optimal_length).abs();
+            let error = (plan.length_cells - s.optimal_length_cells).abs();
             assert!(
-                error <= tolerance(s.optimal_length),
+                error <= tolerance(s.optimal_length_cells),
                 "{}: {s:?}: A* length {} is off by {error}",
                 scen_path.display(),
-                plan.length
+                plan.length_cells
             );
             validate_path(&grid, &plan.waypoints, false).unwrap();
-            tally.worst = tally.worst.max(error / tolerance(s.optimal_length));
+            tally.worst = tally.worst.max(error / tolerance(s.optimal_length_cells));
             tally.expanded += plan.stats.expanded;
             checked += 1;
         }
@@ -184,7 +184,10 @@ fn no_path_between_components_of_benchmark_maps() {
                 PlannerKind::AstarPs,
                 PlannerKind::ThetaStar,
             ] {
-                let planned = kind.planner(false).plan(&grid, pair[0], pair[1]).unwrap();
+                let planned = kind
+                    .planner(false)
+                    .plan(&grid, pair[0].into(), pair[1].into())
+                    .unwrap();
                 assert_eq!(planned.best, None, "{kind} {name}: {pair:?}");
                 assert!(planned.alternatives.is_empty());
             }
@@ -219,12 +222,15 @@ fn every_planner_solves_samples_of_every_benchmark_map() {
                     .unwrap_or_else(|e| panic!("{kind} {s:?}: {e}"));
                 assert_eq!(plan.waypoints.first(), Some(&s.start));
                 assert_eq!(plan.waypoints.last(), Some(&s.goal));
-                let straight = (s.start.0.abs_diff(s.goal.0) as f64)
-                    .hypot(s.start.1.abs_diff(s.goal.1) as f64);
-                assert!(plan.length >= straight - 1e-9, "{kind} {s:?}");
+                let straight = (s.start.x.abs_diff(s.goal.x) as f64)
+                    .hypot(s.start.y.abs_diff(s.goal.y) as f64);
+                assert!(plan.length_cells >= straight - 1e-9, "{kind} {s:?}");
                 // Smoothing never lengthens the octile-optimal A* path.
                 if kind == PlannerKind::AstarPs {
-                    assert!(plan.length <= s.optimal_length + tolerance(s.optimal_length));
+                    assert!(
+                        plan.length_cells
+                            <= s.optimal_length_cells + tolerance(s.optimal_length_cells)
+                    );
                 }
                 solved += 1;
             }

@@ -3,12 +3,14 @@
 
 use std::collections::HashMap;
 
-use vpmap_plan::{Cell, PlanError, parse_movingai_map, parse_scen, read_movingai_map, read_scen};
+use vpmap_plan::{
+    Occupancy, PlanError, parse_movingai_map, parse_scen, read_movingai_map, read_scen,
+};
 
 use crate::movingai_dir;
 
-const F: Cell = Cell::Free;
-const O: Cell = Cell::Occupied;
+const F: Occupancy = Occupancy::Free;
+const O: Occupancy = Occupancy::Occupied;
 
 /// The message of a format error, after checking its line number.
 fn map_error_at(text: &str, line: usize) -> String {
@@ -119,8 +121,8 @@ fn scenario_quirks_read_alike() {
         (s.bucket, s.map.as_str(), s.width, s.height),
         (3, "maps/dao/arena2.map", 281, 209)
     );
-    assert_eq!((s.start, s.goal), ((100, 41), (98, 44)));
-    assert!((s.optimal_length - 3.82843).abs() < 1e-12);
+    assert_eq!((s.start, s.goal), ((100, 41).into(), (98, 44).into()));
+    assert!((s.optimal_length_cells - 3.82843).abs() < 1e-12);
     assert_eq!(s.map_file_name(), "arena2.map");
     for variant in [
         "version 1.0\n3 maps/dao/arena2.map 281 209 100 41 98 44 3.82843",

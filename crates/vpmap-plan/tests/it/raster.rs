@@ -6,7 +6,7 @@ use geo::{
 use proptest::prelude::*;
 use vpmap_metrology::map::{BuildOptions, FloorMap, MapObject, PolygonWithHoles, build_map};
 use vpmap_metrology::synth::{SynthOptions, synthesize};
-use vpmap_plan::{Cell, OccupancyGrid, PlanError, RasterOptions, rasterize_map};
+use vpmap_plan::{Occupancy, OccupancyGrid, PlanError, RasterOptions, rasterize_map};
 
 fn ring(points: &[[f64; 2]]) -> LineString<f64> {
     LineString::from(
@@ -61,17 +61,17 @@ fn reference_cell(
     free: &[Polygon<f64>],
     hidden: &[Polygon<f64>],
     obstacles: &[Polygon<f64>],
-) -> Cell {
+) -> Occupancy {
     let rect = cell_rect(grid, x, y);
     if obstacles.iter().any(|o| o.intersects(&rect)) {
-        return Cell::Occupied;
+        return Occupancy::Occupied;
     }
     let c = grid.world_from_cell(x, y);
     let centre = Point::new(c[0], c[1]);
     if free.iter().any(|p| p.contains(&centre)) && !hidden.iter().any(|p| p.contains(&centre)) {
-        Cell::Free
+        Occupancy::Free
     } else {
-        Cell::Unknown
+        Occupancy::Unknown
     }
 }
 
@@ -95,7 +95,7 @@ fn synthetic_map_objects_are_occupied_and_open_floor_is_free() {
     let grid = rasterize_map(&map, &opts).unwrap();
     for object in &map.objects {
         let (x, y) = grid.cell_from_world(object.centroid).unwrap();
-        assert_eq!(grid.get(x, y), Some(Cell::Occupied), "{}", object.name);
+        assert_eq!(grid.get(x, y), Some(Occupancy::Occupied), "{}", object.name);
     }
     // The grid covers the bounds plus the margin.
     let (lo, hi) = map.bounds();
@@ -119,11 +119,11 @@ fn synthetic_map_objects_are_occupied_and_open_floor_is_free() {
             let p = Point::new(c[0], c[1]);
             let far = obstacles.iter().all(|o| Euclidean.distance(&p, o) > 0.3);
             if floor.contains(&p) && far && Euclidean.distance(&p, floor.exterior()) > 0.1 {
-                assert_eq!(grid.get(x, y), Some(Cell::Free), "({x}, {y}) at {c:?}");
+                assert_eq!(grid.get(x, y), Some(Occupancy::Free), "({x}, {y}) at {c:?}");
                 found += 1;
             }
             if !floor.contains(&p) && Euclidean.distance(&p, floor.exterior()) > 0.1 {
-                assert_ne!(grid.get(x, y), Some(Cell::Free), "({x}, {y}) at {c:?}");
+                assert_ne!(grid.get(x, y), Some(Occupancy::Free), "({x}, {y}) at {c:?}");
             }
         }
     }
@@ -131,8 +131,8 @@ fn synthetic_map_objects_are_occupied_and_open_floor_is_free() {
     // The station point is behind the floor the camera sees: unknown.
     assert!(!floor.contains(&Point::new(0.0, 0.0)));
     let (x, y) = grid.cell_from_world([0.0, 0.0]).unwrap();
-    assert_eq!(grid.get(x, y), Some(Cell::Unknown));
-    assert_eq!(grid.get(0, 0), Some(Cell::Unknown));
+    assert_eq!(grid.get(x, y), Some(Occupancy::Unknown));
+    assert_eq!(grid.get(0, 0), Some(Occupancy::Unknown));
 }
 
 #[test]
@@ -225,11 +225,11 @@ fn degenerate_footprints_block_the_cells_they_touch() {
     map.objects.push(wall);
     let grid = rasterize_map(&map, &RasterOptions::default()).unwrap();
     let (x, y) = grid.cell_from_world([0.5, 2.0]).unwrap();
-    assert_eq!(grid.get(x, y), Some(Cell::Occupied));
+    assert_eq!(grid.get(x, y), Some(Occupancy::Occupied));
     for i in 0..=20 {
         let p = [-1.0 + 0.1 * f64::from(i), 4.0];
         let (x, y) = grid.cell_from_world(p).unwrap();
-        assert_eq!(grid.get(x, y), Some(Cell::Occupied), "{p:?}");
+        assert_eq!(grid.get(x, y), Some(Occupancy::Occupied), "{p:?}");
     }
 }
 
@@ -368,10 +368,10 @@ fn floor_hidden_behind_objects_is_unknown_unless_asked() {
     for y in 0..seen.height() {
         for x in 0..seen.width() {
             let c = seen.world_from_cell(x, y);
-            if all.get(x, y) == Some(Cell::Free)
+            if all.get(x, y) == Some(Occupancy::Free)
                 && hidden.iter().any(|p| p.contains(&Point::new(c[0], c[1])))
             {
-                assert_eq!(seen.get(x, y), Some(Cell::Unknown), "({x}, {y})");
+                assert_eq!(seen.get(x, y), Some(Occupancy::Unknown), "({x}, {y})");
                 hidden_cells += 1;
             } else {
                 assert_eq!(seen.get(x, y), all.get(x, y), "({x}, {y})");

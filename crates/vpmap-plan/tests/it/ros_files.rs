@@ -3,13 +3,15 @@
 use std::path::Path;
 
 use proptest::prelude::*;
-use vpmap_plan::{Cell, OccupancyGrid, PlanError, encode_ros_map, read_ros_map, write_ros_map};
+use vpmap_plan::{
+    Occupancy, OccupancyGrid, PlanError, encode_ros_map, read_ros_map, write_ros_map,
+};
 
 use crate::small_grid;
 
-const F: Cell = Cell::Free;
-const O: Cell = Cell::Occupied;
-const U: Cell = Cell::Unknown;
+const F: Occupancy = Occupancy::Free;
+const O: Occupancy = Occupancy::Occupied;
+const U: Occupancy = Occupancy::Unknown;
 
 fn write(dir: &Path, name: &str, bytes: &[u8]) {
     std::fs::write(dir.join(name), bytes).unwrap();
@@ -33,10 +35,10 @@ fn grey_png(width: u32, height: u32, color: png::ColorType, data: &[u8]) -> Vec<
 #[test]
 fn round_trip_keeps_cells_resolution_and_origin_of_a_non_square_grid() {
     let dir = tempfile::tempdir().unwrap();
-    let mut grid = OccupancyGrid::new(7, 3, 0.025, [-12.3, 4.05], Cell::Free).unwrap();
-    grid.set(6, 2, Cell::Unknown).unwrap();
-    grid.set(3, 1, Cell::Occupied).unwrap();
-    grid.set(0, 2, Cell::Occupied).unwrap();
+    let mut grid = OccupancyGrid::new(7, 3, 0.025, [-12.3, 4.05], Occupancy::Free).unwrap();
+    grid.set(6, 2, Occupancy::Unknown).unwrap();
+    grid.set(3, 1, Occupancy::Occupied).unwrap();
+    grid.set(0, 2, Occupancy::Occupied).unwrap();
     let yaml_path = dir.path().join("room.yaml");
     write_ros_map(&grid, &yaml_path).unwrap();
     let back = read_ros_map(&yaml_path).unwrap();
@@ -56,8 +58,8 @@ fn round_trip_keeps_cells_resolution_and_origin_of_a_non_square_grid() {
 #[test]
 fn top_left_cell_stays_top_left_at_the_highest_world_y() {
     let dir = tempfile::tempdir().unwrap();
-    let mut grid = OccupancyGrid::new(5, 4, 0.5, [1.0, -2.0], Cell::Free).unwrap();
-    grid.set(0, 0, Cell::Occupied).unwrap();
+    let mut grid = OccupancyGrid::new(5, 4, 0.5, [1.0, -2.0], Occupancy::Free).unwrap();
+    grid.set(0, 0, Occupancy::Occupied).unwrap();
     let (yaml, pgm) = encode_ros_map(&grid, "m.pgm");
     // The PGM's first pixel (top-left) is the occupied one.
     let header = b"P5\n5 4\n255\n";
@@ -67,7 +69,7 @@ fn top_left_cell_stays_top_left_at_the_highest_world_y() {
     write(dir.path(), "m.yaml", yaml.as_bytes());
     write(dir.path(), "m.pgm", &pgm);
     let back = read_ros_map(&dir.path().join("m.yaml")).unwrap();
-    assert_eq!(back.get(0, 0), Some(Cell::Occupied));
+    assert_eq!(back.get(0, 0), Some(Occupancy::Occupied));
     assert_eq!(back.counts(), (19, 1, 0));
     // Its centre: half a cell right of the origin, 3.5 cells above it.
     assert_eq!(back.world_from_cell(0, 0), [1.25, -0.25]);
@@ -300,7 +302,7 @@ fn unsupported_images_are_refused_clearly() {
 #[test]
 fn image_names_that_need_quoting_round_trip() {
     let dir = tempfile::tempdir().unwrap();
-    let grid = OccupancyGrid::new(2, 2, 1.0, [0.0; 2], Cell::Occupied).unwrap();
+    let grid = OccupancyGrid::new(2, 2, 1.0, [0.0; 2], Occupancy::Occupied).unwrap();
     let (yaml, pgm) = encode_ros_map(&grid, "my map: #1.pgm");
     write(dir.path(), "my map: #1.pgm", &pgm);
     write(dir.path(), "m.yaml", yaml.as_bytes());
@@ -310,7 +312,7 @@ fn image_names_that_need_quoting_round_trip() {
 #[test]
 fn write_errors_name_the_path() {
     let dir = tempfile::tempdir().unwrap();
-    let grid = OccupancyGrid::new(2, 2, 1.0, [0.0; 2], Cell::Free).unwrap();
+    let grid = OccupancyGrid::new(2, 2, 1.0, [0.0; 2], Occupancy::Free).unwrap();
     let yaml_path = dir.path().join("absent/room.yaml");
     let err = write_ros_map(&grid, &yaml_path).unwrap_err();
     assert!(err.to_string().contains("absent"), "{err}");

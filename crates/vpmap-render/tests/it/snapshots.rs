@@ -3,7 +3,7 @@
 
 use vpmap_metrology::map::{BuildOptions, FloorMap, build_map};
 use vpmap_metrology::scene::Scene;
-use vpmap_plan::grid::{Cell, OccupancyGrid};
+use vpmap_plan::grid::{Occupancy, OccupancyGrid};
 use vpmap_plan::{Planned, Planner, PlannerKind};
 use vpmap_render::{FloorPlanStyle, GridCoordinates, floor_plan_svg, plan_svg};
 
@@ -29,17 +29,17 @@ fn apply(m: [f64; 6], [x, y]: [f64; 2]) -> (f64, f64) {
 /// A 12 x 9 grid with two walls across the straight line from (0, 4) to (11, 4), MBPP with
 /// its bug tracks.
 fn two_walls() -> (OccupancyGrid, Planned) {
-    let mut grid = OccupancyGrid::new(12, 9, 0.25, [-1.0, 2.0], Cell::Free).unwrap();
+    let mut grid = OccupancyGrid::new(12, 9, 0.25, [-1.0, 2.0], Occupancy::Free).unwrap();
     for y in 1..7 {
-        grid.set(3, y, Cell::Occupied).unwrap();
+        grid.set(3, y, Occupancy::Occupied).unwrap();
     }
     for y in 3..9 {
-        grid.set(7, y, Cell::Occupied).unwrap();
+        grid.set(7, y, Occupancy::Occupied).unwrap();
     }
     let planned = PlannerKind::Mbpp
         .planner(false)
         .with_tracks(true)
-        .plan(&grid, (0, 4), (11, 4))
+        .plan(&grid, (0, 4).into(), (11, 4).into())
         .unwrap();
     (grid, planned)
 }

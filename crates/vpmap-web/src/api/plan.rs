@@ -12,7 +12,7 @@ use serde::Serialize;
 use vpmap_pipeline::{
     Coordinates, Endpoint, EndpointRules, OptionNames, endpoint_cell, units_name,
 };
-use vpmap_plan::grid::OccupancyGrid;
+use vpmap_plan::grid::{CellXy, OccupancyGrid};
 use vpmap_plan::mbpp::{BugFate, BugTrack};
 use vpmap_plan::optimal::corner_cells;
 use vpmap_plan::plan::Plan;
@@ -251,16 +251,16 @@ fn planners(names: Option<&[String]>) -> Result<Vec<PlannerKind>, ApiError> {
 /// A path in map units.
 fn path_out(grid: &OccupancyGrid, plan: &Plan) -> PathOut {
     PathOut {
-        length_m: plan.length * grid.resolution_m(),
+        length_m: plan.length_cells * grid.resolution_m(),
         waypoints: world(grid, &plan.waypoints),
     }
 }
 
 /// Cell centres in map units, rounded to 1e-6 (a micrometre: the JSON stays short).
-fn world(grid: &OccupancyGrid, cells: &[(usize, usize)]) -> Vec<[f64; 2]> {
+fn world(grid: &OccupancyGrid, cells: &[CellXy]) -> Vec<[f64; 2]> {
     cells
         .iter()
-        .map(|&(x, y)| {
+        .map(|&CellXy { x, y }| {
             grid.world_from_cell(x, y)
                 .map(|v| (v * 1e6).round() / 1e6 + 0.0)
         })
@@ -304,7 +304,7 @@ fn run_planner(
     let planned = kind
         .planner(unknown_passable)
         .with_tracks(is_mbpp)
-        .plan(grid, start, goal)
+        .plan(grid, start.into(), goal.into())
         .map_err(|e| ApiError::bad_request(format!("{}: {e}", kind.name())))?;
     out.time_ms = elapsed_ms(started);
     if let Some(best) = &planned.best {
