@@ -93,12 +93,7 @@ pub struct PlanningMap {
 
 impl PlanningMap {
     /// The cell of `--from` or `--to`, which a path must be able to enter.
-    fn endpoint(
-        &self,
-        name: &str,
-        point: [f64; 2],
-        unknown_passable: bool,
-    ) -> Result<(usize, usize)> {
+    fn endpoint(&self, name: &str, point: [f64; 2], unknown_passable: bool) -> Result<CellXy> {
         let coordinates = if self.in_cells {
             Coordinates::Cells
         } else {

@@ -1,7 +1,7 @@
 //! A path's start or goal given in map coordinates, to its grid cell: one conversion, with
 //! one set of messages, for `vpmap plan` and the page's `/api/plan`.
 
-use vpmap_plan::{Occupancy, OccupancyGrid};
+use vpmap_plan::{CellXy, Occupancy, OccupancyGrid};
 
 use crate::options::BuildOption;
 use crate::{PipelineError, num};
@@ -72,7 +72,7 @@ pub fn endpoint_cell(
     coordinates: Coordinates,
     endpoint: &Endpoint<'_>,
     rules: &EndpointRules,
-) -> Result<(usize, usize), PipelineError> {
+) -> Result<CellXy, PipelineError> {
     let name = endpoint.name;
     let [x, y] = endpoint.point;
     let units = coordinates.units();
@@ -93,7 +93,7 @@ pub fn endpoint_cell(
                     grid.height()
                 )));
             }
-            (x, y)
+            CellXy::new(x, y)
         }
         Coordinates::Map { .. } => grid.cell_from_world([x, y]).ok_or_else(|| {
             let o = grid.origin_m();
@@ -109,7 +109,7 @@ pub fn endpoint_cell(
             ))
         })?,
     };
-    let what_is_there = match grid.get(cell.0, cell.1).unwrap_or(Occupancy::Unknown) {
+    let what_is_there = match grid.get(cell.x, cell.y).unwrap_or(Occupancy::Unknown) {
         Occupancy::Free => return Ok(cell),
         Occupancy::Unknown if rules.unknown_passable => return Ok(cell),
         Occupancy::Occupied if rules.robot_radius > 0.0 => {
@@ -135,8 +135,8 @@ pub fn endpoint_cell(
         "{name} ({}, {}) {units} lies on {what_is_there}: cell ({}, {})",
         num(x),
         num(y),
-        cell.0,
-        cell.1
+        cell.x,
+        cell.y
     )))
 }
 
@@ -168,6 +168,7 @@ mod tests {
             },
             &rules,
         )
+        .map(<(usize, usize)>::from)
         .map_err(|e| e.to_string())
     }
 

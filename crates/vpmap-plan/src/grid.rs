@@ -404,14 +404,14 @@ impl OccupancyGrid {
     ///
     /// # Example
     /// ```
-    /// use vpmap_plan::{Occupancy, OccupancyGrid};
+    /// use vpmap_plan::{CellXy, Occupancy, OccupancyGrid};
     /// let grid = OccupancyGrid::new(4, 3, 0.5, [-1.0, 2.0], Occupancy::Free).unwrap();
-    /// assert_eq!(grid.cell_from_world([-0.75, 3.25]), Some((0, 0)));
-    /// assert_eq!(grid.cell_from_world([-1.0, 2.0]), Some((0, 2)));
+    /// assert_eq!(grid.cell_from_world([-0.75, 3.25]), Some(CellXy::new(0, 0)));
+    /// assert_eq!(grid.cell_from_world([-1.0, 2.0]), Some(CellXy { x: 0, y: 2 }));
     /// assert_eq!(grid.cell_from_world([1.0, 2.0]), None);
     /// ```
     #[must_use]
-    pub fn cell_from_world(&self, point_m: [f64; 2]) -> Option<(usize, usize)> {
+    pub fn cell_from_world(&self, point_m: [f64; 2]) -> Option<CellXy> {
         let u = (point_m[0] - self.origin_m[0]) / self.resolution_m;
         let v = (point_m[1] - self.origin_m[1]) / self.resolution_m;
         if !(u >= 0.0 && v >= 0.0 && u < self.width as f64 && v < self.height as f64) {
@@ -419,7 +419,7 @@ impl OccupancyGrid {
         }
         let x = (u.floor() as usize).min(self.width - 1);
         let row_from_bottom = (v.floor() as usize).min(self.height - 1);
-        Some((x, self.height - 1 - row_from_bottom))
+        Some(CellXy::new(x, self.height - 1 - row_from_bottom))
     }
 
     /// Number of `(free, occupied, unknown)` cells.
@@ -592,7 +592,7 @@ mod tests {
             for x in 0..7 {
                 assert_eq!(
                     grid.cell_from_world(grid.world_from_cell(x, y)),
-                    Some((x, y))
+                    Some(CellXy::new(x, y))
                 );
             }
         }
@@ -601,7 +601,10 @@ mod tests {
         assert_eq!(grid.cell_from_world([f64::NAN, 2.0]), None);
         assert_eq!(grid.cell_from_world([-3.0001, 2.0]), None);
         assert_eq!(grid.cell_from_world([-2.0, 2.5]), None);
-        assert_eq!(grid.cell_from_world([-2.0, 2.4999]), Some((5, 0)));
+        assert_eq!(
+            grid.cell_from_world([-2.0, 2.4999]),
+            Some(CellXy::new(5, 0))
+        );
     }
 
     #[test]

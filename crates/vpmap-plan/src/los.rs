@@ -66,7 +66,7 @@
 //! `O(cells swept)`: `du + 1` columns of at most `|dv| / du + 3` cells, integer arithmetic
 //! only, stopping at the first blocked cell.
 
-use crate::grid::{Occupancy, OccupancyGrid};
+use crate::grid::{CellXy, Occupancy, OccupancyGrid};
 
 /// Whether a robot may stand on a cell holding `cell`: [`Occupancy::Free`] cells always,
 /// [`Occupancy::Unknown`] cells when `unknown_passable`, [`Occupancy::Occupied`] cells never. The
@@ -241,11 +241,12 @@ pub struct LosCounter {
 /// assert_eq!(cells.len(), 7); // (2, 0) and (0, 2) are only touched at a corner
 /// ```
 pub fn visit_swept_cells(
-    a: (usize, usize),
-    b: (usize, usize),
+    a: impl Into<CellXy>,
+    b: impl Into<CellXy>,
     visit: impl FnMut(i64, i64) -> bool,
 ) -> bool {
-    visit_swept_cells_signed((a.0 as i64, a.1 as i64), (b.0 as i64, b.1 as i64), visit)
+    let (a, b) = (a.into(), b.into());
+    visit_swept_cells_signed((a.x as i64, a.y as i64), (b.x as i64, b.y as i64), visit)
 }
 
 /// [`visit_swept_cells`] between cells with signed coordinates (the rule is translation
@@ -304,8 +305,8 @@ fn sweep_columns(p0: (i64, i64), p1: (i64, i64), mut visit: impl FnMut(i64, i64)
 /// assert!(line_of_sight(&grid, (0, 1), (2, 1))); // slides along (1, 0)'s edge
 /// ```
 #[must_use]
-pub fn line_of_sight(grid: &impl Passable, a: (usize, usize), b: (usize, usize)) -> bool {
-    grid.sight_counted(a, b, &mut LosCounter::default())
+pub fn line_of_sight(grid: &impl Passable, a: impl Into<CellXy>, b: impl Into<CellXy>) -> bool {
+    grid.sight_counted(a.into().into(), b.into().into(), &mut LosCounter::default())
 }
 
 /// [`line_of_sight`] that also counts the query and the cells it looked up in `counter`.
@@ -320,11 +321,11 @@ pub fn line_of_sight(grid: &impl Passable, a: (usize, usize), b: (usize, usize))
 /// ```
 pub fn line_of_sight_counted(
     grid: &impl Passable,
-    a: (usize, usize),
-    b: (usize, usize),
+    a: impl Into<CellXy>,
+    b: impl Into<CellXy>,
     counter: &mut LosCounter,
 ) -> bool {
-    grid.sight_counted(a, b, counter)
+    grid.sight_counted(a.into().into(), b.into().into(), counter)
 }
 
 /// An occupancy grid's passability (see [`cell_passable`]) precomputed once, with a

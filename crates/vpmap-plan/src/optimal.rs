@@ -78,8 +78,11 @@ const DIAGONALS: [(i64, i64); 4] = [(1, 1), (-1, 1), (-1, -1), (1, -1)];
 /// assert_eq!(corner_cells(&grid, false), [(0, 0), (2, 0), (0, 2), (2, 2)]);
 /// ```
 #[must_use]
-pub fn corner_cells(grid: &OccupancyGrid, unknown_passable: bool) -> Vec<(usize, usize)> {
+pub fn corner_cells(grid: &OccupancyGrid, unknown_passable: bool) -> Vec<CellXy> {
     corners_of(&PassableGrid::new(grid, unknown_passable))
+        .into_iter()
+        .map(CellXy::from)
+        .collect()
 }
 
 /// [`corner_cells`] of a grid's precomputed passability.

@@ -293,11 +293,11 @@ fn check_map(map: &FloorMap) -> Result<()> {
 /// ```
 /// use vpmap_metrology::map::{build_map, BuildOptions};
 /// use vpmap_metrology::synth::{synthesize, SynthOptions};
-/// use vpmap_plan::{rasterize_map, Occupancy, RasterOptions};
+/// use vpmap_plan::{rasterize_map, CellXy, Occupancy, RasterOptions};
 /// let (scene, _) = synthesize(&SynthOptions::default()).unwrap();
 /// let map = build_map(&scene, &BuildOptions::default()).unwrap();
 /// let grid = rasterize_map(&map, &RasterOptions::default()).unwrap();
-/// let (x, y) = grid.cell_from_world(map.objects[0].centroid).unwrap();
+/// let CellXy { x, y } = grid.cell_from_world(map.objects[0].centroid).unwrap();
 /// assert_eq!(grid.get(x, y), Some(Occupancy::Occupied));
 /// ```
 pub fn rasterize_map(map: &FloorMap, opts: &RasterOptions) -> Result<OccupancyGrid> {

@@ -6,7 +6,7 @@ use geo::{
 use proptest::prelude::*;
 use vpmap_metrology::map::{BuildOptions, FloorMap, MapObject, PolygonWithHoles, build_map};
 use vpmap_metrology::synth::{SynthOptions, synthesize};
-use vpmap_plan::{Occupancy, OccupancyGrid, PlanError, RasterOptions, rasterize_map};
+use vpmap_plan::{CellXy, Occupancy, OccupancyGrid, PlanError, RasterOptions, rasterize_map};
 
 fn ring(points: &[[f64; 2]]) -> LineString<f64> {
     LineString::from(
@@ -94,7 +94,7 @@ fn synthetic_map_objects_are_occupied_and_open_floor_is_free() {
     };
     let grid = rasterize_map(&map, &opts).unwrap();
     for object in &map.objects {
-        let (x, y) = grid.cell_from_world(object.centroid).unwrap();
+        let CellXy { x, y } = grid.cell_from_world(object.centroid).unwrap();
         assert_eq!(grid.get(x, y), Some(Occupancy::Occupied), "{}", object.name);
     }
     // The grid covers the bounds plus the margin.
@@ -130,7 +130,7 @@ fn synthetic_map_objects_are_occupied_and_open_floor_is_free() {
     assert!(found > 1000, "only {found} open floor cells");
     // The station point is behind the floor the camera sees: unknown.
     assert!(!floor.contains(&Point::new(0.0, 0.0)));
-    let (x, y) = grid.cell_from_world([0.0, 0.0]).unwrap();
+    let CellXy { x, y } = grid.cell_from_world([0.0, 0.0]).unwrap();
     assert_eq!(grid.get(x, y), Some(Occupancy::Unknown));
     assert_eq!(grid.get(0, 0), Some(Occupancy::Unknown));
 }
@@ -224,11 +224,11 @@ fn degenerate_footprints_block_the_cells_they_touch() {
     map.objects.push(post);
     map.objects.push(wall);
     let grid = rasterize_map(&map, &RasterOptions::default()).unwrap();
-    let (x, y) = grid.cell_from_world([0.5, 2.0]).unwrap();
+    let CellXy { x, y } = grid.cell_from_world([0.5, 2.0]).unwrap();
     assert_eq!(grid.get(x, y), Some(Occupancy::Occupied));
     for i in 0..=20 {
         let p = [-1.0 + 0.1 * f64::from(i), 4.0];
-        let (x, y) = grid.cell_from_world(p).unwrap();
+        let CellXy { x, y } = grid.cell_from_world(p).unwrap();
         assert_eq!(grid.get(x, y), Some(Occupancy::Occupied), "{p:?}");
     }
 }

@@ -4,7 +4,7 @@ use std::path::Path;
 
 use proptest::prelude::*;
 use vpmap_plan::{
-    Occupancy, OccupancyGrid, PlanError, encode_ros_map, read_ros_map, write_ros_map,
+    CellXy, Occupancy, OccupancyGrid, PlanError, encode_ros_map, read_ros_map, write_ros_map,
 };
 
 use crate::small_grid;
@@ -73,8 +73,8 @@ fn top_left_cell_stays_top_left_at_the_highest_world_y() {
     assert_eq!(back.counts(), (19, 1, 0));
     // Its centre: half a cell right of the origin, 3.5 cells above it.
     assert_eq!(back.world_from_cell(0, 0), [1.25, -0.25]);
-    assert_eq!(back.cell_from_world([1.1, -0.1]), Some((0, 0)));
-    assert_eq!(back.cell_from_world([1.1, -1.9]), Some((0, 3)));
+    assert_eq!(back.cell_from_world([1.1, -0.1]), Some(CellXy::new(0, 0)));
+    assert_eq!(back.cell_from_world([1.1, -1.9]), Some(CellXy::new(0, 3)));
 }
 
 #[test]

@@ -271,8 +271,8 @@ fn world(grid: &OccupancyGrid, cells: &[CellXy]) -> Vec<[f64; 2]> {
 fn run_planner(
     kind: PlannerKind,
     grid: &OccupancyGrid,
-    start: (usize, usize),
-    goal: (usize, usize),
+    start: CellXy,
+    goal: CellXy,
     unknown_passable: bool,
     track_budget: &mut usize,
 ) -> Result<ResultOut, ApiError> {
@@ -304,7 +304,7 @@ fn run_planner(
     let planned = kind
         .planner(unknown_passable)
         .with_tracks(is_mbpp)
-        .plan(grid, start.into(), goal.into())
+        .plan(grid, start, goal)
         .map_err(|e| ApiError::bad_request(format!("{}: {e}", kind.name())))?;
     out.time_ms = elapsed_ms(started);
     if let Some(best) = &planned.best {
@@ -394,8 +394,8 @@ fn plan_answer(body: &[u8]) -> Result<Bytes, ApiError> {
             origin: grid.origin_m(),
         },
         units,
-        start_cell: [start.0, start.1],
-        goal_cell: [goal.0, goal.1],
+        start_cell: [start.x, start.y],
+        goal_cell: [goal.x, goal.y],
         warnings,
         time_ms: elapsed_ms(started),
     })
