@@ -6,6 +6,10 @@
 //!   heuristic; each iteration runs all the map's sampled queries.
 //! - `planners/<map>`: A*, A* PS, MBPP (the thesis's m-line leave rule and the
 //!   closer-than-hit rule), Theta* and the exact any-angle planner over the same queries.
+//! - `line_of_sight/<map>`: the shared line-of-sight core ([`PassableGrid`], built once per
+//!   map outside the timing, and built inside it) against the reference walk
+//!   ([`visit_swept_cells`](vpmap_plan::los::visit_swept_cells) through [`Traversable`]) on
+//!   the same segments: from each A* path's start to every fourth of its cells, clear or not.
 //!
 //! Maps come from `shared/data/movingai` next to the workspace; without it, a seeded
 //! 128 x 128 random-obstacle grid with seeded queries is used instead.
@@ -21,7 +25,8 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use vpmap_plan::{
     AstarOptions, AstarPsOptions, AstarSearch, CellXy, Occupancy, OccupancyGrid,
-    OptimalAnyAngleOptions, ThetaStarOptions, astar, astar_ps,
+    OptimalAnyAngleOptions, PassableGrid, ThetaStarOptions, Traversable, astar, astar_ps,
+    line_of_sight,
     mbpp::{LeaveRule, MbppOptions, mbpp},
     optimal_any_angle, path_length, read_movingai_map, read_scen, theta_star,
 };
@@ -318,5 +323,69 @@ fn benches(c: &mut Criterion) {
     }
 }
 
-criterion_group!(planner_benches, benches);
+/// Segments from each query's A* path start to every fourth cell of that path.
+fn sight_segments(case: &Case) -> Vec<(CellXy, CellXy)> {
+    let opts = AstarOptions::default();
+    let mut segments = Vec::new();
+    for &(start, goal) in &case.queries {
+        let Some(plan) = astar(&case.grid, start, goal, &opts).unwrap() else {
+            continue;
+        };
+        for &cell in plan.waypoints.iter().step_by(4).skip(1) {
+            segments.push((start, cell));
+        }
+    }
+    segments
+}
+
+fn sight_benches(c: &mut Criterion) {
+    for case in cases() {
+        let segments = sight_segments(&case);
+        let grid = &case.grid;
+        let reference = Traversable::new(grid, false);
+        let core = PassableGrid::new(grid, false);
+        let clear = segments
+            .iter()
+            .filter(|&&(a, b)| {
+                let answer = line_of_sight(&core, a, b);
+                assert_eq!(answer, line_of_sight(&reference, a, b), "{a:?} -> {b:?}");
+                answer
+            })
+            .count();
+        eprintln!(
+            "line_of_sight/{}: {} segments, {clear} clear",
+            case.name,
+            segments.len()
+        );
+        let mut group = c.benchmark_group(format!("line_of_sight/{}", case.name));
+        group.sample_size(10);
+        group.measurement_time(Duration::from_secs(2));
+        group.warm_up_time(Duration::from_secs(1));
+        group.bench_function("reference_walk", |b| {
+            b.iter(|| {
+                for &(a, b) in &segments {
+                    black_box(line_of_sight(&reference, a, b));
+                }
+            });
+        });
+        group.bench_function("shared_core", |b| {
+            b.iter(|| {
+                for &(a, b) in &segments {
+                    black_box(line_of_sight(&core, a, b));
+                }
+            });
+        });
+        group.bench_function("shared_core_built_in_timing", |b| {
+            b.iter(|| {
+                let core = PassableGrid::new(grid, false);
+                for &(a, b) in &segments {
+                    black_box(line_of_sight(&core, a, b));
+                }
+            });
+        });
+        group.finish();
+    }
+}
+
+criterion_group!(planner_benches, benches, sight_benches);
 criterion_main!(planner_benches);
