@@ -57,6 +57,7 @@ fn map_options(args: &BuildArgs) -> MapOptions {
         robot_radius_m: args.robot_radius,
         hidden_free: args.hidden_free,
         max_grid_cells: None,
+        click_sigma_px: None,
     }
 }
 

@@ -33,7 +33,15 @@ fn bench_build(c: &mut Criterion) {
     let mut g = c.benchmark_group("build_map_20_objects");
     for method in [Method::Projective, Method::Sideview] {
         g.bench_function(method.to_string(), |b| {
-            b.iter(|| build_map(black_box(&scene), &BuildOptions { method }));
+            b.iter(|| {
+                build_map(
+                    black_box(&scene),
+                    &BuildOptions {
+                        method,
+                        ..BuildOptions::default()
+                    },
+                )
+            });
         });
     }
     g.finish();

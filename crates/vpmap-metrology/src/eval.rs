@@ -811,12 +811,18 @@ pub fn run_trial_with(
                             noisy
                         }
                     };
-                    build_map(&noisy, &BuildOptions { method })
-                        .and_then(|map| evaluate_map(&map, truth))
-                        .map_err(|e| Failure {
-                            category: failure_category(&e),
-                            message: e.to_string(),
-                        })
+                    build_map(
+                        &noisy,
+                        &BuildOptions {
+                            method,
+                            click_sigma_px: Some(sigma_px),
+                        },
+                    )
+                    .and_then(|map| evaluate_map(&map, truth))
+                    .map_err(|e| Failure {
+                        category: failure_category(&e),
+                        message: e.to_string(),
+                    })
                 }
                 Err(failure) => Err(failure.clone()),
             };

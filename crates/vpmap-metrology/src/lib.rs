@@ -32,6 +32,7 @@
 pub mod calibration;
 pub mod error;
 pub mod eval;
+pub mod fit;
 pub mod map;
 pub mod projective;
 pub mod reconstruct;

@@ -13,6 +13,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::calibration::{Calibration, Perspective};
 use crate::error::{MetrologyError, Result};
+use crate::fit::{FitOptions, Fitted, fit_scene};
 use crate::projective::Projective;
 use crate::reconstruct::{FloorProjection, Method, ObjectKind, Reconstruction, reconstruct};
 use crate::scene::{Dimension, ImageSize, Scale, Scene};
@@ -62,6 +63,9 @@ pub struct CameraReport {
     pub image: ImageSize,
     /// Vanishing points used, pixels.
     pub vanishing_points: Vec<[f64; 2]>,
+    /// The fit's error bars (method `fit` only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uncertainty: Option<CameraUncertainty>,
     /// Horizontal field of view: angles of the image's left and right extent, degrees from
     /// `+y`, negative to the left.
     pub horizontal_fov_deg: [f64; 2],
@@ -99,6 +103,78 @@ pub struct MapObject {
     pub centroid: MapPoint,
     /// Footprint area.
     pub area: f64,
+    /// The fit's error bars for this object (method `fit` only; absent otherwise).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub uncertainty: Option<ObjectUncertainty>,
+}
+
+/// A 2-D confidence ellipse on the floor.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct Ellipse {
+    /// Centre `[x, y]`, map units.
+    pub centre: MapPoint,
+    /// Semi-major and semi-minor axis lengths, map units.
+    pub semi_axes: [f64; 2],
+    /// Direction of the major axis, degrees counter-clockwise from `+x`.
+    pub angle_deg: f64,
+}
+
+/// One object's error bars: standard deviations (1 sigma) and the centroid's covariance, for
+/// the click noise in [`FitReport::click_sigma_px`], first-order propagated through the fit
+/// and the scale.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct ObjectUncertainty {
+    /// Covariance of the centroid `[[xx, xy], [xy, yy]]`, map units squared.
+    pub centroid_covariance: [[f64; 2]; 2],
+    /// The centroid's 95 % confidence ellipse.
+    pub centroid_ellipse_95: Ellipse,
+    /// Standard deviation of a box's longer side, map units.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub length_sd: Option<f64>,
+    /// Standard deviation of a box's shorter side, map units.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub breadth_sd: Option<f64>,
+    /// Standard deviation of the height, map units.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub height_sd: Option<f64>,
+    /// A box's yaw: the direction of its longer side, degrees counter-clockwise from `+x`,
+    /// in `[0, 180)`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub yaw_deg: Option<f64>,
+    /// Standard deviation of the yaw, degrees.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub yaw_sd_deg: Option<f64>,
+}
+
+/// The camera's error bars (1 sigma), as [`ObjectUncertainty`].
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct CameraUncertainty {
+    /// Focal length, pixels.
+    pub focal_px_sd: f64,
+    /// Pitch, degrees.
+    pub pitch_deg_sd: f64,
+    /// Roll, degrees.
+    pub roll_deg_sd: f64,
+    /// Camera height, map units (0 when the scale is the camera height).
+    pub height_sd: f64,
+}
+
+/// How the joint fit went (method `fit` only).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FitReport {
+    /// The click noise the error bars are computed for, pixels (1 sigma per coordinate).
+    pub click_sigma_px: f64,
+    /// Where it comes from: `"given"` (set by the user), `"residuals"` (estimated from the
+    /// fit's residuals, the data over-determining the model) or `"default"` (1 px).
+    pub click_sigma_source: String,
+    /// Root-mean-square reprojection error of the clicked points, pixels.
+    pub rms_residual_px: f64,
+    /// Residuals minus parameters.
+    pub degrees_of_freedom: usize,
+    /// Levenberg-Marquardt iterations.
+    pub iterations: usize,
+    /// Whether the principal point was fitted (else held at the given or central value).
+    pub principal_point_fitted: bool,
 }
 
 /// A polygon with holes.
@@ -134,6 +210,9 @@ pub struct FloorMap {
     pub hidden: Vec<PolygonWithHoles>,
     /// Notes for the user.
     pub warnings: Vec<String>,
+    /// How the joint fit went (method `fit` only).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fit: Option<FitReport>,
 }
 
 /// Options of [`build_map`].
@@ -141,7 +220,16 @@ pub struct FloorMap {
 pub struct BuildOptions {
     /// Reconstruction method.
     pub method: Method,
+    /// The click noise the fit's error bars are computed for, pixels (1 sigma per
+    /// coordinate); `None`: estimated from the residuals when the data over-determine the
+    /// model, else 1 px ([`crate::fit::FitOptions`]). Method `fit` only.
+    pub click_sigma_px: Option<f64>,
 }
+
+/// Relative standard deviation of a size above which the build warns.
+pub const WARN_RELATIVE_SD: f64 = 0.2;
+/// Misfit of a clicked point, in click sigmas, above which the build warns.
+pub const WARN_RESIDUAL_SIGMAS: f64 = 3.0;
 
 /// Calibrate the camera of a validated scene.
 ///
@@ -167,10 +255,15 @@ pub fn calibrate(scene: &Scene) -> Result<Calibration> {
 /// # Errors
 /// As [`calibrate`] and [`reconstruct`].
 pub fn reconstruct_scene(scene: &Scene, method: Method) -> Result<(Calibration, Reconstruction)> {
+    if method == Method::Fit {
+        let fitted = fit_scene(scene, &FitOptions::default())?;
+        check_plausible(&fitted.calibration, &fitted.reconstruction)?;
+        return Ok((fitted.calibration, fitted.reconstruction));
+    }
     let cal = calibrate(scene)?;
     let rec = match method {
         Method::Sideview => reconstruct(scene, method, &SideView::new(&cal, scene))?,
-        Method::Projective => reconstruct(scene, method, &Projective::new(&cal))?,
+        Method::Projective | Method::Fit => reconstruct(scene, method, &Projective::new(&cal))?,
     };
     check_plausible(&cal, &rec)?;
     Ok((cal, rec))
@@ -264,7 +357,7 @@ pub fn meters_per_camera_height(
         Scale::FloorDistance(fd) => {
             let proj: Box<dyn FloorProjection> = match rec.method {
                 Method::Sideview => Box::new(SideView::new(cal, scene)),
-                Method::Projective => Box::new(Projective::new(cal)),
+                Method::Projective | Method::Fit => Box::new(Projective::new(cal)),
             };
             let a = proj.floor_point("scale.floor_distance.from", fd.from)?;
             let b = proj.floor_point("scale.floor_distance.to", fd.to)?;
@@ -307,6 +400,34 @@ pub fn meters_per_camera_height(
                 }
             };
             (value / meters, "scale.meters")
+        }
+        Scale::Edge { name, ends, meters } => {
+            let obj = rec.objects.iter().find(|o| o.name == name).ok_or_else(|| {
+                MetrologyError::UnknownScaleObject {
+                    name: name.clone(),
+                    known: String::new(),
+                }
+            })?;
+            let (a, b) = (ends[0].grid_index(), ends[1].grid_index());
+            let fp = &obj.footprint;
+            // Footprint order near, right, far, left: (0, 0), (1, 0), (1, 1), (0, 1).
+            let corner = |i: u8, j: u8| match (i, j) {
+                (0, 0) => fp[0],
+                (1, 0) => fp[1],
+                (1, _) => fp[2],
+                _ => fp[3],
+            };
+            let value = if a.2 == b.2 {
+                (corner(a.0, a.1) - corner(b.0, b.1)).norm()
+            } else {
+                obj.height.ok_or_else(|| MetrologyError::InvalidField {
+                    field: "scale.edge".to_owned(),
+                    reason: format!(
+                        "is vertical, but object {name:?} has no top point to measure it"
+                    ),
+                })?
+            };
+            (value / meters, "scale.edge")
         }
     };
     if !(measured.is_finite() && measured > 0.0) {
@@ -475,6 +596,40 @@ fn to_polygons(mp: &MultiPolygon<f64>) -> Vec<PolygonWithHoles> {
         .collect()
 }
 
+/// The fit's warnings: sizes uncertain by more than [`WARN_RELATIVE_SD`] (naming the corner
+/// that would help) and clicks farther than [`WARN_RESIDUAL_SIGMAS`] click sigmas from the
+/// fitted model (a misplaced click).
+fn fit_warnings(scene: &Scene, fitted: &Fitted, u: &crate::fit::FitUncertainty) -> Vec<String> {
+    let mut out = Vec::new();
+    for &(i, what, rel) in &u.relative_size_sd {
+        if rel > WARN_RELATIVE_SD
+            && let Some(obj) = scene.objects.get(i)
+        {
+            out.push(format!(
+                "object {:?}: its {what} is uncertain by +-{:.0} % (1 sigma, for {:.2} px clicks); {}",
+                obj.name,
+                100.0 * rel,
+                u.click_sigma_px,
+                crate::fit::advice_for(scene, i, what)
+            ));
+        }
+    }
+    if u.click_sigma_px > 0.0 {
+        for r in &fitted.point_residuals {
+            if r.distance_px > WARN_RESIDUAL_SIGMAS * u.click_sigma_px {
+                out.push(format!(
+                    "`{}` of object {:?} lies {:.1} px ({:.1} sigma) from the fitted box: a misplaced click?",
+                    r.field,
+                    r.object,
+                    r.distance_px,
+                    r.distance_px / u.click_sigma_px
+                ));
+            }
+        }
+    }
+    out
+}
+
 /// Everything `vpmap build` computes, from a validated scene to a [`FloorMap`].
 ///
 /// # Errors
@@ -491,8 +646,23 @@ fn to_polygons(mp: &MultiPolygon<f64>) -> Vec<PolygonWithHoles> {
 /// ```
 pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
     scene.validate()?;
-    let (cal, rec) = reconstruct_scene(scene, options.method)?;
-    let factor = meters_per_camera_height(scene, &cal, &rec)?;
+    let fitted = if options.method == Method::Fit {
+        Some(fit_scene(scene, &FitOptions::default())?)
+    } else {
+        None
+    };
+    let (cal, rec, factor) = if let Some(f) = &fitted {
+        check_plausible(&f.calibration, &f.reconstruction)?;
+        (
+            f.calibration.clone(),
+            f.reconstruction.clone(),
+            f.meters_per_camera_height(scene)?,
+        )
+    } else {
+        let (cal, rec) = reconstruct_scene(scene, options.method)?;
+        let factor = meters_per_camera_height(scene, &cal, &rec)?;
+        (cal, rec, factor)
+    };
     let (k, units) = match factor {
         Some(f) => (f, Units::Meters),
         None => (1.0, Units::CameraHeights),
@@ -515,6 +685,7 @@ pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
             },
             centroid,
             area: poly.unsigned_area(),
+            uncertainty: None,
         });
         footprints.push(fp);
     }
@@ -552,6 +723,28 @@ pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
     .map(|x| x.atan2(d0).to_degrees());
     let o = cal.principal_point_px();
     let view = view_on_floor(&cal, scene.image, k, 0.75 * reach.max(3.0 * k));
+    let mut warnings = cal.warnings.clone();
+    let mut camera_uncertainty = None;
+    let mut fit_report = None;
+    if let Some(f) = &fitted {
+        let fit_options = FitOptions {
+            click_sigma_px: options.click_sigma_px,
+        };
+        let u = f.uncertainty(scene, &fit_options)?;
+        warnings.extend(fit_warnings(scene, f, &u));
+        for (o, ou) in objects.iter_mut().zip(&u.objects) {
+            o.uncertainty = Some(ou.clone());
+        }
+        camera_uncertainty = Some(u.camera);
+        fit_report = Some(FitReport {
+            click_sigma_px: u.click_sigma_px,
+            click_sigma_source: u.click_sigma_source.to_owned(),
+            rms_residual_px: f.rms_residual_px,
+            degrees_of_freedom: f.degrees_of_freedom,
+            iterations: f.iterations,
+            principal_point_fitted: f.principal_point_fitted,
+        });
+    }
     Ok(FloorMap {
         version: 1,
         units,
@@ -572,6 +765,7 @@ pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
             position: [0.0, 0.0, k],
             image: scene.image,
             vanishing_points: cal.vanishing_points_px.iter().map(|v| [v.x, v.y]).collect(),
+            uncertainty: camera_uncertainty,
             horizontal_fov_deg: fov,
             view_on_floor: view,
         },
@@ -579,7 +773,8 @@ pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
         floor: floor.iter().map(|p| [p.x, p.y]).collect(),
         free_space: free,
         hidden,
-        warnings: cal.warnings.clone(),
+        warnings,
+        fit: fit_report,
     })
 }
 

@@ -20,6 +20,9 @@ pub enum Method {
     Sideview,
     /// The camera-matrix form: each pixel's ray meets the floor plane.
     Projective,
+    /// The joint maximum-likelihood fit of the camera and every object to all clicked points
+    /// and vanishing-point segments ([`crate::fit`]).
+    Fit,
 }
 
 impl std::fmt::Display for Method {
@@ -27,6 +30,7 @@ impl std::fmt::Display for Method {
         f.write_str(match self {
             Self::Sideview => "sideview",
             Self::Projective => "projective",
+            Self::Fit => "fit",
         })
     }
 }
@@ -37,8 +41,9 @@ impl std::str::FromStr for Method {
         match s {
             "sideview" => Ok(Self::Sideview),
             "projective" => Ok(Self::Projective),
+            "fit" => Ok(Self::Fit),
             other => Err(format!(
-                "unknown method \"{other}\"; use sideview or projective"
+                "unknown method \"{other}\"; use fit, sideview or projective"
             )),
         }
     }
@@ -156,16 +161,16 @@ pub fn reconstruct(
     let mut objects = Vec::with_capacity(scene.objects.len());
     for (i, obj) in scene.objects.iter().enumerate() {
         let field = format!("objects[{i}]");
-        let (kind, footprint, height) = match obj.shape(i)? {
-            ObjectShape::Box {
-                base,
-                top_near,
-                top_left,
-            } => {
-                let corners = projection.box_footprint(&field, base.near, base.right, base.left)?;
+        let shape = obj.shape(i)?;
+        let (kind, footprint, height) = match shape {
+            ObjectShape::Box { .. } => {
+                let Some(b) = shape.thesis_box(i, &obj.name, &method.to_string())? else {
+                    continue;
+                };
+                let corners = projection.box_footprint(&field, b.near, b.right, b.left)?;
                 let mut estimates = Vec::new();
                 for (name, base_px, top) in
-                    [("near", base.near, top_near), ("left", base.left, top_left)]
+                    [("near", b.near, b.top_near), ("left", b.left, b.top_left)]
                 {
                     let Some(t) = top else { continue };
                     let top_field = format!("{field}.top.{name}");

@@ -50,30 +50,213 @@ pub struct VanishingPointSpec {
     pub lines: Vec<[f64; 4]>,
 }
 
-/// The visible base corners of a box (the thesis's p, q, r).
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct BoxBase {
-    /// The base corner nearest the camera (p).
-    pub near: PixelPoint,
-    /// The base corner at the right end of the visible bottom edges (q).
-    pub right: PixelPoint,
-    /// The base corner at the left end of the visible bottom edges (r).
-    pub left: PixelPoint,
+/// One corner of a box, named by its place as the camera sees it.
+///
+/// Two naming schemes, one per box (they describe the same eight corners of a box seen two
+/// ways):
+///
+/// * **corner view** (the thesis's): the vertical edge nearest the camera is `near`, its
+///   neighbours at the image-right and image-left ends of the visible faces are `right` and
+///   `left`, the hidden one is `far`;
+/// * **face view** (a box seen nearly face-on): the face towards the camera has `front_left`
+///   and `front_right`, the face away from it `back_left` and `back_right`.
+///
+/// Each name is a vertical edge; with `base` or `top` it is a corner. In both schemes the
+/// corners sit at `(i, j)` in `{0, 1}^2` on the box's two floor axes
+/// ([`BoxCorner::grid_index`]): `near`/`front_left` `(0, 0)`, `right`/`front_right` `(1, 0)`,
+/// `left`/`back_left` `(0, 1)`, `far`/`back_right` `(1, 1)`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub enum BoxCorner {
+    /// Corner view: the vertical edge nearest the camera (the thesis's p, v).
+    Near,
+    /// Corner view: the edge at the image-right end of the visible faces (q).
+    Right,
+    /// Corner view: the edge at the image-left end of the visible faces (r, s).
+    Left,
+    /// Corner view: the hidden edge opposite `near`.
+    Far,
+    /// Face view: the left edge of the face towards the camera.
+    FrontLeft,
+    /// Face view: the right edge of the face towards the camera.
+    FrontRight,
+    /// Face view: the left edge of the face away from the camera.
+    BackLeft,
+    /// Face view: the right edge of the face away from the camera.
+    BackRight,
 }
+
+/// Which naming scheme a box's corners use ([`BoxCorner`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum BoxView {
+    /// `near`, `right`, `left`, `far`: a box seen across one of its vertical edges.
+    Corner,
+    /// `front_left`, `front_right`, `back_left`, `back_right`: a box seen face-on.
+    Face,
+}
+
+impl BoxCorner {
+    /// Every corner name, corner view first.
+    pub const ALL: [BoxCorner; 8] = [
+        Self::Near,
+        Self::Right,
+        Self::Left,
+        Self::Far,
+        Self::FrontLeft,
+        Self::FrontRight,
+        Self::BackLeft,
+        Self::BackRight,
+    ];
+
+    /// The scene file's spelling.
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Near => "near",
+            Self::Right => "right",
+            Self::Left => "left",
+            Self::Far => "far",
+            Self::FrontLeft => "front_left",
+            Self::FrontRight => "front_right",
+            Self::BackLeft => "back_left",
+            Self::BackRight => "back_right",
+        }
+    }
+
+    /// The naming scheme the corner belongs to.
+    #[must_use]
+    pub fn view(self) -> BoxView {
+        match self {
+            Self::Near | Self::Right | Self::Left | Self::Far => BoxView::Corner,
+            _ => BoxView::Face,
+        }
+    }
+
+    /// The corner's place `(i, j)` on the box's two floor axes: the corner stands at
+    /// `origin + i * a * e1 + j * b * e2` for side lengths `a`, `b` along unit axes `e1`, `e2`.
+    #[must_use]
+    pub fn grid_index(self) -> (u8, u8) {
+        match self {
+            Self::Near | Self::FrontLeft => (0, 0),
+            Self::Right | Self::FrontRight => (1, 0),
+            Self::Left | Self::BackLeft => (0, 1),
+            Self::Far | Self::BackRight => (1, 1),
+        }
+    }
+
+    /// The corner of `view` at grid place `(i, j)`.
+    #[must_use]
+    pub fn at(view: BoxView, i: u8, j: u8) -> Self {
+        match (view, i, j) {
+            (BoxView::Corner, 0, 0) => Self::Near,
+            (BoxView::Corner, 1, 0) => Self::Right,
+            (BoxView::Corner, 0, _) => Self::Left,
+            (BoxView::Corner, _, _) => Self::Far,
+            (BoxView::Face, 0, 0) => Self::FrontLeft,
+            (BoxView::Face, 1, 0) => Self::FrontRight,
+            (BoxView::Face, 0, _) => Self::BackLeft,
+            (BoxView::Face, _, _) => Self::BackRight,
+        }
+    }
+}
+
+/// Corners of a box in one horizontal plane (its base or its top), each optional: give the
+/// ones you can see. A box uses one naming scheme ([`BoxCorner`]).
+#[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
+pub struct BoxCorners {
+    /// Corner view: nearest the camera (the thesis's p).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub near: Option<PixelPoint>,
+    /// Corner view: at the image-right end of the visible faces (q).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub right: Option<PixelPoint>,
+    /// Corner view: at the image-left end of the visible faces (r).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub left: Option<PixelPoint>,
+    /// Corner view: opposite `near` (usually hidden).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub far: Option<PixelPoint>,
+    /// Face view: left corner of the face towards the camera.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub front_left: Option<PixelPoint>,
+    /// Face view: right corner of the face towards the camera.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub front_right: Option<PixelPoint>,
+    /// Face view: left corner of the face away from the camera.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub back_left: Option<PixelPoint>,
+    /// Face view: right corner of the face away from the camera.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub back_right: Option<PixelPoint>,
+}
+
+impl BoxCorners {
+    /// The point given for a corner, if any.
+    #[must_use]
+    pub fn get(&self, corner: BoxCorner) -> Option<PixelPoint> {
+        match corner {
+            BoxCorner::Near => self.near,
+            BoxCorner::Right => self.right,
+            BoxCorner::Left => self.left,
+            BoxCorner::Far => self.far,
+            BoxCorner::FrontLeft => self.front_left,
+            BoxCorner::FrontRight => self.front_right,
+            BoxCorner::BackLeft => self.back_left,
+            BoxCorner::BackRight => self.back_right,
+        }
+    }
+
+    /// A mutable handle on a corner's point.
+    pub fn get_mut(&mut self, corner: BoxCorner) -> &mut Option<PixelPoint> {
+        match corner {
+            BoxCorner::Near => &mut self.near,
+            BoxCorner::Right => &mut self.right,
+            BoxCorner::Left => &mut self.left,
+            BoxCorner::Far => &mut self.far,
+            BoxCorner::FrontLeft => &mut self.front_left,
+            BoxCorner::FrontRight => &mut self.front_right,
+            BoxCorner::BackLeft => &mut self.back_left,
+            BoxCorner::BackRight => &mut self.back_right,
+        }
+    }
+
+    /// The given corners with their points, in [`BoxCorner::ALL`] order.
+    pub fn given(&self) -> impl Iterator<Item = (BoxCorner, PixelPoint)> + '_ {
+        BoxCorner::ALL
+            .into_iter()
+            .filter_map(|c| self.get(c).map(|p| (c, p)))
+    }
+
+    /// Every point, mutably (for noise models).
+    pub fn points_mut(&mut self) -> impl Iterator<Item = &mut PixelPoint> {
+        [
+            &mut self.near,
+            &mut self.right,
+            &mut self.left,
+            &mut self.far,
+            &mut self.front_left,
+            &mut self.front_right,
+            &mut self.back_left,
+            &mut self.back_right,
+        ]
+        .into_iter()
+        .flatten()
+    }
+}
+
+/// The older name of [`BoxCorners`] (a box's base corners).
+pub type BoxBase = BoxCorners;
 
 /// The top annotation of an object.
 ///
-/// A box gives `near` (the thesis's v, above the near base corner) and optionally `left`
-/// (s, above the left base corner). A footprint object gives `above` (index of the footprint
-/// vertex under the top point) and `point`.
+/// A box gives any of its top corners by the names of [`BoxCorners`] (the thesis's v is
+/// `near`, s is `left`). A footprint object gives `above` (index of the footprint vertex under
+/// the top point) and `point`.
 #[derive(Debug, Clone, Copy, PartialEq, Default, Serialize, Deserialize)]
 pub struct TopSpec {
-    /// Box: top corner above the near base corner.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub near: Option<PixelPoint>,
-    /// Box: top corner above the left base corner.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub left: Option<PixelPoint>,
+    /// Box: the top corners, by the names of [`BoxCorners`].
+    #[serde(flatten)]
+    pub corners: BoxCorners,
     /// Footprint object: index of the footprint vertex below `point`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub above: Option<usize>,
@@ -87,15 +270,19 @@ pub struct TopSpec {
 pub struct ObjectSpec {
     /// A name, unique in the scene.
     pub name: String,
-    /// Box objects: the three visible base corners.
+    /// Box objects: the visible base corners.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub base: Option<BoxBase>,
+    pub base: Option<BoxCorners>,
     /// Footprint objects: the visible base polygon, in order.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub footprint: Option<Vec<PixelPoint>>,
     /// The top annotation (optional: without it the object has no height).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub top: Option<TopSpec>,
+    /// Box objects: the box is turned on the floor by its own angle rather than lined up with
+    /// the room's two horizontal directions (the fit then estimates its yaw).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub own_yaw: bool,
 }
 
 /// Which dimension of an object a known length refers to.
@@ -130,9 +317,14 @@ pub struct ScaleSpec {
     /// Name of the object whose dimension is known.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub object: Option<String>,
-    /// Which dimension of `object` is known.
+    /// Which dimension of `object` is known (legacy: `length`/`breadth` mean the longer and
+    /// shorter side of the reconstruction; prefer `edge`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub dimension: Option<Dimension>,
+    /// The box edge of `object` whose length is known, by its two corners, e.g.
+    /// `["base.near", "base.right"]` or `["base.left", "top.left"]` (a vertical edge).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub edge: Option<[String; 2]>,
     /// The known dimension of `object`, metres.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub meters: Option<f64>,
@@ -155,8 +347,59 @@ pub enum Scale {
         /// Its length, metres.
         meters: f64,
     },
+    /// The length of one edge of a named box is known.
+    Edge {
+        /// The object's name.
+        name: String,
+        /// The edge's two corners.
+        ends: [BoxPoint; 2],
+        /// Its length, metres.
+        meters: f64,
+    },
     /// The floor distance between two image points is known.
     FloorDistance(FloorDistance),
+}
+
+/// One corner of a box: a vertical edge ([`BoxCorner`]) at the base or at the top, spelt
+/// `base.near`, `top.front_left`, ...
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct BoxPoint {
+    /// Which vertical edge.
+    pub corner: BoxCorner,
+    /// At the top (else at the base).
+    pub top: bool,
+}
+
+impl BoxPoint {
+    /// Parse `base.<corner>` or `top.<corner>`.
+    #[must_use]
+    pub fn parse(text: &str) -> Option<Self> {
+        let (level, name) = text.split_once('.')?;
+        let top = match level {
+            "base" => false,
+            "top" => true,
+            _ => return None,
+        };
+        let corner = BoxCorner::ALL.into_iter().find(|c| c.name() == name)?;
+        Some(Self { corner, top })
+    }
+
+    /// The scene file's spelling, e.g. `base.near`.
+    #[must_use]
+    pub fn name(self) -> String {
+        format!(
+            "{}.{}",
+            if self.top { "top" } else { "base" },
+            self.corner.name()
+        )
+    }
+
+    /// Place `(i, j, k)` on the box: [`BoxCorner::grid_index`] and `k = 1` at the top.
+    #[must_use]
+    pub fn grid_index(self) -> (u8, u8, u8) {
+        let (i, j) = self.corner.grid_index();
+        (i, j, u8::from(self.top))
+    }
 }
 
 /// A scene file, version 1.
@@ -189,14 +432,16 @@ pub struct Scene {
 /// The kind of an object, after validation.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub enum ObjectShape<'a> {
-    /// A box: base corners and top corners (near, optional left).
+    /// A box: the corners given, in one naming scheme.
     Box {
-        /// Base corners.
-        base: &'a BoxBase,
-        /// Top corner above `base.near`.
-        top_near: Option<PixelPoint>,
-        /// Top corner above `base.left`.
-        top_left: Option<PixelPoint>,
+        /// The naming scheme of the corners given.
+        view: BoxView,
+        /// Base corners given.
+        base: &'a BoxCorners,
+        /// Top corners given (all `None` without a top).
+        top: BoxCorners,
+        /// Whether the box has its own yaw rather than the room's directions.
+        own_yaw: bool,
     },
     /// A footprint polygon with an optional top point above one vertex.
     Footprint {
@@ -205,6 +450,98 @@ pub enum ObjectShape<'a> {
         /// `(vertex index, top point)`.
         top: Option<(usize, PixelPoint)>,
     },
+}
+
+/// A box in the thesis's annotation: base corners near, right, left (p, q, r) and optional
+/// top corners above near (v) and left (s). What the side-view and projective methods read.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ThesisBox {
+    /// Base corner nearest the camera (p).
+    pub near: PixelPoint,
+    /// Base corner at the image-right end (q).
+    pub right: PixelPoint,
+    /// Base corner at the image-left end (r).
+    pub left: PixelPoint,
+    /// Top corner above `near` (v).
+    pub top_near: Option<PixelPoint>,
+    /// Top corner above `left` (s).
+    pub top_left: Option<PixelPoint>,
+}
+
+impl ObjectShape<'_> {
+    /// The box in the thesis's annotation, for the side-view and projective methods.
+    ///
+    /// # Errors
+    /// [`MetrologyError::InvalidField`] naming what is missing or extra when the box is not
+    /// annotated as those methods need (base near, right and left; tops only above near and
+    /// left, near first).
+    pub fn thesis_box(&self, index: usize, name: &str, method: &str) -> Result<Option<ThesisBox>> {
+        let ObjectShape::Box {
+            view, base, top, ..
+        } = self
+        else {
+            return Ok(None);
+        };
+        let field = format!("objects[{index}]");
+        let advice = "the default method (fit) reads any corners that fix the box";
+        if *view == BoxView::Face {
+            return Err(MetrologyError::InvalidField {
+                field,
+                reason: format!(
+                    "object {name:?} is annotated face-on (front_left, ...); the {method} method needs the corner view's base.near, base.right and base.left: {advice}"
+                ),
+            });
+        }
+        let (Some(near), Some(right), Some(left)) = (base.near, base.right, base.left) else {
+            let missing: Vec<&str> = [
+                ("near", base.near),
+                ("right", base.right),
+                ("left", base.left),
+            ]
+            .iter()
+            .filter(|(_, p)| p.is_none())
+            .map(|(n, _)| *n)
+            .collect();
+            return Err(MetrologyError::InvalidField {
+                field: format!("{field}.base"),
+                reason: format!(
+                    "object {name:?} lacks base.{}; the {method} method needs base.near, base.right and base.left: {advice}",
+                    missing.join(" and base.")
+                ),
+            });
+        };
+        let extra: Vec<String> = base
+            .far
+            .map(|_| "base.far".to_owned())
+            .into_iter()
+            .chain(top.right.map(|_| "top.right".to_owned()))
+            .chain(top.far.map(|_| "top.far".to_owned()))
+            .collect();
+        if !extra.is_empty() {
+            return Err(MetrologyError::InvalidField {
+                field: field.clone(),
+                reason: format!(
+                    "object {name:?} gives {}, which the {method} method does not read: {advice}",
+                    extra.join(" and ")
+                ),
+            });
+        }
+        if top.near.is_none() && top.left.is_some() {
+            return Err(MetrologyError::InvalidField {
+                field: format!("{field}.top"),
+                reason: format!(
+                    "object {name:?} gives `top.left` without `top.near`, which the {method} method needs: {advice}"
+                ),
+            });
+        }
+        Ok(Some(ThesisBox {
+            near,
+            right,
+            left,
+            top_near: top.near,
+            top_left: top.left,
+        }))
+    }
 }
 
 /// Largest magnitude of an annotated image coordinate, pixels: points are clicked in (or near)
@@ -265,6 +602,99 @@ fn check_length_m(field: &str, v: f64) -> Result<()> {
     Ok(())
 }
 
+/// The box's corners checked: one naming scheme, at least one base corner, and corners at
+/// both ends of each floor axis (else the box's extent along it is not fixed).
+fn box_shape<'a>(
+    field: &str,
+    name: &str,
+    base: &'a BoxCorners,
+    top: TopSpec,
+    own_yaw: bool,
+) -> Result<ObjectShape<'a>> {
+    if top.above.is_some() || top.point.is_some() {
+        return Err(MetrologyError::InvalidField {
+            field: format!("{field}.top"),
+            reason: format!(
+                "object {name:?} is a box (it has `base`): give top corners by name (e.g. `top.near`), not `above`/`point`"
+            ),
+        });
+    }
+    let given: Vec<(bool, BoxCorner)> = base
+        .given()
+        .map(|(c, _)| (false, c))
+        .chain(top.corners.given().map(|(c, _)| (true, c)))
+        .collect();
+    let Some(&(_, first)) = given.first() else {
+        return Err(MetrologyError::InvalidField {
+            field: format!("{field}.base"),
+            reason: format!(
+                "object {name:?} gives no corners: click the base corners you can see (e.g. `base.near`, `base.right`, `base.left`)"
+            ),
+        });
+    };
+    let view = first.view();
+    if let Some(&(on_top, other)) = given.iter().find(|(_, c)| c.view() != view) {
+        return Err(MetrologyError::InvalidField {
+            field: format!(
+                "{field}.{}.{}",
+                if on_top { "top" } else { "base" },
+                other.name()
+            ),
+            reason: format!(
+                "object {name:?} mixes the corner view (near, right, left, far) with the face view (front_left, front_right, back_left, back_right): `{}` and `{}`; name every corner of one box in one view",
+                first.name(),
+                other.name()
+            ),
+        });
+    }
+    if base.given().next().is_none() {
+        let (_, c) = given[0];
+        return Err(MetrologyError::InvalidField {
+            field: format!("{field}.base"),
+            reason: format!(
+                "object {name:?} gives only top corners, which do not fix how tall it is: add at least one base corner (e.g. `base.{}`, below `top.{}`)",
+                c.name(),
+                c.name()
+            ),
+        });
+    }
+    for axis in 0..2 {
+        let ends = |v: u8| {
+            given.iter().any(|(_, c)| {
+                let (i, j) = c.grid_index();
+                (if axis == 0 { i } else { j }) == v
+            })
+        };
+        if !(ends(0) && ends(1)) {
+            // Suggest the corner beside the first given one across this axis.
+            let (i, j) = first.grid_index();
+            let (ai, aj) = if axis == 0 { (1 - i, j) } else { (i, 1 - j) };
+            let add = BoxCorner::at(view, ai, aj);
+            return Err(MetrologyError::InvalidField {
+                field: format!("{field}.base"),
+                reason: format!(
+                    "the corners of object {name:?} ({}) do not fix its extent from `{}` towards `{}`: add `base.{}` (or `top.{}`)",
+                    given
+                        .iter()
+                        .map(|(t, c)| format!("{}.{}", if *t { "top" } else { "base" }, c.name()))
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                    first.name(),
+                    add.name(),
+                    add.name(),
+                    add.name()
+                ),
+            });
+        }
+    }
+    Ok(ObjectShape::Box {
+        view,
+        base,
+        top: top.corners,
+        own_yaw,
+    })
+}
+
 impl ObjectSpec {
     /// The object's shape, or an error naming what is missing.
     ///
@@ -275,31 +705,7 @@ impl ObjectSpec {
         let field = format!("objects[{index}]");
         let top = self.top.unwrap_or_default();
         match (&self.base, &self.footprint) {
-            (Some(base), None) => {
-                if top.above.is_some() || top.point.is_some() {
-                    return Err(MetrologyError::InvalidField {
-                        field: format!("{field}.top"),
-                        reason: format!(
-                            "object {:?} is a box (it has `base`): give `top.near` (and optionally `top.left`), not `above`/`point`",
-                            self.name
-                        ),
-                    });
-                }
-                if top.near.is_none() && top.left.is_some() {
-                    return Err(MetrologyError::InvalidField {
-                        field: format!("{field}.top"),
-                        reason: format!(
-                            "object {:?} gives `top.left` without `top.near`",
-                            self.name
-                        ),
-                    });
-                }
-                Ok(ObjectShape::Box {
-                    base,
-                    top_near: top.near,
-                    top_left: top.left,
-                })
-            }
+            (Some(base), None) => box_shape(&field, &self.name, base, top, self.own_yaw),
             (None, Some(polygon)) => {
                 if polygon.len() < 3 {
                     return Err(MetrologyError::InvalidField {
@@ -311,11 +717,20 @@ impl ObjectSpec {
                         ),
                     });
                 }
-                if top.near.is_some() || top.left.is_some() {
+                if let Some((c, _)) = top.corners.given().next() {
                     return Err(MetrologyError::InvalidField {
-                        field: format!("{field}.top"),
+                        field: format!("{field}.top.{}", c.name()),
                         reason: format!(
-                            "object {:?} has a `footprint`: give `top.above` and `top.point`, not `near`/`left`",
+                            "object {:?} has a `footprint`: give `top.above` and `top.point`, not box corners",
+                            self.name
+                        ),
+                    });
+                }
+                if self.own_yaw {
+                    return Err(MetrologyError::InvalidField {
+                        field: format!("{field}.own_yaw"),
+                        reason: format!(
+                            "object {:?} has a `footprint`, whose vertices are free: `own_yaw` is for boxes",
                             self.name
                         ),
                     });
@@ -385,11 +800,12 @@ pub fn unknown_fields(value: &serde_json::Value) -> Vec<String> {
         "scale",
         "perspective",
     ];
-    const OBJECT: [&str; 4] = ["name", "base", "footprint", "top"];
-    const SCALE: [&str; 5] = [
+    const OBJECT: [&str; 5] = ["name", "base", "footprint", "top", "own_yaw"];
+    const SCALE: [&str; 6] = [
         "camera_height_m",
         "object",
         "dimension",
+        "edge",
         "meters",
         "floor_distance",
     ];
@@ -409,6 +825,19 @@ pub fn unknown_fields(value: &serde_json::Value) -> Vec<String> {
                         .filter(|k| !OBJECT.contains(&k.as_str()))
                         .map(|k| format!("objects[{i}].{k:?}")),
                 );
+                for (part, extra) in [("base", &[][..]), ("top", &["above", "point"][..])] {
+                    if let Some(corners) = o.get(part).and_then(serde_json::Value::as_object) {
+                        out.extend(
+                            corners
+                                .keys()
+                                .filter(|k| {
+                                    !BoxCorner::ALL.iter().any(|c| c.name() == k.as_str())
+                                        && !extra.contains(&k.as_str())
+                                })
+                                .map(|k| format!("objects[{i}].{part}.{k:?}")),
+                        );
+                    }
+                }
             }
         }
     }
@@ -512,19 +941,12 @@ impl Scene {
             }
             let field = format!("objects[{i}]");
             match obj.shape(i)? {
-                ObjectShape::Box {
-                    base,
-                    top_near,
-                    top_left,
-                } => {
-                    check_point(&format!("{field}.base.near"), base.near)?;
-                    check_point(&format!("{field}.base.right"), base.right)?;
-                    check_point(&format!("{field}.base.left"), base.left)?;
-                    if let Some(p) = top_near {
-                        check_point(&format!("{field}.top.near"), p)?;
+                ObjectShape::Box { base, top, .. } => {
+                    for (c, p) in base.given() {
+                        check_point(&format!("{field}.base.{}", c.name()), p)?;
                     }
-                    if let Some(p) = top_left {
-                        check_point(&format!("{field}.top.left"), p)?;
+                    for (c, p) in top.given() {
+                        check_point(&format!("{field}.top.{}", c.name()), p)?;
                     }
                 }
                 ObjectShape::Footprint { polygon, top } => {
@@ -584,20 +1006,7 @@ impl Scene {
             return Ok(Some(Scale::FloorDistance(fd)));
         }
         let name = s.object.clone().unwrap_or_default();
-        let Some(dimension) = s.dimension else {
-            return Err(MetrologyError::InvalidField {
-                field: "scale.dimension".to_owned(),
-                reason: "missing: give \"length\", \"breadth\" or \"height\"".to_owned(),
-            });
-        };
-        let Some(meters) = s.meters else {
-            return Err(MetrologyError::InvalidField {
-                field: "scale.meters".to_owned(),
-                reason: "missing: the known length in metres".to_owned(),
-            });
-        };
-        check_length_m("scale.meters", meters)?;
-        if !self.objects.iter().any(|o| o.name == name) {
+        let Some(index) = self.objects.iter().position(|o| o.name == name) else {
             return Err(MetrologyError::UnknownScaleObject {
                 name,
                 known: self
@@ -607,7 +1016,81 @@ impl Scene {
                     .collect::<Vec<_>>()
                     .join(", "),
             });
+        };
+        if let Some(edge) = &s.edge {
+            if s.dimension.is_some() {
+                return Err(MetrologyError::InvalidField {
+                    field: "scale".to_owned(),
+                    reason: "give `edge` or `dimension`, not both".to_owned(),
+                });
+            }
+            let Some(meters) = s.meters else {
+                return Err(MetrologyError::InvalidField {
+                    field: "scale.meters".to_owned(),
+                    reason: "missing: the known length in metres".to_owned(),
+                });
+            };
+            check_length_m("scale.meters", meters)?;
+            let mut ends = [BoxPoint {
+                corner: BoxCorner::Near,
+                top: false,
+            }; 2];
+            for (k, text) in edge.iter().enumerate() {
+                ends[k] = BoxPoint::parse(text).ok_or_else(|| MetrologyError::InvalidField {
+                    field: format!("scale.edge[{k}]"),
+                    reason: format!(
+                        "{text:?} is not a box corner: write `base.` or `top.` and a corner name (near, right, left, far, front_left, front_right, back_left, back_right)"
+                    ),
+                })?;
+            }
+            let view = match self.objects[index].shape(index)? {
+                ObjectShape::Box { view, .. } => view,
+                ObjectShape::Footprint { .. } => {
+                    return Err(MetrologyError::InvalidField {
+                        field: "scale.edge".to_owned(),
+                        reason: format!(
+                            "object {name:?} is a footprint, not a box: use `dimension: \"height\"` or `floor_distance`"
+                        ),
+                    });
+                }
+            };
+            if let Some(p) = ends.iter().find(|p| p.corner.view() != view) {
+                return Err(MetrologyError::InvalidField {
+                    field: "scale.edge".to_owned(),
+                    reason: format!(
+                        "`{}` is named in the other view than object {name:?}'s corners",
+                        p.name()
+                    ),
+                });
+            }
+            let (a, b) = (ends[0].grid_index(), ends[1].grid_index());
+            let differ =
+                usize::from(a.0 != b.0) + usize::from(a.1 != b.1) + usize::from(a.2 != b.2);
+            if differ != 1 {
+                return Err(MetrologyError::InvalidField {
+                    field: "scale.edge".to_owned(),
+                    reason: format!(
+                        "`{}` and `{}` are not the two ends of one edge of the box",
+                        ends[0].name(),
+                        ends[1].name()
+                    ),
+                });
+            }
+            return Ok(Some(Scale::Edge { name, ends, meters }));
         }
+        let Some(dimension) = s.dimension else {
+            return Err(MetrologyError::InvalidField {
+                field: "scale.dimension".to_owned(),
+                reason: "missing: give `edge` (e.g. [\"base.near\", \"base.right\"]) or `dimension` (\"length\", \"breadth\" or \"height\")".to_owned(),
+            });
+        };
+        let Some(meters) = s.meters else {
+            return Err(MetrologyError::InvalidField {
+                field: "scale.meters".to_owned(),
+                reason: "missing: the known length in metres".to_owned(),
+            });
+        };
+        check_length_m("scale.meters", meters)?;
         Ok(Some(Scale::Object {
             name,
             dimension,

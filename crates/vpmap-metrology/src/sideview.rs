@@ -45,7 +45,7 @@ impl<'a> SideView<'a> {
         let mut candidates: Vec<Vector2<f64>> = Vec::new();
         for (i, obj) in scene.objects.iter().enumerate() {
             match obj.shape(i) {
-                Ok(ObjectShape::Box { base, .. }) => candidates.push(px(base.near)),
+                Ok(ObjectShape::Box { base, .. }) => candidates.extend(base.near.map(px)),
                 Ok(ObjectShape::Footprint { polygon, .. }) => {
                     candidates.extend(polygon.iter().map(|p| px(*p)));
                 }

@@ -20,7 +20,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::error::{MetrologyError, Result};
 use crate::scene::{
-    BoxBase, ImageSize, ObjectSpec, PixelPoint, ScaleSpec, Scene, TopSpec, VanishingPointSpec,
+    BoxCorner, BoxCorners, ImageSize, ObjectSpec, PixelPoint, ScaleSpec, Scene, TopSpec,
+    VanishingPointSpec,
 };
 
 /// A pinhole camera above a flat floor.
@@ -304,18 +305,23 @@ pub fn render_scene(
         let far = (near + 2) % 4;
         objects.push(ObjectSpec {
             name: b.name.clone(),
-            base: Some(BoxBase {
-                near: arr(camera.project(floor3(c[near]))?),
-                right: arr(camera.project(floor3(c[right]))?),
-                left: arr(camera.project(floor3(c[left]))?),
+            base: Some(BoxCorners {
+                near: Some(arr(camera.project(floor3(c[near]))?)),
+                right: Some(arr(camera.project(floor3(c[right]))?)),
+                left: Some(arr(camera.project(floor3(c[left]))?)),
+                ..BoxCorners::default()
             }),
             footprint: None,
             top: Some(TopSpec {
-                near: Some(arr(camera.project(up(c[near], b.height_m))?)),
-                left: Some(arr(camera.project(up(c[left], b.height_m))?)),
+                corners: BoxCorners {
+                    near: Some(arr(camera.project(up(c[near], b.height_m))?)),
+                    left: Some(arr(camera.project(up(c[left], b.height_m))?)),
+                    ..BoxCorners::default()
+                },
                 above: None,
                 point: None,
             }),
+            own_yaw: false,
         });
         truth_objects.push(TruthObject {
             name: b.name.clone(),
@@ -337,11 +343,11 @@ pub fn render_scene(
             base: None,
             footprint: Some(pts),
             top: Some(TopSpec {
-                near: None,
-                left: None,
+                corners: BoxCorners::default(),
                 above: Some(0),
                 point: Some(arr(camera.project(up(p.footprint[0], p.height_m))?)),
             }),
+            own_yaw: false,
         });
         truth_objects.push(TruthObject {
             name: p.name.clone(),
@@ -407,34 +413,56 @@ pub fn vanishing_points_as_lines(scene: &mut Scene) {
         })
         .collect();
     let seg = |a: PixelPoint, b: PixelPoint| [a[0], a[1], b[0], b[1]];
+    // How far a segment's line misses a vanishing point: the sine of the angle between the
+    // segment and the direction from its first end to the point.
+    let miss = |l: &[f64; 4], v: Vector2<f64>| {
+        let a = Vector2::new(l[2] - l[0], l[3] - l[1]);
+        let b = v - Vector2::new(l[0], l[1]);
+        (a.x * b.y - a.y * b.x).abs() / (a.norm() * b.norm()).max(1e-300)
+    };
     for obj in &scene.objects {
         let Some(base) = obj.base else { continue };
-        let p = Vector2::new(base.near[0], base.near[1]);
-        // Which horizontal VP does near->right run to? The one closer in direction.
-        let dir = |q: PixelPoint, v: Vector2<f64>| {
-            let a = Vector2::new(q[0], q[1]) - p;
-            let b = v - p;
-            (a.x * b.y - a.y * b.x).abs() / (a.norm() * b.norm()).max(1e-300)
-        };
-        let (kr, kl) = if dir(base.right, points[0]) + dir(base.left, points[1])
-            <= dir(base.right, points[1]) + dir(base.left, points[0])
-        {
+        let top = obj.top.map(|t| t.corners).unwrap_or_default();
+        // The box's edges between given corners, by the axis they run along.
+        let mut along: [Vec<[f64; 4]>; 3] = [Vec::new(), Vec::new(), Vec::new()];
+        let levels = [base, top];
+        for (axis, edges) in along.iter_mut().enumerate().take(2) {
+            for corners in &levels {
+                for (c, p) in corners.given() {
+                    let (i, j) = c.grid_index();
+                    if (if axis == 0 { i } else { j }) != 0 {
+                        continue;
+                    }
+                    let other = if axis == 0 {
+                        BoxCorner::at(c.view(), 1, j)
+                    } else {
+                        BoxCorner::at(c.view(), i, 1)
+                    };
+                    if let Some(q) = corners.get(other) {
+                        edges.push(seg(p, q));
+                    }
+                }
+            }
+        }
+        for (c, p) in base.given() {
+            if let Some(q) = top.get(c) {
+                along[2].push(seg(p, q));
+            }
+        }
+        // Which horizontal vanishing point each floor axis runs to: the assignment whose
+        // edges point at them best.
+        let cost =
+            |axis: usize, k: usize| along[axis].iter().map(|l| miss(l, points[k])).sum::<f64>();
+        let (k0, k1) = if cost(0, 0) + cost(1, 1) <= cost(0, 1) + cost(1, 0) {
             (0, 1)
         } else {
             (1, 0)
         };
-        lines[kr].push(seg(base.near, base.right));
-        lines[kl].push(seg(base.near, base.left));
-        if let Some(top) = obj.top {
-            if let Some(tl) = top.left {
-                lines[kl].push(seg(top.near.unwrap_or(base.near), tl));
-                if lines.len() > 2 {
-                    lines[2].push(seg(base.left, tl));
-                }
-            }
-            if let (Some(tn), true) = (top.near, lines.len() > 2) {
-                lines[2].push(seg(base.near, tn));
-            }
+        let [a0, a1, vertical] = along;
+        lines[k0].extend(a0);
+        lines[k1].extend(a1);
+        if lines.len() > 2 {
+            lines[2].extend(vertical);
         }
     }
     for (vp, l) in scene.vanishing_points.iter_mut().zip(lines) {
@@ -654,9 +682,9 @@ pub fn add_noise(scene: &mut Scene, sigma_px: f64, rng: &mut impl Rng) {
     };
     for o in &mut scene.objects {
         if let Some(b) = &mut o.base {
-            jitter(&mut b.near);
-            jitter(&mut b.right);
-            jitter(&mut b.left);
+            for p in b.points_mut() {
+                jitter(p);
+            }
         }
         if let Some(f) = &mut o.footprint {
             for p in f {
@@ -664,10 +692,10 @@ pub fn add_noise(scene: &mut Scene, sigma_px: f64, rng: &mut impl Rng) {
             }
         }
         if let Some(t) = &mut o.top {
-            for p in [&mut t.near, &mut t.left, &mut t.point]
-                .into_iter()
-                .flatten()
-            {
+            for p in t.corners.points_mut() {
+                jitter(p);
+            }
+            if let Some(p) = &mut t.point {
                 jitter(p);
             }
         }

@@ -116,6 +116,7 @@ fn floor_map(scene: &Scene, options: &MapOptions) -> Result<FloorMap, PipelineEr
         scene,
         &BuildOptions {
             method: options.method,
+            click_sigma_px: options.click_sigma_px,
         },
     )
     .map_err(PipelineError::Map)

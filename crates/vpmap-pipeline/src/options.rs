@@ -101,6 +101,9 @@ pub struct MapOptions {
     /// Refuse maps whose occupancy grid would have more cells than this (`None`: no limit;
     /// the grid's own limit, [`vpmap_plan::MAX_CELLS`], still holds).
     pub max_grid_cells: Option<f64>,
+    /// The click noise the fit's error bars are computed for, pixels (`None`: estimated from
+    /// the residuals when the data over-determine the model, else 1 px).
+    pub click_sigma_px: Option<f64>,
 }
 
 impl Default for MapOptions {
@@ -111,6 +114,7 @@ impl Default for MapOptions {
             robot_radius_m: DEFAULT_ROBOT_RADIUS_M,
             hidden_free: false,
             max_grid_cells: None,
+            click_sigma_px: None,
         }
     }
 }

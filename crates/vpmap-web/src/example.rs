@@ -470,7 +470,7 @@ mod tests {
         let scene = Scene::from_json_str(OFFICE_SCENE).unwrap_or_else(|e| panic!("{e}"));
         let truth: Truth = serde_json::from_str(OFFICE_TRUTH).unwrap_or_else(|e| panic!("{e}"));
         let camera = truth.camera.pinhole(scene.image);
-        let base = scene.objects[0].base.as_ref().map(|b| b.near);
+        let base = scene.objects[0].base.as_ref().and_then(|b| b.near);
         let fp = truth.objects[0].footprint[0];
         let p = camera
             .project(Vector3::new(fp[0], fp[1], 0.0))

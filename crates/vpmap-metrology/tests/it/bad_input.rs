@@ -63,7 +63,13 @@ fn non_finite_numbers_are_rejected() {
     assert!(Scene::from_json_str(&text).is_err());
     // Scenes built in code can hold NaN: validation names the field.
     let mut scene = Scene::from_json_str(&base_scene().to_string()).unwrap();
-    scene.objects[0].base.as_mut().unwrap().left[1] = f64::NAN;
+    scene.objects[0]
+        .base
+        .as_mut()
+        .unwrap()
+        .left
+        .as_mut()
+        .unwrap()[1] = f64::NAN;
     let e = scene.validate().unwrap_err().to_string();
     assert!(
         e.contains("objects[0].base.left[1]") && e.contains("NaN"),

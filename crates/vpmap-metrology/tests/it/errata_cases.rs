@@ -60,7 +60,14 @@ fn build(
 
 fn assert_exact(scene: &Scene, truth: &Truth) {
     for method in [Method::Sideview, Method::Projective] {
-        let map = build_map(scene, &BuildOptions { method }).unwrap();
+        let map = build_map(
+            scene,
+            &BuildOptions {
+                method,
+                ..BuildOptions::default()
+            },
+        )
+        .unwrap();
         let err = max_relative_error(&map, truth);
         assert!(err < 1e-9, "{method}: relative error {err:e}");
     }
@@ -89,8 +96,8 @@ fn base_corners_above_and_below_the_principal_point() {
         &[[-2.0, 1.2], [3.0, 1.2], [3.0, 8.0], [-2.0, 8.0]],
         35.0,
     );
-    let near = scene.objects[0].base.unwrap().near;
-    let far = scene.objects[1].base.unwrap().near;
+    let near = scene.objects[0].base.unwrap().near.unwrap();
+    let far = scene.objects[1].base.unwrap().near.unwrap();
     assert!(
         offset_up(&scene, near) < 0.0,
         "near box base must be below O"
@@ -115,7 +122,7 @@ fn top_corner_above_the_horizon() {
     );
     let vps = scene.resolve_vanishing_points().unwrap();
     let cal = Calibration::from_vanishing_points(&vps, None, scene.image).unwrap();
-    let top = scene.objects[1].top.unwrap().near.unwrap();
+    let top = scene.objects[1].top.unwrap().corners.near.unwrap();
     assert!(
         cal.frame.below_horizon_px(Vector2::new(top[0], top[1])) < 0.0,
         "the cupboard's top must lie above the horizon"
@@ -136,7 +143,7 @@ fn top_corner_above_the_horizon_two_point_perspective() {
         &[[-2.0, 1.5], [3.0, 1.5], [3.0, 7.0], [-2.0, 7.0]],
         30.0,
     );
-    let top = scene.objects[1].top.unwrap().near.unwrap();
+    let top = scene.objects[1].top.unwrap().corners.near.unwrap();
     assert!(
         offset_up(&scene, top) > 0.0,
         "the shelf's top must lie above the horizon"
@@ -156,7 +163,7 @@ fn floor_corners_nearer_than_the_reference_object() {
             &[[-1.5, 2.2], [1.6, 2.1], [2.0, 6.0], [-1.8, 6.5]],
             40.0,
         );
-        let base = scene.objects[0].base.unwrap().near;
+        let base = scene.objects[0].base.unwrap().near.unwrap();
         assert!(
             offset_up(&scene, scene.floor[0]) < offset_up(&scene, base),
             "floor corner 0 must be nearer than the reference corner (lower in the image)"

@@ -519,15 +519,19 @@ fn noise_reaches_every_clicked_point_with_the_requested_spread() {
     let mut push = |a: [f64; 2], b: [f64; 2]| offsets.extend([b[0] - a[0], b[1] - a[1]]);
     for (o, n) in scene.objects.iter().zip(&noisy.objects) {
         if let (Some(a), Some(b)) = (o.base, n.base) {
-            push(a.near, b.near);
-            push(a.right, b.right);
-            push(a.left, b.left);
+            for (p, q) in a.given().zip(b.given()) {
+                push(p.1, q.1);
+            }
         }
         if let (Some(a), Some(b)) = (&o.footprint, &n.footprint) {
             a.iter().zip(b).for_each(|(p, q)| push(*p, *q));
         }
         let (a, b) = (o.top.unwrap(), n.top.unwrap());
-        for (p, q) in [(a.near, b.near), (a.left, b.left), (a.point, b.point)] {
+        for (p, q) in [
+            (a.corners.near, b.corners.near),
+            (a.corners.left, b.corners.left),
+            (a.point, b.point),
+        ] {
             if let (Some(p), Some(q)) = (p, q) {
                 push(p, q);
             }

@@ -1,4 +1,4 @@
-//! Thousands of random scenes from the synthetic pinhole camera: both methods must reproduce
+//! Thousands of random scenes from the synthetic pinhole camera: every method must reproduce
 //! the true footprints, floor corners and heights to 1e-9 relative.
 
 use vpmap_metrology::map::{BuildOptions, build_map};
@@ -10,7 +10,7 @@ use crate::{assert_camera_matches, max_relative_error};
 const SCENES: u64 = 1000;
 
 fn check(pitch_deg: f64, roll_deg: f64, seed_base: u64) {
-    let mut worst = [0.0f64; 2];
+    let mut worst = [0.0f64; 3];
     for i in 0..SCENES {
         let seed = seed_base + i;
         let options = SynthOptions {
@@ -35,12 +35,18 @@ fn check(pitch_deg: f64, roll_deg: f64, seed_base: u64) {
         };
         let (scene, truth) = synthesize(&options).unwrap();
         let mut maps = Vec::new();
-        for (k, method) in [Method::Sideview, Method::Projective]
+        for (k, method) in [Method::Sideview, Method::Projective, Method::Fit]
             .into_iter()
             .enumerate()
         {
-            let map = build_map(&scene, &BuildOptions { method })
-                .unwrap_or_else(|e| panic!("seed {seed} {method}: {e}"));
+            let map = build_map(
+                &scene,
+                &BuildOptions {
+                    method,
+                    ..BuildOptions::default()
+                },
+            )
+            .unwrap_or_else(|e| panic!("seed {seed} {method}: {e}"));
             let err = max_relative_error(&map, &truth);
             assert!(
                 err < 1e-9,
@@ -68,8 +74,8 @@ fn check(pitch_deg: f64, roll_deg: f64, seed_base: u64) {
         }
     }
     eprintln!(
-        "pitch {pitch_deg} roll {roll_deg}: worst relative error sideview {:.1e}, projective {:.1e} over {SCENES} scenes",
-        worst[0], worst[1]
+        "pitch {pitch_deg} roll {roll_deg}: worst relative error sideview {:.1e}, projective {:.1e}, fit {:.1e} over {SCENES} scenes",
+        worst[0], worst[1], worst[2]
     );
 }
 
@@ -120,8 +126,15 @@ fn check_few(pitch_deg: f64, roll_deg: f64) {
             ..SynthOptions::default()
         })
         .unwrap();
-        for method in [Method::Sideview, Method::Projective] {
-            let map = build_map(&scene, &BuildOptions { method }).unwrap();
+        for method in [Method::Sideview, Method::Projective, Method::Fit] {
+            let map = build_map(
+                &scene,
+                &BuildOptions {
+                    method,
+                    ..BuildOptions::default()
+                },
+            )
+            .unwrap();
             let err = max_relative_error(&map, &truth);
             assert!(err < 1e-9, "seed {seed} {method}: {err:e}");
         }
@@ -236,8 +249,14 @@ fn noisy_scenes_build_or_fail_with_a_named_field() {
             ..SynthOptions::default()
         })
         .unwrap();
-        for method in [Method::Sideview, Method::Projective] {
-            match build_map(&scene, &BuildOptions { method }) {
+        for method in [Method::Sideview, Method::Projective, Method::Fit] {
+            match build_map(
+                &scene,
+                &BuildOptions {
+                    method,
+                    ..BuildOptions::default()
+                },
+            ) {
                 Ok(map) => {
                     let tilt = map.camera.pitch_deg.to_radians();
                     for p in map

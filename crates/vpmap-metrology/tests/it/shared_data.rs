@@ -45,7 +45,14 @@ fn independent_synthetic_scenes_reconstruct_to_1e_9_m() {
         let truth: Truth = serde_json::from_str(&std::fs::read_to_string(&truth_path).unwrap())
             .unwrap_or_else(|e| panic!("{}: {e}", truth_path.display()));
         for method in [Method::Sideview, Method::Projective] {
-            let map = build_map(&scene, &BuildOptions { method }).unwrap();
+            let map = build_map(
+                &scene,
+                &BuildOptions {
+                    method,
+                    ..BuildOptions::default()
+                },
+            )
+            .unwrap();
             let name = path.file_name().unwrap().to_string_lossy();
             crate::assert_camera_matches(&map, &truth, &format!("{name} {method}"));
             for (m, t) in map.objects.iter().zip(&truth.objects) {

@@ -41,7 +41,7 @@ pub fn map_options(
     let method = match method {
         None => d.method,
         Some(m) => m.parse::<Method>().map_err(|_| {
-            ApiError::bad_request(format!("method is {m:?}; use sideview or projective"))
+            ApiError::bad_request(format!("method is {m:?}; use fit, sideview or projective"))
         })?,
     };
     let options = MapOptions {
@@ -50,6 +50,7 @@ pub fn map_options(
         robot_radius_m: robot_radius.unwrap_or(d.robot_radius_m),
         hidden_free: hidden_free.unwrap_or(d.hidden_free),
         max_grid_cells: Some(MAX_GRID_CELLS),
+        click_sigma_px: d.click_sigma_px,
     };
     options.validate().map_err(pipeline_error)?;
     Ok(options)

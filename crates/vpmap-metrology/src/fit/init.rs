@@ -1,0 +1,391 @@
+//! The fit's starting point: the camera from the vanishing points with the principal point
+//! held (the projective form's calibration, in closed form), and each object by linear least
+//! squares on the rays of its clicks.
+
+use nalgebra::{DMatrix, DVector, Matrix3, Vector2, Vector3};
+
+use super::model::{BoxAxes, Camera, CornerClick, Part, VpEvidence, px};
+use super::solve::Problem;
+use crate::error::{MetrologyError, Result};
+use crate::map::rotation_map_from_camera;
+use crate::scene::{ImageSize, ObjectShape, Scale, Scene};
+
+/// The problem and where to start it.
+pub(crate) struct Built {
+    pub problem: Problem,
+    pub x0: Vec<f64>,
+    pub object_parts: Vec<usize>,
+    pub floor_distance_parts: Option<[usize; 2]>,
+}
+
+/// The least-squares intersection of segments' lines, homogeneous pixel coordinates (may be
+/// at infinity).
+fn homogeneous_vp(lines: &[[f64; 4]], image: ImageSize) -> Vector3<f64> {
+    let c = image.centre();
+    let s = image.diagonal();
+    let mut m = Matrix3::<f64>::zeros();
+    for seg in lines {
+        let a = Vector3::new((seg[0] - c.x) / s, (seg[1] - c.y) / s, 1.0);
+        let b = Vector3::new((seg[2] - c.x) / s, (seg[3] - c.y) / s, 1.0);
+        let l = a.cross(&b);
+        let norm = l.x.hypot(l.y);
+        if norm > f64::EPSILON {
+            let l = l / norm;
+            m += l * l.transpose();
+        }
+    }
+    let eig = m.symmetric_eigen();
+    let k = eig.eigenvalues.imin();
+    let v = eig.eigenvectors.column(k);
+    // Back to pixels: (x, y, w) -> (x s + c w, y s + c w, w).
+    Vector3::new(v.x * s + c.x * v.z, v.y * s + c.y * v.z, v.z)
+}
+
+/// `K^-1 v` for a homogeneous pixel `v`.
+fn camera_direction(v: Vector3<f64>, pp: Vector2<f64>, f: f64) -> Vector3<f64> {
+    Vector3::new((v.x - pp.x * v.z) / f, (v.y - pp.y * v.z) / f, v.z)
+}
+
+/// Focal length from two orthogonal vanishing directions with the principal point known:
+/// `(v1 - o).(v2 - o) + f^2 = 0`.
+fn focal_from_pair(a: Vector3<f64>, b: Vector3<f64>, pp: Vector2<f64>) -> Option<f64> {
+    let (ax, ay) = (a.x - pp.x * a.z, a.y - pp.y * a.z);
+    let (bx, by) = (b.x - pp.x * b.z, b.y - pp.y * b.z);
+    let den = a.z * b.z;
+    if den.abs() < 1e-300 {
+        return None;
+    }
+    let f2 = -(ax * bx + ay * by) / den;
+    (f2 > 0.0 && f2.is_finite()).then(|| f2.sqrt())
+}
+
+/// Camera parameters `[f, pitch, roll, room yaw]` from the vanishing points and a focal
+/// length.
+fn camera_params(vps: &[Vector3<f64>], pp: Vector2<f64>, f: f64) -> Option<[f64; 4]> {
+    let d1 = camera_direction(vps[0], pp, f);
+    let d2 = camera_direction(vps[1], pp, f);
+    let mut up = d1.cross(&d2);
+    if up.norm() < 1e-300 {
+        return None;
+    }
+    up = up.normalize();
+    if up.y > 0.0 {
+        up = -up;
+    }
+    let pitch = (-up.z).clamp(-1.0, 1.0).asin();
+    let roll = up.x.atan2(-up.y);
+    let r = rotation_map_from_camera(pitch, roll);
+    let r = Matrix3::from_fn(|i, j| r[i][j]);
+    let m = r * d1;
+    let yaw = m.y.atan2(m.x);
+    [f, pitch, roll, yaw]
+        .iter()
+        .all(|v| v.is_finite())
+        .then_some([f, pitch, roll, yaw])
+}
+
+/// A box's parameters by linear least squares on its clicks' rays, for one axis assignment
+/// and yaw offset; `None` when the system is rank deficient.
+fn linear_box(
+    cam: &Camera,
+    clicks: &[CornerClick],
+    axes: BoxAxes,
+    has_top: bool,
+    yaw: f64,
+) -> Option<Vec<f64>> {
+    let (e1, e2) = Part::box_axes(cam, axes, yaw);
+    let n = 4 + usize::from(has_top);
+    let mut a = DMatrix::zeros(3 * clicks.len(), n);
+    let mut b = DVector::zeros(3 * clicks.len());
+    for (row, c) in clicks.iter().enumerate() {
+        let r = cam.ray(c.pixel).normalize();
+        let (i, j, k) = (
+            f64::from(c.place.0),
+            f64::from(c.place.1),
+            f64::from(c.place.2),
+        );
+        let rows = [
+            ([0.0, r.z, i * e1.y * r.z, j * e2.y * r.z, -k * r.y], -r.y),
+            ([-r.z, 0.0, -i * e1.x * r.z, -j * e2.x * r.z, k * r.x], r.x),
+            (
+                [
+                    r.y,
+                    -r.x,
+                    i * (e1.x * r.y - e1.y * r.x),
+                    j * (e2.x * r.y - e2.y * r.x),
+                    0.0,
+                ],
+                0.0,
+            ),
+        ];
+        for (q, (coef, rhs)) in rows.iter().enumerate() {
+            for col in 0..n {
+                a[(3 * row + q, col)] = coef[col];
+            }
+            b[3 * row + q] = *rhs;
+        }
+    }
+    let svd = a.svd(true, true);
+    let sv = &svd.singular_values;
+    if sv.min() <= 1e-10 * sv.max() {
+        return None;
+    }
+    let z = svd.solve(&b, 0.0).ok()?;
+    let mut p: Vec<f64> = z.iter().copied().collect();
+    if p.iter().any(|v| !v.is_finite()) {
+        return None;
+    }
+    if yaw != 0.0 {
+        p.push(yaw);
+    }
+    Some(p)
+}
+
+/// The best starting box over the axis assignments (and yaw offsets for a box with its own
+/// yaw), by reprojection error; signs flipped so both sides are positive.
+fn start_box(
+    cam: &Camera,
+    clicks: &[CornerClick],
+    view: crate::scene::BoxView,
+    has_top: bool,
+    own_yaw: bool,
+) -> Option<(Part, Vec<f64>)> {
+    let yaws: Vec<f64> = if own_yaw {
+        (-9..=9).map(|k| f64::from(k) * 5f64.to_radians()).collect()
+    } else {
+        vec![0.0]
+    };
+    let mut best: Option<(f64, Part, Vec<f64>)> = None;
+    for first in 0..2 {
+        for &yaw in &yaws {
+            let mut axes = BoxAxes {
+                first,
+                sign1: 1.0,
+                sign2: 1.0,
+            };
+            let Some(mut p) = linear_box(cam, clicks, axes, has_top, yaw) else {
+                continue;
+            };
+            if own_yaw && p.len() == 4 + usize::from(has_top) {
+                p.push(0.0);
+            }
+            if p[2] < 0.0 {
+                axes.sign1 = -1.0;
+                p[2] = -p[2];
+            }
+            if p[3] < 0.0 {
+                axes.sign2 = -1.0;
+                p[3] = -p[3];
+            }
+            let part = Part::Box {
+                view,
+                clicks: clicks.to_vec(),
+                axes,
+                has_top,
+                own_yaw,
+            };
+            let mut r = vec![0.0; part.residual_count()];
+            if !part.residuals(cam, &p, &mut r) {
+                continue;
+            }
+            let cost: f64 = r.iter().map(|v| v * v).sum();
+            if best.as_ref().is_none_or(|(c, _, _)| cost < *c) {
+                best = Some((cost, part, p));
+            }
+        }
+    }
+    best.map(|(_, part, p)| (part, p))
+}
+
+/// A floor point for a pixel, or a far point along its ray's bearing when it lies on or
+/// above the horizon of the starting camera.
+fn start_floor_point(cam: &Camera, pixel: Vector2<f64>) -> Vector2<f64> {
+    cam.floor_point(pixel).unwrap_or_else(|| {
+        let r = cam.ray(pixel);
+        let h = Vector2::new(r.x, r.y);
+        if h.norm() > 0.0 {
+            h.normalize() * 100.0
+        } else {
+            Vector2::new(0.0, 100.0)
+        }
+    })
+}
+
+/// Height of the vertical over a floor point that the ray through `top` passes closest to.
+fn start_height(cam: &Camera, base: Vector2<f64>, top: Vector2<f64>) -> f64 {
+    let r = cam.ray(top);
+    let c = Vector3::new(0.0, 0.0, 1.0);
+    let horizontal = Vector2::new(r.x, r.y);
+    let t = if horizontal.norm_squared() > 0.0 {
+        base.dot(&horizontal) / horizontal.norm_squared()
+    } else {
+        0.0
+    };
+    (c + r * t).z
+}
+
+/// The object parts, their starting parameters, each scene object's part and the scale's
+/// floor points' parts.
+type StartParts = (Vec<Part>, Vec<f64>, Vec<usize>, Option<[usize; 2]>);
+
+/// The object parts and their starting parameters for one starting camera.
+fn start_parts(scene: &Scene, cam: &Camera) -> Result<StartParts> {
+    let mut parts = Vec::new();
+    let mut params = Vec::new();
+    let mut object_parts = Vec::new();
+    for (i, obj) in scene.objects.iter().enumerate() {
+        object_parts.push(parts.len());
+        match obj.shape(i)? {
+            ObjectShape::Box {
+                view,
+                base,
+                top,
+                own_yaw,
+            } => {
+                let mut clicks = Vec::new();
+                for (level, corners) in [(0u8, base), (1u8, &top)] {
+                    for (c, p) in corners.given() {
+                        let (a, b) = c.grid_index();
+                        clicks.push(CornerClick {
+                            place: (a, b, level),
+                            pixel: px(p),
+                            name: format!(
+                                "{}.{}",
+                                if level == 1 { "top" } else { "base" },
+                                c.name()
+                            ),
+                        });
+                    }
+                }
+                let has_top = top.given().next().is_some();
+                let (part, p) = start_box(cam, &clicks, view, has_top, own_yaw).ok_or_else(|| {
+                    MetrologyError::Degenerate {
+                        field: format!("objects[{i}]"),
+                        reason: format!(
+                            "the clicks of object {:?} do not fit a box in front of the camera: check the corner names (near, right, left, far as seen from the camera) and that the vanishing points belong to the box's edges",
+                            obj.name
+                        ),
+                    }
+                })?;
+                parts.push(part);
+                params.extend(p);
+            }
+            ObjectShape::Footprint { polygon, top } => {
+                let vertices: Vec<Vector2<f64>> = polygon.iter().map(|p| px(*p)).collect();
+                let floor: Vec<Vector2<f64>> = vertices
+                    .iter()
+                    .map(|v| start_floor_point(cam, *v))
+                    .collect();
+                for f in &floor {
+                    params.extend([f.x, f.y]);
+                }
+                if let Some((k, t)) = top {
+                    params.push(start_height(cam, floor[k], px(t)));
+                }
+                parts.push(Part::Footprint {
+                    vertices,
+                    top: top.map(|(k, t)| (k, px(t))),
+                });
+            }
+        }
+    }
+    let mut floor_distance_parts = None;
+    if let Some(Scale::FloorDistance(fd)) = scene.scale()? {
+        let first = parts.len();
+        for p in [fd.from, fd.to] {
+            let f = start_floor_point(cam, px(p));
+            params.extend([f.x, f.y]);
+            parts.push(Part::FloorPoint { pixel: px(p) });
+        }
+        floor_distance_parts = Some([first, first + 1]);
+    }
+    Ok((parts, params, object_parts, floor_distance_parts))
+}
+
+/// Build the problem and its starting point.
+///
+/// # Errors
+/// When an object's clicks fit no box in front of the starting camera, or the scene's
+/// shapes or scale are invalid.
+pub(crate) fn build(scene: &Scene) -> Result<Built> {
+    let vps: Vec<VpEvidence> = scene
+        .vanishing_points
+        .iter()
+        .map(|v| match v.point {
+            _ if v.lines.len() >= 2 => VpEvidence::Lines(v.lines.clone()),
+            Some(p) => VpEvidence::Point(px(p)),
+            None => VpEvidence::Lines(v.lines.clone()),
+        })
+        .collect();
+    let points: Vec<Vector3<f64>> = vps
+        .iter()
+        .map(|e| match e {
+            VpEvidence::Lines(l) => homogeneous_vp(l, scene.image),
+            VpEvidence::Point(p) => Vector3::new(p.x, p.y, 1.0),
+        })
+        .collect();
+    let pp = scene
+        .principal_point
+        .map_or_else(|| scene.image.centre(), px);
+    let mut focals = Vec::new();
+    if let Some(f) = focal_from_pair(points[0], points[1], pp) {
+        focals.push(f);
+    } else {
+        if points.len() == 3 {
+            focals.extend(focal_from_pair(points[0], points[2], pp));
+            focals.extend(focal_from_pair(points[1], points[2], pp));
+        }
+        focals.extend(scene.focal_px);
+        let d = scene.image.diagonal();
+        focals.extend([0.5 * d, 0.8 * d, 1.2 * d, 2.0 * d]);
+    }
+    let mut best: Option<(f64, Built)> = None;
+    let mut first_error = None;
+    for f in focals {
+        let Some(c) = camera_params(&points, pp, f) else {
+            continue;
+        };
+        let cam = Camera::from_params(&c, Some(pp));
+        let (parts, params, object_parts, floor_distance_parts) = match start_parts(scene, &cam) {
+            Ok(v) => v,
+            Err(e) => {
+                first_error.get_or_insert(e);
+                continue;
+            }
+        };
+        let mut offsets = Vec::with_capacity(parts.len());
+        let mut at = 4;
+        for p in &parts {
+            offsets.push(at);
+            at += p.len();
+        }
+        let problem = Problem {
+            camera_len: 4,
+            fixed_pp: Some(pp),
+            parts,
+            offsets,
+            vps: vps.clone(),
+        };
+        let mut x0 = c.to_vec();
+        x0.extend(params);
+        let cost = problem.cost(&x0);
+        if cost.is_finite() && best.as_ref().is_none_or(|(b, _)| cost < *b) {
+            best = Some((
+                cost,
+                Built {
+                    problem,
+                    x0,
+                    object_parts,
+                    floor_distance_parts,
+                },
+            ));
+        }
+    }
+    match (best, first_error) {
+        (Some((_, built)), _) => Ok(built),
+        (None, Some(e)) => Err(e),
+        (None, None) => Err(MetrologyError::NoRealFocalLength(
+            "the vanishing points give no starting camera for the fit: each pair of them must be orthogonal directions seen from the principal point".to_owned(),
+        )),
+    }
+}

@@ -1,0 +1,531 @@
+//! The joint maximum-likelihood fit: camera and every object at once, to every clicked point
+//! and vanishing-point segment.
+//!
+//! Model ([`model`]): a pinhole camera one camera height above the floor (focal length,
+//! pitch, roll; the principal point held at the given value or the image centre, or fitted in
+//! three-point perspective when the data fix it well), the room's two horizontal directions
+//! (one yaw angle), and each object: a box by one floor corner, its two sides along the
+//! room's directions (or turned by its own yaw) and its height; a footprint object by its
+//! vertices and height. Objective: the sum of squared reprojection errors, in pixels, of every
+//! clicked corner and vertex and of every vanishing-point segment (the distance of its end
+//! points from the line through its midpoint and the predicted vanishing point), which under
+//! independent Gaussian click noise is the maximum-likelihood estimate (Hartley & Zisserman,
+//! *Multiple View Geometry*, 2nd ed., sections 4.2-4.3 and appendix A6).
+//!
+//! Start: the projective form's camera (vanishing points with the principal point held), and
+//! each object by linear least squares on its clicks' rays. Minimiser: sparse
+//! Levenberg-Marquardt ([`solve`]). Error bars: the inverse of `J^T J` times the click
+//! variance, propagated to each reported quantity by its gradient (first order), as in
+//! Criminisi, Reid & Zisserman, "Single view metrology", IJCV 40(2), 2000, section 5.
+
+mod init;
+mod model;
+mod solve;
+mod uncertainty;
+
+use nalgebra::{Vector2, Vector3};
+
+use crate::calibration::{Calibration, HorizonFrame, Perspective};
+use crate::error::{MetrologyError, Result};
+use crate::reconstruct::{Method, ObjectKind, ReconstructedObject, Reconstruction};
+use crate::scene::{BoxCorner, BoxView, ObjectShape, Scene};
+
+use model::{Camera, Part, px, vp_direction};
+pub(crate) use solve::Problem;
+use solve::{Singular, minimise};
+
+pub use uncertainty::FitUncertainty;
+
+/// Options of [`fit_scene`].
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct FitOptions {
+    /// The click noise, pixels (1 sigma per coordinate). `None`: estimated from the residuals
+    /// when the data over-determine the model by at least [`MIN_DOF_FOR_SIGMA`], else 1 px.
+    pub click_sigma_px: Option<f64>,
+}
+
+/// Fewest redundant observations (residuals minus parameters) for estimating the click
+/// noise from the residuals.
+pub const MIN_DOF_FOR_SIGMA: usize = 20;
+
+/// A clicked point's misfit after the fit.
+#[derive(Debug, Clone, PartialEq)]
+pub struct PointResidual {
+    /// The object's name (or `floor distance`).
+    pub object: String,
+    /// The point's field, e.g. `objects[2].top.left`.
+    pub field: String,
+    /// Distance between the click and the fitted model's point, pixels.
+    pub distance_px: f64,
+}
+
+/// The result of [`fit_scene`].
+#[derive(Debug, Clone)]
+pub struct Fitted {
+    /// The fitted camera, as a calibration (principal point, focal length, pitch, roll and
+    /// the vanishing points the fit predicts).
+    pub calibration: Calibration,
+    /// The objects and floor in camera heights.
+    pub reconstruction: Reconstruction,
+    /// Root-mean-square reprojection error of the clicked points, pixels.
+    pub rms_residual_px: f64,
+    /// Residuals minus parameters.
+    pub degrees_of_freedom: usize,
+    /// Levenberg-Marquardt iterations.
+    pub iterations: usize,
+    /// Whether the principal point was fitted.
+    pub principal_point_fitted: bool,
+    /// Every clicked point's misfit, in scene order.
+    pub point_residuals: Vec<PointResidual>,
+    /// The fitted room directions' angle from `+x`, radians (the scene's first vanishing
+    /// point).
+    pub room_yaw_rad: f64,
+    pub(crate) problem: Problem,
+    pub(crate) x: Vec<f64>,
+    /// Part index of each scene object.
+    pub(crate) object_parts: Vec<usize>,
+    /// Part indices of the scale's floor points, if the scale is a floor distance.
+    pub(crate) floor_distance_parts: Option<[usize; 2]>,
+}
+
+/// Fit the camera and every object of a validated scene.
+///
+/// # Errors
+/// - [`MetrologyError::InvalidField`] when an object's clicks do not fix it, naming the
+///   corner to add;
+/// - [`MetrologyError::Degenerate`] when the fit does not converge, a box comes out with its
+///   top below its base, or the data do not determine a quantity (a singular covariance),
+///   naming the object and what to add;
+/// - the vanishing-point errors of [`Scene::resolve_vanishing_points`] when no starting
+///   camera can be found.
+pub fn fit_scene(scene: &Scene, options: &FitOptions) -> Result<Fitted> {
+    let built = init::build(scene)?;
+    let three_point = scene.vanishing_points.len() == 3;
+    let fixed = run(scene, &built.problem, built.x0.clone())?;
+    // In three-point perspective without a given principal point, let the fit place it too
+    // when the data fix it to within 1 % of the image diagonal; else keep the centre.
+    let mut best = fixed;
+    if three_point && scene.principal_point.is_none() {
+        let mut free = built.problem.clone();
+        free.camera_len = 6;
+        let pp = built
+            .problem
+            .fixed_pp
+            .unwrap_or_else(|| scene.image.centre());
+        free.fixed_pp = None;
+        let shift = 2;
+        free.offsets = built.problem.offsets.iter().map(|o| o + shift).collect();
+        let mut x = best.x[..4].to_vec();
+        x.extend([pp.x, pp.y]);
+        x.extend_from_slice(&best.x[4..]);
+        if let Ok(sol) = run(scene, &free, x)
+            && let Some(normal) = free.normal(&sol.x)
+            && let Ok(f) = normal.factor(0.0)
+        {
+            let sigma = click_sigma(options, sol.cost, &free);
+            let sd = |i: usize| {
+                let mut g = nalgebra::DVector::zeros(6);
+                g[i] = 1.0;
+                let go: Vec<_> = free
+                    .parts
+                    .iter()
+                    .map(|p| nalgebra::DVector::zeros(p.len()))
+                    .collect();
+                let (y, _) = f.solve(&g, &go);
+                sigma.0 * y[i].max(0.0).sqrt()
+            };
+            if sd(4).hypot(sd(5)) < 0.01 * scene.image.diagonal() {
+                best = Solved {
+                    problem: free,
+                    ..sol
+                };
+            }
+        }
+    }
+    finish(scene, best, built.object_parts, built.floor_distance_parts)
+}
+
+/// A converged minimisation with its problem.
+struct Solved {
+    problem: Problem,
+    x: Vec<f64>,
+    cost: f64,
+    iterations: usize,
+}
+
+fn run(scene: &Scene, problem: &Problem, x0: Vec<f64>) -> Result<Solved> {
+    let sol = minimise(problem, x0).ok_or_else(|| MetrologyError::Degenerate {
+        field: "objects".to_owned(),
+        reason: "the fit's starting point puts a clicked point behind the camera; check that the vanishing points belong to the room's directions".to_owned(),
+    })?;
+    if !sol.converged {
+        return Err(MetrologyError::Degenerate {
+            field: "objects".to_owned(),
+            reason: format!(
+                "the fit did not converge in {} iterations (reprojection error {:.3} px RMS); check for a misplaced click",
+                sol.iterations,
+                (sol.cost / problem.residual_count().max(1) as f64).sqrt()
+            ),
+        });
+    }
+    let _ = scene;
+    Ok(Solved {
+        problem: problem.clone(),
+        x: sol.x,
+        cost: sol.cost,
+        iterations: sol.iterations,
+    })
+}
+
+/// The click noise for the error bars and where it comes from.
+pub(crate) fn click_sigma(
+    options: &FitOptions,
+    cost: f64,
+    problem: &Problem,
+) -> (f64, &'static str) {
+    if let Some(s) = options.click_sigma_px {
+        return (s, "given");
+    }
+    let dof = problem.residual_count().saturating_sub(problem.len());
+    if dof >= MIN_DOF_FOR_SIGMA {
+        ((cost / dof as f64).sqrt(), "residuals")
+    } else {
+        (1.0, "default")
+    }
+}
+
+/// The vanishing point of a map direction as a finite pixel (points at infinity are pushed
+/// to 1e12 px along their direction).
+fn finite_vp(cam: &Camera, d: Vector3<f64>) -> Vector2<f64> {
+    let v = cam.vanishing_point(d);
+    let w = if v.z.abs() < 1e-12 * v.x.hypot(v.y).max(1.0) {
+        1e-12 * v.x.hypot(v.y).max(1.0) * if v.z < 0.0 { -1.0 } else { 1.0 }
+    } else {
+        v.z
+    };
+    Vector2::new(v.x / w, v.y / w)
+}
+
+fn calibration_of(cam: &Camera, perspective: Perspective) -> Calibration {
+    let o = cam.principal_point_px;
+    // The horizon: through the vanishing point of the camera's forward horizontal direction,
+    // along the image of the floor's line at infinity.
+    let ahead = finite_vp(cam, Vector3::new(0.0, 1.0, 0.0));
+    let side = cam.vanishing_point(Vector3::new(1.0, 0.0, 0.0));
+    let ahead_h = cam.vanishing_point(Vector3::new(0.0, 1.0, 0.0));
+    let line = ahead_h.cross(&side);
+    let mut along = Vector2::new(line.y, -line.x).normalize();
+    if along.x < 0.0 || (along.x == 0.0 && along.y > 0.0) {
+        along = -along;
+    }
+    let up = Vector2::new(along.y, -along.x);
+    let mut vps = vec![
+        finite_vp(cam, vp_direction(cam, 0)),
+        finite_vp(cam, vp_direction(cam, 1)),
+    ];
+    if perspective == Perspective::ThreePoint {
+        vps.push(finite_vp(cam, vp_direction(cam, 2)));
+    }
+    Calibration {
+        perspective,
+        focal_px: cam.focal_px,
+        pitch_rad: cam.pitch_rad,
+        roll_rad: along.y.atan2(along.x),
+        vanishing_points_px: vps,
+        frame: HorizonFrame {
+            origin_px: o,
+            along,
+            up,
+            horizon_offset_px: (ahead - o).dot(&up),
+        },
+        warnings: Vec::new(),
+    }
+}
+
+fn finish(
+    scene: &Scene,
+    solved: Solved,
+    object_parts: Vec<usize>,
+    floor_distance_parts: Option<[usize; 2]>,
+) -> Result<Fitted> {
+    let Solved {
+        problem,
+        x,
+        cost,
+        iterations,
+    } = solved;
+    let cam = problem.camera(&x);
+    let perspective = if scene.vanishing_points.len() == 3 {
+        Perspective::ThreePoint
+    } else {
+        Perspective::TwoPoint
+    };
+    let normal = problem
+        .normal(&x)
+        .ok_or_else(|| MetrologyError::Degenerate {
+            field: "objects".to_owned(),
+            reason: "a clicked point lies behind the fitted camera".to_owned(),
+        })?;
+    if let Some(block) = normal.singular_block() {
+        return Err(singular_error(scene, &problem, &object_parts, block));
+    }
+    let mut objects = Vec::with_capacity(scene.objects.len());
+    for (i, obj) in scene.objects.iter().enumerate() {
+        let part_index = object_parts[i];
+        let part = &problem.parts[part_index];
+        let p = &x[problem.offsets[part_index]..problem.offsets[part_index] + part.len()];
+        let (kind, footprint, height) = match part {
+            Part::Box {
+                axes,
+                has_top,
+                own_yaw,
+                ..
+            } => {
+                let corner = |i: u8, j: u8| {
+                    let c = Part::box_corner(&cam, *axes, *own_yaw, *has_top, p, (i, j, 0));
+                    Vector2::new(c.x, c.y)
+                };
+                let h = has_top.then(|| p[4]);
+                if let Some(h) = h
+                    && h <= 0.0
+                {
+                    return Err(MetrologyError::Degenerate {
+                        field: format!("objects[{i}].top"),
+                        reason: format!(
+                            "object {:?} comes out with its top {:.3} camera heights below its base: the top corners cannot belong to this box (check that each top corner is named like the base corner below it)",
+                            obj.name, -h
+                        ),
+                    });
+                }
+                if p[2] <= 0.0 || p[3] <= 0.0 {
+                    return Err(MetrologyError::Degenerate {
+                        field: format!("objects[{i}]"),
+                        reason: format!(
+                            "object {:?} comes out with a side of no length ({:.3} x {:.3} camera heights): its corners cannot belong to one box; check their names",
+                            obj.name, p[2], p[3]
+                        ),
+                    });
+                }
+                (
+                    ObjectKind::Box,
+                    vec![corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)],
+                    h,
+                )
+            }
+            Part::Footprint { vertices, top } => {
+                let fp = (0..vertices.len())
+                    .map(|k| Vector2::new(p[2 * k], p[2 * k + 1]))
+                    .collect();
+                let h = top.map(|_| p[2 * vertices.len()]);
+                if let Some(h) = h
+                    && h < 0.0
+                {
+                    return Err(MetrologyError::Degenerate {
+                        field: format!("objects[{i}].top.point"),
+                        reason: format!(
+                            "object {:?} comes out with a negative height ({h:.6} camera heights): the top point lies below its base in the image",
+                            obj.name
+                        ),
+                    });
+                }
+                (ObjectKind::Footprint, fp, h)
+            }
+            Part::FloorPoint { .. } => continue,
+        };
+        objects.push(ReconstructedObject {
+            name: obj.name.clone(),
+            kind,
+            footprint,
+            height,
+        });
+    }
+    let floor = scene
+        .floor
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            cam.floor_point(px(*p))
+                .ok_or_else(|| MetrologyError::NotBelowHorizon {
+                    field: format!("floor[{i}]"),
+                    x: p[0],
+                    y: p[1],
+                    distance_px: 0.0,
+                    side: "on or above",
+                })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let residuals = problem.residuals(&x).unwrap_or_default();
+    let point_residuals = point_residuals(scene, &problem, &object_parts, &residuals);
+    let clicks = point_residuals.len().max(1);
+    let rms = (point_residuals
+        .iter()
+        .map(|r| r.distance_px * r.distance_px)
+        .sum::<f64>()
+        / clicks as f64)
+        .sqrt();
+    let principal_point_fitted = problem.fixed_pp.is_none();
+    let _ = cost;
+    Ok(Fitted {
+        calibration: calibration_of(&cam, perspective),
+        reconstruction: Reconstruction {
+            method: Method::Fit,
+            objects,
+            floor,
+        },
+        rms_residual_px: rms,
+        degrees_of_freedom: problem.residual_count().saturating_sub(problem.len()),
+        iterations,
+        principal_point_fitted,
+        point_residuals,
+        room_yaw_rad: cam.room_yaw_rad,
+        problem,
+        x,
+        object_parts,
+        floor_distance_parts,
+    })
+}
+
+fn point_residuals(
+    scene: &Scene,
+    problem: &Problem,
+    object_parts: &[usize],
+    residuals: &[f64],
+) -> Vec<PointResidual> {
+    let mut starts = Vec::with_capacity(problem.parts.len());
+    let mut at: usize = problem.vps.iter().map(model::vp_residual_count).sum();
+    for part in &problem.parts {
+        starts.push(at);
+        at += part.residual_count();
+    }
+    let dist = |k: usize| {
+        residuals
+            .get(k)
+            .copied()
+            .unwrap_or(0.0)
+            .hypot(residuals.get(k + 1).copied().unwrap_or(0.0))
+    };
+    let mut out = Vec::new();
+    for (i, obj) in scene.objects.iter().enumerate() {
+        let part_index = object_parts[i];
+        let start = starts[part_index];
+        match &problem.parts[part_index] {
+            Part::Box { clicks, .. } => {
+                for (k, c) in clicks.iter().enumerate() {
+                    out.push(PointResidual {
+                        object: obj.name.clone(),
+                        field: format!("objects[{i}].{}", c.name),
+                        distance_px: dist(start + 2 * k),
+                    });
+                }
+            }
+            Part::Footprint { vertices, top } => {
+                for k in 0..vertices.len() {
+                    out.push(PointResidual {
+                        object: obj.name.clone(),
+                        field: format!("objects[{i}].footprint[{k}]"),
+                        distance_px: dist(start + 2 * k),
+                    });
+                }
+                if top.is_some() {
+                    out.push(PointResidual {
+                        object: obj.name.clone(),
+                        field: format!("objects[{i}].top.point"),
+                        distance_px: dist(start + 2 * vertices.len()),
+                    });
+                }
+            }
+            Part::FloorPoint { .. } => {}
+        }
+    }
+    out
+}
+
+fn singular_error(
+    scene: &Scene,
+    problem: &Problem,
+    object_parts: &[usize],
+    block: Singular,
+) -> MetrologyError {
+    match block {
+        Singular::Camera => MetrologyError::Degenerate {
+            field: "vanishing_points".to_owned(),
+            reason: "the vanishing points and clicks do not fix the camera (a singular covariance): give more or longer edges towards each vanishing point".to_owned(),
+        },
+        Singular::Part(p) => {
+            let Some(i) = object_parts.iter().position(|&q| q == p) else {
+                return MetrologyError::Degenerate {
+                    field: "scale.floor_distance".to_owned(),
+                    reason: "the floor distance's points are not fixed by the camera".to_owned(),
+                };
+            };
+            let obj = &scene.objects[i];
+            let advice = match (&problem.parts[p], obj.shape(i)) {
+                (Part::Box { view, clicks, .. }, Ok(ObjectShape::Box { .. })) => {
+                    let missing = missing_corner(*view, clicks);
+                    format!("add `{missing}`")
+                }
+                _ => "click its vertices apart from each other".to_owned(),
+            };
+            MetrologyError::Degenerate {
+                field: format!("objects[{i}]"),
+                reason: format!(
+                    "the clicks of object {:?} do not determine its size or place (a singular covariance): {advice}",
+                    obj.name
+                ),
+            }
+        }
+    }
+}
+
+/// A corner not yet clicked, base corners first.
+fn missing_corner(view: BoxView, clicks: &[model::CornerClick]) -> String {
+    for top in [false, true] {
+        for c in BoxCorner::ALL.into_iter().filter(|c| c.view() == view) {
+            let (i, j) = c.grid_index();
+            if !clicks.iter().any(|k| k.place == (i, j, u8::from(top))) {
+                return format!("{}.{}", if top { "top" } else { "base" }, c.name());
+            }
+        }
+    }
+    "more corners".to_owned()
+}
+
+/// What to click to pin down an uncertain size of scene object `index` (`what`: length,
+/// breadth or height): the corners the box lacks, base first.
+#[must_use]
+pub fn advice_for(scene: &Scene, index: usize, what: &str) -> String {
+    let Some(obj) = scene.objects.get(index) else {
+        return String::new();
+    };
+    match obj.shape(index) {
+        Ok(ObjectShape::Box {
+            view, base, top, ..
+        }) => {
+            let mut missing = Vec::new();
+            for (level, corners) in [("base", base), ("top", &top)] {
+                for c in BoxCorner::ALL.into_iter().filter(|c| c.view() == view) {
+                    if corners.get(c).is_none() {
+                        missing.push(format!("`{level}.{}`", c.name()));
+                    }
+                }
+            }
+            if missing.is_empty() {
+                "click its corners more carefully, or use longer edges for the vanishing points"
+                    .to_owned()
+            } else if what == "height" {
+                let tops: Vec<&String> = missing.iter().filter(|m| m.starts_with("`top")).collect();
+                if tops.is_empty() {
+                    format!("add {}", missing[0])
+                } else {
+                    format!("add {} (a top corner)", tops[0])
+                }
+            } else {
+                format!(
+                    "add {} if you can see it",
+                    missing[..missing.len().min(2)].join(" or ")
+                )
+            }
+        }
+        _ => "click its vertices and top point more carefully".to_owned(),
+    }
+}

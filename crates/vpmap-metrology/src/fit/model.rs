@@ -1,0 +1,320 @@
+//! The fit's model: a pinhole camera one unit above the floor, the room's two horizontal
+//! directions, and every object as parameters; the residuals of every clicked point and
+//! vanishing-point segment in pixels.
+//!
+//! Frame: the map frame of [`crate::reconstruct`] (station point at the origin, `+y` the
+//! camera's horizontal viewing direction, `+z` up, unit the camera height), so the camera
+//! centre is `(0, 0, 1)`.
+
+use nalgebra::{Matrix3, Vector2, Vector3};
+
+use crate::map::rotation_map_from_camera;
+use crate::scene::{BoxView, PixelPoint};
+
+/// The camera as the model sees it.
+#[derive(Debug, Clone, Copy)]
+pub(crate) struct Camera {
+    /// Focal length, pixels.
+    pub focal_px: f64,
+    /// Principal point, pixels.
+    pub principal_point_px: Vector2<f64>,
+    /// Pitch, radians, positive looking down.
+    pub pitch_rad: f64,
+    /// Angle of the room's first horizontal direction (the scene's first vanishing point)
+    /// from `+x`, radians.
+    pub room_yaw_rad: f64,
+    /// Camera-from-map rotation (the transpose of [`rotation_map_from_camera`]).
+    from_map: Matrix3<f64>,
+}
+
+impl Camera {
+    /// The camera for parameters `x` (see [`CAMERA_FIXED`]); `fixed_pp` when the principal
+    /// point is not among them.
+    pub fn from_params(x: &[f64], fixed_pp: Option<Vector2<f64>>) -> Self {
+        let principal_point_px = match fixed_pp {
+            Some(p) => p,
+            None => Vector2::new(x[4], x[5]),
+        };
+        let r = rotation_map_from_camera(x[1], x[2]);
+        let map_from_camera = Matrix3::from_fn(|i, j| r[i][j]);
+        Self {
+            focal_px: x[0],
+            principal_point_px,
+            pitch_rad: x[1],
+            room_yaw_rad: x[3],
+            from_map: map_from_camera.transpose(),
+        }
+    }
+
+    /// The room's horizontal direction `k` (0 or 1) in the map frame.
+    pub fn room_axis(&self, k: usize) -> Vector2<f64> {
+        let (s, c) = self.room_yaw_rad.sin_cos();
+        if k == 0 {
+            Vector2::new(c, s)
+        } else {
+            Vector2::new(-s, c)
+        }
+    }
+
+    /// A map direction's vanishing point, homogeneous pixel coordinates.
+    pub fn vanishing_point(&self, direction: Vector3<f64>) -> Vector3<f64> {
+        let d = self.from_map * direction;
+        Vector3::new(
+            self.focal_px * d.x + self.principal_point_px.x * d.z,
+            self.focal_px * d.y + self.principal_point_px.y * d.z,
+            d.z,
+        )
+    }
+
+    /// The pixel a map point projects to, or `None` when it is not in front of the camera.
+    pub fn project(&self, point: Vector3<f64>) -> Option<Vector2<f64>> {
+        let c = self.from_map * (point - Vector3::new(0.0, 0.0, 1.0));
+        if c.z <= 1e-9 {
+            return None;
+        }
+        Some(self.principal_point_px + Vector2::new(c.x, c.y) * (self.focal_px / c.z))
+    }
+
+    /// The ray through a pixel, map frame (not normalised).
+    pub fn ray(&self, pixel: Vector2<f64>) -> Vector3<f64> {
+        let q = (pixel - self.principal_point_px) / self.focal_px;
+        self.from_map.transpose() * Vector3::new(q.x, q.y, 1.0)
+    }
+
+    /// Where a pixel's ray meets the floor, or `None` at or above the horizon.
+    pub fn floor_point(&self, pixel: Vector2<f64>) -> Option<Vector2<f64>> {
+        let r = self.ray(pixel);
+        if r.z >= -1e-12 {
+            return None;
+        }
+        let t = -1.0 / r.z;
+        Some(Vector2::new(r.x * t, r.y * t))
+    }
+}
+
+/// One clicked corner of a box: its place `(i, j, k)` and the pixel.
+#[derive(Debug, Clone)]
+pub(crate) struct CornerClick {
+    /// Place on the box's floor axes and level (`k = 1` at the top).
+    pub place: (u8, u8, u8),
+    /// The clicked pixel.
+    pub pixel: Vector2<f64>,
+    /// The scene's name of the point, e.g. `base.near`.
+    pub name: String,
+}
+
+/// How a box sits on the room's axes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub(crate) struct BoxAxes {
+    /// Which room direction (0 or 1) the box's first axis runs along.
+    pub first: usize,
+    /// Sign of the first axis.
+    pub sign1: f64,
+    /// Sign of the second axis.
+    pub sign2: f64,
+}
+
+/// An object of the model.
+#[derive(Debug, Clone)]
+pub(crate) enum Part {
+    /// A box: parameters origin corner `x, y`, sides `a, b`, then `h` when it has top
+    /// clicks, then its own yaw offset (radians) when it has one.
+    Box {
+        view: BoxView,
+        clicks: Vec<CornerClick>,
+        axes: BoxAxes,
+        has_top: bool,
+        own_yaw: bool,
+    },
+    /// A footprint prism: parameters the vertices `x, y` in order, then `h` when it has a top
+    /// click above vertex `above`.
+    Footprint {
+        vertices: Vec<Vector2<f64>>,
+        top: Option<(usize, Vector2<f64>)>,
+    },
+    /// A floor point (the ends of a known floor distance): parameters `x, y`.
+    FloorPoint { pixel: Vector2<f64> },
+}
+
+impl Part {
+    /// Number of parameters.
+    pub fn len(&self) -> usize {
+        match self {
+            Part::Box {
+                has_top, own_yaw, ..
+            } => 4 + usize::from(*has_top) + usize::from(*own_yaw),
+            Part::Footprint { vertices, top } => 2 * vertices.len() + usize::from(top.is_some()),
+            Part::FloorPoint { .. } => 2,
+        }
+    }
+
+    /// Number of residuals.
+    pub fn residual_count(&self) -> usize {
+        match self {
+            Part::Box { clicks, .. } => 2 * clicks.len(),
+            Part::Footprint { vertices, top } => 2 * (vertices.len() + usize::from(top.is_some())),
+            Part::FloorPoint { .. } => 2,
+        }
+    }
+
+    /// A box's unit floor axes `e1`, `e2` for camera `cam` and parameters `p`.
+    pub fn box_axes(cam: &Camera, axes: BoxAxes, yaw: f64) -> (Vector2<f64>, Vector2<f64>) {
+        let u1 = cam.room_axis(axes.first) * axes.sign1;
+        let u2 = cam.room_axis(1 - axes.first) * axes.sign2;
+        let (s, c) = yaw.sin_cos();
+        let rot = |u: Vector2<f64>| Vector2::new(c * u.x - s * u.y, s * u.x + c * u.y);
+        (rot(u1), rot(u2))
+    }
+
+    /// The map point of a box corner `(i, j, k)`.
+    pub fn box_corner(
+        cam: &Camera,
+        axes: BoxAxes,
+        own_yaw: bool,
+        has_top: bool,
+        p: &[f64],
+        place: (u8, u8, u8),
+    ) -> Vector3<f64> {
+        let yaw = if own_yaw {
+            p[4 + usize::from(has_top)]
+        } else {
+            0.0
+        };
+        let (e1, e2) = Self::box_axes(cam, axes, yaw);
+        let floor = Vector2::new(p[0], p[1])
+            + e1 * (f64::from(place.0) * p[2])
+            + e2 * (f64::from(place.1) * p[3]);
+        let h = if has_top { p[4] } else { 0.0 };
+        Vector3::new(floor.x, floor.y, f64::from(place.2) * h)
+    }
+
+    /// The residuals (predicted minus clicked, pixels) into `out`; `false` when a point falls
+    /// behind the camera.
+    pub fn residuals(&self, cam: &Camera, p: &[f64], out: &mut [f64]) -> bool {
+        let mut put = |k: usize, world: Vector3<f64>, pixel: Vector2<f64>| -> bool {
+            match cam.project(world) {
+                Some(q) => {
+                    out[2 * k] = q.x - pixel.x;
+                    out[2 * k + 1] = q.y - pixel.y;
+                    true
+                }
+                None => false,
+            }
+        };
+        match self {
+            Part::Box {
+                clicks,
+                axes,
+                has_top,
+                own_yaw,
+                ..
+            } => clicks.iter().enumerate().all(|(k, c)| {
+                put(
+                    k,
+                    Self::box_corner(cam, *axes, *own_yaw, *has_top, p, c.place),
+                    c.pixel,
+                )
+            }),
+            Part::Footprint { vertices, top } => {
+                let n = vertices.len();
+                let ok = vertices
+                    .iter()
+                    .enumerate()
+                    .all(|(k, v)| put(k, Vector3::new(p[2 * k], p[2 * k + 1], 0.0), *v));
+                match top {
+                    Some((above, pixel)) => {
+                        ok && put(
+                            n,
+                            Vector3::new(p[2 * above], p[2 * above + 1], p[2 * n]),
+                            *pixel,
+                        )
+                    }
+                    None => ok,
+                }
+            }
+            Part::FloorPoint { pixel } => put(0, Vector3::new(p[0], p[1], 0.0), *pixel),
+        }
+    }
+}
+
+/// Evidence for one vanishing point, pixels.
+#[derive(Debug, Clone)]
+pub(crate) enum VpEvidence {
+    /// Segments whose lines run to it.
+    Lines(Vec<[f64; 4]>),
+    /// The point itself (computed elsewhere).
+    Point(Vector2<f64>),
+}
+
+/// The map direction of vanishing point `k`: the room's horizontal directions, then up.
+pub(crate) fn vp_direction(cam: &Camera, k: usize) -> Vector3<f64> {
+    if k == 2 {
+        Vector3::new(0.0, 0.0, 1.0)
+    } else {
+        let u = cam.room_axis(k);
+        Vector3::new(u.x, u.y, 0.0)
+    }
+}
+
+/// Number of residuals of one vanishing point's evidence.
+pub(crate) fn vp_residual_count(e: &VpEvidence) -> usize {
+    match e {
+        VpEvidence::Lines(l) => l.len(),
+        VpEvidence::Point(_) => 2,
+    }
+}
+
+/// Residuals of vanishing point `k`'s evidence into `out`.
+///
+/// A segment's residual is the distance of its first end from the line through its midpoint
+/// and the predicted vanishing point, times `sqrt(2)`: under independent noise of `sigma` on
+/// each coordinate of both ends it has standard deviation `sigma`. A given point's residuals
+/// are the angle between the predicted and the given vanishing directions, times the focal
+/// length (pixels near the image centre), in two orthogonal components.
+pub(crate) fn vp_residuals(cam: &Camera, k: usize, evidence: &VpEvidence, out: &mut [f64]) {
+    let v = cam.vanishing_point(vp_direction(cam, k));
+    match evidence {
+        VpEvidence::Lines(lines) => {
+            for (r, l) in out.iter_mut().zip(lines) {
+                let m = Vector3::new(0.5 * (l[0] + l[2]), 0.5 * (l[1] + l[3]), 1.0);
+                let line = m.cross(&v);
+                let norm = line.x.hypot(line.y);
+                *r = if norm > 0.0 {
+                    std::f64::consts::SQRT_2 * (line.x * l[0] + line.y * l[1] + line.z) / norm
+                } else {
+                    0.0
+                };
+            }
+        }
+        VpEvidence::Point(g) => {
+            let q = (g - cam.principal_point_px) / cam.focal_px;
+            let given = Vector3::new(q.x, q.y, 1.0).normalize();
+            let mut pred = Vector3::new(
+                (v.x - cam.principal_point_px.x * v.z) / cam.focal_px,
+                (v.y - cam.principal_point_px.y * v.z) / cam.focal_px,
+                v.z,
+            )
+            .normalize();
+            if pred.dot(&given) < 0.0 {
+                pred = -pred;
+            }
+            let t1 = {
+                let a = given.cross(&Vector3::new(0.0, 1.0, 0.0));
+                if a.norm() > 1e-6 {
+                    a.normalize()
+                } else {
+                    given.cross(&Vector3::new(1.0, 0.0, 0.0)).normalize()
+                }
+            };
+            let t2 = given.cross(&t1);
+            let d = pred - given;
+            out[0] = cam.focal_px * d.dot(&t1);
+            out[1] = cam.focal_px * d.dot(&t2);
+        }
+    }
+}
+
+/// A clicked pixel as a vector.
+pub(crate) fn px(p: PixelPoint) -> Vector2<f64> {
+    Vector2::new(p[0], p[1])
+}

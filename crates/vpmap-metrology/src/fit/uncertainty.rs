@@ -1,0 +1,475 @@
+//! Error bars: the fit's covariance `sigma^2 (J^T J)^-1` propagated to what the map reports,
+//! and the scale in metres.
+//!
+//! Each reported value `q(x)` (an object's centroid, sides, height and yaw, the camera's
+//! height, all times the scale `k(x)` in metres per camera height) gets its gradient `g` by
+//! central differences over the parameters it depends on; its variance is
+//! `sigma^2 g^T (J^T J)^-1 g`, computed with the same Schur-complement solve as a fit step.
+
+use nalgebra::{DVector, Matrix2, Vector2};
+
+use super::model::Part;
+use super::solve::{Factored, Problem};
+use super::{FitOptions, Fitted, click_sigma};
+use crate::error::{MetrologyError, Result};
+use crate::map::{CameraUncertainty, Ellipse, ObjectUncertainty};
+use crate::scene::{Dimension, Scale, Scene};
+
+/// The chi-square quantile with 2 degrees of freedom at 95 %: `-2 ln 0.05`.
+pub const CHI2_2DOF_95: f64 = 5.991_464_547_107_979;
+
+/// The fit's error bars in the map's units.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FitUncertainty {
+    /// Per scene object, in scene order.
+    pub objects: Vec<ObjectUncertainty>,
+    /// The camera's.
+    pub camera: CameraUncertainty,
+    /// The click noise used, pixels.
+    pub click_sigma_px: f64,
+    /// `"given"`, `"residuals"` or `"default"` ([`FitOptions::click_sigma_px`]).
+    pub click_sigma_source: &'static str,
+    /// Relative standard deviation of each object's sides and height (the largest), for
+    /// warnings: `(object index, which, relative sd)`.
+    pub relative_size_sd: Vec<(usize, &'static str, f64)>,
+}
+
+/// What the scale measures in the fitted model.
+#[derive(Debug, Clone, Copy)]
+enum Measure {
+    /// No scale: camera heights.
+    Unit,
+    /// The camera height in metres.
+    CameraHeight(f64),
+    /// A known length (metres) of something the model measures.
+    Length { meters: f64, what: Measured },
+}
+
+#[derive(Debug, Clone, Copy)]
+enum Measured {
+    /// Parameter `index` of part `part` (a box side or height, a footprint height).
+    Param { part: usize, index: usize },
+    /// The longer (or shorter) side of a box.
+    Side { part: usize, longer: bool },
+    /// The distance between two floor points.
+    FloorDistance { a: usize, b: usize },
+}
+
+fn params<'a>(problem: &Problem, x: &'a [f64], part: usize) -> &'a [f64] {
+    &x[problem.offsets[part]..problem.offsets[part] + problem.parts[part].len()]
+}
+
+impl Measured {
+    fn value(self, problem: &Problem, x: &[f64]) -> f64 {
+        match self {
+            Measured::Param { part, index } => params(problem, x, part)[index],
+            Measured::Side { part, longer } => {
+                let p = params(problem, x, part);
+                if longer {
+                    p[2].max(p[3])
+                } else {
+                    p[2].min(p[3])
+                }
+            }
+            Measured::FloorDistance { a, b } => {
+                let (p, q) = (params(problem, x, a), params(problem, x, b));
+                (p[0] - q[0]).hypot(p[1] - q[1])
+            }
+        }
+    }
+
+    fn parts(self) -> Vec<usize> {
+        match self {
+            Measured::Param { part, .. } | Measured::Side { part, .. } => vec![part],
+            Measured::FloorDistance { a, b } => vec![a, b],
+        }
+    }
+}
+
+impl Measure {
+    /// Metres per camera height at `x`.
+    fn factor(self, problem: &Problem, x: &[f64]) -> f64 {
+        match self {
+            Measure::Unit => 1.0,
+            Measure::CameraHeight(h) => h,
+            Measure::Length { meters, what } => meters / what.value(problem, x),
+        }
+    }
+
+    fn parts(self) -> Vec<usize> {
+        match self {
+            Measure::Length { what, .. } => what.parts(),
+            _ => Vec::new(),
+        }
+    }
+}
+
+/// An object's reported values in camera heights: centroid x, y, longer side, shorter side,
+/// height, yaw of the longer side (radians).
+fn object_values(problem: &Problem, x: &[f64], part: usize) -> [f64; 6] {
+    let cam = problem.camera(x);
+    let p = params(problem, x, part);
+    match &problem.parts[part] {
+        Part::Box {
+            axes,
+            has_top,
+            own_yaw,
+            ..
+        } => {
+            let yaw = if *own_yaw {
+                p[4 + usize::from(*has_top)]
+            } else {
+                0.0
+            };
+            let (e1, e2) = Part::box_axes(&cam, *axes, yaw);
+            let c = Vector2::new(p[0], p[1]) + e1 * (0.5 * p[2]) + e2 * (0.5 * p[3]);
+            let long_axis = if p[2] >= p[3] { e1 } else { e2 };
+            [
+                c.x,
+                c.y,
+                p[2].max(p[3]),
+                p[2].min(p[3]),
+                if *has_top { p[4] } else { 0.0 },
+                long_axis.y.atan2(long_axis.x),
+            ]
+        }
+        Part::Footprint { vertices, top } => {
+            let n = vertices.len();
+            let v: Vec<Vector2<f64>> = (0..n)
+                .map(|k| Vector2::new(p[2 * k], p[2 * k + 1]))
+                .collect();
+            let (mut a2, mut cx, mut cy) = (0.0, 0.0, 0.0);
+            for k in 0..n {
+                let (a, b) = (v[k], v[(k + 1) % n]);
+                let cr = a.x * b.y - b.x * a.y;
+                a2 += cr;
+                cx += (a.x + b.x) * cr;
+                cy += (a.y + b.y) * cr;
+            }
+            let (cx, cy) = if a2.abs() > 0.0 {
+                (cx / (3.0 * a2), cy / (3.0 * a2))
+            } else {
+                (0.0, 0.0)
+            };
+            [cx, cy, 0.0, 0.0, top.map_or(0.0, |_| p[2 * n]), 0.0]
+        }
+        Part::FloorPoint { .. } => [p[0], p[1], 0.0, 0.0, 0.0, 0.0],
+    }
+}
+
+/// Wrap an angle difference to `(-pi/2, pi/2]` (a box's yaw is defined modulo 180 degrees).
+fn wrap_half_turn(d: f64) -> f64 {
+    let pi = std::f64::consts::PI;
+    let mut d = d % pi;
+    if d > pi / 2.0 {
+        d -= pi;
+    } else if d <= -pi / 2.0 {
+        d += pi;
+    }
+    d
+}
+
+/// Gradients of `f` (several outputs) over the camera and the listed parts, as the blocks
+/// [`Factored::solve`] takes.
+fn gradients<const N: usize>(
+    problem: &Problem,
+    x: &[f64],
+    parts: &[usize],
+    f: impl Fn(&[f64]) -> [f64; N],
+    angular: [bool; N],
+) -> Vec<(DVector<f64>, Vec<DVector<f64>>)> {
+    let nc = problem.camera_len;
+    let mut out: Vec<(DVector<f64>, Vec<DVector<f64>>)> = (0..N)
+        .map(|_| {
+            (
+                DVector::zeros(nc),
+                problem
+                    .parts
+                    .iter()
+                    .map(|p| DVector::zeros(p.len()))
+                    .collect(),
+            )
+        })
+        .collect();
+    let mut xs = x.to_vec();
+    let mut column = |index: usize| -> [f64; N] {
+        let h = 1e-6 * x[index].abs().max(1.0);
+        xs[index] = x[index] + h;
+        let plus = f(&xs);
+        xs[index] = x[index] - h;
+        let minus = f(&xs);
+        xs[index] = x[index];
+        let mut d = [0.0; N];
+        for k in 0..N {
+            let diff = if angular[k] {
+                wrap_half_turn(plus[k] - minus[k])
+            } else {
+                plus[k] - minus[k]
+            };
+            d[k] = diff / (2.0 * h);
+        }
+        d
+    };
+    for c in 0..nc {
+        let d = column(c);
+        for k in 0..N {
+            out[k].0[c] = d[k];
+        }
+    }
+    let mut seen = Vec::new();
+    for &part in parts {
+        if seen.contains(&part) {
+            continue;
+        }
+        seen.push(part);
+        for i in 0..problem.parts[part].len() {
+            let d = column(problem.offsets[part] + i);
+            for k in 0..N {
+                out[k].1[part][i] = d[k];
+            }
+        }
+    }
+    out
+}
+
+/// `g_a^T (J^T J)^-1 g_b`.
+fn quad(
+    f: &Factored,
+    a: &(DVector<f64>, Vec<DVector<f64>>),
+    b: &(DVector<f64>, Vec<DVector<f64>>),
+) -> f64 {
+    let (yc, yo) = f.solve(&b.0, &b.1);
+    a.0.dot(&yc) + a.1.iter().zip(&yo).map(|(p, q)| p.dot(q)).sum::<f64>()
+}
+
+/// The 95 % ellipse of a 2x2 covariance.
+#[must_use]
+pub fn ellipse_95(centre: [f64; 2], cov: [[f64; 2]; 2]) -> Ellipse {
+    let m = Matrix2::new(cov[0][0], cov[0][1], cov[1][0], cov[1][1]);
+    let eig = m.symmetric_eigen();
+    let (big, small) = if eig.eigenvalues[0] >= eig.eigenvalues[1] {
+        (0, 1)
+    } else {
+        (1, 0)
+    };
+    let v = eig.eigenvectors.column(big);
+    Ellipse {
+        centre,
+        semi_axes: [
+            (CHI2_2DOF_95 * eig.eigenvalues[big].max(0.0)).sqrt(),
+            (CHI2_2DOF_95 * eig.eigenvalues[small].max(0.0)).sqrt(),
+        ],
+        angle_deg: v.y.atan2(v.x).to_degrees().rem_euclid(180.0),
+    }
+}
+
+impl Fitted {
+    fn measure(&self, scene: &Scene) -> Result<Measure> {
+        let Some(scale) = scene.scale()? else {
+            return Ok(Measure::Unit);
+        };
+        let part_of = |name: &str| -> Result<usize> {
+            scene
+                .objects
+                .iter()
+                .position(|o| o.name == name)
+                .map(|i| self.object_parts[i])
+                .ok_or_else(|| MetrologyError::UnknownScaleObject {
+                    name: name.to_owned(),
+                    known: String::new(),
+                })
+        };
+        let no_top = |name: &str| MetrologyError::InvalidField {
+            field: "scale".to_owned(),
+            reason: format!(
+                "measures a height, but object {name:?} has no top point to measure it"
+            ),
+        };
+        Ok(match scale {
+            Scale::CameraHeight(h) => Measure::CameraHeight(h),
+            Scale::FloorDistance(fd) => {
+                let [a, b] =
+                    self.floor_distance_parts
+                        .ok_or_else(|| MetrologyError::InvalidField {
+                            field: "scale.floor_distance".to_owned(),
+                            reason: "was not part of the fit".to_owned(),
+                        })?;
+                Measure::Length {
+                    meters: fd.meters,
+                    what: Measured::FloorDistance { a, b },
+                }
+            }
+            Scale::Edge { name, ends, meters } => {
+                let part = part_of(&name)?;
+                let (a, b) = (ends[0].grid_index(), ends[1].grid_index());
+                let index = if a.0 != b.0 {
+                    2
+                } else if a.1 != b.1 {
+                    3
+                } else {
+                    match &self.problem.parts[part] {
+                        Part::Box { has_top: true, .. } => 4,
+                        _ => return Err(no_top(&name)),
+                    }
+                };
+                Measure::Length {
+                    meters,
+                    what: Measured::Param { part, index },
+                }
+            }
+            Scale::Object {
+                name,
+                dimension,
+                meters,
+            } => {
+                let part = part_of(&name)?;
+                let what = match (&self.problem.parts[part], dimension) {
+                    (Part::Box { has_top: true, .. }, Dimension::Height) => {
+                        Measured::Param { part, index: 4 }
+                    }
+                    (
+                        Part::Footprint {
+                            vertices,
+                            top: Some(_),
+                        },
+                        Dimension::Height,
+                    ) => Measured::Param {
+                        part,
+                        index: 2 * vertices.len(),
+                    },
+                    (_, Dimension::Height) => return Err(no_top(&name)),
+                    (Part::Box { .. }, d) => Measured::Side {
+                        part,
+                        longer: d == Dimension::Length,
+                    },
+                    _ => {
+                        return Err(MetrologyError::InvalidField {
+                            field: "scale.dimension".to_owned(),
+                            reason: format!(
+                                "length and breadth are defined for boxes only; object {name:?} is a footprint (use \"height\" or a floor distance)"
+                            ),
+                        });
+                    }
+                };
+                Measure::Length { meters, what }
+            }
+        })
+    }
+
+    /// Metres per camera height from the scene's scale (`None` without a scale).
+    ///
+    /// # Errors
+    /// When the scale measures something the fit does not have (a height of an object
+    /// without a top), or measures zero.
+    pub fn meters_per_camera_height(&self, scene: &Scene) -> Result<Option<f64>> {
+        let m = self.measure(scene)?;
+        if matches!(m, Measure::Unit) {
+            return Ok(None);
+        }
+        let k = m.factor(&self.problem, &self.x);
+        if !(k.is_finite() && k > 0.0) {
+            return Err(MetrologyError::Degenerate {
+                field: "scale".to_owned(),
+                reason: format!(
+                    "the known length measures {k} metres per camera height in the fit; it must be positive"
+                ),
+            });
+        }
+        Ok(Some(k))
+    }
+
+    /// The error bars of every object and of the camera, in the map's units.
+    ///
+    /// # Errors
+    /// As [`Fitted::meters_per_camera_height`]; [`MetrologyError::Degenerate`] when the
+    /// covariance is singular.
+    pub fn uncertainty(&self, scene: &Scene, options: &FitOptions) -> Result<FitUncertainty> {
+        let problem = &self.problem;
+        let x = &self.x;
+        let measure = self.measure(scene)?;
+        let cost: f64 = problem
+            .residuals(x)
+            .map_or(0.0, |r| r.iter().map(|v| v * v).sum());
+        let (sigma, source) = click_sigma(options, cost, problem);
+        let singular = || MetrologyError::Degenerate {
+            field: "objects".to_owned(),
+            reason: "the fit's covariance is singular: the clicks do not determine every size"
+                .to_owned(),
+        };
+        let normal = problem.normal(x).ok_or_else(singular)?;
+        let factored = normal.factor(0.0).map_err(|_| singular())?;
+        let var = |a: &(DVector<f64>, Vec<DVector<f64>>), b: &(DVector<f64>, Vec<DVector<f64>>)| {
+            sigma * sigma * quad(&factored, a, b)
+        };
+        let sd = |g: &(DVector<f64>, Vec<DVector<f64>>)| var(g, g).max(0.0).sqrt();
+        let k_at = |x: &[f64]| measure.factor(problem, x);
+        let k = k_at(x);
+        let mut objects = Vec::with_capacity(scene.objects.len());
+        let mut relative = Vec::new();
+        for (i, _) in scene.objects.iter().enumerate() {
+            let part = self.object_parts[i];
+            let mut parts = vec![part];
+            parts.extend(measure.parts());
+            let g = gradients(
+                problem,
+                x,
+                &parts,
+                |xs| {
+                    let v = object_values(problem, xs, part);
+                    let k = k_at(xs);
+                    [v[0] * k, v[1] * k, v[2] * k, v[3] * k, v[4] * k, v[5]]
+                },
+                [false, false, false, false, false, true],
+            );
+            let v = object_values(problem, x, part);
+            let cov = [
+                [var(&g[0], &g[0]), var(&g[0], &g[1])],
+                [var(&g[1], &g[0]), var(&g[1], &g[1])],
+            ];
+            let sym = 0.5 * (cov[0][1] + cov[1][0]);
+            let cov = [[cov[0][0], sym], [sym, cov[1][1]]];
+            let is_box = matches!(problem.parts[part], Part::Box { .. });
+            let has_height = match &problem.parts[part] {
+                Part::Box { has_top, .. } => *has_top,
+                Part::Footprint { top, .. } => top.is_some(),
+                Part::FloorPoint { .. } => false,
+            };
+            let (len_sd, br_sd, h_sd) = (sd(&g[2]), sd(&g[3]), sd(&g[4]));
+            if is_box {
+                relative.push((i, "length", len_sd / (v[2] * k)));
+                relative.push((i, "breadth", br_sd / (v[3] * k)));
+            }
+            if has_height {
+                relative.push((i, "height", h_sd / (v[4] * k)));
+            }
+            objects.push(ObjectUncertainty {
+                centroid_covariance: cov,
+                centroid_ellipse_95: ellipse_95([v[0] * k, v[1] * k], cov),
+                length_sd: is_box.then_some(len_sd),
+                breadth_sd: is_box.then_some(br_sd),
+                height_sd: has_height.then_some(h_sd),
+                yaw_deg: is_box.then(|| v[5].to_degrees().rem_euclid(180.0)),
+                yaw_sd_deg: is_box.then(|| sd(&g[5]).to_degrees()),
+            });
+        }
+        let g = gradients(
+            problem,
+            x,
+            &measure.parts(),
+            |xs| [xs[0], xs[1], xs[2], k_at(xs)],
+            [false; 4],
+        );
+        Ok(FitUncertainty {
+            objects,
+            camera: CameraUncertainty {
+                focal_px_sd: sd(&g[0]),
+                pitch_deg_sd: sd(&g[1]).to_degrees(),
+                roll_deg_sd: sd(&g[2]).to_degrees(),
+                height_sd: sd(&g[3]),
+            },
+            click_sigma_px: sigma,
+            click_sigma_source: source,
+            relative_size_sd: relative,
+        })
+    }
+}
