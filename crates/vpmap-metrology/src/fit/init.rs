@@ -61,7 +61,7 @@ fn focal_from_pair(a: Vector3<f64>, b: Vector3<f64>, pp: Vector2<f64>) -> Option
 
 /// Camera parameters `[f, pitch, roll, room yaw]` from the vanishing points and a focal
 /// length.
-fn camera_params(vps: &[Vector3<f64>], pp: Vector2<f64>, f: f64) -> Option<[f64; 4]> {
+fn camera_params(vps: &[Vector3<f64>], pp: Vector2<f64>, f: f64, level: bool) -> Option<[f64; 4]> {
     let d1 = camera_direction(vps[0], pp, f);
     let d2 = camera_direction(vps[1], pp, f);
     let mut up = d1.cross(&d2);
@@ -71,6 +71,14 @@ fn camera_params(vps: &[Vector3<f64>], pp: Vector2<f64>, f: f64) -> Option<[f64;
     up = up.normalize();
     if up.y > 0.0 {
         up = -up;
+    }
+    if level {
+        // The horizon through the principal point: up lies in the image plane.
+        up.z = 0.0;
+        if up.norm() < 1e-300 {
+            return None;
+        }
+        up = up.normalize();
     }
     let pitch = (-up.z).clamp(-1.0, 1.0).asin();
     let roll = up.x.atan2(-up.y);
@@ -302,12 +310,12 @@ fn start_parts(scene: &Scene, cam: &Camera) -> Result<StartParts> {
     Ok((parts, params, object_parts, floor_distance_parts))
 }
 
-/// Build the problem and its starting point.
+/// Build the problem and its starting points, best (lowest starting cost) first.
 ///
 /// # Errors
-/// When an object's clicks fit no box in front of the starting camera, or the scene's
+/// When an object's clicks fit no box in front of any starting camera, or the scene's
 /// shapes or scale are invalid.
-pub(crate) fn build(scene: &Scene) -> Result<Built> {
+pub(crate) fn build(scene: &Scene) -> Result<Vec<Built>> {
     let vps: Vec<VpEvidence> = scene
         .vanishing_points
         .iter()
@@ -327,24 +335,42 @@ pub(crate) fn build(scene: &Scene) -> Result<Built> {
     let pp = scene
         .principal_point
         .map_or_else(|| scene.image.centre(), px);
+    // Starting focal lengths: from each pair of vanishing points, the scene's, and the range
+    // of real lenses (0.4 to 2 image diagonals); vanishing points from short noisy edges can
+    // put the first far off, where the fit runs towards an orthographic camera.
     let mut focals = Vec::new();
-    if let Some(f) = focal_from_pair(points[0], points[1], pp) {
-        focals.push(f);
-    } else {
-        if points.len() == 3 {
-            focals.extend(focal_from_pair(points[0], points[2], pp));
-            focals.extend(focal_from_pair(points[1], points[2], pp));
-        }
-        focals.extend(scene.focal_px);
-        let d = scene.image.diagonal();
-        focals.extend([0.5 * d, 0.8 * d, 1.2 * d, 2.0 * d]);
+    focals.extend(focal_from_pair(points[0], points[1], pp));
+    if points.len() == 3 {
+        focals.extend(focal_from_pair(points[0], points[2], pp));
+        focals.extend(focal_from_pair(points[1], points[2], pp));
     }
-    let mut best: Option<(f64, Built)> = None;
+    focals.extend(scene.focal_px);
+    let d = scene.image.diagonal();
+    focals.extend([0.4 * d, 0.6 * d, 0.8 * d, 1.1 * d, 1.5 * d, 2.0 * d]);
+    // Two-point perspective: the scene format defines the camera as level (pitch 0).
+    let level = scene.vanishing_points.len() == 2;
+    let mut candidates: Vec<(f64, Built)> = Vec::new();
     let mut first_error = None;
     for f in focals {
-        let Some(c) = camera_params(&points, pp, f) else {
+        let Some(mut c) = camera_params(&points, pp, f, level) else {
             continue;
         };
+        // The camera that best explains the vanishing-point evidence alone (orthogonal room
+        // directions seen from the held principal point), before any object.
+        let alone = Problem {
+            camera_len: 4,
+            fixed_pp: Some(pp),
+            fixed_pitch: level,
+            parts: Vec::new(),
+            offsets: Vec::new(),
+            vps: vps.clone(),
+        };
+        if let Some(sol) = super::solve::minimise(&alone, c.to_vec())
+            && sol.x.iter().all(|v| v.is_finite())
+            && sol.x[0] > 0.0
+        {
+            c.copy_from_slice(&sol.x[..4]);
+        }
         let cam = Camera::from_params(&c, Some(pp));
         let (parts, params, object_parts, floor_distance_parts) = match start_parts(scene, &cam) {
             Ok(v) => v,
@@ -362,6 +388,7 @@ pub(crate) fn build(scene: &Scene) -> Result<Built> {
         let problem = Problem {
             camera_len: 4,
             fixed_pp: Some(pp),
+            fixed_pitch: level,
             parts,
             offsets,
             vps: vps.clone(),
@@ -369,8 +396,8 @@ pub(crate) fn build(scene: &Scene) -> Result<Built> {
         let mut x0 = c.to_vec();
         x0.extend(params);
         let cost = problem.cost(&x0);
-        if cost.is_finite() && best.as_ref().is_none_or(|(b, _)| cost < *b) {
-            best = Some((
+        if cost.is_finite() {
+            candidates.push((
                 cost,
                 Built {
                     problem,
@@ -381,10 +408,11 @@ pub(crate) fn build(scene: &Scene) -> Result<Built> {
             ));
         }
     }
-    match (best, first_error) {
-        (Some((_, built)), _) => Ok(built),
-        (None, Some(e)) => Err(e),
-        (None, None) => Err(MetrologyError::NoRealFocalLength(
+    candidates.sort_by(|a, b| a.0.total_cmp(&b.0));
+    match (candidates.is_empty(), first_error) {
+        (false, _) => Ok(candidates.into_iter().map(|(_, b)| b).collect()),
+        (true, Some(e)) => Err(e),
+        (true, None) => Err(MetrologyError::NoRealFocalLength(
             "the vanishing points give no starting camera for the fit: each pair of them must be orthogonal directions seen from the principal point".to_owned(),
         )),
     }

@@ -44,6 +44,9 @@ pub struct FitOptions {
     pub click_sigma_px: Option<f64>,
 }
 
+/// Largest focal length the fit accepts, in image diagonals (a 1.5 degree field of view).
+pub const MAX_FOCAL_DIAGONALS: f64 = 40.0;
+
 /// Fewest redundant observations (residuals minus parameters) for estimating the click
 /// noise from the residuals.
 pub const MIN_DOF_FOR_SIGMA: usize = 20;
@@ -99,9 +102,40 @@ pub struct Fitted {
 /// - the vanishing-point errors of [`Scene::resolve_vanishing_points`] when no starting
 ///   camera can be found.
 pub fn fit_scene(scene: &Scene, options: &FitOptions) -> Result<Fitted> {
-    let built = init::build(scene)?;
+    let starts = init::build(scene)?;
     let three_point = scene.vanishing_points.len() == 3;
-    let fixed = run(scene, &built.problem, built.x0.clone())?;
+    // From the best start; the others only when it fails or ends with residuals far above
+    // a pixel (a local minimum, or a camera running off to infinite focal length).
+    let mut fixed: Option<(Solved, usize)> = None;
+    let mut first_error = None;
+    for (k, start) in starts.iter().enumerate() {
+        match run(scene, &start.problem, start.x0.clone()) {
+            Ok(sol) => {
+                let dof = start
+                    .problem
+                    .residual_count()
+                    .saturating_sub(start.problem.len())
+                    .max(1);
+                let good = sol.cost / dof as f64 <= GOOD_FIT_PX2;
+                if fixed.as_ref().is_none_or(|(b, _)| sol.cost < b.cost) {
+                    fixed = Some((sol, k));
+                }
+                if good {
+                    break;
+                }
+            }
+            Err(e) => {
+                first_error.get_or_insert(e);
+            }
+        }
+    }
+    let Some((fixed, k)) = fixed else {
+        return Err(first_error.unwrap_or_else(|| MetrologyError::Degenerate {
+            field: "objects".to_owned(),
+            reason: "the fit found no starting point".to_owned(),
+        }));
+    };
+    let built = &starts[k];
     // In three-point perspective without a given principal point, let the fit place it too
     // when the data fix it to within 1 % of the image diagonal; else keep the centre.
     let mut best = fixed;
@@ -142,8 +176,17 @@ pub fn fit_scene(scene: &Scene, options: &FitOptions) -> Result<Fitted> {
             }
         }
     }
-    finish(scene, best, built.object_parts, built.floor_distance_parts)
+    finish(
+        scene,
+        best,
+        built.object_parts.clone(),
+        built.floor_distance_parts,
+    )
 }
+
+/// Mean squared residual (pixels squared) under which a fit from the first start is taken
+/// without trying the others: clicks within about 3 px.
+const GOOD_FIT_PX2: f64 = 9.0;
 
 /// A converged minimisation with its problem.
 struct Solved {
@@ -158,6 +201,17 @@ fn run(scene: &Scene, problem: &Problem, x0: Vec<f64>) -> Result<Solved> {
         field: "objects".to_owned(),
         reason: "the fit's starting point puts a clicked point behind the camera; check that the vanishing points belong to the room's directions".to_owned(),
     })?;
+    let diagonal = scene.image.diagonal();
+    if sol.x[0] > MAX_FOCAL_DIAGONALS * diagonal {
+        return Err(MetrologyError::Degenerate {
+            field: "vanishing_points".to_owned(),
+            reason: format!(
+                "the fit runs off to a focal length of {:.0} px ({:.0} image diagonals): the vanishing points' edges are too short or nearly parallel to fix the camera; click longer edges towards each vanishing point",
+                sol.x[0],
+                sol.x[0] / diagonal
+            ),
+        });
+    }
     if !sol.converged {
         return Err(MetrologyError::Degenerate {
             field: "objects".to_owned(),
@@ -168,7 +222,6 @@ fn run(scene: &Scene, problem: &Problem, x0: Vec<f64>) -> Result<Solved> {
             ),
         });
     }
-    let _ = scene;
     Ok(Solved {
         problem: problem.clone(),
         x: sol.x,
@@ -297,7 +350,10 @@ fn finish(
                         ),
                     });
                 }
-                if p[2] <= 0.0 || p[3] <= 0.0 {
+                // A negative side is the same box with that axis pointing the other way;
+                // only a side of no length is wrong.
+                let scale = p[0].hypot(p[1]).max(1.0);
+                if p[2].abs() <= 1e-9 * scale || p[3].abs() <= 1e-9 * scale {
                     return Err(MetrologyError::Degenerate {
                         field: format!("objects[{i}]"),
                         reason: format!(

@@ -22,6 +22,9 @@ pub(crate) struct Problem {
     pub camera_len: usize,
     /// The principal point when it is held fixed.
     pub fixed_pp: Option<Vector2<f64>>,
+    /// The pitch is held at its starting value (0 in two-point perspective, where the scene
+    /// format defines the camera as level).
+    pub fixed_pitch: bool,
     /// The objects (and floor points).
     pub parts: Vec<Part>,
     /// Start of each part's parameters in the vector.
@@ -70,6 +73,11 @@ impl Problem {
         Camera::from_params(&x[..self.camera_len], self.fixed_pp)
     }
 
+    /// Whether camera parameter `c` is held fixed.
+    pub fn camera_fixed(&self, c: usize) -> bool {
+        c == 1 && self.fixed_pitch
+    }
+
     fn part_params<'a>(&self, x: &'a [f64], i: usize) -> &'a [f64] {
         &x[self.offsets[i]..self.offsets[i] + self.parts[i].len()]
     }
@@ -114,7 +122,7 @@ impl Problem {
             vp_residuals(&self.camera(x), k, e, &mut r);
             let mut j = DMatrix::zeros(m, nc);
             let (mut plus, mut minus) = (vec![0.0; m], vec![0.0; m]);
-            for c in 0..nc {
+            for c in (0..nc).filter(|&c| !self.camera_fixed(c)) {
                 let h = step_size(x[c]);
                 xs[c] = x[c] + h;
                 vp_residuals(&self.camera(&xs), k, e, &mut plus);
@@ -141,7 +149,7 @@ impl Problem {
             }
             let (mut plus, mut minus) = (vec![0.0; m], vec![0.0; m]);
             let mut jc = DMatrix::zeros(m, nc);
-            for c in 0..nc {
+            for c in (0..nc).filter(|&c| !self.camera_fixed(c)) {
                 let h = step_size(x[c]);
                 xs[c] = x[c] + h;
                 let ok_p = part.residuals(&self.camera(&xs), self.part_params(x, i), &mut plus);
@@ -177,6 +185,11 @@ impl Problem {
             v.push(jo.transpose() * &jo);
             w.push(jc.transpose() * &jo);
             go.push(jo.transpose() * r);
+        }
+        // A held parameter: a unit row and column, so its step is 0 and it carries no
+        // variance into what is reported (the gradients skip it too).
+        for c in (0..nc).filter(|&c| self.camera_fixed(c)) {
+            u[(c, c)] = 1.0;
         }
         Some(Normal { u, gc, v, w, go })
     }

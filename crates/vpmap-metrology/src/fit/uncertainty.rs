@@ -62,14 +62,11 @@ fn params<'a>(problem: &Problem, x: &'a [f64], part: usize) -> &'a [f64] {
 impl Measured {
     fn value(self, problem: &Problem, x: &[f64]) -> f64 {
         match self {
-            Measured::Param { part, index } => params(problem, x, part)[index],
+            Measured::Param { part, index } => params(problem, x, part)[index].abs(),
             Measured::Side { part, longer } => {
                 let p = params(problem, x, part);
-                if longer {
-                    p[2].max(p[3])
-                } else {
-                    p[2].min(p[3])
-                }
+                let (a, b) = (p[2].abs(), p[3].abs());
+                if longer { a.max(b) } else { a.min(b) }
             }
             Measured::FloorDistance { a, b } => {
                 let (p, q) = (params(problem, x, a), params(problem, x, b));
@@ -123,12 +120,13 @@ fn object_values(problem: &Problem, x: &[f64], part: usize) -> [f64; 6] {
             };
             let (e1, e2) = Part::box_axes(&cam, *axes, yaw);
             let c = Vector2::new(p[0], p[1]) + e1 * (0.5 * p[2]) + e2 * (0.5 * p[3]);
-            let long_axis = if p[2] >= p[3] { e1 } else { e2 };
+            let (a, b) = (p[2].abs(), p[3].abs());
+            let long_axis = if a >= b { e1 } else { e2 };
             [
                 c.x,
                 c.y,
-                p[2].max(p[3]),
-                p[2].min(p[3]),
+                a.max(b),
+                a.min(b),
                 if *has_top { p[4] } else { 0.0 },
                 long_axis.y.atan2(long_axis.x),
             ]
@@ -210,7 +208,7 @@ fn gradients<const N: usize>(
         }
         d
     };
-    for c in 0..nc {
+    for c in (0..nc).filter(|&c| !problem.camera_fixed(c)) {
         let d = column(c);
         for k in 0..N {
             out[k].0[c] = d[k];
