@@ -120,16 +120,7 @@ fn check_args(args: &DetectArgs) -> Result<Option<[f64; 2]>> {
         .as_deref()
         .map(|t| parse_point("--principal-point", t))
         .transpose()?;
-    if !(args.two_point_tolerance.is_finite()
-        && TOLERANCE_RANGE_DEG.contains(&args.two_point_tolerance))
-    {
-        bail!(
-            "--two-point-tolerance must be from {} to {} degrees, got {}",
-            TOLERANCE_RANGE_DEG.start(),
-            TOLERANCE_RANGE_DEG.end(),
-            num(args.two_point_tolerance)
-        );
-    }
+    check_two_point_tolerance(args.two_point_tolerance)?;
     check_max_side(args.max_side)?;
     if args.out.to_string_lossy().ends_with('/') || args.out.is_dir() {
         bail!(
@@ -419,6 +410,19 @@ fn wrap(text: &str, width: usize) -> String {
         line_len += len;
     }
     out
+}
+
+/// `--two-point-tolerance` must be within [`TOLERANCE_RANGE_DEG`].
+pub(crate) fn check_two_point_tolerance(tolerance_deg: f64) -> Result<()> {
+    if !(tolerance_deg.is_finite() && TOLERANCE_RANGE_DEG.contains(&tolerance_deg)) {
+        bail!(
+            "--two-point-tolerance must be from {} to {} degrees, got {}",
+            TOLERANCE_RANGE_DEG.start(),
+            TOLERANCE_RANGE_DEG.end(),
+            num(tolerance_deg)
+        );
+    }
+    Ok(())
 }
 
 /// `--max-side` must be within [`MAX_SIDE_RANGE`].
