@@ -47,6 +47,7 @@ fn read_json(path: &Path) -> serde_json::Value {
 /// object are added.
 fn detect_and_build(
     truth: &RenderedScene,
+    extra_args: &[&str],
     expected_points: usize,
     perspective: &str,
     focal_tolerance: f64,
@@ -57,14 +58,16 @@ fn detect_and_build(
     let out = dir.path().join("out");
     let scene_path = out.join("scene.json");
     let overlay = out.join("overlay.png");
-    let o = vpmap(&[
+    let mut args = vec![
         "detect",
         photo.to_str().unwrap(),
         "--out",
         scene_path.to_str().unwrap(),
         "--overlay",
         overlay.to_str().unwrap(),
-    ]);
+    ];
+    args.extend(extra_args);
+    let o = vpmap(&args);
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{stderr}");
     assert!(stderr.is_empty(), "no warnings expected: {stderr}");
@@ -176,15 +179,28 @@ fn perspective_key(points: usize) -> &'static str {
 #[test]
 fn detect_three_point_synthetic_photo_then_build() {
     let truth = render(25.0, 3.0, 30.0, 1);
-    detect_and_build(&truth, 3, "three-point", 0.04);
+    detect_and_build(&truth, &[], 3, "three-point", 0.04);
 }
 
 #[test]
-fn detect_level_synthetic_photo_writes_two_point_perspective() {
+fn detect_level_synthetic_photo_writes_its_measured_tilt() {
     let truth = render(0.0, -2.0, 35.0, 2);
     // A level camera fixes the focal length only through the two horizontal vanishing
-    // points' distance along the horizon, which short floor edges measure less well.
-    detect_and_build(&truth, 2, "two-point", 0.10);
+    // points' distance along the horizon, which short floor edges measure less well. Its
+    // measured tilt is small but not zero: the far vertical point is written, three-point.
+    detect_and_build(&truth, &[], 3, "three-point", 0.10);
+}
+
+#[test]
+fn detect_level_synthetic_photo_within_the_two_point_tolerance_leaves_the_vertical_out() {
+    let truth = render(0.0, -2.0, 35.0, 2);
+    detect_and_build(
+        &truth,
+        &["--two-point-tolerance", "3"],
+        2,
+        "two-point",
+        0.10,
+    );
 }
 
 #[test]
