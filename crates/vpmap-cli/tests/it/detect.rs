@@ -397,6 +397,7 @@ fn eval_detect_on_labelled_synthetic_photos() {
         "within 3 deg",
         "AUC@10 deg",
         "focal error, median",
+        "horizon AUC@0.25",
         "Lu et al.",
     ] {
         assert!(stdout.contains(needle), "{needle:?} missing:\n{stdout}");
@@ -420,6 +421,21 @@ fn eval_detect_on_labelled_synthetic_photos() {
         // Two photos of three detected, all within 3 degrees.
         let within3 = s["within_deg"][1]["fraction"].as_f64().unwrap();
         assert!((within3 - 2.0 / 3.0).abs() < 1e-9, "{s}");
+        // The rendered labels are exactly orthogonal, so both horizons of the truth agree; the
+        // written horizon is within 5 % of the image height (a miss for the refused photo).
+        for photo in &photos[..2] {
+            let h = photo[run]["horizon_error"].as_f64().unwrap();
+            let hh = photo[run]["horizon_error_against_labelled_horizontal_vps"]
+                .as_f64()
+                .unwrap();
+            assert!(
+                h < 0.05 && (h - hh).abs() < 1e-6,
+                "{run}: {h}, {hh} in {photo}"
+            );
+        }
+        assert!(photos[2][run]["horizon_error"].is_null());
+        let auc = s["horizon_error"]["auc"].as_f64().unwrap();
+        assert!(auc > 0.8 * 2.0 / 3.0 && auc <= 2.0 / 3.0, "{s}");
     }
     let focal = &report["summary"]["estimated_intrinsics"]["focal_error"];
     assert!(focal["within_fraction"].as_f64().unwrap() > 0.6, "{focal}");
