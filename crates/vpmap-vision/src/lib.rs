@@ -18,8 +18,8 @@
 //! | first vanishing point | [`manhattan`] | length-weighted random segment pairs, angular consistency score, algebraic least squares | Tardif, "Non-iterative approach for fast and accurate vanishing point detection", ICCV 2009 (consistency measure) |
 //! | Manhattan triplet | [`manhattan`] | 2-line search: the other two directions on the great circle orthogonal to the first, by a histogram vote, over a focal-length grid when the camera is unknown | Lu, Yao, Li, Chen, Li, "2-Line Exhaustive Searching for Real-Time Vanishing Point Estimation in Manhattan World", WACV 2017 |
 //! | refinement | [`manhattan`] | joint Levenberg-Marquardt of the rotation (orthogonality built in), focal length and principal point on the segment-to-vanishing-point distances, Cauchy-reweighted | Triggs et al., "Bundle adjustment — a modern synthesis", 2000 (robust LM); Hartley and Zisserman, *Multiple View Geometry*, 2nd ed., 8.8 (calibration from vanishing points) |
-//! | 2PP / 3PP | [`detect`] | tilt of the vertical direction against the image plane vs [`DetectOptions::two_point_tolerance_deg`] | |
-//! | scene file | [`scene`] | the detected directions made orthogonal (and level in 2PP), written as a `docs/scene-format.md` scene that calibrates | |
+//! | 2PP / 3PP | [`detect`] | tilt of the vertical direction against the image plane vs [`DetectOptions::two_point_tolerance_deg`] (default 0: three-point whenever the vertical point is finite) | |
+//! | scene file | [`scene`] | the detected directions made orthogonal (never levelled: the horizon written is the measured one), written as a `docs/scene-format.md` scene that calibrates | |
 //! | test scenes | [`synthetic`] | ray-cast tiled floor and boxes, anti-aliased, from a known camera | |
 //! | accuracy figures | [`metrics`] | direction matching, angular errors, area under the accuracy curve | Lu et al. 2017 (AUC) |
 //!
@@ -114,9 +114,11 @@ pub struct Detection {
     /// Whether the principal point was estimated (not given).
     pub principal_point_estimated: bool,
     /// Two- or three-point perspective, from the vertical direction's tilt:
-    /// [`Perspective::TwoPoint`] when it is within [`DetectOptions::two_point_tolerance_deg`]
-    /// of the image plane (its vanishing point at, or far towards, infinity; the pitch taken as
-    /// zero), [`Perspective::ThreePoint`] otherwise (three finite vanishing points).
+    /// [`Perspective::TwoPoint`] when it is tilted from the image plane by less than
+    /// [`DetectOptions::two_point_tolerance_deg`] (its vanishing point far towards infinity, and
+    /// left out of the scene file), [`Perspective::ThreePoint`] otherwise. A report, not a
+    /// correction: the directions are the measured ones either way (see [`scene`], which also
+    /// writes a two-point scene when the vertical point is out of reach).
     pub perspective: Perspective,
     /// Angle between the vertical direction and the image plane, degrees: the absolute
     /// camera pitch (whatever the roll).
@@ -138,7 +140,9 @@ pub struct DetectOptions {
     /// finer edges of big photos at a cost linear in the pixel count.
     pub max_side_px: u32,
     /// A vertical direction tilted by less than this from the image plane makes the photo
-    /// two-point perspective, degrees (default 3).
+    /// two-point perspective, degrees (default 0: never, the measured vertical vanishing point
+    /// is kept however far it is). It decides only whether the vertical point is reported and
+    /// written, never the directions: a two-point scene still carries the measured horizon.
     pub two_point_tolerance_deg: f64,
     /// Seed of the random sampling, for reproducible results (default 0).
     pub seed: u64,
@@ -150,7 +154,7 @@ impl Default for DetectOptions {
             focal_px: None,
             principal_point_px: None,
             max_side_px: 640,
-            two_point_tolerance_deg: 3.0,
+            two_point_tolerance_deg: 0.0,
             seed: 0,
         }
     }

@@ -5,11 +5,20 @@
 //!   horizontal ones, in the detection's order;
 //! * the two horizontal directions are made orthogonal to the vertical one and to each other,
 //!   each turned by the same amount about the vertical (the orthogonal pair symmetric about
-//!   their bisectors);
-//! * in two-point perspective the frame is turned by the smallest rotation that puts the
-//!   vertical direction in the image plane (the scene format takes such a camera as level);
+//!   their bisectors). The vertical direction is kept as detected, so the horizon written (the
+//!   line through the two horizontal points) is the measured one: the camera is never levelled;
 //! * a horizontal point (nearly) at infinity is turned, with the other, about the vertical
-//!   until it lies within [`MAX_VANISHING_POINT_OFFSET_PX`] of the principal point;
+//!   until it lies within [`MAX_VANISHING_POINT_OFFSET_PX`] of the principal point (this keeps
+//!   the horizon);
+//! * the scene is three-point perspective, with the vertical point written, unless the
+//!   detection is two-point ([`Detection::perspective`], the tilt under
+//!   [`crate::DetectOptions::two_point_tolerance_deg`]) or the vertical point lies farther than
+//!   [`MAX_VANISHING_POINT_OFFSET_PX`] from the principal point (the vertical direction within
+//!   about `focal / 1e7` rad of the image plane). A two-point scene leaves the vertical point
+//!   out and still writes the measured horizon and the principal point the detector used: the
+//!   scene format's two-point calibration then moves that principal point onto the horizon (a
+//!   warning when it is more than 1 % of the image height off), and a reconstruction that keeps
+//!   the principal point fits the pitch to the horizon instead;
 //! * each vanishing point is written as `point` with up to
 //!   [`MAX_LINES_PER_VANISHING_POINT`] of its longest supporting segments as `lines`; the
 //!   vertical one only in three-point perspective;
@@ -37,7 +46,7 @@ type Vec3 = Vector3<f64>;
 pub struct DetectedScene {
     /// The scene file's text, laid out like the examples of `docs/scene-format.md`.
     pub json: String,
-    /// 2PP or 3PP.
+    /// 2PP or 3PP, as written: 3PP exactly when the vertical vanishing point is written.
     pub perspective: Perspective,
     /// The camera as `vpmap build` recovers it from the scene.
     pub calibration: Calibration,
@@ -75,15 +84,6 @@ fn rotate(v: Vec3, k: Vec3, angle_rad: f64) -> Vec3 {
     v * c + k.cross(&v) * s + k * (k.dot(&v) * (1.0 - c))
 }
 
-/// The smallest rotation taking unit `from` to unit `to`, applied to `v`.
-fn rotate_like(v: Vec3, from: Vec3, to: Vec3) -> Vec3 {
-    let axis = from.cross(&to);
-    match normalize(axis) {
-        Some(k) => rotate(v, k, axis.norm().atan2(from.dot(&to))),
-        None => v,
-    }
-}
-
 /// Angle between the lines along `a` and `b` (sign-free), degrees.
 fn line_angle_deg(a: Vec3, b: Vec3) -> f64 {
     a.cross(&b).norm().atan2(a.dot(&b).abs()).to_degrees()
@@ -119,8 +119,9 @@ fn roles(det: &Detection) -> Result<[usize; 3], SceneError> {
     }
 }
 
-/// The orthogonal frame nearest the detected directions (see the module documentation).
-fn manhattan_frame(h1: Vec3, h2: Vec3, v: Vec3, level: bool) -> Result<[Vec3; 3], SceneError> {
+/// The orthogonal frame nearest the detected directions, the vertical kept as detected (see the
+/// module documentation).
+fn manhattan_frame(h1: Vec3, h2: Vec3, v: Vec3) -> Result<[Vec3; 3], SceneError> {
     let Some(v) = normalize(v) else {
         return fail("the vertical vanishing direction is degenerate");
     };
@@ -133,17 +134,7 @@ fn manhattan_frame(h1: Vec3, h2: Vec3, v: Vec3, level: bool) -> Result<[Vec3; 3]
     let (Some(u), Some(w)) = (normalize(a + b), normalize(a - b)) else {
         return fail("the two horizontal vanishing points coincide");
     };
-    let mut frame = [(u + w) * FRAC_1_SQRT_2, (u - w) * FRAC_1_SQRT_2, v];
-    if level {
-        let Some(level_v) = normalize(Vector3::new(v.x, v.y, 0.0)) else {
-            return fail("the vertical direction points along the optical axis");
-        };
-        for d in &mut frame {
-            *d = rotate_like(*d, v, level_v);
-        }
-        frame[2] = level_v;
-    }
-    Ok(frame)
+    Ok([(u + w) * FRAC_1_SQRT_2, (u - w) * FRAC_1_SQRT_2, v])
 }
 
 /// Turn the horizontal pair about the vertical until neither point lies farther than
@@ -269,7 +260,6 @@ pub fn detected_scene(det: &Detection) -> Result<DetectedScene, SceneError> {
             c[0], c[1]
         ));
     }
-    let perspective = det.perspective;
     let mut detected = [Vec3::zeros(); 3];
     for (k, &i) in roles.iter().enumerate() {
         let Some(vp) = det.vanishing_points.get(i) else {
@@ -277,13 +267,15 @@ pub fn detected_scene(det: &Detection) -> Result<DetectedScene, SceneError> {
         };
         detected[k] = Vector3::from(vp.direction_camera);
     }
-    let mut frame = manhattan_frame(
-        detected[0],
-        detected[1],
-        detected[2],
-        perspective == Perspective::TwoPoint,
-    )?;
+    let mut frame = manhattan_frame(detected[0], detected[1], detected[2])?;
     keep_points_in_reach(&mut frame, f);
+    let vertical_in_reach = pixel_of_direction(frame[2], f, c)
+        .is_some_and(|p| (p[0] - c[0]).hypot(p[1] - c[1]) <= MAX_VANISHING_POINT_OFFSET_PX);
+    let perspective = if det.perspective == Perspective::ThreePoint && vertical_in_reach {
+        Perspective::ThreePoint
+    } else {
+        Perspective::TwoPoint
+    };
     let adjusted_deg = (0..3)
         .map(|i| line_angle_deg(detected[i], frame[i]))
         .fold(0.0, f64::max);
@@ -383,23 +375,120 @@ mod tests {
         assert!(s.json.contains("[10.0, 10.0, 100.0, 20.0]"), "{}", s.json);
     }
 
+    /// Where `line` (homogeneous, pixels) crosses `x`, pixels.
+    fn y_at(line: Vec3, x: f64) -> f64 {
+        -(line.x * x + line.z) / line.y
+    }
+
+    /// The line through the scene's two horizontal vanishing points.
+    fn written_horizon(s: &DetectedScene) -> Vec3 {
+        let [Some(a), Some(b), _] = s.points_px else {
+            panic!("no horizontal points: {:?}", s.points_px);
+        };
+        Vector3::new(a[0], a[1], 1.0).cross(&Vector3::new(b[0], b[1], 1.0))
+    }
+
     #[test]
-    fn nearly_level_camera_is_levelled_for_two_point_perspective() {
+    fn nearly_level_camera_keeps_its_measured_tilt() {
+        // Looking down 1.5 degrees, the second horizontal 0.4 degrees off orthogonal. The old
+        // writer levelled this camera (turning every direction by 1.5 degrees); now the
+        // vertical is written and the scene calibrates to the measured pitch.
+        let mut frame = world_axes(-0.7, 1.5f64.to_radians());
+        frame[1] = rotate(frame[1], frame[2], 0.4f64.to_radians());
+        let det = detection(frame, Perspective::ThreePoint);
+        let s = detected_scene(&det).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(s.perspective, Perspective::ThreePoint);
+        assert!(s.json.contains("\"perspective\": \"3pp\""), "{}", s.json);
+        let vertical = s.points_px[2].unwrap_or_else(|| panic!("{}", s.json));
+        // Straight below the principal point, f / tan(1.5 deg) = 30547.6 px down.
+        assert!((vertical[0] - 320.0).abs() < 1e-6, "{vertical:?}");
+        assert!(
+            (vertical[1] - (240.0 + 800.0 / 1.5f64.to_radians().tan())).abs() < 1e-3,
+            "{vertical:?}"
+        );
+        assert!(
+            s.calibration.warnings.is_empty(),
+            "{:?}",
+            s.calibration.warnings
+        );
+        assert!((s.calibration.pitch_rad - 1.5f64.to_radians()).abs() < 1e-7);
+        assert!((s.calibration.focal_px - 800.0).abs() < 1e-3);
+        // Only the horizontals were turned, by half the 0.4 degrees each.
+        assert!((s.adjusted_deg - 0.2).abs() < 1e-6, "{}", s.adjusted_deg);
+        // The horizon is 800 tan(1.5 deg) = 20.95 px above the principal point, level.
+        let h = written_horizon(&s);
+        for x in [0.0, 640.0] {
+            let y = y_at(h, x);
+            assert!(
+                (y - (240.0 - 800.0 * 1.5f64.to_radians().tan())).abs() < 1e-6,
+                "{y}"
+            );
+        }
+    }
+
+    #[test]
+    fn two_point_detection_keeps_the_measured_horizon() {
+        // The same camera judged two-point (a 3-degree tolerance): the vertical point is left
+        // out, but the horizon written is still the measured one, not moved to the principal
+        // point, and the directions are only made orthogonal.
         let mut frame = world_axes(-0.7, 1.5f64.to_radians());
         frame[1] = rotate(frame[1], frame[2], 0.4f64.to_radians());
         let det = detection(frame, Perspective::TwoPoint);
         let s = detected_scene(&det).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(s.perspective, Perspective::TwoPoint);
+        assert!(s.points_px[2].is_none());
+        assert!(s.json.contains("\"perspective\": \"2pp\""), "{}", s.json);
+        assert!(s.adjusted_deg < 0.21, "{}", s.adjusted_deg);
+        let h = written_horizon(&s);
+        let y = y_at(h, 320.0);
+        assert!(
+            (y - (240.0 - 800.0 * 1.5f64.to_radians().tan())).abs() < 1e-6,
+            "{y}"
+        );
+        // The scene format's two-point calibration moves the principal point onto it, and
+        // says so.
+        assert!(
+            (s.calibration.principal_point_px().y - y).abs() < 1e-6,
+            "{:?}",
+            s.calibration.principal_point_px()
+        );
+        assert_eq!(
+            s.calibration.warnings.len(),
+            1,
+            "{:?}",
+            s.calibration.warnings
+        );
+    }
+
+    #[test]
+    fn a_vertical_in_the_image_plane_makes_a_two_point_scene() {
+        // Exactly level: the vertical point is at infinity, so it cannot be written.
+        let det = detection(world_axes(0.5, 0.0), Perspective::ThreePoint);
+        let s = detected_scene(&det).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(s.perspective, Perspective::TwoPoint);
         assert!(s.points_px[2].is_none());
         assert!(
             s.calibration.warnings.is_empty(),
             "{:?}",
             s.calibration.warnings
         );
+        assert!((s.calibration.focal_px - 800.0).abs() < 1e-3);
+        // Looking down so little that the vertical point lies beyond reach: two-point too.
+        let tiny = (800.0 / (2.0 * MAX_VANISHING_POINT_OFFSET_PX)).atan();
+        let det = detection(world_axes(0.5, tiny), Perspective::ThreePoint);
+        let s = detected_scene(&det).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(s.perspective, Perspective::TwoPoint);
+        // Just within reach: three-point, with the right pitch.
+        let small = (800.0 / (0.5 * MAX_VANISHING_POINT_OFFSET_PX)).atan();
+        let det = detection(world_axes(0.5, small), Perspective::ThreePoint);
+        let s = detected_scene(&det).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(s.perspective, Perspective::ThreePoint);
         assert!(
-            s.adjusted_deg > 1.4 && s.adjusted_deg < 2.0,
-            "{}",
-            s.adjusted_deg
+            (s.calibration.pitch_rad / small - 1.0).abs() < 1e-3,
+            "{} vs {small}",
+            s.calibration.pitch_rad
         );
+        assert!((s.calibration.focal_px - 800.0).abs() < 1e-2);
     }
 
     #[test]

@@ -27,6 +27,9 @@ pub struct EvalDetectArgs {
     /// The detector's internal downscale: longer side at most this, pixels.
     #[arg(long, default_value_t = default_options().max_side_px)]
     pub max_side: u32,
+    /// The detector's `--two-point-tolerance`, degrees (as `vpmap detect`).
+    #[arg(long, default_value_t = default_options().two_point_tolerance_deg, allow_negative_numbers = true)]
+    pub two_point_tolerance: f64,
     /// Also write the summary into the `detect` section of this Markdown file (e.g.
     /// docs/results.md), with the command line, date and machine.
     #[arg(long)]
@@ -42,6 +45,7 @@ pub fn run_eval_detect(args: &EvalDetectArgs) -> Result<()> {
         .num_threads(1)
         .build_global();
     super::check_max_side(args.max_side)?;
+    super::check_two_point_tolerance(args.two_point_tolerance)?;
     if args.limit == Some(0) {
         bail!("--limit must be at least 1");
     }
@@ -59,6 +63,7 @@ pub fn run_eval_detect(args: &EvalDetectArgs) -> Result<()> {
     let opts = DetectionOptions {
         detect: DetectOptions {
             max_side_px: args.max_side,
+            two_point_tolerance_deg: args.two_point_tolerance,
             ..default_options()
         },
         photo_limits: PhotoLimits::default(),

@@ -68,8 +68,11 @@ pub struct DetectArgs {
     /// the principal point drawn on it (PNG).
     #[arg(long)]
     pub overlay: Option<PathBuf>,
-    /// Vertical edges within this angle of the image plane make the photo two-point
-    /// perspective (the camera is taken as level), degrees.
+    /// Vertical edges within this angle of the image plane make the scene two-point
+    /// perspective: the vertical vanishing point is left out, and `vpmap build`'s side-view and
+    /// projective methods take the camera as level. The horizon written is the measured one
+    /// either way (the camera is never levelled). Default 0: the vertical point is written
+    /// whenever it is finite, degrees.
     #[arg(long, default_value_t = default_options().two_point_tolerance_deg, allow_negative_numbers = true)]
     pub two_point_tolerance: f64,
     /// The photo is downscaled internally so that its longer side is at most this, pixels
@@ -120,16 +123,7 @@ fn check_args(args: &DetectArgs) -> Result<Option<[f64; 2]>> {
         .as_deref()
         .map(|t| parse_point("--principal-point", t))
         .transpose()?;
-    if !(args.two_point_tolerance.is_finite()
-        && TOLERANCE_RANGE_DEG.contains(&args.two_point_tolerance))
-    {
-        bail!(
-            "--two-point-tolerance must be from {} to {} degrees, got {}",
-            TOLERANCE_RANGE_DEG.start(),
-            TOLERANCE_RANGE_DEG.end(),
-            num(args.two_point_tolerance)
-        );
-    }
+    check_two_point_tolerance(args.two_point_tolerance)?;
     check_max_side(args.max_side)?;
     if args.out.to_string_lossy().ends_with('/') || args.out.is_dir() {
         bail!(
@@ -288,6 +282,16 @@ fn point_text(p: Option<[f64; 2]>) -> String {
     }
 }
 
+/// Signed distance of the written horizon above the principal point the detector used,
+/// pixels (perpendicular to the horizon; positive when the camera looks down).
+fn horizon_offset_px(det: &Detection, scene: &DetectedScene) -> f64 {
+    let cal = &scene.calibration;
+    let [cx, cy] = det.intrinsics.principal_point_px;
+    cal.vanishing_points_px.first().map_or(0.0, |vp| {
+        (vp.x - cx) * cal.frame.up.x + (vp.y - cy) * cal.frame.up.y
+    })
+}
+
 /// The one-paragraph summary `vpmap detect` prints.
 fn summary(
     args: &DetectArgs,
@@ -332,10 +336,20 @@ fn summary(
     let _ = match scene.perspective {
         Perspective::TwoPoint => write!(
             text,
-            "pitch 0 (vertical edges {:.2} deg from the image plane, within the {} deg tolerance: taken as level), roll {:.2} deg.",
+            "roll {:.2} deg; vertical edges {:.2} deg from the image plane, {}, so the vertical vanishing point is not written and vpmap build's side-view and projective methods take the camera as level. The horizon written is the measured one, {:.1} px {} the principal point.",
+            cal.roll_rad.to_degrees(),
             det.vertical_tilt_deg,
-            args.two_point_tolerance,
-            cal.roll_rad.to_degrees()
+            if det.perspective == Perspective::TwoPoint {
+                format!("within the {} deg tolerance", args.two_point_tolerance)
+            } else {
+                "their vanishing point too far to write".to_owned()
+            },
+            horizon_offset_px(det, scene).abs(),
+            if horizon_offset_px(det, scene) >= 0.0 {
+                "above"
+            } else {
+                "below"
+            },
         ),
         Perspective::ThreePoint => write!(
             text,
@@ -380,13 +394,8 @@ fn summary(
     if scene.adjusted_deg >= 0.01 {
         let _ = write!(
             text,
-            " The directions were turned by up to {:.2} deg to make them exactly orthogonal{} for the scene file.",
+            " The directions were turned by up to {:.2} deg to make them exactly orthogonal for the scene file.",
             scene.adjusted_deg,
-            if scene.perspective == Perspective::TwoPoint {
-                " and level"
-            } else {
-                ""
-            }
         );
     }
     let _ = write!(
@@ -419,6 +428,19 @@ fn wrap(text: &str, width: usize) -> String {
         line_len += len;
     }
     out
+}
+
+/// `--two-point-tolerance` must be within [`TOLERANCE_RANGE_DEG`].
+pub(crate) fn check_two_point_tolerance(tolerance_deg: f64) -> Result<()> {
+    if !(tolerance_deg.is_finite() && TOLERANCE_RANGE_DEG.contains(&tolerance_deg)) {
+        bail!(
+            "--two-point-tolerance must be from {} to {} degrees, got {}",
+            TOLERANCE_RANGE_DEG.start(),
+            TOLERANCE_RANGE_DEG.end(),
+            num(tolerance_deg)
+        );
+    }
+    Ok(())
 }
 
 /// `--max-side` must be within [`MAX_SIDE_RANGE`].

@@ -47,6 +47,7 @@ fn read_json(path: &Path) -> serde_json::Value {
 /// object are added.
 fn detect_and_build(
     truth: &RenderedScene,
+    extra_args: &[&str],
     expected_points: usize,
     perspective: &str,
     focal_tolerance: f64,
@@ -57,14 +58,16 @@ fn detect_and_build(
     let out = dir.path().join("out");
     let scene_path = out.join("scene.json");
     let overlay = out.join("overlay.png");
-    let o = vpmap(&[
+    let mut args = vec![
         "detect",
         photo.to_str().unwrap(),
         "--out",
         scene_path.to_str().unwrap(),
         "--overlay",
         overlay.to_str().unwrap(),
-    ]);
+    ];
+    args.extend(extra_args);
+    let o = vpmap(&args);
     let stderr = String::from_utf8_lossy(&o.stderr);
     assert!(o.status.success(), "{stderr}");
     assert!(stderr.is_empty(), "no warnings expected: {stderr}");
@@ -176,15 +179,28 @@ fn perspective_key(points: usize) -> &'static str {
 #[test]
 fn detect_three_point_synthetic_photo_then_build() {
     let truth = render(25.0, 3.0, 30.0, 1);
-    detect_and_build(&truth, 3, "three-point", 0.04);
+    detect_and_build(&truth, &[], 3, "three-point", 0.04);
 }
 
 #[test]
-fn detect_level_synthetic_photo_writes_two_point_perspective() {
+fn detect_level_synthetic_photo_writes_its_measured_tilt() {
     let truth = render(0.0, -2.0, 35.0, 2);
     // A level camera fixes the focal length only through the two horizontal vanishing
-    // points' distance along the horizon, which short floor edges measure less well.
-    detect_and_build(&truth, 2, "two-point", 0.10);
+    // points' distance along the horizon, which short floor edges measure less well. Its
+    // measured tilt is small but not zero: the far vertical point is written, three-point.
+    detect_and_build(&truth, &[], 3, "three-point", 0.10);
+}
+
+#[test]
+fn detect_level_synthetic_photo_within_the_two_point_tolerance_leaves_the_vertical_out() {
+    let truth = render(0.0, -2.0, 35.0, 2);
+    detect_and_build(
+        &truth,
+        &["--two-point-tolerance", "3"],
+        2,
+        "two-point",
+        0.10,
+    );
 }
 
 #[test]
@@ -381,6 +397,7 @@ fn eval_detect_on_labelled_synthetic_photos() {
         "within 3 deg",
         "AUC@10 deg",
         "focal error, median",
+        "horizon AUC@0.25",
         "Lu et al.",
     ] {
         assert!(stdout.contains(needle), "{needle:?} missing:\n{stdout}");
@@ -404,6 +421,21 @@ fn eval_detect_on_labelled_synthetic_photos() {
         // Two photos of three detected, all within 3 degrees.
         let within3 = s["within_deg"][1]["fraction"].as_f64().unwrap();
         assert!((within3 - 2.0 / 3.0).abs() < 1e-9, "{s}");
+        // The rendered labels are exactly orthogonal, so both horizons of the truth agree; the
+        // written horizon is within 5 % of the image height (a miss for the refused photo).
+        for photo in &photos[..2] {
+            let h = photo[run]["horizon_error"].as_f64().unwrap();
+            let hh = photo[run]["horizon_error_against_labelled_horizontal_vps"]
+                .as_f64()
+                .unwrap();
+            assert!(
+                h < 0.05 && (h - hh).abs() < 1e-6,
+                "{run}: {h}, {hh} in {photo}"
+            );
+        }
+        assert!(photos[2][run]["horizon_error"].is_null());
+        let auc = s["horizon_error"]["auc"].as_f64().unwrap();
+        assert!(auc > 0.8 * 2.0 / 3.0 && auc <= 2.0 / 3.0, "{s}");
     }
     let focal = &report["summary"]["estimated_intrinsics"]["focal_error"];
     assert!(focal["within_fraction"].as_f64().unwrap() > 0.6, "{focal}");

@@ -13,10 +13,16 @@
 //! horizontals to the labelled ones by the assignment with the smaller total error. A photo the
 //! detector refuses, or a vanishing point it does not return, counts as a miss (error
 //! infinite) in every figure.
+//!
+//! The horizon error ([`horizon`]) is that of the scene file `vpmap detect` would write for the
+//! detection ([`vpmap_vision::scene::detected_scene`]): the line through its two horizontal
+//! vanishing points, against the labelled camera's horizon `K^-T v` (`v` the labelled
+//! vertical). A photo refused, or whose detection gives no scene, counts as a miss.
 
 use std::path::{Path, PathBuf};
 
 pub mod geom;
+pub mod horizon;
 pub mod report;
 
 use std::time::Instant;
@@ -24,12 +30,14 @@ use std::time::Instant;
 use image::DynamicImage;
 use serde::Deserialize;
 use vpmap_vision::photo::{PhotoLimits, decode_photo};
+use vpmap_vision::scene::detected_scene;
 use vpmap_vision::{DetectOptions, Detection, detect};
 
 use crate::error::{Result, ResultExt as _, bail};
 use crate::output::OutputSet;
 use crate::progress::Progress;
 use geom::{Vec3, direction_of_pixel, line_angle_deg, normalize};
+use horizon::{Line, horizon_error, horizon_of_vertical, line_through};
 
 /// How to run the detector on the photos.
 #[derive(Clone, Debug, Default)]
@@ -62,6 +70,32 @@ pub struct Label {
     pub directions: [Vec3; 3],
     /// Which of them is vertical.
     pub vertical: usize,
+}
+
+impl Label {
+    /// The true horizon, `K^-T v` for the labelled vertical `v` (see [`horizon`]).
+    #[must_use]
+    pub fn horizon(&self) -> Line {
+        let v = self
+            .directions
+            .get(self.vertical)
+            .copied()
+            .unwrap_or_default();
+        horizon_of_vertical(v, self.focal_px, self.principal_point_px)
+    }
+
+    /// The horizon through the two labelled horizontal vanishing points, `K^-T (a x b)` for
+    /// the labelled horizontal directions `a`, `b`. The labels are not exactly orthogonal
+    /// (`docs/detection.md`), so it differs from [`Label::horizon`].
+    #[must_use]
+    pub fn horizon_of_horizontals(&self) -> Line {
+        let mut horizontals = (0..3)
+            .filter(|&i| i != self.vertical)
+            .filter_map(|i| self.directions.get(i).copied());
+        let (a, b) = (horizontals.next(), horizontals.next());
+        let normal = a.zip(b).map(|(a, b)| geom::cross(a, b)).unwrap_or_default();
+        horizon_of_vertical(normal, self.focal_px, self.principal_point_px)
+    }
 }
 
 #[derive(Deserialize)]
@@ -213,10 +247,14 @@ pub struct RunOk {
     pub focal_error: Option<f64>,
     /// Principal point used, pixels.
     pub principal_point_px: [f64; 2],
-    /// "2pp" or "3pp".
+    /// "2pp" or "3pp", as the detector judged it.
     pub perspective: &'static str,
     /// Segments found.
     pub segments: usize,
+    /// The horizon error of the scene file written for the detection, image heights
+    /// ([`horizon::horizon_error`]) against [`Label::horizon`] and against
+    /// [`Label::horizon_of_horizontals`]; `None` when the detection gives no scene.
+    pub horizon_error: Option<[f64; 2]>,
 }
 
 /// One photo's two runs.
@@ -284,6 +322,21 @@ pub fn match_errors(det: &Detection, label: &Label) -> [Option<f64>; 3] {
     errors
 }
 
+/// The horizon errors of the scene `vpmap detect` writes for `det`, image heights (`None` when
+/// it writes none): the line through the scene's two horizontal vanishing points, as
+/// `vpmap build` reads them, against [`Label::horizon`] and [`Label::horizon_of_horizontals`].
+#[must_use]
+pub fn scene_horizon_error(det: &Detection, label: &Label) -> Option<[f64; 2]> {
+    let scene = detected_scene(det).ok()?;
+    let vps = &scene.calibration.vanishing_points_px;
+    let (a, b) = (vps.first()?, vps.get(1)?);
+    let written = line_through([a.x, a.y], [b.x, b.y]);
+    Some(
+        [label.horizon(), label.horizon_of_horizontals()]
+            .map(|truth| horizon_error(written, truth, det.image_size_px)),
+    )
+}
+
 /// Read a JPEG or PNG photo as `vpmap detect` does: one line naming the file and the problem.
 fn read_photo(path: &Path, limits: &PhotoLimits) -> std::result::Result<DynamicImage, String> {
     let bytes =
@@ -311,6 +364,7 @@ fn run_one(image: &DynamicImage, label: &Label, which: Intrinsics, opts: &Detect
         principal_point_px: det.intrinsics.principal_point_px,
         perspective: det.perspective.name(),
         segments: det.segments.len(),
+        horizon_error: scene_horizon_error(&det, label),
     });
     Run {
         time_ms: Some(elapsed.as_secs_f64() * 1e3),

@@ -5,6 +5,9 @@
 //! * AUC@L: the area under that accuracy curve from 0 to L degrees, divided by L (as Lu et al.
 //!   report), computed exactly: the mean over vanishing points of `max(0, 1 - error / L)`;
 //! * focal error: `|f - f_true| / f_true` when estimated (a refused photo counts as infinite);
+//! * horizon error: of the scene file written, in image heights ([`super::horizon`]), its median
+//!   and the area under its cumulative curve from 0 to [`HORIZON_AUC_LIMIT`] image heights,
+//!   divided by that limit (Lezama et al. 2014); a photo with no scene counts as infinite;
 //! * time: wall time of `detect` per call (both runs of every photo that could be read).
 
 use std::fmt::Write as _;
@@ -13,6 +16,7 @@ use crate::error::{Result, ResultExt as _};
 use crate::stats::{auc, fraction_at_most, quantile_of};
 use serde_json::json;
 
+use super::horizon::HORIZON_AUC_LIMIT;
 use super::{ImageResult, Intrinsics};
 
 /// Thresholds of the "within" rows, degrees.
@@ -58,6 +62,12 @@ pub struct Summary {
     pub median_horizontal_deg: f64,
     /// Focal error median, p90 and fraction within [`FOCAL_TOLERANCE`] (estimated runs only).
     pub focal: Option<(f64, f64, f64)>,
+    /// Median horizon error, image heights (infinite when most photos give no scene).
+    pub median_horizon: f64,
+    /// Area under the horizon error curve up to [`HORIZON_AUC_LIMIT`], normalised to 1.
+    pub horizon_auc: f64,
+    /// The same area against the horizon through the labelled horizontal vanishing points.
+    pub horizon_auc_of_horizontals: f64,
     /// Time per call, median and p90, milliseconds.
     pub time_ms: Option<(f64, f64)>,
 }
@@ -70,6 +80,8 @@ pub fn summarise(results: &[ImageResult], which: Intrinsics) -> Summary {
     let mut vertical = Vec::new();
     let mut horizontal = Vec::new();
     let mut focal = Vec::new();
+    let mut horizon = Vec::new();
+    let mut horizon_of_horizontals = Vec::new();
     let mut times = Vec::new();
     let mut failed = 0;
     for r in results {
@@ -80,10 +92,13 @@ pub fn summarise(results: &[ImageResult], which: Intrinsics) -> Summary {
         if run.outcome.is_err() {
             failed += 1;
         }
-        let (vp_errors, focal_error) = run
-            .outcome
-            .as_ref()
-            .map_or(([None; 3], None), |ok| (ok.errors_deg, ok.focal_error));
+        let (vp_errors, focal_error, horizon_error) =
+            run.outcome.as_ref().map_or(([None; 3], None, None), |ok| {
+                (ok.errors_deg, ok.focal_error, ok.horizon_error)
+            });
+        let [h, hh] = horizon_error.unwrap_or([f64::INFINITY; 2]);
+        horizon.push(h);
+        horizon_of_horizontals.push(hh);
         for (i, e) in vp_errors.iter().enumerate() {
             let e = e.unwrap_or(f64::INFINITY);
             errors.push(e);
@@ -118,6 +133,9 @@ pub fn summarise(results: &[ImageResult], which: Intrinsics) -> Summary {
         median_vertical_deg: quantile_of(&vertical, 0.5).unwrap_or(f64::INFINITY),
         median_horizontal_deg: quantile_of(&horizontal, 0.5).unwrap_or(f64::INFINITY),
         focal,
+        median_horizon: quantile_of(&horizon, 0.5).unwrap_or(f64::INFINITY),
+        horizon_auc: crate::stats::auc(&horizon, HORIZON_AUC_LIMIT),
+        horizon_auc_of_horizontals: crate::stats::auc(&horizon_of_horizontals, HORIZON_AUC_LIMIT),
         time_ms: quantile_of(&times, 0.5).zip(quantile_of(&times, 0.9)),
     }
 }
@@ -190,6 +208,27 @@ fn rows(summaries: &[Summary; 2]) -> Vec<(String, [String; 2], String)> {
     rows.push((
         "median error, horizontal (deg)".to_owned(),
         cells(&|s| deg(s.median_horizontal_deg)),
+        String::new(),
+    ));
+    rows.push((
+        "horizon error, median (image heights)".to_owned(),
+        cells(&|s| {
+            if s.median_horizon.is_finite() {
+                format!("{:.4}", s.median_horizon)
+            } else {
+                "miss".to_owned()
+            }
+        }),
+        String::new(),
+    ));
+    rows.push((
+        format!("horizon AUC@{HORIZON_AUC_LIMIT}"),
+        cells(&|s| pct(s.horizon_auc)),
+        String::new(),
+    ));
+    rows.push((
+        format!("horizon AUC@{HORIZON_AUC_LIMIT}, labelled horizontal VPs"),
+        cells(&|s| pct(s.horizon_auc_of_horizontals)),
         String::new(),
     ));
     rows.push((
@@ -312,7 +351,7 @@ pub fn markdown(ctx: &Context, results: &[ImageResult], summaries: &[Summary; 2]
     }
     let _ = writeln!(
         out,
-        "\nError: the angle between the detected and the labelled vanishing direction (`vp_dirs_camera_yup`), sign-free; vertical matched to vertical, horizontals by the better assignment; with estimated intrinsics the detected points are turned into directions with the estimated K. A refused photo or a missing vanishing point counts as a miss in every figure. AUC@L is the area under the curve \"fraction of vanishing points with error <= x\" for x from 0 to L, divided by L. Time: wall time of `detect` only.\n\nReference: {REFERENCE}.\n"
+        "\nError: the angle between the detected and the labelled vanishing direction (`vp_dirs_camera_yup`), sign-free; vertical matched to vertical, horizontals by the better assignment; with estimated intrinsics the detected points are turned into directions with the estimated K. A refused photo or a missing vanishing point counts as a miss in every figure. AUC@L is the area under the curve \"fraction of vanishing points with error <= x\" for x from 0 to L, divided by L. Horizon error (Barinova et al. 2010, Lezama et al. 2014): the largest vertical distance, over the image's width, between the horizon of the scene file `vpmap detect` writes (the line through its two horizontal vanishing points) and the true one (`K^-T v`, v the labelled vertical), divided by the image height; horizon AUC@{HORIZON_AUC_LIMIT}: the area under the curve \"fraction of photos with horizon error <= x\" for x from 0 to {HORIZON_AUC_LIMIT}, divided by {HORIZON_AUC_LIMIT}; a refused photo is a miss. The last row measures the same against the line through the two labelled horizontal vanishing points instead, which differs because the labelled directions are not exactly orthogonal. Time: wall time of `detect` only.\n\nReference: {REFERENCE}.\n"
     );
     let refused: Vec<String> = results
         .iter()
@@ -355,6 +394,12 @@ fn summary_json(s: &Summary) -> serde_json::Value {
         "focal_error": s.focal.map(|(m, p, w)| json!({
             "median": finite(m), "p90": finite(p), "within_fraction": w, "tolerance": FOCAL_TOLERANCE,
         })),
+        "horizon_error": json!({
+            "median": finite(s.median_horizon),
+            "auc": s.horizon_auc,
+            "auc_limit": HORIZON_AUC_LIMIT,
+            "auc_against_labelled_horizontal_vps": s.horizon_auc_of_horizontals,
+        }),
         "time_ms": s.time_ms.map(|(m, p)| json!({"median": m, "p90": p})),
     })
 }
@@ -382,6 +427,8 @@ pub fn json(ctx: &Context, results: &[ImageResult], summaries: &[Summary; 2]) ->
                         "principal_point_px": ok.principal_point_px,
                         "perspective": ok.perspective,
                         "segments": ok.segments,
+                        "horizon_error": ok.horizon_error.map(|e| e[0]).filter(|e| e.is_finite()),
+                        "horizon_error_against_labelled_horizontal_vps": ok.horizon_error.map(|e| e[1]).filter(|e| e.is_finite()),
                     }),
                     Err(e) => json!({"time_ms": run.time_ms, "refused": e}),
                 };
@@ -398,6 +445,7 @@ pub fn json(ctx: &Context, results: &[ImageResult], summaries: &[Summary; 2]) ->
         "labelled_photos": ctx.available,
         "max_side_px": ctx.max_side,
         "error": "angle between detected and labelled (vp_dirs_camera_yup) vanishing directions, degrees, sign-free; null: missed",
+        "horizon_error": "largest vertical distance over the image width between the written scene's horizon and K^-T v (v the labelled vertical), image heights; null: missed",
         "reference": REFERENCE,
         "summary": summary,
         "photos": rows,
@@ -422,6 +470,7 @@ mod tests {
                 principal_point_px: [1.0, 2.0],
                 perspective: "3pp",
                 segments: 9,
+                horizon_error: Some([0.05, 0.3]),
             }),
         };
         ImageResult {
@@ -462,5 +511,8 @@ mod tests {
         assert!((within - 0.5).abs() < 1e-12);
         assert!(s.median_vertical_deg.is_infinite());
         assert!(summarise(&results, Intrinsics::Given).focal.is_none());
+        // Horizon: 0.05 and a miss; AUC@0.25 = (1 - 0.05 / 0.25) / 2 = 0.4.
+        assert!((s.horizon_auc - 0.4).abs() < 1e-12, "{}", s.horizon_auc);
+        assert!(s.horizon_auc_of_horizontals.abs() < 1e-12);
     }
 }

@@ -102,7 +102,12 @@ fn bench_summary() {
     insta::assert_snapshot!("bench_console", bench::report::console(&results, &summary));
 }
 
-fn run(errors_deg: [Option<f64>; 3], focal_error: Option<f64>, time_ms: f64) -> Run {
+fn run(
+    errors_deg: [Option<f64>; 3],
+    focal_error: Option<f64>,
+    horizon_error: Option<[f64; 2]>,
+    time_ms: f64,
+) -> Run {
     Run {
         time_ms: Some(time_ms),
         outcome: Ok(RunOk {
@@ -112,6 +117,7 @@ fn run(errors_deg: [Option<f64>; 3], focal_error: Option<f64>, time_ms: f64) -> 
             principal_point_px: [320.0, 240.0],
             perspective: "3pp",
             segments: 120,
+            horizon_error,
         }),
     }
 }
@@ -124,8 +130,18 @@ fn detection_summary() {
             size_px: Some([640, 480]),
             vertical: 1,
             runs: [
-                run([Some(0.4), Some(0.2), Some(1.5)], None, 20.0),
-                run([Some(0.9), Some(2.5), Some(4.0)], Some(0.02), 30.0),
+                run(
+                    [Some(0.4), Some(0.2), Some(1.5)],
+                    None,
+                    Some([0.01, 0.02]),
+                    20.0,
+                ),
+                run(
+                    [Some(0.9), Some(2.5), Some(4.0)],
+                    Some(0.02),
+                    Some([0.08, 0.03]),
+                    30.0,
+                ),
             ],
         },
         ImageResult {
@@ -133,7 +149,7 @@ fn detection_summary() {
             size_px: Some([640, 480]),
             vertical: 0,
             runs: [
-                run([Some(0.1), Some(6.0), None], None, 25.0),
+                run([Some(0.1), Some(6.0), None], None, None, 25.0),
                 Run {
                     time_ms: Some(12.0),
                     outcome: Err("found 3 segments, at least 8 needed".to_owned()),

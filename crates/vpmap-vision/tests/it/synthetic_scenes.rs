@@ -8,6 +8,7 @@ use nalgebra::{Vector2, Vector3};
 use vpmap_metrology::scene::ImageSize;
 use vpmap_metrology::synth::PinholeCamera;
 use vpmap_vision::metrics::manhattan_errors_deg;
+use vpmap_vision::scene::detected_scene;
 use vpmap_vision::synthetic::{RenderedScene, SceneRenderOptions, render_manhattan_scene};
 use vpmap_vision::{DetectOptions, Detection, Perspective, detect};
 
@@ -45,10 +46,13 @@ fn check_against(scene: &RenderedScene, found: &Detection, max_error_deg: f64) {
         errors.iter().all(|&e| e < max_error_deg),
         "direction errors {errors:?} deg (limit {max_error_deg})"
     );
-    assert_eq!(
-        found.perspective, scene.perspective,
-        "tilt {}",
-        found.vertical_tilt_deg
+    // The tilt is measured, never rounded to level (a level camera is reported three-point
+    // with a small measured tilt unless a two-point tolerance is given).
+    assert!(
+        (found.vertical_tilt_deg - scene.vertical_tilt_deg).abs() < max_error_deg,
+        "tilt {} vs {}",
+        found.vertical_tilt_deg,
+        scene.vertical_tilt_deg
     );
     assert_eq!(
         found.image_size_px,
@@ -245,7 +249,8 @@ fn a_jpeg_round_trip_still_gives_the_camera() {
 
 #[test]
 fn the_two_point_tolerance_decides_the_perspective() {
-    // 2 degrees of pitch: three-point at a 1-degree tolerance, two-point at 3 degrees.
+    // 2 degrees of pitch: three-point at a 1-degree tolerance and by default (0), two-point at
+    // 3 degrees.
     let scene = render_manhattan_scene(&SceneRenderOptions {
         pitch_rad: 2f64.to_radians(),
         yaw_rad: 35f64.to_radians(),
@@ -264,6 +269,12 @@ fn the_two_point_tolerance_decides_the_perspective() {
     );
     assert_eq!(found.perspective, Perspective::ThreePoint);
     let found = detect(&scene.image, &DetectOptions::default()).expect("detect");
+    assert_eq!(found.perspective, Perspective::ThreePoint);
+    let lenient = DetectOptions {
+        two_point_tolerance_deg: 3.0,
+        ..DetectOptions::default()
+    };
+    let found = detect(&scene.image, &lenient).expect("detect");
     assert_eq!(found.perspective, Perspective::TwoPoint);
 }
 
@@ -398,4 +409,70 @@ fn looking_up_8_degrees_with_near_floor_and_boxes() {
 #[test]
 fn looking_up_12_degrees_with_near_floor_and_boxes() {
     check_looking_up(12.0);
+}
+
+/// Where the line through `a` and `b` crosses `x`, pixels.
+fn y_on_line(a: [f64; 2], b: [f64; 2], x: f64) -> f64 {
+    a[1] + (b[1] - a[1]) * (x - a[0]) / (b[0] - a[0])
+}
+
+#[test]
+fn a_nearly_level_photo_keeps_its_measured_horizon_in_the_scene() {
+    // 1.5 degrees down, under the 3-degree tolerance that used to level the camera (turning
+    // the directions until the horizon passed through the principal point).
+    let scene = render_manhattan_scene(&SceneRenderOptions {
+        pitch_rad: 1.5f64.to_radians(),
+        yaw_rad: 35f64.to_radians(),
+        seed: 11,
+        ..SceneRenderOptions::default()
+    });
+    let k = scene.intrinsics;
+    let (f, [cx, cy]) = (k.focal_px, k.principal_point_px);
+    let width = f64::from(scene.image.width());
+    // The true horizon, from the renderer's camera: the points whose ray is orthogonal to the
+    // vertical `u`, u . ((x - cx) / f, (y - cy) / f, 1) = 0.
+    let u = scene.directions_camera[2];
+    let true_y = |x: f64| cy - (u[0] * (x - cx) / f + u[2]) * f / u[1];
+    for (tolerance_deg, perspective) in
+        [(0.0, Perspective::ThreePoint), (3.0, Perspective::TwoPoint)]
+    {
+        let found = detect(
+            &scene.image,
+            &DetectOptions {
+                focal_px: Some(f),
+                principal_point_px: Some(k.principal_point_px),
+                two_point_tolerance_deg: tolerance_deg,
+                ..DetectOptions::default()
+            },
+        )
+        .expect("detect");
+        let written = detected_scene(&found).expect("scene");
+        assert_eq!(written.perspective, perspective, "{}", written.json);
+        let [Some(a), Some(b), vertical] = written.points_px else {
+            panic!("{}", written.json);
+        };
+        assert_eq!(vertical.is_some(), perspective == Perspective::ThreePoint);
+        // What levelling wrote: the same horizon moved, parallel to itself, through the
+        // principal point.
+        let shift = y_on_line(a, b, cx) - cy;
+        let error = |x: f64| (y_on_line(a, b, x) - true_y(x)).abs();
+        let levelled_error = |x: f64| (y_on_line(a, b, x) - shift - true_y(x)).abs();
+        let kept = error(0.0).max(error(width));
+        let levelled = levelled_error(0.0).max(levelled_error(width));
+        // The true horizon is f tan(1.5 deg) above the principal point.
+        let offset = f * 1.5f64.to_radians().tan();
+        assert!((cy - true_y(cx) - offset).abs() < 1e-6 * f);
+        // Measured: 4.8 px as written, 15.9 px levelled, both tolerances (640 x 480).
+        let height = f64::from(scene.image.height());
+        assert!(
+            kept < 0.5 * levelled && kept < 0.02 * height && levelled > 0.75 * offset,
+            "tolerance {tolerance_deg}: horizon off by {kept:.2} px as written, {levelled:.2} px levelled ({offset:.2} px tilt)"
+        );
+        if perspective == Perspective::ThreePoint {
+            let pitch_deg = written.calibration.pitch_rad.to_degrees();
+            // Measured: 1.06 deg (the directions are within a degree on these renders); the
+            // levelled scene had 0.
+            assert!((pitch_deg - 1.5).abs() < 0.6, "pitch {pitch_deg} deg");
+        }
+    }
 }
