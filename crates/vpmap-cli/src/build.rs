@@ -57,7 +57,8 @@ fn map_options(args: &BuildArgs) -> MapOptions {
         robot_radius_m: args.robot_radius,
         hidden_free: args.hidden_free,
         max_grid_cells: None,
-        click_sigma_px: None,
+        click_sigma_px: args.click_sigma,
+        grow_confidence: args.grow_confidence,
     }
 }
 
@@ -138,17 +139,51 @@ fn print_summary(map: &FloorMap, grid_summary: &str) {
         c.roll_deg,
         c.height
     );
+    if let (Some(e), Some(f)) = (&c.uncertainty, &map.fit) {
+        println!(
+            "  +- (1 sigma): focal {:.1} px, pitch {:.2} deg, roll {:.2} deg, height {:.3} {u}; for {:.2} px clicks ({}), reprojection RMS {:.2} px",
+            e.focal_px_sd,
+            e.pitch_deg_sd,
+            e.roll_deg_sd,
+            e.height_sd,
+            f.click_sigma_px,
+            match f.click_sigma_source.as_str() {
+                "given" => "given",
+                "residuals" => "estimated from the residuals",
+                _ => "default",
+            },
+            f.rms_residual_px
+        );
+    }
     for o in &map.objects {
+        let pm = |sd: Option<f64>| sd.map_or_else(String::new, |s| format!(" +- {s:.3}"));
+        let (u_len, u_br, u_h) = o.uncertainty.as_ref().map_or((None, None, None), |e| {
+            (e.length_sd, e.breadth_sd, e.height_sd)
+        });
         let size = o.size.map_or_else(
             || format!("area {:.3} {u}^2", o.area),
-            |s| format!("{:.3} x {:.3} {u}", s.length, s.breadth),
+            |s| {
+                format!(
+                    "{:.3}{} x {:.3}{} {u}",
+                    s.length,
+                    pm(u_len),
+                    s.breadth,
+                    pm(u_br)
+                )
+            },
         );
         let height = o.height.map_or_else(
             || "height unknown".to_owned(),
-            |h| format!("height {h:.3} {u}"),
+            |h| format!("height {h:.3}{} {u}", pm(u_h)),
         );
+        let place = o.uncertainty.as_ref().map_or_else(String::new, |e| {
+            format!(
+                " (95 % within {:.3} x {:.3} {u})",
+                e.centroid_ellipse_95.semi_axes[0], e.centroid_ellipse_95.semi_axes[1]
+            )
+        });
         println!(
-            "  {:<12} at ({:.3}, {:.3}) {u}: {size}, {height}",
+            "  {:<12} at ({:.3}, {:.3}) {u}{place}: {size}, {height}",
             o.name, o.centroid[0], o.centroid[1]
         );
     }
@@ -224,6 +259,8 @@ pub fn run_demo(out: &Path, method: Method) -> Result<()> {
         resolution: vpmap_pipeline::DEFAULT_RESOLUTION_M,
         robot_radius: vpmap_pipeline::DEFAULT_ROBOT_RADIUS_M,
         hidden_free: false,
+        click_sigma: None,
+        grow_confidence: None,
     };
     let mut built = build_outputs(&scene, &args)?;
     let (path_line, style) = demo_path(&built)?;

@@ -35,9 +35,19 @@ pub struct BuildArgs {
     /// Output folder (created if missing).
     #[arg(long, short)]
     pub out: PathBuf,
-    /// Reconstruction method: the thesis's side-view method or the camera-matrix form.
-    #[arg(long, default_value = "sideview", value_parser = parse_method)]
+    /// Reconstruction method: `fit`, the joint maximum-likelihood fit of the camera and every
+    /// object to all clicks, with error bars; `sideview`, the thesis's method; `projective`,
+    /// the camera-matrix form (see docs/method.md).
+    #[arg(long, default_value = "fit", value_parser = parse_method)]
     pub method: Method,
+    /// Click noise the fit's error bars are computed for, pixels (1 sigma per coordinate;
+    /// default: estimated from the residuals when the clicks over-determine the model, else 1).
+    #[arg(long, allow_negative_numbers = true)]
+    pub click_sigma: Option<f64>,
+    /// Grow each obstacle in the occupancy grid by its uncertainty at this confidence (e.g.
+    /// 0.95), so a robot keeps clear of what is not known well (method fit).
+    #[arg(long, allow_negative_numbers = true)]
+    pub grow_confidence: Option<f64>,
     /// Occupancy-grid cell size, metres (map units when the scene has no scale).
     #[arg(long, default_value_t = vpmap_pipeline::DEFAULT_RESOLUTION_M, allow_negative_numbers = true)]
     pub resolution: f64,
@@ -80,8 +90,8 @@ enum Command {
         /// Output folder.
         #[arg(long, short, default_value = "out/demo")]
         out: PathBuf,
-        /// Reconstruction method.
-        #[arg(long, default_value = "sideview", value_parser = parse_method)]
+        /// Reconstruction method: fit, sideview or projective.
+        #[arg(long, default_value = "fit", value_parser = parse_method)]
         method: Method,
     },
     /// Write a random synthetic scene (and its truth) from the built-in pinhole camera.

@@ -16,12 +16,12 @@ use crate::scene::{ObjectShape, PixelPoint, Scene};
 #[serde(rename_all = "lowercase")]
 pub enum Method {
     /// The thesis's side-view method (chapters 3-4 with the errata's sign rules).
-    #[default]
     Sideview,
     /// The camera-matrix form: each pixel's ray meets the floor plane.
     Projective,
     /// The joint maximum-likelihood fit of the camera and every object to all clicked points
-    /// and vanishing-point segments ([`crate::fit`]).
+    /// and vanishing-point segments ([`crate::fit`]): the default.
+    #[default]
     Fit,
 }
 

@@ -51,4 +51,12 @@ pub enum PipelineError {
     /// A start or goal is outside the grid, not on a cell, or on a cell a path cannot enter.
     #[error("{0}")]
     Endpoint(String),
+    /// Obstacles are to be grown by their uncertainty, but the method gives no error bars.
+    #[error(
+        "growing obstacles by their uncertainty needs error bars, which only the fit method gives; method {method} gives none"
+    )]
+    NoErrorBars {
+        /// The method asked for.
+        method: vpmap_metrology::reconstruct::Method,
+    },
 }

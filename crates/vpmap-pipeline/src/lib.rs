@@ -28,7 +28,10 @@ pub mod endpoint;
 mod error;
 pub mod options;
 
-use vpmap_metrology::map::{BuildOptions, FloorMap, Units, build_map};
+use nalgebra::Vector2;
+use vpmap_metrology::map::{
+    BuildOptions, FloorMap, ObjectUncertainty, PolygonWithHoles, Units, build_map,
+};
 use vpmap_metrology::scene::Scene;
 use vpmap_plan::ros::encode_ros_map;
 use vpmap_plan::{OccupancyGrid, RasterOptions, rasterize_map};
@@ -122,9 +125,93 @@ fn floor_map(scene: &Scene, options: &MapOptions) -> Result<FloorMap, PipelineEr
     .map_err(PipelineError::Map)
 }
 
+/// Radius by which an obstacle is grown at confidence `p`: the radius of the centroid's
+/// confidence circle of its larger standard deviation, `sqrt(-2 ln(1 - p))` sigmas (the
+/// chi-square quantile with 2 degrees of freedom), plus half its larger side's standard
+/// deviation at the same multiple. Conservative: the circle contains the ellipse.
+#[must_use]
+pub fn uncertainty_margin(u: &ObjectUncertainty, p: f64) -> f64 {
+    let k = (-2.0 * (1.0 - p).ln()).sqrt();
+    let c = u.centroid_covariance;
+    let mean = 0.5 * (c[0][0] + c[1][1]);
+    let det = c[0][0] * c[1][1] - c[0][1] * c[1][0];
+    let largest = mean + (mean * mean - det).max(0.0).sqrt();
+    let side = u.length_sd.unwrap_or(0.0).max(u.breadth_sd.unwrap_or(0.0));
+    k * (largest.max(0.0).sqrt() + 0.5 * side)
+}
+
+/// The map with each obstacle grown by [`uncertainty_margin`] at confidence `p` and the free
+/// space recomputed; objects without error bars stay as they are.
+#[must_use]
+pub fn grown_by_uncertainty(map: &FloorMap, p: f64) -> FloorMap {
+    use geo::{Buffer, LineString, Polygon};
+    let mut out = map.clone();
+    for o in &mut out.objects {
+        let Some(u) = &o.uncertainty else { continue };
+        let r = uncertainty_margin(u, p);
+        if !(r.is_finite() && r > 0.0) || o.footprint.len() < 3 {
+            continue;
+        }
+        let poly = Polygon::new(
+            LineString::from(o.footprint.iter().map(|q| (q[0], q[1])).collect::<Vec<_>>()),
+            vec![],
+        );
+        let grown = poly.buffer(r);
+        if let Some(largest) = grown
+            .0
+            .iter()
+            .max_by(|a, b| geo::Area::unsigned_area(*a).total_cmp(&geo::Area::unsigned_area(*b)))
+        {
+            let mut ring: Vec<[f64; 2]> = largest.exterior().coords().map(|c| [c.x, c.y]).collect();
+            if ring.len() > 1 && ring.first() == ring.last() {
+                ring.pop();
+            }
+            o.footprint = ring;
+        }
+    }
+    let floor: Vec<Vector2<f64>> = out.floor.iter().map(|p| Vector2::new(p[0], p[1])).collect();
+    let footprints: Vec<Vec<Vector2<f64>>> = out
+        .objects
+        .iter()
+        .map(|o| {
+            o.footprint
+                .iter()
+                .map(|p| Vector2::new(p[0], p[1]))
+                .collect()
+        })
+        .collect();
+    let free = vpmap_metrology::map::free_space(&floor, &footprints);
+    out.free_space = free
+        .0
+        .iter()
+        .map(|p| {
+            let ring = |ls: &geo::LineString<f64>| {
+                let mut v: Vec<[f64; 2]> = ls.coords().map(|c| [c.x, c.y]).collect();
+                if v.len() > 1 && v.first() == v.last() {
+                    v.pop();
+                }
+                v
+            };
+            PolygonWithHoles {
+                exterior: ring(p.exterior()),
+                holes: p.interiors().iter().map(ring).collect(),
+            }
+        })
+        .collect();
+    out
+}
+
 /// The occupancy grid of a map; refused beyond [`MapOptions::max_grid_cells`] before any
 /// cell is made.
 fn occupancy_grid(map: &FloorMap, options: &MapOptions) -> Result<OccupancyGrid, PipelineError> {
+    let grown;
+    let map = match options.grow_confidence {
+        Some(p) => {
+            grown = grown_by_uncertainty(map, p);
+            &grown
+        }
+        None => map,
+    };
     if let Some(limit) = options.max_grid_cells {
         let (mut lo, mut hi) = map.bounds();
         for p in map.free_space.iter().flat_map(|p| &p.exterior) {

@@ -23,6 +23,12 @@ pub const DEFAULT_ROBOT_RADIUS_M: f64 = 0.2;
 /// The default occupancy-grid cell size, metres.
 pub const DEFAULT_RESOLUTION_M: f64 = 0.05;
 
+/// Accepted click noise for the fit's error bars, pixels (1 sigma per coordinate).
+pub const CLICK_SIGMA_RANGE_PX: RangeInclusive<f64> = 0.0..=100.0;
+
+/// Accepted confidence levels for growing obstacles by their uncertainty.
+pub const GROW_CONFIDENCE_RANGE: RangeInclusive<f64> = 0.5..=0.9999;
+
 /// Unknown border around the map in the occupancy grid, map units.
 pub const GRID_MARGIN_M: f64 = 0.5;
 
@@ -34,6 +40,10 @@ pub enum BuildOption {
     Resolution,
     /// [`MapOptions::robot_radius_m`].
     RobotRadius,
+    /// [`MapOptions::click_sigma_px`].
+    ClickSigma,
+    /// [`MapOptions::grow_confidence`].
+    GrowConfidence,
 }
 
 impl BuildOption {
@@ -43,6 +53,8 @@ impl BuildOption {
         match self {
             Self::Resolution => "resolution",
             Self::RobotRadius => "robot_radius",
+            Self::ClickSigma => "click_sigma",
+            Self::GrowConfidence => "grow_confidence",
         }
     }
 
@@ -52,6 +64,8 @@ impl BuildOption {
         match self {
             Self::Resolution => "--resolution",
             Self::RobotRadius => "--robot-radius",
+            Self::ClickSigma => "--click-sigma",
+            Self::GrowConfidence => "--grow-confidence",
         }
     }
 
@@ -69,6 +83,15 @@ impl BuildOption {
                 "a non-negative number of metres, at most {}",
                 ROBOT_RADIUS_RANGE_M.end()
             ),
+            Self::ClickSigma => format!(
+                "a non-negative number of pixels, at most {}",
+                CLICK_SIGMA_RANGE_PX.end()
+            ),
+            Self::GrowConfidence => format!(
+                "a confidence level from {} to {}",
+                GROW_CONFIDENCE_RANGE.start(),
+                GROW_CONFIDENCE_RANGE.end()
+            ),
         }
     }
 
@@ -76,6 +99,8 @@ impl BuildOption {
         match self {
             Self::Resolution => RESOLUTION_RANGE_M,
             Self::RobotRadius => ROBOT_RADIUS_RANGE_M,
+            Self::ClickSigma => CLICK_SIGMA_RANGE_PX,
+            Self::GrowConfidence => GROW_CONFIDENCE_RANGE,
         }
     }
 }
@@ -89,7 +114,8 @@ impl fmt::Display for BuildOption {
 /// How to build a map and its occupancy grid from a scene.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MapOptions {
-    /// Reconstruction method (the thesis's side-view method by default).
+    /// Reconstruction method (the joint fit by default; the thesis's side-view method and
+    /// the projective form on request).
     pub method: Method,
     /// Occupancy-grid cell size, metres (map units when the scene has no scale).
     pub resolution_m: f64,
@@ -104,35 +130,49 @@ pub struct MapOptions {
     /// The click noise the fit's error bars are computed for, pixels (`None`: estimated from
     /// the residuals when the data over-determine the model, else 1 px).
     pub click_sigma_px: Option<f64>,
+    /// Grow each obstacle in the occupancy grid by its uncertainty at this confidence (e.g.
+    /// 0.95), so a robot keeps clear of what is not known well (`None`: footprints as fitted).
+    /// Needs a map with error bars (method `fit`).
+    pub grow_confidence: Option<f64>,
 }
 
 impl Default for MapOptions {
     fn default() -> Self {
         Self {
-            method: Method::Sideview,
+            method: Method::Fit,
             resolution_m: DEFAULT_RESOLUTION_M,
             robot_radius_m: DEFAULT_ROBOT_RADIUS_M,
             hidden_free: false,
             max_grid_cells: None,
             click_sigma_px: None,
+            grow_confidence: None,
         }
     }
 }
 
 impl MapOptions {
-    /// Check every range: [`RESOLUTION_RANGE_M`], [`ROBOT_RADIUS_RANGE_M`].
+    /// Check every range: [`RESOLUTION_RANGE_M`], [`ROBOT_RADIUS_RANGE_M`],
+    /// [`CLICK_SIGMA_RANGE_PX`], [`GROW_CONFIDENCE_RANGE`].
     ///
     /// # Errors
     /// [`PipelineError::OptionOutOfRange`] naming the first option out of range (NaN and
     /// infinities are out of every range).
     pub fn validate(&self) -> Result<(), PipelineError> {
         for (option, value) in [
-            (BuildOption::Resolution, self.resolution_m),
-            (BuildOption::RobotRadius, self.robot_radius_m),
+            (BuildOption::Resolution, Some(self.resolution_m)),
+            (BuildOption::RobotRadius, Some(self.robot_radius_m)),
+            (BuildOption::ClickSigma, self.click_sigma_px),
+            (BuildOption::GrowConfidence, self.grow_confidence),
         ] {
+            let Some(value) = value else { continue };
             if !(value.is_finite() && option.range().contains(&value)) {
                 return Err(PipelineError::OptionOutOfRange { option, value });
             }
+        }
+        if self.grow_confidence.is_some() && self.method != Method::Fit {
+            return Err(PipelineError::NoErrorBars {
+                method: self.method,
+            });
         }
         Ok(())
     }

@@ -202,6 +202,45 @@ fn start_box(
             }
         }
     }
+    if best.is_none() {
+        // The linear start puts a corner behind this camera (a poor starting camera): start
+        // from a small box standing on the floor under the first base click instead; the fit
+        // moves it.
+        let base = clicks.iter().find(|c| c.place.2 == 0)?;
+        let q = start_floor_point(cam, base.pixel);
+        let size = 0.1 * q.norm().max(0.1);
+        for first in 0..2 {
+            let axes = BoxAxes {
+                first,
+                sign1: 1.0,
+                sign2: 1.0,
+            };
+            let (e1, e2) = Part::box_axes(cam, axes, 0.0);
+            let (i, j) = (f64::from(base.place.0), f64::from(base.place.1));
+            let origin = q - e1 * (i * size) - e2 * (j * size);
+            let mut p = vec![origin.x, origin.y, size, size];
+            if has_top {
+                p.push(size);
+            }
+            if own_yaw {
+                p.push(0.0);
+            }
+            let part = Part::Box {
+                view,
+                clicks: clicks.to_vec(),
+                axes,
+                has_top,
+                own_yaw,
+            };
+            let mut r = vec![0.0; part.residual_count()];
+            if part.residuals(cam, &p, &mut r) {
+                let cost: f64 = r.iter().map(|v| v * v).sum();
+                if best.as_ref().is_none_or(|(c, _, _)| cost < *c) {
+                    best = Some((cost, part, p));
+                }
+            }
+        }
+    }
     best.map(|(_, part, p)| (part, p))
 }
 
@@ -310,13 +349,27 @@ fn start_parts(scene: &Scene, cam: &Camera) -> Result<StartParts> {
     Ok((parts, params, object_parts, floor_distance_parts))
 }
 
+/// Every clicked box corner of the scene, pixels.
+fn box_clicks(scene: &Scene) -> Vec<[f64; 2]> {
+    let mut out = Vec::new();
+    for o in &scene.objects {
+        if let Some(b) = &o.base {
+            out.extend(b.given().map(|(_, p)| p));
+        }
+        if let Some(t) = &o.top {
+            out.extend(t.corners.given().map(|(_, p)| p));
+        }
+    }
+    out
+}
+
 /// Build the problem and its starting points, best (lowest starting cost) first.
 ///
 /// # Errors
 /// When an object's clicks fit no box in front of any starting camera, or the scene's
 /// shapes or scale are invalid.
 pub(crate) fn build(scene: &Scene) -> Result<Vec<Built>> {
-    let vps: Vec<VpEvidence> = scene
+    let all: Vec<VpEvidence> = scene
         .vanishing_points
         .iter()
         .map(|v| match v.point {
@@ -325,11 +378,31 @@ pub(crate) fn build(scene: &Scene) -> Result<Vec<Built>> {
             None => VpEvidence::Lines(v.lines.clone()),
         })
         .collect();
-    let points: Vec<Vector3<f64>> = vps
+    let points: Vec<Vector3<f64>> = all
         .iter()
         .map(|e| match e {
             VpEvidence::Lines(l) => homogeneous_vp(l, scene.image),
             VpEvidence::Point(p) => Vector3::new(p.x, p.y, 1.0),
+        })
+        .collect();
+    // A segment drawn between two clicked box corners repeats those clicks: the box model
+    // already runs that edge to its vanishing point, so counting the segment again would count
+    // the same click noise twice (and make the error bars too small). It helps the start only.
+    let clicked = box_clicks(scene);
+    let is_click = |x: f64, y: f64| {
+        clicked
+            .iter()
+            .any(|c| (c[0] - x).abs() + (c[1] - y).abs() < 1e-9)
+    };
+    let vps: Vec<VpEvidence> = all
+        .into_iter()
+        .map(|e| match e {
+            VpEvidence::Lines(l) => VpEvidence::Lines(
+                l.into_iter()
+                    .filter(|s| !(is_click(s[0], s[1]) && is_click(s[2], s[3])))
+                    .collect(),
+            ),
+            point @ VpEvidence::Point(_) => point,
         })
         .collect();
     let pp = scene

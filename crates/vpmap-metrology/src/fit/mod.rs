@@ -27,8 +27,10 @@ use nalgebra::{Vector2, Vector3};
 
 use crate::calibration::{Calibration, HorizonFrame, Perspective};
 use crate::error::{MetrologyError, Result};
-use crate::reconstruct::{Method, ObjectKind, ReconstructedObject, Reconstruction};
-use crate::scene::{BoxCorner, BoxView, ObjectShape, Scene};
+use crate::reconstruct::{
+    Method, ObjectKind, ReconstructedObject, Reconstruction, require_below_horizon,
+};
+use crate::scene::{BoxCorner, BoxView, ObjectShape, PixelPoint, Scene};
 
 use model::{Camera, Part, px, vp_direction};
 pub(crate) use solve::Problem;
@@ -46,6 +48,10 @@ pub struct FitOptions {
 
 /// Largest focal length the fit accepts, in image diagonals (a 1.5 degree field of view).
 pub const MAX_FOCAL_DIAGONALS: f64 = 40.0;
+
+/// The least click noise the fit assumes when it estimates it from the residuals, pixels:
+/// the standard deviation of rounding to whole pixels, `1/sqrt(12)`.
+pub const MIN_CLICK_SIGMA_PX: f64 = 0.288_675_134_594_812_9;
 
 /// Fewest redundant observations (residuals minus parameters) for estimating the click
 /// noise from the residuals.
@@ -102,6 +108,7 @@ pub struct Fitted {
 /// - the vanishing-point errors of [`Scene::resolve_vanishing_points`] when no starting
 ///   camera can be found.
 pub fn fit_scene(scene: &Scene, options: &FitOptions) -> Result<Fitted> {
+    check_below_given_horizon(scene)?;
     let starts = init::build(scene)?;
     let three_point = scene.vanishing_points.len() == 3;
     // From the best start; the others only when it fails or ends with residuals far above
@@ -188,6 +195,51 @@ pub fn fit_scene(scene: &Scene, options: &FitOptions) -> Result<Fitted> {
 /// without trying the others: clicks within about 3 px.
 const GOOD_FIT_PX2: f64 = 9.0;
 
+/// A floor point clicked above the horizon of the scene's vanishing points (given, or the
+/// least-squares intersections of their segments) cannot be on the floor: refused by name, as
+/// the other methods do, before it can bend the fit. With segments the horizon is itself
+/// uncertain, so a click within [`HORIZON_TOLERANCE`] of the image height above it passes (the
+/// fit then places the horizon).
+fn check_below_given_horizon(scene: &Scene) -> Result<()> {
+    let exact = scene.vanishing_points[..2]
+        .iter()
+        .all(|v| v.point.is_some() && v.lines.len() < 2);
+    let Ok(cal) = crate::map::calibrate(scene) else {
+        return Ok(());
+    };
+    let tolerance = if exact {
+        0.0
+    } else {
+        HORIZON_TOLERANCE * f64::from(scene.image.height)
+    };
+    let check = |field: String, p: PixelPoint| -> Result<()> {
+        if cal.frame.below_horizon_px(px(p)) < -tolerance {
+            require_below_horizon(&cal, &field, p)?;
+        }
+        Ok(())
+    };
+    for (i, obj) in scene.objects.iter().enumerate() {
+        if let Some(b) = &obj.base {
+            for (c, p) in b.given() {
+                check(format!("objects[{i}].base.{}", c.name()), p)?;
+            }
+        }
+        if let Some(f) = &obj.footprint {
+            for (k, p) in f.iter().enumerate() {
+                check(format!("objects[{i}].footprint[{k}]"), *p)?;
+            }
+        }
+    }
+    for (k, p) in scene.floor.iter().enumerate() {
+        check(format!("floor[{k}]"), *p)?;
+    }
+    Ok(())
+}
+
+/// How far above the horizon of fitted vanishing-point segments a floor click may lie before
+/// it is refused, as a share of the image height.
+pub const HORIZON_TOLERANCE: f64 = 0.02;
+
 /// A converged minimisation with its problem.
 struct Solved {
     problem: Problem,
@@ -241,7 +293,13 @@ pub(crate) fn click_sigma(
     }
     let dof = problem.residual_count().saturating_sub(problem.len());
     if dof >= MIN_DOF_FOR_SIGMA {
-        ((cost / dof as f64).sqrt(), "residuals")
+        // Never below the rounding of a click to whole pixels (a uniform error of one pixel
+        // has a standard deviation of 1/sqrt(12) px): exact synthetic clicks would otherwise
+        // claim error bars of zero.
+        (
+            (cost / dof as f64).sqrt().max(MIN_CLICK_SIGMA_PX),
+            "residuals",
+        )
     } else {
         (1.0, "default")
     }
@@ -321,6 +379,32 @@ fn finish(
         })?;
     if let Some(block) = normal.singular_block() {
         return Err(singular_error(scene, &problem, &object_parts, block));
+    }
+    let calibration = calibration_of(&cam, perspective);
+    // A floor point clicked on or above the fitted horizon cannot be on the floor: refuse it
+    // by name, as the other methods do, rather than bend the fit around it.
+    for (i, _) in scene.objects.iter().enumerate() {
+        match &problem.parts[object_parts[i]] {
+            Part::Box { clicks, .. } => {
+                for c in clicks.iter().filter(|c| c.place.2 == 0) {
+                    require_below_horizon(
+                        &calibration,
+                        &format!("objects[{i}].{}", c.name),
+                        [c.pixel.x, c.pixel.y],
+                    )?;
+                }
+            }
+            Part::Footprint { vertices, .. } => {
+                for (k, v) in vertices.iter().enumerate() {
+                    require_below_horizon(
+                        &calibration,
+                        &format!("objects[{i}].footprint[{k}]"),
+                        [v.x, v.y],
+                    )?;
+                }
+            }
+            Part::FloorPoint { .. } => {}
+        }
     }
     let mut objects = Vec::with_capacity(scene.objects.len());
     for (i, obj) in scene.objects.iter().enumerate() {
@@ -422,7 +506,7 @@ fn finish(
     let principal_point_fitted = problem.fixed_pp.is_none();
     let _ = cost;
     Ok(Fitted {
-        calibration: calibration_of(&cam, perspective),
+        calibration,
         reconstruction: Reconstruction {
             method: Method::Fit,
             objects,

@@ -4,6 +4,7 @@
 mod bad_input;
 mod errata_cases;
 mod eval;
+mod fit;
 mod random_scenes;
 mod shared_data;
 

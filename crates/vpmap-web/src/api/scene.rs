@@ -51,6 +51,7 @@ pub fn map_options(
         hidden_free: hidden_free.unwrap_or(d.hidden_free),
         max_grid_cells: Some(MAX_GRID_CELLS),
         click_sigma_px: d.click_sigma_px,
+        grow_confidence: d.grow_confidence,
     };
     options.validate().map_err(pipeline_error)?;
     Ok(options)
