@@ -269,8 +269,8 @@ pub(super) fn uncertainty(out: &mut String, map: &FloorMap, l: &Layout) {
             3.0 * f,
             2.0 * f,
             escape_xml(&o.name),
-            fmt_sd(major.abs(), l.size_decimals),
-            fmt_sd(minor.abs(), l.size_decimals),
+            escape_xml(&fmt_sd(major.abs(), l.size_decimals)),
+            escape_xml(&fmt_sd(minor.abs(), l.size_decimals)),
             1.8 * f,
             colour::ELLIPSE
         );

@@ -121,6 +121,33 @@ fn error_ellipses_are_drawn_where_the_map_puts_them() {
     assert!(!plain.contains("ellipse") && !plain.contains('±') && !plain.contains("joint fit"));
 }
 
+/// Regression: error bars below the last decimal are written `<0.01`, which must be escaped
+/// in the ellipses' titles too (the page refused the floor plan as invalid SVG).
+#[test]
+fn tiny_error_bars_give_valid_svg() {
+    let scene = Scene::from_json_str(OFFICE).unwrap();
+    let options = BuildOptions {
+        method: Method::Fit,
+        click_sigma_px: Some(1e-6),
+    };
+    let svg = floor_plan_svg(
+        &build_map(&scene, &options).unwrap(),
+        &FloorPlanStyle::default(),
+    );
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let titles: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("title"))
+        .filter_map(|n| n.text())
+        .collect();
+    assert!(
+        titles
+            .iter()
+            .any(|t| t.ends_with("95 % ellipse <0.01 × <0.01")),
+        "{titles:?}"
+    );
+}
+
 #[test]
 fn mbpp_plan_with_bugs() {
     let (grid, planned) = two_walls();
