@@ -454,6 +454,25 @@ async function main() {
     noProblems();
   });
 
+  await step('scale from a named box edge', async () => {
+    // The first box's vertical edge above its near corner, as long as the map measures it:
+    // the camera height must come out as before.
+    const before = (await status()).builds;
+    const map = await page.evaluate(() => window.vpmap.map());
+    const i = example.objects.findIndex((o) => o.base && o.top?.near);
+    const o = map.objects[i];
+    await page.check('#scale-object');
+    await page.selectOption('#scale-object-name', o.name);
+    await page.selectOption('#scale-object-dim', 'edge:base.near,top.near');
+    await page.fill('#scale-object-m', o.height.toFixed(4));
+    const s = await settle('the build with an edge scale', { builds: before + 1 });
+    const scale = (await page.evaluate(() => window.vpmap.scene())).scale;
+    check(JSON.stringify(scale.edge) === '["base.near","top.near"]' && scale.object === o.name, `the scale is ${JSON.stringify(scale)}`);
+    check(Math.abs(s.camera.height - map.camera.height) <= 0.001 * map.camera.height, `camera height ${s.camera.height} with the edge scale, ${map.camera.height} before`);
+    log(`  ${o.name} base.near-top.near = ${o.height.toFixed(4)} m: camera height ${s.camera.height.toFixed(4)} m (was ${map.camera.height.toFixed(4)})`);
+    noProblems();
+  });
+
   await step('save the scene and the PNG plan', async () => {
     const [dl] = await Promise.all([page.waitForEvent('download'), page.click('#btn-save-scene')]);
     const saved = JSON.parse(await readFile(await dl.path(), 'utf8'));

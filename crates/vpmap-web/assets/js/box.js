@@ -83,10 +83,11 @@ export function boxPoints(o) {
 }
 
 /**
- * The box's edges between given corners, to draw: `[{a, b, part}]` with `part` 'base', 'top'
- * or 'vertical'. Two corners of one face share an edge when they are one grid step apart.
+ * The box's edges between given corners, by name: `[{a, b, part}]` with `a`, `b` like
+ * `base.near` (as `scale.edge` names them) and `part` 'base', 'top' or 'vertical'. Two
+ * corners of one face share an edge when they are one grid step apart.
  */
-export function boxEdges(o) {
+export function boxEdgeNames(o) {
   const pts = boxPoints(o);
   const edges = [];
   for (let i = 0; i < pts.length; i++) {
@@ -94,11 +95,27 @@ export function boxEdges(o) {
       const a = pts[i], b = pts[j];
       const [ai, aj] = GRID[a.corner], [bi, bj] = GRID[b.corner];
       const steps = Math.abs(ai - bi) + Math.abs(aj - bj);
-      if (a.part === b.part && steps === 1) edges.push({ a: a.p, b: b.p, part: a.part });
-      else if (a.part !== b.part && steps === 0) edges.push({ a: a.p, b: b.p, part: 'vertical' });
+      const part = a.part === b.part ? (steps === 1 ? a.part : null) : steps === 0 ? 'vertical' : null;
+      if (part) edges.push({ a: cornerLabel(a.part, a.corner), b: cornerLabel(b.part, b.corner), part, pa: a.p, pb: b.p });
     }
   }
   return edges;
+}
+
+/** The box's edges between given corners, to draw: `[{a, b, part}]` with image points `a`, `b` (boxEdgeNames). */
+export function boxEdges(o) {
+  return boxEdgeNames(o).map((e) => ({ a: e.pa, b: e.pb, part: e.part }));
+}
+
+/** The value of a scale choice "this edge of the box" in the page's form, and back. */
+export function edgeChoice(edge) {
+  return `edge:${edge[0]},${edge[1]}`;
+}
+
+/** `[a, b]` of an `edgeChoice` value, or null for any other value. */
+export function parseEdgeChoice(value) {
+  const m = /^edge:((?:base|top)\.[a-z_]+),((?:base|top)\.[a-z_]+)$/.exec(value || '');
+  return m ? [m[1], m[2]] : null;
 }
 
 /** The given corner one grid step from `corner` on the same part (base or top), or null. */

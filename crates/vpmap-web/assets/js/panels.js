@@ -4,7 +4,7 @@
 
 import { $, h, fmt, fmtSd, parsePair, formatPair } from './util.js';
 import { VP_NAMES, vpUsable } from './scene.js';
-import { describeBox } from './box.js';
+import { boxEdgeNames, describeBox, edgeChoice, parseEdgeChoice } from './box.js';
 import { vpPoint } from './geometry.js';
 import { VpLineTool } from './tools.js';
 import { PLANNER_STYLE } from './plan-view.js';
@@ -250,6 +250,29 @@ export function installPanels(app) {
       sel.replaceChildren(...names.map((n) => h('option', { value: n, text: n })));
     }
     if (names.includes(want)) sel.value = want;
+    renderScaleDims();
+  }
+
+  /**
+   * The choices of the known dimension: the object's length, breadth (its longer and shorter
+   * side as reconstructed) or height, or, for a box, one of its edges between given corners
+   * (`scale.edge`, which does not depend on the reconstruction).
+   */
+  function renderScaleDims() {
+    const dim = $('scale-object-dim');
+    const o = (state.scene?.objects || []).find((x) => x.name === $('scale-object-name').value);
+    const edges = o?.base ? boxEdgeNames(o).map((e) => [e.a, e.b]) : [];
+    const sc = state.scene?.scale;
+    if (sc?.edge && sc.object === o?.name && !edges.some((e) => edgeChoice(e) === edgeChoice(sc.edge))) edges.push(sc.edge);
+    const want = dim.value;
+    const key = edges.map(edgeChoice).join('\n');
+    if (dim.dataset.edges !== key) {
+      dim.dataset.edges = key;
+      const fixed = ['length', 'breadth', 'height'].map((v) => h('option', { value: v, text: v }));
+      const group = edges.length ? [h('optgroup', { label: 'box edge' }, ...edges.map((e) => h('option', { value: edgeChoice(e), text: `${e[0]} – ${e[1]}` })))] : [];
+      dim.replaceChildren(...fixed, ...group);
+    }
+    if ([...dim.options].some((x) => x.value === want)) dim.value = want;
   }
 
   /** Put the scene's scale, principal point and focal length into the form. */
@@ -263,7 +286,8 @@ export function installPanels(app) {
     } else if (sc.object !== undefined) {
       $('scale-object').checked = true;
       $('scale-object-name').value = sc.object;
-      $('scale-object-dim').value = sc.dimension || 'length';
+      renderScaleDims();
+      $('scale-object-dim').value = sc.edge ? edgeChoice(sc.edge) : sc.dimension || 'length';
       $('scale-object-m').value = sc.meters;
     } else if (sc.floor_distance) {
       $('scale-floor').checked = true;
@@ -284,7 +308,10 @@ export function installPanels(app) {
     } else if (mode === 'object') {
       const m = Number($('scale-object-m').value);
       const name = $('scale-object-name').value;
-      scale = m > 0 && name ? { object: name, dimension: $('scale-object-dim').value, meters: m } : null;
+      const dim = $('scale-object-dim').value;
+      const edge = parseEdgeChoice(dim);
+      if (edge) scale = m > 0 && name ? { object: name, edge, meters: m } : null;
+      else scale = m > 0 && name ? { object: name, dimension: dim, meters: m } : null;
     } else if (mode === 'floor') {
       const m = Number($('scale-floor-m').value);
       const fd = old?.floor_distance;
@@ -301,6 +328,7 @@ export function installPanels(app) {
     });
   }
 
+  $('scale-object-name').addEventListener('change', renderScaleDims);
   for (const el of document.querySelectorAll('#scale-fieldset input, #scale-fieldset select')) {
     el.addEventListener(el.tagName === 'SELECT' || el.type === 'radio' ? 'change' : 'input', scaleFromForm);
   }

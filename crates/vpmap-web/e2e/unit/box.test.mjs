@@ -129,3 +129,16 @@ test('fmtSd never shows a small error bar as zero', () => {
   assert.equal(fmtSd(0, 2), '0.00');
   assert.equal(fmtSd(Number.NaN, 2), '–');
 });
+
+test('a box names its edges for scale.edge, and the form value round-trips', async () => {
+  const { boxEdgeNames, edgeChoice, parseEdgeChoice } = await import('../../assets/js/box.js');
+  const o = { base: { near: [0, 0], right: [4, 1], left: [-1, 3] }, top: { near: [0, -3] } };
+  assert.deepEqual(boxEdgeNames(o).map((e) => `${e.a} ${e.b} ${e.part}`), [
+    'base.near base.right base', 'base.near base.left base', 'base.near top.near vertical',
+  ]);
+  const v = edgeChoice(['base.near', 'top.near']);
+  assert.equal(v, 'edge:base.near,top.near');
+  assert.deepEqual(parseEdgeChoice(v), ['base.near', 'top.near']);
+  assert.equal(parseEdgeChoice('length'), null);
+  assert.equal(parseEdgeChoice('edge:base.near'), null);
+});
