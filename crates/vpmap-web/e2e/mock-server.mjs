@@ -115,7 +115,9 @@ async function buildIn(dir, scene, { method, resolution, robot_radius }) {
 
 function buildSettings(q, body = {}) {
   const method = body.method ?? q.get('method') ?? 'sideview';
-  if (!['sideview', 'projective'].includes(method)) throw new HttpError(400, `unknown method ${JSON.stringify(method)}`);
+  if (!['fit', 'sideview', 'projective'].includes(method)) throw new HttpError(400, `unknown method ${JSON.stringify(method)}`);
+  // click_sigma is not passed on: the command line has no option for it (the mock's fit
+  // estimates the noise).
   return {
     method,
     resolution: num(body.resolution ?? q.get('resolution'), 'resolution', 0.05),

@@ -279,7 +279,7 @@ fn coverage(pitch_deg: f64, sigma_px: f64, draws: u64) -> (f64, f64) {
         boxed([-0.4, 5.5], 1.0, 0.6, 1.1, ROOM_YAW_DEG),
     ];
     let (exact, truth) = scene_of(&cam, &boxes);
-    let (mut inside, mut sides_ok, mut n, mut m) = (0, 0, 0, 0);
+    let (mut inside, mut sides_ok, mut n, mut m) = (0u32, 0u32, 0u32, 0u32);
     for seed in 0..draws {
         let mut scene = exact.clone();
         add_noise(&mut scene, sigma_px, &mut ChaCha8Rng::seed_from_u64(seed));
@@ -301,7 +301,7 @@ fn coverage(pitch_deg: f64, sigma_px: f64, draws: u64) -> (f64, f64) {
                 u.centroid_covariance[1][1],
             );
             let m2 = d.dot(&(s.try_inverse().unwrap() * d));
-            inside += usize::from(m2 <= 5.991_464_547_107_979);
+            inside += u32::from(m2 <= 5.991_464_547_107_979);
             n += 1;
             let (a, b) = (
                 (t.footprint[1][0] - t.footprint[0][0])
@@ -315,12 +315,15 @@ fn coverage(pitch_deg: f64, sigma_px: f64, draws: u64) -> (f64, f64) {
                 (size.breadth, a.min(b), u.breadth_sd.unwrap()),
                 (o.height.unwrap(), t.height, u.height_sd.unwrap()),
             ] {
-                sides_ok += usize::from((got - want).abs() <= 2.0 * sd);
+                sides_ok += u32::from((got - want).abs() <= 2.0 * sd);
                 m += 1;
             }
         }
     }
-    (inside as f64 / n as f64, sides_ok as f64 / m as f64)
+    (
+        f64::from(inside) / f64::from(n),
+        f64::from(sides_ok) / f64::from(m),
+    )
 }
 
 #[test]

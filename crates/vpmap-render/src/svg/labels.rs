@@ -66,14 +66,54 @@ pub(super) fn fit_text(text: &str, font_px: f64, max_width_px: f64, bold: bool) 
     (cut, size)
 }
 
-/// The label of an object: name line and sizes line.
-fn object_label(o: &MapObject, u: &UnitNames, decimals: usize) -> (String, String) {
+/// A standard deviation with `decimals` decimals, or `<0.01` (one unit of the last decimal)
+/// when it rounds to zero, so that a small but non-zero error bar is not shown as exactly 0.
+pub(super) fn fmt_sd(sd: f64, decimals: usize) -> String {
+    let text = fmt_num(sd, decimals);
+    if sd > 0.0 && text.parse::<f64>().is_ok_and(|v| v == 0.0) {
+        let unit = 10f64.powi(-i32::try_from(decimals).unwrap_or(12));
+        format!("<{}", fmt_num(unit, decimals))
+    } else {
+        text
+    }
+}
+
+/// `v`, followed by `± sd` when the standard deviation is known and finite.
+fn with_sd(v: f64, sd: Option<f64>, decimals: usize) -> String {
+    match sd {
+        Some(sd) if sd.is_finite() && sd >= 0.0 => {
+            format!("{} ± {}", fmt_num(v, decimals), fmt_sd(sd, decimals))
+        }
+        _ => fmt_num(v, decimals),
+    }
+}
+
+/// The label of an object: its name line and the lines under it. Without error bars one line,
+/// "L × B m, h H m" (a footprint: "area A m², h H m"); with them (method `fit`) the sizes and
+/// the height each get `± sd` (1 sigma) and a line of their own.
+fn object_label(o: &MapObject, u: &UnitNames, decimals: usize) -> (String, Vec<String>) {
     let name = truncate(o.name.trim(), MAX_NAME_CHARS);
     let name = if name.is_empty() {
         "(unnamed)".to_owned()
     } else {
         name
     };
+    if let Some(unc) = &o.uncertainty {
+        let height = match o.height {
+            Some(h) => format!("h {} {}", with_sd(h, unc.height_sd, decimals), u.short),
+            None => "h unknown".to_owned(),
+        };
+        let sizes = match (o.kind, o.size) {
+            (ObjectKind::Box, Some(s)) => format!(
+                "{} × {} {}",
+                with_sd(s.length, unc.length_sd, decimals),
+                with_sd(s.breadth, unc.breadth_sd, decimals),
+                u.short
+            ),
+            _ => format!("area {} {}", fmt_num(o.area, decimals), u.area),
+        };
+        return (name, vec![sizes, height]);
+    }
     let height = match o.height {
         Some(h) => format!("h {} {}", fmt_num(h, decimals), u.short),
         None => "h unknown".to_owned(),
@@ -87,7 +127,7 @@ fn object_label(o: &MapObject, u: &UnitNames, decimals: usize) -> (String, Strin
         ),
         _ => format!("area {} {}, {height}", fmt_num(o.area, decimals), u.area),
     };
-    (name, sizes)
+    (name, vec![sizes])
 }
 
 /// Where an object's label is anchored: its centroid when that is in the plot, else the mean
@@ -119,6 +159,18 @@ pub(super) enum Swatch {
         dashed: bool,
     },
     Dot,
+    /// An error ellipse with its centre.
+    Ellipse,
+}
+
+/// Some object of the map carries a finite centroid ellipse (method `fit`).
+pub(super) fn has_ellipses(map: &FloorMap) -> bool {
+    map.objects.iter().any(|o| {
+        o.uncertainty.as_ref().is_some_and(|u| {
+            let e = &u.centroid_ellipse_95;
+            is_finite(e.centre) && e.semi_axes.iter().all(|a| a.is_finite())
+        })
+    })
 }
 
 /// The legend's entries, in drawing order: what the picture shows.
@@ -195,6 +247,12 @@ pub(super) fn legend_entries(
                 "height unknown".to_owned(),
             ));
         }
+        if has_ellipses(map) {
+            legend.push((
+                Swatch::Ellipse,
+                "centroid, 95 % confidence ellipse".to_owned(),
+            ));
+        }
         legend.push((Swatch::Dot, "camera (station point)".to_owned()));
         if style.path.len() >= 2 {
             legend.push((
@@ -259,6 +317,7 @@ pub(super) fn object_labels(out: &mut String, map: &FloorMap, l: &Layout, u: &Un
         let name_px = 12.0 * f;
         let size_px = 11.0 * f;
         let line_gap = 1.25 * name_px;
+        let size_line_gap = 1.25 * size_px;
         let _ = writeln!(out, r#"<g id="labels" text-anchor="middle">"#);
         let object_px: Vec<PixelPolygon> = map
             .objects
@@ -276,10 +335,14 @@ pub(super) fn object_labels(out: &mut String, map: &FloorMap, l: &Layout, u: &Un
                 continue;
             };
             let anchor_px = frame.px(anchor);
-            let (name, sizes) = object_label(o, u, size_decimals);
-            let w = text_width_px(&name, name_px, true).max(text_width_px(&sizes, size_px, false))
+            let (name, lines) = object_label(o, u, size_decimals);
+            let w = lines
+                .iter()
+                .map(|t| text_width_px(t, size_px, false))
+                .fold(text_width_px(&name, name_px, true), f64::max)
                 + 6.0 * f;
-            let h = line_gap + size_px * 1.4 + 2.0 * f;
+            let extra_lines = lines.len().saturating_sub(1) as f64;
+            let h = line_gap + extra_lines * size_line_gap + size_px * 1.4 + 2.0 * f;
             let centred = Rect {
                 x: anchor_px.0 - w / 2.0,
                 y: anchor_px.1 - h / 2.0,
@@ -325,12 +388,14 @@ pub(super) fn object_labels(out: &mut String, map: &FloorMap, l: &Layout, u: &Un
                 r#"<text x="{cx:.2}" y="{name_base:.2}" font-size="{name_px:.1}" font-weight="bold">{}</text>"#,
                 escape_xml(&name)
             );
-            let _ = writeln!(
-                out,
-                r#"<text x="{cx:.2}" y="{:.2}" font-size="{size_px:.1}">{}</text>"#,
-                name_base + line_gap,
-                escape_xml(&sizes)
-            );
+            for (k, line) in lines.iter().enumerate() {
+                let _ = writeln!(
+                    out,
+                    r#"<text x="{cx:.2}" y="{:.2}" font-size="{size_px:.1}">{}</text>"#,
+                    name_base + line_gap + k as f64 * size_line_gap,
+                    escape_xml(line)
+                );
+            }
         }
         let _ = writeln!(out, "</g>");
     }
@@ -363,16 +428,37 @@ pub(super) fn title(
     );
     let (first, first_px) = fit_text(&first, title_px, text_room, true);
     let c = &map.camera;
-    let second = format!(
-        "camera: pitch {:.1}°, roll {:.1}°, height {} {} · {} · method {} · units: {}",
-        c.pitch_deg,
-        c.roll_deg,
-        fmt_num(c.height, size_decimals),
-        u.short,
-        map.camera.perspective.name(),
-        map.method,
-        u.long
-    );
+    let second = if let Some(cu) = &c.uncertainty {
+        // With error bars (method fit): ± 1 sigma; the height has none when the scale is the
+        // camera height itself.
+        let height = if cu.height_sd > 0.0 {
+            with_sd(c.height, Some(cu.height_sd), size_decimals)
+        } else {
+            fmt_num(c.height, size_decimals)
+        };
+        format!(
+            "camera: pitch {:.1} ± {}°, roll {:.1} ± {}°, height {height} {} · {} · method {} · units: {}",
+            c.pitch_deg,
+            fmt_sd(cu.pitch_deg_sd, 1),
+            c.roll_deg,
+            fmt_sd(cu.roll_deg_sd, 1),
+            u.short,
+            map.camera.perspective.name(),
+            map.method,
+            u.long
+        )
+    } else {
+        format!(
+            "camera: pitch {:.1}°, roll {:.1}°, height {} {} · {} · method {} · units: {}",
+            c.pitch_deg,
+            c.roll_deg,
+            fmt_num(c.height, size_decimals),
+            u.short,
+            map.camera.perspective.name(),
+            map.method,
+            u.long
+        )
+    };
     let (second, second_px) = fit_text(&second, sub_px, text_room, false);
     let _ = writeln!(out, r#"<g id="title">"#);
     let _ = writeln!(
@@ -386,7 +472,38 @@ pub(super) fn title(
         colour::MUTED,
         escape_xml(&second)
     );
+    if let (Some(fit), Some(fit_base)) = (&map.fit, l.fit_base) {
+        let focal = c.uncertainty.map_or_else(String::new, |cu| {
+            format!(
+                "focal {} px · ",
+                with_sd(c.focal_px, Some(cu.focal_px_sd), 1)
+            )
+        });
+        let third = format!(
+            "joint fit: {focal}click noise σ {} px ({}) · RMS residual {} px · ± are 1σ, ellipses 95 % of each centroid",
+            fmt_num(fit.click_sigma_px, 2),
+            fit_source_text(&fit.click_sigma_source),
+            fmt_num(fit.rms_residual_px, 2),
+        );
+        let (third, third_px) = fit_text(&third, sub_px, text_room, false);
+        let _ = writeln!(
+            out,
+            r#"<text id="fit-report" x="{pad:.2}" y="{fit_base:.2}" font-size="{third_px:.1}" fill="{}">{}</text>"#,
+            colour::MUTED,
+            escape_xml(&third)
+        );
+    }
     let _ = writeln!(out, "</g>");
+}
+
+/// Where the click noise of the error bars comes from, in words.
+fn fit_source_text(source: &str) -> &str {
+    match source {
+        "given" => "given",
+        "residuals" => "from the residuals",
+        "default" => "default",
+        other => other,
+    }
 }
 
 /// Polygon in pixels.

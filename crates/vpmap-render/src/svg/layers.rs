@@ -6,11 +6,11 @@ use std::fmt::Write as _;
 use vpmap_metrology::map::{FloorMap, MapPoint};
 use vpmap_metrology::reconstruct::ObjectKind;
 
-use super::labels::{Swatch, UnitNames};
+use super::labels::{Swatch, UnitNames, fmt_sd, has_ellipses};
 use super::layout::{Layout, fmt_num, grid_indices, polygon_path, ring_path};
 use super::{
-    FONT_FAMILY, FloorPlanStyle, HIDDEN_PATTERN_FILL, HIDDEN_PATTERN_ID, SVG_FROM_MAP_ATTRIBUTE,
-    colour, escape_xml, matrix_text,
+    FONT_FAMILY, FloorPlanStyle, HIDDEN_PATTERN_FILL, HIDDEN_PATTERN_ID, MAX_PX,
+    SVG_FROM_MAP_ATTRIBUTE, colour, escape_xml, matrix_text,
 };
 use crate::geometry::is_finite;
 
@@ -234,6 +234,50 @@ pub(super) fn floor_and_objects(out: &mut String, map: &FloorMap, l: &Layout) {
     let _ = writeln!(out, "</g>");
 }
 
+/// Each object's 95 % centroid ellipse and its centre (maps with error bars only): a
+/// translucent ellipse with a dashed outline, above the objects so that it shows inside them.
+pub(super) fn uncertainty(out: &mut String, map: &FloorMap, l: &Layout) {
+    if !has_ellipses(map) {
+        return;
+    }
+    let (f, frame) = (l.f, &l.frame);
+    let _ = writeln!(out, r#"<g id="uncertainty">"#);
+    for (i, o) in map.objects.iter().enumerate() {
+        let Some(u) = &o.uncertainty else {
+            continue;
+        };
+        let e = &u.centroid_ellipse_95;
+        let [major, minor] = e.semi_axes;
+        if !(is_finite(e.centre)
+            && major.is_finite()
+            && minor.is_finite()
+            && e.angle_deg.is_finite())
+        {
+            continue;
+        }
+        let (cx, cy) = frame.px(e.centre);
+        let rx = (major.abs() * frame.px_per_unit).min(MAX_PX);
+        let ry = (minor.abs() * frame.px_per_unit).min(MAX_PX);
+        // The map's angle is counter-clockwise with +y up; the picture's y runs down.
+        let rotate = -e.angle_deg + 0.0;
+        let _ = writeln!(
+            out,
+            r#"<ellipse id="ellipse-{i}" class="centroid-ellipse" cx="{cx:.2}" cy="{cy:.2}" rx="{rx:.2}" ry="{ry:.2}" transform="rotate({rotate:.2} {cx:.2} {cy:.2})" fill="{}" fill-opacity="0.18" stroke="{}" stroke-width="{:.2}" stroke-dasharray="{:.1} {:.1}"><title>{}: centroid, 95 % ellipse {} × {}</title></ellipse><circle class="centroid" cx="{cx:.2}" cy="{cy:.2}" r="{:.2}" fill="{}" stroke="none"/>"#,
+            colour::ELLIPSE,
+            colour::ELLIPSE,
+            1.2 * f,
+            3.0 * f,
+            2.0 * f,
+            escape_xml(&o.name),
+            escape_xml(&fmt_sd(major.abs(), l.size_decimals)),
+            escape_xml(&fmt_sd(minor.abs(), l.size_decimals)),
+            1.8 * f,
+            colour::ELLIPSE
+        );
+    }
+    let _ = writeln!(out, "</g>");
+}
+
 /// The planned path with its start and goal, when there is one.
 pub(super) fn path(out: &mut String, style: &FloorPlanStyle, l: &Layout) {
     let (f, frame) = (l.f, &l.frame);
@@ -442,6 +486,20 @@ pub(super) fn legend(out: &mut String, l: &Layout) {
                         r#"<line x1="{x:.2}" y1="{y:.2}" x2="{:.2}" y2="{y:.2}" stroke="{stroke}" stroke-width="{:.2}"{dash}/>"#,
                         x + swatch_px,
                         2.0 * f
+                    );
+                }
+                Swatch::Ellipse => {
+                    let (cx, rx, ry) = (x + swatch_px / 2.0, 0.5 * swatch_px, 0.3 * swatch_px);
+                    let _ = write!(
+                        out,
+                        r#"<ellipse cx="{cx:.2}" cy="{y:.2}" rx="{rx:.2}" ry="{ry:.2}" fill="{}" fill-opacity="0.18" stroke="{}" stroke-width="{:.2}" stroke-dasharray="{:.1} {:.1}"/><circle cx="{cx:.2}" cy="{y:.2}" r="{:.2}" fill="{}"/>"#,
+                        colour::ELLIPSE,
+                        colour::ELLIPSE,
+                        1.2 * f,
+                        3.0 * f,
+                        2.0 * f,
+                        1.8 * f,
+                        colour::ELLIPSE
                     );
                 }
                 Swatch::Dot => {

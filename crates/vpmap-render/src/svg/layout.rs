@@ -272,6 +272,8 @@ pub(super) struct Layout {
     pub(super) title_base: f64,
     /// Subtitle baseline.
     pub(super) sub_base: f64,
+    /// Baseline of the fit report's line, when the map has a fit report.
+    pub(super) fit_base: Option<f64>,
     /// The plot: map units to pixels.
     pub(super) frame: Frame,
     /// Bottom edge of the plot.
@@ -323,7 +325,9 @@ pub(super) fn layout(map: &FloorMap, style: &FloorPlanStyle, u: &UnitNames) -> L
     let sub_px = 13.0 * f;
     let title_base = pad + title_px;
     let sub_base = title_base + 1.55 * sub_px;
-    let plot_top = sub_base + 18.0 * f;
+    // A third line for the joint fit's report (method fit only).
+    let fit_base = map.fit.as_ref().map(|_| sub_base + 1.45 * sub_px);
+    let plot_top = fit_base.unwrap_or(sub_base) + 18.0 * f;
 
     // Plot.
     let plot_left = pad + 54.0 * f;
@@ -394,6 +398,7 @@ pub(super) fn layout(map: &FloorMap, style: &FloorPlanStyle, u: &UnitNames) -> L
         sub_px,
         title_base,
         sub_base,
+        fit_base,
         frame,
         plot_bottom,
         span,

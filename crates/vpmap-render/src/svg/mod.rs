@@ -55,6 +55,7 @@ mod colour {
     pub const FOOTPRINT_FILL: &str = "#f5c89a";
     pub const FOOTPRINT_STROKE: &str = "#b5651d";
     pub const CAMERA: &str = "#d62728";
+    pub const ELLIPSE: &str = "#c2185b";
     pub const PATH: &str = "#6a3d9a";
     pub const TEXT: &str = "#1a1a1a";
     pub const MUTED: &str = "#555555";
@@ -142,7 +143,11 @@ pub fn escape_xml(text: &str) -> String {
 /// object as a filled polygon labelled with its name and sizes (a box's length × breadth and
 /// height; a footprint's area and height), the station point, the camera's horizontal field
 /// of view, a grid with labelled axes, a scale bar, a legend and a title with the camera's
-/// pitch, roll and height. `+y` (forward) points up the page. Labels are moved apart when
+/// pitch, roll and height. A map with error bars (method `fit`) also gets each object's 95 %
+/// centroid ellipse (dashed, translucent, with its centre), `± 1 sigma` after the sizes and
+/// heights in the labels and after the camera's pitch, roll and height, and a third title line
+/// with the focal length, the click noise and the fit's RMS residual; a map without them is
+/// drawn exactly as before. `+y` (forward) points up the page. Labels are moved apart when
 /// they would overlap, with a leader line back to their object. Object names are
 /// XML-escaped. Non-finite points are skipped.
 ///
@@ -171,6 +176,7 @@ pub fn floor_plan_svg(map: &FloorMap, style: &FloorPlanStyle) -> String {
     layers::hidden(&mut out, &l);
     layers::grid(&mut out, style, &l);
     layers::floor_and_objects(&mut out, map, &l);
+    layers::uncertainty(&mut out, map, &l);
     layers::path(&mut out, style, &l);
     if style.show_labels {
         labels::object_labels(&mut out, map, &l, &u);
@@ -186,7 +192,7 @@ pub fn floor_plan_svg(map: &FloorMap, style: &FloorPlanStyle) -> String {
 
 #[cfg(test)]
 mod tests {
-    use super::labels::{fit_text, place_label};
+    use super::labels::{fit_text, fmt_sd, place_label};
     use super::layout::{Frame, Rect, decimals_for, fmt_num, grid_step, nice_at_most};
     use super::*;
     use crate::metrics::text_width_px;
@@ -228,6 +234,14 @@ mod tests {
         assert_eq!(decimals_for(20.0), 0);
         assert_eq!(fmt_num(-0.0001, 2), "0.00");
         assert_eq!(fmt_num(-1.234, 1), "-1.2");
+    }
+
+    #[test]
+    fn small_error_bars_are_not_shown_as_zero() {
+        assert_eq!(fmt_sd(0.0349, 2), "0.03");
+        assert_eq!(fmt_sd(0.004, 2), "<0.01");
+        assert_eq!(fmt_sd(0.004, 1), "<0.1");
+        assert_eq!(fmt_sd(0.0, 2), "0.00");
     }
 
     #[test]

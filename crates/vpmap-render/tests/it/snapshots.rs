@@ -2,6 +2,7 @@
 //! MBPP's bugs), and the `data-svg-from-map` transform checked against what is drawn.
 
 use vpmap_metrology::map::{BuildOptions, FloorMap, build_map};
+use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::scene::Scene;
 use vpmap_plan::grid::{Occupancy, OccupancyGrid};
 use vpmap_plan::{Planned, Planner, PlannerKind};
@@ -9,9 +10,25 @@ use vpmap_render::{FloorPlanStyle, GridCoordinates, floor_plan_svg, plan_svg};
 
 const OFFICE: &str = include_str!("../../../../examples/office.json");
 
+/// The office with the thesis's side-view method (pinned, so that the snapshot keeps showing a
+/// map without error bars whatever the default method).
 fn office_map() -> FloorMap {
     let scene = Scene::from_json_str(OFFICE).unwrap();
-    build_map(&scene, &BuildOptions::default()).unwrap()
+    let options = BuildOptions {
+        method: Method::Sideview,
+        ..BuildOptions::default()
+    };
+    build_map(&scene, &options).unwrap()
+}
+
+/// The office by the joint fit, with error bars for a click noise of 1 px.
+fn office_fit_map() -> FloorMap {
+    let scene = Scene::from_json_str(OFFICE).unwrap();
+    let options = BuildOptions {
+        method: Method::Fit,
+        click_sigma_px: Some(1.0),
+    };
+    build_map(&scene, &options).unwrap()
 }
 
 /// The six numbers of the root element's `data-svg-from-map`.
@@ -47,6 +64,88 @@ fn two_walls() -> (OccupancyGrid, Planned) {
 #[test]
 fn office_floor_plan() {
     insta::assert_snapshot!(floor_plan_svg(&office_map(), &FloorPlanStyle::default()));
+}
+
+#[test]
+fn office_floor_plan_with_error_bars() {
+    insta::assert_snapshot!(floor_plan_svg(
+        &office_fit_map(),
+        &FloorPlanStyle::default()
+    ));
+}
+
+#[test]
+fn error_ellipses_are_drawn_where_the_map_puts_them() {
+    let map = office_fit_map();
+    let svg = floor_plan_svg(&map, &FloorPlanStyle::default());
+    let m = svg_from_map(&svg);
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let ellipses: Vec<_> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("ellipse") && n.attribute("class") == Some("centroid-ellipse"))
+        .collect();
+    assert_eq!(ellipses.len(), map.objects.len());
+    for (i, o) in map.objects.iter().enumerate() {
+        let e = o.uncertainty.as_ref().unwrap().centroid_ellipse_95;
+        let node = ellipses[i];
+        assert_eq!(node.attribute("id"), Some(format!("ellipse-{i}").as_str()));
+        let at = |name| node.attribute(name).unwrap().parse::<f64>().unwrap();
+        let (x, y) = apply(m, e.centre);
+        assert!((at("cx") - x).abs() <= 0.005 && (at("cy") - y).abs() <= 0.005);
+        assert!((at("rx") - e.semi_axes[0] * m[0]).abs() <= 0.005);
+        assert!((at("ry") - e.semi_axes[1] * m[0]).abs() <= 0.005);
+        // Counter-clockwise on the map is clockwise on the page (y down).
+        let rotate = format!("rotate({:.2} ", -e.angle_deg + 0.0);
+        assert!(node.attribute("transform").unwrap().starts_with(&rotate));
+    }
+    // Every label of a box shows its sizes and height with their error bars.
+    let texts: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("text"))
+        .filter_map(|n| n.text())
+        .collect();
+    for o in map.objects.iter().filter(|o| o.size.is_some()) {
+        let s = o.size.unwrap();
+        let want = format!("{:.2} ± ", s.length);
+        assert!(
+            texts
+                .iter()
+                .any(|t| t.starts_with(&want) && t.contains(" × ")),
+            "{}: no \"{want}...\" among {texts:?}",
+            o.name
+        );
+    }
+    assert!(texts.iter().any(|t| t.starts_with("joint fit: focal ")));
+    // The map without error bars has none of this.
+    let plain = floor_plan_svg(&office_map(), &FloorPlanStyle::default());
+    assert!(!plain.contains("ellipse") && !plain.contains('±') && !plain.contains("joint fit"));
+}
+
+/// Regression: error bars below the last decimal are written `<0.01`, which must be escaped
+/// in the ellipses' titles too (the page refused the floor plan as invalid SVG).
+#[test]
+fn tiny_error_bars_give_valid_svg() {
+    let scene = Scene::from_json_str(OFFICE).unwrap();
+    let options = BuildOptions {
+        method: Method::Fit,
+        click_sigma_px: Some(1e-6),
+    };
+    let svg = floor_plan_svg(
+        &build_map(&scene, &options).unwrap(),
+        &FloorPlanStyle::default(),
+    );
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let titles: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("title"))
+        .filter_map(|n| n.text())
+        .collect();
+    assert!(
+        titles
+            .iter()
+            .any(|t| t.ends_with("95 % ellipse <0.01 × <0.01")),
+        "{titles:?}"
+    );
 }
 
 #[test]

@@ -70,9 +70,20 @@ fn default_plan_is_xml_with_every_part() {
     for o in &map.objects {
         assert!(all_text.contains(&o.name), "label of {}", o.name);
     }
-    assert!(all_text.contains("pitch 20.0°"), "{all_text}");
     assert!(all_text.contains("units: metres"));
-    assert!(all_text.contains(" m, h "), "box sizes with height");
+    if map.fit.is_some() {
+        // The default method is the fit: error bars after the values, the height on a line
+        // of its own.
+        assert!(all_text.contains("pitch 20.0 ± "), "{all_text}");
+        assert!(
+            all_text.contains(" ± ") && all_text.contains("\nh "),
+            "box sizes ± and height"
+        );
+        by_id(&doc, "uncertainty");
+    } else {
+        assert!(all_text.contains("pitch 20.0°"), "{all_text}");
+        assert!(all_text.contains(" m, h "), "box sizes with height");
+    }
     let scale_bar_text: Vec<&str> = by_id(&doc, "scale-bar")
         .descendants()
         .filter(|n| n.has_tag_name("text"))

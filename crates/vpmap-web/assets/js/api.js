@@ -54,9 +54,13 @@ export function getExample(signal) {
   return call('api/example', { signal });
 }
 
-/** `POST /api/build` with the scene -> `{map, svg, glb_base64, occupancy, camera, warnings}`. */
-export function build(scene, { method, resolution, robot_radius }, signal) {
-  return call(`api/build${query({ method, resolution, robot_radius })}`, {
+/**
+ * `POST /api/build` with the scene -> `{map, svg, glb_base64, occupancy, camera, warnings}`.
+ * A null `method` or `click_sigma` is left out: the server's default method, the fit's own
+ * estimate of the click noise.
+ */
+export function build(scene, { method, resolution, robot_radius, click_sigma }, signal) {
+  return call(`api/build${query({ method, resolution, robot_radius, click_sigma })}`, {
     method: 'POST',
     body: JSON.stringify(scene),
     type: 'application/json',

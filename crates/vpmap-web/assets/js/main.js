@@ -4,7 +4,8 @@
 //   requests.js  build, plan and detect: the requests and what their answers change
 //   panels.js    the step panel, the status line, the error banner and the tabs
 //   files.js     opening photos and scene files, the example, saving and downloads
-// and the views (photo-view.js, plan-view.js, model-view.js) and photo tools (tools.js).
+// and the views (photo-view.js, plan-view.js, model-view.js) and photo tools (tools.js; a box's
+// corners by name, corner or face view, in box.js).
 // Every module talks to the others through `app`, the object this file builds. Every edit
 // goes through `app.edit`, which records undo, redraws and schedules a rebuild (debounced
 // 100 ms, stale requests aborted).
@@ -214,6 +215,8 @@ document.addEventListener('keydown', (e) => {
     else app.select(null);
   } else if (e.key === 'Enter' && placing && !onButton) {
     app.tool.finish?.();
+  } else if ((e.key === 's' || e.key === 'S') && placing && !mod && app.tool.skip) {
+    app.tool.skip();
   } else if (e.key === 'Backspace' && placing) {
     if (app.tool.canUndo?.()) app.tool.undo();
   } else if ((e.key === 'Delete' || e.key === 'Backspace') && !placing && state.selection) {

@@ -2,8 +2,9 @@
 // prompt above the photo, the camera bar, the status line, the error banner and the tabs of
 // narrow screens. Everything here is drawn from `app.state`; edits go through `app.edit`.
 
-import { $, h, fmt, parsePair, formatPair } from './util.js';
+import { $, h, fmt, fmtSd, parsePair, formatPair } from './util.js';
 import { VP_NAMES, vpUsable } from './scene.js';
+import { boxEdgeNames, describeBox, edgeChoice, parseEdgeChoice } from './box.js';
 import { vpPoint } from './geometry.js';
 import { VpLineTool } from './tools.js';
 import { PLANNER_STYLE } from './plan-view.js';
@@ -54,12 +55,14 @@ export function installPanels(app) {
     $('prompt-cancel').hidden = !placing;
     if (!placing) {
       $('prompt-text').textContent = state.scene ? IDLE_PROMPT : '';
+      $('prompt-text').title = '';
       $('prompt-undo').hidden = true;
       $('prompt-finish').hidden = true;
       return;
     }
     const p = app.tool.prompt();
     $('prompt-text').textContent = p.text;
+    $('prompt-text').title = p.help || '';
     if (p.extra) $('prompt-control').append(p.extra);
     if (p.help) extra.textContent = `(${p.help})`;
     $('prompt-undo').hidden = false;
@@ -160,14 +163,31 @@ export function installPanels(app) {
     const m = map?.objects?.find((x) => x.name === o.name);
     const kind = o.footprint ? 'footprint' : 'box';
     const parts = [];
-    if (o.base) parts.push(o.top?.near ? (o.top.left ? '3 base + 2 top corners' : '3 base + 1 top corner') : '3 base corners, no top');
+    if (o.base) parts.push(describeBox(o));
     else parts.push(`${(o.footprint || []).length} corners${o.top ? ' + top' : ', no top'}`);
-    if (m) {
-      const u = map.units === 'm' ? 'm' : 'ch';
-      const size = m.size ? `${fmt(m.size.length)} × ${fmt(m.size.breadth)} ${u}` : `area ${fmt(m.area)} ${u}²`;
-      parts.push(`${size}, height ${m.height === null || m.height === undefined ? 'unknown' : `${fmt(m.height)} ${u}`}`);
+    const lines = [parts.join(' · ')];
+    if (m) lines.push(...objectMeasures(m, map.units === 'm' ? 'm' : 'ch', !!o.own_yaw));
+    return { kind, text: lines.join('\n') };
+  }
+
+  /**
+   * The object's sizes, height and position as the build measured them, one line each, with
+   * ± 1 sigma when the map has error bars (method fit); a box with its own yaw also gets its yaw.
+   */
+  function objectMeasures(m, u, ownYaw) {
+    const unc = m.uncertainty || null;
+    const pm = (v, sd, d = 2) => (unc && Number.isFinite(sd) ? `${fmt(v, d)} ± ${fmtSd(sd, d)}` : fmt(v, d));
+    const size = m.size ? `${pm(m.size.length, unc?.length_sd)} × ${pm(m.size.breadth, unc?.breadth_sd)} ${u}` : `area ${fmt(m.area)} ${u}²`;
+    let height = `height ${m.height === null || m.height === undefined ? 'unknown' : `${pm(m.height, unc?.height_sd)} ${u}`}`;
+    if (ownYaw && unc && Number.isFinite(unc.yaw_deg)) height += `, yaw ${pm(unc.yaw_deg, unc.yaw_sd_deg, 1)}°`;
+    if (!unc) return [`${size}, ${height}`];
+    const lines = [size, height];
+    if (Array.isArray(m.centroid)) {
+      const cov = unc.centroid_covariance;
+      const sx = cov ? Math.sqrt(cov[0][0]) : undefined, sy = cov ? Math.sqrt(cov[1][1]) : undefined;
+      lines.push(`at (${pm(m.centroid[0], sx)}, ${pm(m.centroid[1], sy)}) ${u}`);
     }
-    return { kind, text: parts.join(' · ') };
+    return lines;
   }
 
   function renderObjectList() {
@@ -230,6 +250,29 @@ export function installPanels(app) {
       sel.replaceChildren(...names.map((n) => h('option', { value: n, text: n })));
     }
     if (names.includes(want)) sel.value = want;
+    renderScaleDims();
+  }
+
+  /**
+   * The choices of the known dimension: the object's length, breadth (its longer and shorter
+   * side as reconstructed) or height, or, for a box, one of its edges between given corners
+   * (`scale.edge`, which does not depend on the reconstruction).
+   */
+  function renderScaleDims() {
+    const dim = $('scale-object-dim');
+    const o = (state.scene?.objects || []).find((x) => x.name === $('scale-object-name').value);
+    const edges = o?.base ? boxEdgeNames(o).map((e) => [e.a, e.b]) : [];
+    const sc = state.scene?.scale;
+    if (sc?.edge && sc.object === o?.name && !edges.some((e) => edgeChoice(e) === edgeChoice(sc.edge))) edges.push(sc.edge);
+    const want = dim.value;
+    const key = edges.map(edgeChoice).join('\n');
+    if (dim.dataset.edges !== key) {
+      dim.dataset.edges = key;
+      const fixed = ['length', 'breadth', 'height'].map((v) => h('option', { value: v, text: v }));
+      const group = edges.length ? [h('optgroup', { label: 'box edge' }, ...edges.map((e) => h('option', { value: edgeChoice(e), text: `${e[0]} – ${e[1]}` })))] : [];
+      dim.replaceChildren(...fixed, ...group);
+    }
+    if ([...dim.options].some((x) => x.value === want)) dim.value = want;
   }
 
   /** Put the scene's scale, principal point and focal length into the form. */
@@ -243,7 +286,8 @@ export function installPanels(app) {
     } else if (sc.object !== undefined) {
       $('scale-object').checked = true;
       $('scale-object-name').value = sc.object;
-      $('scale-object-dim').value = sc.dimension || 'length';
+      renderScaleDims();
+      $('scale-object-dim').value = sc.edge ? edgeChoice(sc.edge) : sc.dimension || 'length';
       $('scale-object-m').value = sc.meters;
     } else if (sc.floor_distance) {
       $('scale-floor').checked = true;
@@ -264,7 +308,10 @@ export function installPanels(app) {
     } else if (mode === 'object') {
       const m = Number($('scale-object-m').value);
       const name = $('scale-object-name').value;
-      scale = m > 0 && name ? { object: name, dimension: $('scale-object-dim').value, meters: m } : null;
+      const dim = $('scale-object-dim').value;
+      const edge = parseEdgeChoice(dim);
+      if (edge) scale = m > 0 && name ? { object: name, edge, meters: m } : null;
+      else scale = m > 0 && name ? { object: name, dimension: dim, meters: m } : null;
     } else if (mode === 'floor') {
       const m = Number($('scale-floor-m').value);
       const fd = old?.floor_distance;
@@ -281,6 +328,7 @@ export function installPanels(app) {
     });
   }
 
+  $('scale-object-name').addEventListener('change', renderScaleDims);
   for (const el of document.querySelectorAll('#scale-fieldset input, #scale-fieldset select')) {
     el.addEventListener(el.tagName === 'SELECT' || el.type === 'radio' ? 'change' : 'input', scaleFromForm);
   }
@@ -307,7 +355,25 @@ export function installPanels(app) {
   });
 
   $('set-method').addEventListener('change', (e) => {
-    state.settings.method = e.target.value;
+    // The empty choice is the server's default.
+    state.settings.method = e.target.value || null;
+    app.scheduleBuild();
+  });
+
+  /** Name the server's default method (known from the last build made with it). */
+  function renderMethod() {
+    const map = state.build?.map;
+    if (state.settings.method === null && map?.method) $('set-method-default').textContent = `server's default (${map.method})`;
+  }
+
+  $('set-click-sigma').addEventListener('input', (e) => {
+    // Empty: the fit estimates the noise. Anything else goes to the server, which checks the
+    // range (0 < σ ≤ 100 px) and says what is wrong.
+    const text = e.target.value.trim();
+    const v = Number(text);
+    const next = text === '' || !Number.isFinite(v) ? null : v;
+    if (next === state.settings.click_sigma) return;
+    state.settings.click_sigma = next;
     app.scheduleBuild();
   });
   for (const [id, key] of [['set-resolution', 'resolution'], ['set-radius', 'robot_radius']]) {
@@ -335,6 +401,26 @@ export function installPanels(app) {
     set('cam-focal', c ? `${fmt(c.focal_px, 1)} px` : '–', c?.focal_px);
     set('cam-height', c && Number.isFinite(c.height) ? `${fmt(c.height, 3)} ${units}` : '–', c?.height);
     set('cam-pp', c?.principal_point ? `${fmt(c.principal_point[0], 1)}, ${fmt(c.principal_point[1], 1)}` : '–');
+    // The fit's error bars (1 sigma) after each value, and its report.
+    const map = state.build?.map;
+    const cu = c ? map?.camera?.uncertainty : null;
+    const sd = (id, v, d, suffix) => {
+      const el = $(id);
+      const ok = cu && Number.isFinite(v) && !(id === 'cam-height-sd' && v === 0);
+      el.textContent = ok ? ` ± ${fmtSd(v, d)}${suffix}` : '';
+      if (ok) el.dataset.value = String(v);
+      else delete el.dataset.value;
+    };
+    sd('cam-pitch-sd', cu?.pitch_deg_sd, 2, '°');
+    sd('cam-roll-sd', cu?.roll_deg_sd, 2, '°');
+    sd('cam-focal-sd', cu?.focal_px_sd, 1, ' px');
+    sd('cam-height-sd', cu?.height_sd, 3, ` ${units}`);
+    const fit = c ? map?.fit : null;
+    $('fit-report').hidden = !fit;
+    const source = { given: 'given', residuals: 'estimated from the residuals', default: 'the default' };
+    $('fit-click-sigma').textContent = fit ? `${fmt(fit.click_sigma_px, 2)} px (${source[fit.click_sigma_source] || fit.click_sigma_source})` : '–';
+    $('fit-rms').textContent = fit ? `${fmt(fit.rms_residual_px, 2)} px` : '–';
+    $('fit-dof').textContent = fit ? String(fit.degrees_of_freedom) : '–';
   }
 
   function renderWarnings(list) {
@@ -411,6 +497,7 @@ export function installPanels(app) {
     renderScaleObjects,
     syncForms,
     renderCamera,
+    renderMethod,
     renderWarnings,
     renderPlanButtons,
     renderPlanResults,

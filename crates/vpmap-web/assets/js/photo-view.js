@@ -4,6 +4,7 @@
 // tool does not take pans the view, and a press without movement is a click.
 
 import { VP_COLOURS, objectOutline } from './scene.js';
+import { boxEdges, boxPoints } from './box.js';
 import { clipLine, vpPoint } from './geometry.js';
 import { clamp } from './util.js';
 
@@ -411,20 +412,21 @@ export class PhotoView {
       const w = selected ? 3 : 2;
       const { ctx } = this;
       if (o.base) {
-        const { near, right, left } = o.base;
         if (selected) {
-          this.path(objectOutline(o), true);
-          ctx.fillStyle = hexAlpha(colour, 0.2);
-          ctx.fill();
+          const ring = objectOutline(o);
+          if (ring.length >= 3) {
+            this.path(ring, true);
+            ctx.fillStyle = hexAlpha(colour, 0.2);
+            ctx.fill();
+          }
         }
-        if (near && right) { this.path([right, near]); this.strokeHalo(colour, w); }
-        if (near && left) { this.path([near, left]); this.strokeHalo(colour, w); }
-        const t = o.top || {};
-        if (near && t.near) { this.path([near, t.near]); this.strokeHalo(colour, w); }
-        if (left && t.left) { this.path([left, t.left]); this.strokeHalo(colour, w); }
-        if (t.near && t.left) { this.path([t.near, t.left]); this.strokeHalo(colour, w, [5, 4]); }
-        for (const p of [near, right, left, t.near, t.left]) if (p) this.dot(p, selected ? 4.5 : 3.5, colour);
-        if (near) this.label(near, o.name || '(unnamed)', selected ? '#fff' : colour, 7, 16);
+        for (const e of boxEdges(o)) {
+          this.path([e.a, e.b]);
+          this.strokeHalo(colour, w, e.part === 'top' ? [5, 4] : []);
+        }
+        const pts = boxPoints(o);
+        for (const { p } of pts) this.dot(p, selected ? 4.5 : 3.5, colour);
+        if (pts.length) this.label(pts[0].p, o.name || '(unnamed)', selected ? '#fff' : colour, 7, 16);
       } else if (Array.isArray(o.footprint)) {
         const fp = o.footprint;
         this.path(fp, true);

@@ -95,6 +95,7 @@ export function installRequests(app) {
     state.buildError = null;
     app.clearError();
     app.renderCamera();
+    app.renderMethod();
     try {
       planView.setBuild(res.svg, res.map, res.occupancy);
       planView.setMarkers(state.plan.start, state.plan.goal);
@@ -129,9 +130,11 @@ export function installRequests(app) {
       return api.plan(
         {
           scene: state.scene,
-          method: state.settings.method,
+          // The method the map was built with (the server's default when none is chosen).
+          method: state.settings.method ?? state.build?.map?.method ?? null,
           resolution: state.settings.resolution,
           robot_radius: state.settings.robot_radius,
+          click_sigma: state.settings.click_sigma,
           start: state.plan.start,
           goal: state.plan.goal,
           planners: PLANNERS,

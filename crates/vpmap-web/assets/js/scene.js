@@ -2,6 +2,7 @@
 // exactly the file's shape, so saving is `JSON.stringify` and unknown fields survive a round trip.
 
 import { vpPoint } from './geometry.js';
+import { boxOutline, boxPoints } from './box.js';
 
 export const VP_NAMES = ['Horizontal A', 'Horizontal B', 'Vertical'];
 export const VP_COLOURS = ['#e53935', '#2e9d3a', '#1e73d8'];
@@ -92,17 +93,12 @@ export function handles(scene) {
   if (!scene) return out;
   scene.objects.forEach((o, i) => {
     if (o.base) {
-      for (const k of ['near', 'right', 'left']) {
-        if (o.base[k]) out.push({ path: ['objects', i, 'base', k], p: o.base[k], kind: 'object', owner: i });
-      }
+      // A box: every corner it names, base then top (box.js).
+      for (const { part, corner, p } of boxPoints(o)) out.push({ path: ['objects', i, part, corner], p, kind: 'object', owner: i });
     }
     if (Array.isArray(o.footprint)) {
       o.footprint.forEach((p, j) => out.push({ path: ['objects', i, 'footprint', j], p, kind: 'object', owner: i }));
-    }
-    if (o.top) {
-      for (const k of ['near', 'left', 'point']) {
-        if (Array.isArray(o.top[k])) out.push({ path: ['objects', i, 'top', k], p: o.top[k], kind: 'object', owner: i });
-      }
+      if (o.top && Array.isArray(o.top.point)) out.push({ path: ['objects', i, 'top', 'point'], p: o.top.point, kind: 'object', owner: i });
     }
   });
   (scene.floor || []).forEach((p, j) => out.push({ path: ['floor', j], p, kind: 'floor' }));
@@ -119,17 +115,10 @@ export function handles(scene) {
   return out;
 }
 
-/** The image outline of an object (for selection): its base polygon, or the box's three base corners. */
+/** The image outline of an object (for selection): its base polygon; a box's base completed to four corners, or the hull of its corners. */
 export function objectOutline(o) {
   if (Array.isArray(o.footprint)) return o.footprint;
-  if (o.base) {
-    const { near, right, left } = o.base;
-    if (near && right && left) {
-      // The fourth (hidden) corner completes the parallelogram well enough for hit testing.
-      const far = [right[0] + left[0] - near[0], right[1] + left[1] - near[1]];
-      return [near, right, far, left];
-    }
-  }
+  if (o.base) return boxOutline(o);
   return [];
 }
 

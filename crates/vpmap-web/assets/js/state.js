@@ -20,7 +20,9 @@ export function createState() {
     handle: null, // last grabbed point, for keyboard nudging
     showSegments: true,
     savedVpPoints: [null, null, null],
-    settings: { method: 'sideview', resolution: 0.05, robot_radius: 0.2 },
+    // method null: the server's default (the build answer's map.method says which it is);
+    // click_sigma null: estimated by the fit.
+    settings: { method: null, resolution: 0.05, robot_radius: 0.2, click_sigma: null },
     plan: { start: null, goal: null, result: null, error: null },
     counters: { builds: 0, plans: 0, detects: 0 },
     busy: { build: false, plan: false, detect: false, example: false },

@@ -10,6 +10,7 @@ import { VP_COLOURS, VP_NAMES, handles, objectOutline, setAt, uniqueName } from 
 import { distToSegment, pointInPolygon, vpPoint } from './geometry.js';
 import { hexAlpha } from './photo-view.js';
 import { h } from './util.js';
+import { BOX_STEPS, BoxAnnotation, CORNER_HELP, boxEdges, boxPoints, cornerWords, neighbourCorner } from './box.js';
 
 const HIT_PX = 8;
 
@@ -158,79 +159,115 @@ class PlacementTool {
   }
 }
 
-const BOX_STEPS = [
-  { key: ['base', 'near'], text: 'near base corner', help: 'where the two visible bottom edges meet' },
-  { key: ['base', 'right'], text: 'right base corner', help: 'the right end of the visible bottom edges' },
-  { key: ['base', 'left'], text: 'left base corner', help: 'the left end of the visible bottom edges' },
-  { key: ['top', 'near'], text: 'top above the near corner', help: 'Enter to skip: height unknown' },
-  { key: ['top', 'left'], text: 'top above the left corner', help: 'optional; Enter to finish' },
-];
-
+/**
+ * A box by the corners the user can see (box.js): choose the corner view (near, right, left,
+ * far) or the face view (front/back, left/right) before the first click, then click each
+ * corner the prompt names or skip it (hidden), base and top; Done (Enter) once any corner is
+ * placed. The server says when the corners do not fix the box, naming the corner to add.
+ */
 export class BoxTool extends PlacementTool {
-  constructor(app) {
+  constructor(app, view = 'corner') {
     super(app);
     this.kind = 'box';
-    this.pts = [];
+    this.box = new BoxAnnotation(view);
   }
 
+  /** Steps taken (clicked or skipped). */
   get step() {
-    return this.pts.length;
+    return this.box.history.length;
   }
 
   prompt() {
-    const s = BOX_STEPS[this.step];
+    const box = this.box;
+    const c = box.current;
+    const total = BOX_STEPS[box.view].length;
+    const controls = h('span', { class: 'box-controls' });
+    if (!box.canUndo) {
+      const sel = h('select', { id: 'prompt-box-view', 'aria-label': 'How the box is seen' },
+        h('option', { value: 'corner', text: 'corner view', title: 'seen across a vertical edge: corners near, right, left, far' }),
+        h('option', { value: 'face', text: 'face view', title: 'seen face-on: corners front left, front right, back left, back right' }));
+      sel.value = box.view;
+      sel.addEventListener('change', () => {
+        box.setView(sel.value);
+        this.app.promptChanged();
+        document.getElementById('prompt-box-view')?.focus();
+      });
+      controls.append(sel);
+    }
+    const yaw = h('input', { type: 'checkbox', id: 'prompt-own-yaw', checked: box.ownYaw });
+    yaw.addEventListener('change', () => {
+      box.ownYaw = yaw.checked;
+      this.app.promptChanged();
+    });
+    controls.append(h('label', { class: 'check', title: 'The box is turned on the floor by its own angle, not lined up with the room' }, yaw, ' own yaw'));
+    if (c) {
+      const skip = h('button', { type: 'button', class: 'small', id: 'prompt-skip', title: 'The corner is hidden: go to the next one (S)', text: 'Skip' });
+      skip.addEventListener('click', () => this.skip());
+      controls.append(skip);
+    }
     return {
-      text: `Box: click the ${s.text}`,
-      help: s.help,
-      canUndo: this.pts.length > 0,
-      finish: this.step === 3 ? 'Skip' : this.step === 4 ? 'Done' : null,
+      text: c ? `Box ${this.step + 1}/${total}: ${cornerWords(c.corner)} ${c.part} corner` : 'Box: every corner asked; Done to add it',
+      help: c ? `${c.part === 'top' ? 'top: ' : ''}${CORNER_HELP[c.corner]}; S skips a hidden corner, Enter when done` : 'Enter to add the box',
+      extra: controls,
+      canUndo: box.canUndo,
+      finish: box.canFinish ? 'Done' : null,
     };
   }
 
   canUndo() {
-    return this.pts.length > 0;
+    return this.box.canUndo;
   }
 
   click(p) {
-    this.pts.push(p);
-    if (this.pts.length === BOX_STEPS.length) this.finish();
+    this.box.click(p);
+    if (this.box.done) this.finish();
+    else this.app.promptChanged();
+  }
+
+  skip() {
+    this.box.skip();
+    if (this.box.done && this.box.canFinish) this.finish();
     else this.app.promptChanged();
   }
 
   undo() {
-    this.pts.pop();
+    this.box.undo();
     this.app.promptChanged();
   }
 
   finish() {
-    if (this.pts.length < 3) return;
-    const [near, right, left, tnear, tleft] = this.pts;
-    const obj = { name: uniqueName(this.app.state.scene, 'box'), base: { near, right, left } };
-    if (tnear) obj.top = tleft ? { near: tnear, left: tleft } : { near: tnear };
-    this.app.addObject(obj);
+    if (!this.box.canFinish) return;
+    this.app.addObject(this.box.object(uniqueName(this.app.state.scene, 'box')));
   }
 
   draw(ctx, view) {
-    const [near, right, left, tnear, tleft] = this.pts;
-    const c = view.cursor;
+    const box = this.box;
+    const o = box.partial;
+    const c = box.current;
     const colour = '#5ec8ff';
-    const step = this.step;
-    // The base corners lie on the lines from the near corner towards the horizontal
-    // vanishing points; the tops straight above their corners, towards the vertical one.
-    if (step === 1 || step === 2) {
-      guide(view, this.app, near, 0);
-      guide(view, this.app, near, 1);
+    for (const e of boxEdges(o)) {
+      view.path([e.a, e.b]);
+      view.strokeHalo(colour, 2, e.part === 'top' ? [5, 4] : []);
     }
-    if (step === 3) guide(view, this.app, near, 2);
-    if (step === 4) guide(view, this.app, left, 2);
-    if (near && right) { view.path([right, near]); view.strokeHalo(colour, 2); }
-    if (near && left) { view.path([near, left]); view.strokeHalo(colour, 2); }
-    if (near && tnear) { view.path([near, tnear]); view.strokeHalo(colour, 2); }
     if (c) {
-      if (step === 1 || step === 2 || step === 3) band(view, near, c, colour);
-      if (step === 4) band(view, left, c, colour);
+      // Where the asked corner must lie: along a box edge from a neighbouring corner (towards
+      // a horizontal vanishing point, unless the box has its own yaw), or straight above or
+      // below the same corner (towards the vertical one).
+      const other = c.part === 'base' ? 'top' : 'base';
+      const from = neighbourCorner(o, c.part, c.corner);
+      const below = o[other]?.[c.corner] || null;
+      if (from && !box.ownYaw) {
+        guide(view, this.app, from, 0);
+        guide(view, this.app, from, 1);
+      }
+      if (below) guide(view, this.app, below, 2);
+      const anchor = below || from;
+      if (anchor && view.cursor) band(view, anchor, view.cursor, colour);
     }
-    this.pts.forEach((p) => view.dot(p, 4, colour));
+    for (const { part, corner, p } of boxPoints(o)) {
+      view.dot(p, 4, colour);
+      view.label(p, `${part === 'top' ? 'top ' : ''}${cornerWords(corner)}`, colour);
+    }
   }
 }
 

@@ -41,6 +41,16 @@ export function fmt(v, d = 2) {
   return typeof v === 'number' && Number.isFinite(v) ? v.toFixed(d) : '–';
 }
 
+/**
+ * A standard deviation with `d` decimals; `<0.01` (one unit of the last decimal) when a
+ * non-zero value would round to zero, so a small error bar is not shown as exactly 0.
+ */
+export function fmtSd(v, d = 2) {
+  if (!(typeof v === 'number' && Number.isFinite(v))) return '–';
+  const text = v.toFixed(d);
+  return v > 0 && Number(text) === 0 ? `<${(10 ** -d).toFixed(d)}` : text;
+}
+
 /** Parse "x, y" (comma or whitespace separated) into [x, y], or null. */
 export function parsePair(text) {
   if (typeof text !== 'string') return null;

@@ -123,7 +123,8 @@ fn build_answer(body: &[u8], options: &MapOptions) -> Result<Bytes, ApiError> {
     to_json(&answer)
 }
 
-/// `POST /api/build?method=&resolution=&robot_radius=&hidden_free=` with a scene as the body.
+/// `POST /api/build?method=&resolution=&robot_radius=&hidden_free=&click_sigma=` with a scene as
+/// the body.
 pub async fn build(
     State(state): State<AppState>,
     RawQuery(query): RawQuery,

@@ -38,12 +38,13 @@ const DEFAULT_PLANNERS: [PlannerKind; 3] = [
 ];
 
 /// The fields a plan request may have.
-const PLAN_FIELDS: [&str; 9] = [
+const PLAN_FIELDS: [&str; 10] = [
     "scene",
     "method",
     "resolution",
     "robot_radius",
     "hidden_free",
+    "click_sigma",
     "unknown_passable",
     "start",
     "goal",
@@ -57,6 +58,7 @@ struct PlanRequest {
     resolution: Option<f64>,
     robot_radius: Option<f64>,
     hidden_free: Option<bool>,
+    click_sigma: Option<f64>,
     unknown_passable: Option<bool>,
     start: [f64; 2],
     goal: [f64; 2],
@@ -119,9 +121,9 @@ impl PlanRequest {
         })?;
         let method = present("method")
             .map(|v| {
-                v.as_str()
-                    .map(str::to_owned)
-                    .ok_or_else(|| field_error("method", "\"sideview\" or \"projective\"", v))
+                v.as_str().map(str::to_owned).ok_or_else(|| {
+                    field_error("method", "\"fit\", \"sideview\" or \"projective\"", v)
+                })
             })
             .transpose()?;
         let planners = present("planners")
@@ -144,6 +146,7 @@ impl PlanRequest {
             resolution: number("resolution")?,
             robot_radius: number("robot_radius")?,
             hidden_free: flag("hidden_free")?,
+            click_sigma: number("click_sigma")?,
             unknown_passable: flag("unknown_passable")?,
             start: point("start")?,
             goal: point("goal")?,
@@ -359,6 +362,7 @@ fn plan_answer(body: &[u8]) -> Result<Bytes, ApiError> {
         request.resolution,
         request.robot_radius,
         request.hidden_free,
+        request.click_sigma,
     )?;
     let kinds = planners(request.planners.as_deref())?;
     let unknown_passable = request.unknown_passable.unwrap_or(false);

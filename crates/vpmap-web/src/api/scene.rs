@@ -6,7 +6,7 @@ use vpmap_metrology::scene::Scene;
 use vpmap_pipeline::{MapOptions, PipelineError};
 
 use crate::ApiError;
-use crate::params::Query;
+use crate::params::{Query, parse_number};
 
 /// Most objects in a scene.
 pub const MAX_OBJECTS: usize = 500;
@@ -24,18 +24,45 @@ pub struct ParsedScene {
 }
 
 /// The query parameters `/api/build` reads.
-pub const BUILD_QUERY: [&str; 4] = ["method", "resolution", "robot_radius", "hidden_free"];
+pub const BUILD_QUERY: [&str; 5] = [
+    "method",
+    "resolution",
+    "robot_radius",
+    "hidden_free",
+    "click_sigma",
+];
+
+/// Largest click noise the web API accepts, pixels (1 sigma per coordinate); the smallest is
+/// anything above 0.
+pub const MAX_CLICK_SIGMA_PX: f64 = 100.0;
+
+/// A click noise in pixels, checked: `0 < sigma <= MAX_CLICK_SIGMA_PX`.
+///
+/// # Errors
+/// A value out of that range (NaN included).
+pub fn click_sigma(sigma: f64) -> Result<f64, ApiError> {
+    if sigma > 0.0 && sigma <= MAX_CLICK_SIGMA_PX {
+        Ok(sigma)
+    } else {
+        Err(ApiError::bad_request(format!(
+            "click_sigma is {sigma}; give the noise of the clicked points in pixels (1 sigma), more than 0 and at most {MAX_CLICK_SIGMA_PX}, or leave it out to estimate it from the fit"
+        )))
+    }
+}
 
 /// Build options from a request's values, `None` where the request gives none (the
 /// pipeline's default), with the web API's grid limit ([`MAX_GRID_CELLS`]), checked.
+/// `click_sigma` is the click noise of the fit's error bars, pixels (method `fit` only;
+/// `None`: estimated from the residuals, else 1 px).
 ///
 /// # Errors
-/// An unknown method, or a value out of range ([`MapOptions::validate`]).
+/// An unknown method, or a value out of range ([`MapOptions::validate`], [`click_sigma`]).
 pub fn map_options(
     method: Option<&str>,
     resolution: Option<f64>,
     robot_radius: Option<f64>,
     hidden_free: Option<bool>,
+    click_sigma_px: Option<f64>,
 ) -> Result<MapOptions, ApiError> {
     let d = MapOptions::default();
     let method = match method {
@@ -50,7 +77,10 @@ pub fn map_options(
         robot_radius_m: robot_radius.unwrap_or(d.robot_radius_m),
         hidden_free: hidden_free.unwrap_or(d.hidden_free),
         max_grid_cells: Some(MAX_GRID_CELLS),
-        click_sigma_px: d.click_sigma_px,
+        click_sigma_px: match click_sigma_px {
+            Some(s) => Some(click_sigma(s)?),
+            None => d.click_sigma_px,
+        },
         grow_confidence: d.grow_confidence,
     };
     options.validate().map_err(pipeline_error)?;
@@ -69,6 +99,9 @@ pub fn map_options_from_query(raw: Option<&str>) -> Result<MapOptions, ApiError>
         Some(q.number("resolution", d.resolution_m)?),
         Some(q.number("robot_radius", d.robot_radius_m)?),
         Some(q.flag("hidden_free", d.hidden_free)?),
+        q.get("click_sigma")
+            .map(|v| parse_number("click_sigma", v))
+            .transpose()?,
     )
 }
 
@@ -197,14 +230,29 @@ mod tests {
 
     #[test]
     fn parameters_are_range_checked() {
-        let ok = map_options(Some("sideview"), Some(0.05), None, None);
+        let ok = map_options(Some("sideview"), Some(0.05), None, None, None);
         assert!(ok.is_ok_and(
             |o| o.robot_radius_m.to_bits() == 0.2f64.to_bits() && o.max_grid_cells.is_some()
         ));
-        assert!(map_options(Some("side"), None, None, None).is_err());
-        let e = map_options(None, Some(0.0), None, None).err();
+        assert!(map_options(Some("side"), None, None, None, None).is_err());
+        let e = map_options(None, Some(0.0), None, None, None).err();
         assert!(e.is_some_and(|e| e.message.starts_with("resolution is 0;")));
-        let e = map_options(None, None, Some(-1.0), None).err();
+        let e = map_options(None, None, Some(-1.0), None, None).err();
         assert!(e.is_some_and(|e| e.message.starts_with("robot_radius is -1;")));
+        let fit = map_options(Some("fit"), None, None, None, Some(1.5));
+        assert!(fit.is_ok_and(|o| o.method == Method::Fit && o.click_sigma_px == Some(1.5)));
+        assert!(map_options(None, None, None, None, Some(100.0)).is_ok());
+        for bad in [0.0, -1.0, 100.5, f64::NAN] {
+            let e = map_options(None, None, None, None, Some(bad)).err();
+            assert!(
+                e.is_some_and(|e| e.message.starts_with("click_sigma is ")
+                    && e.message.contains("at most 100")),
+                "{bad}"
+            );
+        }
+        let q = map_options_from_query(Some("click_sigma=2&method=fit"));
+        assert!(q.is_ok_and(|o| o.click_sigma_px == Some(2.0)));
+        let e = map_options_from_query(Some("click_sigma=px")).err();
+        assert!(e.is_some_and(|e| e.message.contains("not a finite number")));
     }
 }

@@ -74,9 +74,10 @@ fn projective_method_and_defaults() {
     let v = post_json("/api/build?method=projective", OFFICE).json();
     assert_eq!(v["map"]["method"], "projective");
     assert!((v["camera"]["pitch_deg"].as_f64().unwrap() - 25.0).abs() < 1e-6);
-    // No query at all: sideview at 0.05 m.
+    // No query at all: the pipeline's default method at 0.05 m.
     let v = post_json("/api/build", OFFICE).json();
-    assert_eq!(v["map"]["method"], "sideview");
+    let default = vpmap_pipeline::MapOptions::default().method.to_string();
+    assert_eq!(v["map"]["method"], default.as_str());
     assert_eq!(v["occupancy"]["resolution"], 0.05);
     // A browser's string body arrives as text/plain.
     let reply = request(
@@ -86,6 +87,40 @@ fn projective_method_and_defaults() {
         OFFICE.as_bytes(),
     );
     assert_eq!(reply.status, 200);
+}
+
+#[test]
+fn fit_method_answers_error_bars_for_the_given_click_noise() {
+    let v = post_json("/api/build?method=fit&click_sigma=1.5", OFFICE).json();
+    let map = &v["map"];
+    assert_eq!(map["method"], "fit");
+    assert_eq!(map["fit"]["click_sigma_px"], 1.5);
+    assert_eq!(map["fit"]["click_sigma_source"], "given");
+    assert!((v["camera"]["pitch_deg"].as_f64().unwrap() - 25.0).abs() < 1e-6);
+    let camera_sd = &map["camera"]["uncertainty"];
+    assert!(camera_sd["focal_px_sd"].as_f64().unwrap() > 0.0);
+    let objects = map["objects"].as_array().unwrap();
+    for o in objects {
+        let u = &o["uncertainty"];
+        let axes = u["centroid_ellipse_95"]["semi_axes"].as_array().unwrap();
+        assert!(axes[0].as_f64().unwrap() >= axes[1].as_f64().unwrap());
+        assert!(axes[1].as_f64().unwrap() > 0.0, "{}: {u}", o["name"]);
+    }
+    // The floor plan draws one ellipse per object and the ± values.
+    let svg = v["svg"].as_str().unwrap();
+    assert_eq!(
+        svg.matches(r#"class="centroid-ellipse""#).count(),
+        objects.len()
+    );
+    assert!(svg.contains(" ± "));
+    // Twice the click noise, twice the error bars (first-order propagation).
+    let w = post_json("/api/build?method=fit&click_sigma=3", OFFICE).json();
+    let sd = |v: &serde_json::Value| v["map"]["objects"][0]["uncertainty"]["length_sd"].as_f64();
+    let (a, b) = (sd(&v).unwrap(), sd(&w).unwrap());
+    assert!((b / a - 2.0).abs() < 1e-6, "{a} {b}");
+    // Other methods have none of it.
+    let p = post_json("/api/build?method=projective", OFFICE).json();
+    assert!(p["map"].get("fit").is_none() && p["map"]["objects"][0].get("uncertainty").is_none());
 }
 
 #[test]
@@ -99,7 +134,7 @@ fn unknown_scene_fields_are_warnings() {
 
 pub(crate) fn malformed_and_refused_scenes_are_400_with_a_message() {
     let version_2 = OFFICE.replacen("\"version\": 1", "\"version\": 2", 1);
-    let cases: [(&str, &str, &str); 9] = [
+    let cases: [(&str, &str, &str); 12] = [
         ("/api/build", "{\"version\": 1,", "line"),
         ("/api/build", "[1, 2]", "JSON object"),
         ("/api/build", "   ", "empty"),
@@ -109,6 +144,9 @@ pub(crate) fn malformed_and_refused_scenes_are_400_with_a_message() {
         ("/api/build?method=magic", OFFICE, "magic"),
         ("/api/build?robot_radius=-1", OFFICE, "robot_radius"),
         ("/api/build?resolutoin=0.1", OFFICE, "resolutoin"),
+        ("/api/build?click_sigma=0", OFFICE, "click_sigma is 0;"),
+        ("/api/build?click_sigma=101", OFFICE, "at most 100"),
+        ("/api/build?click_sigma=one", OFFICE, "click_sigma"),
     ];
     for (target, body, needle) in cases {
         let message = post_json(target, body).error(400);

@@ -109,6 +109,17 @@ fn default_planners_and_unknown_floor() {
     );
 }
 
+#[test]
+fn plans_on_the_fit_map_with_a_click_noise() {
+    let mut body = request_body();
+    body["method"] = json!("fit");
+    body["click_sigma"] = json!(1.0);
+    let v = post_json("/api/plan", &body.to_string()).json();
+    let mbpp = &v["results"][0];
+    assert_eq!(mbpp["planner"], "mbpp");
+    assert_eq!(mbpp["found"], true, "{v}");
+}
+
 pub(crate) fn bad_plan_requests_are_400_with_a_message() {
     let with = |key: &str, value: Value| {
         let mut b = request_body();
@@ -131,6 +142,11 @@ pub(crate) fn bad_plan_requests_are_400_with_a_message() {
         (with("planners", json!([])), "empty"),
         (with("resolution", json!(-1)), "resolution"),
         (with("method", json!("magic")), "magic"),
+        (with("click_sigma", json!(0)), "click_sigma is 0;"),
+        (
+            with("click_sigma", json!("1px")),
+            "`click_sigma` must be a number",
+        ),
         (with("strat", json!([0, 0])), "strat"),
         (with("scene", json!({"version": 1})), "scene"),
         (with("scene", json!("office.json")), "scene"),
