@@ -59,7 +59,7 @@ fn build(
 }
 
 fn assert_exact(scene: &Scene, truth: &Truth) {
-    for method in [Method::Sideview, Method::Projective] {
+    for method in [Method::Sideview, Method::Projective, Method::Fit] {
         let map = build_map(
             scene,
             &BuildOptions {

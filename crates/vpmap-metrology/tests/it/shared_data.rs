@@ -44,7 +44,7 @@ fn independent_synthetic_scenes_reconstruct_to_1e_9_m() {
         let truth_path = path.with_extension("truth.json");
         let truth: Truth = serde_json::from_str(&std::fs::read_to_string(&truth_path).unwrap())
             .unwrap_or_else(|e| panic!("{}: {e}", truth_path.display()));
-        for method in [Method::Sideview, Method::Projective] {
+        for method in [Method::Sideview, Method::Projective, Method::Fit] {
             let map = build_map(
                 &scene,
                 &BuildOptions {
