@@ -201,11 +201,19 @@ const GOOD_FIT_PX2: f64 = 9.0;
 /// uncertain, so a click within [`HORIZON_TOLERANCE`] of the image height above it passes (the
 /// fit then places the horizon).
 fn check_below_given_horizon(scene: &Scene) -> Result<()> {
-    let exact = scene.vanishing_points[..2]
+    let exact = scene
+        .vanishing_points
         .iter()
         .all(|v| v.point.is_some() && v.lines.len() < 2);
-    let Ok(cal) = crate::map::calibrate(scene) else {
-        return Ok(());
+    let cal = match crate::map::calibrate(scene) {
+        Ok(cal) => cal,
+        // Vanishing points given as points are facts: if they calibrate no camera, no fit
+        // can honour them. Fitted to segments, they are evidence the fit weighs with the
+        // objects', so only points that coincide are refused.
+        Err(e) if exact || matches!(e, MetrologyError::CoincidentVanishingPoints { .. }) => {
+            return Err(e);
+        }
+        Err(_) => return Ok(()),
     };
     let tolerance = if exact {
         0.0
@@ -213,7 +221,7 @@ fn check_below_given_horizon(scene: &Scene) -> Result<()> {
         HORIZON_TOLERANCE * f64::from(scene.image.height)
     };
     let check = |field: String, p: PixelPoint| -> Result<()> {
-        if cal.frame.below_horizon_px(px(p)) < -tolerance {
+        if exact || cal.frame.below_horizon_px(px(p)) < -tolerance {
             require_below_horizon(&cal, &field, p)?;
         }
         Ok(())
@@ -423,6 +431,37 @@ fn finish(
                     Vector2::new(c.x, c.y)
                 };
                 let h = has_top.then(|| p[4]);
+                // Each top click must lie above its edge's base: the height at which its ray
+                // passes closest to the vertical through the fitted base corner.
+                let Part::Box { clicks, .. } = part else {
+                    continue;
+                };
+                for c in clicks.iter().filter(|c| c.place.2 == 1) {
+                    let base = Part::box_corner(
+                        &cam,
+                        *axes,
+                        *own_yaw,
+                        *has_top,
+                        p,
+                        (c.place.0, c.place.1, 0),
+                    );
+                    let r = cam.ray(c.pixel);
+                    let horizontal = Vector2::new(r.x, r.y);
+                    if horizontal.norm_squared() > 0.0 {
+                        let t = Vector2::new(base.x, base.y).dot(&horizontal)
+                            / horizontal.norm_squared();
+                        let height = 1.0 + r.z * t;
+                        if t > 0.0 && height < 0.0 {
+                            return Err(MetrologyError::Degenerate {
+                                field: format!("objects[{i}].{}", c.name),
+                                reason: format!(
+                                    "object {:?} comes out with a negative height ({height:.6} camera heights) at this corner: the top point lies below its base in the image",
+                                    obj.name
+                                ),
+                            });
+                        }
+                    }
+                }
                 if let Some(h) = h
                     && h <= 0.0
                 {

@@ -3,6 +3,7 @@
 
 use vpmap_metrology::MetrologyError;
 use vpmap_metrology::map::{BuildOptions, build_map};
+use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::scene::Scene;
 
 fn base_scene() -> serde_json::Value {
@@ -19,9 +20,68 @@ fn base_scene() -> serde_json::Value {
     })
 }
 
+/// The thesis's method: these cases name its checks (the fit's are below).
 fn build(v: &serde_json::Value) -> Result<(), MetrologyError> {
+    build_with(v, Method::Sideview)
+}
+
+fn build_with(v: &serde_json::Value, method: Method) -> Result<(), MetrologyError> {
     let scene = Scene::from_json_str(&v.to_string())?;
-    build_map(&scene, &BuildOptions::default()).map(|_| ())
+    build_map(
+        &scene,
+        &BuildOptions {
+            method,
+            ..BuildOptions::default()
+        },
+    )
+    .map(|_| ())
+}
+
+#[test]
+fn the_fit_refuses_what_cannot_be_a_scene_too() {
+    // (mutation, words the fit's message must contain)
+    type Mutation = fn(&mut serde_json::Value);
+    let cases: [(&str, Mutation, &[&str]); 6] = [
+        (
+            "coincident vanishing points",
+            |v| v["vanishing_points"][1]["point"] = serde_json::json!([-900.0, 600.0]),
+            &["coincide"],
+        ),
+        (
+            "given vanishing points with no real focal length",
+            |v| v["vanishing_points"][0]["point"] = serde_json::json!([900.0, 600.0]),
+            &["no real focal length"],
+        ),
+        (
+            "a floor corner on the given horizon",
+            |v| v["floor"][2] = serde_json::json!([1300.0, 600.0]),
+            &["floor[2]", "horizon"],
+        ),
+        (
+            "a base corner above the given horizon",
+            |v| v["objects"][0]["base"]["near"] = serde_json::json!([800.0, 500.0]),
+            &["objects[0].base.near", "above the horizon"],
+        ),
+        (
+            "a top corner below its base",
+            |v| v["objects"][0]["top"]["near"] = serde_json::json!([800.0, 950.0]),
+            &["\"desk\"", "below its base"],
+        ),
+        (
+            "one edge's top below its base, the other's fine",
+            |v| {
+                v["objects"][0]["top"] =
+                    serde_json::json!({"near": [800.0, 1000.0], "left": [600.0, 600.0]});
+            },
+            &["objects[0].top.near", "negative height"],
+        ),
+    ];
+    for (what, mutate, words) in cases {
+        let mut v = base_scene();
+        mutate(&mut v);
+        let e = build_with(&v, Method::Fit).expect_err(what).to_string();
+        assert!(words.iter().all(|w| e.contains(w)), "{what}: {e}");
+    }
 }
 
 fn err_text(v: &serde_json::Value) -> String {
