@@ -132,10 +132,22 @@ fn bad_scenes_leave_no_files() {
     assert_fails_cleanly(&["build", s, "--out", o], &out, "malformed");
 
     let good = std::fs::read_to_string(example()).unwrap();
+    // The thesis's method refuses a floor point above the horizon of the scene's vanishing
+    // points; the fit (the default) refuses a top corner below its base.
     let mut v: serde_json::Value = serde_json::from_str(&good).unwrap();
     v["objects"][0]["base"]["near"] = serde_json::json!([800.0, 10.0]);
     std::fs::write(&scene, v.to_string()).unwrap();
-    assert_fails_cleanly(&["build", s, "--out", o], &out, "objects[0].base.near");
+    assert_fails_cleanly(
+        &["build", s, "--out", o, "--method", "sideview"],
+        &out,
+        "objects[0].base.near",
+    );
+    let mut v: serde_json::Value = serde_json::from_str(&good).unwrap();
+    let near = v["objects"][0]["base"]["near"].clone();
+    let below = near[1].as_f64().unwrap() + 150.0;
+    v["objects"][0]["top"]["near"] = serde_json::json!([near[0], below]);
+    std::fs::write(&scene, v.to_string()).unwrap();
+    assert_fails_cleanly(&["build", s, "--out", o], &out, "objects[0].top.near");
 
     let mut v: serde_json::Value = serde_json::from_str(&good).unwrap();
     v["scale"] = serde_json::json!({"object": "sofa", "dimension": "height", "meters": 1.0});

@@ -195,11 +195,9 @@ pub fn fit_scene(scene: &Scene, options: &FitOptions) -> Result<Fitted> {
 /// without trying the others: clicks within about 3 px.
 const GOOD_FIT_PX2: f64 = 9.0;
 
-/// A floor point clicked above the horizon of the scene's vanishing points (given, or the
-/// least-squares intersections of their segments) cannot be on the floor: refused by name, as
-/// the other methods do, before it can bend the fit. With segments the horizon is itself
-/// uncertain, so a click within [`HORIZON_TOLERANCE`] of the image height above it passes (the
-/// fit then places the horizon).
+/// With every vanishing point given as a point the horizon is known: a floor point clicked on
+/// or above it cannot be on the floor, and is refused by name, as the other methods do,
+/// before it can bend the fit; given vanishing points that calibrate no camera are refused.
 fn check_below_given_horizon(scene: &Scene) -> Result<()> {
     let exact = scene
         .vanishing_points
@@ -215,17 +213,12 @@ fn check_below_given_horizon(scene: &Scene) -> Result<()> {
         }
         Err(_) => return Ok(()),
     };
-    let tolerance = if exact {
-        0.0
-    } else {
-        HORIZON_TOLERANCE * f64::from(scene.image.height)
-    };
-    let check = |field: String, p: PixelPoint| -> Result<()> {
-        if exact || cal.frame.below_horizon_px(px(p)) < -tolerance {
-            require_below_horizon(&cal, &field, p)?;
-        }
-        Ok(())
-    };
+    if !exact {
+        // Fitted to segments, the horizon is evidence too (short noisy edges put it tens of
+        // pixels off): the fit places it, and `finish` checks the floor clicks against it.
+        return Ok(());
+    }
+    let check = |field: String, p: PixelPoint| require_below_horizon(&cal, &field, p).map(|_| ());
     for (i, obj) in scene.objects.iter().enumerate() {
         if let Some(b) = &obj.base {
             for (c, p) in b.given() {
@@ -243,10 +236,6 @@ fn check_below_given_horizon(scene: &Scene) -> Result<()> {
     }
     Ok(())
 }
-
-/// How far above the horizon of fitted vanishing-point segments a floor click may lie before
-/// it is refused, as a share of the image height.
-pub const HORIZON_TOLERANCE: f64 = 0.02;
 
 /// A converged minimisation with its problem.
 struct Solved {
