@@ -6,6 +6,7 @@ mod errata_cases;
 mod eval;
 mod random_scenes;
 mod shared_data;
+mod views;
 
 use vpmap_metrology::map::FloorMap;
 use vpmap_metrology::synth::Truth;
