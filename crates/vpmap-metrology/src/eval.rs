@@ -935,7 +935,8 @@ pub fn run_trial(
 /// [`run_trial`] with a choice of the edges the vanishing points are fitted to
 /// ([`TrialOptions::vp_edges`]). With [`VpEdges::Long`] the edges are placed once per scene
 /// ([`with_long_edges`], [`long_edge_seed`]); a scene they do not fit in is a [`Failure`] of
-/// category `vp_edges` at every noise level.
+/// category `vp_edges` at every noise level. At zero noise the objects carry no
+/// [`Coverage`] (their error bars are zero).
 #[must_use]
 pub fn run_trial_with(
     setup: &Setup,
@@ -983,6 +984,15 @@ pub fn run_trial_with(
                         },
                     )
                     .and_then(|map| evaluate_map(&map, truth))
+                    .map(|mut ev| {
+                        // Error bars for exact clicks are zero: nothing to cover.
+                        if sigma_px <= 0.0 {
+                            for o in &mut ev.objects {
+                                o.coverage = None;
+                            }
+                        }
+                        ev
+                    })
                     .map_err(|e| Failure {
                         category: failure_category(&e),
                         message: e.to_string(),
