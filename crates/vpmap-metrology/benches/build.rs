@@ -1,12 +1,14 @@
 //! Building a 20-object scene (19 boxes and a pentagonal footprint object, 1 px of click noise,
 //! the vanishing points given as the objects' own edges): the joint fit against the side-view
-//! method and the projective form (the references) in one group, side by side; and
-//! calibration with reconstruction alone for the two closed-form methods.
+//! method and the projective form (the references) in one group, side by side; the fit's
+//! parts (the fit alone, then with its error bars); and calibration with reconstruction alone
+//! for the two closed-form methods.
 #![allow(missing_docs, clippy::unwrap_used)]
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
 use std::time::Duration;
+use vpmap_metrology::fit::{FitOptions, fit_scene};
 use vpmap_metrology::map::{BuildOptions, build_map, reconstruct_scene};
 use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::synth::{SynthOptions, VanishingPointForm, synthesize};
@@ -56,6 +58,23 @@ fn bench_build(c: &mut Criterion) {
             });
         });
     }
+    g.finish();
+    // The fit's parts: the Levenberg-Marquardt fit alone, and the fit with its error bars
+    // (the rest of `build_map` is the free space and the occlusion shadows, as for the others).
+    let mut g = c.benchmark_group("fit_20_objects");
+    g.measurement_time(Duration::from_secs(3));
+    let options = FitOptions {
+        click_sigma_px: Some(SIGMA_PX),
+    };
+    g.bench_function("fit_scene", |b| {
+        b.iter(|| fit_scene(black_box(&scene), &options));
+    });
+    g.bench_function("fit_scene_and_uncertainty", |b| {
+        b.iter(|| {
+            fit_scene(black_box(&scene), &options)
+                .and_then(|f| f.uncertainty(black_box(&scene), &options))
+        });
+    });
     g.finish();
     let mut g = c.benchmark_group("reconstruct_20_objects");
     g.measurement_time(Duration::from_secs(2));
