@@ -35,7 +35,8 @@ use vpmap_metrology::synth::LongEdgeOptions;
 
 use crate::num;
 
-/// Most trials per set-up accepted (objects.csv grows by about 300 kB per trial with three methods).
+/// Most trials per set-up accepted (objects.csv grows by about 300 kB per trial with three
+/// methods).
 const MAX_TRIALS: u64 = 10_000;
 
 /// Largest noise accepted, pixels.

@@ -42,7 +42,8 @@ use crate::publish::relative_link;
 pub use report::Collected;
 
 /// Trials per set-up by default: 200 scenes x about 4 objects per box of the plots; the
-/// whole default run (three methods) takes about half a minute on two cores (see the report's timing).
+/// whole default run (three methods) takes about half a minute on two cores (see the
+/// report's timing).
 pub const DEFAULT_TRIALS: u64 = 200;
 
 /// What to measure: the options of a map-accuracy run.
