@@ -2,7 +2,9 @@
 //! section 6.1 (figures 6.8-6.13 for 2PP, 6.18-6.23 for 3PP); the measurement is
 //! [`vpmap_eval::accuracy`], this is its flags, progress bar and printing.
 //!
-//! Every experiment set-up of [`vpmap_metrology::eval::SETUPS`] draws `--trials` scenes; each
+//! Every chosen experiment set-up (`--experiments`: the seventeen of
+//! [`vpmap_metrology::eval::SETUPS`] by default, or the six views real photos show,
+//! [`vpmap_metrology::eval::VIEW_SETUPS`]) draws `--trials` scenes; each
 //! scene is built with every method at every noise level and compared with its truth
 //! ([`vpmap_metrology::eval::run_trial`]). Scenes run in parallel (rayon); each scene's seed
 //! depends only on (`--seed`, set-up, trial), so the files are the same for the same
@@ -11,9 +13,9 @@
 //! | file | what |
 //! |---|---|
 //! | `summary.json` | rows `{method, sigma, metric, median, p5, p95, min, max, q1, q3, mean, count, perspective, experiment, scenes, refused}`: per perspective (`experiment` null) and per set-up |
-//! | `summary.md` | the set-ups, refusals, one table per metric beside the thesis's reported ranges, the camera's errors |
+//! | `summary.md` | the headline numbers at the true scale, the set-ups, refusals, the error bars' coverage, one table per metric beside the thesis's reported ranges, the camera's errors |
 //! | `box_<metric>.svg`, `.png` | the thesis's box plots: one box per set-up and method, 2PP and 3PP side by side, at `--plot-sigma` |
-//! | `objects.csv` | one row per object, noise level and method: every metric |
+//! | `objects.csv` | one row per object, noise level and method: every metric, and for the fit's objects whether the truth lies within the error bars |
 //! | `failures.csv` | one row per scene a builder refused: the reason's category and message |
 //!
 //! `--vp-edges` chooses the edges the vanishing points are fitted to: `objects` (the boxes' own
@@ -27,13 +29,14 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use vpmap_eval::accuracy::{Config, DEFAULT_TRIALS, section_name};
-use vpmap_metrology::eval::{SETUPS, Setup, VpEdges};
+use vpmap_metrology::eval::{SETUPS, Setup, VIEW_SETUPS, VpEdges};
 use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::synth::LongEdgeOptions;
 
 use crate::num;
 
-/// Most trials per set-up accepted (objects.csv grows by about 185 kB per trial).
+/// Most trials per set-up accepted (objects.csv grows by about 300 kB per trial with three
+/// methods).
 const MAX_TRIALS: u64 = 10_000;
 
 /// Largest noise accepted, pixels.
@@ -64,11 +67,15 @@ pub struct EvalArgs {
     /// Annotation noise levels: standard deviations in pixels, comma separated.
     #[arg(long, default_value = "0,0.5,1,2,4", allow_hyphen_values = true)]
     pub sigma: String,
-    /// Reconstruction methods, comma separated: sideview, projective.
-    #[arg(long, default_value = "sideview,projective")]
+    /// Reconstruction methods, comma separated: sideview (the thesis's), projective (the
+    /// camera-matrix form), fit (the joint maximum-likelihood fit, with error bars).
+    #[arg(long, default_value = "sideview,projective,fit")]
     pub methods: String,
     /// Experiment set-ups, comma separated: names (2pp-1 ... 2pp-9, 3pp-1 ... 3pp-8), 2pp, 3pp
-    /// or all.
+    /// or all (these seventeen, the thesis's comparison); or views, the six set-ups of the
+    /// views real photos show, apart from them (2pp-face, 3pp-face: boxes seen nearly face-on;
+    /// 2pp-hidden, 3pp-hidden: hidden base corners; 2pp-yaw, 3pp-yaw: boxes with their own
+    /// yaw), which the side-view and projective methods can read only in part.
     #[arg(long, default_value = "all")]
     pub experiments: String,
     /// Noise level of the box plots, pixels; one of --sigma (default: their median, the
@@ -76,8 +83,8 @@ pub struct EvalArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub plot_sigma: Option<f64>,
     /// Also write the report into the `eval` section of this Markdown file (e.g.
-    /// docs/results.md), or its `eval-long-edges` section with `--vp-edges long`; its image
-    /// links point into --out.
+    /// docs/results.md), or its `eval-long-edges` section with `--vp-edges long` (`eval-views`
+    /// and `eval-views-long-edges` with the views' set-ups); its image links point into --out.
     #[arg(long)]
     pub publish: Option<PathBuf>,
     /// Edges the vanishing points are fitted to (least squares), as a user would click them:
@@ -139,20 +146,31 @@ fn parse_methods(text: &str) -> Result<Vec<Method>> {
 }
 
 fn parse_experiments(text: &str) -> Result<Vec<&'static Setup>> {
-    let mut chosen = vec![false; SETUPS.len()];
+    // The thesis's seventeen, then the views' six; `all`, `2pp` and `3pp` choose among the
+    // seventeen, `views` the six.
+    let every: Vec<(&'static Setup, bool)> = SETUPS
+        .iter()
+        .map(|s| (s, false))
+        .chain(VIEW_SETUPS.iter().map(|s| (s, true)))
+        .collect();
+    let mut chosen = vec![false; every.len()];
     for part in text.split(',') {
         let part = part.trim().to_ascii_lowercase();
-        let matched: Vec<usize> = (0..SETUPS.len())
-            .filter(|&i| match part.as_str() {
-                "all" => true,
-                "2pp" | "3pp" => SETUPS[i].name.starts_with(&part),
-                name => SETUPS[i].name == name,
+        let matched: Vec<usize> = (0..every.len())
+            .filter(|&i| {
+                let (setup, view) = every[i];
+                match part.as_str() {
+                    "all" => !view,
+                    "views" => view,
+                    "2pp" | "3pp" => !view && setup.name.starts_with(&part),
+                    name => setup.name == name,
+                }
             })
             .collect();
         if matched.is_empty() {
-            let names: Vec<&str> = SETUPS.iter().map(|s| s.name).collect();
+            let names: Vec<&str> = every.iter().map(|(s, _)| s.name).collect();
             bail!(
-                "--experiments {part:?} is not a set-up; use all, 2pp, 3pp or names among {}",
+                "--experiments {part:?} is not a set-up; use all, 2pp, 3pp, views or names among {}",
                 names.join(", ")
             );
         }
@@ -160,10 +178,10 @@ fn parse_experiments(text: &str) -> Result<Vec<&'static Setup>> {
             chosen[i] = true;
         }
     }
-    Ok(SETUPS
-        .iter()
+    Ok(every
+        .into_iter()
         .zip(chosen)
-        .filter_map(|(s, c)| c.then_some(s))
+        .filter_map(|((s, _), c)| c.then_some(s))
         .collect())
 }
 
@@ -246,7 +264,7 @@ fn check_args(args: &EvalArgs) -> Result<Config> {
     };
     check_writable_folder(&args.out)?;
     if let Some(path) = &args.publish {
-        check_publish_target(path, section_name(&vp_edges))?;
+        check_publish_target(path, section_name(&vp_edges, &setups))?;
     }
     Ok(Config {
         trials: args.trials,
@@ -323,7 +341,11 @@ pub fn run(args: &EvalArgs) -> Result<()> {
     let elapsed = started.elapsed();
     if let Some(path) = &args.publish {
         let section = report.published(&config, path, &args.out, &crate::command_line(), elapsed);
-        vpmap_eval::publish::replace_section(path, section_name(&config.vp_edges), &section)?;
+        vpmap_eval::publish::replace_section(
+            path,
+            section_name(&config.vp_edges, &config.setups),
+            &section,
+        )?;
     }
     print!("{}", report.headline(&config));
     println!(
@@ -341,7 +363,7 @@ pub fn run(args: &EvalArgs) -> Result<()> {
     if let Some(path) = &args.publish {
         println!(
             "published the {} section of {}",
-            section_name(&config.vp_edges),
+            section_name(&config.vp_edges, &config.setups),
             path.display()
         );
     }
@@ -364,6 +386,19 @@ mod tests {
         );
         assert!(parse_methods("sideview,bogus").is_err());
         assert_eq!(parse_experiments("2pp").unwrap().len(), 9);
+        assert_eq!(parse_experiments("all").unwrap().len(), 17);
+        let views = parse_experiments("views").unwrap();
+        assert_eq!(views.len(), 6);
+        assert!(
+            views
+                .iter()
+                .all(|s| s.name.contains('-') && !s.name.ends_with(char::is_numeric))
+        );
+        assert_eq!(
+            parse_experiments("3pp-yaw,2pp-1").unwrap()[1].name,
+            "3pp-yaw"
+        );
+        assert_eq!(parse_experiments("all,views").unwrap().len(), 23);
         assert_eq!(parse_experiments("3pp-2,2pp-1").unwrap()[0].name, "2pp-1");
         assert!(parse_experiments("4pp").is_err());
         let all: Vec<&Setup> = SETUPS.iter().collect();

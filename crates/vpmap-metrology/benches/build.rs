@@ -1,20 +1,30 @@
-//! Building a 20-object scene: the side-view method against the projective form (the
-//! reference), calibration and reconstruction alone, and the whole map with free space.
+//! Building a 20-object scene (19 boxes and a pentagonal footprint object, 1 px of click noise,
+//! the vanishing points given as the objects' own edges): the joint fit against the side-view
+//! method and the projective form (the references) in one group, side by side; the fit's
+//! parts (the fit alone, then with its error bars); and calibration with reconstruction alone
+//! for the two closed-form methods.
 #![allow(missing_docs, clippy::unwrap_used)]
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use std::hint::black_box;
+use std::time::Duration;
+use vpmap_metrology::fit::{FitOptions, fit_scene};
 use vpmap_metrology::map::{BuildOptions, build_map, reconstruct_scene};
 use vpmap_metrology::reconstruct::Method;
-use vpmap_metrology::synth::{SynthOptions, synthesize};
+use vpmap_metrology::synth::{SynthOptions, VanishingPointForm, synthesize};
+
+/// The click noise of the scene and of the fit's error bars, pixels.
+const SIGMA_PX: f64 = 1.0;
 
 fn scene_20() -> vpmap_metrology::scene::Scene {
     synthesize(&SynthOptions {
         seed: 20,
-        boxes: 16,
-        prisms: 4,
+        boxes: 19,
+        prisms: 1,
         pitch_deg: 30.0,
         roll_deg: 4.0,
+        noise_px: SIGMA_PX,
+        vanishing_points: VanishingPointForm::Lines,
         ..SynthOptions::default()
     })
     .unwrap()
@@ -23,25 +33,54 @@ fn scene_20() -> vpmap_metrology::scene::Scene {
 
 fn bench_build(c: &mut Criterion) {
     let scene = scene_20();
-    let mut g = c.benchmark_group("reconstruct_20_objects");
-    for method in [Method::Projective, Method::Sideview] {
-        g.bench_function(method.to_string(), |b| {
-            b.iter(|| reconstruct_scene(black_box(&scene), method));
-        });
-    }
-    g.finish();
+    assert_eq!(scene.objects.len(), 20);
     let mut g = c.benchmark_group("build_map_20_objects");
-    for method in [Method::Projective, Method::Sideview] {
+    g.measurement_time(Duration::from_secs(3));
+    for method in [Method::Fit, Method::Projective, Method::Sideview] {
+        // Every method builds this scene (a refusal would time an early exit).
+        build_map(
+            &scene,
+            &BuildOptions {
+                method,
+                click_sigma_px: Some(SIGMA_PX),
+            },
+        )
+        .unwrap();
         g.bench_function(method.to_string(), |b| {
             b.iter(|| {
                 build_map(
                     black_box(&scene),
                     &BuildOptions {
                         method,
-                        ..BuildOptions::default()
+                        click_sigma_px: Some(SIGMA_PX),
                     },
                 )
             });
+        });
+    }
+    g.finish();
+    // The fit's parts: the Levenberg-Marquardt fit alone, and the fit with its error bars
+    // (the rest of `build_map` is the free space and the occlusion shadows, as for the others).
+    let mut g = c.benchmark_group("fit_20_objects");
+    g.measurement_time(Duration::from_secs(3));
+    let options = FitOptions {
+        click_sigma_px: Some(SIGMA_PX),
+    };
+    g.bench_function("fit_scene", |b| {
+        b.iter(|| fit_scene(black_box(&scene), &options));
+    });
+    g.bench_function("fit_scene_and_uncertainty", |b| {
+        b.iter(|| {
+            fit_scene(black_box(&scene), &options)
+                .and_then(|f| f.uncertainty(black_box(&scene), &options))
+        });
+    });
+    g.finish();
+    let mut g = c.benchmark_group("reconstruct_20_objects");
+    g.measurement_time(Duration::from_secs(2));
+    for method in [Method::Projective, Method::Sideview] {
+        g.bench_function(method.to_string(), |b| {
+            b.iter(|| reconstruct_scene(black_box(&scene), method));
         });
     }
     g.finish();

@@ -222,6 +222,29 @@ pub enum VanishingPointForm {
     Lines,
 }
 
+/// What the synthetic user clicks on each box, and whether the boxes keep to the room's axes:
+/// the views real photos show ([`synthesize`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Annotation {
+    /// The thesis's annotation: corner view, base `near`, `right`, `left`, top `near` and
+    /// `left`; boxes along the room's axes, some taller than the camera.
+    #[default]
+    Thesis,
+    /// Boxes seen nearly face-on: the room (and every box with it) turned 3-10 degrees either
+    /// way from square to the camera's viewing direction, boxes lower than the camera, each
+    /// annotated in the face view by base `front_left`, `front_right` and all four top corners
+    /// (`front_left`, `front_right`, `back_left`, `back_right`).
+    FaceOn,
+    /// Hidden base corners: corner view with only base `near` and the four top corners
+    /// (`near`, `right`, `left`, `far`); boxes lower than the camera.
+    HiddenBase,
+    /// Objects with their own yaw: every second box (the 2nd, 4th, ...) turned from the
+    /// room's axes by its own angle, 15-40 degrees either way, and marked `own_yaw`;
+    /// annotated as [`Annotation::Thesis`].
+    OwnYaw,
+}
+
 /// Options of [`synthesize`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct SynthOptions {
@@ -249,6 +272,9 @@ pub struct SynthOptions {
     pub with_scale: bool,
     /// Give the principal point in the scene (else the reader's default applies).
     pub with_principal_point: bool,
+    /// What is clicked on each box and how boxes are turned ([`Annotation::Thesis`] by
+    /// default, which draws exactly the scenes drawn before the other views existed).
+    pub annotation: Annotation,
 }
 
 impl Default for SynthOptions {
@@ -269,6 +295,7 @@ impl Default for SynthOptions {
             vanishing_points: VanishingPointForm::Points,
             with_scale: true,
             with_principal_point: false,
+            annotation: Annotation::Thesis,
         }
     }
 }
@@ -277,11 +304,35 @@ fn arr(p: Vector2<f64>) -> PixelPoint {
     [p.x, p.y]
 }
 
+/// The corners a synthetic user clicks on one box ([`render_annotated`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum BoxClicks {
+    /// Corner view: base `near`, `right`, `left`; top `near`, `left` (the thesis's).
+    #[default]
+    Thesis,
+    /// Face view: base `front_left`, `front_right`; top `front_left`, `front_right`,
+    /// `back_left`, `back_right`. The front face is the one whose outward normal points most
+    /// against the camera's horizontal viewing direction.
+    FaceOn,
+    /// Corner view: base `near` only; top `near`, `right`, `left`, `far`.
+    HiddenBase,
+}
+
+/// How one box is annotated ([`render_annotated`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct BoxAnnotation {
+    /// The corners clicked.
+    pub clicks: BoxClicks,
+    /// Mark the box `own_yaw` (turned by its own angle rather than along the room's axes).
+    pub own_yaw: bool,
+}
+
 /// Render boxes, prisms and a floor outline through a camera into a scene and its truth.
 ///
 /// Box annotations follow the scene format: the base corner nearest the station point, its
 /// neighbours at the image-right and image-left ends, the top above the near corner and the
 /// top above the left corner. Returns `None` when an annotated point falls behind the camera.
+/// [`render_annotated`] with the thesis's annotation for every box.
 #[must_use]
 pub fn render_scene(
     camera: &PinholeCamera,
@@ -290,45 +341,143 @@ pub fn render_scene(
     prisms: &[SynthPrism],
     floor: &[Vector2<f64>],
 ) -> Option<(Scene, Truth)> {
+    render_annotated(camera, room_axes, boxes, &[], prisms, floor)
+}
+
+/// A box's base corners in the order `(0, 0), (1, 0), (1, 1), (0, 1)` of
+/// [`BoxCorner::grid_index`] for the view its clicks use: corner view near, right, far, left;
+/// face view front left, front right, back right, back left. `None` when a corner is behind
+/// the camera.
+fn grid_corners(camera: &PinholeCamera, b: &SynthBox, clicks: BoxClicks) -> Option<[usize; 4]> {
+    let c = b.corners();
+    let image_x = |i: usize| {
+        camera
+            .project(Vector3::new(c[i].x, c[i].y, 0.0))
+            .map(|p| p.x)
+    };
+    let (first, n1, n3) = match clicks {
+        BoxClicks::Thesis | BoxClicks::HiddenBase => {
+            let near = (0..4).min_by(|&i, &j| c[i].norm().total_cmp(&c[j].norm()))?;
+            (near, (near + 1) % 4, (near + 3) % 4)
+        }
+        BoxClicks::FaceOn => {
+            // The front face: the base edge whose outward normal points most towards -y
+            // (against the camera's horizontal viewing direction).
+            let centre = (c[0] + c[1] + c[2] + c[3]) / 4.0;
+            let facing = |k: usize| {
+                let (p, q) = (c[k], c[(k + 1) % 4]);
+                let e = q - p;
+                let mut n = Vector2::new(e.y, -e.x);
+                if n.dot(&((p + q) / 2.0 - centre)) < 0.0 {
+                    n = -n;
+                }
+                -n.y / n.norm()
+            };
+            let k = (0..4).max_by(|&i, &j| facing(i).total_cmp(&facing(j)))?;
+            let (p, q) = (k, (k + 1) % 4);
+            // front left: the end further left in the image; its other neighbour is back left.
+            let (fl, fr) = if image_x(p)? <= image_x(q)? {
+                (p, q)
+            } else {
+                (q, p)
+            };
+            let bl = if (fl + 1) % 4 == fr {
+                (fl + 3) % 4
+            } else {
+                (fl + 1) % 4
+            };
+            return Some([fl, fr, (fl + 2) % 4, bl]);
+        }
+    };
+    let (right, left) = if image_x(n1)? >= image_x(n3)? {
+        (n1, n3)
+    } else {
+        (n3, n1)
+    };
+    Some([first, right, (first + 2) % 4, left])
+}
+
+/// [`render_scene`] with each box annotated as `annotations` says (boxes beyond its end: the
+/// thesis's annotation, along the room's axes). The truth's footprint of a box lists its
+/// corners in the order of [`BoxCorner::grid_index`] for the view used: `(0, 0)`, `(1, 0)`,
+/// `(1, 1)`, `(0, 1)`, i.e. near, right, far, left or front left, front right, back right,
+/// back left, the order the map reports them in.
+#[must_use]
+pub fn render_annotated(
+    camera: &PinholeCamera,
+    room_axes: [Vector3<f64>; 2],
+    boxes: &[SynthBox],
+    annotations: &[BoxAnnotation],
+    prisms: &[SynthPrism],
+    floor: &[Vector2<f64>],
+) -> Option<(Scene, Truth)> {
     let floor3 = |p: Vector2<f64>| Vector3::new(p.x, p.y, 0.0);
     let up = |p: Vector2<f64>, h: f64| Vector3::new(p.x, p.y, h);
     let mut objects = Vec::new();
     let mut truth_objects = Vec::new();
-    for b in boxes {
+    for (k, b) in boxes.iter().enumerate() {
+        let annotation = annotations.get(k).copied().unwrap_or_default();
         let c = b.corners();
-        let near = (0..4).min_by(|&i, &j| c[i].norm().total_cmp(&c[j].norm()))?;
-        let n1 = (near + 1) % 4;
-        let n3 = (near + 3) % 4;
-        let p1 = camera.project(floor3(c[n1]))?;
-        let p3 = camera.project(floor3(c[n3]))?;
-        let (right, left) = if p1.x >= p3.x { (n1, n3) } else { (n3, n1) };
-        let far = (near + 2) % 4;
-        objects.push(ObjectSpec {
-            name: b.name.clone(),
-            base: Some(BoxCorners {
-                near: Some(arr(camera.project(floor3(c[near]))?)),
-                right: Some(arr(camera.project(floor3(c[right]))?)),
-                left: Some(arr(camera.project(floor3(c[left]))?)),
-                ..BoxCorners::default()
-            }),
-            footprint: None,
-            top: Some(TopSpec {
-                corners: BoxCorners {
-                    near: Some(arr(camera.project(up(c[near], b.height_m))?)),
-                    left: Some(arr(camera.project(up(c[left], b.height_m))?)),
+        let grid = grid_corners(camera, b, annotation.clicks)?;
+        let at_base = |g: usize| camera.project(floor3(c[grid[g]])).map(arr);
+        let at_top = |g: usize| camera.project(up(c[grid[g]], b.height_m)).map(arr);
+        // grid[0] = (0, 0), grid[1] = (1, 0), grid[2] = (1, 1), grid[3] = (0, 1).
+        let (base, top) = match annotation.clicks {
+            BoxClicks::Thesis => (
+                BoxCorners {
+                    near: Some(at_base(0)?),
+                    right: Some(at_base(1)?),
+                    left: Some(at_base(3)?),
                     ..BoxCorners::default()
                 },
+                BoxCorners {
+                    near: Some(at_top(0)?),
+                    left: Some(at_top(3)?),
+                    ..BoxCorners::default()
+                },
+            ),
+            BoxClicks::HiddenBase => (
+                BoxCorners {
+                    near: Some(at_base(0)?),
+                    ..BoxCorners::default()
+                },
+                BoxCorners {
+                    near: Some(at_top(0)?),
+                    right: Some(at_top(1)?),
+                    far: Some(at_top(2)?),
+                    left: Some(at_top(3)?),
+                    ..BoxCorners::default()
+                },
+            ),
+            BoxClicks::FaceOn => (
+                BoxCorners {
+                    front_left: Some(at_base(0)?),
+                    front_right: Some(at_base(1)?),
+                    ..BoxCorners::default()
+                },
+                BoxCorners {
+                    front_left: Some(at_top(0)?),
+                    front_right: Some(at_top(1)?),
+                    back_right: Some(at_top(2)?),
+                    back_left: Some(at_top(3)?),
+                    ..BoxCorners::default()
+                },
+            ),
+        };
+        objects.push(ObjectSpec {
+            name: b.name.clone(),
+            base: Some(base),
+            footprint: None,
+            top: Some(TopSpec {
+                corners: top,
                 above: None,
                 point: None,
             }),
-            own_yaw: false,
+            own_yaw: annotation.own_yaw,
         });
         truth_objects.push(TruthObject {
             name: b.name.clone(),
-            footprint: [near, right, far, left]
-                .iter()
-                .map(|&i| arr(c[i]))
-                .collect(),
+            footprint: grid.iter().map(|&i| arr(c[i])).collect(),
             height: b.height_m,
         });
     }
@@ -402,6 +551,9 @@ pub fn render_scene(
 /// Rewrite the vanishing points of a scene as the box edges that meet there (two or more per
 /// vanishing point), as a user clicking edges would give them. Uses the scene's (possibly
 /// noisy) annotated corners, so noise reaches the vanishing points the way it would in use.
+/// Only the vertical edges of a box marked `own_yaw` are used (its horizontal edges run to
+/// its own vanishing points, not the room's). A vanishing point with fewer than two edges is
+/// left as it was.
 pub fn vanishing_points_as_lines(scene: &mut Scene) {
     let mut lines: Vec<Vec<[f64; 4]>> = vec![Vec::new(); scene.vanishing_points.len()];
     let points: Vec<Vector2<f64>> = scene
@@ -426,7 +578,10 @@ pub fn vanishing_points_as_lines(scene: &mut Scene) {
         // The box's edges between given corners, by the axis they run along.
         let mut along: [Vec<[f64; 4]>; 3] = [Vec::new(), Vec::new(), Vec::new()];
         let levels = [base, top];
-        for (axis, edges) in along.iter_mut().enumerate().take(2) {
+        // A box with its own yaw: its horizontal edges do not run to the room's vanishing
+        // points (its vertical edges do).
+        let horizontal_axes = if obj.own_yaw { 0 } else { 2 };
+        for (axis, edges) in along.iter_mut().enumerate().take(horizontal_axes) {
             for corners in &levels {
                 for (c, p) in corners.given() {
                     let (i, j) = c.grid_index();
@@ -784,7 +939,14 @@ fn try_synthesize(options: &SynthOptions, rng: &mut ChaCha8Rng) -> Option<(Scene
         pitch_rad: options.pitch_deg.to_radians(),
         roll_rad: options.roll_deg.to_radians(),
     };
-    let yaw = rng.random_range(20f64..70.0).to_radians();
+    let yaw = if options.annotation == Annotation::FaceOn {
+        // Nearly square to the viewing direction, never exactly: a two-point camera's focal
+        // length is fixed by its horizontal vanishing points only while both are finite.
+        let turn = rng.random_range(3f64..10.0);
+        (if rng.random_bool(0.5) { turn } else { -turn }).to_radians()
+    } else {
+        rng.random_range(20f64..70.0).to_radians()
+    };
     let a = Vector2::new(yaw.cos(), yaw.sin());
     let b = Vector2::new(-yaw.sin(), yaw.cos());
     let axes = [Vector3::new(a.x, a.y, 0.0), Vector3::new(b.x, b.y, 0.0)];
@@ -818,12 +980,32 @@ fn try_synthesize(options: &SynthOptions, rng: &mut ChaCha8Rng) -> Option<(Scene
         }
         let c = sample_floor(rng)?;
         let s = options.height_m;
+        let (side_a, side_b) = (
+            rng.random_range(0.15 * s..0.8 * s),
+            rng.random_range(0.15 * s..0.8 * s),
+        );
+        // Views that show the top face need boxes lower than the camera.
+        let tallest = match options.annotation {
+            Annotation::Thesis | Annotation::OwnYaw => 1.4,
+            Annotation::FaceOn | Annotation::HiddenBase => 0.8,
+        };
+        let height_m = rng.random_range(0.1 * s..tallest * s);
+        let (ea, eb) = if options.annotation == Annotation::OwnYaw && boxes.len() % 2 == 1 {
+            let turn = rng.random_range(15f64..40.0).to_radians();
+            let turn = if rng.random_bool(0.5) { turn } else { -turn };
+            let (sin, cos) = turn.sin_cos();
+            let rotate =
+                |v: Vector2<f64>| Vector2::new(cos * v.x - sin * v.y, sin * v.x + cos * v.y);
+            (rotate(a), rotate(b))
+        } else {
+            (a, b)
+        };
         let bx = SynthBox {
             name: format!("box{}", boxes.len()),
             corner: c,
-            edge_a: a * rng.random_range(0.15 * s..0.8 * s),
-            edge_b: b * rng.random_range(0.15 * s..0.8 * s),
-            height_m: rng.random_range(0.1 * s..1.4 * s),
+            edge_a: ea * side_a,
+            edge_b: eb * side_b,
+            height_m,
         };
         if bx.corners().iter().all(|p| inside(*p))
             && clear_of(&bx.corners(), &boxes, &[], 0.1 * s)
@@ -896,7 +1078,25 @@ fn try_synthesize(options: &SynthOptions, rng: &mut ChaCha8Rng) -> Option<(Scene
     if floor.len() < 3 {
         return None;
     }
-    let (mut scene, truth) = render_scene(&camera, axes, &boxes, &prisms, &floor)?;
+    let annotations: Vec<BoxAnnotation> = (0..boxes.len())
+        .map(|k| match options.annotation {
+            Annotation::Thesis => BoxAnnotation::default(),
+            Annotation::FaceOn => BoxAnnotation {
+                clicks: BoxClicks::FaceOn,
+                own_yaw: false,
+            },
+            Annotation::HiddenBase => BoxAnnotation {
+                clicks: BoxClicks::HiddenBase,
+                own_yaw: false,
+            },
+            Annotation::OwnYaw => BoxAnnotation {
+                clicks: BoxClicks::Thesis,
+                own_yaw: k % 2 == 1,
+            },
+        })
+        .collect();
+    let (mut scene, truth) =
+        render_annotated(&camera, axes, &boxes, &annotations, &prisms, &floor)?;
     if options.with_principal_point {
         scene.principal_point = Some(arr(camera.principal_point_px));
     }

@@ -84,6 +84,11 @@ fn a_small_run_writes_every_file_and_is_exact_without_noise() {
             continue;
         }
         let metric = row["metric"].as_str().unwrap();
+        // No error bars at zero noise: the coverage rows are empty.
+        if row["count"] == 0 {
+            assert!(row["median"].is_null(), "{row}");
+            continue;
+        }
         for key in ["median", "p5", "p95", "min", "max"] {
             let v = row[key].as_f64().unwrap_or_else(|| panic!("{row}"));
             assert!(
@@ -96,7 +101,7 @@ fn a_small_run_writes_every_file_and_is_exact_without_noise() {
     assert!(checked > 100, "{checked} rows at sigma 0");
     let methods: std::collections::BTreeSet<&str> =
         rows.iter().map(|r| r["method"].as_str().unwrap()).collect();
-    assert_eq!(methods.len(), 2);
+    assert_eq!(methods.len(), 3);
     assert!(
         rows.iter()
             .any(|r| r["metric"] == "centroid_shift_pct_true_scale")
@@ -121,12 +126,18 @@ fn a_small_run_writes_every_file_and_is_exact_without_noise() {
         }
         zero_rows += 1;
         for (name, cell) in header[first_metric..].iter().zip(&cells[first_metric..]) {
+            if cell.is_empty() {
+                // Error bars only under noise.
+                let bars = ["centroid_in_ellipse_95", "centroid_mahalanobis_sq"];
+                assert!(bars.contains(name) || name.ends_with("_2sd") || name.ends_with("_z"));
+                continue;
+            }
             let v: f64 = cell.parse().unwrap_or_else(|_| panic!("{name} = {cell:?}"));
             assert!((v - perfect(name)).abs() < 1e-6, "{name} = {v}: {line}");
         }
     }
-    // 17 set-ups of 3-5 objects, 2 methods.
-    assert!(zero_rows >= 2 * 17 * 3, "{zero_rows} rows at sigma 0");
+    // 17 set-ups of 3-5 objects, 3 methods.
+    assert!(zero_rows >= 3 * 17 * 3, "{zero_rows} rows at sigma 0");
 
     let md = std::fs::read_to_string(out.join("summary.md")).unwrap();
     for needle in [
@@ -350,7 +361,11 @@ fn long_vanishing_edges_are_exact_without_noise_and_named_in_the_report() {
     let rows: Vec<serde_json::Value> =
         serde_json::from_str(&std::fs::read_to_string(out.join("summary.json")).unwrap()).unwrap();
     let mut checked = 0;
-    for row in rows.iter().filter(|r| r["sigma"].as_f64() == Some(0.0)) {
+    // (No error bars at zero noise: the coverage rows have no values.)
+    for row in rows
+        .iter()
+        .filter(|r| r["sigma"].as_f64() == Some(0.0) && r["count"] != 0)
+    {
         let metric = row["metric"].as_str().unwrap();
         let v = row["median"].as_f64().unwrap();
         assert!((v - perfect(metric)).abs() < 1e-6, "{metric} = {v}: {row}");
@@ -372,4 +387,56 @@ fn long_vanishing_edges_are_exact_without_noise_and_named_in_the_report() {
         std::fs::read(out.join("objects.csv")).unwrap(),
         std::fs::read(objects.join("objects.csv")).unwrap()
     );
+}
+
+#[test]
+fn the_views_run_publishes_its_own_section_with_refusals_and_coverage() {
+    let dir = tempfile::tempdir().unwrap();
+    let results = dir.path().join("results.md");
+    let before = "# Results\n\n<!-- eval:begin -->\nkept\n<!-- eval:end -->\n";
+    std::fs::write(&results, before).unwrap();
+    let out = dir.path().join("views");
+    let o = small_run(
+        &out,
+        &[
+            "--experiments",
+            "views",
+            "--publish",
+            results.to_str().unwrap(),
+        ],
+    );
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(&results).unwrap();
+    assert!(text.starts_with(before), "{text}");
+    let views = &text[before.len()..];
+    assert!(
+        views.starts_with("\n<!-- eval-views:begin -->\n## Map accuracy of the views"),
+        "{views}"
+    );
+    for needle in [
+        "2pp-face",
+        "3pp-hidden",
+        "3pp-yaw",
+        "### Error-bar coverage",
+        "### Per set-up at σ = 1 px",
+        "invalid_field",
+    ] {
+        assert!(views.contains(needle), "the views section lacks {needle}");
+    }
+    // The side view and the projective form refuse every face-on and hidden-base scene; the
+    // fit builds them, exact at zero noise.
+    let failures = std::fs::read_to_string(out.join("failures.csv")).unwrap();
+    for line in failures.lines().skip(1) {
+        let cells: Vec<&str> = line.split(',').collect();
+        assert!(cells[5] != "fit" || cells[4] != "0", "{line}");
+        if cells[5] != "fit" {
+            assert!(
+                cells[0].contains("face") || cells[0].contains("hidden"),
+                "{line}"
+            );
+            assert_eq!(cells[6], "invalid_field", "{line}");
+        }
+    }
+    // 4 set-ups x 1 trial x 2 noise levels x 2 methods refused.
+    assert!(failures.lines().count() > 4 * 2 * 2, "{failures}");
 }

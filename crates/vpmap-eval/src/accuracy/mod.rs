@@ -1,7 +1,8 @@
 //! Map accuracy under annotation noise on synthetic scenes, as in the thesis's
 //! section 6.1 (figures 6.8-6.13 for 2PP, 6.18-6.23 for 3PP).
 //!
-//! Every experiment set-up of [`vpmap_metrology::eval::SETUPS`] draws [`Config::trials`] scenes; each
+//! Every chosen experiment set-up ([`vpmap_metrology::eval::SETUPS`] by default; the views real
+//! photos showed are [`vpmap_metrology::eval::VIEW_SETUPS`]) draws [`Config::trials`] scenes; each
 //! scene is built with every method at every noise level and compared with its truth
 //! ([`vpmap_metrology::eval::run_trial`]). Scenes run in parallel (rayon); each scene's seed
 //! depends only on ([`Config::seed`], set-up, trial), so the files are the same for the same
@@ -9,10 +10,10 @@
 //!
 //! | file | what |
 //! |---|---|
-//! | `summary.json` | rows `{method, sigma, metric, median, p5, p95, min, max, q1, q3, mean, count, perspective, experiment, scenes, refused}`: per perspective (`experiment` null) and per set-up |
-//! | `summary.md` | the set-ups, refusals, one table per metric beside the thesis's reported ranges, the camera's errors |
+//! | `summary.json` | rows `{method, sigma, metric, median, p5, p95, min, max, q1, q3, mean, count, perspective, experiment, scenes, refused}`: per perspective (`experiment` null) and per set-up; the error-bar checks (`centroid_in_ellipse_95`, `length_within_2sd`, ...: 1 or 0 per object) have the share covered as `mean` |
+//! | `summary.md` | the headline numbers at the true scale, the set-ups, refusals, the error bars' coverage, one table per metric beside the thesis's reported ranges, the camera's errors |
 //! | `box_<metric>.svg`, `.png` | the thesis's box plots: one box per set-up and method, 2PP and 3PP side by side, at [`Config::plot_sigma`] |
-//! | `objects.csv` | one row per object, noise level and method: every metric |
+//! | `objects.csv` | one row per object, noise level and method: every metric, and for the fit's objects whether the truth lies within the error bars and by how many standard deviations |
 //! | `failures.csv` | one row per scene a builder refused: the reason's category and message |
 //!
 //! [`Config::vp_edges`] chooses the edges the vanishing points are fitted to: `objects` (the boxes' own
@@ -31,6 +32,7 @@ use std::time::Duration;
 use rayon::prelude::*;
 use vpmap_metrology::eval::{SETUPS, Setup, Trial, TrialOptions, VpEdges, run_trial_with};
 use vpmap_metrology::reconstruct::Method;
+use vpmap_metrology::synth::Annotation;
 
 use crate::error::Result;
 use crate::output::OutputSet;
@@ -40,7 +42,8 @@ use crate::publish::relative_link;
 pub use report::Collected;
 
 /// Trials per set-up by default: 200 scenes x about 4 objects per box of the plots; the
-/// whole default run takes seconds (see the report's timing).
+/// whole default run (three methods) takes about half a minute on two cores (see the
+/// report's timing).
 pub const DEFAULT_TRIALS: u64 = 200;
 
 /// What to measure: the options of a map-accuracy run.
@@ -63,14 +66,15 @@ pub struct Config {
 }
 
 impl Default for Config {
-    /// `vpmap eval`'s defaults: 200 trials, seed 0, noise 0, 0.5, 1, 2 and 4 px, both methods,
-    /// every set-up, plots at 1 px, the objects' own edges.
+    /// `vpmap eval`'s defaults: 200 trials, seed 0, noise 0, 0.5, 1, 2 and 4 px, the three
+    /// methods (side view, projective, fit), the seventeen set-ups of [`SETUPS`], plots at
+    /// 1 px, the objects' own edges.
     fn default() -> Self {
         Self {
             trials: DEFAULT_TRIALS,
             seed: 0,
             sigmas: vec![0.0, 0.5, 1.0, 2.0, 4.0],
-            methods: vec![Method::Sideview, Method::Projective],
+            methods: vec![Method::Sideview, Method::Projective, Method::Fit],
             setups: SETUPS.iter().collect(),
             plot_sigma: 1.0,
             vp_edges: VpEdges::Objects,
@@ -118,13 +122,23 @@ pub fn run_trials(config: &Config, progress: &dyn Progress) -> Results {
     Results { trials }
 }
 
-/// The section of a results file a run publishes into: `eval` for the objects' own
-/// vanishing-point edges, `eval-long-edges` for long edges, so both can stand side by side.
+/// Whether a run includes set-ups of the views real photos showed
+/// ([`vpmap_metrology::eval::VIEW_SETUPS`]: another annotation than the thesis's).
 #[must_use]
-pub fn section_name(vp_edges: &VpEdges) -> &'static str {
-    match vp_edges {
-        VpEdges::Objects => "eval",
-        VpEdges::Long(_) => "eval-long-edges",
+pub fn has_views(setups: &[&Setup]) -> bool {
+    setups.iter().any(|s| s.annotation != Annotation::Thesis)
+}
+
+/// The section of a results file a run publishes into: `eval` for the objects' own
+/// vanishing-point edges, `eval-long-edges` for long edges, `eval-views` and
+/// `eval-views-long-edges` for runs with the views' set-ups, so they can stand side by side.
+#[must_use]
+pub fn section_name(vp_edges: &VpEdges, setups: &[&Setup]) -> &'static str {
+    match (vp_edges, has_views(setups)) {
+        (VpEdges::Objects, false) => "eval",
+        (VpEdges::Long(_), false) => "eval-long-edges",
+        (VpEdges::Objects, true) => "eval-views",
+        (VpEdges::Long(_), true) => "eval-views-long-edges",
     }
 }
 

@@ -8,8 +8,9 @@ use std::time::Duration;
 use serde::Serialize;
 use vpmap_metrology::calibration::Perspective;
 use vpmap_metrology::eval::{
-    MapEvaluation, OBJECT_METRICS, SCENE_METRICS, TRUE_SCALE_SUFFIX, VpEdges,
+    COVERAGE_METRICS, MapEvaluation, OBJECT_METRICS, SCENE_METRICS, TRUE_SCALE_SUFFIX, VpEdges,
 };
+use vpmap_metrology::synth::Annotation;
 
 use super::{Config, Results};
 use crate::error::{Result, ResultExt as _};
@@ -119,8 +120,20 @@ pub const DESCRIBED: [Described; 7] = [
     },
 ];
 
+/// The error-bar values per object (method `fit`), after [`COVERAGE_METRICS`] (1 inside,
+/// 0 outside): the squared Mahalanobis distance of the true centroid and the standardised
+/// errors of length, breadth and height.
+pub const ERROR_BAR_METRICS: [&str; 4] = [
+    "centroid_mahalanobis_sq",
+    "length_z",
+    "breadth_z",
+    "height_z",
+];
+
 /// Every metric name, in the order of the value columns: the `S_k` object metrics, their
-/// true-scale variants, the scene metrics, `scale_factor`.
+/// true-scale variants, the scene metrics, `scale_factor`, then the error-bar checks
+/// ([`COVERAGE_METRICS`], 1 or 0) and values ([`ERROR_BAR_METRICS`]), empty without error
+/// bars.
 #[must_use]
 pub fn metric_names() -> Vec<String> {
     OBJECT_METRICS
@@ -133,11 +146,22 @@ pub fn metric_names() -> Vec<String> {
         )
         .chain(SCENE_METRICS.iter().map(|m| (*m).to_owned()))
         .chain(std::iter::once("scale_factor".to_owned()))
+        .chain(COVERAGE_METRICS.iter().map(|m| (*m).to_owned()))
+        .chain(ERROR_BAR_METRICS.iter().map(|m| (*m).to_owned()))
         .collect()
 }
 
 /// Index of the first scene metric in [`metric_names`].
 const SCENE_BASE: usize = 2 * OBJECT_METRICS.len();
+
+/// Index of the first error-bar check in [`metric_names`] (after the scene metrics and
+/// `scale_factor`).
+const COVERAGE_BASE: usize = SCENE_BASE + SCENE_METRICS.len() + 1;
+
+/// Whether the metric at index `k` of [`metric_names`] is one value per scene.
+fn per_scene(k: usize) -> bool {
+    (SCENE_BASE..COVERAGE_BASE).contains(&k)
+}
 
 /// Every value of one scene's evaluation in [`metric_names`] order: per object the object
 /// metrics, once per scene the scene metrics.
@@ -145,11 +169,25 @@ fn object_row(ev: &MapEvaluation, object: usize) -> Vec<f64> {
     let Some(o) = ev.objects.get(object) else {
         return Vec::new();
     };
+    let flag = |b: Option<bool>| b.map_or(f64::NAN, |b| if b { 1.0 } else { 0.0 });
+    let (within, bars) = o.coverage.map_or(([f64::NAN; 4], [f64::NAN; 4]), |c| {
+        (
+            c.within().map(flag),
+            [
+                c.centroid_mahalanobis_sq,
+                c.length_z.unwrap_or(f64::NAN),
+                c.breadth_z.unwrap_or(f64::NAN),
+                c.height_z.unwrap_or(f64::NAN),
+            ],
+        )
+    });
     o.sk.values()
         .into_iter()
         .chain(o.true_scale.values())
         .chain(ev.scene_values())
         .chain(std::iter::once(ev.scale_factor))
+        .chain(within)
+        .chain(bars)
         .collect()
 }
 
@@ -283,7 +321,7 @@ pub fn collect(config: &Config, results: &Results) -> Collected {
                         for i in 0..ev.objects.len() {
                             for (k, v) in object_row(ev, i).into_iter().enumerate() {
                                 // Scene metrics once per scene, not once per object.
-                                if k < SCENE_BASE || i == 0 {
+                                if !per_scene(k) || i == 0 {
                                     values[cell * metrics.len() + k].push(v);
                                 }
                             }
@@ -516,6 +554,10 @@ pub fn markdown(
         sigma_text(config.plot_sigma)
     );
     md.push_str(&method_note(config.vp_edges));
+    if super::has_views(&config.setups) {
+        md.push_str(VIEWS_NOTE);
+    }
+    md.push_str(&at_a_glance(config, c));
     md.push_str("\n### Experiments\n\n");
     md.push_str("| set-up | perspective | camera height (m) | pitch (°) | roll (°) | focal (px) | image (px) | objects | scene |\n|---|---|---|---|---|---|---|---|---|\n");
     for s in &config.setups {
@@ -542,16 +584,7 @@ pub fn markdown(
             let mut reasons = Refusals::default();
             for p in [Perspective::TwoPoint, Perspective::ThreePoint] {
                 let r = c.refusals(config, m, s, Group::Perspective(p));
-                cells.push(if r.scenes == 0 {
-                    "-".to_owned()
-                } else {
-                    format!(
-                        "{} of {} ({:.1} %)",
-                        r.refused(),
-                        r.scenes,
-                        100.0 * r.refused() as f64 / r.scenes as f64
-                    )
-                });
+                cells.push(refused_text(&r));
                 reasons.add(&r);
             }
             let why: Vec<String> = reasons
@@ -572,6 +605,14 @@ pub fn markdown(
                 }
             );
         }
+    }
+    md.push_str(&coverage_section(config, c));
+    if config
+        .setups
+        .iter()
+        .any(|s| s.annotation != Annotation::Thesis)
+    {
+        md.push_str(&per_setup_section(config, c));
     }
     md.push_str("\n### The thesis's metrics, per object\n\nPercentiles over every object of every trial of the perspective's set-ups; `S_k`: the truth scaled by eq. 6.1, `true`: the map in metres against the truth in metres.\n");
     for (k, d) in DESCRIBED.iter().enumerate() {
@@ -619,7 +660,7 @@ pub fn markdown(
         }
     }
     md.push_str("\n### The camera, per scene\n\nMedian [p5, p95] over the scenes a method built. `camera_height_error_pct` is the `S_k` variant's (the reference box's scale error); `scale_factor` is `S_k` itself.\n\n| method | σ (px) | perspective |");
-    let scene_metrics: Vec<usize> = (SCENE_BASE..c.metrics.len()).collect();
+    let scene_metrics: Vec<usize> = (SCENE_BASE..COVERAGE_BASE).collect();
     for &k in &scene_metrics {
         let _ = write!(md, " `{}` |", c.metrics[k]);
     }
@@ -654,8 +695,158 @@ pub fn markdown(
     md
 }
 
+/// Index in [`metric_names`] of an object metric's true-scale variant.
+fn true_scale(metric: &str) -> usize {
+    OBJECT_METRICS.len()
+        + OBJECT_METRICS
+            .iter()
+            .position(|m| *m == metric)
+            .unwrap_or(0)
+}
+
+/// `refused of scenes (pct %)`, or `-` without scenes.
+fn refused_text(r: &Refusals) -> String {
+    if r.scenes == 0 {
+        "-".to_owned()
+    } else {
+        format!(
+            "{} of {} ({:.1} %)",
+            r.refused(),
+            r.scenes,
+            100.0 * r.refused() as f64 / r.scenes as f64
+        )
+    }
+}
+
+/// The perspectives the chosen set-ups have.
+fn perspectives(config: &Config) -> Vec<Perspective> {
+    [Perspective::TwoPoint, Perspective::ThreePoint]
+        .into_iter()
+        .filter(|p| config.setups.iter().any(|s| s.perspective == *p))
+        .collect()
+}
+
+/// The headline numbers per method and noise level at the true scale: median overlap,
+/// 95th-percentile centroid shift, refusals, and the fit's 95 % ellipse coverage.
+fn at_a_glance(config: &Config, c: &Collected) -> String {
+    let overlap = true_scale("area_overlap_pct");
+    let shift = true_scale("centroid_shift_pct");
+    let ellipse = COVERAGE_BASE;
+    let mut md = String::from(
+        "\n### At a glance\n\nPer object at the true scale (the map in metres against the truth in metres): median area overlap, 95th-percentile centroid shift, scenes refused, and the share of objects whose true centroid lies inside the reported 95 % ellipse (methods with error bars; see \"Error-bar coverage\").\n\n| method | σ (px) | perspective | median overlap (%) | p95 centroid shift (%) | refused | in 95 % ellipse |\n|---|---|---|---|---|---|---|\n",
+    );
+    for (m, method) in config.methods.iter().enumerate() {
+        for (s, sigma) in config.sigmas.iter().enumerate() {
+            for p in perspectives(config) {
+                let g = Group::Perspective(p);
+                let o = c.summary(config, m, s, g, overlap);
+                let sh = c.summary(config, m, s, g, shift);
+                let e = c.summary(config, m, s, g, ellipse);
+                let _ = writeln!(
+                    md,
+                    "| {method} | {} | {} | {} | {} | {} | {} |",
+                    sigma_text(*sigma),
+                    p.name().to_uppercase(),
+                    o.map_or_else(|| "-".to_owned(), |x| fmt(x.median)),
+                    sh.map_or_else(|| "-".to_owned(), |x| fmt(x.p95)),
+                    refused_text(&c.refusals(config, m, s, g)),
+                    e.map_or_else(|| "-".to_owned(), |x| share(x.mean, x.count)),
+                );
+            }
+        }
+    }
+    md
+}
+
+/// A share of objects, `93.5 % of 1200`.
+fn share(mean: f64, count: usize) -> String {
+    format!("{:.1} % of {count}", 100.0 * mean)
+}
+
+/// The error-bar coverage table: per method with error bars, noise level above zero and
+/// perspective.
+fn coverage_section(config: &Config, c: &Collected) -> String {
+    let mut rows = String::new();
+    for (m, method) in config.methods.iter().enumerate() {
+        for (s, sigma) in config.sigmas.iter().enumerate() {
+            if *sigma <= 0.0 {
+                continue;
+            }
+            for p in perspectives(config) {
+                let g = Group::Perspective(p);
+                let Some(centroid) = c.summary(config, m, s, g, COVERAGE_BASE) else {
+                    continue;
+                };
+                let _ = write!(
+                    rows,
+                    "| {method} | {} | {} | {}",
+                    sigma_text(*sigma),
+                    p.name().to_uppercase(),
+                    centroid.count
+                );
+                for k in 0..COVERAGE_METRICS.len() {
+                    let cell = c
+                        .summary(config, m, s, g, COVERAGE_BASE + k)
+                        .map_or_else(|| "-".to_owned(), |x| format!("{:.1}", 100.0 * x.mean));
+                    let _ = write!(rows, " | {cell}");
+                }
+                let d2 = c
+                    .summary(config, m, s, g, COVERAGE_BASE + COVERAGE_METRICS.len())
+                    .map_or_else(|| "-".to_owned(), |x| fmt(x.median));
+                let _ = writeln!(rows, " | {d2} |");
+            }
+        }
+    }
+    if rows.is_empty() {
+        return String::new();
+    }
+    format!(
+        "\n### Error-bar coverage\n\nFor the objects a method gives error bars for (the fit's, computed for the true σ), at the true scale: the share (%) whose true centroid lies inside the reported 95 % ellipse (squared Mahalanobis distance with the reported centroid covariance at most 5.991, the 95 % point of χ² with 2 degrees of freedom), and whose true length, breadth and height lie within ±2 standard deviations of the reported ones (length: the map's longer side, against the true length of the same side). Calibrated error bars give about 95 % in every column and a median squared distance of 1.39 (χ² with 2 degrees of freedom); fewer mean the error bars are too small.\n\n| method | σ (px) | perspective | objects | centroid in 95 % ellipse | length within ±2σ | breadth within ±2σ | height within ±2σ | median d² |\n|---|---|---|---|---|---|---|---|---|\n{rows}"
+    )
+}
+
+/// Per set-up at the plots' noise level: refusals, true-scale overlap and centroid shift,
+/// coverage (for runs of the views of [`vpmap_metrology::eval::VIEW_SETUPS`], where each
+/// set-up is a different way of seeing the boxes).
+fn per_setup_section(config: &Config, c: &Collected) -> String {
+    let Some(s) = config
+        .sigmas
+        .iter()
+        .position(|x| (x - config.plot_sigma).abs() <= 1e-12)
+    else {
+        return String::new();
+    };
+    let overlap = true_scale("area_overlap_pct");
+    let shift = true_scale("centroid_shift_pct");
+    let mut md = format!(
+        "\n### Per set-up at σ = {} px\n\nTrue scale, per object.\n\n| set-up | method | refused | median overlap (%) | p95 centroid shift (%) | in 95 % ellipse |\n|---|---|---|---|---|---|\n",
+        sigma_text(config.plot_sigma)
+    );
+    for (e, setup) in config.setups.iter().enumerate() {
+        for (m, method) in config.methods.iter().enumerate() {
+            let g = Group::Experiment(e);
+            let _ = writeln!(
+                md,
+                "| {} | {method} | {} | {} | {} | {} |",
+                setup.name,
+                refused_text(&c.refusals(config, m, s, g)),
+                c.summary(config, m, s, g, overlap)
+                    .map_or_else(|| "-".to_owned(), |x| fmt(x.median)),
+                c.summary(config, m, s, g, shift)
+                    .map_or_else(|| "-".to_owned(), |x| fmt(x.p95)),
+                c.summary(config, m, s, g, COVERAGE_BASE)
+                    .map_or_else(|| "-".to_owned(), |x| share(x.mean, x.count)),
+            );
+        }
+    }
+    md
+}
+
 /// How the numbers were made, for the report.
 const METHOD_NOTE: &str = "Each trial draws a random scene of the set-up from vpmap's synthetic pinhole camera (seed from `--seed`, the set-up's name and the trial number), adds Gaussian noise of standard deviation σ pixels to every annotated point (box base corners and tops, footprint vertices, floor corners) and gives the vanishing points as the box edges through those noisy corners, which the builder intersects by least squares; every method builds the same noisy scene. The thesis's six metrics (section 6.1.1) are computed per object with the station point as origin, in two variants: `S_k`, the truth scaled to the model by eq. 6.1 from the first box (the reference object), and `true` (metric names with the suffix `_true_scale` in the files), the map in metres from the known camera height against the truth in metres. Pose errors are wrapped to (-180°, 180°], skew errors to (-90°, 90°] (a side is an undirected line; modelled and actual sides correspond by their annotated corners). Percentiles interpolate between order statistics (type 7). Box plots: box from the first to the third quartile, line at the median, whiskers at the 5th and 95th percentiles (not 1.5 IQR fences); nothing beyond them is drawn. The synthetic objects' sizes scale with the camera height and every metric is relative, so a set-up's camera height alone changes nothing: room-sized and table-top set-ups differ by focal length, image size, pitch, roll and object count. The thesis's ranges come from photos measured by hand, so they mix annotation, vanishing-point and ground-truth errors; here the truth is exact and only the annotation is noisy.\n";
+
+/// What the views' set-ups are, for runs that have them.
+const VIEWS_NOTE: &str = "\nThe views' set-ups reproduce what annotating real photos showed (issue 12), each in two-point (camera and objects of `2pp-2`) and three-point perspective (`3pp-1`). `*-face`: the room, and every box with it, turned 3-10° either way from square to the camera's viewing direction, boxes lower than the camera, each annotated in the face view by its two front base corners and its four top corners. `*-hidden`: boxes lower than the camera, annotated in the corner view by the near base corner and the four top corners. `*-yaw`: every second box turned from the room's axes by its own angle (15-40° either way) and marked `own_yaw`, annotated as the thesis does; its horizontal edges are not among the vanishing-point edges (they run to its own vanishing points), its vertical edges are. The side-view method and the projective form read only the thesis's corners (base near, right, left; top near, left), so they refuse the face-on and hidden-base scenes; they read the own-yaw scenes, where the side view draws every box along the room's directions and the projective form puts each clicked corner on the floor.\n";
 
 /// What [`METHOD_NOTE`] says of the vanishing points with `--vp-edges objects`.
 const OBJECT_EDGES_NOTE: &str = "gives the vanishing points as the box edges through those noisy corners, which the builder intersects by least squares";
@@ -675,13 +866,20 @@ fn method_note(edges: VpEdges) -> String {
     }
 }
 
-/// The report's title: the default run and a `--vp-edges long` run are told apart.
+/// The report's title: the default run, a `--vp-edges long` run and runs of the views'
+/// set-ups are told apart.
 #[must_use]
 pub fn title(config: &Config) -> &'static str {
-    match config.vp_edges {
-        VpEdges::Objects => "Map accuracy under annotation noise (`vpmap eval`)",
-        VpEdges::Long(_) => {
+    match (config.vp_edges, super::has_views(&config.setups)) {
+        (VpEdges::Objects, false) => "Map accuracy under annotation noise (`vpmap eval`)",
+        (VpEdges::Long(_), false) => {
             "Map accuracy under annotation noise, vanishing points from long edges (`vpmap eval --vp-edges long`)"
+        }
+        (VpEdges::Objects, true) => {
+            "Map accuracy of the views real photos show: face-on boxes, hidden base corners, own yaw (`vpmap eval --experiments views`)"
+        }
+        (VpEdges::Long(_), true) => {
+            "Map accuracy of the views real photos show, vanishing points from long edges (`vpmap eval --experiments views --vp-edges long`)"
         }
     }
 }
@@ -717,8 +915,12 @@ pub fn headline(config: &Config, c: &Collected) -> String {
                     continue;
                 };
                 let r = c.refusals(config, m, s, g);
+                let ellipse = c
+                    .summary(config, m, s, g, COVERAGE_BASE)
+                    .map(|x| format!(", in 95 % ellipse {:.1} %", 100.0 * x.mean))
+                    .unwrap_or_default();
                 parts.push(format!(
-                    "{} centroid shift {} % [{} … {}], overlap {} % [{} … {}], refused {}/{}",
+                    "{} centroid shift {} % [{} … {}], overlap {} % [{} … {}], refused {}/{}{ellipse}",
                     p.name().to_uppercase(),
                     fmt(a.median),
                     fmt(a.p5),

@@ -7,6 +7,7 @@ mod eval;
 mod fit;
 mod random_scenes;
 mod shared_data;
+mod views;
 
 use vpmap_metrology::map::FloorMap;
 use vpmap_metrology::synth::Truth;
