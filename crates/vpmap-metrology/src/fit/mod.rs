@@ -1,7 +1,7 @@
 //! The joint maximum-likelihood fit: camera and every object at once, to every clicked point
 //! and vanishing-point segment.
 //!
-//! Model ([`model`]): a pinhole camera one camera height above the floor (focal length,
+//! Model (`fit/model.rs`): a pinhole camera one camera height above the floor (focal length,
 //! pitch, roll; the principal point held at the given value or the image centre, or fitted in
 //! three-point perspective when the data fix it well), the room's two horizontal directions
 //! (one yaw angle), and each object: a box by one floor corner, its two sides along the
@@ -14,7 +14,7 @@
 //!
 //! Start: the projective form's camera (vanishing points with the principal point held), and
 //! each object by linear least squares on its clicks' rays. Minimiser: sparse
-//! Levenberg-Marquardt ([`solve`]). Error bars: the inverse of `J^T J` times the click
+//! Levenberg-Marquardt (`fit/solve.rs`). Error bars: the inverse of `J^T J` times the click
 //! variance, propagated to each reported quantity by its gradient (first order), as in
 //! Criminisi, Reid & Zisserman, "Single view metrology", IJCV 40(2), 2000, section 5.
 
@@ -146,7 +146,13 @@ pub fn fit_scene(scene: &Scene, options: &FitOptions) -> Result<Fitted> {
     // In three-point perspective without a given principal point, let the fit place it too
     // when the data fix it to within 1 % of the image diagonal; else keep the centre.
     let mut best = fixed;
-    if three_point && scene.principal_point.is_none() {
+    // Only a vertical vanishing point measured on its own (a point, or segments that are not
+    // box edges between clicked corners) can be well measured.
+    let vertical_measured = built.problem.vps.get(2).is_some_and(|e| match e {
+        model::VpEvidence::Lines(l) => !l.is_empty(),
+        model::VpEvidence::Point(_) => true,
+    });
+    if three_point && vertical_measured && scene.principal_point.is_none() {
         let mut free = built.problem.clone();
         free.camera_len = 6;
         let pp = built
