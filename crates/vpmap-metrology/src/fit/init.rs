@@ -164,6 +164,26 @@ fn start_box(
         vec![0.0]
     };
     let mut best: Option<(f64, Part, Vec<f64>)> = None;
+    // Keep the candidate that reprojects best (all its corners in front of the camera).
+    let mut consider = |axes: BoxAxes, p: Vec<f64>| {
+        let part = Part::Box {
+            view,
+            clicks: clicks.to_vec(),
+            axes,
+            has_top,
+            own_yaw,
+        };
+        let mut r = vec![0.0; part.residual_count()];
+        if !part.residuals(cam, &p, &mut r) {
+            return false;
+        }
+        let cost: f64 = r.iter().map(|v| v * v).sum();
+        if best.as_ref().is_none_or(|(c, _, _)| cost < *c) {
+            best = Some((cost, part, p));
+        }
+        true
+    };
+    let mut found = false;
     for first in 0..2 {
         for &yaw in &yaws {
             let mut axes = BoxAxes {
@@ -185,24 +205,10 @@ fn start_box(
                 axes.sign2 = -1.0;
                 p[3] = -p[3];
             }
-            let part = Part::Box {
-                view,
-                clicks: clicks.to_vec(),
-                axes,
-                has_top,
-                own_yaw,
-            };
-            let mut r = vec![0.0; part.residual_count()];
-            if !part.residuals(cam, &p, &mut r) {
-                continue;
-            }
-            let cost: f64 = r.iter().map(|v| v * v).sum();
-            if best.as_ref().is_none_or(|(c, _, _)| cost < *c) {
-                best = Some((cost, part, p));
-            }
+            found |= consider(axes, p);
         }
     }
-    if best.is_none() {
+    if !found {
         // The linear start puts a corner behind this camera (a poor starting camera): start
         // from a small box standing on the floor under the first base click instead; the fit
         // moves it.
@@ -225,20 +231,7 @@ fn start_box(
             if own_yaw {
                 p.push(0.0);
             }
-            let part = Part::Box {
-                view,
-                clicks: clicks.to_vec(),
-                axes,
-                has_top,
-                own_yaw,
-            };
-            let mut r = vec![0.0; part.residual_count()];
-            if part.residuals(cam, &p, &mut r) {
-                let cost: f64 = r.iter().map(|v| v * v).sum();
-                if best.as_ref().is_none_or(|(c, _, _)| cost < *c) {
-                    best = Some((cost, part, p));
-                }
-            }
+            consider(axes, p);
         }
     }
     best.map(|(_, part, p)| (part, p))

@@ -10,7 +10,9 @@ use vpmap_metrology::synth::{PinholeCamera, SynthBox, Truth, render_scene};
 
 use crate::max_relative_error;
 
-fn camera(pitch_deg: f64, roll_deg: f64) -> PinholeCamera {
+/// The errata's camera: 1600 x 1200 px, focal 1000 px, principal point at the centre, 1.5 m
+/// high (also used by the fit's tests).
+pub(crate) fn camera(pitch_deg: f64, roll_deg: f64) -> PinholeCamera {
     PinholeCamera {
         image: ImageSize {
             width: 1600,

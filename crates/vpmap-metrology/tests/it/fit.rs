@@ -8,22 +8,10 @@ use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use vpmap_metrology::map::{BuildOptions, FloorMap, build_map};
 use vpmap_metrology::reconstruct::Method;
-use vpmap_metrology::scene::{BoxCorners, ImageSize, ScaleSpec, Scene};
+use vpmap_metrology::scene::{BoxCorners, ScaleSpec, Scene};
 use vpmap_metrology::synth::{PinholeCamera, SynthBox, Truth, add_noise, render_scene};
 
-fn camera(pitch_deg: f64, roll_deg: f64) -> PinholeCamera {
-    PinholeCamera {
-        image: ImageSize {
-            width: 1600,
-            height: 1200,
-        },
-        focal_px: 1000.0,
-        principal_point_px: Vector2::new(800.0, 600.0),
-        height_m: 1.5,
-        pitch_rad: pitch_deg.to_radians(),
-        roll_rad: roll_deg.to_radians(),
-    }
-}
+use crate::errata_cases::camera;
 
 fn boxed(corner: [f64; 2], a: f64, b: f64, height_m: f64, yaw_deg: f64) -> SynthBox {
     let y = yaw_deg.to_radians();
