@@ -3,7 +3,7 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
-use vpmap_metrology::synth::{SynthOptions, VanishingPointForm, synthesize};
+use vpmap_metrology::synth::{Annotation, SynthOptions, VanishingPointForm, synthesize};
 
 use crate::num;
 use crate::output::write_file;
@@ -41,12 +41,29 @@ pub struct SynthArgs {
     /// Leave out the scale (lengths then come out in camera heights).
     #[arg(long)]
     no_scale: bool,
+    /// How the boxes are annotated: `thesis` (base near/right/left, top near/left), `face-on`
+    /// (boxes seen nearly face-on, named in the face view), `hidden-base` (base near and the
+    /// four top corners) or `own-yaw` (every second box turned by its own angle).
+    #[arg(long, default_value = "thesis", value_parser = parse_annotation)]
+    annotation: Annotation,
     /// Scene file to write.
     #[arg(long, short)]
     out: PathBuf,
     /// Truth file to write (default: beside the scene, `.truth.json`).
     #[arg(long)]
     truth: Option<PathBuf>,
+}
+
+fn parse_annotation(s: &str) -> Result<Annotation, String> {
+    match s {
+        "thesis" => Ok(Annotation::Thesis),
+        "face-on" => Ok(Annotation::FaceOn),
+        "hidden-base" => Ok(Annotation::HiddenBase),
+        "own-yaw" => Ok(Annotation::OwnYaw),
+        other => Err(format!(
+            "unknown annotation {other:?}; use thesis, face-on, hidden-base or own-yaw"
+        )),
+    }
 }
 
 pub fn run(args: &SynthArgs) -> Result<()> {
@@ -121,6 +138,7 @@ pub fn run(args: &SynthArgs) -> Result<()> {
             VanishingPointForm::Points
         },
         with_scale: !args.no_scale,
+        annotation: args.annotation,
         ..SynthOptions::default()
     })?;
     let truth_path = args.truth.clone().unwrap_or_else(|| {

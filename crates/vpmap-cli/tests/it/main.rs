@@ -516,3 +516,41 @@ fn plan_across_a_built_floor_map_in_metres() {
         );
     }
 }
+
+#[test]
+fn synth_writes_the_visible_corner_annotations_and_the_fit_builds_them() {
+    let dir = tempfile::tempdir().unwrap();
+    for (annotation, key) in [
+        ("face-on", "front_left"),
+        ("hidden-base", "far"),
+        ("own-yaw", "own_yaw"),
+    ] {
+        let scene = dir.path().join(format!("{annotation}.json"));
+        let o = vpmap(&[
+            "synth",
+            "--seed",
+            "3",
+            "--pitch",
+            "20",
+            "--annotation",
+            annotation,
+            "--out",
+            scene.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let text = std::fs::read_to_string(&scene).unwrap();
+        assert!(text.contains(key), "{annotation}: no {key} in the scene");
+        let out = dir.path().join(annotation);
+        let o = vpmap(&[
+            "build",
+            scene.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let map: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("map.json")).unwrap()).unwrap();
+        assert_eq!(map["method"], "fit");
+        assert!(map["objects"][0]["uncertainty"]["centroid_ellipse_95"].is_object());
+    }
+}
