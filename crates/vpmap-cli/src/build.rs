@@ -21,8 +21,7 @@ const EXAMPLE_SCENE: &str = include_str!("../../../examples/office.json");
 const EXAMPLE_TRUTH: &str = include_str!("../../../examples/office.truth.json");
 
 fn read_scene(path: &Path) -> Result<Scene> {
-    let text = std::fs::read_to_string(path)
-        .with_context(|| format!("cannot read scene file {}", path.display()))?;
+    let text = vpmap_files::read_text(path, vpmap_files::Format::Scene)?;
     // Editors on Windows may start the file with a byte-order mark; it is not JSON.
     let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
     if !text.trim_start().starts_with('{') {

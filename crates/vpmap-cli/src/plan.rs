@@ -163,8 +163,7 @@ pub fn load_map(path: &Path, robot_radius: Option<f64>, resolution: f64) -> Resu
         "map" => (vpmap_plan::movingai::read_movingai_map(path)?, true),
         "yaml" | "yml" => (vpmap_plan::ros::read_ros_map(path)?, false),
         "json" => {
-            let text = std::fs::read_to_string(path)
-                .with_context(|| format!("cannot read map file {}", path.display()))?;
+            let text = vpmap_files::read_text(path, vpmap_files::Format::Map)?;
             let map = FloorMap::from_json_str(&text)
                 .with_context(|| format!("{}: not a vpmap map.json", path.display()))?;
             let grid = rasterize_map(

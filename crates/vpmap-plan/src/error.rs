@@ -83,6 +83,10 @@ pub enum PlanError {
         /// The value found.
         value: f64,
     },
+    /// An input file was refused before or while reading it: not a regular file, over its
+    /// format's size limit, or not readable ([`vpmap_files`]).
+    #[error(transparent)]
+    File(#[from] vpmap_files::FileError),
     /// A file could not be read or written.
     #[error("cannot {action} `{}`", path.display())]
     Io {

@@ -120,12 +120,8 @@ fn in_file(err: PlanError, path: &Path) -> PlanError {
     }
 }
 
-fn read_text(path: &Path) -> Result<String> {
-    std::fs::read_to_string(path).map_err(|source| PlanError::Io {
-        action: "read",
-        path: path.to_path_buf(),
-        source,
-    })
+fn read_text(path: &Path, format: vpmap_files::Format) -> Result<String> {
+    Ok(vpmap_files::read_text(path, format)?)
 }
 
 /// Lines numbered from 1, with trailing whitespace (including `\r`) removed.
@@ -299,11 +295,13 @@ pub fn parse_movingai_map(text: &str) -> Result<OccupancyGrid> {
 /// Read a Moving AI `.map` file (see [`parse_movingai_map`]).
 ///
 /// # Errors
-/// [`PlanError::Io`] when the file cannot be read (or is not UTF-8), and the errors of
+/// [`PlanError::File`] when the file cannot be read (not a regular file, over its size limit,
+/// not UTF-8), and the errors of
 /// [`parse_movingai_map`], which then name the file.
 pub fn read_movingai_map(path: impl AsRef<Path>) -> Result<OccupancyGrid> {
     let path = path.as_ref();
-    parse_movingai_map(&read_text(path)?).map_err(|e| in_file(e, path))
+    parse_movingai_map(&read_text(path, vpmap_files::Format::MovingAiMap)?)
+        .map_err(|e| in_file(e, path))
 }
 
 fn scen_field<T: std::str::FromStr>(line: usize, name: &str, value: &str) -> Result<T> {
@@ -405,11 +403,13 @@ pub fn parse_scen(text: &str) -> Result<Vec<Scenario>> {
 /// Read a Moving AI `.scen` file (see [`parse_scen`]).
 ///
 /// # Errors
-/// [`PlanError::Io`] when the file cannot be read (or is not UTF-8), and the errors of
+/// [`PlanError::File`] when the file cannot be read (not a regular file, over its size limit,
+/// not UTF-8), and the errors of
 /// [`parse_scen`], which then name the file.
 pub fn read_scen(path: impl AsRef<Path>) -> Result<Vec<Scenario>> {
     let path = path.as_ref();
-    parse_scen(&read_text(path)?).map_err(|e| in_file(e, path))
+    parse_scen(&read_text(path, vpmap_files::Format::MovingAiScenarios)?)
+        .map_err(|e| in_file(e, path))
 }
 
 #[cfg(test)]
@@ -434,6 +434,10 @@ mod tests {
         let e = read_movingai_map(&path).unwrap_err().to_string();
         assert!(e.contains("bad.map") && e.contains("line 5"), "{e}");
         let e = read_scen(dir.path().join("missing.scen")).unwrap_err();
-        assert!(matches!(e, PlanError::Io { .. }), "{e}");
+        assert!(
+            matches!(e, PlanError::File(vpmap_files::FileError::Io { .. })),
+            "{e}"
+        );
+        assert!(e.to_string().contains("missing.scen"), "{e}");
     }
 }

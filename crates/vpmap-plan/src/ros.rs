@@ -599,17 +599,9 @@ fn cell_from_pixel(value: u8, alpha: u8, max_value: u8, meta: &MapYaml) -> Occup
 /// assert_eq!(grid.cells(), &[Occupancy::Occupied, Occupancy::Free]);
 /// ```
 pub fn read_ros_map(yaml_path: &Path) -> Result<OccupancyGrid> {
-    let text = std::fs::read_to_string(yaml_path).map_err(|source| PlanError::Io {
-        action: "read",
-        path: yaml_path.to_path_buf(),
-        source,
-    })?;
+    let text = vpmap_files::read_text(yaml_path, vpmap_files::Format::RosYaml)?;
     let meta = parse_map_yaml(&text, yaml_path)?;
-    let bytes = std::fs::read(&meta.image).map_err(|source| PlanError::Io {
-        action: "read",
-        path: meta.image.clone(),
-        source,
-    })?;
+    let bytes = vpmap_files::read_bytes(&meta.image, vpmap_files::Format::RosImage)?;
     let image = decode_image(&bytes, &meta.image)?;
     let cells = match &image.alpha {
         Some(alpha) => image

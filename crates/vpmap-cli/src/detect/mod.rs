@@ -88,8 +88,7 @@ pub use vpmap_vision::photo::Photo;
 /// # Errors
 /// One line naming the file and the problem.
 pub fn read_photo(path: &Path) -> Result<Photo> {
-    let bytes =
-        std::fs::read(path).with_context(|| format!("cannot read photo {}", path.display()))?;
+    let bytes = vpmap_files::read_bytes(path, vpmap_files::Format::Photo)?;
     let limits = PhotoLimits {
         max_side_px: MAX_PHOTO_SIDE_PX,
         max_pixels: MAX_PHOTO_PIXELS,

@@ -554,3 +554,60 @@ fn synth_writes_the_visible_corner_annotations_and_the_fit_builds_them() {
         assert!(map["objects"][0]["uncertainty"]["centroid_ellipse_95"].is_object());
     }
 }
+
+#[test]
+fn devices_and_fifos_are_refused_by_name_without_reading() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = out.to_str().unwrap();
+    // A scene, a photo and a ROS map image that are character devices: refused at once, by
+    // name, with nothing written (reading /dev/zero would fill the memory).
+    assert_fails_cleanly(
+        &["build", "/dev/zero", "--out", o],
+        &out,
+        "scene file /dev/zero is a character device",
+    );
+    let scene = dir.path().join("scene.json");
+    let o2 = vpmap(&["detect", "/dev/urandom", "--out", scene.to_str().unwrap()]);
+    let e = String::from_utf8_lossy(&o2.stderr);
+    assert!(
+        !o2.status.success() && e.contains("photo /dev/urandom is a character device"),
+        "{e}"
+    );
+    let yaml = dir.path().join("m.yaml");
+    std::fs::write(
+        &yaml,
+        "image: /dev/zero\nresolution: 0.05\norigin: [0, 0, 0]\n",
+    )
+    .unwrap();
+    let o3 = vpmap(&[
+        "plan",
+        yaml.to_str().unwrap(),
+        "--from",
+        "0,0",
+        "--to",
+        "1,1",
+    ]);
+    let e = String::from_utf8_lossy(&o3.stderr);
+    assert!(
+        !o3.status.success() && e.contains("ROS map image /dev/zero is a character device"),
+        "{e}"
+    );
+    #[cfg(unix)]
+    {
+        let fifo = dir.path().join("pipe.json");
+        if std::process::Command::new("mkfifo")
+            .arg(&fifo)
+            .status()
+            .is_ok_and(|s| s.success())
+        {
+            assert_fails_cleanly(
+                &["build", fifo.to_str().unwrap(), "--out", o],
+                &out,
+                "is a FIFO",
+            );
+        } else {
+            eprintln!("SKIPPED: mkfifo is not available");
+        }
+    }
+}

@@ -242,7 +242,10 @@ fn missing_image_is_named() {
         yaml_with("nowhere.pgm", "").as_bytes(),
     );
     let err = read_ros_map(&dir.path().join("m.yaml")).unwrap_err();
-    assert!(matches!(err, PlanError::Io { .. }), "{err}");
+    assert!(
+        matches!(err, PlanError::File(vpmap_files::FileError::Io { .. })),
+        "{err}"
+    );
     let msg = err.to_string();
     assert!(
         msg.contains(&dir.path().join("nowhere.pgm").display().to_string()),
