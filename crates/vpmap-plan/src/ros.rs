@@ -583,7 +583,8 @@ fn cell_from_pixel(value: u8, alpha: u8, max_value: u8, meta: &MapYaml) -> Occup
 /// [module docs](self)).
 ///
 /// # Errors
-/// [`PlanError::Io`] naming a file that cannot be read (the YAML or its image),
+/// [`PlanError::File`] naming a file that cannot be read (the YAML or its image: missing, not a
+/// regular file such as `/dev/zero`, or over its size limit, [`vpmap_files::Format`]),
 /// [`PlanError::Yaml`] for malformed YAML, [`PlanError::MissingField`] and
 /// [`PlanError::InvalidField`] naming the field, [`PlanError::MalformedImage`] and
 /// [`PlanError::UnsupportedImage`] for the image, [`PlanError::GridTooLarge`] above
