@@ -83,6 +83,20 @@ pub enum PlanError {
         /// The value found.
         value: f64,
     },
+    /// A planner reached its work budget before finishing.
+    #[error(
+        "{planner} stopped after {limit} {what} without finishing (the `{option}` budget); the map makes its search explode: plan on a coarser grid, or raise the budget"
+    )]
+    BudgetExhausted {
+        /// The planner.
+        planner: &'static str,
+        /// What was counted.
+        what: &'static str,
+        /// The budget.
+        limit: usize,
+        /// The option that sets it.
+        option: &'static str,
+    },
     /// An input file was refused before or while reading it: not a regular file, over its
     /// format's size limit, or not readable ([`vpmap_files`]).
     #[error(transparent)]

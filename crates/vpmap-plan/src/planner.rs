@@ -110,6 +110,10 @@ impl PlannerKind {
             kind: self,
             unknown_passable,
             record_tracks: false,
+            mbpp_budget: (
+                crate::mbpp::DEFAULT_MAX_BUG_STEPS,
+                crate::mbpp::DEFAULT_MAX_ALTERNATIVES,
+            ),
             search: AstarSearch::new(),
         }
     }
@@ -142,10 +146,19 @@ pub struct BuiltIn {
     kind: PlannerKind,
     unknown_passable: bool,
     record_tracks: bool,
+    mbpp_budget: (usize, usize),
     search: AstarSearch,
 }
 
 impl BuiltIn {
+    /// MBPP's work budget: most bug steps and most alternatives kept (defaults
+    /// [`crate::mbpp::DEFAULT_MAX_BUG_STEPS`], [`crate::mbpp::DEFAULT_MAX_ALTERNATIVES`]).
+    #[must_use]
+    pub fn with_mbpp_budget(mut self, max_bug_steps: usize, max_alternatives: usize) -> Self {
+        self.mbpp_budget = (max_bug_steps, max_alternatives);
+        self
+    }
+
     /// Record MBPP's bug tracks (for drawing); off by default.
     #[must_use]
     pub fn with_tracks(mut self, record_tracks: bool) -> Self {
@@ -178,6 +191,8 @@ impl Planner for BuiltIn {
                     unknown_passable,
                     record_tracks: self.record_tracks,
                     leave,
+                    max_bug_steps: self.mbpp_budget.0,
+                    max_alternatives: self.mbpp_budget.1,
                     ..MbppOptions::default()
                 };
                 return mbpp(grid, start, goal, &opts);

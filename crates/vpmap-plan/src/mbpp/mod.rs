@@ -118,7 +118,10 @@ mod result;
 mod select;
 mod walk;
 
-pub use result::{BugFate, BugTrack, LeaveRule, MbppOptions, MbppStats};
+pub use result::{
+    BugFate, BugTrack, DEFAULT_MAX_ALTERNATIVES, DEFAULT_MAX_BUG_STEPS, LeaveRule, MbppOptions,
+    MbppStats,
+};
 pub use walk::m_line;
 
 use crate::error::Result;
@@ -191,6 +194,14 @@ pub fn mbpp(
     );
     stats.los_checks = counter.checks;
     stats.los_cells = counter.cells;
+    if stats.budget_exhausted {
+        return Err(crate::PlanError::BudgetExhausted {
+            planner: "MBPP",
+            what: "bug steps",
+            limit: opts.max_bug_steps,
+            option: "max_bug_steps",
+        });
+    }
     let plan_stats = PlanStats {
         expanded: stats.bug_steps,
         generated: stats.bugs,
@@ -202,7 +213,7 @@ pub fn mbpp(
         waypoints,
         stats: plan_stats,
     });
-    let alternatives = outcome
+    let mut alternatives: Vec<Plan> = outcome
         .alternatives
         .into_iter()
         .map(|waypoints| Plan {
@@ -211,6 +222,11 @@ pub fn mbpp(
             stats: plan_stats,
         })
         .collect();
+    // Keep the shortest `max_alternatives` (a stable sort keeps equal lengths in bug order).
+    if alternatives.len() > opts.max_alternatives {
+        alternatives.sort_by(|a, b| a.length_cells.total_cmp(&b.length_cells));
+        alternatives.truncate(opts.max_alternatives);
+    }
     Ok(Planned {
         best,
         alternatives,
@@ -270,7 +286,10 @@ fn run(
         opts.record_tracks && depth == 0,
         opts.leave,
     );
-    walk.run(counter);
+    let budget = opts.max_bug_steps.saturating_sub(stats.bug_steps);
+    if !walk.run(counter, budget) {
+        stats.budget_exhausted = true;
+    }
     stats.bugs += walk.bugs.len();
     stats.bug_steps += walk.steps;
     stats.hits += walk.hits;
@@ -283,7 +302,7 @@ fn run(
         ..
     } = walk;
     let bugs: Vec<BugTrack> = bugs.into_iter().map(|b| b.track).collect();
-    if goals.is_empty() {
+    if goals.is_empty() || stats.budget_exhausted {
         return Outcome {
             best: None,
             alternatives: Vec::new(),

@@ -17,7 +17,20 @@ pub struct MbppOptions {
     pub max_replan_depth: usize,
     /// When a wall-following bug leaves the wall (default: the thesis's m-line rule).
     pub leave: LeaveRule,
+    /// Most bug steps (all bugs, all re-planning runs together) before MBPP stops with
+    /// [`PlanError::BudgetExhausted`](crate::PlanError::BudgetExhausted) (default
+    /// [`DEFAULT_MAX_BUG_STEPS`]): a zig-zag floor can make bugs multiply without end.
+    pub max_bug_steps: usize,
+    /// Most alternative paths kept, the shortest first (default [`DEFAULT_MAX_ALTERNATIVES`]).
+    pub max_alternatives: usize,
 }
+
+/// The default of [`MbppOptions::max_bug_steps`]: 200 million steps, about a minute of work
+/// on the project's machine (the benchmark's largest maps take under 10 million).
+pub const DEFAULT_MAX_BUG_STEPS: usize = 200_000_000;
+
+/// The default of [`MbppOptions::max_alternatives`].
+pub const DEFAULT_MAX_ALTERNATIVES: usize = 1000;
 
 /// When a wall-following bug leaves the wall for greedy moves (condition C2(a)).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -40,6 +53,8 @@ impl Default for MbppOptions {
             record_tracks: false,
             max_replan_depth: 4,
             leave: LeaveRule::MLine,
+            max_bug_steps: DEFAULT_MAX_BUG_STEPS,
+            max_alternatives: DEFAULT_MAX_ALTERNATIVES,
         }
     }
 }
@@ -108,4 +123,7 @@ pub struct MbppStats {
     pub los_cells: usize,
     /// Blocked segments re-planned.
     pub replans: usize,
+    /// The walk stopped at [`MbppOptions::max_bug_steps`] (then [`mbpp`](super::mbpp)
+    /// returns an error instead of a result).
+    pub budget_exhausted: bool,
 }

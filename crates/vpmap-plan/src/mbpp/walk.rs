@@ -257,11 +257,14 @@ impl<'g> Walk<'g> {
     }
 
     /// Every live bug takes one step per round (newborns from the next round on) until no
-    /// bug is left to move.
-    pub(super) fn run(&mut self, counter: &mut LosCounter) {
+    /// bug is left to move, or until the walk has taken `max_steps` steps: then `false`.
+    pub(super) fn run(&mut self, counter: &mut LosCounter, max_steps: usize) -> bool {
         let mut live: Vec<usize> = vec![0];
         let mut next = Vec::new();
         while !live.is_empty() {
+            if self.steps > max_steps {
+                return false;
+            }
             for &b in &live {
                 if self.step(b, counter) {
                     next.push(b);
@@ -271,6 +274,7 @@ impl<'g> Walk<'g> {
             std::mem::swap(&mut live, &mut next);
             next.clear();
         }
+        true
     }
 
     /// One step of bug `b`; whether it is still moving afterwards.

@@ -312,3 +312,66 @@ proptest! {
         }
     }
 }
+
+/// A comb of walls with gaps at alternating ends: every wall splits the bugs again.
+fn zig_zag(width: usize, height: usize) -> OccupancyGrid {
+    let mut grid = OccupancyGrid::new(width, height, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+    for (k, y) in (2..height - 2).step_by(3).enumerate() {
+        for x in 0..width {
+            let gap = if k % 2 == 0 { x == width - 2 } else { x == 1 };
+            if !gap {
+                grid.set(x, y, Occupancy::Occupied).unwrap();
+            }
+        }
+    }
+    grid
+}
+
+#[test]
+fn a_bug_step_budget_stops_mbpp_with_an_error_naming_it() {
+    let grid = zig_zag(60, 62);
+    let (start, goal) = ((30, 0), (30, 61));
+    let full = mbpp(&grid, start, goal, &MbppOptions::default()).unwrap();
+    let steps = full.mbpp_stats.bug_steps;
+    assert!(full.best.is_some() && steps > 1000, "{steps} steps");
+    // Just enough passes; fewer stops with the budget named.
+    let enough = MbppOptions {
+        max_bug_steps: steps,
+        ..MbppOptions::default()
+    };
+    assert!(mbpp(&grid, start, goal, &enough).unwrap().best.is_some());
+    let tight = MbppOptions {
+        max_bug_steps: steps / 2,
+        ..MbppOptions::default()
+    };
+    let e = mbpp(&grid, start, goal, &tight).unwrap_err();
+    assert!(
+        matches!(e, PlanError::BudgetExhausted { limit, .. } if limit == steps / 2),
+        "{e}"
+    );
+    assert!(e.to_string().contains("max_bug_steps"), "{e}");
+}
+
+#[test]
+fn mbpp_keeps_the_shortest_alternatives_up_to_its_cap() {
+    let grid = zig_zag(40, 32);
+    let (start, goal) = ((20, 0), (20, 31));
+    let all = mbpp(&grid, start, goal, &MbppOptions::default()).unwrap();
+    let n = all.alternatives.len();
+    assert!(n >= 3, "the comb gives several alternatives, got {n}");
+    let mut lengths: Vec<f64> = all.alternatives.iter().map(|p| p.length_cells).collect();
+    lengths.sort_by(f64::total_cmp);
+    let capped = mbpp(
+        &grid,
+        start,
+        goal,
+        &MbppOptions {
+            max_alternatives: 2,
+            ..MbppOptions::default()
+        },
+    )
+    .unwrap();
+    let got: Vec<f64> = capped.alternatives.iter().map(|p| p.length_cells).collect();
+    assert_eq!(got, lengths[..2]);
+    assert_eq!(capped.best.unwrap().waypoints, all.best.unwrap().waypoints);
+}

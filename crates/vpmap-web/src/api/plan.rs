@@ -30,6 +30,12 @@ use crate::{ApiError, AppState, MAX_JSON_BODY_BYTES, params, run_blocking};
 pub const MAX_OPTIMAL_CORNER_CELLS: usize = 2000;
 /// Most bug-track points returned in all (MBPP's tracks are cut beyond).
 pub const MAX_TRACK_POINTS: usize = 100_000;
+/// MBPP's bug-step budget on the page: about two seconds of work (MBPP takes about ten
+/// million steps a second on the project's machine); beyond it the planner answers with an
+/// error naming the budget instead of holding the server.
+pub const PAGE_MAX_BUG_STEPS: usize = 20_000_000;
+/// Most MBPP alternatives the page returns (the shortest).
+pub const PAGE_MAX_ALTERNATIVES: usize = 20;
 /// Planners run when the request names none.
 const DEFAULT_PLANNERS: [PlannerKind; 3] = [
     PlannerKind::Mbpp,
@@ -307,6 +313,7 @@ fn run_planner(
     let planned = kind
         .planner(unknown_passable)
         .with_tracks(is_mbpp)
+        .with_mbpp_budget(PAGE_MAX_BUG_STEPS, PAGE_MAX_ALTERNATIVES)
         .plan(grid, start, goal)
         .map_err(|e| ApiError::bad_request(format!("{}: {e}", kind.name())))?;
     out.time_ms = elapsed_ms(started);
