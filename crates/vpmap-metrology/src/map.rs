@@ -596,6 +596,77 @@ fn to_polygons(mp: &MultiPolygon<f64>) -> Vec<PolygonWithHoles> {
         .collect()
 }
 
+/// The first two non-adjacent edges of a closed ring that touch or cross, as edge indices
+/// (edge `i` runs from point `i` to point `i + 1`), or `None` for a simple ring.
+#[must_use]
+pub fn self_crossing(ring: &[Vector2<f64>]) -> Option<(usize, usize)> {
+    let n = ring.len();
+    if n < 4 {
+        return None;
+    }
+    let orient = |a: Vector2<f64>, b: Vector2<f64>, c: Vector2<f64>| {
+        let v = (b - a).perp(&(c - a));
+        let scale = (b - a).norm() * (c - a).norm();
+        if v.abs() <= 1e-12 * scale {
+            0.0
+        } else {
+            v.signum()
+        }
+    };
+    let on = |a: Vector2<f64>, b: Vector2<f64>, p: Vector2<f64>| {
+        p.x >= a.x.min(b.x) && p.x <= a.x.max(b.x) && p.y >= a.y.min(b.y) && p.y <= a.y.max(b.y)
+    };
+    for i in 0..n {
+        let (a, b) = (ring[i], ring[(i + 1) % n]);
+        for j in i + 2..n {
+            if i == 0 && j == n - 1 {
+                continue;
+            }
+            let (c, d) = (ring[j], ring[(j + 1) % n]);
+            let (o1, o2, o3, o4) = (
+                orient(a, b, c),
+                orient(a, b, d),
+                orient(c, d, a),
+                orient(c, d, b),
+            );
+            let crosses = (o1 * o2 < 0.0 && o3 * o4 < 0.0)
+                || (o1 == 0.0 && on(a, b, c))
+                || (o2 == 0.0 && on(a, b, d))
+                || (o3 == 0.0 && on(c, d, a))
+                || (o4 == 0.0 && on(c, d, b));
+            if crosses {
+                return Some((i, j));
+            }
+        }
+    }
+    None
+}
+
+/// Warnings for a floor outline or a footprint object that crosses itself (clicked out of
+/// order): its area, and so the free space, would be wrong.
+fn crossing_warnings(scene: &Scene, rec: &Reconstruction) -> Vec<String> {
+    let mut out = Vec::new();
+    if let Some((i, j)) = self_crossing(&rec.floor) {
+        out.push(format!(
+            "the floor outline crosses itself (its edges from floor[{i}] and floor[{j}]): click the floor corners in order around the floor; the free space is wrong as it stands"
+        ));
+    }
+    for (k, o) in rec.objects.iter().enumerate() {
+        if o.kind == ObjectKind::Footprint
+            && let Some((i, j)) = self_crossing(&o.footprint)
+        {
+            let name = scene
+                .objects
+                .get(k)
+                .map_or(o.name.as_str(), |s| s.name.as_str());
+            out.push(format!(
+                "the footprint of object {name:?} crosses itself (its edges from footprint[{i}] and footprint[{j}]): click its vertices in order around it"
+            ));
+        }
+    }
+    out
+}
+
 /// The fit's warnings: sizes uncertain by more than [`WARN_RELATIVE_SD`] (naming the corner
 /// that would help) and clicks farther than [`WARN_RESIDUAL_SIGMAS`] click sigmas from the
 /// fitted model (a misplaced click).
@@ -724,6 +795,7 @@ pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
     let o = cal.principal_point_px();
     let view = view_on_floor(&cal, scene.image, k, 0.75 * reach.max(3.0 * k));
     let mut warnings = cal.warnings.clone();
+    warnings.extend(crossing_warnings(scene, &rec));
     let mut camera_uncertainty = None;
     let mut fit_report = None;
     if let Some(f) = &fitted {

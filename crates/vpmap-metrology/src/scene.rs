@@ -427,6 +427,10 @@ pub struct Scene {
     /// One known length (optional; without it lengths are in camera heights).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub scale: Option<ScaleSpec>,
+    /// `"2pp"` or `"3pp"` as `vpmap detect` judged the photo (informational: the number of
+    /// vanishing points decides; a value that disagrees with it is refused).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub perspective: Option<crate::calibration::Perspective>,
 }
 
 /// The kind of an object, after validation.
@@ -892,6 +896,21 @@ impl Scene {
         let n = self.vanishing_points.len();
         if !(2..=3).contains(&n) {
             return Err(MetrologyError::VanishingPointCount(n));
+        }
+        if let Some(p) = self.perspective {
+            let expected = match p {
+                crate::calibration::Perspective::TwoPoint => 2,
+                crate::calibration::Perspective::ThreePoint => 3,
+            };
+            if expected != n {
+                return Err(MetrologyError::InvalidField {
+                    field: "perspective".to_owned(),
+                    reason: format!(
+                        "is \"{}\", but the scene gives {n} vanishing points; give {expected}, or leave `perspective` out (the number of vanishing points decides)",
+                        p.name()
+                    ),
+                });
+            }
         }
         for (i, vp) in self.vanishing_points.iter().enumerate() {
             let field = format!("vanishing_points[{i}]");

@@ -533,6 +533,7 @@ pub fn render_annotated(
         objects,
         floor: floor_px,
         scale: None,
+        perspective: None,
     };
     let truth = Truth {
         camera: TruthCamera {

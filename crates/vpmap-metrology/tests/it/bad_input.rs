@@ -372,3 +372,59 @@ fn noisy_box_completed_behind_the_camera_is_an_error() {
         }
     }
 }
+
+#[test]
+fn a_perspective_that_disagrees_with_the_vanishing_points_is_refused() {
+    let mut v = base_scene();
+    v["perspective"] = serde_json::json!("3pp");
+    let e = err_text(&v);
+    assert!(
+        e.contains("perspective") && e.contains("\"3pp\"") && e.contains("2 vanishing points"),
+        "{e}"
+    );
+    let mut v = base_scene();
+    v["perspective"] = serde_json::json!("5pp");
+    let e = err_text(&v);
+    assert!(e.contains("5pp") && e.contains("2pp"), "{e}");
+    let mut v = base_scene();
+    v["perspective"] = serde_json::json!("2pp");
+    build(&v).unwrap();
+}
+
+#[test]
+fn a_floor_clicked_out_of_order_is_warned_about_by_every_method() {
+    let mut v = base_scene();
+    // A bow tie: the second and third corners swapped.
+    v["floor"] = serde_json::json!([
+        [100.0, 1100.0],
+        [1300.0, 700.0],
+        [1500.0, 1100.0],
+        [300.0, 700.0]
+    ]);
+    let scene = Scene::from_json_str(&v.to_string()).unwrap();
+    for method in [Method::Sideview, Method::Projective, Method::Fit] {
+        let map = build_map(
+            &scene,
+            &BuildOptions {
+                method,
+                ..BuildOptions::default()
+            },
+        )
+        .unwrap();
+        assert!(
+            map.warnings
+                .iter()
+                .any(|w| w.contains("floor outline crosses itself")),
+            "{method}: {:?}",
+            map.warnings
+        );
+    }
+    // In order, no warning.
+    let scene = Scene::from_json_str(&base_scene().to_string()).unwrap();
+    let map = build_map(&scene, &BuildOptions::default()).unwrap();
+    assert!(
+        !map.warnings.iter().any(|w| w.contains("crosses itself")),
+        "{:?}",
+        map.warnings
+    );
+}

@@ -114,7 +114,8 @@ export function installPanels(app) {
         li.append(h('div', { class: 'vp-info', text: 'none: two-point perspective (pitch 0)' }));
         const add = h('button', { type: 'button', class: 'small', text: 'Add vertical', disabled: k === 2 && vps.length < 2 });
         add.addEventListener('click', () => {
-          app.edit((s) => s.vanishing_points.push({ lines: [] }));
+          // The detector's `perspective` describes the old count; the count decides.
+          app.edit((s) => { s.vanishing_points.push({ lines: [] }); delete s.perspective; });
           app.setTool(new VpLineTool(app, 2));
         });
         actions.append(add);
@@ -147,7 +148,7 @@ export function installPanels(app) {
         }
         if (k === 2) {
           const rm = h('button', { type: 'button', class: 'small', text: 'Remove', title: 'Two-point perspective: no vertical vanishing point' });
-          rm.addEventListener('click', () => app.edit((s) => { s.vanishing_points.length = 2; }));
+          rm.addEventListener('click', () => app.edit((s) => { s.vanishing_points.length = 2; delete s.perspective; }));
           actions.append(rm);
         }
       }
