@@ -79,6 +79,13 @@ pub struct PlanArgs {
     /// tracks, hits, leave points and the alternative paths).
     #[arg(long)]
     svg: Option<PathBuf>,
+    /// MBPP's budget: most bug steps before it stops with an error (about 10 million a
+    /// second; see docs/limits.md).
+    #[arg(long, default_value_t = vpmap_plan::mbpp::DEFAULT_MAX_BUG_STEPS)]
+    max_bug_steps: usize,
+    /// Most MBPP alternative paths kept, the shortest first.
+    #[arg(long, default_value_t = vpmap_plan::mbpp::DEFAULT_MAX_ALTERNATIVES)]
+    max_alternatives: usize,
 }
 
 /// A map ready for planning, and how its coordinates read.
@@ -202,19 +209,20 @@ pub fn load_map(path: &Path, robot_radius: Option<f64>, resolution: f64) -> Resu
 /// Run one planner (through the library's [`Planner`] interface) and keep everything it
 /// found: the path, MBPP's alternatives and bugs (with their walked cells when
 /// `record_tracks`; that costs memory in proportion to the bugs' steps, so ask only when
-/// drawing them).
+/// drawing them), within MBPP's budget `(max_bug_steps, max_alternatives)`.
 pub fn run_planner(
     kind: PlannerKind,
     grid: &OccupancyGrid,
-    start: impl Into<CellXy>,
-    goal: impl Into<CellXy>,
+    (start, goal): (CellXy, CellXy),
     unknown_passable: bool,
     record_tracks: bool,
+    (max_bug_steps, max_alternatives): (usize, usize),
 ) -> Result<Planned> {
     Ok(kind
         .planner(unknown_passable)
         .with_tracks(record_tracks)
-        .plan(grid, start.into(), goal.into())?)
+        .with_mbpp_budget(max_bug_steps, max_alternatives)
+        .plan(grid, start, goal)?)
 }
 
 /// MBPP's counters, for the MBPP planners only.
@@ -242,10 +250,10 @@ pub fn run(args: &PlanArgs) -> Result<()> {
     let outcome = run_planner(
         args.planner,
         &map.grid,
-        start,
-        goal,
+        (start, goal),
         args.unknown_passable,
         args.svg.is_some(),
+        (args.max_bug_steps, args.max_alternatives),
     )?;
     let seconds = began.elapsed().as_secs_f64();
     if let Some(svg_path) = &args.svg {
@@ -360,6 +368,11 @@ mod tests {
     use super::*;
     use vpmap_plan::grid::Occupancy;
 
+    const BUDGET: (usize, usize) = (
+        vpmap_plan::mbpp::DEFAULT_MAX_BUG_STEPS,
+        vpmap_plan::mbpp::DEFAULT_MAX_ALTERNATIVES,
+    );
+
     #[test]
     fn mbpp_tracks_are_recorded_only_when_asked() -> Result<()> {
         // A wall across the straight line, open at both ends.
@@ -368,8 +381,22 @@ mod tests {
             grid.set(2, y, Occupancy::Occupied)?;
         }
         let (start, goal) = ((0, 2), (5, 2));
-        let quiet = run_planner(PlannerKind::Mbpp, &grid, start, goal, false, false)?;
-        let drawn = run_planner(PlannerKind::Mbpp, &grid, start, goal, false, true)?;
+        let quiet = run_planner(
+            PlannerKind::Mbpp,
+            &grid,
+            (start.into(), goal.into()),
+            false,
+            false,
+            BUDGET,
+        )?;
+        let drawn = run_planner(
+            PlannerKind::Mbpp,
+            &grid,
+            (start.into(), goal.into()),
+            false,
+            true,
+            BUDGET,
+        )?;
         assert!(quiet.bugs.len() >= 2 && quiet.bugs.iter().all(|b| b.cells.is_empty()));
         assert_eq!(drawn.bugs.len(), quiet.bugs.len());
         assert_eq!(
@@ -378,10 +405,25 @@ mod tests {
         );
         assert!(drawn.bugs.iter().all(|b| !b.cells.is_empty()));
         assert_eq!(drawn.best, quiet.best);
-        let best = run_planner(PlannerKind::Mbpp, &grid, start, goal, false, false)?.best;
+        let best = run_planner(
+            PlannerKind::Mbpp,
+            &grid,
+            (start.into(), goal.into()),
+            false,
+            false,
+            BUDGET,
+        )?
+        .best;
         assert_eq!(best, quiet.best);
         assert!(best.is_some() && mbpp_stats(PlannerKind::Mbpp, &quiet).is_some());
-        let other = run_planner(PlannerKind::ThetaStar, &grid, start, goal, false, true)?;
+        let other = run_planner(
+            PlannerKind::ThetaStar,
+            &grid,
+            (start.into(), goal.into()),
+            false,
+            true,
+            BUDGET,
+        )?;
         assert!(other.bugs.is_empty() && other.alternatives.is_empty());
         assert!(mbpp_stats(PlannerKind::ThetaStar, &other).is_none());
         Ok(())

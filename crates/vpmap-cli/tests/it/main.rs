@@ -611,3 +611,61 @@ fn devices_and_fifos_are_refused_by_name_without_reading() {
         }
     }
 }
+
+#[test]
+fn plan_stops_mbpp_at_its_bug_step_budget_and_names_the_flag() {
+    // A comb of walls with gaps at alternating ends, as a Moving AI map.
+    let (w, h) = (40usize, 32usize);
+    let mut rows = vec![vec!['.'; w]; h];
+    for (k, y) in (2..h - 2).step_by(3).enumerate() {
+        for (x, c) in rows[y].iter_mut().enumerate() {
+            let gap = if k % 2 == 0 { x == w - 2 } else { x == 1 };
+            if !gap {
+                *c = '@';
+            }
+        }
+    }
+    let text = format!(
+        "type octile\nheight {h}\nwidth {w}\nmap\n{}\n",
+        rows.iter()
+            .map(|r| r.iter().collect::<String>())
+            .collect::<Vec<_>>()
+            .join("\n")
+    );
+    let dir = tempfile::tempdir().unwrap();
+    let map = dir.path().join("comb.map");
+    std::fs::write(&map, text).unwrap();
+    let m = map.to_str().unwrap();
+    let ok = vpmap(&[
+        "plan",
+        m,
+        "--from",
+        "20,0",
+        "--to",
+        "20,31",
+        "--planner",
+        "mbpp",
+    ]);
+    assert!(
+        ok.status.success(),
+        "{}",
+        String::from_utf8_lossy(&ok.stderr)
+    );
+    let o = vpmap(&[
+        "plan",
+        m,
+        "--from",
+        "20,0",
+        "--to",
+        "20,31",
+        "--planner",
+        "mbpp",
+        "--max-bug-steps",
+        "50",
+    ]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        !o.status.success() && e.contains("50 bug steps") && e.contains("max_bug_steps"),
+        "{e}"
+    );
+}
