@@ -587,7 +587,9 @@ fn view_on_floor(
     out
 }
 
-fn to_polygons(mp: &MultiPolygon<f64>) -> Vec<PolygonWithHoles> {
+/// Polygons with holes as `map.json` writes them (rings not closed).
+#[must_use]
+pub fn to_polygons(mp: &MultiPolygon<f64>) -> Vec<PolygonWithHoles> {
     mp.0.iter()
         .map(|p| PolygonWithHoles {
             exterior: unclosed(p.exterior()),

@@ -29,9 +29,7 @@ mod error;
 pub mod options;
 
 use nalgebra::Vector2;
-use vpmap_metrology::map::{
-    BuildOptions, FloorMap, ObjectUncertainty, PolygonWithHoles, Units, build_map,
-};
+use vpmap_metrology::map::{BuildOptions, FloorMap, ObjectUncertainty, Units, build_map};
 use vpmap_metrology::scene::Scene;
 use vpmap_plan::ros::encode_ros_map;
 use vpmap_plan::{OccupancyGrid, RasterOptions, rasterize_map};
@@ -180,24 +178,8 @@ pub fn grown_by_uncertainty(map: &FloorMap, p: f64) -> FloorMap {
                 .collect()
         })
         .collect();
-    let free = vpmap_metrology::map::free_space(&floor, &footprints);
-    out.free_space = free
-        .0
-        .iter()
-        .map(|p| {
-            let ring = |ls: &geo::LineString<f64>| {
-                let mut v: Vec<[f64; 2]> = ls.coords().map(|c| [c.x, c.y]).collect();
-                if v.len() > 1 && v.first() == v.last() {
-                    v.pop();
-                }
-                v
-            };
-            PolygonWithHoles {
-                exterior: ring(p.exterior()),
-                holes: p.interiors().iter().map(ring).collect(),
-            }
-        })
-        .collect();
+    out.free_space =
+        vpmap_metrology::map::to_polygons(&vpmap_metrology::map::free_space(&floor, &footprints));
     out
 }
 
@@ -263,5 +245,63 @@ pub fn num(v: f64) -> String {
         format!("{v:e}")
     } else {
         format!("{v}")
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use vpmap_metrology::reconstruct::Method;
+    use vpmap_metrology::synth::{SynthOptions, synthesize};
+    use vpmap_plan::Occupancy;
+
+    fn occupied(grid: &OccupancyGrid) -> usize {
+        grid.cells()
+            .iter()
+            .filter(|c| **c == Occupancy::Occupied)
+            .count()
+    }
+
+    #[test]
+    fn growing_by_uncertainty_keeps_every_obstacle_cell_and_adds_some() {
+        let (scene, _) = synthesize(&SynthOptions {
+            seed: 4,
+            noise_px: 2.0,
+            ..SynthOptions::default()
+        })
+        .map_err(|e| e.to_string())
+        .unwrap_or_else(|e| panic!("{e}"));
+        let plain = MapOptions {
+            click_sigma_px: Some(2.0),
+            ..MapOptions::default()
+        };
+        let grown = MapOptions {
+            grow_confidence: Some(0.95),
+            ..plain
+        };
+        let a = map_and_grid(&scene, &plain).unwrap_or_else(|e| panic!("{e}"));
+        let b = map_and_grid(&scene, &grown).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(a.map, b.map, "map.json keeps the fitted footprints");
+        assert_eq!(
+            (a.grid.width(), a.grid.height()),
+            (b.grid.width(), b.grid.height())
+        );
+        let kept = a
+            .grid
+            .cells()
+            .iter()
+            .zip(b.grid.cells())
+            .all(|(x, y)| *x != Occupancy::Occupied || *y == Occupancy::Occupied);
+        assert!(kept, "every occupied cell stays occupied");
+        assert!(occupied(&b.grid) > occupied(&a.grid));
+        // Methods without error bars cannot grow.
+        let e = MapOptions {
+            method: Method::Sideview,
+            ..grown
+        }
+        .validate()
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("only the fit method"), "{e}");
     }
 }

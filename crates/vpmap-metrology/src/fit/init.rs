@@ -92,8 +92,9 @@ fn camera_params(vps: &[Vector3<f64>], pp: Vector2<f64>, f: f64, level: bool) ->
         .then_some([f, pitch, roll, yaw])
 }
 
-/// A box's parameters by linear least squares on its clicks' rays, for one axis assignment
-/// and yaw offset; `None` when the system is rank deficient.
+/// A box's parameters (origin, sides, height; not the yaw) by linear least squares on its
+/// clicks' rays, for one axis assignment and yaw offset; `None` when the system is rank
+/// deficient.
 fn linear_box(
     cam: &Camera,
     clicks: &[CornerClick],
@@ -139,14 +140,8 @@ fn linear_box(
         return None;
     }
     let z = svd.solve(&b, 0.0).ok()?;
-    let mut p: Vec<f64> = z.iter().copied().collect();
-    if p.iter().any(|v| !v.is_finite()) {
-        return None;
-    }
-    if yaw != 0.0 {
-        p.push(yaw);
-    }
-    Some(p)
+    let p: Vec<f64> = z.iter().copied().collect();
+    p.iter().all(|v| v.is_finite()).then_some(p)
 }
 
 /// The best starting box over the axis assignments (and yaw offsets for a box with its own
@@ -194,8 +189,8 @@ fn start_box(
             let Some(mut p) = linear_box(cam, clicks, axes, has_top, yaw) else {
                 continue;
             };
-            if own_yaw && p.len() == 4 + usize::from(has_top) {
-                p.push(0.0);
+            if own_yaw {
+                p.push(yaw);
             }
             if p[2] < 0.0 {
                 axes.sign1 = -1.0;
