@@ -30,7 +30,10 @@ fn read_scene(path: &Path) -> Result<Scene> {
             path.display()
         );
     }
-    let value = serde_json::from_str(text).unwrap_or(serde_json::Value::Null);
+    // The same parse as the page's: a file it cannot read as a JSON value (nested deeper than
+    // serde_json's 128 levels, say) is refused here too, rather than read without warnings.
+    let value: serde_json::Value = serde_json::from_str(text)
+        .map_err(|e| anyhow::anyhow!("{}: scene file is malformed: {e}", path.display()))?;
     for field in vpmap_metrology::scene::unknown_fields(&value) {
         eprintln!(
             "warning: {}: unknown field {field} is ignored (see docs/scene-format.md)",
@@ -55,7 +58,7 @@ fn map_options(args: &BuildArgs) -> MapOptions {
         resolution_m: args.resolution,
         robot_radius_m: args.robot_radius,
         hidden_free: args.hidden_free,
-        max_grid_cells: None,
+        max_grid_cells: Some(vpmap_plan::MAX_CELLS as f64),
         click_sigma_px: args.click_sigma,
         grow_confidence: args.grow_confidence,
     }

@@ -8,7 +8,9 @@ use vpmap_metrology::map::FloorMap;
 use vpmap_pipeline::{
     Coordinates, DEFAULT_ROBOT_RADIUS_M, Endpoint, EndpointRules, OptionNames, endpoint_cell,
 };
+use vpmap_plan::PlanError;
 use vpmap_plan::Planned;
+use vpmap_plan::budget::{Budget, Stop, StopReason};
 use vpmap_plan::grid::{CellXy, OccupancyGrid};
 use vpmap_plan::mbpp::MbppStats;
 use vpmap_plan::plan::Plan;
@@ -86,6 +88,38 @@ pub struct PlanArgs {
     /// Most MBPP alternative paths kept, the shortest first.
     #[arg(long, default_value_t = vpmap_plan::mbpp::DEFAULT_MAX_ALTERNATIVES)]
     max_alternatives: usize,
+    /// Most node expansions of A*, A* PS, Theta* and the exact planner before they stop
+    /// with an error (see docs/limits.md).
+    #[arg(long, default_value_t = vpmap_plan::budget::DEFAULT_MAX_EXPANSIONS)]
+    max_expansions: usize,
+    /// Most grid cells the line-of-sight checks of Theta*, A* PS and the exact planner look
+    /// up before they stop with an error.
+    #[arg(long, default_value_t = vpmap_plan::budget::DEFAULT_MAX_SIGHT_CELLS)]
+    max_sight_cells: usize,
+    /// Stop any planner that has not finished after this many seconds (default: no time
+    /// limit; the counted budgets above bound the work).
+    #[arg(long, value_name = "SECONDS", value_parser = parse_timeout, allow_negative_numbers = true)]
+    timeout: Option<std::time::Duration>,
+}
+
+/// `--timeout`: a positive number of seconds, at most a day.
+fn parse_timeout(text: &str) -> std::result::Result<std::time::Duration, String> {
+    const MAX_S: f64 = 86_400.0;
+    match text.trim().parse::<f64>() {
+        Ok(s) if s > 0.0 && s <= MAX_S => Ok(std::time::Duration::from_secs_f64(s)),
+        _ => Err(format!(
+            "{text:?} is not a time limit; give a number of seconds above 0 and at most {MAX_S:.0}"
+        )),
+    }
+}
+
+/// The work limits of one planning query: MBPP's budget and every planner's [`Budget`].
+#[derive(Clone, Debug, Default)]
+pub struct Limits {
+    /// MBPP's most bug steps and most alternatives kept (`None`: the library's defaults).
+    pub mbpp: Option<(usize, usize)>,
+    /// The budget of A*, A* PS, Theta* and the exact planner, and every planner's stop.
+    pub budget: Budget,
 }
 
 /// A map ready for planning, and how its coordinates read.
@@ -154,11 +188,14 @@ fn parse_point(what: &str, text: &str) -> Result<[f64; 2]> {
 /// Read any supported map and inflate its obstacles by `robot_radius` (by default
 /// [`DEFAULT_ROBOT_RADIUS_M`] for a `map.json`, 0 for the others).
 pub fn load_map(path: &Path, robot_radius: Option<f64>, resolution: f64) -> Result<PlanningMap> {
+    // The same range as `vpmap build` and the page (in cells for a Moving AI map).
+    let range = &vpmap_pipeline::ROBOT_RADIUS_RANGE_M;
     if let Some(r) = robot_radius
-        && !(r.is_finite() && r >= 0.0)
+        && !range.contains(&r)
     {
         bail!(
-            "--robot-radius must be a non-negative number, got {}",
+            "--robot-radius must be a non-negative number, at most {}, got {}",
+            num(*range.end()),
             num(r)
         );
     }
@@ -180,7 +217,13 @@ pub fn load_map(path: &Path, robot_radius: Option<f64>, resolution: f64) -> Resu
                     ..RasterOptions::default()
                 },
             )
-            .with_context(|| format!("rasterising {}", path.display()))?;
+            .with_context(|| {
+                format!(
+                    "rasterising {} at {} m a cell",
+                    path.display(),
+                    num(resolution)
+                )
+            })?;
             (grid, false)
         }
         _ => bail!(
@@ -209,20 +252,38 @@ pub fn load_map(path: &Path, robot_radius: Option<f64>, resolution: f64) -> Resu
 /// Run one planner (through the library's [`Planner`] interface) and keep everything it
 /// found: the path, MBPP's alternatives and bugs (with their walked cells when
 /// `record_tracks`; that costs memory in proportion to the bugs' steps, so ask only when
-/// drawing them), within MBPP's budget `(max_bug_steps, max_alternatives)`.
+/// drawing them), within `limits`.
 pub fn run_planner(
     kind: PlannerKind,
     grid: &OccupancyGrid,
     (start, goal): (CellXy, CellXy),
     unknown_passable: bool,
     record_tracks: bool,
-    (max_bug_steps, max_alternatives): (usize, usize),
+    limits: &Limits,
 ) -> Result<Planned> {
-    Ok(kind
+    let mut planner = kind
         .planner(unknown_passable)
         .with_tracks(record_tracks)
-        .with_mbpp_budget(max_bug_steps, max_alternatives)
-        .plan(grid, start, goal)?)
+        .with_budget(limits.budget.clone());
+    if let Some((max_bug_steps, max_alternatives)) = limits.mbpp {
+        planner = planner.with_mbpp_budget(max_bug_steps, max_alternatives);
+    }
+    Ok(planner.plan(grid, start, goal)?)
+}
+
+/// A planner's budget error, ending with the command-line flag that raises the budget.
+fn name_the_flag(e: anyhow::Error) -> anyhow::Error {
+    let flag = match e.downcast_ref::<PlanError>() {
+        Some(PlanError::BudgetExhausted { option, .. }) => {
+            format!("--{}", option.replace('_', "-"))
+        }
+        Some(PlanError::Stopped {
+            reason: StopReason::Deadline,
+            ..
+        }) => "--timeout".to_owned(),
+        _ => return e,
+    };
+    anyhow::anyhow!("{e:#} with {flag}")
 }
 
 /// MBPP's counters, for the MBPP planners only.
@@ -253,8 +314,18 @@ pub fn run(args: &PlanArgs) -> Result<()> {
         (start, goal),
         args.unknown_passable,
         args.svg.is_some(),
-        (args.max_bug_steps, args.max_alternatives),
-    )?;
+        &Limits {
+            mbpp: Some((args.max_bug_steps, args.max_alternatives)),
+            budget: Budget {
+                max_expansions: args.max_expansions,
+                max_sight_cells: args.max_sight_cells,
+                stop: args
+                    .timeout
+                    .map_or_else(Stop::new, |t| Stop::new().with_timeout(t)),
+            },
+        },
+    )
+    .map_err(name_the_flag)?;
     let seconds = began.elapsed().as_secs_f64();
     if let Some(svg_path) = &args.svg {
         let coordinates = if map.in_cells {
@@ -368,10 +439,14 @@ mod tests {
     use super::*;
     use vpmap_plan::grid::Occupancy;
 
-    const BUDGET: (usize, usize) = (
-        vpmap_plan::mbpp::DEFAULT_MAX_BUG_STEPS,
-        vpmap_plan::mbpp::DEFAULT_MAX_ALTERNATIVES,
-    );
+    const BUDGET: &Limits = &Limits {
+        mbpp: None,
+        budget: Budget {
+            max_expansions: vpmap_plan::budget::DEFAULT_MAX_EXPANSIONS,
+            max_sight_cells: vpmap_plan::budget::DEFAULT_MAX_SIGHT_CELLS,
+            stop: Stop::new(),
+        },
+    };
 
     #[test]
     fn mbpp_tracks_are_recorded_only_when_asked() -> Result<()> {

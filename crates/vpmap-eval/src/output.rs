@@ -24,6 +24,7 @@ impl OutputSet {
     /// # Errors
     /// When the folder cannot be created or a file cannot be written (nothing is left behind).
     pub fn write_all(&self, dir: &Path) -> Result<Vec<PathBuf>> {
+        refuse_dangling_link(dir)?;
         // The folders this call creates, deepest last, to remove again on failure.
         let mut created: Vec<PathBuf> = dir
             .ancestors()
@@ -52,6 +53,27 @@ impl OutputSet {
         }
         result
     }
+}
+
+/// The nearest ancestor of `dir` that is there (as a name) must not be a symbolic link to
+/// nothing: creating the folder would fail with a bare "File exists".
+fn refuse_dangling_link(dir: &Path) -> Result<()> {
+    for a in dir.ancestors().take_while(|a| !a.as_os_str().is_empty()) {
+        let Ok(meta) = std::fs::symlink_metadata(a) else {
+            continue;
+        };
+        if meta.file_type().is_symlink() && !a.exists() {
+            let target = std::fs::read_link(a).unwrap_or_default();
+            bail!(
+                "cannot create output folder {}: {} is a symbolic link to {}, which does not exist; create that folder or choose another output",
+                dir.display(),
+                a.display(),
+                target.display()
+            );
+        }
+        break;
+    }
+    Ok(())
 }
 
 fn write_files(dir: &Path, files: &[(String, Vec<u8>)]) -> Result<Vec<PathBuf>> {

@@ -208,6 +208,55 @@ pub fn read_text(path: &Path, format: Format) -> Result<String, FileError> {
     })
 }
 
+/// A number read from an input, as the messages about it print it: plain when it reads well,
+/// in exponent form when it is very large or very small (`1e300`, not 301 digits; `1e-300`,
+/// not 300 zeros).
+///
+/// # Example
+/// ```
+/// assert_eq!(vpmap_files::num(0.05), "0.05");
+/// assert_eq!(vpmap_files::num(1e300), "1e300");
+/// assert_eq!(vpmap_files::num(-2.5e-9), "-2.5e-9");
+/// assert_eq!(vpmap_files::num(f64::NAN), "NaN");
+/// ```
+#[must_use]
+pub fn num(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e7).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
+/// A decoder's error message made readable: on one line, with the PNG decoder's internal
+/// chunk descriptions (`ChunkType { type: IHDR, critical: true, … }`) reduced to the chunk's
+/// name (`IHDR`).
+///
+/// # Example
+/// ```
+/// let raw = "CRC error: expected 0x0 have 0xe164e157 while decoding ChunkType { type: IHDR, \
+///            critical: true, private: false, reserved: false, safecopy: false } chunk.";
+/// assert_eq!(
+///     vpmap_files::decoder_message(raw),
+///     "CRC error: expected 0x0 have 0xe164e157 while decoding IHDR chunk."
+/// );
+/// ```
+#[must_use]
+pub fn decoder_message(message: &str) -> String {
+    const CHUNK: &str = "ChunkType { type: ";
+    let mut out = String::with_capacity(message.len());
+    let mut rest = message;
+    while let Some(at) = rest.find(CHUNK) {
+        out.push_str(&rest[..at]);
+        let after = &rest[at + CHUNK.len()..];
+        let name_end = after.find([',', ' ', '}']).unwrap_or(after.len());
+        out.push_str(&after[..name_end]);
+        rest = after.find('}').map_or("", |close| &after[close + 1..]);
+    }
+    out.push_str(rest);
+    out.split_whitespace().collect::<Vec<_>>().join(" ")
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -12,9 +12,14 @@ pub enum MetrologyError {
     /// The file is not valid JSON or does not have the expected shape.
     #[error("malformed JSON: {0}")]
     Json(String),
-    /// The scene file declares a format version this library does not read.
-    #[error("scene field `version` is {0}; this vpmap reads version 1")]
-    UnsupportedVersion(u64),
+    /// The scene file or map.json declares a format version this library does not read.
+    #[error("{file} field `version` is {version}; this vpmap reads version 1")]
+    UnsupportedVersion {
+        /// `scene` or `map.json`.
+        file: &'static str,
+        /// The version found.
+        version: u64,
+    },
     /// A number is NaN or infinite.
     #[error("scene field `{field}` is not a finite number ({value})")]
     NonFinite {

@@ -871,7 +871,7 @@ pub fn failure_category(error: &MetrologyError) -> &'static str {
         }
         MetrologyError::InvalidField { .. } => "invalid_field",
         MetrologyError::Json(_)
-        | MetrologyError::UnsupportedVersion(_)
+        | MetrologyError::UnsupportedVersion { .. }
         | MetrologyError::NonFinite { .. }
         | MetrologyError::VanishingPointCount(_)
         | MetrologyError::UnknownScaleObject { .. } => "invalid_scene",

@@ -861,7 +861,10 @@ impl FloorMap {
         let map: FloorMap =
             serde_json::from_str(text).map_err(|e| MetrologyError::Json(e.to_string()))?;
         if map.version != 1 {
-            return Err(MetrologyError::UnsupportedVersion(u64::from(map.version)));
+            return Err(MetrologyError::UnsupportedVersion {
+                file: "map.json",
+                version: u64::from(map.version),
+            });
         }
         Ok(map)
     }

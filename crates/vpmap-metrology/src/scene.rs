@@ -856,7 +856,53 @@ pub fn unknown_fields(value: &serde_json::Value) -> Vec<String> {
     out
 }
 
+/// Most objects a scene may have (the same on the command line and the page).
+pub const MAX_OBJECTS: usize = 500;
+
+/// Most points a floor outline or footprint, and most segments a vanishing point, may have.
+pub const MAX_POINTS: usize = 1000;
+
 impl Scene {
+    /// Refuse a scene with more than [`MAX_OBJECTS`] objects or a list longer than
+    /// [`MAX_POINTS`]: the fit's work grows with them, and no photo needs more.
+    fn check_sizes(&self) -> Result<()> {
+        let too_many = |field: String, n: usize, max: usize| MetrologyError::InvalidField {
+            field,
+            reason: format!("it has {n} entries; a scene may have at most {max}"),
+        };
+        if self.objects.len() > MAX_OBJECTS {
+            return Err(too_many(
+                "objects".to_owned(),
+                self.objects.len(),
+                MAX_OBJECTS,
+            ));
+        }
+        if self.floor.len() > MAX_POINTS {
+            return Err(too_many("floor".to_owned(), self.floor.len(), MAX_POINTS));
+        }
+        for (i, o) in self.objects.iter().enumerate() {
+            if let Some(fp) = &o.footprint
+                && fp.len() > MAX_POINTS
+            {
+                return Err(too_many(
+                    format!("objects[{i}].footprint"),
+                    fp.len(),
+                    MAX_POINTS,
+                ));
+            }
+        }
+        for (i, v) in self.vanishing_points.iter().enumerate() {
+            if v.lines.len() > MAX_POINTS {
+                return Err(too_many(
+                    format!("vanishing_points[{i}].lines"),
+                    v.lines.len(),
+                    MAX_POINTS,
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// Parse and validate a scene from JSON text.
     ///
     /// # Errors
@@ -882,7 +928,10 @@ impl Scene {
     /// The first problem found, naming the field and the value.
     pub fn validate(&self) -> Result<()> {
         if self.version != 1 {
-            return Err(MetrologyError::UnsupportedVersion(self.version));
+            return Err(MetrologyError::UnsupportedVersion {
+                file: "scene",
+                version: self.version,
+            });
         }
         if self.image.width == 0 || self.image.height == 0 {
             return Err(MetrologyError::InvalidField {
@@ -897,6 +946,7 @@ impl Scene {
         if !(2..=3).contains(&n) {
             return Err(MetrologyError::VanishingPointCount(n));
         }
+        self.check_sizes()?;
         if let Some(p) = self.perspective {
             let expected = match p {
                 crate::calibration::Perspective::TwoPoint => 2,

@@ -85,15 +85,17 @@ pub fn endpoint_cell(
                     num(y)
                 )));
             }
-            let (x, y) = (x as usize, y as usize);
-            if x >= grid.width() || y >= grid.height() {
+            // Compared as numbers first: a huge value saturates when cast to usize.
+            if x >= grid.width() as f64 || y >= grid.height() as f64 {
                 return Err(PipelineError::Endpoint(format!(
-                    "{name} ({x}, {y}) is outside the {} x {} map",
+                    "{name} ({}, {}) is outside the {} x {} map",
+                    num(x),
+                    num(y),
                     grid.width(),
                     grid.height()
                 )));
             }
-            CellXy::new(x, y)
+            CellXy::new(x as usize, y as usize)
         }
         Coordinates::Map { .. } => grid.cell_from_world([x, y]).ok_or_else(|| {
             let o = grid.origin_m();
@@ -222,6 +224,11 @@ mod tests {
         assert_eq!(
             cell_of([4.0, 0.0], Coordinates::Cells, CLI),
             Err("start (4, 0) is outside the 4 x 2 map".to_owned())
+        );
+        // Far beyond usize: the message shows the number given, not a saturated cast.
+        assert_eq!(
+            cell_of([1e20, 0.0], Coordinates::Cells, CLI),
+            Err("start (1e20, 0) is outside the 4 x 2 map".to_owned())
         );
         assert!(
             cell_of([1.0, 0.0], Coordinates::Cells, CLI)

@@ -241,11 +241,7 @@ fn occupancy_grid(map: &FloorMap, options: &MapOptions) -> Result<OccupancyGrid,
 /// ```
 #[must_use]
 pub fn num(v: f64) -> String {
-    if v != 0.0 && v.is_finite() && !(1e-4..1e7).contains(&v.abs()) {
-        format!("{v:e}")
-    } else {
-        format!("{v}")
-    }
+    vpmap_files::num(v)
 }
 
 #[cfg(test)]

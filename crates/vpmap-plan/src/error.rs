@@ -33,7 +33,12 @@ pub enum PlanError {
     },
     /// A grid would have more cells than [`crate::grid::MAX_CELLS`].
     #[error(
-        "a grid of {width} x {height} cells exceeds the limit of {max} cells (use a coarser resolution or a smaller map)"
+        "a grid of {} x {} cells is too large: it would need about {} of memory to plan on ({} bytes a cell), more than the limit of {max} cells ({}); use a coarser resolution or a smaller map",
+        count(*width),
+        count(*height),
+        megabytes(width.saturating_mul(*height)),
+        crate::grid::BYTES_PER_CELL,
+        megabytes(*max)
     )]
     GridTooLarge {
         /// Requested width, cells (saturated at `usize::MAX`).
@@ -82,6 +87,21 @@ pub enum PlanError {
         field: String,
         /// The value found.
         value: f64,
+    },
+    /// A coordinate of the floor map is further from the origin than
+    /// [`crate::raster::MAX_MAP_COORDINATE`].
+    #[error(
+        "floor map coordinate `{field}` is {}; coordinates must be within ±{} map units of the origin",
+        vpmap_files::num(*value),
+        vpmap_files::num(*limit)
+    )]
+    MapCoordinateOutOfRange {
+        /// Path of the coordinate, e.g. `floor[0][1]`.
+        field: String,
+        /// The value found.
+        value: f64,
+        /// The limit, map units.
+        limit: f64,
     },
     /// A planner reached its work budget before finishing.
     #[error(
@@ -227,8 +247,30 @@ pub type Result<T, E = PlanError> = std::result::Result<T, E>;
 fn stopped_message(reason: crate::budget::StopReason, allowed_s: f64) -> String {
     match reason {
         crate::budget::StopReason::Deadline => format!(
-            "it did not finish within its time limit of {allowed_s:.1} s; plan on a coarser grid, or allow more time"
+            "it did not finish within its time limit of {} s; plan on a coarser grid, or allow more time",
+            vpmap_files::num((allowed_s * 1e3).round() / 1e3)
         ),
         crate::budget::StopReason::Cancelled => "the request was cancelled".to_owned(),
+    }
+}
+
+/// The work memory of `cells` grid cells, in readable units ("510 MB", "3.4 GB").
+fn megabytes(cells: usize) -> String {
+    let bytes = cells as f64 * crate::grid::BYTES_PER_CELL as f64;
+    if bytes >= 1e15 {
+        format!("{bytes:.1e} bytes")
+    } else if bytes >= 1e9 {
+        format!("{:.1} GB", bytes / 1e9)
+    } else {
+        format!("{:.0} MB", bytes / 1e6)
+    }
+}
+
+/// A cell count that may have saturated at `usize::MAX`.
+fn count(n: usize) -> String {
+    if n == usize::MAX {
+        format!("more than {}", vpmap_files::num(usize::MAX as f64))
+    } else {
+        n.to_string()
     }
 }

@@ -16,8 +16,16 @@ use std::fmt;
 
 use crate::error::{PlanError, Result};
 
-/// Largest number of cells a grid may have (2e8 cells, 200 MB of [`Occupancy`]s).
-pub const MAX_CELLS: usize = 200_000_000;
+/// About how many bytes of memory one grid cell costs from reading or rasterising the grid
+/// to a planned path: its [`Occupancy`], the obstacle inflation's distance transform and the
+/// largest planner's search arrays (measured peak resident memory of `vpmap plan` on large
+/// grids, 14-17 bytes a cell).
+pub const BYTES_PER_CELL: usize = 17;
+
+/// Largest number of cells a grid may have: 30 million cells, about 510 MB of work memory
+/// at [`BYTES_PER_CELL`] (a 5,477 x 5,477 grid; 274 m square at 5 cm). A grid is refused
+/// with [`PlanError::GridTooLarge`] before anything of its size is allocated.
+pub const MAX_CELLS: usize = 30_000_000;
 
 /// Where a grid cell is: column `x` (left to right) and row `y` (from the top), both in
 /// cells. Converts from and to the tuple `(x, y)` and compares equal to it, so

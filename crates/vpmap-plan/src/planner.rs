@@ -219,6 +219,7 @@ impl Planner for BuiltIn {
                     leave,
                     max_bug_steps: self.mbpp_budget.0,
                     max_alternatives: self.mbpp_budget.1,
+                    max_sight_cells: self.budget.max_sight_cells,
                     stop: self.budget.stop.clone(),
                     ..MbppOptions::default()
                 };

@@ -233,6 +233,10 @@ fn mark_segment(grid: &mut OccupancyGrid, p: GridPoint, q: GridPoint, value: Occ
     }
 }
 
+/// Largest distance of a floor map coordinate from the origin, map units (1,000 km for a
+/// metric map): beyond it a map is refused before its extent is computed.
+pub const MAX_MAP_COORDINATE: f64 = 1e6;
+
 fn check_points<'a>(
     field: impl Fn(usize, usize) -> String,
     points: impl IntoIterator<Item = &'a MapPoint>,
@@ -243,6 +247,13 @@ fn check_points<'a>(
                 return Err(PlanError::NonFiniteMap {
                     field: field(i, axis),
                     value: *value,
+                });
+            }
+            if value.abs() > MAX_MAP_COORDINATE {
+                return Err(PlanError::MapCoordinateOutOfRange {
+                    field: field(i, axis),
+                    value: *value,
+                    limit: MAX_MAP_COORDINATE,
                 });
             }
         }

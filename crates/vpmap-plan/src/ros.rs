@@ -29,6 +29,16 @@ use serde::Deserialize;
 
 use crate::error::{PlanError, Result};
 use crate::grid::{MAX_CELLS, Occupancy, OccupancyGrid, checked_cell_count};
+use vpmap_files::num;
+
+/// Smallest `resolution` a map YAML may give: 10 micrometres a cell.
+pub const MIN_RESOLUTION_M: f64 = 1e-5;
+
+/// Largest `resolution` a map YAML may give: 10 km a cell.
+pub const MAX_RESOLUTION_M: f64 = 1e4;
+
+/// Largest distance of a map YAML's `origin` from zero along x or y: 10,000 km.
+pub const MAX_ORIGIN_M: f64 = 1e7;
 
 /// Pixel value written for a free cell.
 pub const FREE_PIXEL: u8 = 254;
@@ -200,12 +210,30 @@ enum MapMode {
     Raw,
 }
 
-/// `negate` as `map_server` accepts it: an integer or a boolean.
-#[derive(Deserialize)]
-#[serde(untagged)]
-enum Negate {
-    Bool(bool),
-    Int(i64),
+/// `negate` as `map_server` accepts it: an integer (non-zero is true) or a boolean.
+struct Negate(bool);
+
+impl<'de> Deserialize<'de> for Negate {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> std::result::Result<Self, D::Error> {
+        /// Reads a boolean or an integer, and names both when it finds anything else.
+        struct Visitor;
+        impl serde::de::Visitor<'_> for Visitor {
+            type Value = Negate;
+            fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str("0, 1, true or false")
+            }
+            fn visit_bool<E: serde::de::Error>(self, v: bool) -> std::result::Result<Negate, E> {
+                Ok(Negate(v))
+            }
+            fn visit_i64<E: serde::de::Error>(self, v: i64) -> std::result::Result<Negate, E> {
+                Ok(Negate(v != 0))
+            }
+            fn visit_u64<E: serde::de::Error>(self, v: u64) -> std::result::Result<Negate, E> {
+                Ok(Negate(v != 0))
+            }
+        }
+        d.deserialize_any(Visitor)
+    }
 }
 
 /// The YAML file as written; every field optional so that a missing one is reported by name.
@@ -260,39 +288,60 @@ fn parse_map_yaml(text: &str, yaml_path: &Path) -> Result<MapYaml> {
         ));
     }
     let resolution_m = raw.resolution.ok_or_else(|| missing("resolution"))?;
-    if !(resolution_m.is_finite() && resolution_m > 0.0) {
+    if !(MIN_RESOLUTION_M..=MAX_RESOLUTION_M).contains(&resolution_m) {
         return Err(invalid(
             "resolution",
-            resolution_m.to_string(),
-            "it must be finite and positive",
+            num(resolution_m),
+            &format!(
+                "it must be from {} to {} metres a cell",
+                num(MIN_RESOLUTION_M),
+                num(MAX_RESOLUTION_M)
+            ),
         ));
     }
     let origin = raw.origin.ok_or_else(|| missing("origin"))?;
     let &[ox, oy, yaw] = origin.as_slice() else {
         return Err(invalid(
             "origin",
-            format!("{origin:?}"),
+            format!(
+                "[{}]",
+                origin
+                    .iter()
+                    .map(|v| num(*v))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
             "it must have 3 elements [x, y, yaw]",
         ));
     };
+    let shown = || {
+        format!(
+            "[{}]",
+            origin
+                .iter()
+                .map(|v| num(*v))
+                .collect::<Vec<_>>()
+                .join(", ")
+        )
+    };
     if !(ox.is_finite() && oy.is_finite() && yaw.is_finite()) {
+        return Err(invalid("origin", shown(), "its elements must be finite"));
+    }
+    if ox.abs().max(oy.abs()) > MAX_ORIGIN_M {
         return Err(invalid(
             "origin",
-            format!("{origin:?}"),
-            "its elements must be finite",
+            shown(),
+            &format!("its x and y must be within ±{} metres", num(MAX_ORIGIN_M)),
         ));
     }
     if yaw != 0.0 {
         return Err(invalid(
             "origin",
-            format!("{origin:?}"),
+            shown(),
             "rotated maps are not supported: the yaw (third element) must be 0",
         ));
     }
-    let negate = match raw.negate {
-        None | Some(Negate::Bool(false) | Negate::Int(0)) => false,
-        Some(Negate::Bool(true) | Negate::Int(_)) => true,
-    };
+    let negate = raw.negate.is_some_and(|n| n.0);
     let occupied_thresh = raw.occupied_thresh.unwrap_or(OCCUPIED_THRESH);
     let free_thresh = raw.free_thresh.unwrap_or(FREE_THRESH);
     for (field, value) in [
@@ -300,14 +349,17 @@ fn parse_map_yaml(text: &str, yaml_path: &Path) -> Result<MapYaml> {
         ("free_thresh", free_thresh),
     ] {
         if !(0.0..=1.0).contains(&value) {
-            return Err(invalid(field, value.to_string(), "it must be in [0, 1]"));
+            return Err(invalid(field, num(value), "it must be in [0, 1]"));
         }
     }
     if free_thresh > occupied_thresh {
         return Err(invalid(
             "free_thresh",
-            free_thresh.to_string(),
-            &format!("it must not exceed occupied_thresh ({occupied_thresh})"),
+            num(free_thresh),
+            &format!(
+                "it must not exceed occupied_thresh ({})",
+                num(occupied_thresh)
+            ),
         ));
     }
     let mode = match raw.mode.as_deref() {
@@ -477,7 +529,7 @@ fn decode_pgm(bytes: &[u8], path: &Path) -> Result<GreyImage> {
 fn decode_png(bytes: &[u8], path: &Path) -> Result<GreyImage> {
     let malformed = |e: png::DecodingError| PlanError::MalformedImage {
         path: path.to_path_buf(),
-        reason: e.to_string(),
+        reason: vpmap_files::decoder_message(&e.to_string()),
     };
     let limits = png::Limits {
         bytes: MAX_CELLS.saturating_mul(4),

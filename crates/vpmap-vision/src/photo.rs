@@ -78,11 +78,7 @@ pub fn decode_photo(bytes: &[u8], limits: &PhotoLimits) -> Result<Photo> {
     };
     let decode_error = |e: image::ImageError| VisionError::Decode {
         format: kind,
-        message: e
-            .to_string()
-            .split_whitespace()
-            .collect::<Vec<_>>()
-            .join(" "),
+        message: vpmap_files::decoder_message(&e.to_string()),
     };
     let max_side = limits.max_side_px.min(MAX_SIDE_PX);
     // The header's size first: the decoder would refuse an absurd size with a vaguer message.
@@ -103,6 +99,16 @@ pub fn decode_photo(bytes: &[u8], limits: &PhotoLimits) -> Result<Photo> {
             max_megapixels: limits.max_pixels / 1_000_000,
         });
     }
+    if format == ImageFormat::Jpeg && !jpeg_is_complete(bytes) {
+        // The decoder would fill the missing rows with grey and say nothing.
+        return Err(VisionError::Decode {
+            format: kind,
+            message: format!(
+                "the file is truncated: its {} bytes end without the JPEG end-of-image marker after the last scan (was it cut short when copied or downloaded?)",
+                bytes.len()
+            ),
+        });
+    }
     let mut reader = ImageReader::with_format(Cursor::new(bytes), format);
     let mut decoder_limits = Limits::default();
     decoder_limits.max_image_width = Some(max_side);
@@ -118,6 +124,19 @@ pub fn decode_photo(bytes: &[u8], limits: &PhotoLimits) -> Result<Photo> {
     Ok(Photo {
         image,
         reoriented: orientation != image::metadata::Orientation::NoTransforms,
+    })
+}
+
+/// Whether a JPEG's data end with the end-of-image marker (`FF D9`) after its last
+/// start-of-scan marker (`FF DA`). Entropy-coded data escape every `FF` byte, so neither
+/// marker can appear inside a scan; an embedded thumbnail's markers come before the main
+/// image's scans. Bytes after the end marker (padding some cameras add) are allowed.
+fn jpeg_is_complete(bytes: &[u8]) -> bool {
+    let last_scan = bytes.windows(2).rposition(|w| w == [0xFF, 0xDA]);
+    last_scan.is_some_and(|at| {
+        bytes
+            .get(at..)
+            .is_some_and(|scan| scan.windows(2).any(|w| w == [0xFF, 0xD9]))
     })
 }
 
@@ -175,5 +194,47 @@ mod tests {
             decode_photo(&good, &small),
             Err(VisionError::PhotoSize { max: 32, .. })
         ));
+        // A corrupt header checksum: the message names the chunk, not the decoder's types.
+        let mut bad_crc = good.clone();
+        if let Some(b) = bad_crc.get_mut(29) {
+            *b ^= 0xFF; // first byte of the IHDR chunk's CRC (8 signature + 8 + 13 bytes in)
+        }
+        let message = decode_photo(&bad_crc, &limits)
+            .map(|_| ())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains("IHDR") && !message.contains("ChunkType"),
+            "{message}"
+        );
+    }
+
+    fn jpeg(width: u32, height: u32) -> Vec<u8> {
+        let mut out = Vec::new();
+        let image = DynamicImage::ImageRgb8(image::RgbImage::from_fn(width, height, |x, y| {
+            image::Rgb([(x * 7) as u8, (y * 5) as u8, ((x + y) * 3) as u8])
+        }));
+        let _ = image.write_to(&mut Cursor::new(&mut out), ImageFormat::Jpeg);
+        out
+    }
+
+    #[test]
+    fn a_truncated_jpeg_is_refused_and_a_padded_one_read() {
+        let limits = PhotoLimits::default();
+        let whole = jpeg(64, 48);
+        assert!(decode_photo(&whole, &limits).is_ok());
+        // Zero padding after the end marker, as some cameras write, is fine.
+        let mut padded = whole.clone();
+        padded.extend_from_slice(&[0; 64]);
+        assert!(decode_photo(&padded, &limits).is_ok());
+        // Cut inside the scan: the decoder alone would return a partly grey photo.
+        for keep in [whole.len() - 2, whole.len() * 3 / 4] {
+            let cut = decode_photo(&whole[..keep], &limits).map(|_| ());
+            let message = cut.unwrap_err().to_string();
+            assert!(
+                message.contains("truncated") && message.contains("JPEG"),
+                "{keep}: {message}"
+            );
+        }
     }
 }

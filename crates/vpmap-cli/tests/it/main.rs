@@ -4,6 +4,7 @@
 mod bench;
 mod detect;
 mod eval;
+mod hostile;
 mod plan_mbpp;
 
 use std::path::{Path, PathBuf};

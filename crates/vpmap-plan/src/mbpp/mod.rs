@@ -195,12 +195,24 @@ pub fn mbpp(
     );
     stats.los_checks = counter.checks;
     stats.los_cells = counter.cells;
+    // The last checks (the smoothing) run after the last look at the budget.
+    if counter.cells > opts.max_sight_cells {
+        stats.sight_budget_exhausted = true;
+    }
     if stats.budget_exhausted {
         return Err(crate::PlanError::BudgetExhausted {
             planner: "MBPP",
             what: "bug steps",
             limit: opts.max_bug_steps,
             option: "max_bug_steps",
+        });
+    }
+    if stats.sight_budget_exhausted {
+        return Err(crate::PlanError::BudgetExhausted {
+            planner: "MBPP",
+            what: "cells looked up by line-of-sight checks",
+            limit: opts.max_sight_cells,
+            option: "max_sight_cells",
         });
     }
     if let Some(reason) = stats.stopped {
@@ -295,9 +307,10 @@ fn run(
         opts.leave,
     );
     let budget = opts.max_bug_steps.saturating_sub(stats.bug_steps);
-    match walk.run(counter, budget, &opts.stop) {
+    match walk.run(counter, (budget, opts.max_sight_cells), &opts.stop) {
         WalkEnd::Done => {}
         WalkEnd::Budget => stats.budget_exhausted = true,
+        WalkEnd::SightBudget => stats.sight_budget_exhausted = true,
         WalkEnd::Stopped(reason) => stats.stopped = Some(reason),
     }
     stats.bugs += walk.bugs.len();
@@ -312,7 +325,7 @@ fn run(
         ..
     } = walk;
     let bugs: Vec<BugTrack> = bugs.into_iter().map(|b| b.track).collect();
-    if goals.is_empty() || stats.budget_exhausted || stats.stopped.is_some() {
+    if goals.is_empty() || halted(opts, stats, counter) {
         return Outcome {
             best: None,
             alternatives: Vec::new(),
@@ -321,13 +334,32 @@ fn run(
     }
     let mut graph = Graph::new(&vertices, &joins);
     let selected = select(&mut graph, grid, goal, opts, depth, stats, counter);
-    let alternatives = alternatives(graph, &goals, &joins, grid, counter, selected.as_deref());
+    let alternatives = alternatives(
+        graph,
+        (&goals, &joins),
+        grid,
+        (opts, &mut *stats, &mut *counter),
+        selected.as_deref(),
+    );
     let best = selected.map(|path| smooth_path(grid, &path, counter));
     Outcome {
         best,
         alternatives,
         bugs,
     }
+}
+
+/// Whether the run must stop: a budget is spent or the [`Stop`](crate::budget::Stop) says
+/// so (recorded in `stats`). Looked at between the walk, the selection's rounds and the
+/// alternatives' checks.
+fn halted(opts: &MbppOptions, stats: &mut MbppStats, counter: &LosCounter) -> bool {
+    if counter.cells > opts.max_sight_cells {
+        stats.sight_budget_exhausted = true;
+    }
+    if stats.stopped.is_none() {
+        stats.stopped = opts.stop.reason();
+    }
+    stats.budget_exhausted || stats.sight_budget_exhausted || stats.stopped.is_some()
 }
 
 /// Whether a bug may stand on cell `c`.

@@ -24,6 +24,12 @@ pub struct MbppOptions {
     pub max_bug_steps: usize,
     /// Most alternative paths kept, the shortest first (default [`DEFAULT_MAX_ALTERNATIVES`]).
     pub max_alternatives: usize,
+    /// Most grid cells looked up by line-of-sight checks (the walk's, the selection's and
+    /// the alternatives') before MBPP stops with
+    /// [`PlanError::BudgetExhausted`](crate::PlanError::BudgetExhausted) (default
+    /// [`DEFAULT_MAX_SIGHT_CELLS`](crate::budget::DEFAULT_MAX_SIGHT_CELLS)): on long
+    /// zig-zag corridors these checks, not the bug steps, take the time.
+    pub max_sight_cells: usize,
     /// A deadline or cancellation flag, looked at every few thousand bug steps; when it
     /// stops the walk MBPP returns [`PlanError::Stopped`](crate::PlanError::Stopped)
     /// (default: none).
@@ -60,6 +66,7 @@ impl Default for MbppOptions {
             leave: LeaveRule::MLine,
             max_bug_steps: DEFAULT_MAX_BUG_STEPS,
             max_alternatives: DEFAULT_MAX_ALTERNATIVES,
+            max_sight_cells: crate::budget::DEFAULT_MAX_SIGHT_CELLS,
             stop: Stop::new(),
         }
     }
@@ -132,6 +139,9 @@ pub struct MbppStats {
     /// The walk stopped at [`MbppOptions::max_bug_steps`] (then [`mbpp`](super::mbpp)
     /// returns an error instead of a result).
     pub budget_exhausted: bool,
+    /// The run stopped at [`MbppOptions::max_sight_cells`] (then [`mbpp`](super::mbpp)
+    /// returns an error instead of a result).
+    pub sight_budget_exhausted: bool,
     /// The walk was stopped by [`MbppOptions::stop`] (then [`mbpp`](super::mbpp) returns
     /// an error instead of a result).
     pub stopped: Option<StopReason>,

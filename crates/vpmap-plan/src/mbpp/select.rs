@@ -4,7 +4,7 @@
 use super::graph::Graph;
 use super::result::MbppOptions;
 use super::walk::Join;
-use super::{MbppStats, NONE, Xy, run, to_i, to_u};
+use super::{MbppStats, NONE, Xy, halted, run, to_i, to_u};
 use crate::grid::CellXy;
 use crate::los::{LosCounter, PassableGrid};
 use crate::plan::path_length;
@@ -21,6 +21,9 @@ pub(super) fn select(
     counter: &mut LosCounter,
 ) -> Option<Vec<CellXy>> {
     loop {
+        if halted(opts, stats, counter) {
+            return None;
+        }
         let path = graph.shortest(goal, false)?;
         let mut blocked = None;
         for pair in path.windows(2) {
@@ -65,14 +68,16 @@ pub(super) fn select(
 /// waiting bug's `v_list` completed by the shortest clear continuation from its join.
 pub(super) fn alternatives(
     mut graph_clear: Graph,
-    goals: &[u32],
-    joins: &[Join],
+    (goals, joins): (&[u32], &[Join]),
     grid: &PassableGrid,
-    counter: &mut LosCounter,
+    (opts, stats, counter): (&MbppOptions, &mut MbppStats, &mut LosCounter),
     selected: Option<&[CellXy]>,
 ) -> Vec<Vec<CellXy>> {
     // Decide the join segments not yet known.
     for join in joins {
+        if halted(opts, stats, counter) {
+            return Vec::new();
+        }
         let from = join.vertex;
         let a = graph_clear.cell(from);
         let unknown: Vec<u32> = graph_clear

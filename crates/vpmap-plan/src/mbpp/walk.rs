@@ -259,12 +259,13 @@ impl<'g> Walk<'g> {
 
     /// Every live bug takes one step per round (newborns from the next round on) until no
     /// bug is left to move ([`WalkEnd::Done`]), until the walk has taken `max_steps` steps
-    /// ([`WalkEnd::Budget`]), or until `stop` says so ([`WalkEnd::Stopped`], looked at about
+    /// ([`WalkEnd::Budget`]), until `counter` has looked up more than `max_sight_cells`
+    /// cells ([`WalkEnd::SightBudget`]), or until `stop` says so ([`WalkEnd::Stopped`], looked at about
     /// every [`STOP_CHECK_INTERVAL`] steps).
     pub(super) fn run(
         &mut self,
         counter: &mut LosCounter,
-        max_steps: usize,
+        (max_steps, max_sight_cells): (usize, usize),
         stop: &Stop,
     ) -> WalkEnd {
         let mut live: Vec<usize> = vec![0];
@@ -273,6 +274,9 @@ impl<'g> Walk<'g> {
         while !live.is_empty() {
             if self.steps > max_steps {
                 return WalkEnd::Budget;
+            }
+            if counter.cells > max_sight_cells {
+                return WalkEnd::SightBudget;
             }
             if self.steps >= next_stop_check {
                 next_stop_check = self.steps + STOP_CHECK_INTERVAL;
@@ -530,6 +534,8 @@ pub(super) enum WalkEnd {
     Done,
     /// The step budget ran out.
     Budget,
+    /// The line-of-sight budget ran out.
+    SightBudget,
     /// The [`Stop`] said so.
     Stopped(StopReason),
 }

@@ -83,7 +83,7 @@ fn the_stop_message_names_the_planner_and_the_time_allowed() {
         .unwrap_err()
         .to_string();
     assert!(
-        message.starts_with("Theta* stopped: it did not finish within its time limit of 0.0 s"),
+        message.starts_with("Theta* stopped: it did not finish within its time limit of 0 s"),
         "{message}"
     );
     let cancelled = PlannerKind::Mbpp

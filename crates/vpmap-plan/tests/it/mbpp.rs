@@ -356,6 +356,33 @@ fn a_bug_step_budget_stops_mbpp_with_an_error_naming_it() {
 }
 
 #[test]
+fn a_sight_budget_stops_mbpp_in_any_of_its_phases() {
+    let grid = zig_zag(60, 62);
+    let (start, goal) = ((30, 0), (30, 61));
+    let full = mbpp(&grid, start, goal, &MbppOptions::default()).unwrap();
+    let cells = full.mbpp_stats.los_cells;
+    assert!(full.best.is_some() && cells > 10_000, "{cells} cells");
+    let with = |max_sight_cells| MbppOptions {
+        max_sight_cells,
+        ..MbppOptions::default()
+    };
+    // Enough for every check it made: the same answer.
+    let enough = mbpp(&grid, start, goal, &with(cells)).unwrap();
+    assert_eq!(enough.best, full.best);
+    assert_eq!(enough.alternatives, full.alternatives);
+    // Budgets that run out during the walk and during the selection and alternatives.
+    for limit in [cells / 100, cells / 2, cells - 1] {
+        let e = mbpp(&grid, start, goal, &with(limit))
+            .map(|p| p.mbpp_stats)
+            .unwrap_err();
+        assert!(
+            matches!(e, PlanError::BudgetExhausted { option: "max_sight_cells", limit: l, .. } if l == limit),
+            "{limit}: {e}"
+        );
+    }
+}
+
+#[test]
 fn mbpp_keeps_the_shortest_alternatives_up_to_its_cap() {
     let grid = zig_zag(40, 32);
     let (start, goal) = ((20, 0), (20, 31));

@@ -262,7 +262,7 @@ fn invalid_fields_are_named_with_their_values() {
     for (yaml, needle) in [
         (
             "image: m.pgm\nresolution: 0.1\norigin: [0, 0, 1.57]\n",
-            "`origin` is [0.0, 0.0, 1.57]",
+            "`origin` is [0, 0, 1.57]",
         ),
         (
             "image: m.pgm\nresolution: 0\norigin: [0, 0, 0]\n",
