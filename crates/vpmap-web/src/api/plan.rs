@@ -3,8 +3,7 @@
 
 use std::time::Instant;
 
-use axum::body::Bytes;
-use axum::extract::rejection::BytesRejection;
+use axum::body::{Body, Bytes};
 use axum::extract::{RawQuery, State};
 use axum::http::HeaderMap;
 use axum::response::Response;
@@ -417,13 +416,25 @@ pub async fn plan(
     State(state): State<AppState>,
     RawQuery(query): RawQuery,
     headers: HeaderMap,
-    body: Result<Bytes, BytesRejection>,
+    body: Body,
 ) -> Response {
     let result = async {
-        let body = params::body(body, MAX_JSON_BODY_BYTES)?;
+        let limits = &state.0.limits;
+        let body = params::read_body(
+            &headers,
+            body,
+            MAX_JSON_BODY_BYTES,
+            limits.body_read_timeout,
+        )
+        .await?;
         Query::parse(query.as_deref(), &[])?;
         params::expect_json(&headers)?;
-        run_blocking(&state, "/api/plan", move || plan_answer(&body)).await
+        let slot = state.0.plan_slots.take().await?;
+        run_blocking(&state, "/api/plan", move || {
+            let _slot = slot;
+            plan_answer(&body)
+        })
+        .await
     }
     .await;
     respond(result)
