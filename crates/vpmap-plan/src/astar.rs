@@ -22,16 +22,19 @@
 
 use std::f64::consts::SQRT_2;
 
+use crate::budget::Budget;
 use crate::error::Result;
 use crate::grid::{CellXy, OccupancyGrid};
 use crate::los::fill_padded;
 use crate::plan::{Plan, PlanStats, cells_of, check_endpoint, xy};
 
 /// Options of [`astar`].
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct AstarOptions {
     /// Whether [`Occupancy::Unknown`](crate::Occupancy::Unknown) cells may be entered (default: no).
     pub unknown_passable: bool,
+    /// Most work before the search stops with an error (default: [`Budget::default`]).
+    pub budget: Budget,
 }
 
 /// Flag of a traversable cell.
@@ -266,6 +269,7 @@ impl AstarSearch {
         let (start, goal) = (xy(start), xy(goal));
         check_endpoint(grid, "start", start, opts.unknown_passable)?;
         check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
+        opts.budget.stop.check("A*")?;
         // Padded coordinates: cell (x, y) is (x + 1, y + 1) in a grid one cell larger on
         // every side. Cell counts are below MAX_CELLS, so padded indices fit in u32.
         let pw = grid.width() + 2;
@@ -313,6 +317,7 @@ impl AstarSearch {
             state.mark = closed_mark;
             let steps = state.steps;
             stats.expanded += 1;
+            opts.budget.check("A*", stats.expanded, 0, stats.expanded)?;
             if node == goal_index {
                 return Ok(Some(self.plan(pw, goal_index as usize, steps, stats)));
             }

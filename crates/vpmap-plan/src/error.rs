@@ -97,6 +97,17 @@ pub enum PlanError {
         /// The option that sets it.
         option: &'static str,
     },
+    /// A planner was stopped by its [`Stop`](crate::budget::Stop): its deadline passed or
+    /// its cancellation flag was set.
+    #[error("{planner} stopped: {}", stopped_message(*reason, *allowed_s))]
+    Stopped {
+        /// The planner.
+        planner: &'static str,
+        /// Deadline or cancellation.
+        reason: crate::budget::StopReason,
+        /// The time it was allowed, seconds (0 without a deadline).
+        allowed_s: f64,
+    },
     /// An input file was refused before or while reading it: not a regular file, over its
     /// format's size limit, or not readable ([`vpmap_files`]).
     #[error(transparent)]
@@ -211,3 +222,13 @@ fn cell_name(cell: Occupancy) -> &'static str {
 
 /// Result alias of this crate.
 pub type Result<T, E = PlanError> = std::result::Result<T, E>;
+
+/// The explanation of [`PlanError::Stopped`].
+fn stopped_message(reason: crate::budget::StopReason, allowed_s: f64) -> String {
+    match reason {
+        crate::budget::StopReason::Deadline => format!(
+            "it did not finish within its time limit of {allowed_s:.1} s; plan on a coarser grid, or allow more time"
+        ),
+        crate::budget::StopReason::Cancelled => "the request was cancelled".to_owned(),
+    }
+}

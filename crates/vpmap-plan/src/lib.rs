@@ -47,6 +47,7 @@
 #![deny(missing_docs)]
 
 pub mod astar;
+pub mod budget;
 pub mod error;
 pub mod grid;
 pub mod los;
@@ -63,6 +64,7 @@ pub mod theta_star;
 pub mod validate;
 
 pub use astar::{AstarOptions, AstarSearch, astar};
+pub use budget::{Budget, Stop, StopReason};
 pub use error::{PlanError, Result};
 pub use grid::{CellXy, MAX_CELLS, Occupancy, OccupancyGrid};
 pub use los::{

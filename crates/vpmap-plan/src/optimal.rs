@@ -48,6 +48,7 @@
 
 use std::collections::BinaryHeap;
 
+use crate::budget::Budget;
 use crate::error::Result;
 use crate::grid::{CellXy, OccupancyGrid};
 use crate::los::{LosCounter, Passable, PassableGrid};
@@ -55,11 +56,16 @@ use crate::plan::{Plan, PlanStats, check_endpoint, path_length, xy};
 use crate::theta_star::{Entry, distance, trace_back};
 
 /// Options of [`optimal_any_angle`].
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct OptimalAnyAngleOptions {
     /// Whether [`Occupancy::Unknown`](crate::Occupancy::Unknown) cells may be entered (default: no).
     pub unknown_passable: bool,
+    /// Most work before the search stops with an error (default: [`Budget::default`]).
+    pub budget: Budget,
 }
+
+/// The planner's name in errors.
+const PLANNER: &str = "the exact any-angle planner";
 
 /// The four diagonal directions.
 const DIAGONALS: [(i64, i64); 4] = [(1, 1), (-1, 1), (-1, -1), (1, -1)];
@@ -146,6 +152,7 @@ pub fn optimal_any_angle(
     let (start, goal) = (xy(start), xy(goal));
     check_endpoint(grid, "start", start, opts.unknown_passable)?;
     check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
+    opts.budget.stop.check(PLANNER)?;
     let passable = PassableGrid::new(grid, opts.unknown_passable);
     let mut nodes = corners_of(&passable);
     for endpoint in [start, goal] {
@@ -175,6 +182,8 @@ pub fn optimal_any_angle(
             _ => continue, // stale entry
         }
         stats.expanded += 1;
+        opts.budget
+            .check(PLANNER, stats.expanded, counter.cells, stats.expanded)?;
         let (Some(&from), Some(&g_from)) = (nodes.get(u), g.get(u)) else {
             continue;
         };
@@ -202,7 +211,13 @@ pub fn optimal_any_angle(
                 continue;
             }
             let candidate = g_from + distance(from, to);
-            if candidate < g_to && passable.sight_counted(from, to, &mut counter) {
+            if candidate >= g_to {
+                continue;
+            }
+            // Each expansion may try every node: the budget is looked at per query too.
+            opts.budget
+                .check(PLANNER, stats.expanded, counter.cells, counter.checks + 1)?;
+            if passable.sight_counted(from, to, &mut counter) {
                 if let (Some(gv), Some(pv)) = (g.get_mut(v), parent.get_mut(v)) {
                     *gv = candidate;
                     *pv = u as u32;

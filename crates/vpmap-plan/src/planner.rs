@@ -22,6 +22,7 @@ use std::fmt;
 use std::str::FromStr;
 
 use crate::astar::{AstarOptions, AstarSearch};
+use crate::budget::{Budget, Stop};
 use crate::error::{PlanError, Result};
 use crate::grid::{CellXy, OccupancyGrid};
 use crate::mbpp::{BugTrack, LeaveRule, MbppOptions, MbppStats, mbpp};
@@ -114,6 +115,7 @@ impl PlannerKind {
                 crate::mbpp::DEFAULT_MAX_BUG_STEPS,
                 crate::mbpp::DEFAULT_MAX_ALTERNATIVES,
             ),
+            budget: Budget::default(),
             search: AstarSearch::new(),
         }
     }
@@ -147,6 +149,7 @@ pub struct BuiltIn {
     unknown_passable: bool,
     record_tracks: bool,
     mbpp_budget: (usize, usize),
+    budget: Budget,
     search: AstarSearch,
 }
 
@@ -156,6 +159,29 @@ impl BuiltIn {
     #[must_use]
     pub fn with_mbpp_budget(mut self, max_bug_steps: usize, max_alternatives: usize) -> Self {
         self.mbpp_budget = (max_bug_steps, max_alternatives);
+        self
+    }
+
+    /// The work budget of A*, A* PS, Theta* and the exact planner, and the [`Stop`] of
+    /// every planner, MBPP included (default [`Budget::default`]).
+    #[must_use]
+    pub fn with_budget(mut self, budget: Budget) -> Self {
+        self.budget = budget;
+        self
+    }
+
+    /// Most node expansions of A*, A* PS, Theta* and the exact planner
+    /// ([`Budget::max_expansions`]).
+    #[must_use]
+    pub fn with_max_expansions(mut self, max_expansions: usize) -> Self {
+        self.budget.max_expansions = max_expansions;
+        self
+    }
+
+    /// A deadline or cancellation flag for every planner ([`Budget::stop`]).
+    #[must_use]
+    pub fn with_stop(mut self, stop: Stop) -> Self {
+        self.budget.stop = stop;
         self
     }
 
@@ -193,26 +219,39 @@ impl Planner for BuiltIn {
                     leave,
                     max_bug_steps: self.mbpp_budget.0,
                     max_alternatives: self.mbpp_budget.1,
+                    stop: self.budget.stop.clone(),
                     ..MbppOptions::default()
                 };
                 return mbpp(grid, start, goal, &opts);
             }
             PlannerKind::AstarPs => {
-                astar_ps(grid, start, goal, &AstarPsOptions { unknown_passable })?
+                let opts = AstarPsOptions {
+                    unknown_passable,
+                    budget: self.budget.clone(),
+                };
+                astar_ps(grid, start, goal, &opts)?
             }
             PlannerKind::ThetaStar => {
-                theta_star(grid, start, goal, &ThetaStarOptions { unknown_passable })?
+                let opts = ThetaStarOptions {
+                    unknown_passable,
+                    budget: self.budget.clone(),
+                };
+                theta_star(grid, start, goal, &opts)?
             }
             PlannerKind::Astar => {
-                self.search
-                    .search(grid, start, goal, &AstarOptions { unknown_passable })?
+                let opts = AstarOptions {
+                    unknown_passable,
+                    budget: self.budget.clone(),
+                };
+                self.search.search(grid, start, goal, &opts)?
             }
-            PlannerKind::Optimal => optimal_any_angle(
-                grid,
-                start,
-                goal,
-                &OptimalAnyAngleOptions { unknown_passable },
-            )?,
+            PlannerKind::Optimal => {
+                let opts = OptimalAnyAngleOptions {
+                    unknown_passable,
+                    budget: self.budget.clone(),
+                };
+                optimal_any_angle(grid, start, goal, &opts)?
+            }
         };
         Ok(Planned {
             best,

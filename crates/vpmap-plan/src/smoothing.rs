@@ -25,16 +25,19 @@
 //!   AAAI 2007.
 
 use crate::astar::{AstarOptions, AstarSearch};
+use crate::budget::Budget;
 use crate::error::Result;
 use crate::grid::{CellXy, OccupancyGrid};
 use crate::los::{LosCounter, Passable, PassableGrid};
 use crate::plan::{Plan, PlanStats, path_length};
 
 /// Options of [`astar_ps`].
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct AstarPsOptions {
     /// Whether [`Occupancy::Unknown`](crate::Occupancy::Unknown) cells may be entered (default: no).
     pub unknown_passable: bool,
+    /// Most work before the search stops with an error (default: [`Budget::default`]).
+    pub budget: Budget,
 }
 
 /// Shorten a path whose consecutive waypoints are clear under the rule of [`crate::los`]
@@ -117,6 +120,7 @@ pub fn astar_ps(
 ) -> Result<Option<Plan>> {
     let astar_opts = AstarOptions {
         unknown_passable: opts.unknown_passable,
+        budget: opts.budget.clone(),
     };
     let Some(grid_plan) = AstarSearch::new().search(grid, start, goal, &astar_opts)? else {
         return Ok(None);
@@ -124,6 +128,9 @@ pub fn astar_ps(
     let mut counter = LosCounter::default();
     let passable = PassableGrid::new(grid, opts.unknown_passable);
     let waypoints = smooth_path(&passable, &grid_plan.waypoints, &mut counter);
+    // Smoothing makes at most one query per pair of waypoints of the A* path.
+    opts.budget
+        .check("A* PS", grid_plan.stats.expanded, counter.cells, 0)?;
     let length_cells = path_length(&waypoints);
     Ok(Some(Plan {
         waypoints,
@@ -178,6 +185,7 @@ mod tests {
         assert_eq!(astar_ps(&grid, (0, 0), (2, 0), &opts).unwrap(), None);
         let through = AstarPsOptions {
             unknown_passable: true,
+            ..AstarPsOptions::default()
         };
         let plan = astar_ps(&grid, (0, 0), (2, 0), &through).unwrap().unwrap();
         assert_eq!(plan.waypoints, [(0, 0), (2, 0)]);

@@ -23,16 +23,19 @@
 
 use std::collections::BinaryHeap;
 
+use crate::budget::Budget;
 use crate::error::Result;
 use crate::grid::{CellXy, OccupancyGrid};
 use crate::los::{LosCounter, Passable, PassableGrid};
 use crate::plan::{Plan, PlanStats, cells_of, check_endpoint, path_length, xy};
 
 /// Options of [`theta_star`].
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[derive(Clone, Debug, Default, PartialEq)]
 pub struct ThetaStarOptions {
     /// Whether [`Occupancy::Unknown`](crate::Occupancy::Unknown) cells may be entered (default: no).
     pub unknown_passable: bool,
+    /// Most work before the search stops with an error (default: [`Budget::default`]).
+    pub budget: Budget,
 }
 
 /// The 8 moves `(dx, dy)`, straight ones first.
@@ -128,6 +131,7 @@ pub fn theta_star(
     let (start, goal) = (xy(start), xy(goal));
     check_endpoint(grid, "start", start, opts.unknown_passable)?;
     check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
+    opts.budget.stop.check("Theta*")?;
     let passable = PassableGrid::new(grid, opts.unknown_passable);
     let width = grid.width();
     let cells = width * grid.height();
@@ -153,6 +157,8 @@ pub fn theta_star(
             _ => continue, // a stale entry: the cell was expanded with a smaller cost
         }
         stats.expanded += 1;
+        opts.budget
+            .check("Theta*", stats.expanded, counter.cells, stats.expanded)?;
         if index == goal_index {
             let waypoints = cells_of(trace_back(&parent, width, goal_index));
             let length_cells = path_length(&waypoints);

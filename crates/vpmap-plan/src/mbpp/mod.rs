@@ -134,7 +134,7 @@ use crate::smoothing::smooth_path;
 
 use graph::Graph;
 use select::{alternatives, select};
-use walk::Walk;
+use walk::{Walk, WalkEnd};
 
 /// Multi-Bug Path Planning from `start` to `goal` (see the [module docs](self)).
 ///
@@ -180,6 +180,7 @@ pub fn mbpp(
     let (start, goal) = (start.into(), goal.into());
     check_endpoint(grid, "start", start, opts.unknown_passable)?;
     check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
+    opts.stop.check("MBPP")?;
     let padded = PassableGrid::new(grid, opts.unknown_passable);
     let mut stats = MbppStats::default();
     let mut counter = LosCounter::default();
@@ -200,6 +201,13 @@ pub fn mbpp(
             what: "bug steps",
             limit: opts.max_bug_steps,
             option: "max_bug_steps",
+        });
+    }
+    if let Some(reason) = stats.stopped {
+        return Err(crate::PlanError::Stopped {
+            planner: "MBPP",
+            reason,
+            allowed_s: opts.stop.allowed_s(),
         });
     }
     let plan_stats = PlanStats {
@@ -287,8 +295,10 @@ fn run(
         opts.leave,
     );
     let budget = opts.max_bug_steps.saturating_sub(stats.bug_steps);
-    if !walk.run(counter, budget) {
-        stats.budget_exhausted = true;
+    match walk.run(counter, budget, &opts.stop) {
+        WalkEnd::Done => {}
+        WalkEnd::Budget => stats.budget_exhausted = true,
+        WalkEnd::Stopped(reason) => stats.stopped = Some(reason),
     }
     stats.bugs += walk.bugs.len();
     stats.bug_steps += walk.steps;
@@ -302,7 +312,7 @@ fn run(
         ..
     } = walk;
     let bugs: Vec<BugTrack> = bugs.into_iter().map(|b| b.track).collect();
-    if goals.is_empty() || stats.budget_exhausted {
+    if goals.is_empty() || stats.budget_exhausted || stats.stopped.is_some() {
         return Outcome {
             best: None,
             alternatives: Vec::new(),

@@ -3,10 +3,11 @@
 
 use super::Xy;
 use super::to_u;
+use crate::budget::{Stop, StopReason};
 use crate::grid::CellXy;
 
 /// Options of [`mbpp`](super::mbpp).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Debug, PartialEq)]
 pub struct MbppOptions {
     /// Whether [`Occupancy::Unknown`](crate::Occupancy::Unknown) cells may be entered (default: no).
     pub unknown_passable: bool,
@@ -23,6 +24,10 @@ pub struct MbppOptions {
     pub max_bug_steps: usize,
     /// Most alternative paths kept, the shortest first (default [`DEFAULT_MAX_ALTERNATIVES`]).
     pub max_alternatives: usize,
+    /// A deadline or cancellation flag, looked at every few thousand bug steps; when it
+    /// stops the walk MBPP returns [`PlanError::Stopped`](crate::PlanError::Stopped)
+    /// (default: none).
+    pub stop: Stop,
 }
 
 /// The default of [`MbppOptions::max_bug_steps`]: 200 million steps, about a minute of work
@@ -55,6 +60,7 @@ impl Default for MbppOptions {
             leave: LeaveRule::MLine,
             max_bug_steps: DEFAULT_MAX_BUG_STEPS,
             max_alternatives: DEFAULT_MAX_ALTERNATIVES,
+            stop: Stop::new(),
         }
     }
 }
@@ -126,4 +132,7 @@ pub struct MbppStats {
     /// The walk stopped at [`MbppOptions::max_bug_steps`] (then [`mbpp`](super::mbpp)
     /// returns an error instead of a result).
     pub budget_exhausted: bool,
+    /// The walk was stopped by [`MbppOptions::stop`] (then [`mbpp`](super::mbpp) returns
+    /// an error instead of a result).
+    pub stopped: Option<StopReason>,
 }

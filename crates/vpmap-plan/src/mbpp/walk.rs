@@ -7,6 +7,7 @@ use std::hash::{BuildHasherDefault, Hasher};
 
 use super::result::{BugFate, BugTrack, LeaveRule};
 use super::{NONE, Xy, add, d2, passable, to_i, to_u};
+use crate::budget::{STOP_CHECK_INTERVAL, Stop, StopReason};
 use crate::grid::CellXy;
 use crate::los::{LosCounter, PassableGrid};
 
@@ -257,13 +258,27 @@ impl<'g> Walk<'g> {
     }
 
     /// Every live bug takes one step per round (newborns from the next round on) until no
-    /// bug is left to move, or until the walk has taken `max_steps` steps: then `false`.
-    pub(super) fn run(&mut self, counter: &mut LosCounter, max_steps: usize) -> bool {
+    /// bug is left to move ([`WalkEnd::Done`]), until the walk has taken `max_steps` steps
+    /// ([`WalkEnd::Budget`]), or until `stop` says so ([`WalkEnd::Stopped`], looked at about
+    /// every [`STOP_CHECK_INTERVAL`] steps).
+    pub(super) fn run(
+        &mut self,
+        counter: &mut LosCounter,
+        max_steps: usize,
+        stop: &Stop,
+    ) -> WalkEnd {
         let mut live: Vec<usize> = vec![0];
         let mut next = Vec::new();
+        let mut next_stop_check = self.steps + STOP_CHECK_INTERVAL;
         while !live.is_empty() {
             if self.steps > max_steps {
-                return false;
+                return WalkEnd::Budget;
+            }
+            if self.steps >= next_stop_check {
+                next_stop_check = self.steps + STOP_CHECK_INTERVAL;
+                if let Some(reason) = stop.reason() {
+                    return WalkEnd::Stopped(reason);
+                }
             }
             for &b in &live {
                 if self.step(b, counter) {
@@ -274,7 +289,7 @@ impl<'g> Walk<'g> {
             std::mem::swap(&mut live, &mut next);
             next.clear();
         }
-        true
+        WalkEnd::Done
     }
 
     /// One step of bug `b`; whether it is still moving afterwards.
@@ -506,4 +521,15 @@ impl<'g> Walk<'g> {
             bug.track.fate = fate;
         }
     }
+}
+
+/// How [`Walk::run`] ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum WalkEnd {
+    /// No bug is left to move.
+    Done,
+    /// The step budget ran out.
+    Budget,
+    /// The [`Stop`] said so.
+    Stopped(StopReason),
 }

@@ -289,16 +289,44 @@ fn planners_agree_with_bfs_and_are_ordered_on_random_grids() {
             queries += 1;
             unreachable += usize::from(!reachable);
             let a = search
-                .search(&grid, start, goal, &AstarOptions { unknown_passable })
+                .search(
+                    &grid,
+                    start,
+                    goal,
+                    &AstarOptions {
+                        unknown_passable,
+                        ..AstarOptions::default()
+                    },
+                )
                 .unwrap();
-            let ps = astar_ps(&grid, start, goal, &AstarPsOptions { unknown_passable }).unwrap();
-            let th =
-                theta_star(&grid, start, goal, &ThetaStarOptions { unknown_passable }).unwrap();
+            let ps = astar_ps(
+                &grid,
+                start,
+                goal,
+                &AstarPsOptions {
+                    unknown_passable,
+                    ..AstarPsOptions::default()
+                },
+            )
+            .unwrap();
+            let th = theta_star(
+                &grid,
+                start,
+                goal,
+                &ThetaStarOptions {
+                    unknown_passable,
+                    ..ThetaStarOptions::default()
+                },
+            )
+            .unwrap();
             let op = optimal_any_angle(
                 &grid,
                 start,
                 goal,
-                &OptimalAnyAngleOptions { unknown_passable },
+                &OptimalAnyAngleOptions {
+                    unknown_passable,
+                    ..OptimalAnyAngleOptions::default()
+                },
             )
             .unwrap();
             let mb = mbpp(
@@ -451,7 +479,10 @@ fn optimal_matches_brute_force_visibility_graph_on_tiny_grids() {
         let reference = brute_force_lengths(&grid, &cells, start, unknown_passable);
         for _ in 0..3 {
             let goal = rng.random_range(0..cells.len());
-            let opts = OptimalAnyAngleOptions { unknown_passable };
+            let opts = OptimalAnyAngleOptions {
+                unknown_passable,
+                ..OptimalAnyAngleOptions::default()
+            };
             let plan = optimal_any_angle(&grid, cells[start], cells[goal], &opts).unwrap();
             let context = format!(
                 "{kind} round {round} {:?} -> {:?}\n{grid:?}",
@@ -502,7 +533,8 @@ fn bad_endpoints_are_errors_for_every_planner() {
             (0, 0),
             (2, 1),
             &OptimalAnyAngleOptions {
-                unknown_passable: true
+                unknown_passable: true,
+                ..OptimalAnyAngleOptions::default()
             }
         )
         .unwrap()

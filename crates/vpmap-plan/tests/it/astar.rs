@@ -143,7 +143,10 @@ fn astar_matches_pathfinding_and_bfs_on_random_grids() {
         let occupied = rng.random_range(0.0..0.45);
         let grid = random_grid(&mut rng, w, h, occupied, 0.05);
         let unknown_passable = round % 3 == 0;
-        let opts = AstarOptions { unknown_passable };
+        let opts = AstarOptions {
+            unknown_passable,
+            ..AstarOptions::default()
+        };
         let map = Traversable::new(&grid, unknown_passable);
         let components = Components::label(&grid, unknown_passable);
         for _ in 0..8 {
@@ -274,6 +277,7 @@ fn bad_endpoints_are_errors_naming_the_cell() {
     );
     let through_unknown = AstarOptions {
         unknown_passable: true,
+        ..AstarOptions::default()
     };
     let plan = astar(&grid, (2, 1), (0, 0), &through_unknown)
         .unwrap()

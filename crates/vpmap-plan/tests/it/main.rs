@@ -6,6 +6,7 @@
 
 mod any_angle;
 mod astar;
+mod budget;
 mod inflation;
 mod line_of_sight;
 mod mbpp;

@@ -131,7 +131,10 @@ fn mbpp_solves_exactly_the_bfs_reachable_queries_on_random_grids() {
             &grid,
             start,
             goal,
-            &OptimalAnyAngleOptions { unknown_passable },
+            &OptimalAnyAngleOptions {
+                unknown_passable,
+                ..OptimalAnyAngleOptions::default()
+            },
         )
         .unwrap()
         .map_or(f64::INFINITY, |p| p.length_cells);
