@@ -28,6 +28,12 @@ pub struct ServerLimits {
     pub detect_slots: usize,
     /// How long a heavy request waits for a free slot before it is answered with 503.
     pub slot_wait: Duration,
+    /// Time allowed to each planner of a `/api/plan` request; a planner still running then
+    /// stops, and the request is answered with 400 naming it.
+    pub planner_timeout: Duration,
+    /// Time allowed to one `/api/plan` request from when it takes its slot: building its
+    /// grid, then its planners (a planner starting late gets only what is left).
+    pub plan_timeout: Duration,
 }
 
 impl Default for ServerLimits {
@@ -39,6 +45,8 @@ impl Default for ServerLimits {
             plan_slots: 2,
             detect_slots: 2,
             slot_wait: Duration::from_secs(2),
+            planner_timeout: Duration::from_secs(3),
+            plan_timeout: Duration::from_secs(6),
         }
     }
 }

@@ -28,6 +28,8 @@ fn strict_server() -> SocketAddr {
             plan_slots: 1,
             detect_slots: 1,
             slot_wait: Duration::ZERO,
+            planner_timeout: Duration::from_secs(60),
+            plan_timeout: Duration::from_secs(60),
         })
     })
 }
@@ -284,4 +286,102 @@ fn a_busy_endpoint_answers_503_with_retry_after() {
         OFFICE.as_bytes(),
     );
     assert_eq!(reply.status, 200);
+}
+
+/// A plan request on the office at 5 mm (3.7 million cells) with the slow grid planners.
+fn heavy_plan() -> String {
+    serde_json::json!({
+        "scene": serde_json::from_str::<serde_json::Value>(OFFICE).unwrap(),
+        "resolution": 0.005,
+        "start": [-1.5, 2.0],
+        "goal": [2.0, 7.5],
+        "planners": ["theta-star", "astar", "astar-ps"],
+    })
+    .to_string()
+}
+
+#[test]
+fn a_plan_whose_client_has_gone_stops_and_frees_its_slot() {
+    let addr = strict_server();
+    let light = serde_json::json!({
+        "scene": serde_json::from_str::<serde_json::Value>(OFFICE).unwrap(),
+        "resolution": 0.2,
+        "start": [-1.5, 2.0],
+        "goal": [2.0, 7.5],
+        "planners": ["astar"],
+    })
+    .to_string();
+    let post = |body: &str| {
+        request_to(
+            addr,
+            "POST",
+            "/api/plan",
+            &[("Content-Type", "application/json")],
+            body.as_bytes(),
+        )
+    };
+    // Uncancelled, the heavy plan runs for about 30 s in a debug build (until Theta*'s
+    // sight budget), holding the only plan slot.
+    let body = heavy_plan();
+    let mut stream = TcpStream::connect(addr).unwrap();
+    stream
+        .write_all(head(addr, "/api/plan", body.len() as u64).as_bytes())
+        .unwrap();
+    stream.write_all(body.as_bytes()).unwrap();
+    // Planning is under way (rasterising takes about a second): the slot is taken.
+    let started = Instant::now();
+    loop {
+        std::thread::sleep(Duration::from_millis(200));
+        let reply = post(&light);
+        assert!(
+            reply.status == 503,
+            "{}",
+            String::from_utf8_lossy(&reply.body)
+        );
+        if started.elapsed() > Duration::from_millis(2500) {
+            break;
+        }
+    }
+    // The client goes away; the planners notice and the slot frees.
+    drop(stream);
+    let gone = Instant::now();
+    loop {
+        std::thread::sleep(Duration::from_millis(100));
+        let reply = post(&light);
+        if reply.status == 200 {
+            break;
+        }
+        assert_eq!(reply.status, 503);
+        assert!(
+            gone.elapsed() < Duration::from_secs(5),
+            "the plan slot is still taken {:?} after the client left",
+            gone.elapsed()
+        );
+    }
+}
+
+#[test]
+fn a_plan_that_runs_too_long_is_stopped_by_its_time_limit() {
+    // The default limits: 3 s for each planner. Uncancelled, Theta* alone runs for about
+    // 30 s in a debug build on this grid.
+    let started = Instant::now();
+    let reply = crate::post_json("/api/plan", &heavy_plan());
+    let took = started.elapsed();
+    let message = reply.error(400);
+    assert!(
+        message.starts_with("theta-star: Theta* stopped"),
+        "{message}"
+    );
+    // Its own 3 s, or less when rasterising took much of the request's 6 s; a release build
+    // may use up the sight budget (about a second of work) first.
+    let allowed_s = message
+        .split_once("time limit of ")
+        .and_then(|(_, rest)| rest.split(' ').next())
+        .and_then(|s| s.parse::<f64>().ok());
+    assert!(
+        allowed_s.is_some_and(|s| s <= 3.0) || message.contains("max_sight_cells"),
+        "{message}"
+    );
+    // At most the request's 6 s from taking its slot, with slack for a loaded machine.
+    assert!(took < Duration::from_secs(10), "{took:?}");
 }

@@ -165,16 +165,19 @@ enum Kind {
     Build,
     Plan,
     Detect,
+    /// A build at 1 cm: 0.9 million cells.
+    BuildFine,
 }
 
 impl Kind {
-    const ALL: [Kind; 3] = [Kind::Build, Kind::Plan, Kind::Detect];
+    const ALL: [Kind; 4] = [Kind::Build, Kind::Plan, Kind::Detect, Kind::BuildFine];
 
     fn name(self) -> &'static str {
         match self {
             Kind::Build => "build",
             Kind::Plan => "plan",
             Kind::Detect => "detect",
+            Kind::BuildFine => "build at 1 cm",
         }
     }
 
@@ -185,6 +188,11 @@ impl Kind {
         static PHOTO: OnceLock<Vec<u8>> = OnceLock::new();
         match self {
             Kind::Build => ("/api/build", "application/json", OFFICE.as_bytes()),
+            Kind::BuildFine => (
+                "/api/build?resolution=0.01",
+                "application/json",
+                OFFICE.as_bytes(),
+            ),
             Kind::Plan => (
                 "/api/plan",
                 "application/json",
