@@ -35,6 +35,7 @@ mod assets;
 mod error;
 pub mod example;
 mod limits;
+mod memory;
 mod params;
 
 use std::future::Future;
@@ -53,6 +54,7 @@ use serde::Serialize;
 pub use error::{ApiError, WebError};
 pub use limits::ServerLimits;
 use limits::Slots;
+pub use memory::{MMAP_THRESHOLD_BYTES, return_freed_memory_promptly};
 
 /// Largest JSON body (`/api/build`, `/api/plan`), bytes.
 pub const MAX_JSON_BODY_BYTES: usize = 4 << 20;
@@ -259,8 +261,10 @@ async fn serve_connection(
 }
 
 /// Resolve `host`, bind it on `port`, call `on_ready` with the address bound, and serve until
-/// Ctrl-C (SIGINT). Builds its own multi-threaded runtime; blocks until the server stops
-/// (requests in flight are answered first; work still running two seconds later is dropped).
+/// Ctrl-C (SIGINT). Builds its own multi-threaded runtime and makes the allocator return
+/// freed memory promptly ([`return_freed_memory_promptly`]): it owns the process. Blocks
+/// until the server stops (requests in flight are answered first; work still running two
+/// seconds later is dropped).
 ///
 /// # Errors
 /// [`WebError`] when the host does not resolve, the address cannot be bound or serving fails.
@@ -270,6 +274,8 @@ pub fn serve_until_ctrl_c(
     options: ServeOptions,
     on_ready: impl FnOnce(SocketAddr),
 ) -> Result<(), WebError> {
+    // False only where the C library has no such setting.
+    let _taken = return_freed_memory_promptly();
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .max_blocking_threads(16)
