@@ -156,8 +156,9 @@ pub async fn read_body(
         )));
     }
     let deadline = tokio::time::Instant::now() + timeout;
-    // At most the limit: `declared` was checked above.
-    let mut buf = Vec::with_capacity(declared.map_or(0, |n| n as usize));
+    // Grown as the bytes arrive, not reserved for what is declared: a client declaring
+    // 25 MB and sending nothing holds no memory.
+    let mut buf = Vec::new();
     let mut body = body;
     loop {
         match tokio::time::timeout_at(deadline, body.frame()).await {
