@@ -194,6 +194,7 @@ impl Server {
             limits,
         } = self;
         let header_timeout = limits.header_read_timeout;
+        let connection_slots = Arc::new(tokio::sync::Semaphore::new(limits.max_connections));
         let state = AppState::new(log, is_loopback(addr.ip()), limits);
         let warm = state.clone();
         tokio::task::spawn_blocking(move || {
@@ -205,6 +206,14 @@ impl Server {
         let (stop_tx, stop_rx) = tokio::sync::watch::channel(false);
         let mut shutdown = std::pin::pin!(shutdown);
         loop {
+            // A connection slot first: at the cap, new clients wait in the backlog.
+            let slot = tokio::select! {
+                slot = Arc::clone(&connection_slots).acquire_owned() => match slot {
+                    Ok(slot) => slot,
+                    Err(_closed) => break,
+                },
+                () = &mut shutdown => break,
+            };
             let stream = tokio::select! {
                 accepted = listener.accept() => match accepted {
                     Ok((stream, _peer)) => stream,
@@ -224,7 +233,7 @@ impl Server {
                 app.clone(),
                 header_timeout,
                 stop_rx.clone(),
-                open_tx.clone(),
+                (open_tx.clone(), slot),
             ));
         }
         drop(listener);
@@ -252,7 +261,10 @@ async fn serve_connection(
     app: Router,
     header_timeout: std::time::Duration,
     mut stop: tokio::sync::watch::Receiver<bool>,
-    _open: tokio::sync::mpsc::Sender<()>,
+    _open: (
+        tokio::sync::mpsc::Sender<()>,
+        tokio::sync::OwnedSemaphorePermit,
+    ),
 ) {
     let service = hyper_util::service::TowerToHyperService::new(app);
     let mut builder = hyper::server::conn::http1::Builder::new();

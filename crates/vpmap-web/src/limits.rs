@@ -17,6 +17,9 @@ pub struct ServerLimits {
     /// the previous answer is sent; otherwise the connection is closed without an answer.
     /// Also how long an idle keep-alive connection is kept.
     pub header_read_timeout: Duration,
+    /// Most connections open at once; beyond it the server accepts no more until one
+    /// closes (they wait in the system's backlog).
+    pub max_connections: usize,
     /// A request's whole body must arrive within this after its headers; otherwise it is
     /// answered with 408 and the connection is closed.
     pub body_read_timeout: Duration,
@@ -40,6 +43,7 @@ impl Default for ServerLimits {
     fn default() -> Self {
         Self {
             header_read_timeout: Duration::from_secs(10),
+            max_connections: 256,
             body_read_timeout: Duration::from_secs(30),
             build_slots: 4,
             plan_slots: 2,

@@ -30,6 +30,7 @@ fn strict_server() -> SocketAddr {
             slot_wait: Duration::ZERO,
             planner_timeout: Duration::from_secs(60),
             plan_timeout: Duration::from_secs(60),
+            ..ServerLimits::default()
         })
     })
 }
@@ -384,4 +385,30 @@ fn a_plan_that_runs_too_long_is_stopped_by_its_time_limit() {
     );
     // At most the request's 6 s from taking its slot, with slack for a loaded machine.
     assert!(took < Duration::from_secs(10), "{took:?}");
+}
+
+#[test]
+fn connections_beyond_the_cap_wait_until_one_closes() {
+    const MAX_CONNECTIONS: usize = 4;
+    let addr = start_server(ServerLimits {
+        header_read_timeout: HEADER_TIMEOUT,
+        max_connections: MAX_CONNECTIONS,
+        ..ServerLimits::default()
+    });
+    // Every slot held by an idle connection, which the header timeout closes after 1 s.
+    let idle: Vec<TcpStream> = (0..MAX_CONNECTIONS)
+        .map(|_| TcpStream::connect(addr).unwrap())
+        .collect();
+    std::thread::sleep(Duration::from_millis(200));
+    let started = Instant::now();
+    let reply = request_to(addr, "GET", "/assets/index.html", &[], b"");
+    let waited = started.elapsed();
+    assert_eq!(reply.status, 200);
+    // Accepted only once the idle connections had timed out.
+    assert!(
+        waited >= HEADER_TIMEOUT.saturating_sub(Duration::from_millis(400)),
+        "answered after {waited:?}, before the idle connections were closed"
+    );
+    assert!(waited <= HEADER_TIMEOUT * 2 + SLACK, "{waited:?}");
+    drop(idle);
 }
