@@ -3,7 +3,7 @@
 
 use std::net::SocketAddr;
 
-use axum::http::StatusCode;
+use axum::http::{HeaderValue, StatusCode, header};
 use axum::response::{IntoResponse, Response};
 
 /// What can stop the server.
@@ -38,10 +38,14 @@ pub enum WebError {
 /// problem and the offending value. Answered as `{"error": message}`.
 #[derive(Debug, Clone, PartialEq, Eq)]
 pub struct ApiError {
-    /// 400, 403, 404, 405, 413 or (for a bug) 500.
+    /// 400, 403, 404, 405, 408, 413, 503 or (for a bug) 500.
     pub status: StatusCode,
     /// One line.
     pub message: String,
+    /// Sent as `Retry-After`, seconds (a busy server's 503).
+    retry_after_s: Option<u64>,
+    /// Answer with `Connection: close` (the body was not read to its end).
+    close_connection: bool,
 }
 
 impl ApiError {
@@ -56,7 +60,24 @@ impl ApiError {
         Self {
             status,
             message: message.split_whitespace().collect::<Vec<_>>().join(" "),
+            retry_after_s: None,
+            close_connection: false,
         }
+    }
+
+    /// The same error, telling the client to try again after `seconds` (`Retry-After`).
+    #[must_use]
+    pub fn retry_after(mut self, seconds: u64) -> Self {
+        self.retry_after_s = Some(seconds);
+        self
+    }
+
+    /// The same error, closing the connection after the answer (`Connection: close`): for
+    /// a request whose body is left unread.
+    #[must_use]
+    pub fn closing(mut self) -> Self {
+        self.close_connection = true;
+        self
     }
 }
 
@@ -70,6 +91,15 @@ impl std::error::Error for ApiError {}
 
 impl IntoResponse for ApiError {
     fn into_response(self) -> Response {
-        crate::json_response(self.status, &serde_json::json!({ "error": self.message }))
+        let mut response =
+            crate::json_response(self.status, &serde_json::json!({ "error": self.message }));
+        let headers = response.headers_mut();
+        if let Some(seconds) = self.retry_after_s {
+            headers.insert(header::RETRY_AFTER, HeaderValue::from(seconds));
+        }
+        if self.close_connection {
+            headers.insert(header::CONNECTION, HeaderValue::from_static("close"));
+        }
+        response
     }
 }

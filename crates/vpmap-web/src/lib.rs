@@ -20,6 +20,14 @@
 //! rebinding). All heavy work runs on blocking threads, and a panic there becomes a 500
 //! answer, not a dead server.
 //!
+//! # Bounded work
+//! [`ServerLimits`]: a header read timeout (slow or idle connections are closed), a body
+//! deadline (408), a declared `Content-Length` over the route's limit refused with 413 before
+//! the body is read, a few slots per heavy endpoint (503 with `Retry-After` after a short
+//! wait), and time limits and budgets for the planners, which also stop when the client goes
+//! away. [`serve_until_ctrl_c`] makes the allocator give freed memory back
+//! ([`return_freed_memory_promptly`]).
+//!
 //! # Example
 //! ```no_run
 //! # async fn run() -> Result<(), vpmap_web::WebError> {
@@ -34,6 +42,8 @@ mod api;
 mod assets;
 mod error;
 pub mod example;
+mod limits;
+mod memory;
 mod params;
 
 use std::future::Future;
@@ -42,7 +52,7 @@ use std::panic::AssertUnwindSafe;
 use std::sync::{Arc, OnceLock};
 
 use axum::Router;
-use axum::extract::{DefaultBodyLimit, Request, State};
+use axum::extract::{Request, State};
 use axum::http::{HeaderValue, StatusCode, header};
 use axum::middleware::{self, Next};
 use axum::response::{IntoResponse, Response};
@@ -50,6 +60,9 @@ use axum::routing::{get, post};
 use serde::Serialize;
 
 pub use error::{ApiError, WebError};
+pub use limits::ServerLimits;
+use limits::Slots;
+pub use memory::{MMAP_THRESHOLD_BYTES, return_freed_memory_promptly};
 
 /// Largest JSON body (`/api/build`, `/api/plan`), bytes.
 pub const MAX_JSON_BODY_BYTES: usize = 4 << 20;
@@ -71,9 +84,14 @@ struct Shared {
     log: Option<Logger>,
     /// Bound to loopback: accept only loopback names in `Host`.
     loopback_hosts_only: bool,
-    /// At most this many photos are decoded and analysed at once (each may take hundreds of
-    /// megabytes).
-    detect_slots: tokio::sync::Semaphore,
+    /// Timeouts and caps.
+    limits: ServerLimits,
+    /// Scenes built at once.
+    build_slots: Slots,
+    /// Plans computed at once.
+    plan_slots: Slots,
+    /// Photos decoded and analysed at once (each may take hundreds of megabytes).
+    detect_slots: Slots,
     /// `/api/example`'s answer, made on first use.
     example: OnceLock<Result<axum::body::Bytes, String>>,
 }
@@ -83,6 +101,19 @@ struct Shared {
 struct AppState(Arc<Shared>);
 
 impl AppState {
+    fn new(log: Option<Logger>, loopback_hosts_only: bool, limits: ServerLimits) -> Self {
+        let wait = limits.slot_wait;
+        Self(Arc::new(Shared {
+            log,
+            loopback_hosts_only,
+            build_slots: Slots::new("/api/build", limits.build_slots, wait),
+            plan_slots: Slots::new("/api/plan", limits.plan_slots, wait),
+            detect_slots: Slots::new("/api/detect", limits.detect_slots, wait),
+            limits,
+            example: OnceLock::new(),
+        }))
+    }
+
     fn log(&self, line: &str) {
         if let Some(log) = &self.0.log {
             log(line);
@@ -94,8 +125,8 @@ impl AppState {
 pub struct Server {
     listener: tokio::net::TcpListener,
     addr: SocketAddr,
-    app: Router,
-    state: AppState,
+    log: Option<Logger>,
+    limits: ServerLimits,
 }
 
 /// Whether `ip` is a loopback address (127.0.0.0/8, ::1, or ::ffff:127.x.y.z).
@@ -121,18 +152,19 @@ impl Server {
         let addr = listener
             .local_addr()
             .map_err(|source| WebError::Bind { addr, source })?;
-        let state = AppState(Arc::new(Shared {
-            log: options.log,
-            loopback_hosts_only: is_loopback(addr.ip()),
-            detect_slots: tokio::sync::Semaphore::new(2),
-            example: OnceLock::new(),
-        }));
         Ok(Self {
             listener,
             addr,
-            app: router(state.clone()),
-            state,
+            log: options.log,
+            limits: ServerLimits::default(),
         })
+    }
+
+    /// Serve with these timeouts and caps instead of [`ServerLimits::default`].
+    #[must_use]
+    pub fn with_limits(mut self, limits: ServerLimits) -> Self {
+        self.limits = limits;
+        self
     }
 
     /// The address actually bound.
@@ -145,26 +177,114 @@ impl Server {
     /// The example photo is rendered in the background right away, so the page's first
     /// `/api/example` is quick.
     ///
+    /// Each connection is served by hyper's HTTP/1.1 server with a header read timeout
+    /// ([`ServerLimits::header_read_timeout`]); accepting goes on through errors such as
+    /// running out of file descriptors (it pauses a second and logs a line).
+    ///
     /// # Errors
-    /// [`WebError::Serve`] when accepting connections fails for good.
+    /// None at present: the signature keeps [`WebError::Serve`] for a failure to serve.
     pub async fn serve(
         self,
         shutdown: impl Future<Output = ()> + Send + 'static,
     ) -> Result<(), WebError> {
-        let warm = self.state.clone();
+        let Self {
+            listener,
+            addr,
+            log,
+            limits,
+        } = self;
+        let header_timeout = limits.header_read_timeout;
+        let connection_slots = Arc::new(tokio::sync::Semaphore::new(limits.max_connections));
+        let state = AppState::new(log, is_loopback(addr.ip()), limits);
+        let warm = state.clone();
         tokio::task::spawn_blocking(move || {
             let _ = api::example_body(&warm);
         });
-        axum::serve(self.listener, self.app)
-            .with_graceful_shutdown(shutdown)
-            .await
-            .map_err(WebError::Serve)
+        let app = router(state.clone());
+        // Every connection task holds a sender; `recv` ends when the last one has gone.
+        let (open_tx, mut open_rx) = tokio::sync::mpsc::channel::<()>(1);
+        let (stop_tx, stop_rx) = tokio::sync::watch::channel(false);
+        let mut shutdown = std::pin::pin!(shutdown);
+        loop {
+            // A connection slot first: at the cap, new clients wait in the backlog.
+            let slot = tokio::select! {
+                slot = Arc::clone(&connection_slots).acquire_owned() => match slot {
+                    Ok(slot) => slot,
+                    Err(_closed) => break,
+                },
+                () = &mut shutdown => break,
+            };
+            let stream = tokio::select! {
+                accepted = listener.accept() => match accepted {
+                    Ok((stream, _peer)) => stream,
+                    Err(e) if is_connection_error(&e) => continue,
+                    Err(e) => {
+                        // Out of file descriptors or memory: wait for some to free.
+                        state.log(&format!("cannot accept a connection: {e}"));
+                        tokio::time::sleep(std::time::Duration::from_secs(1)).await;
+                        continue;
+                    }
+                },
+                () = &mut shutdown => break,
+            };
+            let _ = stream.set_nodelay(true);
+            tokio::spawn(serve_connection(
+                stream,
+                app.clone(),
+                header_timeout,
+                stop_rx.clone(),
+                (open_tx.clone(), slot),
+            ));
+        }
+        drop(listener);
+        drop(open_tx);
+        let _ = stop_tx.send(true);
+        let _ = open_rx.recv().await;
+        Ok(())
     }
 }
 
+/// An accept error that concerns one connection only (the client gave up).
+fn is_connection_error(e: &std::io::Error) -> bool {
+    matches!(
+        e.kind(),
+        std::io::ErrorKind::ConnectionRefused
+            | std::io::ErrorKind::ConnectionAborted
+            | std::io::ErrorKind::ConnectionReset
+    )
+}
+
+/// Serve one connection until the client closes it, it times out, or the server stops (then
+/// the request in flight is answered first).
+async fn serve_connection(
+    stream: tokio::net::TcpStream,
+    app: Router,
+    header_timeout: std::time::Duration,
+    mut stop: tokio::sync::watch::Receiver<bool>,
+    _open: (
+        tokio::sync::mpsc::Sender<()>,
+        tokio::sync::OwnedSemaphorePermit,
+    ),
+) {
+    let service = hyper_util::service::TowerToHyperService::new(app);
+    let mut builder = hyper::server::conn::http1::Builder::new();
+    builder
+        .timer(hyper_util::rt::TokioTimer::new())
+        .header_read_timeout(header_timeout);
+    let connection = builder.serve_connection(hyper_util::rt::TokioIo::new(stream), service);
+    let mut connection = std::pin::pin!(connection);
+    tokio::select! {
+        _ = connection.as_mut() => return,
+        _ = stop.wait_for(|stopping| *stopping) => connection.as_mut().graceful_shutdown(),
+    }
+    let _ = connection.await;
+}
+
 /// Resolve `host`, bind it on `port`, call `on_ready` with the address bound, and serve until
-/// Ctrl-C (SIGINT). Builds its own multi-threaded runtime; blocks until the server stops
-/// (requests in flight are answered first; work still running two seconds later is dropped).
+/// Ctrl-C (SIGINT). Builds its own multi-threaded runtime and makes the allocator return
+/// freed memory promptly ([`return_freed_memory_promptly`]): it owns the process. Blocks
+/// until the server stops (requests in flight are answered first; work still running two
+/// seconds later is dropped).
 ///
 /// # Errors
 /// [`WebError`] when the host does not resolve, the address cannot be bound or serving fails.
@@ -174,6 +294,8 @@ pub fn serve_until_ctrl_c(
     options: ServeOptions,
     on_ready: impl FnOnce(SocketAddr),
 ) -> Result<(), WebError> {
+    // False only where the C library has no such setting.
+    let _taken = return_freed_memory_promptly();
     let runtime = tokio::runtime::Builder::new_multi_thread()
         .enable_all()
         .max_blocking_threads(16)
@@ -225,18 +347,9 @@ fn router(state: AppState) -> Router {
         .route("/", get(assets::index))
         .route("/assets/{*path}", get(assets::asset))
         .route("/api/example", get(api::example))
-        .route(
-            "/api/build",
-            post(api::build).layer(DefaultBodyLimit::max(MAX_JSON_BODY_BYTES)),
-        )
-        .route(
-            "/api/plan",
-            post(api::plan).layer(DefaultBodyLimit::max(MAX_JSON_BODY_BYTES)),
-        )
-        .route(
-            "/api/detect",
-            post(api::detect).layer(DefaultBodyLimit::max(MAX_IMAGE_BODY_BYTES)),
-        )
+        .route("/api/build", post(api::build))
+        .route("/api/plan", post(api::plan))
+        .route("/api/detect", post(api::detect))
         .fallback(not_found)
         .method_not_allowed_fallback(method_not_allowed)
         .layer(middleware::from_fn_with_state(state.clone(), guard))
@@ -425,16 +538,15 @@ mod tests {
     fn a_panic_in_a_handler_is_a_500_and_a_log_line() {
         let lines = Arc::new(std::sync::Mutex::new(Vec::<String>::new()));
         let sink = Arc::clone(&lines);
-        let state = AppState(Arc::new(Shared {
-            log: Some(Arc::new(move |l: &str| {
+        let state = AppState::new(
+            Some(Arc::new(move |l: &str| {
                 if let Ok(mut v) = sink.lock() {
                     v.push(l.to_owned());
                 }
             })),
-            loopback_hosts_only: true,
-            detect_slots: tokio::sync::Semaphore::new(1),
-            example: OnceLock::new(),
-        }));
+            true,
+            ServerLimits::default(),
+        );
         let runtime = tokio::runtime::Builder::new_current_thread()
             .build()
             .unwrap_or_else(|e| panic!("{e}"));

@@ -3,8 +3,7 @@
 
 use std::time::Instant;
 
-use axum::body::Bytes;
-use axum::extract::rejection::BytesRejection;
+use axum::body::{Body, Bytes};
 use axum::extract::{RawQuery, State};
 use axum::http::HeaderMap;
 use axum::response::Response;
@@ -129,13 +128,25 @@ pub async fn build(
     State(state): State<AppState>,
     RawQuery(query): RawQuery,
     headers: HeaderMap,
-    body: Result<Bytes, BytesRejection>,
+    body: Body,
 ) -> Response {
     let result = async {
-        let body = params::body(body, MAX_JSON_BODY_BYTES)?;
+        let limits = &state.0.limits;
+        let body = params::read_body(
+            &headers,
+            body,
+            MAX_JSON_BODY_BYTES,
+            limits.body_read_timeout,
+        )
+        .await?;
         let options = map_options_from_query(query.as_deref())?;
         params::expect_json(&headers)?;
-        run_blocking(&state, "/api/build", move || build_answer(&body, &options)).await
+        let slot = state.0.build_slots.take().await?;
+        run_blocking(&state, "/api/build", move || {
+            let _slot = slot;
+            build_answer(&body, &options)
+        })
+        .await
     }
     .await;
     respond(result)

@@ -3,8 +3,7 @@
 
 use std::time::Instant;
 
-use axum::body::Bytes;
-use axum::extract::rejection::BytesRejection;
+use axum::body::{Body, Bytes};
 use axum::extract::{RawQuery, State};
 use axum::http::{HeaderMap, StatusCode};
 use axum::response::Response;
@@ -250,10 +249,17 @@ pub async fn detect(
     State(state): State<AppState>,
     RawQuery(query): RawQuery,
     headers: HeaderMap,
-    body: Result<Bytes, BytesRejection>,
+    body: Body,
 ) -> Response {
     let result = async {
-        let body = params::body(body, MAX_IMAGE_BODY_BYTES)?;
+        let limits = &state.0.limits;
+        let body = params::read_body(
+            &headers,
+            body,
+            MAX_IMAGE_BODY_BYTES,
+            limits.body_read_timeout,
+        )
+        .await?;
         let query = DetectQuery::parse(query.as_deref())?;
         check_media_type(&headers)?;
         if body.is_empty() {
@@ -261,13 +267,12 @@ pub async fn detect(
                 "the body is empty; send the photo's bytes (JPEG or PNG)",
             ));
         }
-        let _slot = state.0.detect_slots.acquire().await.map_err(|_| {
-            ApiError::new(
-                StatusCode::SERVICE_UNAVAILABLE,
-                "the server is shutting down",
-            )
-        })?;
-        run_blocking(&state, "/api/detect", move || detect_answer(&body, &query)).await
+        let slot = state.0.detect_slots.take().await?;
+        run_blocking(&state, "/api/detect", move || {
+            let _slot = slot;
+            detect_answer(&body, &query)
+        })
+        .await
     }
     .await;
     respond(result)

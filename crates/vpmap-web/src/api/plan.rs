@@ -1,10 +1,11 @@
 //! `POST /api/plan`: a scene, a start and a goal in; the paths of several planners out, on
 //! the occupancy grid `/api/build` makes with the same parameters.
 
+use std::sync::Arc;
+use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::Instant;
 
-use axum::body::Bytes;
-use axum::extract::rejection::BytesRejection;
+use axum::body::{Body, Bytes};
 use axum::extract::{RawQuery, State};
 use axum::http::HeaderMap;
 use axum::response::Response;
@@ -17,6 +18,7 @@ use vpmap_plan::mbpp::{BugFate, BugTrack};
 use vpmap_plan::optimal::corner_cells;
 use vpmap_plan::plan::Plan;
 use vpmap_plan::planner::{Planner, PlannerKind};
+use vpmap_plan::{Budget, Stop};
 
 use super::scene::{map_options, pipeline_error, scene_from_value};
 use super::{elapsed_ms, respond, to_json};
@@ -36,6 +38,12 @@ pub const MAX_TRACK_POINTS: usize = 100_000;
 pub const PAGE_MAX_BUG_STEPS: usize = 20_000_000;
 /// Most MBPP alternatives the page returns (the shortest).
 pub const PAGE_MAX_ALTERNATIVES: usize = 20;
+/// Node expansions of A*, A* PS, Theta* and the exact planner on the page: the grid-cell cap
+/// (a search on the page's largest grid may expand every cell once).
+pub const PAGE_MAX_EXPANSIONS: usize = 4_000_000;
+/// Cells looked up by the line-of-sight checks of A* PS, Theta* and the exact planner on the
+/// page: about a second of work in a release build.
+pub const PAGE_MAX_SIGHT_CELLS: usize = 400_000_000;
 /// Planners run when the request names none.
 const DEFAULT_PLANNERS: [PlannerKind; 3] = [
     PlannerKind::Mbpp,
@@ -276,6 +284,37 @@ fn world(grid: &OccupancyGrid, cells: &[CellXy]) -> Vec<[f64; 2]> {
         .collect()
 }
 
+/// When the planners of one request must stop.
+struct PlanStop {
+    /// Set when the client has gone.
+    cancelled: Arc<AtomicBool>,
+    /// The end of the time allowed to all planners of the request.
+    all_by: Instant,
+    /// Time allowed to each planner.
+    each: std::time::Duration,
+}
+
+impl PlanStop {
+    /// The [`Stop`] of a planner starting now: its own time limit, or what is left of the
+    /// request's if that ends sooner.
+    fn for_planner(&self) -> Stop {
+        let stop = Stop::new().with_flag(Arc::clone(&self.cancelled));
+        match Instant::now().checked_add(self.each) {
+            Some(own) if own < self.all_by => stop.with_timeout(self.each),
+            _ => stop.with_deadline(self.all_by),
+        }
+    }
+}
+
+/// Sets its flag when dropped: the handler's future is dropped when the client goes away.
+struct CancelOnDrop(Arc<AtomicBool>);
+
+impl Drop for CancelOnDrop {
+    fn drop(&mut self) {
+        self.0.store(true, Ordering::Relaxed);
+    }
+}
+
 /// Run one planner (MBPP with its bug tracks).
 fn run_planner(
     kind: PlannerKind,
@@ -284,6 +323,7 @@ fn run_planner(
     goal: CellXy,
     unknown_passable: bool,
     track_budget: &mut usize,
+    stop: Stop,
 ) -> Result<ResultOut, ApiError> {
     let started = Instant::now();
     let mut out = ResultOut {
@@ -314,6 +354,11 @@ fn run_planner(
         .planner(unknown_passable)
         .with_tracks(is_mbpp)
         .with_mbpp_budget(PAGE_MAX_BUG_STEPS, PAGE_MAX_ALTERNATIVES)
+        .with_budget(Budget {
+            max_expansions: PAGE_MAX_EXPANSIONS,
+            max_sight_cells: PAGE_MAX_SIGHT_CELLS,
+            stop,
+        })
         .plan(grid, start, goal)
         .map_err(|e| ApiError::bad_request(format!("{}: {e}", kind.name())))?;
     out.time_ms = elapsed_ms(started);
@@ -360,7 +405,7 @@ fn run_planner(
     Ok(out)
 }
 
-fn plan_answer(body: &[u8]) -> Result<Bytes, ApiError> {
+fn plan_answer(body: &[u8], stop: &PlanStop) -> Result<Bytes, ApiError> {
     let started = Instant::now();
     let text = params::json_text(body, "a plan request")?;
     let request = PlanRequest::from_text(&text)?;
@@ -392,7 +437,17 @@ fn plan_answer(body: &[u8]) -> Result<Bytes, ApiError> {
     let mut budget = MAX_TRACK_POINTS;
     let results = kinds
         .into_iter()
-        .map(|kind| run_planner(kind, &grid, start, goal, unknown_passable, &mut budget))
+        .map(|kind| {
+            run_planner(
+                kind,
+                &grid,
+                start,
+                goal,
+                unknown_passable,
+                &mut budget,
+                stop.for_planner(),
+            )
+        })
         .collect::<Result<Vec<_>, _>>()?;
     let mut warnings = parsed.warnings;
     warnings.extend(map.warnings.iter().cloned());
@@ -417,13 +472,32 @@ pub async fn plan(
     State(state): State<AppState>,
     RawQuery(query): RawQuery,
     headers: HeaderMap,
-    body: Result<Bytes, BytesRejection>,
+    body: Body,
 ) -> Response {
+    // Dropped with this future when the client goes away: the planners then stop.
+    let cancelled = CancelOnDrop(Arc::new(AtomicBool::new(false)));
     let result = async {
-        let body = params::body(body, MAX_JSON_BODY_BYTES)?;
+        let limits = &state.0.limits;
+        let body = params::read_body(
+            &headers,
+            body,
+            MAX_JSON_BODY_BYTES,
+            limits.body_read_timeout,
+        )
+        .await?;
         Query::parse(query.as_deref(), &[])?;
         params::expect_json(&headers)?;
-        run_blocking(&state, "/api/plan", move || plan_answer(&body)).await
+        let slot = state.0.plan_slots.take().await?;
+        let stop = PlanStop {
+            cancelled: Arc::clone(&cancelled.0),
+            all_by: Instant::now() + limits.plan_timeout,
+            each: limits.planner_timeout,
+        };
+        run_blocking(&state, "/api/plan", move || {
+            let _slot = slot;
+            plan_answer(&body, &stop)
+        })
+        .await
     }
     .await;
     respond(result)
@@ -443,5 +517,32 @@ mod tests {
         assert!(planners(Some(&names(&["dijkstra"]))).is_err());
         assert!(planners(Some(&[])).is_err());
         assert_eq!(planners(None).ok(), Some(DEFAULT_PLANNERS.to_vec()));
+    }
+
+    #[test]
+    fn each_planner_gets_its_time_or_what_is_left_of_the_request() {
+        let now = Instant::now();
+        let secs = std::time::Duration::from_secs;
+        let stop = |all: u64, each: u64| {
+            PlanStop {
+                cancelled: Arc::new(AtomicBool::new(false)),
+                all_by: now + secs(all),
+                each: secs(each),
+            }
+            .for_planner()
+        };
+        assert!((stop(6, 3).allowed_s() - 3.0).abs() < 1e-9);
+        let left = stop(2, 3).allowed_s();
+        assert!(left <= 2.0 && left > 1.5, "{left}");
+        assert!(stop(0, 3).reason().is_some());
+        let cancelled = PlanStop {
+            cancelled: Arc::new(AtomicBool::new(false)),
+            all_by: now + secs(60),
+            each: secs(60),
+        };
+        let planner = cancelled.for_planner();
+        assert!(planner.reason().is_none());
+        drop(CancelOnDrop(Arc::clone(&cancelled.cancelled)));
+        assert_eq!(planner.reason(), Some(vpmap_plan::StopReason::Cancelled));
     }
 }

@@ -5,6 +5,8 @@
 
 mod build;
 mod detect;
+mod limits;
+mod load;
 mod page;
 mod plan;
 
@@ -107,7 +109,17 @@ impl Reply {
 /// Send one request (`Connection: close`) and read the whole answer. The body is written on
 /// another thread, so that an answer sent before the body is read (413) is still received.
 pub(crate) fn request(method: &str, target: &str, headers: &[(&str, &str)], body: &[u8]) -> Reply {
-    let addr = server();
+    request_to(server(), method, target, headers, body)
+}
+
+/// [`request`] to the server at `addr`.
+pub(crate) fn request_to(
+    addr: SocketAddr,
+    method: &str,
+    target: &str,
+    headers: &[(&str, &str)],
+    body: &[u8],
+) -> Reply {
     let mut stream = TcpStream::connect(addr).unwrap();
     stream
         .set_read_timeout(Some(Duration::from_secs(120)))
@@ -142,7 +154,7 @@ pub(crate) fn request(method: &str, target: &str, headers: &[(&str, &str)], body
     parse_reply(&raw)
 }
 
-fn parse_reply(raw: &[u8]) -> Reply {
+pub(crate) fn parse_reply(raw: &[u8]) -> Reply {
     let split = raw
         .windows(4)
         .position(|w| w == b"\r\n\r\n")
