@@ -8,10 +8,11 @@ use vpmap_pipeline::{MapOptions, PipelineError};
 use crate::ApiError;
 use crate::params::{Query, parse_number};
 
-/// Most objects in a scene.
-pub const MAX_OBJECTS: usize = 500;
-/// Most points in one footprint, in the floor outline, and segments per vanishing point.
-pub const MAX_POINTS: usize = 1000;
+/// Most objects in a scene (the scene format's own limit, the same on the command line).
+pub const MAX_OBJECTS: usize = vpmap_metrology::scene::MAX_OBJECTS;
+/// Most points in one footprint, in the floor outline, and segments per vanishing point (the
+/// scene format's own limit).
+pub const MAX_POINTS: usize = vpmap_metrology::scene::MAX_POINTS;
 /// Most cells in an occupancy grid (2000 x 2000).
 pub const MAX_GRID_CELLS: f64 = 4e6;
 
