@@ -915,7 +915,7 @@ impl FloorMap {
 mod tests {
     use super::*;
     use geo::Contains;
-    use rand::{Rng, SeedableRng};
+    use rand::{RngExt, SeedableRng};
 
     /// Does the segment from the camera to a floor point pass through the axis-aligned box?
     /// (Slab test: independent of the convex-hull construction.)

@@ -13,7 +13,7 @@
 //! `../shared/data/synthetic-scenes`).
 
 use nalgebra::{Vector2, Vector3};
-use rand::{Rng, SeedableRng};
+use rand::{Rng, RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use serde::{Deserialize, Serialize};

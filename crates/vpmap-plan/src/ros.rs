@@ -541,7 +541,13 @@ fn decode_png(bytes: &[u8], path: &Path) -> Result<GreyImage> {
     let width = usize::try_from(w).unwrap_or(usize::MAX);
     let height = usize::try_from(h).unwrap_or(usize::MAX);
     let n = checked_cell_count(width, height)?;
-    let mut buf = vec![0; reader.output_buffer_size()];
+    // `None` when the decoded size overflows `usize`: far beyond the cell cap.
+    let size = reader.output_buffer_size().ok_or(PlanError::GridTooLarge {
+        width,
+        height,
+        max: MAX_CELLS,
+    })?;
+    let mut buf = vec![0; size];
     let info = reader.next_frame(&mut buf).map_err(malformed)?;
     let channels = match info.color_type {
         png::ColorType::Grayscale => 1,

@@ -28,7 +28,7 @@
 
 use image::{DynamicImage, GrayImage, Luma, Rgb, RgbImage};
 use nalgebra::Vector3;
-use rand::{Rng, SeedableRng};
+use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 

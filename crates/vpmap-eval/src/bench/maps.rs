@@ -12,7 +12,7 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{EvalError, Result, ResultExt as _, bail};
 use crate::progress::Progress;
-use rand::{Rng, SeedableRng};
+use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use vpmap_metrology::map::{BuildOptions, build_map};
 use vpmap_metrology::scene::Scene;

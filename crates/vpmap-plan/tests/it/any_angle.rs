@@ -2,7 +2,7 @@
 //! against BFS connectivity, the independent path validator, each other (optimum <= Theta*,
 //! optimum <= A* PS <= A*), and a brute-force complete visibility graph on tiny grids.
 
-use rand::Rng;
+use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 use vpmap_plan::{
     AstarOptions, AstarPsOptions, AstarSearch, CellXy, Occupancy, OccupancyGrid,

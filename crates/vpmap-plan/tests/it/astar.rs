@@ -4,7 +4,7 @@ use std::cmp::Ordering;
 use std::ops::Add;
 
 use pathfinding::num_traits::Zero;
-use rand::Rng;
+use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 use vpmap_plan::{
     AstarOptions, AstarSearch, Components, Occupancy, OccupancyGrid, Passable, PlanError,

@@ -4,7 +4,7 @@
 use std::collections::BTreeSet;
 
 use proptest::prelude::*;
-use rand::Rng;
+use rand::RngExt;
 use vpmap_plan::los::{PassableGrid, visit_swept_cells};
 use vpmap_plan::validate::swept_square_overlaps_cell;
 use vpmap_plan::{

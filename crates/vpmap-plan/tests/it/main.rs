@@ -17,7 +17,7 @@ mod ros_files;
 
 use std::path::PathBuf;
 
-use rand::{Rng, SeedableRng};
+use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
 use proptest::prelude::*;

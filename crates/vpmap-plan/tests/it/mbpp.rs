@@ -3,7 +3,7 @@
 //! against the movement rule and its own counters; the m-line against its definition.
 
 use proptest::prelude::*;
-use rand::Rng;
+use rand::RngExt;
 use vpmap_plan::mbpp::{BugFate, LeaveRule, MbppOptions, m_line, mbpp};
 use vpmap_plan::reach::Components;
 use vpmap_plan::{

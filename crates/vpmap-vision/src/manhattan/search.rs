@@ -19,7 +19,7 @@
 //!    which decides only when the image cannot (one-point perspective).
 
 use nalgebra::{Matrix3, SymmetricEigen, Vector3};
-use rand::Rng;
+use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 
 use super::model::{Camera, Frame};

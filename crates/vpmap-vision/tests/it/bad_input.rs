@@ -1,7 +1,7 @@
 //! Inputs that cannot give vanishing points: errors, never panics.
 
 use image::{DynamicImage, GrayImage, Luma, RgbImage};
-use rand::{Rng, SeedableRng};
+use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use vpmap_vision::{DetectOptions, Segment, VisionError, detect, detect_from_segments};
 
