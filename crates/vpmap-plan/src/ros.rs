@@ -300,20 +300,6 @@ fn parse_map_yaml(text: &str, yaml_path: &Path) -> Result<MapYaml> {
         ));
     }
     let origin = raw.origin.ok_or_else(|| missing("origin"))?;
-    let &[ox, oy, yaw] = origin.as_slice() else {
-        return Err(invalid(
-            "origin",
-            format!(
-                "[{}]",
-                origin
-                    .iter()
-                    .map(|v| num(*v))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ),
-            "it must have 3 elements [x, y, yaw]",
-        ));
-    };
     let shown = || {
         format!(
             "[{}]",
@@ -323,6 +309,13 @@ fn parse_map_yaml(text: &str, yaml_path: &Path) -> Result<MapYaml> {
                 .collect::<Vec<_>>()
                 .join(", ")
         )
+    };
+    let &[ox, oy, yaw] = origin.as_slice() else {
+        return Err(invalid(
+            "origin",
+            shown(),
+            "it must have 3 elements [x, y, yaw]",
+        ));
     };
     if !(ox.is_finite() && oy.is_finite() && yaw.is_finite()) {
         return Err(invalid("origin", shown(), "its elements must be finite"));

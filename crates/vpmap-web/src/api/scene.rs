@@ -8,11 +8,6 @@ use vpmap_pipeline::{MapOptions, PipelineError};
 use crate::ApiError;
 use crate::params::{Query, parse_number};
 
-/// Most objects in a scene (the scene format's own limit, the same on the command line).
-pub const MAX_OBJECTS: usize = vpmap_metrology::scene::MAX_OBJECTS;
-/// Most points in one footprint, in the floor outline, and segments per vanishing point (the
-/// scene format's own limit).
-pub const MAX_POINTS: usize = vpmap_metrology::scene::MAX_POINTS;
 /// Most cells in an occupancy grid (2000 x 2000).
 pub const MAX_GRID_CELLS: f64 = 4e6;
 
@@ -124,50 +119,6 @@ fn unknown_fields(value: &serde_json::Value) -> Vec<String> {
         .collect()
 }
 
-/// Refuse scenes too large to build quickly.
-fn check_size(scene: &Scene) -> Result<(), ApiError> {
-    let too_many = |what: String, n: usize, max: usize| {
-        ApiError::bad_request(format!(
-            "{what} has {n} entries; the web API accepts at most {max}"
-        ))
-    };
-    if scene.objects.len() > MAX_OBJECTS {
-        return Err(too_many(
-            "scene field `objects`".to_owned(),
-            scene.objects.len(),
-            MAX_OBJECTS,
-        ));
-    }
-    if scene.floor.len() > MAX_POINTS {
-        return Err(too_many(
-            "scene field `floor`".to_owned(),
-            scene.floor.len(),
-            MAX_POINTS,
-        ));
-    }
-    for (i, o) in scene.objects.iter().enumerate() {
-        if let Some(fp) = &o.footprint
-            && fp.len() > MAX_POINTS
-        {
-            return Err(too_many(
-                format!("scene field `objects[{i}].footprint`"),
-                fp.len(),
-                MAX_POINTS,
-            ));
-        }
-    }
-    for (i, v) in scene.vanishing_points.iter().enumerate() {
-        if v.lines.len() > MAX_POINTS {
-            return Err(too_many(
-                format!("scene field `vanishing_points[{i}].lines`"),
-                v.lines.len(),
-                MAX_POINTS,
-            ));
-        }
-    }
-    Ok(())
-}
-
 /// A scene from JSON text (the body of `/api/build`).
 ///
 /// # Errors
@@ -183,7 +134,6 @@ pub fn scene_from_text(text: &str) -> Result<ParsedScene, ApiError> {
         .map_err(|e| ApiError::bad_request(format!("the body is not valid JSON: {e}")))?;
     let scene =
         Scene::from_json_str(text).map_err(|e| ApiError::bad_request(format!("scene: {e}")))?;
-    check_size(&scene)?;
     Ok(ParsedScene {
         scene,
         warnings: unknown_fields(&value),
@@ -205,7 +155,6 @@ pub fn scene_from_value(value: &serde_json::Value) -> Result<ParsedScene, ApiErr
     scene
         .validate()
         .map_err(|e| ApiError::bad_request(format!("scene: {e}")))?;
-    check_size(&scene)?;
     Ok(ParsedScene {
         scene,
         warnings: unknown_fields(value),
