@@ -36,6 +36,9 @@ mod error;
 pub mod example;
 mod params;
 
+#[doc(hidden)]
+pub use api::fuzzing;
+
 use std::future::Future;
 use std::net::{IpAddr, SocketAddr};
 use std::panic::AssertUnwindSafe;
