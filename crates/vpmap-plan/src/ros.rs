@@ -654,18 +654,48 @@ pub fn read_ros_map(yaml_path: &Path) -> Result<OccupancyGrid> {
     let text = vpmap_files::read_text(yaml_path, vpmap_files::Format::RosYaml)?;
     let meta = parse_map_yaml(&text, yaml_path)?;
     let bytes = vpmap_files::read_bytes(&meta.image, vpmap_files::Format::RosImage)?;
-    let image = decode_image(&bytes, &meta.image)?;
+    grid_from_image(&meta, &bytes)
+}
+
+/// A `map_server` map from its YAML text and the bytes of the image it names, as
+/// [`read_ros_map`] reads them from files but with no file opened (the image named by the
+/// YAML's `image:` is not read: `image_bytes` stand for it). `yaml_path` only names the files
+/// in messages.
+///
+/// # Errors
+/// As [`read_ros_map`], without [`PlanError::File`].
+///
+/// # Example
+/// ```
+/// use std::path::Path;
+/// use vpmap_plan::{Occupancy, ros::parse_ros_map};
+/// let yaml = "image: m.pgm\nresolution: 0.1\norigin: [0, 0, 0]\n";
+/// let grid = parse_ros_map(yaml, Path::new("m.yaml"), b"P2 2 1 255\n0 254\n").unwrap();
+/// assert_eq!(grid.cells(), &[Occupancy::Occupied, Occupancy::Free]);
+/// ```
+pub fn parse_ros_map(
+    yaml_text: &str,
+    yaml_path: &Path,
+    image_bytes: &[u8],
+) -> Result<OccupancyGrid> {
+    let meta = parse_map_yaml(yaml_text, yaml_path)?;
+    grid_from_image(&meta, image_bytes)
+}
+
+/// The grid of a decoded YAML file and its image's bytes.
+fn grid_from_image(meta: &MapYaml, bytes: &[u8]) -> Result<OccupancyGrid> {
+    let image = decode_image(bytes, &meta.image)?;
     let cells = match &image.alpha {
         Some(alpha) => image
             .grey
             .iter()
             .zip(alpha)
-            .map(|(&v, &a)| cell_from_pixel(v, a, image.max_value, &meta))
+            .map(|(&v, &a)| cell_from_pixel(v, a, image.max_value, meta))
             .collect(),
         None => image
             .grey
             .iter()
-            .map(|&v| cell_from_pixel(v, u8::MAX, image.max_value, &meta))
+            .map(|&v| cell_from_pixel(v, u8::MAX, image.max_value, meta))
             .collect(),
     };
     OccupancyGrid::from_cells(

@@ -46,6 +46,9 @@ mod limits;
 mod memory;
 mod params;
 
+#[doc(hidden)]
+pub use api::fuzzing;
+
 use std::future::Future;
 use std::net::{IpAddr, SocketAddr};
 use std::panic::AssertUnwindSafe;

@@ -3,6 +3,7 @@
 use std::path::Path;
 
 use proptest::prelude::*;
+use vpmap_plan::ros::parse_ros_map;
 use vpmap_plan::{
     CellXy, Occupancy, OccupancyGrid, PlanError, encode_ros_map, read_ros_map, write_ros_map,
 };
@@ -322,6 +323,29 @@ fn write_errors_name_the_path() {
     let err = write_ros_map(&grid, &dir.path().join("room.pgm")).unwrap_err();
     assert!(err.to_string().contains("room.pgm"), "{err}");
     assert!(std::fs::read_dir(dir.path()).unwrap().next().is_none());
+}
+
+#[test]
+fn from_bytes_reads_what_the_files_hold_and_names_the_image_in_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut grid = OccupancyGrid::new(4, 3, 0.05, [0.5, -1.0], Occupancy::Free).unwrap();
+    grid.set(1, 2, Occupancy::Occupied).unwrap();
+    grid.set(3, 0, Occupancy::Unknown).unwrap();
+    let yaml_path = dir.path().join("room.yaml");
+    write_ros_map(&grid, &yaml_path).unwrap();
+    let yaml = std::fs::read_to_string(&yaml_path).unwrap();
+    let pgm = std::fs::read(dir.path().join("room.pgm")).unwrap();
+    let from_bytes = parse_ros_map(&yaml, &yaml_path, &pgm).unwrap();
+    assert_eq!(from_bytes, read_ros_map(&yaml_path).unwrap());
+    assert_eq!(from_bytes, grid);
+    // The image named in the YAML is not opened: the bytes stand for it.
+    let elsewhere = Path::new("/nonexistent/dir/room.yaml");
+    assert_eq!(parse_ros_map(&yaml, elsewhere, &pgm).unwrap(), grid);
+    let err = parse_ros_map(&yaml, elsewhere, b"P5 4 3 255\n\x00").unwrap_err();
+    assert!(matches!(err, PlanError::MalformedImage { .. }), "{err}");
+    assert!(err.to_string().contains("room.pgm"), "{err}");
+    let err = parse_ros_map("image: room.pgm\n", elsewhere, &pgm).unwrap_err();
+    assert!(err.to_string().contains("resolution"), "{err}");
 }
 
 proptest! {

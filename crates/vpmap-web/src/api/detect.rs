@@ -38,7 +38,7 @@ const DETECT_QUERY: [&str; 4] = [
 ];
 
 /// The detection options of a query, checked where the photo is not needed.
-struct DetectQuery {
+pub(super) struct DetectQuery {
     focal_px: Option<f64>,
     principal_point: Option<[f64; 2]>,
     two_point_tolerance_deg: f64,
@@ -46,7 +46,7 @@ struct DetectQuery {
 }
 
 impl DetectQuery {
-    fn parse(raw: Option<&str>) -> Result<Self, ApiError> {
+    pub(super) fn parse(raw: Option<&str>) -> Result<Self, ApiError> {
         let q = Query::parse(raw, &DETECT_QUERY)?;
         let d = DetectOptions::default();
         let focal_px = q
@@ -89,7 +89,7 @@ impl DetectQuery {
     }
 
     /// Check the intrinsics against the photo's size.
-    fn check_against(&self, width: u32, height: u32) -> Result<(), ApiError> {
+    pub(super) fn check_against(&self, width: u32, height: u32) -> Result<(), ApiError> {
         let side = f64::from(width.max(height));
         if let Some(f) = self.focal_px
             && !FOCAL_RANGE_SIDES.contains(&(f / side))

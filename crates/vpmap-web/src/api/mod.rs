@@ -3,6 +3,8 @@
 
 mod build;
 mod detect;
+#[doc(hidden)]
+pub mod fuzzing;
 mod plan;
 mod scene;
 

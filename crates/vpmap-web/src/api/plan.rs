@@ -66,17 +66,17 @@ const PLAN_FIELDS: [&str; 10] = [
 ];
 
 /// A plan request, read field by field so that every message names its field.
-struct PlanRequest {
-    scene: serde_json::Value,
-    method: Option<String>,
-    resolution: Option<f64>,
-    robot_radius: Option<f64>,
-    hidden_free: Option<bool>,
-    click_sigma: Option<f64>,
-    unknown_passable: Option<bool>,
-    start: [f64; 2],
-    goal: [f64; 2],
-    planners: Option<Vec<String>>,
+pub(super) struct PlanRequest {
+    pub(super) scene: serde_json::Value,
+    pub(super) method: Option<String>,
+    pub(super) resolution: Option<f64>,
+    pub(super) robot_radius: Option<f64>,
+    pub(super) hidden_free: Option<bool>,
+    pub(super) click_sigma: Option<f64>,
+    pub(super) unknown_passable: Option<bool>,
+    pub(super) start: [f64; 2],
+    pub(super) goal: [f64; 2],
+    pub(super) planners: Option<Vec<String>>,
 }
 
 fn field_error(key: &str, wanted: &str, got: &serde_json::Value) -> ApiError {
@@ -89,7 +89,7 @@ fn field_error(key: &str, wanted: &str, got: &serde_json::Value) -> ApiError {
 }
 
 impl PlanRequest {
-    fn from_text(text: &str) -> Result<Self, ApiError> {
+    pub(super) fn from_text(text: &str) -> Result<Self, ApiError> {
         let value: serde_json::Value = serde_json::from_str(text)
             .map_err(|e| ApiError::bad_request(format!("the body is not valid JSON: {e}")))?;
         let Some(fields) = value.as_object() else {
@@ -240,7 +240,7 @@ fn planner_names() -> String {
 }
 
 /// The planners asked for, in order, each once.
-fn planners(names: Option<&[String]>) -> Result<Vec<PlannerKind>, ApiError> {
+pub(super) fn planners(names: Option<&[String]>) -> Result<Vec<PlannerKind>, ApiError> {
     let Some(names) = names else {
         return Ok(DEFAULT_PLANNERS.to_vec());
     };

@@ -1,0 +1,133 @@
+//! The request checks of the JSON endpoints, callable without a server: for the fuzz target
+//! `web_body` (`fuzz/`, see `docs/fuzzing.md`). Each function runs the same parsing and
+//! validation as its endpoint, in the same order, and stops before the expensive work
+//! (planning, pictures, the 3D model); not part of the supported API.
+
+use vpmap_pipeline::{Coordinates, Endpoint, EndpointRules, MapOptions, OptionNames};
+
+use super::detect::DetectQuery;
+use super::plan::{PlanRequest, planners};
+use super::scene::{
+    MAX_GRID_CELLS, map_options, map_options_from_query, pipeline_error, scene_from_text,
+    scene_from_value,
+};
+use crate::{ApiError, params};
+
+/// The grid limit: the page's ([`MAX_GRID_CELLS`]) or `max_grid_cells`, whichever is smaller.
+fn capped(mut options: MapOptions, max_grid_cells: f64) -> MapOptions {
+    options.max_grid_cells = Some(max_grid_cells.min(MAX_GRID_CELLS));
+    options
+}
+
+/// `POST /api/build?{query}` with `body`: the query's options, the scene, then its map and
+/// occupancy grid (at most `max_grid_cells` cells, and never more than the page allows).
+///
+/// # Errors
+/// The 400 answer `/api/build` would give.
+pub fn build_request(
+    query: Option<&str>,
+    body: &[u8],
+    max_grid_cells: f64,
+) -> Result<(), ApiError> {
+    let options = capped(map_options_from_query(query)?, max_grid_cells);
+    let text = params::json_text(body, "a scene (docs/scene-format.md)")?;
+    let parsed = scene_from_text(&text)?;
+    vpmap_pipeline::map_and_grid(&parsed.scene, &options).map_err(pipeline_error)?;
+    Ok(())
+}
+
+/// `POST /api/plan` with `body`: the request's fields, options and planners, the scene, its
+/// map and grid (at most `max_grid_cells` cells) and the start and goal cells; the planners
+/// are not run.
+///
+/// # Errors
+/// The 400 answer `/api/plan` would give before planning.
+pub fn plan_request(body: &[u8], max_grid_cells: f64) -> Result<(), ApiError> {
+    let text = params::json_text(body, "a plan request")?;
+    let request = PlanRequest::from_text(&text)?;
+    let options = map_options(
+        request.method.as_deref(),
+        request.resolution,
+        request.robot_radius,
+        request.hidden_free,
+        request.click_sigma,
+    )?;
+    let options = capped(options, max_grid_cells);
+    planners(request.planners.as_deref())?;
+    let unknown_passable = request.unknown_passable.unwrap_or(false);
+    let parsed = scene_from_value(&request.scene)?;
+    let built = vpmap_pipeline::map_and_grid(&parsed.scene, &options).map_err(pipeline_error)?;
+    let units = vpmap_pipeline::units_name(built.map.units);
+    let coordinates = Coordinates::Map {
+        units: if units == "m" { "m" } else { "camera heights" },
+    };
+    let rules = EndpointRules {
+        unknown_passable,
+        robot_radius: options.robot_radius_m,
+        names: OptionNames::WebApi,
+    };
+    for (name, point) in [("start", request.start), ("goal", request.goal)] {
+        vpmap_pipeline::endpoint_cell(&built.grid, coordinates, &Endpoint { name, point }, &rules)
+            .map_err(pipeline_error)?;
+    }
+    Ok(())
+}
+
+/// `POST /api/detect?{query}` for a photo of `width` x `height` pixels: the query's options,
+/// then the intrinsics against the photo's size.
+///
+/// # Errors
+/// The 400 answer `/api/detect` would give before decoding the photo, or after reading its
+/// size.
+pub fn detect_query(query: Option<&str>, width: u32, height: u32) -> Result<(), ApiError> {
+    DetectQuery::parse(query)?.check_against(width, height)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::example::OFFICE_SCENE;
+
+    #[test]
+    fn build_request_reads_the_query_the_scene_and_the_grid_limit() {
+        let office = OFFICE_SCENE.as_bytes();
+        assert!(build_request(Some("resolution=0.1"), office, 1e5).is_ok());
+        // 0.05 m makes about 177 x 209 cells: over a limit of 20000, under the page's.
+        let e = build_request(None, office, 2e4).err();
+        assert!(e.is_some_and(|e| e.message.contains("the limit is 20000 cells")));
+        let e = build_request(Some("method=side"), office, 1e5).err();
+        assert!(e.is_some_and(|e| e.message.starts_with("method is \"side\"")));
+        let e = build_request(None, b"[1, 2]", 1e5).err();
+        assert!(e.is_some_and(|e| e.message.contains("must be a JSON object")));
+    }
+
+    #[test]
+    fn plan_request_checks_fields_planners_and_endpoints() {
+        let body = |start: &str, planners: &str| {
+            format!(
+                r#"{{"scene": {OFFICE_SCENE}, "resolution": 0.1, "hidden_free": true, "start": {start}, "goal": [2.0, 5.0], "planners": {planners}}}"#
+            )
+        };
+        assert!(plan_request(body("[1.5, 3.5]", r#"["astar"]"#).as_bytes(), 1e5).is_ok());
+        let e = plan_request(body("[1.5, 3.5]", r#"["dijkstra"]"#).as_bytes(), 1e5).err();
+        assert!(e.is_some_and(|e| e.message.contains("\"dijkstra\", which is not a planner")));
+        let e = plan_request(body("[100, 3.5]", "null").as_bytes(), 1e5).err();
+        assert!(
+            e.as_ref().is_some_and(|e| e.message.starts_with("start ")),
+            "{e:?}"
+        );
+        let e = plan_request(
+            br#"{"scene": {}, "start": [0, 0], "goal": [1, 1], "x": 1}"#,
+            1e5,
+        )
+        .err();
+        assert!(e.is_some_and(|e| e.message.contains("unknown field \"x\"")));
+    }
+
+    #[test]
+    fn detect_query_checks_options_against_the_photo() {
+        assert!(detect_query(Some("focal_px=900&principal_point=400,300"), 800, 600).is_ok());
+        assert!(detect_query(Some("principal_point=900,300"), 800, 600).is_err());
+        assert!(detect_query(Some("max_side=10"), 800, 600).is_err());
+    }
+}
