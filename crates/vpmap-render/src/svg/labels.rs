@@ -159,6 +159,10 @@ pub(super) enum Swatch {
         dashed: bool,
     },
     Dot,
+    /// The path's start (a ring) or goal (a dot).
+    PathEnd {
+        start: bool,
+    },
     /// An error ellipse with its centre.
     Ellipse,
 }
@@ -266,6 +270,8 @@ pub(super) fn legend_entries(
                     style.path_label.clone()
                 },
             ));
+            legend.push((Swatch::PathEnd { start: true }, "start".to_owned()));
+            legend.push((Swatch::PathEnd { start: false }, "goal".to_owned()));
         }
         if style.show_field_of_view && fov_ok {
             legend.push((

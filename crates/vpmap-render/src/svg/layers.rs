@@ -327,17 +327,32 @@ pub(super) fn path(out: &mut String, style: &FloorPlanStyle, l: &Layout) {
             colour::PATH,
             3.0 * f
         );
+        // The start a ring, the goal a dot.
         for (i, (x, y)) in l.path_ends.iter().enumerate() {
-            let _ = writeln!(
-                out,
-                r##"<circle class="{}" cx="{x:.2}" cy="{y:.2}" r="{:.2}" fill="{}" stroke="#ffffff" stroke-width="{:.2}"/>"##,
-                if i == 0 { "path-start" } else { "path-goal" },
-                l.path_end_r,
-                colour::PATH,
-                1.5 * f
-            );
+            let _ = writeln!(out, "{}", path_end_marker(*x, *y, i == 0, l));
         }
         let _ = writeln!(out, "</g>");
+    }
+}
+
+/// The path's start (a ring in the path's colour) or goal (a dot) at `(x, y)`, pixels.
+pub(super) fn path_end_marker(x: f64, y: f64, start: bool, l: &Layout) -> String {
+    let (r, f) = (l.path_end_r, l.f);
+    if start {
+        format!(
+            r#"<circle class="path-start" cx="{x:.2}" cy="{y:.2}" r="{:.2}" fill="{}" stroke="{}" stroke-width="{:.2}"/>"#,
+            r - 1.25 * f,
+            colour::PAPER,
+            colour::PATH,
+            2.5 * f
+        )
+    } else {
+        format!(
+            r#"<circle class="path-goal" cx="{x:.2}" cy="{y:.2}" r="{r:.2}" fill="{}" stroke="{}" stroke-width="{:.2}"/>"#,
+            colour::PATH,
+            colour::PAPER,
+            1.5 * f
+        )
     }
 }
 
@@ -527,6 +542,13 @@ pub(super) fn legend(out: &mut String, l: &Layout) {
                         2.0 * f,
                         1.8 * f,
                         colour::ELLIPSE
+                    );
+                }
+                Swatch::PathEnd { start } => {
+                    let _ = write!(
+                        out,
+                        "{}",
+                        path_end_marker(x + swatch_px / 2.0, *y, *start, l)
                     );
                 }
                 Swatch::Dot => {
