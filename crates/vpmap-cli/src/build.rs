@@ -265,7 +265,7 @@ pub fn run_demo(out: &Path, method: Method) -> Result<()> {
         grow_confidence: None,
     };
     let mut built = build_outputs(&scene, &args)?;
-    let (path_line, style) = demo_path(&built)?;
+    let (path_line, style) = demo_path(&built, out)?;
     add_pictures(&mut built, &style)?;
     let paths = built.files.write_all(out)?;
     print_summary(&built.map, &built.grid_summary);
@@ -283,8 +283,9 @@ pub fn run_demo(out: &Path, method: Method) -> Result<()> {
 
 /// The demo's path: from the free cell nearest a point half a metre into the seen floor in
 /// front of the camera to the reachable free cell deepest into the room, by the thesis's
-/// Multi-Bug Path Planning, and the floor-plan style that draws it.
-fn demo_path(built: &Built) -> Result<(String, FloorPlanStyle)> {
+/// Multi-Bug Path Planning, and the floor-plan style that draws it; the line printed names the
+/// `vpmap plan` command that draws the bugs and alternatives too (into `out`).
+fn demo_path(built: &Built, out: &Path) -> Result<(String, FloorPlanStyle)> {
     let grid = &built.grid;
     let near_y = built
         .map
@@ -329,14 +330,20 @@ fn demo_path(built: &Built) -> Result<(String, FloorPlanStyle)> {
     };
     let (a, b) = (points[0], points[points.len() - 1]);
     let line = format!(
-        "path: MBPP from ({:.2}, {:.2}) to ({:.2}, {:.2}) m around the objects (robot radius {} m): {length:.2} m, {} bugs, {} alternatives; drawn in map.svg",
+        "path: MBPP from ({:.2}, {:.2}) to ({:.2}, {:.2}) m around the objects (robot radius {} m): {length:.2} m, {} bugs, {} alternatives; the path is drawn in map.svg and map.png, and\n  vpmap plan {} --from={:.2},{:.2} --to={:.2},{:.2} --planner mbpp --svg {}\ndraws it with every bug's track and the alternatives",
         a[0],
         a[1],
         b[0],
         b[1],
         vpmap_pipeline::DEFAULT_ROBOT_RADIUS_M,
         result.mbpp_stats.bugs,
-        result.alternatives.len()
+        result.alternatives.len(),
+        out.join("map.json").display(),
+        a[0],
+        a[1],
+        b[0],
+        b[1],
+        out.join("plan.svg").display(),
     );
     Ok((line, style))
 }

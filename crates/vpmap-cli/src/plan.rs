@@ -39,6 +39,18 @@ fn planner_help(kind: PlannerKind) -> &'static str {
     }
 }
 
+/// A planner's name as the `--svg` picture's title writes it.
+fn planner_title(kind: PlannerKind) -> &'static str {
+    match kind {
+        PlannerKind::Mbpp => "MBPP",
+        PlannerKind::MbppCloser => "MBPP (closer leave rule)",
+        PlannerKind::Astar => "A*",
+        PlannerKind::AstarPs => "A* PS",
+        PlannerKind::ThetaStar => "Theta*",
+        PlannerKind::Optimal => "Shortest any-angle path",
+    }
+}
+
 /// `--planner`: a [`PlannerKind`] by its name, read with its `FromStr`; `--help` lists them.
 fn planner_parser() -> impl clap::builder::TypedValueParser<Value = PlannerKind> {
     use clap::builder::TypedValueParser as _;
@@ -333,9 +345,17 @@ pub fn run(args: &PlanArgs) -> Result<()> {
         } else {
             GridCoordinates::World
         };
+        let title = format!(
+            "{} on {}",
+            planner_title(args.planner),
+            args.map.file_name().map_or_else(
+                || args.map.display().to_string(),
+                |n| n.to_string_lossy().into_owned()
+            )
+        );
         write_file(
             svg_path,
-            plan_svg(&map.grid, &outcome, start, goal, coordinates),
+            plan_svg(&map.grid, &outcome, start, goal, coordinates, &title),
         )?;
     }
     if args.json {

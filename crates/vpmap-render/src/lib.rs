@@ -6,7 +6,7 @@
 //! | function | output | how |
 //! |---|---|---|
 //! | [`floor_plan_svg`] | an SVG floor plan, `+y` up the page: free space, hidden floor (hatched), floor outline, labelled objects, station point, field of view, grid, axes, scale bar, legend, title | hand-written SVG, greedy label placement |
-//! | [`plan_svg()`] | an SVG of a plan on its occupancy grid: cells, path, start and goal; MBPP's bug tracks, hits, leave points, alternatives and a legend | hand-written SVG, one unit per cell, straight runs of a track merged |
+//! | [`plan_svg()`] | an SVG of a plan on its occupancy grid: cells, path, start and goal; MBPP's bug tracks, hits, leave points and alternatives; a title, axes in metres or cells and a legend | hand-written SVG, one unit per cell, straight runs of a track merged |
 //! | [`svg_to_png`] | PNG bytes of any SVG | resvg / tiny-skia, system fonts with `sans-serif` mapped to DejaVu Sans |
 //! | [`model_glb`] | a glTF 2.0 binary model: floor mesh, one prism per object, camera pyramid | ear-cut triangulation (`earcutr`), `gltf-json`, GLB chunks written here; glTF `(X, Y, Z)` = map `(x, z, -y)` |
 //!

@@ -399,13 +399,14 @@ fn summary(
     }
     let _ = write!(
         text,
-        " Detection took {:.0} ms (longer side scaled to at most {} px). Wrote {}{}; add the objects and the floor (docs/scene-format.md), then run vpmap build.",
+        " Detection took {:.0} ms (longer side scaled to at most {} px). Wrote {}{}; add the objects and the floor (docs/scene-format.md), then run vpmap build {} --out out/ (vpmap is on the PATH after cargo install --path crates/vpmap-cli; from the repository, cargo run --release -- build works too).",
         elapsed.as_secs_f64() * 1e3,
         args.max_side,
         args.out.display(),
         args.overlay
             .as_ref()
-            .map_or_else(String::new, |o| format!(" and {}", o.display()))
+            .map_or_else(String::new, |o| format!(" and {}", o.display())),
+        args.out.display()
     );
     text
 }

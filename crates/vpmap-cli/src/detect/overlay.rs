@@ -5,8 +5,10 @@
 //! `thickness` pixels wide (about 1/500 of the longer side); unassigned segments are thin and
 //! grey. The horizon (the image of the plane orthogonal to the vertical direction) is yellow;
 //! vanishing points inside the photo are filled circles in their colour; the principal point
-//! is a magenta cross in a circle.
+//! is a magenta cross in a circle. A legend strip under the photo names each colour and
+//! symbol (the photo's own pixels keep their coordinates).
 
+use std::fmt::Write as _;
 use std::io::Cursor;
 
 use anyhow::{Context, Result};
@@ -112,11 +114,139 @@ pub fn render_overlay(
         }
     }
 
+    let canvas = with_legend(&canvas, thickness)?;
     let mut bytes = Vec::new();
     DynamicImage::ImageRgb8(canvas)
         .write_to(&mut Cursor::new(&mut bytes), ImageFormat::Png)
         .context("encoding the overlay as PNG")?;
     Ok(bytes)
+}
+
+/// `#rrggbb` of a colour.
+fn hex(c: Rgb<u8>) -> String {
+    format!("#{:02x}{:02x}{:02x}", c.0[0], c.0[1], c.0[2])
+}
+
+/// What a legend entry's symbol is.
+enum Symbol {
+    /// A line this many photo pixels wide.
+    Line(Rgb<u8>, u32),
+    /// A vanishing point's filled circle.
+    Dot,
+    /// The principal point's cross in a circle.
+    Cross,
+}
+
+/// The legend's SVG for a photo `width` pixels wide, and its height in pixels: one row per
+/// fitting run of entries, text about 1/70 of the width (11 to 28 px).
+fn legend_svg(width: u32, thickness: u32) -> (String, u32) {
+    let names = super::VP_NAMES;
+    let entries: [(Symbol, String); 7] = [
+        (
+            Symbol::Line(VP_COLOURS[0], thickness),
+            format!("segments of the {}", names[0]),
+        ),
+        (
+            Symbol::Line(VP_COLOURS[1], thickness),
+            format!("segments of the {}", names[1]),
+        ),
+        (
+            Symbol::Line(VP_COLOURS[2], thickness),
+            format!("segments of the {}", names[2]),
+        ),
+        (
+            Symbol::Line(UNASSIGNED, 1),
+            "unassigned segments".to_owned(),
+        ),
+        (Symbol::Line(HORIZON, thickness), "horizon".to_owned()),
+        (
+            Symbol::Dot,
+            "vanishing point (when inside the photo)".to_owned(),
+        ),
+        (Symbol::Cross, "principal point".to_owned()),
+    ];
+    let w = f64::from(width);
+    let font = (w / 70.0).clamp(11.0, 28.0);
+    let (pad, symbol, gap, row_h) = (0.8 * font, 2.2 * font, 0.5 * font, 1.7 * font);
+    // DejaVu Sans averages about 0.6 em per character in these words; 0.62 errs wide.
+    let text_w = |s: &str| 0.62 * font * s.chars().count() as f64;
+    let mut placed = Vec::with_capacity(entries.len());
+    let (mut x, mut row) = (pad, 0u32);
+    for (sym, label) in entries {
+        let entry_w = symbol + gap + text_w(&label);
+        if x > pad && x + entry_w > w - pad {
+            x = pad;
+            row += 1;
+        }
+        placed.push((sym, label, x, row));
+        x += entry_w + 2.0 * font;
+    }
+    let height = (2.0 * pad + f64::from(row + 1) * row_h).ceil() as u32;
+    let t = f64::from(thickness);
+    let mut svg = format!(
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" font-family="{}" font-size="{font:.1}"><rect width="{width}" height="{height}" fill="#ffffff"/>"##,
+        vpmap_render::svg::FONT_FAMILY
+    );
+    for (sym, label, x, row) in placed {
+        let y = pad + (f64::from(row) + 0.5) * row_h;
+        let xm = x + symbol / 2.0;
+        let _ = match sym {
+            Symbol::Line(colour, width) => write!(
+                svg,
+                r#"<line x1="{x:.1}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}" stroke="{}" stroke-width="{}"/>"#,
+                x + symbol,
+                hex(colour),
+                width.max(1)
+            ),
+            Symbol::Dot => {
+                let r = (2.0 * t + 2.0).min(0.45 * row_h);
+                write!(
+                    svg,
+                    r##"<circle cx="{:.1}" cy="{y:.1}" r="{r:.1}" fill="{}" stroke="#888888"/><circle cx="{:.1}" cy="{y:.1}" r="{r:.1}" fill="{}" stroke="#888888"/>"##,
+                    xm - 0.6 * r,
+                    hex(VP_COLOURS[0]),
+                    xm + 0.6 * r,
+                    hex(VP_COLOURS[1]),
+                )
+            }
+            Symbol::Cross => {
+                let arm = (6.0 * t).min(0.5 * row_h);
+                let c = hex(PRINCIPAL_POINT);
+                write!(
+                    svg,
+                    r#"<g stroke="{c}" stroke-width="{t}" fill="none"><line x1="{:.1}" y1="{y:.1}" x2="{:.1}" y2="{y:.1}"/><line x1="{xm:.1}" y1="{:.1}" x2="{xm:.1}" y2="{:.1}"/><circle cx="{xm:.1}" cy="{y:.1}" r="{:.1}"/></g>"#,
+                    xm - arm,
+                    xm + arm,
+                    y - arm,
+                    y + arm,
+                    0.66 * arm
+                )
+            }
+        };
+        let _ = write!(
+            svg,
+            r##"<text x="{:.1}" y="{:.1}" fill="#1a1a1a">{}</text>"##,
+            x + symbol + gap,
+            y + 0.35 * font,
+            vpmap_render::escape_xml(&label)
+        );
+    }
+    svg.push_str("</svg>\n");
+    (svg, height)
+}
+
+/// The drawing with the legend strip under it: the photo's pixels keep their coordinates.
+fn with_legend(drawing: &RgbImage, thickness: u32) -> Result<RgbImage> {
+    let (w, h) = drawing.dimensions();
+    let (svg, strip_h) = legend_svg(w, thickness);
+    let png = vpmap_render::svg_to_png(&svg).context("drawing the overlay's legend")?;
+    let strip = image::load_from_memory_with_format(&png, ImageFormat::Png)
+        .context("reading the overlay's legend")?
+        .to_rgb8();
+    let mut out = RgbImage::from_pixel(w, h + strip_h, OUTLINE);
+    image::imageops::replace(&mut out, drawing, 0, 0);
+    image::imageops::replace(&mut out, &strip, 0, i64::from(h));
+    Ok(out)
 }
 
 /// The photo as RGB, half way to grey.

@@ -102,6 +102,67 @@ fn demo_reports_its_error_against_the_truth() {
     }
 }
 
+/// The demo's printed `vpmap plan` command plans the same MBPP path on its map.json and draws
+/// the bugs the demo counted into plan.svg; `demo` and `build` print the same grid (both use
+/// the default robot radius).
+#[test]
+fn demo_prints_a_plan_command_that_draws_its_bugs() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("demo");
+    let o = vpmap(&["demo", "--out", out.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    let number_after = |text: &str, key: &str| -> f64 {
+        text.split(key)
+            .nth(1)
+            .and_then(|s| s.split([' ', ',']).next())
+            .and_then(|s| s.parse().ok())
+            .unwrap_or_else(|| panic!("no number after {key:?} in {text}"))
+    };
+    let path_line = stdout
+        .lines()
+        .find(|l| l.starts_with("path: MBPP"))
+        .unwrap();
+    let length = number_after(path_line, "): ");
+    let bugs = number_after(path_line, " m, ");
+    let command = stdout
+        .lines()
+        .find_map(|l| l.trim_start().strip_prefix("vpmap plan "))
+        .unwrap_or_else(|| panic!("no plan command in {stdout}"));
+    let mut args = vec!["plan"];
+    args.extend(command.split_whitespace());
+    args.push("--json");
+    let p = vpmap(&args);
+    assert!(p.status.success(), "{}", String::from_utf8_lossy(&p.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&p.stdout).unwrap();
+    assert!(
+        (v["length"].as_f64().unwrap() - length).abs() < 0.006,
+        "{v}"
+    );
+    assert_eq!(v["stats"]["bugs"].as_f64(), Some(bugs), "{v}");
+    let svg = std::fs::read_to_string(out.join("plan.svg")).unwrap();
+    assert!(svg.contains(r#"class="bug-track""#) && svg.contains("MBPP on map.json"));
+
+    let built = dir.path().join("built");
+    let b = vpmap(&[
+        "build",
+        example().to_str().unwrap(),
+        "--out",
+        built.to_str().unwrap(),
+    ]);
+    assert!(b.status.success(), "{}", String::from_utf8_lossy(&b.stderr));
+    let grid_line = |text: &str| {
+        text.lines()
+            .find(|l| l.starts_with("occupancy grid"))
+            .map(str::to_owned)
+            .unwrap()
+    };
+    assert_eq!(
+        grid_line(&stdout),
+        grid_line(&String::from_utf8_lossy(&b.stdout))
+    );
+}
+
 fn assert_fails_cleanly(args: &[&str], out: &Path, needle: &str) {
     let o = vpmap(args);
     let stderr = String::from_utf8_lossy(&o.stderr);

@@ -419,7 +419,7 @@ fn plan_mbpp_svg_draws_every_bug_and_stays_valid_xml() {
     );
     assert!(elements.iter().any(|e| e.name == "text"), "no legend");
 
-    // Other planners keep the plain drawing.
+    // Other planners: the grid, the path, the title, axes and legend, no bug marks.
     let plain = dir.path().join("astar.svg");
     let o = vpmap(&[
         "plan",
@@ -434,12 +434,22 @@ fn plan_mbpp_svg_draws_every_bug_and_stays_valid_xml() {
     assert!(o.status.success());
     let elements = read_svg(&plain);
     assert!(
-        elements
-            .iter()
-            .all(|e| e.attribute("class").is_none() && e.name != "text"),
+        elements.iter().all(|e| !e
+            .attribute("class")
+            .is_some_and(|c| c.starts_with("bug") || c == "alternatives")),
         "{elements:?}"
     );
     assert_eq!(elements.iter().filter(|e| e.name == "polyline").count(), 1);
+    let text = std::fs::read_to_string(&plain).unwrap();
+    for needle in [
+        "<title>A* on blocks.map</title>",
+        ">column →<",
+        ">start<",
+        ">goal<",
+        ">occupied cell<",
+    ] {
+        assert!(text.contains(needle), "{needle} missing from {text}");
+    }
 
     // An unreachable goal: the bugs, no path.
     let walled = dir.path().join("walled.map");

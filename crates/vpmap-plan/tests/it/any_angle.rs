@@ -543,10 +543,9 @@ fn bad_endpoints_are_errors_for_every_planner() {
 }
 
 #[test]
-fn optimal_on_movingai_room_and_random_maps() {
-    let Some(dir) = crate::movingai_dir() else {
-        return;
-    };
+#[ignore = "needs ../shared/data/movingai (absent from a fresh clone): cargo test -- --ignored shared_data"]
+fn shared_data_optimal_on_movingai_room_and_random_maps() {
+    let dir = crate::movingai_dir();
     let mut excess = (Excess::default(), Excess::default(), Excess::default());
     let mut solved = 0;
     for (map, scen) in [

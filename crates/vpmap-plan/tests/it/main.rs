@@ -76,13 +76,16 @@ pub(crate) fn random_grid(
     OccupancyGrid::from_cells(width, height, 1.0, [0.0; 2], cells).unwrap()
 }
 
-/// The shared Moving AI benchmark folder, or `None` (after printing why) when it is absent.
-pub(crate) fn movingai_dir() -> Option<PathBuf> {
+/// The shared Moving AI benchmark folder (`../shared/data/movingai` beside the workspace).
+/// The tests that read it are `#[ignore]`d, so that a plain `cargo test` counts them as
+/// ignored rather than passed; run them with `cargo test -- --ignored shared_data`, which
+/// fails here when the folder is absent.
+pub(crate) fn movingai_dir() -> PathBuf {
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/movingai");
-    if dir.join("maps").is_dir() && dir.join("scen").is_dir() {
-        Some(dir)
-    } else {
-        println!("SKIPPED: no Moving AI benchmark data at {}", dir.display());
-        None
-    }
+    assert!(
+        dir.join("maps").is_dir() && dir.join("scen").is_dir(),
+        "no Moving AI benchmark data at {} (maps/ and scen/): this test needs ../shared/data",
+        dir.display()
+    );
+    dir
 }

@@ -159,6 +159,10 @@ pub(super) enum Swatch {
         dashed: bool,
     },
     Dot,
+    /// The path's start (a ring) or goal (a dot).
+    PathEnd {
+        start: bool,
+    },
     /// An error ellipse with its centre.
     Ellipse,
 }
@@ -266,10 +270,13 @@ pub(super) fn legend_entries(
                     style.path_label.clone()
                 },
             ));
+            legend.push((Swatch::PathEnd { start: true }, "start".to_owned()));
+            legend.push((Swatch::PathEnd { start: false }, "goal".to_owned()));
         }
         if style.show_field_of_view && fov_ok {
             legend.push((
-                Swatch::Line {
+                Swatch::Fill {
+                    fill: colour::FOV_FILL,
                     stroke: colour::FOV_RAY,
                     dashed: true,
                 },
@@ -312,10 +319,20 @@ pub(super) fn object_labels(out: &mut String, map: &FloorMap, l: &Layout, u: &Un
         h: 3.8 * r,
     };
     placed.push(station_rect);
+    // The path's start and goal stay visible: labels keep off their markers.
+    let end_r = l.path_end_r + 3.0 * f;
+    for &(x, y) in &l.path_ends {
+        placed.push(Rect {
+            x: x - end_r,
+            y: y - end_r,
+            w: 2.0 * end_r,
+            h: 2.0 * end_r,
+        });
+    }
 
     {
-        let name_px = 12.0 * f;
-        let size_px = 11.0 * f;
+        let name_px = 14.0 * f;
+        let size_px = 13.0 * f;
         let line_gap = 1.25 * name_px;
         let size_line_gap = 1.25 * size_px;
         let _ = writeln!(out, r#"<g id="labels" text-anchor="middle">"#);

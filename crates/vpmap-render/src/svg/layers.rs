@@ -59,9 +59,9 @@ pub(super) fn header(out: &mut String, style: &FloorPlanStyle, l: &Layout, u: &U
     );
 }
 
-/// Open the plot group (map coordinates, clipped) with its background and free space.
-pub(super) fn plot_background(out: &mut String, map: &FloorMap, l: &Layout) {
-    let (f, frame) = (l.f, &l.frame);
+/// Open the plot group (map coordinates, clipped) with its background.
+pub(super) fn plot_background(out: &mut String, l: &Layout) {
+    let frame = &l.frame;
     // Everything in map coordinates, clipped to the plot.
     let _ = writeln!(out, r#"<g id="map" clip-path="url(#plot-clip)">"#);
     let _ = writeln!(
@@ -73,7 +73,11 @@ pub(super) fn plot_background(out: &mut String, map: &FloorMap, l: &Layout) {
         frame.height,
         colour::PLOT
     );
+}
 
+/// The free space, above the floor in view's fill.
+pub(super) fn free_space(out: &mut String, map: &FloorMap, l: &Layout) {
+    let (f, frame) = (l.f, &l.frame);
     let _ = writeln!(out, r#"<g id="free-space">"#);
     for d in map.free_space.iter().filter_map(|p| polygon_path(frame, p)) {
         let _ = writeln!(
@@ -87,8 +91,23 @@ pub(super) fn plot_background(out: &mut String, map: &FloorMap, l: &Layout) {
     let _ = writeln!(out, "</g>");
 }
 
-/// The floor in view (or the field of view as a wedge when the map has no view polygon).
-pub(super) fn field_of_view(out: &mut String, map: &FloorMap, style: &FloorPlanStyle, l: &Layout) {
+/// Which part of the field of view to draw: its fill goes under the free space, its dashed
+/// outline over the free and hidden floor.
+#[derive(Clone, Copy, PartialEq, Eq)]
+pub(super) enum FovPart {
+    Fill,
+    Outline,
+}
+
+/// The floor in view (or the field of view as a wedge when the map has no view polygon): its
+/// opaque fill or its dashed outline.
+pub(super) fn field_of_view(
+    out: &mut String,
+    map: &FloorMap,
+    style: &FloorPlanStyle,
+    l: &Layout,
+    part: FovPart,
+) {
     let (f, frame, station, span, fov_deg, fov_ok) =
         (l.f, &l.frame, l.station, l.span, l.fov_deg, l.fov_ok);
     let view: Vec<MapPoint> = map
@@ -101,17 +120,22 @@ pub(super) fn field_of_view(out: &mut String, map: &FloorMap, style: &FloorPlanS
     if style.show_field_of_view && view.len() >= 3 {
         // The floor the photo shows: the image rectangle projected onto the floor.
         if let Some(d) = ring_path(frame, &view) {
-            let _ = writeln!(out, r#"<g id="field-of-view">"#);
-            let _ = writeln!(
-                out,
-                r#"<path d="{d}" fill="{}" fill-opacity="0.3" stroke="{}" stroke-width="{:.2}" stroke-dasharray="{:.1} {:.1}"/>"#,
-                colour::FOV_FILL,
-                colour::FOV_RAY,
-                1.2 * f,
-                6.0 * f,
-                4.0 * f
-            );
-            let _ = writeln!(out, "</g>");
+            if part == FovPart::Fill {
+                let _ = writeln!(
+                    out,
+                    r#"<g id="field-of-view"><path d="{d}" fill="{}" stroke="none"/></g>"#,
+                    colour::FOV_FILL
+                );
+            } else {
+                let _ = writeln!(
+                    out,
+                    r#"<g id="field-of-view-outline"><path d="{d}" fill="none" stroke="{}" stroke-width="{:.2}" stroke-dasharray="{:.1} {:.1}"/></g>"#,
+                    colour::FOV_RAY,
+                    1.2 * f,
+                    6.0 * f,
+                    4.0 * f
+                );
+            }
         }
     } else if style.show_field_of_view && fov_ok {
         let reach = 3.0 * span;
@@ -124,12 +148,15 @@ pub(super) fn field_of_view(out: &mut String, map: &FloorMap, style: &FloorPlanS
             let _ = write!(d, "L{x:.2} {y:.2} ");
         }
         d.push('Z');
-        let _ = writeln!(out, r#"<g id="field-of-view">"#);
-        let _ = writeln!(
-            out,
-            r#"<path d="{d}" fill="{}" fill-opacity="0.3" stroke="none"/>"#,
-            colour::FOV_FILL
-        );
+        if part == FovPart::Fill {
+            let _ = writeln!(
+                out,
+                r#"<g id="field-of-view"><path d="{d}" fill="{}" stroke="none"/></g>"#,
+                colour::FOV_FILL
+            );
+            return;
+        }
+        let _ = writeln!(out, r#"<g id="field-of-view-outline">"#);
         for a in fov_deg {
             let a = a.to_radians();
             let (x, y) = frame.px([reach * a.sin(), reach * a.cos()]);
@@ -300,17 +327,32 @@ pub(super) fn path(out: &mut String, style: &FloorPlanStyle, l: &Layout) {
             colour::PATH,
             3.0 * f
         );
-        for (i, (x, y)) in [path_px[0], path_px[path_px.len() - 1]].iter().enumerate() {
-            let _ = writeln!(
-                out,
-                r##"<circle class="{}" cx="{x:.2}" cy="{y:.2}" r="{:.2}" fill="{}" stroke="#ffffff" stroke-width="{:.2}"/>"##,
-                if i == 0 { "path-start" } else { "path-goal" },
-                5.0 * f,
-                colour::PATH,
-                1.5 * f
-            );
+        // The start a ring, the goal a dot.
+        for (i, (x, y)) in l.path_ends.iter().enumerate() {
+            let _ = writeln!(out, "{}", path_end_marker(*x, *y, i == 0, l));
         }
         let _ = writeln!(out, "</g>");
+    }
+}
+
+/// The path's start (a ring in the path's colour) or goal (a dot) at `(x, y)`, pixels.
+pub(super) fn path_end_marker(x: f64, y: f64, start: bool, l: &Layout) -> String {
+    let (r, f) = (l.path_end_r, l.f);
+    if start {
+        format!(
+            r#"<circle class="path-start" cx="{x:.2}" cy="{y:.2}" r="{:.2}" fill="{}" stroke="{}" stroke-width="{:.2}"/>"#,
+            r - 1.25 * f,
+            colour::PAPER,
+            colour::PATH,
+            2.5 * f
+        )
+    } else {
+        format!(
+            r#"<circle class="path-goal" cx="{x:.2}" cy="{y:.2}" r="{r:.2}" fill="{}" stroke="{}" stroke-width="{:.2}"/>"#,
+            colour::PATH,
+            colour::PAPER,
+            1.5 * f
+        )
     }
 }
 
@@ -366,7 +408,7 @@ pub(super) fn axes(out: &mut String, l: &Layout, u: &UnitNames) {
         colour::FLOOR,
         f
     );
-    let tick_px = 11.0 * f;
+    let tick_px = 12.0 * f;
     let _ = writeln!(
         out,
         r#"<g id="axes" font-size="{tick_px:.1}" fill="{}">"#,
@@ -500,6 +542,13 @@ pub(super) fn legend(out: &mut String, l: &Layout) {
                         2.0 * f,
                         1.8 * f,
                         colour::ELLIPSE
+                    );
+                }
+                Swatch::PathEnd { start } => {
+                    let _ = write!(
+                        out,
+                        "{}",
+                        path_end_marker(x + swatch_px / 2.0, *y, *start, l)
                     );
                 }
                 Swatch::Dot => {

@@ -58,7 +58,7 @@ pub(super) fn nice_at_most(limit: f64) -> f64 {
 }
 
 /// Decimals that show a multiple of `step` exactly (0 for 1 m, 1 for 0.5 m, 2 for 0.05 m).
-pub(super) fn decimals_for(step: f64) -> usize {
+pub(crate) fn decimals_for(step: f64) -> usize {
     let d = -(step.log10() + 1e-9).floor();
     if d.is_finite() && d > 0.0 {
         d.min(12.0) as usize
@@ -68,7 +68,7 @@ pub(super) fn decimals_for(step: f64) -> usize {
 }
 
 /// `v` with `decimals` decimals and no minus sign on zero.
-pub(super) fn fmt_num(v: f64, decimals: usize) -> String {
+pub(crate) fn fmt_num(v: f64, decimals: usize) -> String {
     let s = format!("{v:.decimals$}");
     match s.strip_prefix('-') {
         Some(rest) if rest.chars().all(|c| c == '0' || c == '.') => rest.to_owned(),
@@ -243,7 +243,7 @@ fn plot_frame(map: &FloorMap, style: &FloorPlanStyle, left: f64, width: f64, top
 }
 
 /// Multiples `k` (as floats) of `step` with `k * step` in `[lo, hi]`, at most 200 of them.
-pub(super) fn grid_indices(lo: f64, hi: f64, step: f64) -> impl Iterator<Item = f64> {
+pub(crate) fn grid_indices(lo: f64, hi: f64, step: f64) -> impl Iterator<Item = f64> {
     let first = (lo / step).ceil();
     let last = (hi / step).floor();
     let count = if first.is_finite() && last.is_finite() && last >= first {
@@ -312,6 +312,10 @@ pub(super) struct Layout {
     pub(super) station: (f64, f64),
     /// Radius of the station point's marker.
     pub(super) station_r: f64,
+    /// The planned path's start and goal, pixels (none without a path).
+    pub(super) path_ends: Vec<(f64, f64)>,
+    /// Radius of the path's start and goal markers.
+    pub(super) path_end_r: f64,
 }
 
 /// Lay out the picture of `map`.
@@ -342,7 +346,7 @@ pub(super) fn layout(map: &FloorMap, style: &FloorPlanStyle, u: &UnitNames) -> L
     // Footer: scale bar then legend, flowing onto more rows when needed.
     let footer_top = plot_bottom + 48.0 * f;
     let row_px = 24.0 * f;
-    let label_px = 12.0 * f;
+    let label_px = 13.0 * f;
     let bar_units = nice_at_most(0.3 * (frame.x_max() - frame.x_min));
     let bar_px = bar_units * frame.px_per_unit;
     let bar_label = format!(
@@ -418,5 +422,16 @@ pub(super) fn layout(map: &FloorMap, style: &FloorPlanStyle, u: &UnitNames) -> L
         swatch_px,
         station: frame.px([0.0, 0.0]),
         station_r: 6.0 * f,
+        path_ends: path_ends(style, &frame),
+        path_end_r: 5.0 * f,
+    }
+}
+
+/// The first and last finite point of the style's path, pixels, when it has two or more.
+fn path_ends(style: &FloorPlanStyle, frame: &Frame) -> Vec<(f64, f64)> {
+    let mut finite = style.path.iter().filter(|p| is_finite(**p));
+    match (finite.next(), finite.next_back()) {
+        (Some(a), Some(b)) => vec![frame.px(*a), frame.px(*b)],
+        _ => Vec::new(),
     }
 }

@@ -20,6 +20,8 @@ mod labels;
 mod layers;
 mod layout;
 
+pub(crate) use layout::{decimals_for, fmt_num, grid_indices, grid_step};
+
 /// Font list of every text element. resvg needs `sans-serif` mapped to an installed family, see
 /// [`crate::svg_to_png`].
 pub const FONT_FAMILY: &str = "DejaVu Sans, sans-serif";
@@ -48,7 +50,9 @@ mod colour {
     pub const HIDDEN_STROKE: &str = "#9a9a9a";
     pub const FLOOR: &str = "#333333";
     pub const GRID: &str = "#9a9a9a";
-    pub const FOV_FILL: &str = "#ffe8a3";
+    /// The floor in view, opaque under the free space (so that free space shows
+    /// [`FREE_FILL`] itself and the legend's swatches match what is drawn).
+    pub const FOV_FILL: &str = "#fcf5e0";
     pub const FOV_RAY: &str = "#b8860b";
     pub const BOX_FILL: &str = "#a9cbe8";
     pub const BOX_STROKE: &str = "#2f6690";
@@ -171,9 +175,11 @@ pub fn floor_plan_svg(map: &FloorMap, style: &FloorPlanStyle) -> String {
     let l = layout::layout(map, style, &u);
     let mut out = String::with_capacity(16 * 1024);
     layers::header(&mut out, style, &l, &u);
-    layers::plot_background(&mut out, map, &l);
-    layers::field_of_view(&mut out, map, style, &l);
+    layers::plot_background(&mut out, &l);
+    layers::field_of_view(&mut out, map, style, &l, layers::FovPart::Fill);
+    layers::free_space(&mut out, map, &l);
     layers::hidden(&mut out, &l);
+    layers::field_of_view(&mut out, map, style, &l, layers::FovPart::Outline);
     layers::grid(&mut out, style, &l);
     layers::floor_and_objects(&mut out, map, &l);
     layers::uncertainty(&mut out, map, &l);

@@ -102,3 +102,49 @@ fn hidden_floor_hatch_is_rasterised() {
         "{lines} vs {lines_without} line pixels"
     );
 }
+
+/// The legend's swatches of the free space and of the floor in view show the colours those
+/// areas have in the picture: many plot pixels have exactly the swatch's colour.
+#[test]
+fn free_space_and_floor_in_view_swatches_match_the_plot() {
+    let map = default_map();
+    let svg = floor_plan_svg(&map, &FloorPlanStyle::default());
+    let (w, _, pixels) = decode(&svg_to_png(&svg).unwrap());
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let num = |n: roxmltree::Node, a: &str| n.attribute(a).unwrap().parse::<f64>().unwrap();
+    let clip = doc
+        .descendants()
+        .find(|n| n.attribute("id") == Some("plot-clip"))
+        .and_then(|n| n.first_element_child())
+        .unwrap();
+    let (px0, py0) = (num(clip, "x").ceil() as u32, num(clip, "y").ceil() as u32);
+    let (px1, py1) = (
+        (num(clip, "x") + num(clip, "width")).floor() as u32,
+        (num(clip, "y") + num(clip, "height")).floor() as u32,
+    );
+    let legend = doc
+        .descendants()
+        .find(|n| n.attribute("id") == Some("legend"))
+        .unwrap();
+    for label in ["free space", "floor in view"] {
+        let text = legend
+            .children()
+            .find(|n| n.text().is_some_and(|t| t.starts_with(label)))
+            .unwrap_or_else(|| panic!("no legend entry {label:?}"));
+        let swatch = text.prev_sibling_element().unwrap();
+        assert!(swatch.has_tag_name("rect"), "{label}: {swatch:?}");
+        let (cx, cy) = (
+            (num(swatch, "x") + num(swatch, "width") / 2.0) as u32,
+            (num(swatch, "y") + num(swatch, "height") / 2.0) as u32,
+        );
+        let colour = pixels[(cy * w + cx) as usize];
+        let same = (py0..py1)
+            .flat_map(|y| (px0..px1).map(move |x| (x, y)))
+            .filter(|&(x, y)| pixels[(y * w + x) as usize] == colour)
+            .count();
+        assert!(
+            same > 2000,
+            "{label}: only {same} plot pixels have the swatch's colour {colour:?}"
+        );
+    }
+}

@@ -152,7 +152,14 @@ fn tiny_error_bars_give_valid_svg() {
 fn mbpp_plan_with_bugs() {
     let (grid, planned) = two_walls();
     assert!(planned.bugs.len() >= 2 && !planned.alternatives.is_empty());
-    let svg = plan_svg(&grid, &planned, (0, 4), (11, 4), GridCoordinates::World);
+    let svg = plan_svg(
+        &grid,
+        &planned,
+        (0, 4),
+        (11, 4),
+        GridCoordinates::World,
+        "MBPP on two walls",
+    );
     insta::assert_snapshot!(svg);
 }
 
@@ -206,7 +213,7 @@ fn plan_transform_puts_cell_centres_at_their_picture_cells() {
         (GridCoordinates::World, grid.world_from_cell(11, 4)),
         (GridCoordinates::Cells, [11.0, 4.0]),
     ] {
-        let svg = plan_svg(&grid, &planned, (0, 4), (11, 4), coordinates);
+        let svg = plan_svg(&grid, &planned, (0, 4), (11, 4), coordinates, "two walls");
         assert_eq!(
             apply(svg_from_map(&svg), centre),
             (11.5, 4.5),

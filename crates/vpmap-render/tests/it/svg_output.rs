@@ -340,3 +340,107 @@ fn no_hatch_or_legend_entry_without_hidden_floor() {
     assert_eq!(svg.matches(r#"class="hidden""#).count(), map.hidden.len());
     assert!(!svg.contains("hidden from the camera"));
 }
+
+/// A path starting and ending on objects (where their labels would go): no label box covers
+/// the start or the goal marker.
+#[test]
+fn labels_keep_off_the_path_start_and_goal() {
+    let map = default_map();
+    let style = FloorPlanStyle {
+        path: vec![map.objects[0].centroid, map.objects[1].centroid],
+        path_label: "path".to_owned(),
+        ..FloorPlanStyle::default()
+    };
+    let svg = floor_plan_svg(&map, &style);
+    let doc = Document::parse(&svg).unwrap();
+    let markers: Vec<Node> = by_id(&doc, "path")
+        .children()
+        .filter(|n| n.has_tag_name("circle"))
+        .collect();
+    assert_eq!(markers.len(), 2);
+    let boxes: Vec<Node> = by_id(&doc, "labels")
+        .children()
+        .filter(|n| n.has_tag_name("rect"))
+        .collect();
+    assert_eq!(boxes.len(), map.objects.len());
+    for m in &markers {
+        let (cx, cy, r) = (num(*m, "cx"), num(*m, "cy"), num(*m, "r"));
+        for b in &boxes {
+            let (x, y, w, h) = (
+                num(*b, "x"),
+                num(*b, "y"),
+                num(*b, "width"),
+                num(*b, "height"),
+            );
+            let apart = cx + r <= x || cx - r >= x + w || cy + r <= y || cy - r >= y + h;
+            assert!(apart, "a label box covers the marker at ({cx}, {cy})");
+        }
+    }
+}
+
+/// `plan --svg`'s picture on a tiny and a large grid, in metres and in cells: its title,
+/// ticks and legend lie inside the picture and off each other, and the legend's bug-track
+/// symbol has exactly the colours of the drawn tracks.
+#[test]
+fn plan_picture_text_fits_and_the_track_swatch_has_the_track_colours() {
+    use vpmap_plan::grid::{Occupancy, OccupancyGrid};
+    use vpmap_plan::{Planner, PlannerKind};
+    use vpmap_render::{GridCoordinates, plan_svg};
+    for (w, h) in [(12, 9), (300, 180)] {
+        let mut grid = OccupancyGrid::new(w, h, 0.05, [-1.0, 2.0], Occupancy::Free).unwrap();
+        for y in 1..h - 2 {
+            grid.set(w / 3, y, Occupancy::Occupied).unwrap();
+        }
+        for y in 2..h {
+            grid.set(2 * w / 3, y, Occupancy::Unknown).unwrap();
+        }
+        let (start, goal) = ((0, h / 2), (w - 1, h / 2));
+        let planned = PlannerKind::Mbpp
+            .planner(true)
+            .with_tracks(true)
+            .plan(&grid, start.into(), goal.into())
+            .unwrap();
+        assert!(planned.bugs.len() >= 2, "{w} x {h}");
+        for coordinates in [GridCoordinates::World, GridCoordinates::Cells] {
+            let svg = plan_svg(
+                &grid,
+                &planned,
+                start,
+                goal,
+                coordinates,
+                "MBPP on a test grid",
+            );
+            let doc = Document::parse(&svg).unwrap();
+            let root = doc.root_element();
+            let (pw, ph) = (num(root, "width") as f32, num(root, "height") as f32);
+            let boxes = text_boxes(&svg);
+            let all: Vec<&str> = boxes.iter().map(|(t, _)| t.as_str()).collect();
+            for needle in [
+                "MBPP on a test grid",
+                "start",
+                "goal",
+                "occupied cell",
+                "unknown cell",
+            ] {
+                assert!(all.contains(&needle), "{needle:?} missing from {all:?}");
+            }
+            for (i, (text, [x0, y0, x1, y1])) in boxes.iter().enumerate() {
+                assert!(
+                    *x0 >= 0.0 && *y0 >= 0.0 && *x1 <= pw && *y1 <= ph,
+                    "{w} x {h}: {text:?} at ({x0}, {y0})..({x1}, {y1}) outside {pw} x {ph}"
+                );
+                for (other, [a0, b0, a1, b1]) in &boxes[i + 1..] {
+                    let apart = x1 <= a0 || a1 <= x0 || y1 <= b0 || b1 <= y0;
+                    assert!(apart, "{w} x {h}: {text:?} overlaps {other:?}");
+                }
+            }
+            let colours = |class: &str| -> std::collections::BTreeSet<String> {
+                doc.descendants()
+                    .filter(|n| n.attribute("class") == Some(class))
+                    .map(|n| n.attribute("stroke").unwrap().to_owned())
+                    .collect()
+            };
+            assert_eq!(colours("track-swatch"), colours("bug-track"));
+        }
+    }
+}
