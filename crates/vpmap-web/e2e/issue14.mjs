@@ -79,7 +79,12 @@ function check(cond, msg) {
   if (!cond) throw new Error(msg);
 }
 
+// ISSUE14_ONLY=2,3: run only the numbered steps given (for working on one bug).
+const ONLY = (process.env.ISSUE14_ONLY || '').split(',').filter(Boolean);
+
 async function step(name, fn) {
+  const num = /^(\d+)\./.exec(name)?.[1];
+  if (num && ONLY.length && !ONLY.includes(num)) return undefined;
   currentStep = name;
   log(name);
   try {
@@ -256,6 +261,34 @@ async function main() {
       if (w === 1366) await page.screenshot({ path: SCREENSHOT.replace(/(\.png)?$/, '-1366.png') });
     });
   }
+
+  await step('2. the 3D view frames the model once it has objects', async () => {
+    await freshPage();
+    await page.setInputFiles('#photo-input', examplePng);
+    await page.waitForFunction(() => !!window.vpmap.scene(), null, { timeout: 10_000 });
+    await page.click('#btn-detect');
+    await settle('detection and its build', { detects: 1, builds: 1 });
+    await page.waitForFunction(() => window.vpmap.view3d()?.loads >= 1, null, { timeout: 30_000 });
+    const first = await page.evaluate(() => window.vpmap.view3d());
+    const o = example.scene.objects[crate];
+    const builds = (await status()).builds;
+    await page.click('#btn-add-box');
+    for (const p of [o.base.near, o.base.right, o.base.left, o.top.near, o.top.left]) await clickImage(p);
+    await page.keyboard.press('Enter');
+    await page.waitForSelector('#prompt[data-tool="select"]');
+    await page.keyboard.press('Escape');
+    await settle('the build with a box', { builds: builds + 1 });
+    await page.waitForFunction((n) => window.vpmap.view3d()?.loads > n, first.loads, { timeout: 30_000 });
+    const v = await page.evaluate(() => window.vpmap.view3d());
+    // Every corner of the model's bounding box in view, and the model not a speck.
+    const out = v.corners.filter(([x, y, z]) => !(Math.abs(x) <= 1 && Math.abs(y) <= 1 && z < 1));
+    check(out.length === 0, `${out.length} of the model's bounding-box corners are outside the 3D view: ${JSON.stringify(v)}`);
+    const xs = v.corners.map((c) => c[0]), ys = v.corners.map((c) => c[1]);
+    const span = Math.max(Math.max(...xs) - Math.min(...xs), Math.max(...ys) - Math.min(...ys)) / 2;
+    check(span > 0.3, `the model fills ${(100 * span).toFixed(0)} % of the 3D view`);
+    await page.locator('#model-host').screenshot({ path: SCREENSHOT.replace(/(\.png)?$/, '-3d.png') });
+    noProblems();
+  });
 
   noProblems();
 }

@@ -268,6 +268,8 @@ window.vpmap = Object.freeze({
   map: () => cloneScene(state.build?.map ?? null),
   /** A copy of the scene being edited. */
   scene: () => cloneScene(state.scene),
+  /** The 3D view's framing (ModelView.framing), or null before its first model. */
+  view3d: () => app.modelView.framing(),
   /** Counters and errors, to wait for the page to settle. */
   status: () => ({
     busy: busyNames(state.busy),

@@ -109,7 +109,7 @@ export function installRequests(app) {
     app.renderObjectList();
     if (res.glb_base64) {
       modelView
-        .setModel(base64ToBytes(res.glb_base64))
+        .setModel(base64ToBytes(res.glb_base64), { content: (res.map?.objects || []).length + ((res.map?.floor || []).length ? 1 : 0) })
         .then(() => update3dPaths())
         .catch((err) => {
           $('model-host').replaceChildren(h('p', { class: 'empty', text: `3D view: ${err.message}` }));
