@@ -223,6 +223,8 @@ async function main() {
   const examplePng = join(tmp, 'office.png');
   await writeFile(examplePng, Buffer.from(example.photo_png_base64, 'base64'));
   const crate = example.scene.objects.findIndex((o) => o.name === 'crate');
+  // Small and far: a few pixels off its edge's line are many centimetres.
+  const bookcase = example.scene.objects.findIndex((o) => o.name === 'bookcase');
 
   for (const [w, h] of [[1366, 768], [1920, 1080]]) {
     await step(`1. the page stays put at ${w} x ${h}`, async () => {
@@ -287,6 +289,43 @@ async function main() {
     const span = Math.max(Math.max(...xs) - Math.min(...xs), Math.max(...ys) - Math.min(...ys)) / 2;
     check(span > 0.3, `the model fills ${(100 * span).toFixed(0)} % of the 3D view`);
     await page.locator('#model-host').screenshot({ path: SCREENSHOT.replace(/(\.png)?$/, '-3d.png') });
+    noProblems();
+  });
+
+  await step('3. a box and a floor distance on its corners agree', async () => {
+    await freshPage();
+    await loadExample();
+    let s = await status();
+    const box = (await sceneNow()).objects[bookcase].base;
+    // Drag the right base corner 8 px across its edge (near -> right).
+    const d = [box.right[0] - box.near[0], box.right[1] - box.near[1]];
+    const len = Math.hypot(d[0], d[1]);
+    const off = [box.right[0] - (8 * d[1]) / len, box.right[1] + (8 * d[0]) / len];
+    const a = await client(box.right);
+    const b = await client(off);
+    await page.mouse.move(a[0], a[1]);
+    await page.mouse.down();
+    for (let i = 1; i <= 5; i++) await page.mouse.move(a[0] + ((b[0] - a[0]) * i) / 5, a[1] + ((b[1] - a[1]) * i) / 5);
+    await page.mouse.up();
+    s = await settle('the build after the drag', { builds: s.builds + 1 });
+    const moved = (await sceneNow()).objects[bookcase].base;
+    check(Math.hypot(moved.right[0] - box.right[0], moved.right[1] - box.right[1]) > 1, 'the drag did not move the corner');
+    // Said where the user looks: the object list gives the distance off the line.
+    const info = await page.locator(`#object-list li[data-index="${bookcase}"] .obj-info`).textContent();
+    check(/base\.right is \d+\.\d px off/.test(info), `the object list does not say the corner is off its line: ${JSON.stringify(info)}`);
+    // A floor distance of 1.6 m on the same two corners.
+    await page.fill('#scale-floor-m', '1.6');
+    await page.click('#btn-floor-distance');
+    await clickImage(moved.near);
+    await clickImage(moved.right);
+    s = await settle('the build with the floor distance', { builds: s.builds + 1 });
+    const sc = (await sceneNow()).scale;
+    check((sc?.floor_distance?.meters ?? sc?.meters) === 1.6, `the scale is ${JSON.stringify(sc)}`);
+    const fp = (await mapNow()).objects[bookcase].footprint;
+    const edge = Math.hypot(fp[1][0] - fp[0][0], fp[1][1] - fp[0][1]);
+    log(`  floor distance 1.6 m; the box's near-right edge ${edge.toFixed(3)} m`);
+    await page.screenshot({ path: SCREENSHOT.replace(/(\.png)?$/, '-off-line.png') });
+    check(Math.abs(edge - 1.6) <= 0.016, `the floor distance says 1.6 m, the box's edge on the same corners ${edge.toFixed(3)} m`);
     noProblems();
   });
 

@@ -3,8 +3,8 @@
 // narrow screens. Everything here is drawn from `app.state`; edits go through `app.edit`.
 
 import { $, h, fmt, fmtSd, parsePair, formatPair } from './util.js';
-import { VP_NAMES, vpUsable } from './scene.js';
-import { boxEdgeNames, describeBox, edgeChoice, parseEdgeChoice } from './box.js';
+import { VP_NAMES, resolvedVps, vpUsable } from './scene.js';
+import { OFF_LINE_PX, boxEdgeNames, describeBox, edgeChoice, guideOffsets, parseEdgeChoice } from './box.js';
 import { vpPoint } from './geometry.js';
 import { VpLineTool } from './tools.js';
 import { PLANNER_STYLE } from './plan-view.js';
@@ -168,6 +168,15 @@ export function installPanels(app) {
     else parts.push(`${(o.footprint || []).length} corners${o.top ? ' + top' : ', no top'}`);
     const lines = [parts.join(' · ')];
     if (m) lines.push(...objectMeasures(m, map.units === 'm' ? 'm' : 'ch', !!o.own_yaw));
+    // Corners off the lines they should lie on: the map's box cannot pass through them, so
+    // its sizes differ from distances measured on the clicked points. Said with the distance.
+    if (o.base) {
+      for (const g of guideOffsets(o, resolvedVps(state.scene))) {
+        if (g.px < OFF_LINE_PX) continue;
+        const towards = g.part === 'top' ? `the vertical through base.${g.corner}` : `the line from base.${g.from} towards ${['A', 'B'][g.vp]}`;
+        lines.push(`⚠ ${g.part}.${g.corner} is ${g.px.toFixed(1)} px off ${towards}`);
+      }
+    }
     return { kind, text: lines.join('\n') };
   }
 

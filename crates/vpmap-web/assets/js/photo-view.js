@@ -3,8 +3,8 @@
 // and the active tool's preview. Pointer input goes to the active tool (tools.js); what a
 // tool does not take pans the view, and a press without movement is a click.
 
-import { VP_COLOURS, objectOutline } from './scene.js';
-import { boxEdges, boxPoints } from './box.js';
+import { VP_COLOURS, objectOutline, resolvedVps } from './scene.js';
+import { OFF_LINE_PX, boxEdges, boxPoints, guideOffsets } from './box.js';
 import { clipLine, vpPoint } from './geometry.js';
 import { clamp } from './util.js';
 
@@ -426,6 +426,14 @@ export class PhotoView {
         }
         const pts = boxPoints(o);
         for (const { p } of pts) this.dot(p, selected ? 4.5 : 3.5, colour);
+        // A corner off the line it should lie on: the line, and by how much (the object list says it too).
+        for (const g of guideOffsets(o, resolvedVps(st.scene))) {
+          if (g.px < OFF_LINE_PX) continue;
+          const p = o[g.part][g.corner];
+          this.path([g.part === 'top' ? o.base[g.from] : o.base[g.from], g.foot, p]);
+          this.strokeHalo('#ff9100', 1.5, [3, 3]);
+          this.label(p, `${g.px.toFixed(1)} px off its line`, '#ff9100', 8, -8);
+        }
         if (pts.length) this.label(pts[0].p, o.name || '(unnamed)', selected ? '#fff' : colour, 7, 16);
       } else if (Array.isArray(o.footprint)) {
         const fp = o.footprint;

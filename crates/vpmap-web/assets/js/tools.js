@@ -10,7 +10,7 @@ import { VP_COLOURS, VP_NAMES, handles, objectOutline, setAt, uniqueName } from 
 import { distToSegment, pointInPolygon, vpPoint } from './geometry.js';
 import { hexAlpha } from './photo-view.js';
 import { h } from './util.js';
-import { BOX_STEPS, BoxAnnotation, CORNER_HELP, boxEdges, boxPoints, cornerWords, neighbourCorner } from './box.js';
+import { BOX_STEPS, BoxAnnotation, CORNER_HELP, boxEdgeNames, boxEdges, boxPoints, cornerWords, neighbourCorner } from './box.js';
 
 const HIT_PX = 8;
 
@@ -422,6 +422,7 @@ export class FloorDistanceTool extends PlacementTool {
     super(app);
     this.kind = 'floor-distance';
     this.pts = [];
+    this.snapped = []; // the scene handle each point was taken from (null: a free point)
     this.meters = meters;
   }
 
@@ -438,21 +439,59 @@ export class FloorDistanceTool extends PlacementTool {
     return this.pts.length > 0;
   }
 
-  click(p) {
-    this.pts.push(p);
+  /** The scene point (an object's corner or a floor corner) within reach of `p`, or null. */
+  snap(p, view) {
+    let best = null;
+    let bestD = HIT_PX * view.px;
+    for (const hd of handles(this.app.state.scene)) {
+      if (hd.kind !== 'object' && hd.kind !== 'floor') continue;
+      const d = Math.hypot(hd.p[0] - p[0], hd.p[1] - p[1]);
+      if (d < bestD) {
+        bestD = d;
+        best = hd;
+      }
+    }
+    return best;
+  }
+
+  click(p, e, view) {
+    // A click near a corner takes the corner itself, so that the distance is between the very
+    // points the box or floor uses.
+    const hd = view ? this.snap(p, view) : null;
+    this.pts.push(hd ? [hd.p[0], hd.p[1]] : p);
+    this.snapped.push(hd);
     if (this.pts.length < 2) {
       this.app.promptChanged();
       return;
     }
     const [from, to] = this.pts;
-    this.app.edit((scene) => {
-      scene.scale = { floor_distance: { from, to, meters: this.meters } };
+    const edge = this.boxEdge();
+    this.app.edit((s) => {
+      s.scale = edge ? { object: edge.object, edge: edge.edge, meters: this.meters } : { floor_distance: { from, to, meters: this.meters } };
     });
     this.app.endTool();
+    if (edge) {
+      // The box's own edge: the box is then exactly this long, and so is the distance.
+      this.app.syncForms();
+      this.app.setStatus(`Both points are corners of “${edge.object}”: the scale is its edge ${edge.edge[0]} – ${edge.edge[1]} = ${this.meters} m, so the box and the scale agree.`);
+    }
+  }
+
+  /** `{object, edge}` when both points are base corners of one box joined by an edge, else null. */
+  boxEdge() {
+    const [a, b] = this.snapped || [];
+    const at = (hd) => (hd && hd.kind === 'object' && hd.path[2] === 'base' ? hd.path : null);
+    const pa = at(a), pb = at(b);
+    if (!pa || !pb || pa[1] !== pb[1]) return null;
+    const o = this.app.state.scene.objects[pa[1]];
+    const want = new Set([`base.${pa[3]}`, `base.${pb[3]}`]);
+    const e = boxEdgeNames(o).find((x) => want.has(x.a) && want.has(x.b) && x.a !== x.b);
+    return e ? { object: o.name, edge: [e.a, e.b] } : null;
   }
 
   undo() {
     this.pts.pop();
+    this.snapped?.pop();
     this.app.promptChanged();
   }
 
