@@ -329,6 +329,35 @@ async function main() {
     noProblems();
   });
 
+  await step('4. undo stops at a change of photo', async () => {
+    await freshPage();
+    await loadExample();
+    // The example photo at half size: another photo.
+    const half = await page.evaluate(async () => {
+      const c = new OffscreenCanvas(800, 600);
+      c.getContext('2d').fillRect(0, 0, 800, 600);
+      const blob = await c.convertToBlob({ type: 'image/png' });
+      const bytes = new Uint8Array(await blob.arrayBuffer());
+      let s = '';
+      for (const b of bytes) s += String.fromCharCode(b);
+      return btoa(s);
+    });
+    const halfPng = join(tmp, 'other.png');
+    await writeFile(halfPng, Buffer.from(half, 'base64'));
+    await page.setInputFiles('#photo-input', halfPng);
+    await page.waitForFunction(() => window.vpmap.scene()?.image.width === 800, null, { timeout: 10_000 });
+    check(await page.isDisabled('#btn-undo'), 'Undo is offered right after opening another photo');
+    await page.focus('#photo-canvas');
+    await page.keyboard.press('Control+z');
+    const sc = await sceneNow();
+    check(sc.objects.length === 0 && sc.image.width === 800 && sc.image.height === 600, `undo brought back ${sc.objects.length} objects for a ${sc.image.width} x ${sc.image.height} photo`);
+    const [dl] = await Promise.all([page.waitForEvent('download'), page.click('#btn-save-scene')]);
+    const saved = JSON.parse(await readFile(await dl.path(), 'utf8'));
+    check(dl.suggestedFilename() === 'other.scene.json', `saved as ${dl.suggestedFilename()}`);
+    check(saved.image.width === 800 && saved.image.height === 600, `Save wrote ${JSON.stringify(saved.image)} for an 800 x 600 photo`);
+    noProblems();
+  });
+
   noProblems();
 }
 

@@ -35,8 +35,9 @@ export function installFiles(app) {
     state.photoName = name || 'photo';
     state.detection = null;
     const keep = state.scene && state.scene.image.width === bmp.width && state.scene.image.height === bmp.height;
+    // Undo never crosses a change of photo: it would put one photo's annotations on another.
+    app.history.clear();
     if (!keep) {
-      if (state.scene) app.pushUndo();
       state.scene = emptyScene(bmp.width, bmp.height);
       state.savedVpPoints = [null, null, null];
       state.selection = null;
@@ -98,7 +99,12 @@ export function installFiles(app) {
 
   $('btn-save-scene').addEventListener('click', () => {
     if (!state.scene) return;
-    download(sceneFileName(state.photoName), `${JSON.stringify(state.scene, null, 1)}\n`, 'application/json');
+    const { width, height } = state.scene.image;
+    // The file is named after the open photo only when it was made for a photo of its size.
+    const forPhoto = !state.photo || (state.photo.width === width && state.photo.height === height);
+    const name = forPhoto ? sceneFileName(state.photoName) : `scene-${width}x${height}.scene.json`;
+    download(name, `${JSON.stringify(state.scene, null, 1)}\n`, 'application/json');
+    app.setStatus(forPhoto ? `Saved ${name}.` : `Saved ${name}: made for a ${width} × ${height} photo, not the open ${state.photo.width} × ${state.photo.height} one.`);
   });
 
   // Drag and drop: a photo or a scene file onto the photo area.
@@ -129,7 +135,7 @@ export function installFiles(app) {
       if (problem) throw new Error(`the example scene: ${problem}`);
       const blob = new Blob([base64ToBytes(ex.photo_png_base64)], { type: 'image/png' });
       const bmp = await decodePhoto(blob);
-      if (state.scene) app.pushUndo();
+      app.history.clear(); // another photo: see openPhoto
       state.photo?.close?.();
       state.photo = bmp;
       state.photoBlob = blob;

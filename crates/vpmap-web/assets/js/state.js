@@ -54,6 +54,13 @@ export class History {
     return this.redoStack.length > 0;
   }
 
+  /** Forget every step (a new photo: no undo may bring back another photo's annotations). */
+  clear() {
+    this.undoStack = [];
+    this.redoStack = [];
+    this.dragging = false;
+  }
+
   /** Remember `scene` (before an edit) as the next undo step; clears redo. Null is not recorded. */
   record(scene) {
     if (!scene) return;
