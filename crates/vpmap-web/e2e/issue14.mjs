@@ -358,6 +358,75 @@ async function main() {
     noProblems();
   });
 
+
+  await step('5. a planning error names the pane\'s own options', async () => {
+    // A cell of hidden floor (unknown, behind an object) away from anything else, from the
+    // build the page makes of the example (same settings: robot radius 0.2 m).
+    const built = await (await fetch(`${url}api/build?resolution=0.05&robot_radius=0.2`, {
+      method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(example.scene),
+    })).json();
+    const occ = built.occupancy;
+    const pgm = Buffer.from(occ.pgm_base64, 'base64');
+    let pos = 0, fields = 0;
+    while (fields < 4) {
+      while (/\s/.test(String.fromCharCode(pgm[pos]))) pos++;
+      while (!/\s/.test(String.fromCharCode(pgm[pos]))) pos++;
+      fields++;
+    }
+    pos++;
+    const cell = (c, r) => pgm[pos + r * occ.width + c];
+    const inside = (p, ring) => {
+      let inn = false;
+      for (let i = 0, j = ring.length - 1; i < ring.length; j = i++) {
+        const [xi, yi] = ring[i], [xj, yj] = ring[j];
+        if ((yi > p[1]) !== (yj > p[1]) && p[0] < ((xj - xi) * (p[1] - yi)) / (yj - yi) + xi) inn = !inn;
+      }
+      return inn;
+    };
+    const unknown = cell(0, 0);
+    let hidden = null;
+    for (let r = 6; r < occ.height - 6 && !hidden; r++) {
+      for (let c = 6; c < occ.width - 6 && !hidden; c++) {
+        const p = [occ.origin[0] + (c + 0.5) * occ.resolution, occ.origin[1] + (occ.height - r - 0.5) * occ.resolution];
+        if (!built.map.hidden.some((hd) => inside(p, hd.exterior))) continue;
+        let all = true;
+        for (let dr = -6; dr <= 6 && all; dr++) for (let dc = -6; dc <= 6 && all; dc++) all = cell(c + dc, r + dr) === unknown;
+        if (all) hidden = p;
+      }
+    }
+    check(hidden, 'the example has no hidden floor to start on');
+    await freshPage();
+    await loadExample();
+    const host = await page.locator('#plan-host').boundingBox();
+    for (const p of [hidden, PLAN_GOAL]) {
+      const q = await planClient(p);
+      await page.mouse.click(q[0], q[1]);
+    }
+    await page.waitForFunction(() => window.vpmap.status().planError, null, { timeout: 30_000 });
+    expectRefused(400);
+    const text = await page.textContent('#plan-status');
+    log(`  ${text}`);
+    await page.screenshot({ path: SCREENSHOT.replace(/(\.png)?$/, '-plan-error.png') });
+    check(!/unknown_passable|hidden_free/.test(text), `the error names API fields: ${text}`);
+    check(text.includes('“unknown as passable”') && text.includes('“hidden floor as free”'), `the error does not name the pane's options: ${text}`);
+    check(!/\d\.\d{4,}/.test(text), `the error prints long numbers: ${text}`);
+    const after = await page.locator('#plan-host').boundingBox();
+    check(Math.abs(after.height - host.height) < 0.5 && Math.abs(after.width - host.width) < 0.5, `the floor plan went from ${host.width} x ${host.height} to ${after.width} x ${after.height}`);
+    // The options named are there and do what they say.
+    let s = await status();
+    await page.getByLabel('unknown as passable').check();
+    s = await settle('planning through unknown floor', { plans: s.plans + 1 });
+    check(s.planError === null && s.plan.results.some((r) => r.found), `with “unknown as passable”: ${s.planError}`);
+    await page.getByLabel('unknown as passable').uncheck();
+    await page.waitForFunction(() => window.vpmap.status().planError, null, { timeout: 30_000 });
+    expectRefused(400);
+    s = await status();
+    await page.getByLabel('hidden floor as free').check();
+    s = await settle('the build and plan with hidden floor free', { builds: s.builds + 1, plans: s.plans + 1 });
+    check(s.planError === null && s.plan.results.some((r) => r.found), `with “hidden floor as free”: ${s.planError}`);
+    noProblems();
+  });
+
   noProblems();
 }
 

@@ -22,8 +22,10 @@ export function createState() {
     savedVpPoints: [null, null, null],
     // method null: the server's default (the build answer's map.method says which it is);
     // click_sigma null: estimated by the fit.
-    settings: { method: null, resolution: 0.05, robot_radius: 0.2, click_sigma: null },
-    plan: { start: null, goal: null, result: null, error: null },
+    // hidden_free: hidden floor counts as free (map and plan); unknown_passable: the planners
+    // may cross unknown cells (plan only).
+    settings: { method: null, resolution: 0.05, robot_radius: 0.2, click_sigma: null, hidden_free: false },
+    plan: { start: null, goal: null, result: null, error: null, unknown_passable: false },
     counters: { builds: 0, plans: 0, detects: 0 },
     busy: { build: false, plan: false, detect: false, example: false },
   };
