@@ -427,6 +427,25 @@ async function main() {
     noProblems();
   });
 
+
+  await step('6. a pressed tool button keeps its label under the pointer', async () => {
+    await freshPage();
+    await loadExample();
+    await page.click('#btn-add-box');
+    check(await page.getAttribute('#btn-add-box', 'aria-pressed') === 'true', 'Add box is not shown pressed while placing');
+    const b = await page.locator('#btn-add-box').boundingBox();
+    await page.mouse.move(b.x + b.width / 2, b.y + b.height / 2);
+    await page.waitForTimeout(100);
+    const look = await page.evaluate(() => {
+      const st = getComputedStyle(document.getElementById('btn-add-box'));
+      return { color: st.color, background: st.backgroundColor, accent: getComputedStyle(document.documentElement).getPropertyValue('--accent') };
+    });
+    const ratio = contrast(look.color, look.background);
+    check(ratio >= 4.5, `hovered and pressed, Add box reads ${look.color} on ${look.background} (contrast ${ratio.toFixed(2)})`);
+    await page.keyboard.press('Escape');
+    noProblems();
+  });
+
   noProblems();
 }
 
