@@ -446,6 +446,44 @@ async function main() {
     noProblems();
   });
 
+  await step('7. floor points above the horizon are refused; a build error marks its point', async () => {
+    await freshPage();
+    await loadExample();
+    const cam = (await status()).camera;
+    const [h0, h1] = cam.horizon;
+    const x = 800;
+    const hy = h0[1] + ((h1[1] - h0[1]) * (x - h0[0])) / (h1[0] - h0[0]);
+    await page.click('#btn-floor');
+    await clickImage([x, hy - 30]);
+    const prompt = await page.textContent('#prompt-text');
+    check(/\(0 so far\)/.test(prompt), `a floor corner above the horizon was taken: "${prompt}"`);
+    const said = `${await page.textContent('#prompt')} ${await page.textContent('#error-text')}`;
+    check(/above the horizon/.test(said), `nothing says the point is above the horizon: "${said}"`);
+    await clickImage([x, hy + 300]);
+    check(/\(1 so far\)/.test(await page.textContent('#prompt-text')), 'a floor corner below the horizon was not taken');
+    await page.keyboard.press('Escape');
+    // A floor corner dragged above the horizon: the build fails and marks that corner.
+    const sc = await sceneNow();
+    const i = sc.floor.reduce((best, p, j) => (p[1] < sc.floor[best][1] ? j : best), 0);
+    const a = await client(sc.floor[i]);
+    const b = await client([sc.floor[i][0], hy - 40]);
+    const builds = (await status()).builds;
+    await page.mouse.move(a[0], a[1]);
+    await page.mouse.down();
+    for (let k = 1; k <= 5; k++) await page.mouse.move(a[0], a[1] + ((b[1] - a[1]) * k) / 5);
+    await page.mouse.up();
+    await page.waitForFunction(() => window.vpmap.status().buildError && !window.vpmap.status().pending && window.vpmap.status().busy.length === 0, null, { timeout: 30_000 });
+    expectRefused(400);
+    const s = await status();
+    check(s.buildError.includes(`floor[${i}]`), `the build error is about something else: ${s.buildError}`);
+    check(JSON.stringify(s.marked) === JSON.stringify(['floor', i]), `the photo marks ${JSON.stringify(s.marked)}, not floor[${i}]`);
+    await page.screenshot({ path: SCREENSHOT.replace(/(\.png)?$/, '-marked.png') });
+    await page.keyboard.press('Control+z');
+    await settle('the build after undo', { builds: builds + 1 });
+    check((await status()).marked === null, 'the mark stays after the error is gone');
+    noProblems();
+  });
+
   noProblems();
 }
 

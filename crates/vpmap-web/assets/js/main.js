@@ -276,6 +276,7 @@ window.vpmap = Object.freeze({
     pending: app.requestsPending(),
     ...state.counters,
     buildError: state.buildError,
+    marked: state.marked?.path ?? null,
     planError: state.plan.error,
     camera: state.camera,
     plan: state.plan.result,

@@ -247,6 +247,7 @@ export class PhotoView {
       this.drawObjects(st);
       this.drawScaleLine(st);
     }
+    this.drawMarked(st);
     this.app.tool.draw?.(ctx, this);
     if (this.app.tool.loupe && this.cursorScreen && !(this.gesture && this.gesture.kind === 'pan')) this.drawLoupe();
   }
@@ -464,6 +465,18 @@ export class PhotoView {
     this.dot(fd.to, 3.5, '#fff');
     const mid = [(fd.from[0] + fd.to[0]) / 2, (fd.from[1] + fd.to[1]) / 2];
     this.label(mid, `${fd.meters} m`, '#fff');
+  }
+
+  /** A red ring round the point the last build error is about. */
+  drawMarked(st) {
+    const p = st.marked?.p;
+    if (!p) return;
+    const { ctx } = this;
+    const q = this.imageToScreen(p);
+    ctx.beginPath();
+    ctx.arc(q[0], q[1], 11, 0, Math.PI * 2);
+    this.strokeHalo('#ff1744', 3);
+    this.label(p, 'the error is about this point', '#ff5252', 14, 4);
   }
 
   /** A magnified view of the photo around the pointer, for placing corners precisely. */

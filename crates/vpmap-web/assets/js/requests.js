@@ -5,7 +5,7 @@
 
 import * as api from './api.js';
 import { $, h, fmt, parsePair, formatPair, base64ToBytes } from './util.js';
-import { buildBlocker, segmentOwners } from './scene.js';
+import { buildBlocker, messagePoint, segmentOwners } from './scene.js';
 import { PLANNER_STYLE } from './plan-view.js';
 import { latestRequest } from './latest.js';
 
@@ -59,7 +59,11 @@ export function installRequests(app) {
     fail(err) {
       state.buildError = err.message;
       markStale(true);
-      app.showError(`Cannot build the map: ${err.message}`);
+      // The point the message is about, ringed on the photo (its object selected).
+      state.marked = messagePoint(err.message, state.scene);
+      if (state.marked?.object !== undefined || state.marked?.path[0] === 'objects') app.select({ type: 'object', index: state.marked.path[1] });
+      app.photoView.requestRender();
+      app.showError(`Cannot build the map: ${err.message}${state.marked?.p ? ' (ringed in red on the photo)' : ''}`);
       app.setStatus('Build failed: see the message at the bottom.');
     },
     wait: DEBOUNCE_MS,
@@ -99,6 +103,7 @@ export function installRequests(app) {
     app.refreshBusy();
     state.build = null;
     state.camera = null;
+    state.marked = null;
     state.plan.result = null;
     planView.clear();
     app.renderCamera();
@@ -108,6 +113,7 @@ export function installRequests(app) {
   }
 
   function applyBuild(res) {
+    state.marked = null;
     state.build = res;
     state.camera = res.camera || null;
     state.buildError = null;

@@ -161,6 +161,23 @@ export function segmentOwners(res, scene) {
   return owners;
 }
 
+/**
+ * The scene point a server message is about: its first field name in backquotes
+ * (`floor[2]`, `objects[0].base.right`, `objects[1].footprint[3]`, `objects[1].top.point`)
+ * as `{path, p}` with `p` the point, or `{path, object}` for a whole object (`objects[1]`),
+ * or null when the message names no point of this scene.
+ */
+export function messagePoint(message, scene) {
+  const m = /`((?:floor|objects)\[\d+\][^`]*)`/.exec(String(message || ''));
+  if (!m || !scene) return null;
+  const path = [];
+  for (const part of m[1].matchAll(/([a-z_]+)|\[(\d+)\]/g)) path.push(part[1] !== undefined ? part[1] : Number(part[2]));
+  const v = getAt(scene, path);
+  if (Array.isArray(v) && v.length === 2 && v.every(Number.isFinite)) return { path, p: v };
+  if (path.length === 2 && path[0] === 'objects' && v && typeof v === 'object') return { path, object: path[1] };
+  return null;
+}
+
 /** A deep copy (the scene is plain JSON). */
 export function cloneScene(scene) {
   return scene ? JSON.parse(JSON.stringify(scene)) : null;

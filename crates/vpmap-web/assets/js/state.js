@@ -16,6 +16,7 @@ export function createState() {
     camera: null, // camera of the last build
     build: null, // last successful /api/build answer
     buildError: null,
+    marked: null, // {path, p} of the point the build error is about (scene.messagePoint)
     selection: null, // {type: 'object', index} | {type: 'vpline', vp, line}
     handle: null, // last grabbed point, for keyboard nudging
     showSegments: true,

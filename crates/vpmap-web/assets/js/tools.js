@@ -7,7 +7,7 @@
 // `objectAdded(i)` and `detachVpPoint(k)`.
 
 import { VP_COLOURS, VP_NAMES, handles, objectOutline, setAt, uniqueName } from './scene.js';
-import { distToSegment, pointInPolygon, vpPoint } from './geometry.js';
+import { aboveHorizon, distToSegment, pointInPolygon, vpPoint } from './geometry.js';
 import { hexAlpha } from './photo-view.js';
 import { h } from './util.js';
 import { BOX_STEPS, BoxAnnotation, CORNER_HELP, boxEdgeNames, boxEdges, boxPoints, cornerWords, neighbourCorner } from './box.js';
@@ -144,6 +144,26 @@ export function moveHandle(app, hd, p, live) {
 
 // ---- placement tools -------------------------------------------------------------------
 
+const HORIZON_REFUSAL = 'That point is ';
+
+/** Take away the refusal of refuseAboveHorizon (a point was taken), not any other message. */
+function clearRefusal(app) {
+  if (document.getElementById('error-text')?.textContent.startsWith(HORIZON_REFUSAL)) app.clearError();
+}
+
+/**
+ * Refuse a floor point on or above the horizon of the last build (it cannot be on the floor):
+ * true, with a message, when `p` is refused. No build yet: nothing to check against.
+ */
+function refuseAboveHorizon(app, p) {
+  const hz = app.state.camera?.horizon;
+  if (!Array.isArray(hz) || hz.length !== 2) return false;
+  const up = aboveHorizon(p, hz[0], hz[1]);
+  if (up === null || up < 0) return false;
+  app.showError(`${HORIZON_REFUSAL}${up.toFixed(0)} px above the horizon (the yellow dashed line): a point on the floor must lie below it. Click it again below the horizon.`);
+  return true;
+}
+
 class PlacementTool {
   constructor(app) {
     this.app = app;
@@ -219,6 +239,8 @@ export class BoxTool extends PlacementTool {
   }
 
   click(p) {
+    if (this.box.current?.part === 'base' && refuseAboveHorizon(this.app, p)) return;
+    clearRefusal(this.app);
     this.box.click(p);
     if (this.box.done) this.finish();
     else this.app.promptChanged();
@@ -317,6 +339,8 @@ export class FootprintTool extends PlacementTool {
         this.finish();
         return;
       }
+      if (refuseAboveHorizon(this.app, p)) return;
+      clearRefusal(this.app);
       this.pts.push(p);
       this.app.promptChanged();
     } else {
@@ -388,6 +412,8 @@ export class FloorTool extends PlacementTool {
       this.finish();
       return;
     }
+    if (refuseAboveHorizon(this.app, p)) return;
+    clearRefusal(this.app);
     this.pts.push(p);
     this.app.promptChanged();
   }
@@ -458,6 +484,7 @@ export class FloorDistanceTool extends PlacementTool {
     // A click near a corner takes the corner itself, so that the distance is between the very
     // points the box or floor uses.
     const hd = view ? this.snap(p, view) : null;
+    if (!hd && refuseAboveHorizon(this.app, p)) return;
     this.pts.push(hd ? [hd.p[0], hd.p[1]] : p);
     this.snapped.push(hd);
     if (this.pts.length < 2) {
