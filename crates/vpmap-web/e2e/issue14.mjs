@@ -25,6 +25,7 @@ import { spawn } from 'node:child_process';
 import { existsSync } from 'node:fs';
 import { mkdtemp, readFile, rm, writeFile } from 'node:fs/promises';
 import { tmpdir } from 'node:os';
+import { deflateSync } from 'node:zlib';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
@@ -193,6 +194,40 @@ const scrolled = () => page.evaluate(() => ({
   inner: window.innerHeight,
 }));
 
+/** A grey PNG of `w` x `h` pixels (8-bit greyscale, stored zlib blocks). */
+function greyPng(w, h) {
+  const crcTable = Array.from({ length: 256 }, (_, n) => {
+    let c = n;
+    for (let k = 0; k < 8; k++) c = c & 1 ? 0xedb88320 ^ (c >>> 1) : c >>> 1;
+    return c >>> 0;
+  });
+  const crc = (buf) => {
+    let c = 0xffffffff;
+    for (const b of buf) c = crcTable[(c ^ b) & 0xff] ^ (c >>> 8);
+    return (c ^ 0xffffffff) >>> 0;
+  };
+  const chunk = (type, data) => {
+    const t = Buffer.concat([Buffer.from(type), data]);
+    const out = Buffer.alloc(12 + data.length);
+    out.writeUInt32BE(data.length, 0);
+    t.copy(out, 4);
+    out.writeUInt32BE(crc(t), 8 + data.length);
+    return out;
+  };
+  const ihdr = Buffer.alloc(13);
+  ihdr.writeUInt32BE(w, 0);
+  ihdr.writeUInt32BE(h, 4);
+  ihdr.set([8, 0, 0, 0, 0], 8);
+  const raw = Buffer.alloc((w + 1) * h, 128);
+  for (let r = 0; r < h; r++) raw[r * (w + 1)] = 0; // filter byte
+  return Buffer.concat([
+    Buffer.from([0x89, 0x50, 0x4e, 0x47, 0x0d, 0x0a, 0x1a, 0x0a]),
+    chunk('IHDR', ihdr),
+    chunk('IDAT', deflateSync(raw)),
+    chunk('IEND', Buffer.alloc(0)),
+  ]);
+}
+
 /** WCAG contrast ratio of two CSS rgb() colours. */
 function contrast(a, b) {
   const lum = (c) => {
@@ -223,6 +258,8 @@ async function main() {
   const examplePng = join(tmp, 'office.png');
   await writeFile(examplePng, Buffer.from(example.photo_png_base64, 'base64'));
   const crate = example.scene.objects.findIndex((o) => o.name === 'crate');
+  // Another photo: 800 x 600 grey (a PNG with one zlib-stored row per line).
+  await writeFile(join(tmp, 'other.png'), greyPng(800, 600));
   // Small and far: a few pixels off its edge's line are many centimetres.
   const bookcase = example.scene.objects.findIndex((o) => o.name === 'bookcase');
 
@@ -332,18 +369,7 @@ async function main() {
   await step('4. undo stops at a change of photo', async () => {
     await freshPage();
     await loadExample();
-    // The example photo at half size: another photo.
-    const half = await page.evaluate(async () => {
-      const c = new OffscreenCanvas(800, 600);
-      c.getContext('2d').fillRect(0, 0, 800, 600);
-      const blob = await c.convertToBlob({ type: 'image/png' });
-      const bytes = new Uint8Array(await blob.arrayBuffer());
-      let s = '';
-      for (const b of bytes) s += String.fromCharCode(b);
-      return btoa(s);
-    });
     const halfPng = join(tmp, 'other.png');
-    await writeFile(halfPng, Buffer.from(half, 'base64'));
     await page.setInputFiles('#photo-input', halfPng);
     await page.waitForFunction(() => window.vpmap.scene()?.image.width === 800, null, { timeout: 10_000 });
     check(await page.isDisabled('#btn-undo'), 'Undo is offered right after opening another photo');
@@ -482,6 +508,55 @@ async function main() {
     await settle('the build after undo', { builds: builds + 1 });
     check((await status()).marked === null, 'the mark stays after the error is gone');
     noProblems();
+  });
+
+
+  await step('8. no lost work: kept per photo, asked before leaving', async () => {
+    // One browser profile (context) for both visits, as a user's browser.
+    const context = await browser.newContext({ acceptDownloads: true });
+    await freshPage(1600, 1000, context);
+    await page.setInputFiles('#photo-input', examplePng);
+    await page.waitForFunction(() => !!window.vpmap.scene(), null, { timeout: 10_000 });
+    const floor = [[200, 1100], [1400, 1100], [1300, 700]];
+    await page.click('#btn-floor');
+    for (const p of floor) await clickImage(p);
+    await page.keyboard.press('Enter');
+    await page.waitForSelector('#prompt[data-tool="select"]');
+    check((await sceneNow()).floor.length === 3, 'the floor was not placed');
+    await page.waitForTimeout(700); // the autosave's delay
+    // Leaving asks first; staying keeps the page.
+    const asked = [];
+    page.on('dialog', (d) => {
+      asked.push(d.type());
+      d.dismiss().catch(() => {});
+    });
+    const dirty = await page.evaluate(() => window.vpmap.status().unsaved);
+    await page.close({ runBeforeUnload: true });
+    await new Promise((r) => setTimeout(r, 500));
+    check(asked.includes('beforeunload'), `leaving with unsaved changes (${dirty}) did not ask (dialogs: ${JSON.stringify(asked)})`);
+    check(!page.isClosed(), 'the page closed although the user chose to stay');
+    // Saved to a file: leaving asks nothing.
+    await Promise.all([page.waitForEvent('download'), page.click('#btn-save-scene')]);
+    asked.length = 0;
+    await page.close({ runBeforeUnload: true });
+    await new Promise((r) => setTimeout(r, 500));
+    check(asked.length === 0 && page.isClosed(), `leaving after Save asked ${JSON.stringify(asked)}`);
+    page = null;
+    // The same photo again, in a new visit: the floor comes back; another photo starts empty.
+    await freshPage(1600, 1000, context);
+    await page.setInputFiles('#photo-input', examplePng);
+    await page.waitForFunction(() => !!window.vpmap.scene(), null, { timeout: 10_000 });
+    const back = await sceneNow();
+    check(back.floor.length === 3 && back.floor.every((p, i) => Math.hypot(p[0] - floor[i][0], p[1] - floor[i][1]) < 3), `reopening the photo gave floor ${JSON.stringify(back.floor)}`);
+    check(/are back/.test(await page.textContent('#status')), `the status does not say the annotations came back: ${await page.textContent('#status')}`);
+    check(await page.isDisabled('#btn-undo'), 'Undo is offered right after reopening');
+    await page.setInputFiles('#photo-input', join(tmp, 'other.png'));
+    await page.waitForFunction(() => window.vpmap.scene()?.image.width === 800, null, { timeout: 10_000 });
+    check((await sceneNow()).floor.length === 0, 'another photo got the kept floor');
+    noProblems();
+    await page.close();
+    page = null;
+    await context.close();
   });
 
   noProblems();

@@ -4,6 +4,7 @@
 //   requests.js  build, plan and detect: the requests and what their answers change
 //   panels.js    the step panel, the status line, the error banner and the tabs
 //   files.js     opening photos and scene files, the example, saving and downloads
+//   autosave.js  each photo's scene kept in the browser, and the warning before leaving
 // and the views (photo-view.js, plan-view.js, model-view.js) and photo tools (tools.js; a box's
 // corners by name, corner or face view, in box.js).
 // Every module talks to the others through `app`, the object this file builds. Every edit
@@ -20,6 +21,7 @@ import { ModelView } from './model-view.js';
 import { installPanels } from './panels.js';
 import { installFiles } from './files.js';
 import { installRequests } from './requests.js';
+import { installAutosave } from './autosave.js';
 
 const state = createState();
 const history = new History();
@@ -92,6 +94,7 @@ app.modelView = new ModelView($('model-host'));
 
 installPanels(app);
 installRequests(app);
+installAutosave(app);
 installFiles(app);
 
 // ---- editing and undo -------------------------------------------------------------------
@@ -108,6 +111,7 @@ function edit(fn, { live = false, undo = true } = {}) {
   app.photoView.requestRender();
   if (!live) app.renderPanel();
   app.scheduleBuild();
+  app.sceneChanged();
 }
 
 function restore(scene) {
@@ -118,6 +122,7 @@ function restore(scene) {
   app.renderPanel();
   app.photoView.requestRender();
   app.scheduleBuild();
+  app.sceneChanged();
 }
 
 function undo() {
@@ -185,6 +190,7 @@ $('btn-new-scene').addEventListener('click', () => {
   app.clearBuild();
   app.photoView.requestRender();
   app.scheduleBuild();
+  app.sceneChanged();
   app.setStatus('New scene: detect or draw the vanishing points.');
 });
 
@@ -277,6 +283,7 @@ window.vpmap = Object.freeze({
     ...state.counters,
     buildError: state.buildError,
     marked: state.marked?.path ?? null,
+    unsaved: !!state.dirty,
     planError: state.plan.error,
     camera: state.camera,
     plan: state.plan.result,
