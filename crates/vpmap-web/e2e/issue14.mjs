@@ -559,6 +559,20 @@ async function main() {
     await context.close();
   });
 
+
+  await step('9. a click inside an object selects it', async () => {
+    await freshPage();
+    await loadExample();
+    // The middle of the bookcase's left face: above its base, inside its outline in the photo.
+    const o = example.scene.objects[bookcase];
+    const pts = [o.base.near, o.base.left, o.top.near, o.top.left];
+    const mid = [pts.reduce((a, p) => a + p[0], 0) / 4, pts.reduce((a, p) => a + p[1], 0) / 4];
+    await clickImage(mid);
+    const sel = await page.evaluate(() => document.querySelector('#object-list li.selected')?.dataset.index ?? null);
+    check(sel === String(bookcase), `a click on the bookcase's face selected ${sel === null ? 'nothing' : `object ${sel}`}`);
+    noProblems();
+  });
+
   noProblems();
 }
 

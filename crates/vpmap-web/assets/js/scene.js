@@ -2,7 +2,7 @@
 // exactly the file's shape, so saving is `JSON.stringify` and unknown fields survive a round trip.
 
 import { vpPoint } from './geometry.js';
-import { boxOutline, boxPoints } from './box.js';
+import { boxOutline, boxPoints, convexHull } from './box.js';
 
 export const VP_NAMES = ['Horizontal A', 'Horizontal B', 'Vertical'];
 export const VP_COLOURS = ['#e53935', '#2e9d3a', '#1e73d8'];
@@ -120,6 +120,24 @@ export function objectOutline(o) {
   if (Array.isArray(o.footprint)) return o.footprint;
   if (o.base) return boxOutline(o);
   return [];
+}
+
+/**
+ * The image area of an object for a click to select it: the convex hull of its outline and its
+ * top points (a box's faces and a footprint's prism, not only its base).
+ */
+export function objectHull(o) {
+  const pts = [...objectOutline(o)];
+  if (o.base) pts.push(...boxPoints(o).map((x) => x.p));
+  if (Array.isArray(o.top?.point)) pts.push(o.top.point);
+  return convexHull(pts);
+}
+
+/** Area of a polygon (absolute, in its units squared). */
+export function polygonArea(ring) {
+  let a = 0;
+  for (let i = 0, j = ring.length - 1; i < ring.length; j = i++) a += ring[j][0] * ring[i][1] - ring[i][0] * ring[j][1];
+  return Math.abs(a) / 2;
 }
 
 /** The resolved vanishing points of the scene (null entries where unknown). */

@@ -6,7 +6,7 @@
 // `beginDrag()`, `endDrag()`, `select(sel)`, `endTool()`, `promptChanged()`,
 // `objectAdded(i)` and `detachVpPoint(k)`.
 
-import { VP_COLOURS, VP_NAMES, handles, objectOutline, setAt, uniqueName } from './scene.js';
+import { VP_COLOURS, VP_NAMES, handles, objectHull, polygonArea, setAt, uniqueName } from './scene.js';
 import { aboveHorizon, distToSegment, pointInPolygon, vpPoint } from './geometry.js';
 import { hexAlpha } from './photo-view.js';
 import { h } from './util.js';
@@ -104,13 +104,21 @@ export class SelectTool {
     const st = this.app.state;
     if (!st.scene) return;
     st.handle = null;
-    // An object under the pointer (last drawn first)?
-    for (let i = st.scene.objects.length - 1; i >= 0; i--) {
-      const ring = objectOutline(st.scene.objects[i]);
-      if (ring.length >= 3 && pointInPolygon(p, ring)) {
-        this.app.select({ type: 'object', index: i });
-        return;
+    // An object under the pointer, anywhere in its outline with its top (the smallest such, so
+    // that an object in front of a larger one can be picked)?
+    let hit = -1;
+    let hitArea = Infinity;
+    st.scene.objects.forEach((o, i) => {
+      const ring = objectHull(o);
+      const area = ring.length >= 3 && pointInPolygon(p, ring) ? polygonArea(ring) : Infinity;
+      if (area < hitArea) {
+        hit = i;
+        hitArea = area;
       }
+    });
+    if (hit >= 0) {
+      this.app.select({ type: 'object', index: hit });
+      return;
     }
     // A vanishing-point line near it?
     const r = 6 * view.px;

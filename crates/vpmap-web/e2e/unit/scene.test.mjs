@@ -2,8 +2,9 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
-  emptyScene, normaliseScene, vpUsable, buildBlocker, uniqueName, getAt, setAt, handles, objectOutline, segmentOwners, cloneScene, resolvedVps, messagePoint,
+  emptyScene, normaliseScene, vpUsable, buildBlocker, uniqueName, getAt, setAt, handles, objectOutline, segmentOwners, cloneScene, resolvedVps, messagePoint, objectHull, polygonArea,
 } from '../../assets/js/scene.js';
+import { pointInPolygon } from '../../assets/js/geometry.js';
 
 const lines = (n) => Array.from({ length: n }, (_, i) => [0, i, 10, i + 1]);
 
@@ -124,4 +125,14 @@ test('messagePoint finds the scene point a server message names', () => {
   assert.deepEqual(messagePoint('degenerate geometry at `objects[1]`: add `base.far`', s), { path: ['objects', 1], object: 1 });
   assert.equal(messagePoint('`floor[9]` is missing', s), null);
   assert.equal(messagePoint('no field here', s), null);
+});
+
+test('objectHull covers a box\'s faces and a footprint\'s top, for selecting by a click inside', () => {
+  const box = { name: 'b', base: { near: [10, 100], right: [30, 90], left: [0, 90] }, top: { near: [10, 40], left: [0, 35] } };
+  const hull = objectHull(box);
+  assert.ok(pointInPolygon([8, 60], hull)); // on the face between base and top
+  assert.ok(!pointInPolygon([8, 60], objectOutline(box)));
+  assert.equal(polygonArea([[0, 0], [2, 0], [2, 3], [0, 3]]), 6);
+  const fp = { name: 'f', footprint: [[0, 10], [10, 10], [5, 12]], top: { above: 0, point: [0, 0] } };
+  assert.ok(pointInPolygon([2, 5], objectHull(fp)));
 });
