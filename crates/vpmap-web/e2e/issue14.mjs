@@ -573,6 +573,47 @@ async function main() {
     noProblems();
   });
 
+
+  await step('10. detected lines stay out of the way', async () => {
+    await freshPage();
+    await loadExample();
+    await page.click('#btn-new-scene');
+    await page.click('#btn-detect');
+    await settle('detection', { detects: 1 });
+    const lines = async () => (await sceneNow()).vanishing_points.map((v) => v.lines || []);
+    const before = await lines();
+    // The longest detected line of the first direction.
+    const k = 0;
+    const j = before[k].reduce((b, l, i, all) => (Math.hypot(l[2] - l[0], l[3] - l[1]) > Math.hypot(all[b][2] - all[b][0], all[b][3] - all[b][1]) ? i : b), 0);
+    const l = before[k][j];
+    const drag = async (p, dx, dy) => {
+      const a = await client(p);
+      await page.mouse.move(a[0], a[1]);
+      await page.mouse.down();
+      for (let i = 1; i <= 4; i++) await page.mouse.move(a[0] + (dx * i) / 4, a[1] + (dy * i) / 4);
+      await page.mouse.up();
+    };
+    // A drag that starts on a line's end pans the photo: the line stays.
+    await drag([l[0], l[1]], 40, 30);
+    check(JSON.stringify(await lines()) === JSON.stringify(before), 'a drag from a detected line\'s end moved it (it should pan)');
+    await page.click('#btn-fit');
+    // Selected (a click on it), its ends can be dragged.
+    await clickImage([(l[0] + l[2]) / 2, (l[1] + l[3]) / 2]);
+    check(JSON.stringify((await status()).selection) === JSON.stringify({ type: 'vpline', vp: k, line: j }), `a click on the line selected ${JSON.stringify((await status()).selection)}`);
+    await drag([l[0], l[1]], 20, 0);
+    const moved = (await lines())[k][j];
+    check(Math.hypot(moved[0] - l[0], moved[1] - l[1]) > 5, 'the selected line\'s end did not follow the drag');
+    // "Show detected segments" off: no line can be selected or dragged.
+    await page.keyboard.press('Control+z');
+    await page.uncheck('#show-segments');
+    check((await status()).selection === null, 'hiding the segments kept a line selected');
+    await clickImage([(l[0] + l[2]) / 2, (l[1] + l[3]) / 2]);
+    check((await status()).selection === null, 'a hidden line was selected');
+    await drag([l[0], l[1]], 20, 0);
+    check(JSON.stringify(await lines()) === JSON.stringify(before), 'a hidden line was dragged');
+    noProblems();
+  });
+
   noProblems();
 }
 

@@ -284,6 +284,7 @@ window.vpmap = Object.freeze({
     buildError: state.buildError,
     marked: state.marked?.path ?? null,
     unsaved: !!state.dirty,
+    selection: state.selection,
     planError: state.plan.error,
     camera: state.camera,
     plan: state.plan.result,

@@ -10,7 +10,7 @@ import { VpLineTool } from './tools.js';
 import { PLANNER_STYLE } from './plan-view.js';
 import { busyNames } from './state.js';
 
-const IDLE_PROMPT = 'Drag a point to move it · click an object or a line to select it (Delete removes it) · scroll to zoom · drag the background to pan';
+const IDLE_PROMPT = 'Drag a corner to move it · click an object or a line to select it (then drag the line\'s ends; Delete removes it) · scroll to zoom · drag to pan · ? for keys';
 const TABS = ['photo', 'plan', 'model'];
 
 /** Add the panel's functions to `app` and wire its inputs. */

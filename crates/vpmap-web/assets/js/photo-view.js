@@ -341,13 +341,23 @@ export class PhotoView {
           this.ctx.setLineDash([]);
         }
       }
+      // Handles only on the selected line (the only one whose ends can be dragged) and on the
+      // lines of the direction being drawn; hidden segments are drawn thin, without handles.
       lines.forEach((s, j) => {
         const selected = sel && sel.type === 'vpline' && sel.vp === k && sel.line === j;
         this.path([[s[0], s[1]], [s[2], s[3]]]);
+        if (!st.showSegments) {
+          this.ctx.strokeStyle = hexAlpha(colour, 0.6);
+          this.ctx.lineWidth = 1;
+          this.ctx.stroke();
+          return;
+        }
         this.strokeHalo(colour, selected ? 3.5 : 2);
-        const r = selected ? 4.5 : 3;
-        this.dot([s[0], s[1]], r, '#fff', colour);
-        this.dot([s[2], s[3]], r, '#fff', colour);
+        if (selected || active === k) {
+          const r = selected ? 4.5 : 3;
+          this.dot([s[0], s[1]], r, '#fff', colour);
+          this.dot([s[2], s[3]], r, '#fff', colour);
+        }
       });
       if (point) {
         const q = this.imageToScreen(point);

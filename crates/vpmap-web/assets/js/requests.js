@@ -340,6 +340,7 @@ export function installRequests(app) {
 
   $('show-segments').addEventListener('change', (e) => {
     state.showSegments = e.target.checked;
+    if (!state.showSegments && state.selection?.type === 'vpline') app.select(null);
     app.photoView.requestRender();
   });
   $('btn-fit').addEventListener('click', () => app.photoView.fit());

@@ -56,6 +56,10 @@ export class SelectTool {
     let bestD = r;
     const sel = st.selection;
     for (const hd of handles(st.scene)) {
+      // A vanishing-point line's ends move only once the line is selected (a click on it), and
+      // never while the segments are hidden: a pan that starts on one of the many detected
+      // lines pans, it does not move a vanishing point.
+      if (hd.kind === 'vp' && !(st.showSegments && sel?.type === 'vpline' && hd.owner === sel.vp && hd.path[3] === sel.line)) continue;
       let d = Math.hypot(hd.p[0] - p[0], hd.p[1] - p[1]);
       // Where points coincide (a corner is often the end of edges towards several vanishing
       // points): the selected object's or line's point first, then annotations, then lines
@@ -120,10 +124,10 @@ export class SelectTool {
       this.app.select({ type: 'object', index: hit });
       return;
     }
-    // A vanishing-point line near it?
+    // A vanishing-point line near it (when they are shown)?
     const r = 6 * view.px;
     let best = null;
-    st.scene.vanishing_points.forEach((vp, k) => {
+    if (st.showSegments) st.scene.vanishing_points.forEach((vp, k) => {
       (vp.lines || []).forEach((s, j) => {
         const dd = distToSegment(p, [s[0], s[1]], [s[2], s[3]]);
         if (dd < r && (!best || dd < best.d)) best = { d: dd, vp: k, line: j };
