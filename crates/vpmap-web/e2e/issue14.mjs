@@ -614,6 +614,64 @@ async function main() {
     noProblems();
   });
 
+
+  await step('11. guidance fits at 1366 x 768: prompt, camera bar, keys', async () => {
+    await freshPage(1366, 768);
+    await loadExample();
+    /** Elements (selectors) whose text is cut: clipped by their own box or outside their container's. */
+    const cut = (sels, container) => page.evaluate(([list, c]) => {
+      const outer = document.querySelector(c).getBoundingClientRect();
+      const bad = [];
+      for (const sel of list) {
+        for (const el of document.querySelectorAll(sel)) {
+          if (!el.offsetParent || !el.textContent.trim()) continue;
+          const r = el.getBoundingClientRect();
+          const clipped = el.scrollWidth > el.clientWidth + 1 || el.scrollHeight > el.clientHeight + 1;
+          const outside = r.left < outer.left - 0.5 || r.right > outer.right + 0.5 || r.top < outer.top - 0.5 || r.bottom > outer.bottom + 0.5;
+          if (clipped || outside) bad.push(`${sel} "${el.textContent.trim().slice(0, 40)}"${clipped ? ' clipped' : ''}${outside ? ' outside' : ''}`);
+        }
+      }
+      return bad;
+    }, [sels, container]);
+    let bad = await cut(['.cam-values > span'], '.cam-values');
+    check(bad.length === 0, `the camera bar cuts: ${bad.join('; ')}`);
+    const photo = await page.locator('#photo-canvas').boundingBox();
+    // B: a box, its prompt in full.
+    await page.focus('#photo-canvas');
+    await page.keyboard.press('b');
+    await page.waitForSelector('#prompt[data-tool="box"]');
+    bad = await cut(['#prompt-text', '#prompt-extra', '#prompt-control', '.prompt-buttons'], '#prompt');
+    check(bad.length === 0, `the box prompt is cut: ${bad.join('; ')}`);
+    const during = await page.locator('#photo-canvas').boundingBox();
+    check(JSON.stringify(during) === JSON.stringify(photo), `the photo moved when the prompt changed: ${JSON.stringify(photo)} -> ${JSON.stringify(during)}`);
+    await page.keyboard.press('Escape');
+    // P: a footprint; at its top, "Enter to skip" is shown in full.
+    await page.keyboard.press('p');
+    await page.waitForSelector('#prompt[data-tool="footprint"]');
+    for (const p of [[700, 1000], [900, 1000], [800, 1100]]) await clickImage(p);
+    await page.keyboard.press('Enter');
+    await page.waitForSelector('#prompt-above');
+    check((await page.textContent('#prompt-extra')).includes('Enter to skip'), 'the footprint top prompt does not say Enter skips');
+    bad = await cut(['#prompt-text', '#prompt-extra', '#prompt-control', '.prompt-buttons'], '#prompt');
+    check(bad.length === 0, `the footprint prompt is cut: ${bad.join('; ')}`);
+    await page.screenshot({ path: SCREENSHOT.replace(/(\.png)?$/, '-prompt.png') });
+    await page.keyboard.press('Escape');
+    // ?: the keys, in an overlay that Escape closes.
+    await page.keyboard.press('?');
+    await page.waitForSelector('#keys-dialog[open]');
+    const keys = await page.textContent('#keys-dialog');
+    for (const k of ['Ctrl+Z', 'Enter', 'Escape', 'Delete', 'B', 'P', 'F', 'S']) check(keys.includes(k), `the keys overlay does not list ${k}`);
+    await page.screenshot({ path: SCREENSHOT.replace(/(\.png)?$/, '-keys.png') });
+    await page.keyboard.press('Escape');
+    await page.waitForSelector('#keys-dialog:not([open])', { state: 'attached' });
+    // F: the floor tool.
+    await page.focus('#photo-canvas');
+    await page.keyboard.press('f');
+    await page.waitForSelector('#prompt[data-tool="floor"]');
+    await page.keyboard.press('Escape');
+    noProblems();
+  });
+
   noProblems();
 }
 

@@ -197,6 +197,7 @@ $('btn-new-scene').addEventListener('click', () => {
 // ---- keyboard ---------------------------------------------------------------------------
 
 document.addEventListener('keydown', (e) => {
+  if ($('keys-dialog').open) return; // the list's own keys (Escape closes it)
   const mod = e.ctrlKey || e.metaKey;
   if (mod && (e.key === 'z' || e.key === 'Z') && !isTyping(e)) {
     e.preventDefault();
@@ -211,6 +212,18 @@ document.addEventListener('keydown', (e) => {
   }
   if (isTyping(e) && e.key !== 'Escape') {
     if (e.key === 'Enter' && e.target.classList?.contains('obj-name')) e.target.blur();
+    return;
+  }
+  // The keys list, and the tools by their letters (not while placing: S, Enter are the tool's).
+  if (e.key === '?' && !mod) {
+    e.preventDefault();
+    showKeys();
+    return;
+  }
+  const tools = { b: 'btn-add-box', p: 'btn-add-footprint', f: 'btn-floor' };
+  if (!mod && !e.altKey && tools[e.key.toLowerCase()] && app.tool === app.selectTool && state.scene) {
+    e.preventDefault();
+    $(tools[e.key.toLowerCase()]).click();
     return;
   }
   const onButton = e.target instanceof HTMLButtonElement || e.target instanceof HTMLAnchorElement || e.target?.getAttribute?.('role') === 'tab';
@@ -230,6 +243,12 @@ document.addEventListener('keydown', (e) => {
   } else return;
   e.preventDefault();
 });
+
+function showKeys() {
+  const d = $('keys-dialog');
+  if (!d.open) d.showModal();
+}
+$('btn-keys').addEventListener('click', showKeys);
 
 function deleteSelection() {
   const sel = state.selection;
