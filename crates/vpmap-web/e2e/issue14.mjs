@@ -672,6 +672,41 @@ async function main() {
     noProblems();
   });
 
+
+  await step('12. planning you can read: bug colours, legend, fates, alternatives', async () => {
+    await freshPage();
+    await loadExample();
+    await page.fill('#plan-start', '1.1, 1.7');
+    await page.press('#plan-start', 'Tab');
+    await page.fill('#plan-goal', PLAN_GOAL.join(', '));
+    await page.press('#plan-goal', 'Tab');
+    const s = await settle('planning', { plans: 1 }, { timeout: 60_000 });
+    const mbpp = s.plan.results.find((r) => r.planner === 'mbpp');
+    check(mbpp && mbpp.bugs.length >= 2 && mbpp.alternatives.length >= 1, `MBPP gave ${mbpp?.bugs.length} bugs, ${mbpp?.alternatives.length} alternatives`);
+    // Bug tracks in colours no planner uses.
+    const drawn = await page.evaluate(() => ({
+      bugs: [...document.querySelectorAll('#plan-host svg .vp-bug')].map((e) => e.getAttribute('stroke')),
+      planners: [...document.querySelectorAll('#plan-host svg .vp-path')].map((e) => e.getAttribute('stroke')),
+    }));
+    const rgb = (hex) => [1, 3, 5].map((i) => parseInt(hex.slice(i, i + 2), 16));
+    for (const b of drawn.bugs) {
+      for (const p of drawn.planners) {
+        const d = Math.hypot(...rgb(b).map((v, i) => v - rgb(p)[i]));
+        check(d > 80, `bug colour ${b} is close to planner colour ${p} (RGB distance ${d.toFixed(0)})`);
+      }
+    }
+    // The legend names the marks; each bug's fate and each alternative's length are listed.
+    const legend = await page.textContent('.layers');
+    check(/hit/.test(legend) && /leave/.test(legend), `the legend does not explain hits and leave points: ${legend}`);
+    const fates = await page.locator('#plan-bugs li').allTextContents();
+    check(fates.length === mbpp.bugs.length, `${fates.length} bugs listed for ${mbpp.bugs.length}`);
+    mbpp.bugs.forEach((b, i) => check(fates[i].includes(b.fate.replace('-', ' ')), `bug ${i + 1} is listed as "${fates[i]}", its fate is ${b.fate}`));
+    const alts = await page.textContent('#plan-alternatives');
+    for (const a of mbpp.alternatives) check(alts.includes(`${a.length_m.toFixed(2)} m`), `alternative of ${a.length_m.toFixed(2)} m not listed: "${alts}"`);
+    await page.screenshot({ path: SCREENSHOT.replace(/(\.png)?$/, '-plan.png') });
+    noProblems();
+  });
+
   noProblems();
 }
 

@@ -7,7 +7,7 @@ import { VP_NAMES, resolvedVps, vpUsable } from './scene.js';
 import { OFF_LINE_PX, boxEdgeNames, describeBox, edgeChoice, guideOffsets, parseEdgeChoice } from './box.js';
 import { vpPoint } from './geometry.js';
 import { VpLineTool } from './tools.js';
-import { PLANNER_STYLE } from './plan-view.js';
+import { BUG_COLOURS, PLANNER_STYLE } from './plan-view.js';
 import { busyNames } from './state.js';
 
 const IDLE_PROMPT = 'Drag a corner to move it · click an object or a line to select it (then drag the line\'s ends; Delete removes it) · scroll to zoom · drag to pan · ? for keys';
@@ -463,6 +463,28 @@ export function installPanels(app) {
           h('td', { text: r.planner === 'mbpp' ? String((r.alternatives || []).length) : '' }));
       }),
     );
+    renderPlanDetails(rows.find((r) => r.planner === 'mbpp'), units);
+  }
+
+  /** MBPP's alternatives by length and each bug with its colour on the plan and its fate. */
+  function renderPlanDetails(mbpp, units) {
+    const alts = (mbpp?.found && mbpp.alternatives) || [];
+    $('plan-alternatives').hidden = alts.length === 0;
+    $('plan-alternatives').textContent = alts.length ? `MBPP's alternatives (grey, dashed): ${alts.map((a) => `${fmt(a.length_m, 2)} ${units}`).join(', ')}` : '';
+    const bugs = (mbpp && mbpp.bugs) || [];
+    const fate = {
+      'reached-goal': 'reached goal',
+      waiting: 'waiting (stopped on a cell another bug had walked straight on)',
+      looped: 'looped (walked round an obstacle without meeting its line again)',
+      stuck: 'stuck (could not move)',
+    };
+    $('plan-bugs').hidden = bugs.length === 0;
+    $('plan-bugs').replaceChildren(...bugs.map((b, i) => {
+      const sw = h('i', { class: 'sw', 'data-colour': BUG_COLOURS[i % BUG_COLOURS.length] });
+      sw.style.background = BUG_COLOURS[i % BUG_COLOURS.length];
+      const from = Number.isInteger(b.parent) ? `, split from bug ${b.parent + 1}` : '';
+      return h('li', {}, sw, `bug ${i + 1}: ${fate[b.fate] || b.fate}, ${b.steps} steps${from}`);
+    }));
   }
 
   function renderDownloads() {
