@@ -707,6 +707,27 @@ async function main() {
     noProblems();
   });
 
+
+  await step('13. the object that needs another corner says so beside it', async () => {
+    await freshPage();
+    await loadExample();
+    const o = example.scene.objects[crate];
+    const n = example.scene.objects.length;
+    await page.keyboard.press('b');
+    await clickImage(o.base.near);
+    await clickImage(o.base.right);
+    await page.keyboard.press('Enter');
+    await page.waitForSelector('#prompt[data-tool="select"]');
+    await page.waitForFunction(() => window.vpmap.status().buildError && !window.vpmap.status().pending && window.vpmap.status().busy.length === 0, null, { timeout: 30_000 });
+    expectRefused(400);
+    const s = await status();
+    check(JSON.stringify(s.marked) === JSON.stringify(['objects', n]), `the new box is not marked: ${JSON.stringify(s.marked)} (${s.buildError})`);
+    check(/add base\.left/.test(s.markedNote || ''), `no note beside the box: ${JSON.stringify(s.markedNote)}`);
+    check(JSON.stringify(s.selection) === JSON.stringify({ type: 'object', index: n }), `the box is not selected: ${JSON.stringify(s.selection)}`);
+    await page.screenshot({ path: SCREENSHOT.replace(/(\.png)?$/, '-needs-corner.png') });
+    noProblems();
+  });
+
   noProblems();
 }
 

@@ -302,6 +302,7 @@ window.vpmap = Object.freeze({
     ...state.counters,
     buildError: state.buildError,
     marked: state.marked?.path ?? null,
+    markedNote: state.marked?.note ?? null,
     unsaved: !!state.dirty,
     selection: state.selection,
     planError: state.plan.error,

@@ -479,14 +479,22 @@ export class PhotoView {
 
   /** A red ring round the point the last build error is about. */
   drawMarked(st) {
-    const p = st.marked?.p;
+    const m = st.marked;
+    if (m && m.object !== undefined) {
+      // The object the error is about: the note beside it (what to add).
+      const o = st.scene?.objects?.[m.object];
+      const at = o ? (o.base ? boxPoints(o)[0]?.p : o.footprint?.[0]) : null;
+      if (at) this.label(at, `⚠ ${m.note || 'see the error below'}`, '#ff5252', 8, 34);
+      return;
+    }
+    const p = m?.p;
     if (!p) return;
     const { ctx } = this;
     const q = this.imageToScreen(p);
     ctx.beginPath();
     ctx.arc(q[0], q[1], 11, 0, Math.PI * 2);
     this.strokeHalo('#ff1744', 3);
-    this.label(p, 'the error is about this point', '#ff5252', 14, 4);
+    this.label(p, m.note ? `the error is about this point: ${m.note}` : 'the error is about this point', '#ff5252', 14, 4);
   }
 
   /** A magnified view of the photo around the pointer, for placing corners precisely. */

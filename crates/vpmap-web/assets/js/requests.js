@@ -61,7 +61,7 @@ export function installRequests(app) {
       markStale(true);
       // The point the message is about, ringed on the photo (its object selected).
       state.marked = messagePoint(err.message, state.scene);
-      if (state.marked?.object !== undefined || state.marked?.path[0] === 'objects') app.select({ type: 'object', index: state.marked.path[1] });
+      if (state.marked?.path[0] === 'objects') app.select({ type: 'object', index: state.marked.path[1] });
       app.photoView.requestRender();
       app.showError(`Cannot build the map: ${err.message}${state.marked?.p ? ' (ringed in red on the photo)' : ''}`);
       app.setStatus('Build failed: see the message at the bottom.');

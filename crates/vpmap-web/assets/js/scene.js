@@ -182,8 +182,9 @@ export function segmentOwners(res, scene) {
 /**
  * The scene point a server message is about: its first field name in backquotes
  * (`floor[2]`, `objects[0].base.right`, `objects[1].footprint[3]`, `objects[1].top.point`)
- * as `{path, p}` with `p` the point, or `{path, object}` for a whole object (`objects[1]`),
- * or null when the message names no point of this scene.
+ * as `{path, p, note}` with `p` the point, or `{path, object, note}` for an object or a part
+ * of it that is not one point (`objects[1]`, `objects[1].base`), or null when the message names
+ * no point of this scene. `note` is what the message says to add (`add base.left`), or null.
  */
 export function messagePoint(message, scene) {
   const m = /`((?:floor|objects)\[\d+\][^`]*)`/.exec(String(message || ''));
@@ -191,8 +192,11 @@ export function messagePoint(message, scene) {
   const path = [];
   for (const part of m[1].matchAll(/([a-z_]+)|\[(\d+)\]/g)) path.push(part[1] !== undefined ? part[1] : Number(part[2]));
   const v = getAt(scene, path);
-  if (Array.isArray(v) && v.length === 2 && v.every(Number.isFinite)) return { path, p: v };
-  if (path.length === 2 && path[0] === 'objects' && v && typeof v === 'object') return { path, object: path[1] };
+  // What the message says to add (`add \`base.left\``), to show beside the object.
+  const add = /add `([a-z_.]+)`/.exec(String(message));
+  const note = add ? `add ${add[1]}` : null;
+  if (Array.isArray(v) && v.length === 2 && v.every(Number.isFinite)) return { path, p: v, note };
+  if (path[0] === 'objects' && v !== undefined && scene.objects?.[path[1]]) return { path: ['objects', path[1]], object: path[1], note };
   return null;
 }
 

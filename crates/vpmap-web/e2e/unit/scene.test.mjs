@@ -118,11 +118,12 @@ test('messagePoint finds the scene point a server message names', () => {
   const s = emptyScene(100, 100);
   s.floor = [[1, 2], [3, 4], [5, 6]];
   s.objects = [{ name: 'b', base: { near: [7, 8] }, top: { near: [7, 1] } }, { name: 'f', footprint: [[1, 1], [2, 2], [3, 1]], top: { above: 0, point: [1, 0] } }];
-  assert.deepEqual(messagePoint('scene: `floor[2]` at (5, 6) is 3 px above the horizon', s), { path: ['floor', 2], p: [5, 6] });
-  assert.deepEqual(messagePoint('`objects[0].base.near` lies ...', s), { path: ['objects', 0, 'base', 'near'], p: [7, 8] });
-  assert.deepEqual(messagePoint('x `objects[1].footprint[1]` y', s), { path: ['objects', 1, 'footprint', 1], p: [2, 2] });
-  assert.deepEqual(messagePoint('`objects[1].top.point`', s), { path: ['objects', 1, 'top', 'point'], p: [1, 0] });
-  assert.deepEqual(messagePoint('degenerate geometry at `objects[1]`: add `base.far`', s), { path: ['objects', 1], object: 1 });
+  assert.deepEqual(messagePoint('scene: `floor[2]` at (5, 6) is 3 px above the horizon', s), { path: ['floor', 2], p: [5, 6], note: null });
+  assert.deepEqual(messagePoint('`objects[0].base.near` lies ...', s), { path: ['objects', 0, 'base', 'near'], p: [7, 8], note: null });
+  assert.deepEqual(messagePoint('x `objects[1].footprint[1]` y', s), { path: ['objects', 1, 'footprint', 1], p: [2, 2], note: null });
+  assert.deepEqual(messagePoint('`objects[1].top.point`', s), { path: ['objects', 1, 'top', 'point'], p: [1, 0], note: null });
+  assert.deepEqual(messagePoint('degenerate geometry at `objects[1]`: add `base.far`', s), { path: ['objects', 1], object: 1, note: 'add base.far' });
+  assert.deepEqual(messagePoint('field `objects[0].base` is invalid: add `base.left` (or `top.left`)', s), { path: ['objects', 0], object: 0, note: 'add base.left' });
   assert.equal(messagePoint('`floor[9]` is missing', s), null);
   assert.equal(messagePoint('no field here', s), null);
 });
