@@ -728,6 +728,37 @@ async function main() {
     noProblems();
   });
 
+
+  await step('14. a box corner clicked near its guide line goes on it (Alt: where clicked)', async () => {
+    await freshPage();
+    await loadExample();
+    const o = example.scene.objects[bookcase];
+    const d = [o.base.right[0] - o.base.near[0], o.base.right[1] - o.base.near[1]];
+    const len = Math.hypot(d[0], d[1]);
+    const off = [o.base.right[0] - (4 * d[1]) / len, o.base.right[1] + (4 * d[0]) / len];
+    const n = example.scene.objects.length;
+    const info = () => page.locator(`#object-list li[data-index="${n}"] .obj-info`).textContent();
+    for (const alt of [false, true]) {
+      await page.focus('#photo-canvas');
+      await page.keyboard.press('b');
+      await clickImage(o.base.near);
+      if (alt) await page.keyboard.down('Alt');
+      await clickImage(off);
+      if (alt) await page.keyboard.up('Alt');
+      await page.keyboard.press('Enter');
+      await page.waitForSelector('#prompt[data-tool="select"]');
+      await page.waitForFunction(() => window.vpmap.status().buildError && !window.vpmap.status().pending && window.vpmap.status().busy.length === 0, null, { timeout: 30_000 });
+      expectRefused(400);
+      const text = await info();
+      const right = (await sceneNow()).objects[n].base.right;
+      if (alt) check(/base\.right is 4\.\d px off/.test(text) && Math.hypot(right[0] - off[0], right[1] - off[1]) < 1, `with Alt the corner was moved to ${right}: ${text}`);
+      else check(!/px off/.test(text) && Math.hypot(right[0] - off[0], right[1] - off[1]) > 2, `the corner 4 px off its line was not put on it (${right}): ${text}`);
+      await page.keyboard.press('Escape');
+      await page.keyboard.press('Control+z');
+    }
+    noProblems();
+  });
+
   noProblems();
 }
 

@@ -135,7 +135,7 @@ export const OFF_LINE_PX = 2;
 export const BOX_ANCHOR = { corner: 'near', face: 'front_left' };
 
 /** Distance (px) from `p` to the line through `a` and `b`, and the foot of the perpendicular; null when a = b. */
-function offLine(p, a, b) {
+export function offLine(p, a, b) {
   const d = [b[0] - a[0], b[1] - a[1]];
   const n = Math.hypot(d[0], d[1]);
   if (!(n > 1e-9)) return null;
@@ -185,6 +185,27 @@ export function guideOffsets(o, vps) {
     const b = base[c];
     const r = isPoint(p) && isPoint(b) && isPoint(vv) ? offLine(p, b, vv) : null;
     if (r) out.push({ part: 'top', corner: c, from: c, vp: 2, ...r });
+  }
+  return out;
+}
+
+/**
+ * The lines a corner about to be clicked should lie on (for snapping): a base corner next to the
+ * anchor, the lines from the anchor towards A and B (not with its own yaw); a top corner, the
+ * vertical through its base corner. `[{from, vp}]` with `from` an image point, `vp` an index.
+ */
+export function guideLines(o, part, corner, vps, ownYaw = false) {
+  const out = [];
+  const view = BOX_VIEWS.face.includes(corner) ? 'face' : 'corner';
+  const anchor = BOX_ANCHOR[view];
+  if (part === 'base') {
+    const a = o?.base?.[anchor];
+    const [i, j] = GRID[corner], [ai, aj] = GRID[anchor];
+    if (!ownYaw && isPoint(a) && Math.abs(i - ai) + Math.abs(j - aj) === 1) {
+      for (const k of [0, 1]) if (isPoint(vps?.[k])) out.push({ from: a, vp: k });
+    }
+  } else if (isPoint(o?.base?.[corner]) && isPoint(vps?.[2])) {
+    out.push({ from: o.base[corner], vp: 2 });
   }
   return out;
 }

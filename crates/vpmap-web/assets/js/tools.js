@@ -6,13 +6,15 @@
 // `beginDrag()`, `endDrag()`, `select(sel)`, `endTool()`, `promptChanged()`,
 // `objectAdded(i)` and `detachVpPoint(k)`.
 
-import { VP_COLOURS, VP_NAMES, handles, objectHull, polygonArea, setAt, uniqueName } from './scene.js';
+import { VP_COLOURS, VP_NAMES, handles, objectHull, polygonArea, resolvedVps, setAt, uniqueName } from './scene.js';
 import { aboveHorizon, distToSegment, pointInPolygon, vpPoint } from './geometry.js';
 import { hexAlpha } from './photo-view.js';
 import { h } from './util.js';
-import { BOX_STEPS, BoxAnnotation, CORNER_HELP, boxEdgeNames, boxEdges, boxPoints, cornerWords, neighbourCorner } from './box.js';
+import { BOX_STEPS, BoxAnnotation, CORNER_HELP, boxEdgeNames, boxEdges, boxPoints, cornerWords, guideLines, neighbourCorner, offLine } from './box.js';
 
 const HIT_PX = 8;
+/** A box corner clicked this close (screen px) to its guide line is put on it (Alt: where clicked). */
+const SNAP_PX = 6;
 
 /** Draw a rubber band and guide lines in image coordinates. */
 function band(view, a, b, colour, dash = [6, 4]) {
@@ -239,7 +241,7 @@ export class BoxTool extends PlacementTool {
     }
     return {
       text: c ? `Box ${this.step + 1}/${total}: ${cornerWords(c.corner)} ${c.part} corner` : 'Box: every corner asked; Done to add it',
-      help: c ? `${c.part === 'top' ? 'top: ' : ''}${CORNER_HELP[c.corner]}; S if hidden` : 'Enter to add the box',
+      help: c ? `${c.part === 'top' ? 'top: ' : ''}${CORNER_HELP[c.corner]}; snaps to its guide line (Alt: free); S if hidden` : 'Enter to add the box',
       extra: controls,
       canUndo: box.canUndo,
       finish: box.canFinish ? 'Done' : null,
@@ -250,9 +252,23 @@ export class BoxTool extends PlacementTool {
     return this.box.canUndo;
   }
 
-  click(p) {
+  /** Where a click at `p` puts the current corner: on its guide line when that is near (SNAP_PX), else `p`. */
+  snapped(p, view, free = false) {
+    const c = this.box.current;
+    if (!c || free || !view) return { p, line: null };
+    const vps = resolvedVps(this.app.state.scene);
+    let best = null;
+    for (const g of guideLines(this.box.partial, c.part, c.corner, vps, this.box.ownYaw)) {
+      const r = offLine(p, g.from, vps[g.vp]);
+      if (r && r.px * view.s <= SNAP_PX && (!best || r.px < best.r.px)) best = { r, g };
+    }
+    return best ? { p: best.r.foot, line: best.g } : { p, line: null };
+  }
+
+  click(p, e, view) {
     if (this.box.current?.part === 'base' && refuseAboveHorizon(this.app, p)) return;
     clearRefusal(this.app);
+    p = this.snapped(p, view, !!e?.altKey).p;
     this.box.click(p);
     if (this.box.done) this.finish();
     else this.app.promptChanged();
@@ -297,6 +313,16 @@ export class BoxTool extends PlacementTool {
       if (below) guide(view, this.app, below, 2);
       const anchor = below || from;
       if (anchor && view.cursor) band(view, anchor, view.cursor, colour);
+    }
+    // Where a click here would put the corner: on the guide line when near it.
+    if (c && view.cursor) {
+      const s = this.snapped(view.cursor, view);
+      if (s.line) {
+        view.ctx.beginPath();
+        const q = view.imageToScreen(s.p);
+        view.ctx.arc(q[0], q[1], 6, 0, Math.PI * 2);
+        view.strokeHalo('#ffffff', 1.5);
+      }
     }
     for (const { part, corner, p } of boxPoints(o)) {
       view.dot(p, 4, colour);

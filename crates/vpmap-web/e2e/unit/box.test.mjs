@@ -3,7 +3,7 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
-  BOX_STEPS, BoxAnnotation, boxBaseOutline, boxEdges, boxOutline, boxPoints, boxView, convexHull, describeBox, guideOffsets, neighbourCorner,
+  BOX_STEPS, BoxAnnotation, boxBaseOutline, boxEdges, boxOutline, boxPoints, boxView, convexHull, describeBox, guideLines, guideOffsets, neighbourCorner,
 } from '../../assets/js/box.js';
 import { handles, objectOutline } from '../../assets/js/scene.js';
 import { fmtSd } from '../../assets/js/util.js';
@@ -160,4 +160,15 @@ test('guideOffsets: how far base corners are from the lines from the near corner
   assert.equal(guideOffsets({ ...o, own_yaw: true }, vps).filter((x) => x.part === 'base').length, 0);
   // No vanishing points known: nothing to say.
   assert.deepEqual(guideOffsets(o, [null, null, null]), []);
+});
+
+test('guideLines: base corners next to the anchor run towards A or B, top corners up the vertical', () => {
+  const vps = [[1000, -200], [-1000, -300], [0, 100000]];
+  const o = { base: { near: [0, 0] } };
+  assert.deepEqual(guideLines(o, 'base', 'right', vps).map((g) => g.vp), [0, 1]);
+  assert.deepEqual(guideLines(o, 'base', 'right', vps, true), []); // own yaw
+  assert.deepEqual(guideLines(o, 'base', 'far', vps), []); // diagonal to near
+  assert.deepEqual(guideLines(o, 'top', 'near', vps), [{ from: [0, 0], vp: 2 }]);
+  assert.deepEqual(guideLines(o, 'top', 'left', vps), []); // no base.left yet
+  assert.deepEqual(guideLines({}, 'base', 'right', vps), []);
 });
