@@ -241,7 +241,7 @@ export class BoxTool extends PlacementTool {
     }
     return {
       text: c ? `Box ${this.step + 1}/${total}: ${cornerWords(c.corner)} ${c.part} corner` : 'Box: every corner asked; Done to add it',
-      help: c ? `${c.part === 'top' ? 'top: ' : ''}${CORNER_HELP[c.corner]}; snaps to its guide line (Alt: free); S if hidden` : 'Enter to add the box',
+      help: c ? `${c.part === 'top' ? 'top: ' : ''}${CORNER_HELP[c.corner]}; S if hidden` : 'Enter to add the box',
       extra: controls,
       canUndo: box.canUndo,
       finish: box.canFinish ? 'Done' : null,
