@@ -57,10 +57,10 @@ export function getExample(signal) {
 /**
  * `POST /api/build` with the scene -> `{map, svg, glb_base64, occupancy, camera, warnings}`.
  * A null `method` or `click_sigma` is left out: the server's default method, the fit's own
- * estimate of the click noise.
+ * estimate of the click noise; `hidden_free` is sent only when set.
  */
-export function build(scene, { method, resolution, robot_radius, click_sigma }, signal) {
-  return call(`api/build${query({ method, resolution, robot_radius, click_sigma })}`, {
+export function build(scene, { method, resolution, robot_radius, click_sigma, hidden_free }, signal) {
+  return call(`api/build${query({ method, resolution, robot_radius, click_sigma, hidden_free: hidden_free ? 'true' : undefined })}`, {
     method: 'POST',
     body: JSON.stringify(scene),
     type: 'application/json',

@@ -128,6 +128,88 @@ export function neighbourCorner(o, part, corner) {
   return null;
 }
 
+/** A corner this far (image px) or more off its line is shown as off it. */
+export const OFF_LINE_PX = 2;
+
+/** The corner of each view that the edges to its grid neighbours start from (the thesis's near corner). */
+export const BOX_ANCHOR = { corner: 'near', face: 'front_left' };
+
+/** Distance (px) from `p` to the line through `a` and `b`, and the foot of the perpendicular; null when a = b. */
+export function offLine(p, a, b) {
+  const d = [b[0] - a[0], b[1] - a[1]];
+  const n = Math.hypot(d[0], d[1]);
+  if (!(n > 1e-9)) return null;
+  const t = ((p[0] - a[0]) * d[0] + (p[1] - a[1]) * d[1]) / (n * n);
+  const foot = [a[0] + t * d[0], a[1] + t * d[1]];
+  return { px: Math.hypot(p[0] - foot[0], p[1] - foot[1]), foot };
+}
+
+/** The sine of the angle between the lines p->q and p->v (1 when either is empty), as the server's side view measures it. */
+function misalignment(p, q, v) {
+  const a = [q[0] - p[0], q[1] - p[1]], b = [v[0] - p[0], v[1] - p[1]];
+  const n = Math.hypot(a[0], a[1]) * Math.hypot(b[0], b[1]);
+  return n > 0 ? Math.abs(a[0] * b[1] - a[1] * b[0]) / n : 1;
+}
+
+/**
+ * How far a box's corners are from the lines they should lie on (image pixels): each base
+ * corner next to the anchor (BOX_ANCHOR) from the line from the anchor towards its horizontal
+ * vanishing point, `vps[0]` or `vps[1]` (not for a box with its own yaw), and each
+ * top corner from the vertical line through its base corner (towards `vps[2]`). A list of
+ * `{part, corner, from, vp, px, foot}`: `from` the corner the line starts at, `vp` its index,
+ * `foot` the nearest point on it. Vanishing points may be null (then no line is checked).
+ */
+export function guideOffsets(o, vps) {
+  const out = [];
+  const base = o?.base || {};
+  const view = boxView(o);
+  const anchor = BOX_ANCHOR[view];
+  const a = base[anchor];
+  if (isPoint(a) && !o.own_yaw && isPoint(vps?.[0]) && isPoint(vps?.[1])) {
+    // The anchor's two grid neighbours, each on an edge towards A or B: paired as the server
+    // pairs them (the assignment with the smaller sum of misalignments), or the nearer line
+    // for a corner alone.
+    const [ai, aj] = GRID[anchor];
+    const next = BOX_VIEWS[view].filter((c) => Math.abs(GRID[c][0] - ai) + Math.abs(GRID[c][1] - aj) === 1 && isPoint(base[c]));
+    const mis = (c, k) => misalignment(a, base[c], vps[k]);
+    let ks;
+    if (next.length === 2) ks = mis(next[0], 0) + mis(next[1], 1) <= mis(next[0], 1) + mis(next[1], 0) ? [0, 1] : [1, 0];
+    else ks = next.map((c) => (mis(c, 0) <= mis(c, 1) ? 0 : 1));
+    next.forEach((c, i) => {
+      const r = offLine(base[c], a, vps[ks[i]]);
+      if (r) out.push({ part: 'base', corner: c, from: anchor, vp: ks[i], ...r });
+    });
+  }
+  const vv = vps?.[2];
+  for (const [c, p] of Object.entries(o?.top || {})) {
+    const b = base[c];
+    const r = isPoint(p) && isPoint(b) && isPoint(vv) ? offLine(p, b, vv) : null;
+    if (r) out.push({ part: 'top', corner: c, from: c, vp: 2, ...r });
+  }
+  return out;
+}
+
+/**
+ * The lines a corner about to be clicked should lie on (for snapping): a base corner next to the
+ * anchor, the lines from the anchor towards A and B (not with its own yaw); a top corner, the
+ * vertical through its base corner. `[{from, vp}]` with `from` an image point, `vp` an index.
+ */
+export function guideLines(o, part, corner, vps, ownYaw = false) {
+  const out = [];
+  const view = BOX_VIEWS.face.includes(corner) ? 'face' : 'corner';
+  const anchor = BOX_ANCHOR[view];
+  if (part === 'base') {
+    const a = o?.base?.[anchor];
+    const [i, j] = GRID[corner], [ai, aj] = GRID[anchor];
+    if (!ownYaw && isPoint(a) && Math.abs(i - ai) + Math.abs(j - aj) === 1) {
+      for (const k of [0, 1]) if (isPoint(vps?.[k])) out.push({ from: a, vp: k });
+    }
+  } else if (isPoint(o?.base?.[corner]) && isPoint(vps?.[2])) {
+    out.push({ from: o.base[corner], vp: 2 });
+  }
+  return out;
+}
+
 /** The base outline of a box in the image (for selection): four corners when three or more of the base are given (the fourth completes the parallelogram), else []. */
 export function boxBaseOutline(o) {
   const view = boxView(o);

@@ -34,9 +34,19 @@ export function installFiles(app) {
     state.photoBlob = blob;
     state.photoName = name || 'photo';
     state.detection = null;
-    const keep = state.scene && state.scene.image.width === bmp.width && state.scene.image.height === bmp.height;
-    if (!keep) {
-      if (state.scene) app.pushUndo();
+    // This photo's scene as the browser kept it (autosave.js), if it was opened before.
+    const kept = app.photoOpened(state.photoName, bmp.width, bmp.height, new Uint8Array(await blob.arrayBuffer()));
+    const restored = kept && !normaliseScene(kept.scene);
+    const keep = !restored && state.scene && state.scene.image.width === bmp.width && state.scene.image.height === bmp.height;
+    // Undo never crosses a change of photo: it would put one photo's annotations on another.
+    app.history.clear();
+    if (restored) {
+      state.scene = kept.scene;
+      state.savedVpPoints = [null, null, null];
+      state.selection = null;
+      app.clearBuild();
+      app.syncForms();
+    } else if (!keep) {
       state.scene = emptyScene(bmp.width, bmp.height);
       state.savedVpPoints = [null, null, null];
       state.selection = null;
@@ -47,7 +57,12 @@ export function installFiles(app) {
     $('drop-hint').hidden = true;
     app.renderPanel();
     app.scheduleBuild();
-    app.setStatus(`${state.photoName}: ${bmp.width} × ${bmp.height} px${keep ? ' (the open scene is kept)' : ''}. Next: Detect.`);
+    if (restored) {
+      const when = new Date(kept.saved_at).toLocaleString();
+      app.setStatus(`${state.photoName}: your annotations of ${when} are back (kept in this browser). New scene (keep photo) starts afresh.`);
+    } else {
+      app.setStatus(`${state.photoName}: ${bmp.width} × ${bmp.height} px${keep ? ' (the open scene is kept)' : ''}. Next: Detect.`);
+    }
   }
 
   $('photo-input').addEventListener('change', async (e) => {
@@ -87,6 +102,8 @@ export function installFiles(app) {
     app.syncForms();
     app.renderPanel();
     app.scheduleBuild();
+    app.sceneChanged(); // kept for the open photo...
+    app.sceneSaved(); // ...and in its file already
     app.setStatus(`Opened ${file.name}.${note}${state.photo ? '' : ' Open its photo to see it under the annotations.'}`);
   }
 
@@ -98,7 +115,13 @@ export function installFiles(app) {
 
   $('btn-save-scene').addEventListener('click', () => {
     if (!state.scene) return;
-    download(sceneFileName(state.photoName), `${JSON.stringify(state.scene, null, 1)}\n`, 'application/json');
+    const { width, height } = state.scene.image;
+    // The file is named after the open photo only when it was made for a photo of its size.
+    const forPhoto = !state.photo || (state.photo.width === width && state.photo.height === height);
+    const name = forPhoto ? sceneFileName(state.photoName) : `scene-${width}x${height}.scene.json`;
+    download(name, `${JSON.stringify(state.scene, null, 1)}\n`, 'application/json');
+    app.sceneSaved();
+    app.setStatus(forPhoto ? `Saved ${name}.` : `Saved ${name}: made for a ${width} × ${height} photo, not the open ${state.photo.width} × ${state.photo.height} one.`);
   });
 
   // Drag and drop: a photo or a scene file onto the photo area.
@@ -129,7 +152,8 @@ export function installFiles(app) {
       if (problem) throw new Error(`the example scene: ${problem}`);
       const blob = new Blob([base64ToBytes(ex.photo_png_base64)], { type: 'image/png' });
       const bmp = await decodePhoto(blob);
-      if (state.scene) app.pushUndo();
+      app.history.clear(); // another photo: see openPhoto
+      app.photoOpened('example.png', bmp.width, bmp.height, null); // the example is not kept
       state.photo?.close?.();
       state.photo = bmp;
       state.photoBlob = blob;

@@ -55,6 +55,21 @@ export function clipLine(p, q, rect) {
   return [[p[0] + t0 * dx, p[1] + t0 * dy], [p[0] + t1 * dx, p[1] + t1 * dy]];
 }
 
+/**
+ * How far (px) `p` lies above the horizon through `a` and `b` (image points, y down): positive
+ * above it, negative below, "above" being the side away from the bottom of the image (for any
+ * roll under 90 degrees). Null when `a` = `b`.
+ */
+export function aboveHorizon(p, a, b) {
+  const d = [b[0] - a[0], b[1] - a[1]];
+  const n = Math.hypot(d[0], d[1]);
+  if (!(n > 0)) return null;
+  // The unit normal pointing down the image.
+  let nx = -d[1] / n, ny = d[0] / n;
+  if (ny < 0) { nx = -nx; ny = -ny; }
+  return -((p[0] - a[0]) * nx + (p[1] - a[1]) * ny);
+}
+
 /** Distance from point `p` to the segment `a`-`b`. */
 export function distToSegment(p, a, b) {
   const dx = b[0] - a[0], dy = b[1] - a[1];

@@ -4,6 +4,7 @@
 //   requests.js  build, plan and detect: the requests and what their answers change
 //   panels.js    the step panel, the status line, the error banner and the tabs
 //   files.js     opening photos and scene files, the example, saving and downloads
+//   autosave.js  each photo's scene kept in the browser, and the warning before leaving
 // and the views (photo-view.js, plan-view.js, model-view.js) and photo tools (tools.js; a box's
 // corners by name, corner or face view, in box.js).
 // Every module talks to the others through `app`, the object this file builds. Every edit
@@ -20,6 +21,7 @@ import { ModelView } from './model-view.js';
 import { installPanels } from './panels.js';
 import { installFiles } from './files.js';
 import { installRequests } from './requests.js';
+import { installAutosave } from './autosave.js';
 
 const state = createState();
 const history = new History();
@@ -92,6 +94,7 @@ app.modelView = new ModelView($('model-host'));
 
 installPanels(app);
 installRequests(app);
+installAutosave(app);
 installFiles(app);
 
 // ---- editing and undo -------------------------------------------------------------------
@@ -108,6 +111,7 @@ function edit(fn, { live = false, undo = true } = {}) {
   app.photoView.requestRender();
   if (!live) app.renderPanel();
   app.scheduleBuild();
+  app.sceneChanged();
 }
 
 function restore(scene) {
@@ -118,6 +122,7 @@ function restore(scene) {
   app.renderPanel();
   app.photoView.requestRender();
   app.scheduleBuild();
+  app.sceneChanged();
 }
 
 function undo() {
@@ -185,12 +190,14 @@ $('btn-new-scene').addEventListener('click', () => {
   app.clearBuild();
   app.photoView.requestRender();
   app.scheduleBuild();
+  app.sceneChanged();
   app.setStatus('New scene: detect or draw the vanishing points.');
 });
 
 // ---- keyboard ---------------------------------------------------------------------------
 
 document.addEventListener('keydown', (e) => {
+  if ($('keys-dialog').open) return; // the list's own keys (Escape closes it)
   const mod = e.ctrlKey || e.metaKey;
   if (mod && (e.key === 'z' || e.key === 'Z') && !isTyping(e)) {
     e.preventDefault();
@@ -205,6 +212,18 @@ document.addEventListener('keydown', (e) => {
   }
   if (isTyping(e) && e.key !== 'Escape') {
     if (e.key === 'Enter' && e.target.classList?.contains('obj-name')) e.target.blur();
+    return;
+  }
+  // The keys list, and the tools by their letters (not while placing: S, Enter are the tool's).
+  if (e.key === '?' && !mod) {
+    e.preventDefault();
+    showKeys();
+    return;
+  }
+  const tools = { b: 'btn-add-box', p: 'btn-add-footprint', f: 'btn-floor' };
+  if (!mod && !e.altKey && tools[e.key.toLowerCase()] && app.tool === app.selectTool && state.scene) {
+    e.preventDefault();
+    $(tools[e.key.toLowerCase()]).click();
     return;
   }
   const onButton = e.target instanceof HTMLButtonElement || e.target instanceof HTMLAnchorElement || e.target?.getAttribute?.('role') === 'tab';
@@ -224,6 +243,12 @@ document.addEventListener('keydown', (e) => {
   } else return;
   e.preventDefault();
 });
+
+function showKeys() {
+  const d = $('keys-dialog');
+  if (!d.open) d.showModal();
+}
+$('btn-keys').addEventListener('click', showKeys);
 
 function deleteSelection() {
   const sel = state.selection;
@@ -268,12 +293,18 @@ window.vpmap = Object.freeze({
   map: () => cloneScene(state.build?.map ?? null),
   /** A copy of the scene being edited. */
   scene: () => cloneScene(state.scene),
+  /** The 3D view's framing (ModelView.framing), or null before its first model. */
+  view3d: () => app.modelView.framing(),
   /** Counters and errors, to wait for the page to settle. */
   status: () => ({
     busy: busyNames(state.busy),
     pending: app.requestsPending(),
     ...state.counters,
     buildError: state.buildError,
+    marked: state.marked?.path ?? null,
+    markedNote: state.marked?.note ?? null,
+    unsaved: !!state.dirty,
+    selection: state.selection,
     planError: state.plan.error,
     camera: state.camera,
     plan: state.plan.result,

@@ -24,7 +24,11 @@ export class ModelView {
     this.ready = null;
     this.model = null;
     this.paths = null;
-    this.fittedOnce = false;
+    // The view is framed on the model until the user orbits, zooms or pans it; and again
+    // whenever the model gains its first object or floor (from the camera alone to a room).
+    this.userMoved = false;
+    this.content = 0;
+    this.loads = 0;
     this.pending = 0;
     this.failed = false;
     this.loadSeq = 0;
@@ -59,6 +63,9 @@ export class ModelView {
       camera.position.set(0, 4, 6);
       const controls = new OrbitControls(camera, canvas);
       controls.addEventListener('change', () => this.render());
+      controls.addEventListener('start', () => {
+        this.userMoved = true;
+      });
       controls.listenToKeyEvents(canvas);
       controls.maxPolarAngle = Math.PI * 0.495;
       Object.assign(this, { renderer, scene, camera, controls, canvas });
@@ -82,8 +89,12 @@ export class ModelView {
     if (this.renderer) this.renderer.render(this.scene, this.camera);
   }
 
-  /** Show the model in `glb` (bytes). Keeps the user's viewpoint after the first model. */
-  async setModel(glb) {
+  /**
+   * Show the model in `glb` (bytes); `content` counts what it shows besides the camera (objects
+   * and floor). Frames it while the user has not moved the view and its content changed, or
+   * when it changes from empty (the camera only) to something; else keeps the user's viewpoint.
+   */
+  async setModel(glb, { content = 0 } = {}) {
     const seq = ++this.loadSeq;
     await this.init();
     const { GLTFLoader } = await loadThree();
@@ -121,15 +132,34 @@ export class ModelView {
       this.grid.position.set(Math.round(c.x), -0.003, Math.round(c.z));
       this.scene.add(this.grid);
     }
-    if (!this.fittedOnce) {
-      this.resetView();
-      this.fittedOnce = true;
-    }
+    const first = this.loads === 0;
+    const grew = this.content === 0 && content > 0;
+    if (first || grew || (!this.userMoved && content !== this.content)) this.resetView();
+    this.content = content;
+    this.loads++;
     this.render();
+  }
+
+  /** Where the model's bounding box lands in the view: its 8 corners in normalised device coordinates (x, y in -1..1 and z < 1 when in view). */
+  framing() {
+    if (!this.model) return null;
+    const { THREE } = this;
+    const box = new THREE.Box3().setFromObject(this.model);
+    const corners = [];
+    for (const x of [box.min.x, box.max.x]) {
+      for (const y of [box.min.y, box.max.y]) {
+        for (const z of [box.min.z, box.max.z]) {
+          const v = new THREE.Vector3(x, y, z).project(this.camera);
+          corners.push([v.x, v.y, v.z]);
+        }
+      }
+    }
+    return { loads: this.loads, content: this.content, userMoved: this.userMoved, corners };
   }
 
   /** Frame the model from behind and above the camera's station point. */
   resetView() {
+    this.userMoved = false;
     if (!this.model) return;
     const { THREE } = this;
     const box = new THREE.Box3().setFromObject(this.model);

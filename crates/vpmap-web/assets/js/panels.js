@@ -3,14 +3,14 @@
 // narrow screens. Everything here is drawn from `app.state`; edits go through `app.edit`.
 
 import { $, h, fmt, fmtSd, parsePair, formatPair } from './util.js';
-import { VP_NAMES, vpUsable } from './scene.js';
-import { boxEdgeNames, describeBox, edgeChoice, parseEdgeChoice } from './box.js';
+import { VP_NAMES, resolvedVps, vpUsable } from './scene.js';
+import { OFF_LINE_PX, boxEdgeNames, describeBox, edgeChoice, guideOffsets, parseEdgeChoice } from './box.js';
 import { vpPoint } from './geometry.js';
 import { VpLineTool } from './tools.js';
-import { PLANNER_STYLE } from './plan-view.js';
+import { BUG_COLOURS, PLANNER_STYLE } from './plan-view.js';
 import { busyNames } from './state.js';
 
-const IDLE_PROMPT = 'Drag a point to move it · click an object or a line to select it (Delete removes it) · scroll to zoom · drag the background to pan';
+const IDLE_PROMPT = 'Drag a corner to move it · click an object or a line to select it (then drag the line\'s ends; Delete removes it) · scroll to zoom · drag to pan · ? for keys';
 const TABS = ['photo', 'plan', 'model'];
 
 /** Add the panel's functions to `app` and wire its inputs. */
@@ -168,6 +168,15 @@ export function installPanels(app) {
     else parts.push(`${(o.footprint || []).length} corners${o.top ? ' + top' : ', no top'}`);
     const lines = [parts.join(' · ')];
     if (m) lines.push(...objectMeasures(m, map.units === 'm' ? 'm' : 'ch', !!o.own_yaw));
+    // Corners off the lines they should lie on: the map's box cannot pass through them, so
+    // its sizes differ from distances measured on the clicked points. Said with the distance.
+    if (o.base) {
+      for (const g of guideOffsets(o, resolvedVps(state.scene))) {
+        if (g.px < OFF_LINE_PX) continue;
+        const towards = g.part === 'top' ? `the vertical through base.${g.corner}` : `the line from base.${g.from} towards ${['A', 'B'][g.vp]}`;
+        lines.push(`⚠ ${g.part}.${g.corner} is ${g.px.toFixed(1)} px off ${towards}`);
+      }
+    }
     return { kind, text: lines.join('\n') };
   }
 
@@ -454,6 +463,28 @@ export function installPanels(app) {
           h('td', { text: r.planner === 'mbpp' ? String((r.alternatives || []).length) : '' }));
       }),
     );
+    renderPlanDetails(rows.find((r) => r.planner === 'mbpp'), units);
+  }
+
+  /** MBPP's alternatives by length and each bug with its colour on the plan and its fate. */
+  function renderPlanDetails(mbpp, units) {
+    const alts = (mbpp?.found && mbpp.alternatives) || [];
+    $('plan-alternatives').hidden = alts.length === 0;
+    $('plan-alternatives').textContent = alts.length ? `MBPP's alternatives (grey, dashed): ${alts.map((a) => `${fmt(a.length_m, 2)} ${units}`).join(', ')}` : '';
+    const bugs = (mbpp && mbpp.bugs) || [];
+    const fate = {
+      'reached-goal': 'reached goal',
+      waiting: 'waiting (stopped on a cell another bug had walked straight on)',
+      looped: 'looped (walked round an obstacle without meeting its line again)',
+      stuck: 'stuck (could not move)',
+    };
+    $('plan-bugs').hidden = bugs.length === 0;
+    $('plan-bugs').replaceChildren(...bugs.map((b, i) => {
+      const sw = h('i', { class: 'sw', 'data-colour': BUG_COLOURS[i % BUG_COLOURS.length] });
+      sw.style.background = BUG_COLOURS[i % BUG_COLOURS.length];
+      const from = Number.isInteger(b.parent) ? `, split from bug ${b.parent + 1}` : '';
+      return h('li', {}, sw, `bug ${i + 1}: ${fate[b.fate] || b.fate}, ${b.steps} steps${from}`);
+    }));
   }
 
   function renderDownloads() {

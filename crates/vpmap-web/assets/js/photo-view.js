@@ -3,8 +3,8 @@
 // and the active tool's preview. Pointer input goes to the active tool (tools.js); what a
 // tool does not take pans the view, and a press without movement is a click.
 
-import { VP_COLOURS, objectOutline } from './scene.js';
-import { boxEdges, boxPoints } from './box.js';
+import { VP_COLOURS, objectOutline, resolvedVps } from './scene.js';
+import { OFF_LINE_PX, boxEdges, boxPoints, guideOffsets } from './box.js';
 import { clipLine, vpPoint } from './geometry.js';
 import { clamp } from './util.js';
 
@@ -247,6 +247,7 @@ export class PhotoView {
       this.drawObjects(st);
       this.drawScaleLine(st);
     }
+    this.drawMarked(st);
     this.app.tool.draw?.(ctx, this);
     if (this.app.tool.loupe && this.cursorScreen && !(this.gesture && this.gesture.kind === 'pan')) this.drawLoupe();
   }
@@ -340,13 +341,23 @@ export class PhotoView {
           this.ctx.setLineDash([]);
         }
       }
+      // Handles only on the selected line (the only one whose ends can be dragged) and on the
+      // lines of the direction being drawn; hidden segments are drawn thin, without handles.
       lines.forEach((s, j) => {
         const selected = sel && sel.type === 'vpline' && sel.vp === k && sel.line === j;
         this.path([[s[0], s[1]], [s[2], s[3]]]);
+        if (!st.showSegments) {
+          this.ctx.strokeStyle = hexAlpha(colour, 0.6);
+          this.ctx.lineWidth = 1;
+          this.ctx.stroke();
+          return;
+        }
         this.strokeHalo(colour, selected ? 3.5 : 2);
-        const r = selected ? 4.5 : 3;
-        this.dot([s[0], s[1]], r, '#fff', colour);
-        this.dot([s[2], s[3]], r, '#fff', colour);
+        if (selected || active === k) {
+          const r = selected ? 4.5 : 3;
+          this.dot([s[0], s[1]], r, '#fff', colour);
+          this.dot([s[2], s[3]], r, '#fff', colour);
+        }
       });
       if (point) {
         const q = this.imageToScreen(point);
@@ -426,6 +437,14 @@ export class PhotoView {
         }
         const pts = boxPoints(o);
         for (const { p } of pts) this.dot(p, selected ? 4.5 : 3.5, colour);
+        // A corner off the line it should lie on: the line, and by how much (the object list says it too).
+        for (const g of guideOffsets(o, resolvedVps(st.scene))) {
+          if (g.px < OFF_LINE_PX) continue;
+          const p = o[g.part][g.corner];
+          this.path([g.part === 'top' ? o.base[g.from] : o.base[g.from], g.foot, p]);
+          this.strokeHalo('#ff9100', 1.5, [3, 3]);
+          this.label(p, `${g.px.toFixed(1)} px off its line`, '#ff9100', 8, -8);
+        }
         if (pts.length) this.label(pts[0].p, o.name || '(unnamed)', selected ? '#fff' : colour, 7, 16);
       } else if (Array.isArray(o.footprint)) {
         const fp = o.footprint;
@@ -456,6 +475,26 @@ export class PhotoView {
     this.dot(fd.to, 3.5, '#fff');
     const mid = [(fd.from[0] + fd.to[0]) / 2, (fd.from[1] + fd.to[1]) / 2];
     this.label(mid, `${fd.meters} m`, '#fff');
+  }
+
+  /** A red ring round the point the last build error is about. */
+  drawMarked(st) {
+    const m = st.marked;
+    if (m && m.object !== undefined) {
+      // The object the error is about: the note beside it (what to add).
+      const o = st.scene?.objects?.[m.object];
+      const at = o ? (o.base ? boxPoints(o)[0]?.p : o.footprint?.[0]) : null;
+      if (at) this.label(at, `⚠ ${m.note || 'see the error below'}`, '#ff5252', 8, 34);
+      return;
+    }
+    const p = m?.p;
+    if (!p) return;
+    const { ctx } = this;
+    const q = this.imageToScreen(p);
+    ctx.beginPath();
+    ctx.arc(q[0], q[1], 11, 0, Math.PI * 2);
+    this.strokeHalo('#ff1744', 3);
+    this.label(p, m.note ? `the error is about this point: ${m.note}` : 'the error is about this point', '#ff5252', 14, 4);
   }
 
   /** A magnified view of the photo around the pointer, for placing corners precisely. */

@@ -13,7 +13,8 @@ import { SVG_NS, svgEl, base64ToBytes, fmt } from './util.js';
 import { parseAffine, applyAffine, invertAffine, occupancyToSvg } from './geometry.js';
 
 const ID_PREFIX = 'fp-';
-const BUG_COLOURS = ['#1f77b4', '#ff7f0e', '#2ca02c', '#9467bd', '#8c564b', '#e377c2', '#17becf', '#bcbd22'];
+/** Bug track colours: none near a planner's (purple, orange, teal) or the alternatives' grey. */
+export const BUG_COLOURS = ['#1f5fd6', '#d62728', '#e377c2', '#8c564b', '#bcbd22', '#00b7eb', '#222222', '#ff9896'];
 export const PLANNER_STYLE = {
   mbpp: { label: 'MBPP', colour: '#6a3d9a', width: 3.2, dash: null },
   'astar-ps': { label: 'A* PS', colour: '#ef7d00', width: 2.4, dash: null },

@@ -5,7 +5,7 @@
 
 import * as api from './api.js';
 import { $, h, fmt, parsePair, formatPair, base64ToBytes } from './util.js';
-import { buildBlocker, segmentOwners } from './scene.js';
+import { buildBlocker, messagePoint, segmentOwners } from './scene.js';
 import { PLANNER_STYLE } from './plan-view.js';
 import { latestRequest } from './latest.js';
 
@@ -14,6 +14,24 @@ const PLANNERS = ['mbpp', 'astar-ps', 'optimal'];
 const DEBOUNCE_MS = 100;
 /** ...but no longer than this while changes keep coming (a drag), ms. */
 const DEBOUNCE_MAX_MS = 400;
+
+/** The server's API names of the plan pane's options, and the pane's labels for them. */
+const OPTION_LABELS = [
+  [/\bset unknown_passable or hidden_free\b/g, 'tick “unknown as passable” or “hidden floor as free” under the floor plan'],
+  [/\bunknown_passable\b/g, '“unknown as passable”'],
+  [/\bhidden_free\b/g, '“hidden floor as free”'],
+  [/\brobot_radius\b/g, '“Robot radius”'],
+];
+
+/**
+ * A planning error as the page words it: the options by the labels the page gives them, and
+ * numbers to the centimetre (the server prints them in full).
+ */
+export function planMessage(text) {
+  let out = String(text);
+  for (const [re, label] of OPTION_LABELS) out = out.replace(re, label);
+  return out.replace(/-?\d+\.\d{3,}/g, (m) => String(Number(Number(m).toFixed(2))));
+}
 
 /** Add build, plan and detect to `app` and wire their buttons and inputs. */
 export function installRequests(app) {
@@ -41,7 +59,11 @@ export function installRequests(app) {
     fail(err) {
       state.buildError = err.message;
       markStale(true);
-      app.showError(`Cannot build the map: ${err.message}`);
+      // The point the message is about, ringed on the photo (its object selected).
+      state.marked = messagePoint(err.message, state.scene);
+      if (state.marked?.path[0] === 'objects') app.select({ type: 'object', index: state.marked.path[1] });
+      app.photoView.requestRender();
+      app.showError(`Cannot build the map: ${err.message}${state.marked?.p ? ' (ringed in red on the photo)' : ''}`);
       app.setStatus('Build failed: see the message at the bottom.');
     },
     wait: DEBOUNCE_MS,
@@ -81,6 +103,7 @@ export function installRequests(app) {
     app.refreshBusy();
     state.build = null;
     state.camera = null;
+    state.marked = null;
     state.plan.result = null;
     planView.clear();
     app.renderCamera();
@@ -90,6 +113,7 @@ export function installRequests(app) {
   }
 
   function applyBuild(res) {
+    state.marked = null;
     state.build = res;
     state.camera = res.camera || null;
     state.buildError = null;
@@ -109,7 +133,7 @@ export function installRequests(app) {
     app.renderObjectList();
     if (res.glb_base64) {
       modelView
-        .setModel(base64ToBytes(res.glb_base64))
+        .setModel(base64ToBytes(res.glb_base64), { content: (res.map?.objects || []).length + ((res.map?.floor || []).length ? 1 : 0) })
         .then(() => update3dPaths())
         .catch((err) => {
           $('model-host').replaceChildren(h('p', { class: 'empty', text: `3D view: ${err.message}` }));
@@ -135,6 +159,8 @@ export function installRequests(app) {
           resolution: state.settings.resolution,
           robot_radius: state.settings.robot_radius,
           click_sigma: state.settings.click_sigma,
+          hidden_free: state.settings.hidden_free,
+          unknown_passable: state.plan.unknown_passable,
           start: state.plan.start,
           goal: state.plan.goal,
           planners: PLANNERS,
@@ -158,7 +184,7 @@ export function installRequests(app) {
       const status = $('plan-status');
       state.plan.result = null;
       state.plan.error = err.message;
-      status.textContent = err.message;
+      status.textContent = planMessage(err.message);
       status.classList.add('error');
     },
     always() {
@@ -170,7 +196,9 @@ export function installRequests(app) {
     maxWait: DEBOUNCE_MAX_MS,
   });
 
-  function pickPlanPoint(p) {
+  function pickPlanPoint(q) {
+    // To the millimetre: a click is not more precise, and messages then show short numbers.
+    const p = q.map((v) => Math.round(v * 1000) / 1000);
     const which = document.querySelector('input[name="pick"]:checked')?.value || 'start';
     if (which === 'start') {
       state.plan.start = p;
@@ -204,9 +232,20 @@ export function installRequests(app) {
 
   $('btn-plan').addEventListener('click', () => plan.now());
 
+  // Where paths may go: hidden floor as free (the map changes: build again, then plan) and
+  // unknown cells as passable (the planners only).
+  $('opt-hidden-free').addEventListener('change', (e) => {
+    state.settings.hidden_free = e.target.checked;
+    app.scheduleBuild();
+  });
+  $('opt-unknown-passable').addEventListener('change', (e) => {
+    state.plan.unknown_passable = e.target.checked;
+    schedulePlan();
+  });
+
   $('btn-clear-path').addEventListener('click', () => {
     plan.cancel();
-    state.plan = { start: null, goal: null, result: null, error: null };
+    state.plan = { ...state.plan, start: null, goal: null, result: null, error: null };
     $('plan-start').value = '';
     $('plan-goal').value = '';
     $('pick-start').checked = true;
@@ -301,6 +340,7 @@ export function installRequests(app) {
 
   $('show-segments').addEventListener('change', (e) => {
     state.showSegments = e.target.checked;
+    if (!state.showSegments && state.selection?.type === 'vpline') app.select(null);
     app.photoView.requestRender();
   });
   $('btn-fit').addEventListener('click', () => app.photoView.fit());

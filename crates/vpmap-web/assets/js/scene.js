@@ -2,7 +2,7 @@
 // exactly the file's shape, so saving is `JSON.stringify` and unknown fields survive a round trip.
 
 import { vpPoint } from './geometry.js';
-import { boxOutline, boxPoints } from './box.js';
+import { boxOutline, boxPoints, convexHull } from './box.js';
 
 export const VP_NAMES = ['Horizontal A', 'Horizontal B', 'Vertical'];
 export const VP_COLOURS = ['#e53935', '#2e9d3a', '#1e73d8'];
@@ -122,6 +122,24 @@ export function objectOutline(o) {
   return [];
 }
 
+/**
+ * The image area of an object for a click to select it: the convex hull of its outline and its
+ * top points (a box's faces and a footprint's prism, not only its base).
+ */
+export function objectHull(o) {
+  const pts = [...objectOutline(o)];
+  if (o.base) pts.push(...boxPoints(o).map((x) => x.p));
+  if (Array.isArray(o.top?.point)) pts.push(o.top.point);
+  return convexHull(pts);
+}
+
+/** Area of a polygon (absolute, in its units squared). */
+export function polygonArea(ring) {
+  let a = 0;
+  for (let i = 0, j = ring.length - 1; i < ring.length; j = i++) a += ring[j][0] * ring[i][1] - ring[i][0] * ring[j][1];
+  return Math.abs(a) / 2;
+}
+
 /** The resolved vanishing points of the scene (null entries where unknown). */
 export function resolvedVps(scene) {
   return (scene?.vanishing_points || []).map(vpPoint);
@@ -159,6 +177,27 @@ export function segmentOwners(res, scene) {
     for (const i of v.segments || []) if (i >= 0 && i < owners.length) owners[i] = k;
   }
   return owners;
+}
+
+/**
+ * The scene point a server message is about: its first field name in backquotes
+ * (`floor[2]`, `objects[0].base.right`, `objects[1].footprint[3]`, `objects[1].top.point`)
+ * as `{path, p, note}` with `p` the point, or `{path, object, note}` for an object or a part
+ * of it that is not one point (`objects[1]`, `objects[1].base`), or null when the message names
+ * no point of this scene. `note` is what the message says to add (`add base.left`), or null.
+ */
+export function messagePoint(message, scene) {
+  const m = /`((?:floor|objects)\[\d+\][^`]*)`/.exec(String(message || ''));
+  if (!m || !scene) return null;
+  const path = [];
+  for (const part of m[1].matchAll(/([a-z_]+)|\[(\d+)\]/g)) path.push(part[1] !== undefined ? part[1] : Number(part[2]));
+  const v = getAt(scene, path);
+  // What the message says to add (`add \`base.left\``), to show beside the object.
+  const add = /add `([a-z_.]+)`/.exec(String(message));
+  const note = add ? `add ${add[1]}` : null;
+  if (Array.isArray(v) && v.length === 2 && v.every(Number.isFinite)) return { path, p: v, note };
+  if (path[0] === 'objects' && v !== undefined && scene.objects?.[path[1]]) return { path: ['objects', path[1]], object: path[1], note };
+  return null;
 }
 
 /** A deep copy (the scene is plain JSON). */

@@ -16,14 +16,17 @@ export function createState() {
     camera: null, // camera of the last build
     build: null, // last successful /api/build answer
     buildError: null,
+    marked: null, // {path, p} of the point the build error is about (scene.messagePoint)
     selection: null, // {type: 'object', index} | {type: 'vpline', vp, line}
     handle: null, // last grabbed point, for keyboard nudging
     showSegments: true,
     savedVpPoints: [null, null, null],
     // method null: the server's default (the build answer's map.method says which it is);
     // click_sigma null: estimated by the fit.
-    settings: { method: null, resolution: 0.05, robot_radius: 0.2, click_sigma: null },
-    plan: { start: null, goal: null, result: null, error: null },
+    // hidden_free: hidden floor counts as free (map and plan); unknown_passable: the planners
+    // may cross unknown cells (plan only).
+    settings: { method: null, resolution: 0.05, robot_radius: 0.2, click_sigma: null, hidden_free: false },
+    plan: { start: null, goal: null, result: null, error: null, unknown_passable: false },
     counters: { builds: 0, plans: 0, detects: 0 },
     busy: { build: false, plan: false, detect: false, example: false },
   };
@@ -52,6 +55,13 @@ export class History {
 
   get canRedo() {
     return this.redoStack.length > 0;
+  }
+
+  /** Forget every step (a new photo: no undo may bring back another photo's annotations). */
+  clear() {
+    this.undoStack = [];
+    this.redoStack = [];
+    this.dragging = false;
   }
 
   /** Remember `scene` (before an edit) as the next undo step; clears redo. Null is not recorded. */

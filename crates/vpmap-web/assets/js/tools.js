@@ -6,13 +6,15 @@
 // `beginDrag()`, `endDrag()`, `select(sel)`, `endTool()`, `promptChanged()`,
 // `objectAdded(i)` and `detachVpPoint(k)`.
 
-import { VP_COLOURS, VP_NAMES, handles, objectOutline, setAt, uniqueName } from './scene.js';
-import { distToSegment, pointInPolygon, vpPoint } from './geometry.js';
+import { VP_COLOURS, VP_NAMES, handles, objectHull, polygonArea, resolvedVps, setAt, uniqueName } from './scene.js';
+import { aboveHorizon, distToSegment, pointInPolygon, vpPoint } from './geometry.js';
 import { hexAlpha } from './photo-view.js';
 import { h } from './util.js';
-import { BOX_STEPS, BoxAnnotation, CORNER_HELP, boxEdges, boxPoints, cornerWords, neighbourCorner } from './box.js';
+import { BOX_STEPS, BoxAnnotation, CORNER_HELP, boxEdgeNames, boxEdges, boxPoints, cornerWords, guideLines, neighbourCorner, offLine } from './box.js';
 
 const HIT_PX = 8;
+/** A box corner clicked this close (screen px) to its guide line is put on it (Alt: where clicked). */
+const SNAP_PX = 6;
 
 /** Draw a rubber band and guide lines in image coordinates. */
 function band(view, a, b, colour, dash = [6, 4]) {
@@ -56,6 +58,10 @@ export class SelectTool {
     let bestD = r;
     const sel = st.selection;
     for (const hd of handles(st.scene)) {
+      // A vanishing-point line's ends move only once the line is selected (a click on it), and
+      // never while the segments are hidden: a pan that starts on one of the many detected
+      // lines pans, it does not move a vanishing point.
+      if (hd.kind === 'vp' && !(st.showSegments && sel?.type === 'vpline' && hd.owner === sel.vp && hd.path[3] === sel.line)) continue;
       let d = Math.hypot(hd.p[0] - p[0], hd.p[1] - p[1]);
       // Where points coincide (a corner is often the end of edges towards several vanishing
       // points): the selected object's or line's point first, then annotations, then lines
@@ -104,18 +110,26 @@ export class SelectTool {
     const st = this.app.state;
     if (!st.scene) return;
     st.handle = null;
-    // An object under the pointer (last drawn first)?
-    for (let i = st.scene.objects.length - 1; i >= 0; i--) {
-      const ring = objectOutline(st.scene.objects[i]);
-      if (ring.length >= 3 && pointInPolygon(p, ring)) {
-        this.app.select({ type: 'object', index: i });
-        return;
+    // An object under the pointer, anywhere in its outline with its top (the smallest such, so
+    // that an object in front of a larger one can be picked)?
+    let hit = -1;
+    let hitArea = Infinity;
+    st.scene.objects.forEach((o, i) => {
+      const ring = objectHull(o);
+      const area = ring.length >= 3 && pointInPolygon(p, ring) ? polygonArea(ring) : Infinity;
+      if (area < hitArea) {
+        hit = i;
+        hitArea = area;
       }
+    });
+    if (hit >= 0) {
+      this.app.select({ type: 'object', index: hit });
+      return;
     }
-    // A vanishing-point line near it?
+    // A vanishing-point line near it (when they are shown)?
     const r = 6 * view.px;
     let best = null;
-    st.scene.vanishing_points.forEach((vp, k) => {
+    if (st.showSegments) st.scene.vanishing_points.forEach((vp, k) => {
       (vp.lines || []).forEach((s, j) => {
         const dd = distToSegment(p, [s[0], s[1]], [s[2], s[3]]);
         if (dd < r && (!best || dd < best.d)) best = { d: dd, vp: k, line: j };
@@ -143,6 +157,26 @@ export function moveHandle(app, hd, p, live) {
 }
 
 // ---- placement tools -------------------------------------------------------------------
+
+const HORIZON_REFUSAL = 'That point is ';
+
+/** Take away the refusal of refuseAboveHorizon (a point was taken), not any other message. */
+function clearRefusal(app) {
+  if (document.getElementById('error-text')?.textContent.startsWith(HORIZON_REFUSAL)) app.clearError();
+}
+
+/**
+ * Refuse a floor point on or above the horizon of the last build (it cannot be on the floor):
+ * true, with a message, when `p` is refused. No build yet: nothing to check against.
+ */
+function refuseAboveHorizon(app, p) {
+  const hz = app.state.camera?.horizon;
+  if (!Array.isArray(hz) || hz.length !== 2) return false;
+  const up = aboveHorizon(p, hz[0], hz[1]);
+  if (up === null || up < 0) return false;
+  app.showError(`${HORIZON_REFUSAL}${up.toFixed(0)} px above the horizon (the yellow dashed line): a point on the floor must lie below it. Click it again below the horizon.`);
+  return true;
+}
 
 class PlacementTool {
   constructor(app) {
@@ -207,7 +241,7 @@ export class BoxTool extends PlacementTool {
     }
     return {
       text: c ? `Box ${this.step + 1}/${total}: ${cornerWords(c.corner)} ${c.part} corner` : 'Box: every corner asked; Done to add it',
-      help: c ? `${c.part === 'top' ? 'top: ' : ''}${CORNER_HELP[c.corner]}; S skips a hidden corner, Enter when done` : 'Enter to add the box',
+      help: c ? `${c.part === 'top' ? 'top: ' : ''}${CORNER_HELP[c.corner]}; S if hidden` : 'Enter to add the box',
       extra: controls,
       canUndo: box.canUndo,
       finish: box.canFinish ? 'Done' : null,
@@ -218,7 +252,23 @@ export class BoxTool extends PlacementTool {
     return this.box.canUndo;
   }
 
-  click(p) {
+  /** Where a click at `p` puts the current corner: on its guide line when that is near (SNAP_PX), else `p`. */
+  snapped(p, view, free = false) {
+    const c = this.box.current;
+    if (!c || free || !view) return { p, line: null };
+    const vps = resolvedVps(this.app.state.scene);
+    let best = null;
+    for (const g of guideLines(this.box.partial, c.part, c.corner, vps, this.box.ownYaw)) {
+      const r = offLine(p, g.from, vps[g.vp]);
+      if (r && r.px * view.s <= SNAP_PX && (!best || r.px < best.r.px)) best = { r, g };
+    }
+    return best ? { p: best.r.foot, line: best.g } : { p, line: null };
+  }
+
+  click(p, e, view) {
+    if (this.box.current?.part === 'base' && refuseAboveHorizon(this.app, p)) return;
+    clearRefusal(this.app);
+    p = this.snapped(p, view, !!e?.altKey).p;
     this.box.click(p);
     if (this.box.done) this.finish();
     else this.app.promptChanged();
@@ -263,6 +313,16 @@ export class BoxTool extends PlacementTool {
       if (below) guide(view, this.app, below, 2);
       const anchor = below || from;
       if (anchor && view.cursor) band(view, anchor, view.cursor, colour);
+    }
+    // Where a click here would put the corner: on the guide line when near it.
+    if (c && view.cursor) {
+      const s = this.snapped(view.cursor, view);
+      if (s.line) {
+        view.ctx.beginPath();
+        const q = view.imageToScreen(s.p);
+        view.ctx.arc(q[0], q[1], 6, 0, Math.PI * 2);
+        view.strokeHalo('#ffffff', 1.5);
+      }
     }
     for (const { part, corner, p } of boxPoints(o)) {
       view.dot(p, 4, colour);
@@ -317,6 +377,8 @@ export class FootprintTool extends PlacementTool {
         this.finish();
         return;
       }
+      if (refuseAboveHorizon(this.app, p)) return;
+      clearRefusal(this.app);
       this.pts.push(p);
       this.app.promptChanged();
     } else {
@@ -388,6 +450,8 @@ export class FloorTool extends PlacementTool {
       this.finish();
       return;
     }
+    if (refuseAboveHorizon(this.app, p)) return;
+    clearRefusal(this.app);
     this.pts.push(p);
     this.app.promptChanged();
   }
@@ -422,6 +486,7 @@ export class FloorDistanceTool extends PlacementTool {
     super(app);
     this.kind = 'floor-distance';
     this.pts = [];
+    this.snapped = []; // the scene handle each point was taken from (null: a free point)
     this.meters = meters;
   }
 
@@ -438,21 +503,60 @@ export class FloorDistanceTool extends PlacementTool {
     return this.pts.length > 0;
   }
 
-  click(p) {
-    this.pts.push(p);
+  /** The scene point (an object's corner or a floor corner) within reach of `p`, or null. */
+  snap(p, view) {
+    let best = null;
+    let bestD = HIT_PX * view.px;
+    for (const hd of handles(this.app.state.scene)) {
+      if (hd.kind !== 'object' && hd.kind !== 'floor') continue;
+      const d = Math.hypot(hd.p[0] - p[0], hd.p[1] - p[1]);
+      if (d < bestD) {
+        bestD = d;
+        best = hd;
+      }
+    }
+    return best;
+  }
+
+  click(p, e, view) {
+    // A click near a corner takes the corner itself, so that the distance is between the very
+    // points the box or floor uses.
+    const hd = view ? this.snap(p, view) : null;
+    if (!hd && refuseAboveHorizon(this.app, p)) return;
+    this.pts.push(hd ? [hd.p[0], hd.p[1]] : p);
+    this.snapped.push(hd);
     if (this.pts.length < 2) {
       this.app.promptChanged();
       return;
     }
     const [from, to] = this.pts;
-    this.app.edit((scene) => {
-      scene.scale = { floor_distance: { from, to, meters: this.meters } };
+    const edge = this.boxEdge();
+    this.app.edit((s) => {
+      s.scale = edge ? { object: edge.object, edge: edge.edge, meters: this.meters } : { floor_distance: { from, to, meters: this.meters } };
     });
     this.app.endTool();
+    if (edge) {
+      // The box's own edge: the box is then exactly this long, and so is the distance.
+      this.app.syncForms();
+      this.app.setStatus(`Both points are corners of “${edge.object}”: the scale is its edge ${edge.edge[0]} – ${edge.edge[1]} = ${this.meters} m, so the box and the scale agree.`);
+    }
+  }
+
+  /** `{object, edge}` when both points are base corners of one box joined by an edge, else null. */
+  boxEdge() {
+    const [a, b] = this.snapped || [];
+    const at = (hd) => (hd && hd.kind === 'object' && hd.path[2] === 'base' ? hd.path : null);
+    const pa = at(a), pb = at(b);
+    if (!pa || !pb || pa[1] !== pb[1]) return null;
+    const o = this.app.state.scene.objects[pa[1]];
+    const want = new Set([`base.${pa[3]}`, `base.${pb[3]}`]);
+    const e = boxEdgeNames(o).find((x) => want.has(x.a) && want.has(x.b) && x.a !== x.b);
+    return e ? { object: o.name, edge: [e.a, e.b] } : null;
   }
 
   undo() {
     this.pts.pop();
+    this.snapped?.pop();
     this.app.promptChanged();
   }
 

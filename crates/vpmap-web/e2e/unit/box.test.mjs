@@ -3,7 +3,7 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
-  BOX_STEPS, BoxAnnotation, boxBaseOutline, boxEdges, boxOutline, boxPoints, boxView, convexHull, describeBox, neighbourCorner,
+  BOX_STEPS, BoxAnnotation, boxBaseOutline, boxEdges, boxOutline, boxPoints, boxView, convexHull, describeBox, guideLines, guideOffsets, neighbourCorner,
 } from '../../assets/js/box.js';
 import { handles, objectOutline } from '../../assets/js/scene.js';
 import { fmtSd } from '../../assets/js/util.js';
@@ -141,4 +141,34 @@ test('a box names its edges for scale.edge, and the form value round-trips', asy
   assert.deepEqual(parseEdgeChoice(v), ['base.near', 'top.near']);
   assert.equal(parseEdgeChoice('length'), null);
   assert.equal(parseEdgeChoice('edge:base.near'), null);
+});
+
+test('guideOffsets: how far base corners are from the lines from the near corner, and tops from the vertical', () => {
+  // Near at the origin; A up right, B up left; V straight down far away. Right 3 px off the
+  // line towards A, left on the line towards B, top near 0.5 px off the vertical.
+  const vps = [[1000, -200], [-1000, -300], [0, 100000]];
+  const n = [200 / Math.hypot(1000, 200), 1000 / Math.hypot(1000, 200)];
+  const o = { name: 'b', base: { near: [0, 0], right: [100 + 3 * n[0], -20 + 3 * n[1]], left: [-100, -30] }, top: { near: [0.5, -50] } };
+  const g = Object.fromEntries(guideOffsets(o, vps).map((x) => [`${x.part}.${x.corner}`, x]));
+  assert.equal(g['base.right'].vp, 0);
+  assert.ok(Math.abs(g['base.right'].px - 3) < 1e-9);
+  assert.ok(Math.hypot(g['base.right'].foot[0] - 100, g['base.right'].foot[1] + 20) < 1e-9);
+  assert.equal(g['base.left'].vp, 1);
+  assert.ok(g['base.left'].px < 1e-9);
+  assert.ok(Math.abs(g['top.near'].px - 0.5) < 1e-3);
+  // Own yaw: the base edges need not run to the room's vanishing points.
+  assert.equal(guideOffsets({ ...o, own_yaw: true }, vps).filter((x) => x.part === 'base').length, 0);
+  // No vanishing points known: nothing to say.
+  assert.deepEqual(guideOffsets(o, [null, null, null]), []);
+});
+
+test('guideLines: base corners next to the anchor run towards A or B, top corners up the vertical', () => {
+  const vps = [[1000, -200], [-1000, -300], [0, 100000]];
+  const o = { base: { near: [0, 0] } };
+  assert.deepEqual(guideLines(o, 'base', 'right', vps).map((g) => g.vp), [0, 1]);
+  assert.deepEqual(guideLines(o, 'base', 'right', vps, true), []); // own yaw
+  assert.deepEqual(guideLines(o, 'base', 'far', vps), []); // diagonal to near
+  assert.deepEqual(guideLines(o, 'top', 'near', vps), [{ from: [0, 0], vp: 2 }]);
+  assert.deepEqual(guideLines(o, 'top', 'left', vps), []); // no base.left yet
+  assert.deepEqual(guideLines({}, 'base', 'right', vps), []);
 });

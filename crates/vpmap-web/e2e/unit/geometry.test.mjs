@@ -1,7 +1,7 @@
 // Plane geometry for drawing and hit testing.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { intersectSegments, vpPoint, clipLine, distToSegment, pointInPolygon } from '../../assets/js/geometry.js';
+import { aboveHorizon, intersectSegments, vpPoint, clipLine, distToSegment, pointInPolygon } from '../../assets/js/geometry.js';
 
 const near = (a, b, tol = 1e-9) => assert.ok(a.length === b.length && a.every((v, i) => Math.abs(v - b[i]) <= tol), `${a} != ${b}`);
 
@@ -43,4 +43,14 @@ test('pointInPolygon, even-odd', () => {
   const u = [[0, 0], [6, 0], [6, 6], [4, 6], [4, 2], [2, 2], [2, 6], [0, 6]];
   assert.equal(pointInPolygon([3, 4], u), false, 'inside the notch of a U');
   assert.equal(pointInPolygon([1, 4], u), true);
+});
+
+test('aboveHorizon: positive above the horizon, negative below, whichever way it is given', () => {
+  for (const [a, b] of [[[0, 100], [1000, 100]], [[1000, 100], [0, 100]]]) {
+    assert.equal(aboveHorizon([500, 40], a, b), 60);
+    assert.equal(aboveHorizon([500, 130], a, b), -30);
+  }
+  // A rolled horizon: 45 degrees, the point straight below its middle.
+  assert.ok(Math.abs(aboveHorizon([0, 10], [-10, -10], [10, 10]) + Math.SQRT1_2 * 10) < 1e-9);
+  assert.equal(aboveHorizon([0, 0], [1, 1], [1, 1]), null);
 });

@@ -2,8 +2,9 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
-  emptyScene, normaliseScene, vpUsable, buildBlocker, uniqueName, getAt, setAt, handles, objectOutline, segmentOwners, cloneScene, resolvedVps,
+  emptyScene, normaliseScene, vpUsable, buildBlocker, uniqueName, getAt, setAt, handles, objectOutline, segmentOwners, cloneScene, resolvedVps, messagePoint, objectHull, polygonArea,
 } from '../../assets/js/scene.js';
+import { pointInPolygon } from '../../assets/js/geometry.js';
 
 const lines = (n) => Array.from({ length: n }, (_, i) => [0, i, 10, i + 1]);
 
@@ -111,4 +112,28 @@ test('cloneScene and resolvedVps', () => {
   const vps = resolvedVps(s);
   assert.deepEqual(vps[0], [1, 2]);
   assert.ok(Math.abs(vps[1][0] - -1) < 1e-9 && Math.abs(vps[1][1]) < 1e-9, String(vps[1]));
+});
+
+test('messagePoint finds the scene point a server message names', () => {
+  const s = emptyScene(100, 100);
+  s.floor = [[1, 2], [3, 4], [5, 6]];
+  s.objects = [{ name: 'b', base: { near: [7, 8] }, top: { near: [7, 1] } }, { name: 'f', footprint: [[1, 1], [2, 2], [3, 1]], top: { above: 0, point: [1, 0] } }];
+  assert.deepEqual(messagePoint('scene: `floor[2]` at (5, 6) is 3 px above the horizon', s), { path: ['floor', 2], p: [5, 6], note: null });
+  assert.deepEqual(messagePoint('`objects[0].base.near` lies ...', s), { path: ['objects', 0, 'base', 'near'], p: [7, 8], note: null });
+  assert.deepEqual(messagePoint('x `objects[1].footprint[1]` y', s), { path: ['objects', 1, 'footprint', 1], p: [2, 2], note: null });
+  assert.deepEqual(messagePoint('`objects[1].top.point`', s), { path: ['objects', 1, 'top', 'point'], p: [1, 0], note: null });
+  assert.deepEqual(messagePoint('degenerate geometry at `objects[1]`: add `base.far`', s), { path: ['objects', 1], object: 1, note: 'add base.far' });
+  assert.deepEqual(messagePoint('field `objects[0].base` is invalid: add `base.left` (or `top.left`)', s), { path: ['objects', 0], object: 0, note: 'add base.left' });
+  assert.equal(messagePoint('`floor[9]` is missing', s), null);
+  assert.equal(messagePoint('no field here', s), null);
+});
+
+test('objectHull covers a box\'s faces and a footprint\'s top, for selecting by a click inside', () => {
+  const box = { name: 'b', base: { near: [10, 100], right: [30, 90], left: [0, 90] }, top: { near: [10, 40], left: [0, 35] } };
+  const hull = objectHull(box);
+  assert.ok(pointInPolygon([8, 60], hull)); // on the face between base and top
+  assert.ok(!pointInPolygon([8, 60], objectOutline(box)));
+  assert.equal(polygonArea([[0, 0], [2, 0], [2, 3], [0, 3]]), 6);
+  const fp = { name: 'f', footprint: [[0, 10], [10, 10], [5, 12]], top: { above: 0, point: [0, 0] } };
+  assert.ok(pointInPolygon([2, 5], objectHull(fp)));
 });

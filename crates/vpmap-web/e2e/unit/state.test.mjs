@@ -62,3 +62,15 @@ test('createState gives fresh state every time; busyNames lists the busy request
   a.busy.build = true;
   assert.deepEqual(busyNames(a.busy), ['build', 'plan']);
 });
+
+test('clear forgets undo and redo (a new photo)', () => {
+  const h = new History();
+  h.record({ v: 1 });
+  h.record({ v: 2 });
+  assert.deepEqual(h.undo({ v: 3 }), { v: 2 });
+  assert.ok(h.canUndo && h.canRedo);
+  h.clear();
+  assert.ok(!h.canUndo && !h.canRedo);
+  assert.equal(h.undo({ v: 3 }), null);
+  assert.equal(h.redo({ v: 3 }), null);
+});
