@@ -664,6 +664,10 @@ async function main() {
     await page.screenshot({ path: SCREENSHOT.replace(/(\.png)?$/, '-keys.png') });
     await page.keyboard.press('Escape');
     await page.waitForSelector('#keys-dialog:not([open])', { state: 'attached' });
+    await page.click('#btn-keys');
+    await page.waitForSelector('#keys-dialog[open]');
+    await page.click('#keys-close');
+    await page.waitForSelector('#keys-dialog:not([open])', { state: 'attached' });
     // F: the floor tool.
     await page.focus('#photo-canvas');
     await page.keyboard.press('f');

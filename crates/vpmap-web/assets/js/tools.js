@@ -503,12 +503,13 @@ export class FloorDistanceTool extends PlacementTool {
     return this.pts.length > 0;
   }
 
-  /** The scene point (an object's corner or a floor corner) within reach of `p`, or null. */
+  /** The scene's floor point (a floor, box base or footprint corner) within reach of `p`, or null. */
   snap(p, view) {
     let best = null;
     let bestD = HIT_PX * view.px;
     for (const hd of handles(this.app.state.scene)) {
-      if (hd.kind !== 'object' && hd.kind !== 'floor') continue;
+      // Floor points only: floor corners, box base corners, footprint corners (not tops).
+      if (hd.kind !== 'floor' && !(hd.kind === 'object' && (hd.path[2] === 'base' || hd.path[2] === 'footprint'))) continue;
       const d = Math.hypot(hd.p[0] - p[0], hd.p[1] - p[1]);
       if (d < bestD) {
         bestD = d;
