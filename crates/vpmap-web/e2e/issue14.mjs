@@ -763,6 +763,30 @@ async function main() {
     noProblems();
   });
 
+
+  await step('15. a point clicked near where two edges meet goes on the corner (Alt: where clicked)', async () => {
+    await freshPage();
+    await loadExample();
+    // The example's vanishing-point lines are its boxes' edges: they meet at the crate's near corner.
+    const near = example.scene.objects[crate].base.near;
+    const off = [near[0] + 3, near[1] + 3];
+    for (const alt of [false, true]) {
+      await page.focus('#photo-canvas');
+      await page.keyboard.press('f');
+      if (alt) await page.keyboard.down('Alt');
+      await clickImage(off);
+      if (alt) await page.keyboard.up('Alt');
+      for (const p of [[200, 1150], [1500, 1150]]) await clickImage(p);
+      await page.keyboard.press('Enter');
+      await page.waitForSelector('#prompt[data-tool="select"]');
+      const got = (await sceneNow()).floor[0];
+      const want = alt ? off : near;
+      check(Math.hypot(got[0] - want[0], got[1] - want[1]) < 0.6, `${alt ? 'with Alt' : 'without Alt'} the floor corner is at ${got}, not ${want}`);
+      await page.keyboard.press('Control+z');
+    }
+    noProblems();
+  });
+
   noProblems();
 }
 
