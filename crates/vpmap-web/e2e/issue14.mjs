@@ -664,6 +664,10 @@ async function main() {
     await page.screenshot({ path: SCREENSHOT.replace(/(\.png)?$/, '-keys.png') });
     await page.keyboard.press('Escape');
     await page.waitForSelector('#keys-dialog:not([open])', { state: 'attached' });
+    await page.click('#btn-keys');
+    await page.waitForSelector('#keys-dialog[open]');
+    await page.click('#keys-close');
+    await page.waitForSelector('#keys-dialog:not([open])', { state: 'attached' });
     // F: the floor tool.
     await page.focus('#photo-canvas');
     await page.keyboard.press('f');
@@ -754,6 +758,30 @@ async function main() {
       if (alt) check(/base\.right is 4\.\d px off/.test(text) && Math.hypot(right[0] - off[0], right[1] - off[1]) < 1, `with Alt the corner was moved to ${right}: ${text}`);
       else check(!/px off/.test(text) && Math.hypot(right[0] - off[0], right[1] - off[1]) > 2, `the corner 4 px off its line was not put on it (${right}): ${text}`);
       await page.keyboard.press('Escape');
+      await page.keyboard.press('Control+z');
+    }
+    noProblems();
+  });
+
+
+  await step('15. a point clicked near where two edges meet goes on the corner (Alt: where clicked)', async () => {
+    await freshPage();
+    await loadExample();
+    // The example's vanishing-point lines are its boxes' edges: they meet at the crate's near corner.
+    const near = example.scene.objects[crate].base.near;
+    const off = [near[0] + 3, near[1] + 3];
+    for (const alt of [false, true]) {
+      await page.focus('#photo-canvas');
+      await page.keyboard.press('f');
+      if (alt) await page.keyboard.down('Alt');
+      await clickImage(off);
+      if (alt) await page.keyboard.up('Alt');
+      for (const p of [[200, 1150], [1500, 1150]]) await clickImage(p);
+      await page.keyboard.press('Enter');
+      await page.waitForSelector('#prompt[data-tool="select"]');
+      const got = (await sceneNow()).floor[0];
+      const want = alt ? off : near;
+      check(Math.hypot(got[0] - want[0], got[1] - want[1]) < 0.6, `${alt ? 'with Alt' : 'without Alt'} the floor corner is at ${got}, not ${want}`);
       await page.keyboard.press('Control+z');
     }
     noProblems();

@@ -70,6 +70,32 @@ export function aboveHorizon(p, a, b) {
   return -((p[0] - a[0]) * nx + (p[1] - a[1]) * ny);
 }
 
+/**
+ * Corners where edges of different directions meet: for every two segments `[x1, y1, x2, y2]`
+ * from different lists of `groups` (the lines towards each vanishing point), the crossing of
+ * their lines when it lies within `reach` of an end of each (an L-shaped meeting, as at a box's
+ * corner). Image pixels.
+ */
+export function segmentCorners(groups, reach) {
+  const out = [];
+  const nearEnd = (p, s) => Math.min(Math.hypot(p[0] - s[0], p[1] - s[1]), Math.hypot(p[0] - s[2], p[1] - s[3])) <= reach;
+  for (let a = 0; a < groups.length; a++) {
+    for (let b = a + 1; b < groups.length; b++) {
+      for (const s of groups[a] || []) {
+        for (const t of groups[b] || []) {
+          const d1 = [s[2] - s[0], s[3] - s[1]], d2 = [t[2] - t[0], t[3] - t[1]];
+          const den = d1[0] * d2[1] - d1[1] * d2[0];
+          if (Math.abs(den) < 1e-9 * Math.hypot(...d1) * Math.hypot(...d2)) continue;
+          const u = ((t[0] - s[0]) * d2[1] - (t[1] - s[1]) * d2[0]) / den;
+          const p = [s[0] + u * d1[0], s[1] + u * d1[1]];
+          if (nearEnd(p, s) && nearEnd(p, t)) out.push(p);
+        }
+      }
+    }
+  }
+  return out;
+}
+
 /** Distance from point `p` to the segment `a`-`b`. */
 export function distToSegment(p, a, b) {
   const dx = b[0] - a[0], dy = b[1] - a[1];

@@ -7,7 +7,7 @@
 // `objectAdded(i)` and `detachVpPoint(k)`.
 
 import { VP_COLOURS, VP_NAMES, handles, objectHull, polygonArea, resolvedVps, setAt, uniqueName } from './scene.js';
-import { aboveHorizon, distToSegment, pointInPolygon, vpPoint } from './geometry.js';
+import { aboveHorizon, distToSegment, pointInPolygon, segmentCorners, vpPoint } from './geometry.js';
 import { hexAlpha } from './photo-view.js';
 import { h } from './util.js';
 import { BOX_STEPS, BoxAnnotation, CORNER_HELP, boxEdgeNames, boxEdges, boxPoints, cornerWords, guideLines, neighbourCorner, offLine } from './box.js';
@@ -158,6 +158,41 @@ export function moveHandle(app, hd, p, live) {
 
 // ---- placement tools -------------------------------------------------------------------
 
+/** How near (screen px) a click must be to a corner of the vanishing-point lines to go on it. */
+const CORNER_SNAP_PX = 6;
+/** How near (image px) two lines' ends must be to their crossing to make a corner. */
+const CORNER_REACH_PX = 12;
+
+/**
+ * Where a click at `p` puts a point: on the nearest corner where two vanishing-point lines of
+ * different directions meet (segmentCorners), when one is within CORNER_SNAP_PX; else `p`.
+ * `free` (Alt held): `p`. Returns `{p, snapped}`.
+ */
+function cornerSnap(app, p, view, free) {
+  const scene = app.state.scene;
+  if (free || !view || !scene) return { p, snapped: false };
+  const groups = (scene.vanishing_points || []).map((vp) => vp.lines || []);
+  let best = null;
+  let bestD = CORNER_SNAP_PX / view.s;
+  for (const c of segmentCorners(groups, CORNER_REACH_PX)) {
+    const d = Math.hypot(c[0] - p[0], c[1] - p[1]);
+    if (d < bestD) {
+      bestD = d;
+      best = c;
+    }
+  }
+  return best ? { p: best, snapped: true } : { p, snapped: false };
+}
+
+/** A white ring where a click at the cursor would put the point, when it snaps. */
+function drawSnap(view, s) {
+  if (!s || !s.snapped) return;
+  const q = view.imageToScreen(s.p);
+  view.ctx.beginPath();
+  view.ctx.arc(q[0], q[1], 6, 0, Math.PI * 2);
+  view.strokeHalo('#ffffff', 1.5);
+}
+
 const HORIZON_REFUSAL = 'That point is ';
 
 /** Take away the refusal of refuseAboveHorizon (a point was taken), not any other message. */
@@ -255,14 +290,15 @@ export class BoxTool extends PlacementTool {
   /** Where a click at `p` puts the current corner: on its guide line when that is near (SNAP_PX), else `p`. */
   snapped(p, view, free = false) {
     const c = this.box.current;
-    if (!c || free || !view) return { p, line: null };
+    if (!c || free || !view) return { p, line: null, snapped: false };
     const vps = resolvedVps(this.app.state.scene);
     let best = null;
     for (const g of guideLines(this.box.partial, c.part, c.corner, vps, this.box.ownYaw)) {
       const r = offLine(p, g.from, vps[g.vp]);
       if (r && r.px * view.s <= SNAP_PX && (!best || r.px < best.r.px)) best = { r, g };
     }
-    return best ? { p: best.r.foot, line: best.g } : { p, line: null };
+    if (best) return { p: best.r.foot, line: best.g, snapped: true };
+    return { ...cornerSnap(this.app, p, view, free), line: null };
   }
 
   click(p, e, view) {
@@ -315,15 +351,7 @@ export class BoxTool extends PlacementTool {
       if (anchor && view.cursor) band(view, anchor, view.cursor, colour);
     }
     // Where a click here would put the corner: on the guide line when near it.
-    if (c && view.cursor) {
-      const s = this.snapped(view.cursor, view);
-      if (s.line) {
-        view.ctx.beginPath();
-        const q = view.imageToScreen(s.p);
-        view.ctx.arc(q[0], q[1], 6, 0, Math.PI * 2);
-        view.strokeHalo('#ffffff', 1.5);
-      }
-    }
+    if (c && view.cursor) drawSnap(view, this.snapped(view.cursor, view));
     for (const { part, corner, p } of boxPoints(o)) {
       view.dot(p, 4, colour);
       view.label(p, `${part === 'top' ? 'top ' : ''}${cornerWords(corner)}`, colour);
@@ -377,6 +405,7 @@ export class FootprintTool extends PlacementTool {
         this.finish();
         return;
       }
+      p = cornerSnap(this.app, p, view, !!e?.altKey).p;
       if (refuseAboveHorizon(this.app, p)) return;
       clearRefusal(this.app);
       this.pts.push(p);
@@ -410,6 +439,7 @@ export class FootprintTool extends PlacementTool {
   draw(ctx, view) {
     const colour = '#ffb74d';
     const c = view.cursor;
+    if (c && this.stage === 'polygon') drawSnap(view, cornerSnap(this.app, c, view, false));
     if (this.pts.length) {
       view.path(this.pts, this.stage === 'top');
       view.strokeHalo(colour, 2);
@@ -450,6 +480,7 @@ export class FloorTool extends PlacementTool {
       this.finish();
       return;
     }
+    p = cornerSnap(this.app, p, view, !!e?.altKey).p;
     if (refuseAboveHorizon(this.app, p)) return;
     clearRefusal(this.app);
     this.pts.push(p);
@@ -472,6 +503,7 @@ export class FloorTool extends PlacementTool {
 
   draw(ctx, view) {
     const colour = '#7ee08f';
+    if (view.cursor) drawSnap(view, cornerSnap(this.app, view.cursor, view, false));
     if (this.pts.length) {
       view.path(this.pts);
       view.strokeHalo(colour, 2);
@@ -503,12 +535,13 @@ export class FloorDistanceTool extends PlacementTool {
     return this.pts.length > 0;
   }
 
-  /** The scene point (an object's corner or a floor corner) within reach of `p`, or null. */
+  /** The scene's floor point (a floor, box base or footprint corner) within reach of `p`, or null. */
   snap(p, view) {
     let best = null;
     let bestD = HIT_PX * view.px;
     for (const hd of handles(this.app.state.scene)) {
-      if (hd.kind !== 'object' && hd.kind !== 'floor') continue;
+      // Floor points only: floor corners, box base corners, footprint corners (not tops).
+      if (hd.kind !== 'floor' && !(hd.kind === 'object' && (hd.path[2] === 'base' || hd.path[2] === 'footprint'))) continue;
       const d = Math.hypot(hd.p[0] - p[0], hd.p[1] - p[1]);
       if (d < bestD) {
         bestD = d;

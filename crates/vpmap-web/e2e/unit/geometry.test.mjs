@@ -1,7 +1,7 @@
 // Plane geometry for drawing and hit testing.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { aboveHorizon, intersectSegments, vpPoint, clipLine, distToSegment, pointInPolygon } from '../../assets/js/geometry.js';
+import { aboveHorizon, segmentCorners, intersectSegments, vpPoint, clipLine, distToSegment, pointInPolygon } from '../../assets/js/geometry.js';
 
 const near = (a, b, tol = 1e-9) => assert.ok(a.length === b.length && a.every((v, i) => Math.abs(v - b[i]) <= tol), `${a} != ${b}`);
 
@@ -53,4 +53,15 @@ test('aboveHorizon: positive above the horizon, negative below, whichever way it
   // A rolled horizon: 45 degrees, the point straight below its middle.
   assert.ok(Math.abs(aboveHorizon([0, 10], [-10, -10], [10, 10]) + Math.SQRT1_2 * 10) < 1e-9);
   assert.equal(aboveHorizon([0, 0], [1, 1], [1, 1]), null);
+});
+
+test('segmentCorners: where edges of different directions meet near their ends', () => {
+  const a = [[0, 0, 100, -10]]; // towards A
+  const b = [[-1, -0.2, -100, -20], [500, 500, 600, 480]]; // towards B: one meets a's first end, one is far
+  const v = [[0.5, 0, 0.5, -80]]; // vertical, from the same corner
+  const corners = segmentCorners([a, b, v], 5);
+  assert.equal(corners.length, 3);
+  for (const c of corners) assert.ok(Math.hypot(c[0], c[1]) < 3, `corner ${c}`);
+  assert.deepEqual(segmentCorners([a, b], 0.9), []); // too far from b's end (1.02)
+  assert.deepEqual(segmentCorners([a, a], 5).length, 0); // parallel lines do not meet
 });
