@@ -29,6 +29,7 @@ import { deflateSync } from 'node:zlib';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { chromium } from 'playwright-core';
+import { segmentCorners } from '../assets/js/geometry.js';
 
 const HERE = dirname(fileURLToPath(import.meta.url));
 const REPO = join(HERE, '..', '..', '..');
@@ -334,7 +335,8 @@ async function main() {
     await loadExample();
     let s = await status();
     const box = (await sceneNow()).objects[bookcase].base;
-    // Drag the right base corner 8 px across its edge (near -> right).
+    // Drag the right base corner 8 px across its edge (near -> right), with Alt: a plain drag
+    // keeps a corner this near its line on it (step 16).
     const d = [box.right[0] - box.near[0], box.right[1] - box.near[1]];
     const len = Math.hypot(d[0], d[1]);
     const off = [box.right[0] - (8 * d[1]) / len, box.right[1] + (8 * d[0]) / len];
@@ -342,8 +344,10 @@ async function main() {
     const b = await client(off);
     await page.mouse.move(a[0], a[1]);
     await page.mouse.down();
+    await page.keyboard.down('Alt');
     for (let i = 1; i <= 5; i++) await page.mouse.move(a[0] + ((b[0] - a[0]) * i) / 5, a[1] + ((b[1] - a[1]) * i) / 5);
     await page.mouse.up();
+    await page.keyboard.up('Alt');
     s = await settle('the build after the drag', { builds: s.builds + 1 });
     const moved = (await sceneNow()).objects[bookcase].base;
     check(Math.hypot(moved.right[0] - box.right[0], moved.right[1] - box.right[1]) > 1, 'the drag did not move the corner');
@@ -784,6 +788,80 @@ async function main() {
       check(Math.hypot(got[0] - want[0], got[1] - want[1]) < 0.6, `${alt ? 'with Alt' : 'without Alt'} the floor corner is at ${got}, not ${want}`);
       await page.keyboard.press('Control+z');
     }
+    noProblems();
+  });
+
+  await step('16. a dragged corner snaps to its guide line and to line ends; Shift drags finely; Alt frees', async () => {
+    await freshPage();
+    await loadExample();
+    const scale = await page.evaluate(() => {
+      const a = window.vpmap.imageToClient(0, 0), b = window.vpmap.imageToClient(1000, 0);
+      return (b[0] - a[0]) / 1000;
+    });
+    const drag = async (from, to, { shift = false, alt = false } = {}) => {
+      const [x0, y0] = await client(from);
+      const [x1, y1] = await client(to);
+      await page.mouse.move(x0, y0);
+      await page.mouse.down();
+      if (shift) await page.keyboard.down('Shift');
+      if (alt) await page.keyboard.down('Alt');
+      for (let k = 1; k <= 8; k++) await page.mouse.move(x0 + ((x1 - x0) * k) / 8, y0 + ((y1 - y0) * k) / 8);
+      await page.mouse.up();
+      if (alt) await page.keyboard.up('Alt');
+      if (shift) await page.keyboard.up('Shift');
+    };
+    // (a) The bookcase's right base corner dragged 4 px off the line from its near corner
+    // towards its vanishing point stays on that line; with Alt it goes where dropped.
+    const o = example.scene.objects[bookcase];
+    const d = [o.base.right[0] - o.base.near[0], o.base.right[1] - o.base.near[1]];
+    const len = Math.hypot(d[0], d[1]);
+    const along = [o.base.right[0] - (30 * d[0]) / len, o.base.right[1] - (30 * d[1]) / len];
+    const off = [along[0] - (4 * d[1]) / len, along[1] + (4 * d[0]) / len];
+    const lineDist = (p) => Math.abs((p[0] - o.base.near[0]) * d[1] - (p[1] - o.base.near[1]) * d[0]) / len;
+    for (const alt of [false, true]) {
+      await drag(o.base.right, off, { alt });
+      const got = (await sceneNow()).objects[bookcase].base.right;
+      if (alt) check(Math.abs(lineDist(got) - 4) < 0.6, `with Alt the dragged corner is ${lineDist(got).toFixed(2)} px off its line, not 4`);
+      else check(lineDist(got) < 0.05 && Math.hypot(got[0] - along[0], got[1] - along[1]) < 0.6 / scale + 0.6, `the dragged corner ended ${lineDist(got).toFixed(2)} px off its line at ${got} (want on it near ${along})`);
+      await page.keyboard.press('Control+z');
+    }
+    // (b) Shift: a floor corner follows the pointer ten times slower, so it lands between the
+    // image positions a pointer pixel can reach at this zoom.
+    const f0 = (await sceneNow()).floor[0];
+    const pointerPx = 1 / scale; // image px per screen px
+    await drag(f0, [f0[0] + 37 * pointerPx, f0[1] + 23 * pointerPx], { shift: true });
+    const f1 = (await sceneNow()).floor[0];
+    const moved = [(f1[0] - f0[0]) / pointerPx, (f1[1] - f0[1]) / pointerPx];
+    check(Math.abs(moved[0] - 3.7) < 0.35 && Math.abs(moved[1] - 2.3) < 0.35, `with Shift the corner moved ${moved.map((v) => v.toFixed(2))} screen px for a 37, 23 px drag (want a tenth)`);
+    await page.keyboard.press('Control+z');
+    // (c) Zoomed in, a floor corner clicked near the end of a line that meets no other line goes
+    // on the end (at the fitted zoom ends attract nothing: e2e.mjs places corners there).
+    const groups = example.scene.vanishing_points.map((vp) => vp.lines || []);
+    const corners = segmentCorners(groups, 12);
+    const ends = groups.flat().flatMap((s) => [[s[0], s[1]], [s[2], s[3]]]);
+    const lonely = ends
+      .map((e) => ({ e, gap: Math.min(...corners.map((c) => Math.hypot(c[0] - e[0], c[1] - e[1])), Infinity) }))
+      .filter((x) => x.gap > 60 && x.e[1] > 700)
+      .sort((a, b) => b.gap - a.gap)[0];
+    check(!!lonely, 'the example has no line end away from every corner below the horizon to test with');
+    const at = await client(lonely.e);
+    await page.mouse.move(at[0], at[1]);
+    for (let k = 0; k < 2; k++) await page.mouse.wheel(0, -600);
+    const zoomed = await page.evaluate(() => {
+      const a = window.vpmap.imageToClient(0, 0), b = window.vpmap.imageToClient(1000, 0);
+      return (b[0] - a[0]) / 1000;
+    });
+    check(zoomed > 4 * scale, `two wheel turns zoomed only from ${scale} to ${zoomed}`);
+    const near = [lonely.e[0] + 3 / zoomed, lonely.e[1] - 2 / zoomed];
+    await page.focus('#photo-canvas');
+    await page.keyboard.press('f');
+    await clickImage(near);
+    await page.keyboard.press('0'); // fit, to reach the other corners
+    for (const p of [[200, 1150], [1500, 1150]]) await clickImage(p);
+    await page.keyboard.press('Enter');
+    await page.waitForSelector('#prompt[data-tool="select"]');
+    const got = (await sceneNow()).floor[0];
+    check(Math.hypot(got[0] - lonely.e[0], got[1] - lonely.e[1]) < 1e-6, `the floor corner clicked 2 px from a line end is at ${got}, not on the end ${lonely.e}`);
     noProblems();
   });
 
