@@ -865,6 +865,44 @@ async function main() {
     noProblems();
   });
 
+  await step('17. floor-plan labels are readable at the default zoom and do not overlap', async () => {
+    for (const [w, h] of [[1366, 768], [1920, 1080]]) {
+      await freshPage(w, h);
+      await loadExample();
+      const labels = () => page.evaluate(() => {
+        const texts = [...document.querySelectorAll('#plan-svg [id="fp-labels"] text')];
+        const boxes = [...document.querySelectorAll('#plan-svg [id="fp-labels"] rect')].map((r) => r.getBoundingClientRect());
+        const ticks = [...document.querySelectorAll('#plan-svg [id="fp-axes"] text:not([font-size])')].map((t) => t.getBoundingClientRect().height);
+        return {
+          names: texts.filter((t) => t.getAttribute('font-weight') === 'bold').map((t) => ({ text: t.textContent, px: t.getBoundingClientRect().height })),
+          boxes: boxes.map((r) => [r.left, r.top, r.width, r.height]),
+          ticks,
+        };
+      });
+      const got = await labels();
+      check(got.names.length === example.scene.objects.length, `${got.names.length} object labels on the plan, ${example.scene.objects.length} objects`);
+      // A 11.5 px name is about 13 px tall on screen (the glyph box).
+      for (const n of got.names) check(n.px >= 11, `at ${w} x ${h} the label “${n.text}” is ${n.px.toFixed(1)} px tall on screen`);
+      for (const t of got.ticks) check(t >= 9.5, `at ${w} x ${h} an axis tick label is ${t.toFixed(1)} px tall`);
+      got.boxes.forEach((a, i) => got.boxes.slice(i + 1).forEach((b) => {
+        const apart = a[0] >= b[0] + b[2] || b[0] >= a[0] + a[2] || a[1] >= b[1] + b[3] || b[1] >= a[1] + a[3];
+        check(apart, `at ${w} x ${h} two object labels overlap: ${a.map(Math.round)} and ${b.map(Math.round)}`);
+      }));
+      await page.screenshot({ path: SCREENSHOT.replace(/(\.png)?$/, `-labels-${w}.png`) });
+      // Zoomed in, the picture's own sizes come back (labels grow with the plan, not beyond).
+      const before = got.names[0].px;
+      const c = await planClient([0, 3]);
+      await page.mouse.move(c[0], c[1]);
+      for (let k = 0; k < 6; k++) await page.mouse.wheel(0, -400);
+      const zoomed = await labels();
+      check(zoomed.names[0].px > before * 1.5, `zoomed in, the label is ${zoomed.names[0].px.toFixed(1)} px (was ${before.toFixed(1)})`);
+      // The downloaded plan keeps the server's label sizes.
+      const exported = await page.evaluate(() => window.vpmap.planSvg());
+      check(!/plan-label-box" transform=/.test(exported) && !/display: none/.test(exported), 'the downloaded plan carries the on-screen label scaling');
+    }
+    noProblems();
+  });
+
   noProblems();
 }
 

@@ -289,6 +289,8 @@ window.vpmap = Object.freeze({
   imageToClient: (x, y) => app.photoView.imageToClient([x, y]),
   /** Viewport coordinates of a map point on the floor plan (null before a build). */
   planMapToClient: (x, y) => app.planView.mapToClient([x, y]),
+  /** The floor plan as downloaded (SVG text, with the overlay), or null. */
+  planSvg: () => app.planView.serialize(),
   /** A copy of the last build's map (map.json), or null. */
   map: () => cloneScene(state.build?.map ?? null),
   /** A copy of the scene being edited. */

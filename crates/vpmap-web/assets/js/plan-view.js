@@ -23,6 +23,58 @@ export const PLANNER_STYLE = {
 
 const finite = (p) => Array.isArray(p) && Number.isFinite(p[0]) && Number.isFinite(p[1]);
 
+/** Object names on the plan are never drawn smaller than this on screen (px); the size lines in proportion. */
+const LABEL_NAME_PX = 11.5;
+/** Axis tick labels are never drawn smaller than this on screen (px). */
+const TICK_PX = 10;
+
+/**
+ * The server's object labels (svg.rs `<g id="labels">`: per label an optional leader line and dot,
+ * a rect, the name in bold, then size lines), each wrapped in its own group so the page can draw
+ * it at screen size: `[{box, leader, rect, namePx}]` with `rect` in SVG user units.
+ */
+function groupLabels(svg) {
+  const host = svg.querySelector(`[id="${ID_PREFIX}labels"]`);
+  if (!host) return [];
+  const labels = [];
+  let cur = null;
+  const start = (before) => {
+    const g = svgEl('g', { class: 'plan-label' });
+    const box = svgEl('g', { class: 'plan-label-box' });
+    g.append(box);
+    host.insertBefore(g, before);
+    cur = { g, box, leader: null, rect: null, namePx: 0 };
+    labels.push(cur);
+  };
+  for (const el of [...host.children]) {
+    if (el.classList?.contains('plan-label')) continue;
+    const kind = el.localName;
+    if (kind === 'line' || (kind === 'rect' && (!cur || cur.rect)) || !cur) start(el);
+    if (kind === 'line' || kind === 'circle') {
+      cur.g.insertBefore(el, cur.box);
+      if (kind === 'line') {
+        cur.leader = el;
+        cur.leaderEnd = [el.getAttribute('x2'), el.getAttribute('y2')];
+      }
+    } else {
+      cur.box.append(el);
+      if (kind === 'rect') {
+        cur.rect = ['x', 'y', 'width', 'height'].map((a) => Number(el.getAttribute(a)));
+        cur.rectEl = el;
+      } else if (kind === 'text' && !cur.namePx) {
+        cur.namePx = Number(el.getAttribute('font-size')) || 0;
+        cur.nameEl = el;
+      } else if (kind === 'text') {
+        cur.sizeEls = [...(cur.sizeEls || []), el];
+      }
+    }
+  }
+  return labels.filter((l) => l.rect && l.rect.every(Number.isFinite) && l.namePx > 0);
+}
+
+/** Do rects `[x, y, w, h]` overlap (with a gap of `gap`)? */
+const overlaps = (a, b, gap) => a[0] < b[0] + b[2] + gap && b[0] < a[0] + a[2] + gap && a[1] < b[1] + b[3] + gap && b[1] < a[1] + a[3] + gap;
+
 /** The attribute of a floor-plan SVG's root element that holds its map-to-picture transform. */
 export const SVG_FROM_MAP_ATTR = 'data-svg-from-map';
 
@@ -167,6 +219,9 @@ export class PlanView {
     if (prevMapBox) this.setBox(this.mapToBox(prevMapBox), false);
     else this.setBox(this.homeBox, true);
     this.listen(svg);
+    this.labels = groupLabels(svg);
+    this.axes = svg.querySelector(`[id="${ID_PREFIX}axes"]`);
+    this.axesPx = Number(this.axes?.getAttribute('font-size')) || 0;
     if (occupancy !== this.occupancy) {
       this.occupancy = occupancy;
       this.occupancyUrl = null;
@@ -350,8 +405,73 @@ export class PlanView {
     return el;
   }
 
+  /**
+   * Object labels and axis ticks at a readable screen size: at the page's default zoom the
+   * 1000-unit picture is shown at about a third of its size, so each label is scaled about its
+   * centre until its name is LABEL_NAME_PX on screen, keeping only the name (the sizes are in
+   * the object list and the object's tooltip; enlarged, they would cover the plan), then moved
+   * down off the labels above it (top to bottom), its leader line following. Zoomed in far
+   * enough, the picture's own labels come back whole.
+   */
+  fitLabels() {
+    const k = this.unitsPerPx(this.box);
+    if (this.axes && this.axesPx > 0) this.axes.setAttribute('font-size', Math.max(this.axesPx, TICK_PX * k).toFixed(2));
+    const placed = [];
+    const order = [...(this.labels || [])].sort((a, b) => a.rect[1] - b.rect[1]);
+    for (const l of order) {
+      const m = Math.max(1, (LABEL_NAME_PX * k) / l.namePx);
+      const nameOnly = m > 1 && l.sizeEls?.length > 0 && l.nameEl;
+      for (const el of l.sizeEls || []) el.style.display = nameOnly ? 'none' : '';
+      const [x, y, , ] = l.rect;
+      // Name only: the rect shrinks to the name's line, the name centred in it.
+      const w = nameOnly ? Math.min(l.rect[2], l.nameEl.getComputedTextLength() + 0.6 * l.namePx) : l.rect[2];
+      const h = nameOnly ? 1.5 * l.namePx : l.rect[3];
+      const x0 = x + (l.rect[2] - w) / 2;
+      l.rectEl.setAttribute('x', x0.toFixed(2));
+      l.rectEl.setAttribute('width', w.toFixed(2));
+      l.rectEl.setAttribute('height', h.toFixed(2));
+      if (l.nameY === undefined) l.nameY = l.nameEl?.getAttribute('y');
+      if (l.nameEl) l.nameEl.setAttribute('y', nameOnly ? (y + 1.12 * l.namePx).toFixed(2) : l.nameY);
+      const cx = x0 + w / 2, cy = y + h / 2;
+      const r = [cx - (w * m) / 2, cy - (h * m) / 2, w * m, h * m];
+      const gap = 2 * k;
+      for (let tries = 0; tries < 50; tries++) {
+        const hit = placed.find((q) => overlaps(q, r, gap));
+        if (!hit) break;
+        r[1] = hit[1] + hit[3] + gap + 1e-6;
+      }
+      placed.push(r);
+      const dy = r[1] + r[3] / 2 - cy;
+      if (m === 1 && dy === 0) l.box.removeAttribute('transform');
+      else l.box.setAttribute('transform', `translate(${cx.toFixed(2)} ${(cy + dy).toFixed(2)}) scale(${m.toFixed(4)}) translate(${(-cx).toFixed(2)} ${(-cy).toFixed(2)})`);
+      if (l.leader) {
+        const ax = Number(l.leader.getAttribute('x1')), ay = Number(l.leader.getAttribute('y1'));
+        l.leader.setAttribute('x2', Math.min(Math.max(ax, r[0]), r[0] + r[2]).toFixed(2));
+        l.leader.setAttribute('y2', Math.min(Math.max(ay, r[1]), r[1] + r[3]).toFixed(2));
+      }
+    }
+  }
+
+  /** The labels and ticks as the server drew them (for the downloaded picture). */
+  resetLabels() {
+    if (this.axes && this.axesPx > 0) this.axes.setAttribute('font-size', String(this.axesPx));
+    for (const l of this.labels || []) {
+      l.box.removeAttribute('transform');
+      for (const el of l.sizeEls || []) el.style.display = '';
+      l.rectEl.setAttribute('x', String(l.rect[0]));
+      l.rectEl.setAttribute('width', String(l.rect[2]));
+      l.rectEl.setAttribute('height', String(l.rect[3]));
+      if (l.nameEl && l.nameY !== undefined) l.nameEl.setAttribute('y', l.nameY);
+      if (l.leader) {
+        l.leader.setAttribute('x2', l.leaderEnd[0]);
+        l.leader.setAttribute('y2', l.leaderEnd[1]);
+      }
+    }
+  }
+
   draw() {
     if (!this.overlay) return;
+    this.fitLabels();
     const g = this.overlay;
     g.replaceChildren();
     if (this.layers.occupancy && this.occupancy) this.drawOccupancy(g);
@@ -435,7 +555,9 @@ export class PlanView {
   /** The plan as a standalone SVG document (with the overlay), for download. */
   serialize() {
     if (!this.svg) return null;
+    this.resetLabels();
     const clone = this.svg.cloneNode(true);
+    this.fitLabels();
     const vb = this.fullBox;
     clone.setAttribute('viewBox', `${vb.x} ${vb.y} ${vb.w} ${vb.h}`);
     clone.setAttribute('width', String(vb.w));
