@@ -3,14 +3,11 @@
 //! validation as its endpoint, in the same order, and stops before the expensive work
 //! (planning, pictures, the 3D model); not part of the supported API.
 
-use vpmap_pipeline::{Coordinates, Endpoint, EndpointRules, MapOptions, OptionNames};
+use vpmap_pipeline::MapOptions;
 
 use super::detect::DetectQuery;
-use super::plan::{PlanRequest, planners};
-use super::scene::{
-    MAX_GRID_CELLS, map_options, map_options_from_query, pipeline_error, scene_from_text,
-    scene_from_value,
-};
+use super::plan::checked_plan_request;
+use super::scene::{MAX_GRID_CELLS, map_options_from_query, pipeline_error, scene_from_text};
 use crate::{ApiError, params};
 
 /// The grid limit: the page's ([`MAX_GRID_CELLS`]) or `max_grid_cells`, whichever is smaller.
@@ -43,34 +40,7 @@ pub fn build_request(
 /// # Errors
 /// The 400 answer `/api/plan` would give before planning.
 pub fn plan_request(body: &[u8], max_grid_cells: f64) -> Result<(), ApiError> {
-    let text = params::json_text(body, "a plan request")?;
-    let request = PlanRequest::from_text(&text)?;
-    let options = map_options(
-        request.method.as_deref(),
-        request.resolution,
-        request.robot_radius,
-        request.hidden_free,
-        request.click_sigma,
-    )?;
-    let options = capped(options, max_grid_cells);
-    planners(request.planners.as_deref())?;
-    let unknown_passable = request.unknown_passable.unwrap_or(false);
-    let parsed = scene_from_value(&request.scene)?;
-    let built = vpmap_pipeline::map_and_grid(&parsed.scene, &options).map_err(pipeline_error)?;
-    let units = vpmap_pipeline::units_name(built.map.units);
-    let coordinates = Coordinates::Map {
-        units: if units == "m" { "m" } else { "camera heights" },
-    };
-    let rules = EndpointRules {
-        unknown_passable,
-        robot_radius: options.robot_radius_m,
-        names: OptionNames::WebApi,
-    };
-    for (name, point) in [("start", request.start), ("goal", request.goal)] {
-        vpmap_pipeline::endpoint_cell(&built.grid, coordinates, &Endpoint { name, point }, &rules)
-            .map_err(pipeline_error)?;
-    }
-    Ok(())
+    checked_plan_request(body, max_grid_cells).map(|_| ())
 }
 
 /// `POST /api/detect?{query}` for a photo of `width` x `height` pixels: the query's options,

@@ -20,7 +20,7 @@ use vpmap_plan::plan::Plan;
 use vpmap_plan::planner::{Planner, PlannerKind};
 use vpmap_plan::{Budget, Stop};
 
-use super::scene::{map_options, pipeline_error, scene_from_value};
+use super::scene::{MAX_GRID_CELLS, map_options, pipeline_error, scene_from_value};
 use super::{elapsed_ms, respond, to_json};
 use crate::params::Query;
 use crate::{ApiError, AppState, MAX_JSON_BODY_BYTES, params, run_blocking};
@@ -405,17 +405,45 @@ fn run_planner(
     Ok(out)
 }
 
-fn plan_answer(body: &[u8], stop: &PlanStop) -> Result<Bytes, ApiError> {
-    let started = Instant::now();
+/// A plan request checked up to the planning: its planners, the scene's map and grid, and the
+/// start and goal cells (what `/api/plan` and the fuzz target `web_body` share).
+pub(crate) struct CheckedPlan {
+    /// The planners asked for, in order.
+    pub kinds: Vec<PlannerKind>,
+    /// Whether unknown cells may be crossed.
+    pub unknown_passable: bool,
+    /// The scene's warnings, then the map's.
+    pub warnings: Vec<String>,
+    /// The map's units name (`m` or `camera heights`).
+    pub units: &'static str,
+    /// The occupancy grid.
+    pub grid: OccupancyGrid,
+    /// The start and goal cells.
+    pub start: CellXy,
+    /// See `start`.
+    pub goal: CellXy,
+}
+
+/// Parse and check a `/api/plan` body, in the endpoint's order: the request's fields, the map
+/// options (with at most `max_grid_cells` grid cells), the planners, the scene, its map and
+/// grid, then the start and goal.
+///
+/// # Errors
+/// The 400 answer `/api/plan` gives before planning.
+pub(crate) fn checked_plan_request(
+    body: &[u8],
+    max_grid_cells: f64,
+) -> Result<CheckedPlan, ApiError> {
     let text = params::json_text(body, "a plan request")?;
     let request = PlanRequest::from_text(&text)?;
-    let options = map_options(
+    let mut options = map_options(
         request.method.as_deref(),
         request.resolution,
         request.robot_radius,
         request.hidden_free,
         request.click_sigma,
     )?;
+    options.max_grid_cells = Some(max_grid_cells.min(MAX_GRID_CELLS));
     let kinds = planners(request.planners.as_deref())?;
     let unknown_passable = request.unknown_passable.unwrap_or(false);
     let parsed = scene_from_value(&request.scene)?;
@@ -434,6 +462,30 @@ fn plan_answer(body: &[u8], stop: &PlanStop) -> Result<Bytes, ApiError> {
         endpoint_cell(&grid, coordinates, &Endpoint { name, point }, &rules).map_err(pipeline_error)
     });
     let (start, goal) = (start?, goal?);
+    let mut warnings = parsed.warnings;
+    warnings.extend(map.warnings.iter().cloned());
+    Ok(CheckedPlan {
+        kinds,
+        unknown_passable,
+        warnings,
+        units,
+        grid,
+        start,
+        goal,
+    })
+}
+
+fn plan_answer(body: &[u8], stop: &PlanStop) -> Result<Bytes, ApiError> {
+    let started = Instant::now();
+    let CheckedPlan {
+        kinds,
+        unknown_passable,
+        warnings,
+        units,
+        grid,
+        start,
+        goal,
+    } = checked_plan_request(body, MAX_GRID_CELLS)?;
     let mut budget = MAX_TRACK_POINTS;
     let results = kinds
         .into_iter()
@@ -449,8 +501,6 @@ fn plan_answer(body: &[u8], stop: &PlanStop) -> Result<Bytes, ApiError> {
             )
         })
         .collect::<Result<Vec<_>, _>>()?;
-    let mut warnings = parsed.warnings;
-    warnings.extend(map.warnings.iter().cloned());
     to_json(&PlanResponse {
         results,
         grid: GridOut {
