@@ -18,18 +18,11 @@
 //   VPMAP_E2E_SCREENSHOT  screenshot path (default: /tmp/vpmap-e2e.png)
 //   VPMAP_E2E_HEADED=1    show the browser window
 
-import { spawn } from 'node:child_process';
-import { existsSync } from 'node:fs';
 import { readFile } from 'node:fs/promises';
-import { dirname, join } from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
+import { launchChromium, startServer } from './harness.mjs';
 
-const HERE = dirname(fileURLToPath(import.meta.url));
-const REPO = join(HERE, '..', '..', '..');
 const TOTAL_MS = 120_000;
 const SCREENSHOT = process.env.VPMAP_E2E_SCREENSHOT || '/tmp/vpmap-e2e.png';
-const CHROMIUM = process.env.VPMAP_E2E_CHROMIUM || '/usr/bin/chromium';
 const PITCH_TOLERANCE_DEG = 0.5;
 // Start and goal on the example's free floor (map metres, at least 0.4 m from any obstacle
 // with the default 0.2 m robot radius): right of the crate, and behind it to the right of the
@@ -87,58 +80,17 @@ async function step(name, fn) {
   }
 }
 
-/** Start the server and return its base URL. */
-function startServer() {
-  if (process.env.VPMAP_URL) return Promise.resolve(process.env.VPMAP_URL.replace(/\/?$/, '/'));
-  let cmd, args;
-  if (process.env.VPMAP_E2E_MOCK === '1') {
-    cmd = process.execPath;
-    args = [join(HERE, 'mock-server.mjs'), '--port', '0'];
-  } else {
-    cmd = process.env.VPMAP_BIN || join(REPO, 'target', 'release', 'vpmap');
-    if (!existsSync(cmd)) throw new Error(`${cmd} does not exist: run \`cargo build --release\` first, or set VPMAP_BIN or VPMAP_URL`);
-    args = ['serve', '--port', '0'];
-  }
-  log(`starting ${cmd} ${args.join(' ')}`);
-  server = spawn(cmd, args, { stdio: ['ignore', 'pipe', 'pipe'] });
-  return new Promise((resolve, reject) => {
-    let seen = '';
-    const timer = setTimeout(() => reject(new Error(`the server printed no http:// address within 20 s; it printed:\n${seen}`)), 20_000);
-    const onData = (buf) => {
-      seen += buf.toString();
-      const m = seen.match(/https?:\/\/[^\s"'<>]+/);
-      if (m) {
-        clearTimeout(timer);
-        // Bind-all addresses are not browsable: use the loopback address.
-        resolve(m[0].replace('://0.0.0.0', '://127.0.0.1').replace('://[::]', '://[::1]').replace(/\/?$/, '/'));
-      }
-    };
-    server.stdout.on('data', onData);
-    server.stderr.on('data', onData);
-    server.on('exit', (code) => {
-      clearTimeout(timer);
-      reject(new Error(`the server exited with code ${code} before printing its address:\n${seen}`));
-    });
-  });
-}
 
 async function main() {
-  const url = await step('start the server', startServer);
+  const url = await step('start the server', async () => {
+    const started = await startServer({ mock: true, log });
+    server = started.server;
+    return started.url;
+  });
   log(`server at ${url}`);
 
   await step('launch Chromium', async () => {
-    check(existsSync(CHROMIUM), `${CHROMIUM} not found: install Chromium (apt-get install -y chromium) or set VPMAP_E2E_CHROMIUM`);
-    browser = await chromium.launch({
-      executablePath: CHROMIUM,
-      headless: process.env.VPMAP_E2E_HEADED !== '1',
-      // Software WebGL for the 3D view on machines without a GPU; no background connections
-      // (on a closed network they fail, many at a time, and slow the start).
-      args: [
-        '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist',
-        '--disable-background-networking', '--disable-component-update', '--disable-sync',
-        '--disable-quic', '--no-first-run',
-      ],
-    });
+    browser = await launchChromium();
   });
   page = await browser.newPage({ viewport: { width: 1600, height: 1000 }, acceptDownloads: true });
   const problems = [];

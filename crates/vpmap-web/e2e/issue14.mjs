@@ -21,21 +21,15 @@
 // VPMAP_URL, VPMAP_E2E_CHROMIUM, VPMAP_E2E_SCREENSHOT, VPMAP_E2E_HEADED); exits 0 with
 // `ISSUE14 PASSED`, or 1 naming the failed step.
 
-import { spawn } from 'node:child_process';
-import { existsSync } from 'node:fs';
 import { mkdtemp, readFile, rm, writeFile } from 'node:fs/promises';
 import { tmpdir } from 'node:os';
 import { deflateSync } from 'node:zlib';
-import { dirname, join } from 'node:path';
-import { fileURLToPath } from 'node:url';
-import { chromium } from 'playwright-core';
+import { join } from 'node:path';
+import { launchChromium, startServer } from './harness.mjs';
 import { segmentCorners } from '../assets/js/geometry.js';
 
-const HERE = dirname(fileURLToPath(import.meta.url));
-const REPO = join(HERE, '..', '..', '..');
 const TOTAL_MS = 150_000;
 const SCREENSHOT = (process.env.VPMAP_E2E_SCREENSHOT || '/tmp/vpmap-e2e.png').replace(/(\.png)?$/, '-issue14.png');
-const CHROMIUM = process.env.VPMAP_E2E_CHROMIUM || '/usr/bin/chromium';
 // Free floor of the example (map metres), as in e2e.mjs.
 const PLAN_GOAL = [0.2, 5.0];
 
@@ -96,30 +90,6 @@ async function step(name, fn) {
   }
 }
 
-function startServer() {
-  if (process.env.VPMAP_URL) return Promise.resolve(process.env.VPMAP_URL.replace(/\/?$/, '/'));
-  const cmd = process.env.VPMAP_BIN || join(REPO, 'target', 'release', 'vpmap');
-  if (!existsSync(cmd)) throw new Error(`${cmd} does not exist: build it, or set VPMAP_BIN or VPMAP_URL`);
-  server = spawn(cmd, ['serve', '--port', '0'], { stdio: ['ignore', 'pipe', 'pipe'] });
-  return new Promise((resolve, reject) => {
-    let seen = '';
-    const timer = setTimeout(() => reject(new Error(`the server printed no http:// address within 20 s:\n${seen}`)), 20_000);
-    const onData = (buf) => {
-      seen += buf.toString();
-      const m = seen.match(/https?:\/\/[^\s"'<>]+/);
-      if (m) {
-        clearTimeout(timer);
-        resolve(m[0].replace('://0.0.0.0', '://127.0.0.1').replace('://[::]', '://[::1]').replace(/\/?$/, '/'));
-      }
-    };
-    server.stdout.on('data', onData);
-    server.stderr.on('data', onData);
-    server.on('exit', (code) => {
-      clearTimeout(timer);
-      reject(new Error(`the server exited with code ${code}:\n${seen}`));
-    });
-  });
-}
 
 let url;
 let problems = [];
@@ -240,19 +210,14 @@ function contrast(a, b) {
 }
 
 async function main() {
-  url = await step('start the server', startServer);
+  url = await step('start the server', async () => {
+    const started = await startServer({ log });
+    server = started.server;
+    return started.url;
+  });
   log(`server at ${url}`);
   await step('launch Chromium', async () => {
-    check(existsSync(CHROMIUM), `${CHROMIUM} not found`);
-    browser = await chromium.launch({
-      executablePath: CHROMIUM,
-      headless: process.env.VPMAP_E2E_HEADED !== '1',
-      args: [
-        '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist',
-        '--disable-background-networking', '--disable-component-update', '--disable-sync',
-        '--disable-quic', '--no-first-run',
-      ],
-    });
+    browser = await launchChromium();
   });
   tmp = await mkdtemp(join(tmpdir(), 'vpmap-issue14-'));
   const example = await (await fetch(`${url}api/example`)).json();

@@ -1,0 +1,73 @@
+// What the browser tests (e2e.mjs, issue14.mjs) share: starting the server under test and
+// launching Debian's Chromium through playwright-core.
+
+import { spawn } from 'node:child_process';
+import { existsSync } from 'node:fs';
+import { dirname, join } from 'node:path';
+import { fileURLToPath } from 'node:url';
+import { chromium } from 'playwright-core';
+
+const HERE = dirname(fileURLToPath(import.meta.url));
+/** The repository's root. */
+export const REPO = join(HERE, '..', '..', '..');
+/** The browser: Debian's Chromium unless VPMAP_E2E_CHROMIUM names another. */
+export const CHROMIUM = process.env.VPMAP_E2E_CHROMIUM || '/usr/bin/chromium';
+
+/**
+ * Start the server under test and resolve to `{url, server}`: `url` its base URL (ending in
+ * `/`), `server` the child process (null with VPMAP_URL, which tests a running server). The
+ * server is `vpmap serve --port 0` from VPMAP_BIN (default target/release/vpmap), or with
+ * `mock: true` and VPMAP_E2E_MOCK=1 the mock server. `log` gets the command line.
+ */
+export function startServer({ mock = false, log = () => {} } = {}) {
+  if (process.env.VPMAP_URL) return Promise.resolve({ url: process.env.VPMAP_URL.replace(/\/?$/, '/'), server: null });
+  let cmd, args;
+  if (mock && process.env.VPMAP_E2E_MOCK === '1') {
+    cmd = process.execPath;
+    args = [join(HERE, 'mock-server.mjs'), '--port', '0'];
+  } else {
+    cmd = process.env.VPMAP_BIN || join(REPO, 'target', 'release', 'vpmap');
+    if (!existsSync(cmd)) return Promise.reject(new Error(`${cmd} does not exist: run \`cargo build --release\` first, or set VPMAP_BIN or VPMAP_URL`));
+    args = ['serve', '--port', '0'];
+  }
+  log(`starting ${cmd} ${args.join(' ')}`);
+  const server = spawn(cmd, args, { stdio: ['ignore', 'pipe', 'pipe'] });
+  return new Promise((resolve, reject) => {
+    let seen = '';
+    const timer = setTimeout(() => {
+      server.kill('SIGTERM');
+      reject(new Error(`the server printed no http:// address within 20 s; it printed:\n${seen}`));
+    }, 20_000);
+    const onData = (buf) => {
+      seen += buf.toString();
+      const m = seen.match(/https?:\/\/[^\s"'<>]+/);
+      if (m) {
+        clearTimeout(timer);
+        // Bind-all addresses are not browsable: use the loopback address.
+        resolve({ url: m[0].replace('://0.0.0.0', '://127.0.0.1').replace('://[::]', '://[::1]').replace(/\/?$/, '/'), server });
+      }
+    };
+    server.stdout.on('data', onData);
+    server.stderr.on('data', onData);
+    server.on('exit', (code) => {
+      clearTimeout(timer);
+      reject(new Error(`the server exited with code ${code} before printing its address:\n${seen}`));
+    });
+  });
+}
+
+/** Launch Chromium (headless unless VPMAP_E2E_HEADED=1); throws when it is not installed. */
+export async function launchChromium() {
+  if (!existsSync(CHROMIUM)) throw new Error(`${CHROMIUM} not found: install Chromium (apt-get install -y chromium) or set VPMAP_E2E_CHROMIUM`);
+  return chromium.launch({
+    executablePath: CHROMIUM,
+    headless: process.env.VPMAP_E2E_HEADED !== '1',
+    // Software WebGL for the 3D view on machines without a GPU; no background connections
+    // (on a closed network they fail, many at a time, and slow the start).
+    args: [
+      '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist',
+      '--disable-background-networking', '--disable-component-update', '--disable-sync',
+      '--disable-quic', '--no-first-run',
+    ],
+  });
+}
