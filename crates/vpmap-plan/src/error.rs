@@ -225,6 +225,21 @@ pub enum PlanError {
         /// What the cell holds.
         cell: Occupancy,
     },
+    /// An incremental planner's search state could not be followed to the goal (a bug).
+    #[error(
+        "{planner} could not follow its search from cell ({x}, {y}) to the goal; please report this"
+    )]
+    InconsistentSearch {
+        /// The planner.
+        planner: &'static str,
+        /// Column of the cell.
+        x: usize,
+        /// Row of the cell, from the top.
+        y: usize,
+    },
+    /// A navigation input is invalid (sizes, frames or endpoints of the believed and true maps).
+    #[error("{0}")]
+    Navigation(String),
 }
 
 fn file_prefix(file: Option<&Path>) -> String {
