@@ -237,9 +237,18 @@ pub enum PlanError {
         /// Row of the cell, from the top.
         y: usize,
     },
-    /// A navigation input is invalid (sizes, frames or endpoints of the believed and true maps).
-    #[error("{0}")]
-    Navigation(String),
+    /// The believed and true maps of a navigation differ in size or resolution.
+    #[error(
+        "the believed map and the true map differ in {what}: believed {believed}, true {truth}; give maps of one grid"
+    )]
+    MapMismatch {
+        /// What differs.
+        what: &'static str,
+        /// The believed map's value.
+        believed: String,
+        /// The true map's value.
+        truth: String,
+    },
 }
 
 fn file_prefix(file: Option<&Path>) -> String {

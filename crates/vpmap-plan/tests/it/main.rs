@@ -13,6 +13,7 @@ mod line_of_sight;
 mod mbpp;
 mod movingai_benchmarks;
 mod movingai_files;
+mod navigate;
 mod raster;
 mod ros_files;
 
