@@ -50,6 +50,81 @@ pub struct BenchArgs {
     /// Also write the summary into the `bench` section of this Markdown file.
     #[arg(long)]
     publish: Option<PathBuf>,
+    /// The unknown-terrain navigation benchmark instead (see docs/navigation.md): on the
+    /// Moving AI maps given (default: a selection of the larger ones), a robot starting
+    /// with an empty belief drives `--per-map` episodes with every online planner; writes
+    /// navigate.csv and navigate.md.
+    #[arg(long)]
+    navigate: bool,
+    /// Online planners of `--navigate`, comma-separated.
+    #[arg(
+        long,
+        value_delimiter = ',',
+        default_value = "astar,astar-ps,dstar-lite,mbpp"
+    )]
+    online_planners: Vec<String>,
+    /// Sensor range of `--navigate`, cells.
+    #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
+    sensor_range: f64,
+}
+
+/// The default maps of `--navigate`: larger Moving AI maps of several kinds.
+const NAVIGATE_MAPS: [&str; 5] = [
+    "bg512/AR0500SR.map",
+    "random/random512-20-0.map",
+    "rooms/32room_000.map",
+    "mazes/maze512-32-0.map",
+    "da2/ht_chantry.map",
+];
+
+/// `vpmap bench --navigate`.
+fn run_navigate(args: &BenchArgs) -> Result<()> {
+    use vpmap_plan::navigate::{MAX_SENSOR_RANGE_CELLS, OnlinePlanner};
+    if !(args.sensor_range.is_finite()
+        && (1.0..=MAX_SENSOR_RANGE_CELLS).contains(&args.sensor_range))
+    {
+        bail!(
+            "--sensor-range {} is not a sensor range; give 1 to {} cells",
+            crate::num(args.sensor_range),
+            crate::num(MAX_SENSOR_RANGE_CELLS)
+        );
+    }
+    let mut planners = Vec::new();
+    for name in &args.online_planners {
+        let p: OnlinePlanner = name
+            .trim()
+            .parse()
+            .map_err(|e| anyhow::anyhow!("--online-planners: {e}"))?;
+        if !planners.contains(&p) {
+            planners.push(p);
+        }
+    }
+    let maps = if args.inputs.is_empty() {
+        let dir = vpmap_eval::bench::maps::movingai_dir().map_err(|e| anyhow::anyhow!(e))?;
+        NAVIGATE_MAPS
+            .iter()
+            .map(|m| dir.join("maps").join(m))
+            .collect()
+    } else {
+        args.inputs.clone()
+    };
+    if args.out.is_file() {
+        bail!("--out {}: it is a file, not a folder", args.out.display());
+    }
+    let opts = vpmap_eval::navigate::NavBenchOptions {
+        maps,
+        episodes: args.per_map,
+        sensor_range_cells: args.sensor_range,
+        planners,
+        seed: args.seed,
+        command: crate::command_line(),
+    };
+    let bar = crate::progress::Bar::new("{elapsed_precise} [{bar}] {pos}/{len} {msg}", "30");
+    let results = vpmap_eval::navigate::run(&opts, &bar)?;
+    let files = vpmap_eval::navigate::report(&results, &opts);
+    files.write_all(&args.out)?;
+    print!("{}", vpmap_eval::navigate::table(&results, &opts));
+    Ok(())
 }
 
 /// The global allocator's counters, lent to the benchmark.
@@ -102,6 +177,9 @@ fn check_publish_target(path: &Path) -> Result<()> {
 
 /// `vpmap bench`.
 pub fn run(args: &BenchArgs) -> Result<()> {
+    if args.navigate {
+        return run_navigate(args);
+    }
     let opts = BenchOptions {
         inputs: args.inputs.clone(),
         planners: parse_planners(&args.planners)?,

@@ -4,6 +4,7 @@ mod bench;
 mod build;
 mod detect;
 mod eval;
+mod navigate;
 mod output;
 mod plan;
 mod progress;
@@ -98,6 +99,8 @@ enum Command {
     Synth(synth::SynthArgs),
     /// Plan a path across a Moving AI map, a ROS map or a vpmap map.json.
     Plan(plan::PlanArgs),
+    /// Drive a robot across a believed map, sensing the true one and re-planning.
+    Navigate(navigate::NavigateArgs),
     /// Measure map accuracy under annotation noise on synthetic scenes (the thesis's 6.1).
     Eval(eval::EvalArgs),
     /// Compare planners on benchmark maps (the thesis's 6.2).
@@ -151,6 +154,7 @@ fn main() -> ExitCode {
         Command::Demo { out, method } => build::run_demo(&out, method),
         Command::Synth(args) => synth::run(&args),
         Command::Plan(args) => plan::run(&args),
+        Command::Navigate(args) => navigate::run(&args),
         Command::Eval(args) => eval::run(&args),
         Command::Bench(args) => bench::run(&args),
         Command::Detect(args) => detect::run_detect(&args),

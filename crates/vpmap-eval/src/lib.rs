@@ -8,6 +8,8 @@
 //!   from synthetic rooms), the thesis's section 6.2 (figures 6.25 and 6.26): runtime, path
 //!   length, excess over the exact any-angle optimum, peak heap, every path checked by the
 //!   independent validator and every "no path" against breadth-first connectivity.
+//! - [`navigate`](mod@navigate): the unknown-terrain navigation benchmark: a robot starting
+//!   with an empty belief on Moving AI maps, every online planner on the same episodes.
 //! - [`detection`]: vanishing-point detection on labelled photos in the York Urban format:
 //!   angular error per vanishing point (the one York Urban scorer, [`detection::match_errors`]),
 //!   fractions within 1-10 degrees, area under the error curve, focal error and time.
@@ -26,6 +28,7 @@ pub mod accuracy;
 pub mod bench;
 pub mod detection;
 mod error;
+pub mod navigate;
 pub mod output;
 pub mod progress;
 pub mod publish;

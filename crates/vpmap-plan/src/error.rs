@@ -225,6 +225,30 @@ pub enum PlanError {
         /// What the cell holds.
         cell: Occupancy,
     },
+    /// An incremental planner's search state could not be followed to the goal (a bug).
+    #[error(
+        "{planner} could not follow its search from cell ({x}, {y}) to the goal; please report this"
+    )]
+    InconsistentSearch {
+        /// The planner.
+        planner: &'static str,
+        /// Column of the cell.
+        x: usize,
+        /// Row of the cell, from the top.
+        y: usize,
+    },
+    /// The believed and true maps of a navigation differ in size or resolution.
+    #[error(
+        "the believed map and the true map differ in {what}: believed {believed}, true {truth}; give maps of one grid"
+    )]
+    MapMismatch {
+        /// What differs.
+        what: &'static str,
+        /// The believed map's value.
+        believed: String,
+        /// The true map's value.
+        truth: String,
+    },
 }
 
 fn file_prefix(file: Option<&Path>) -> String {

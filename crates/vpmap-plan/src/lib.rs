@@ -12,9 +12,11 @@
 //! | reachability | [`reach`] | connected components of the passable cells by breadth-first search, the reference for "is there a path" |
 //! | path check | [`validate`] | the same rule decided independently, by the separating axis theorem per cell |
 //! | grid path | [`astar`](mod@astar) | A*, 8-connected, octile costs, no corner cutting, octile heuristic (Hart, Nilsson and Raphael 1968) |
+//! | incremental grid path | [`dstar_lite`](mod@dstar_lite) | D* Lite: the same grid paths, repaired after cell changes and robot moves (Koenig and Likhachev 2002) |
 //! | smoothed grid path | [`smoothing`] | A* PS: A*, then greedy farthest-visible line-of-sight shortcuts (Botea, Müller and Schaeffer 2004) |
 //! | any-angle path | [`theta_star`](mod@theta_star) | Basic Theta*: A* whose nodes take a parent in line of sight (Nash, Daniel, Koenig and Felner 2007) |
 //! | multi-bug path | [`mbpp`](mod@mbpp) | the thesis's Multi-Bug Path Planning: greedy bugs on the m-line split at obstacles, follow walls both ways, note corners by line of sight; shortest `v_list`, checked, re-planned and smoothed |
+//! | navigation | [`navigate`](mod@navigate) | a robot driving a believed map, sensing the true one within a range by line of sight and re-planning (repeated A*, A* PS, D* Lite, online MBPP) |
 //! | shortest any-angle path | [`optimal`] | exact: A* on the visibility graph of start, goal and convex corner cells (Lozano-Pérez and Wesley 1979) |
 //!
 //! # Example
@@ -48,11 +50,13 @@
 
 pub mod astar;
 pub mod budget;
+pub mod dstar_lite;
 pub mod error;
 pub mod grid;
 pub mod los;
 pub mod mbpp;
 pub mod movingai;
+pub mod navigate;
 pub mod optimal;
 pub mod plan;
 pub mod planner;
@@ -65,6 +69,7 @@ pub mod validate;
 
 pub use astar::{AstarOptions, AstarSearch, astar};
 pub use budget::{Budget, Stop, StopReason};
+pub use dstar_lite::{DStarLite, DStarLiteOptions, dstar_lite};
 pub use error::{PlanError, Result};
 pub use grid::{CellXy, MAX_CELLS, Occupancy, OccupancyGrid};
 pub use los::{
@@ -73,6 +78,7 @@ pub use los::{
 };
 pub use mbpp::{MbppOptions, mbpp};
 pub use movingai::{Scenario, parse_movingai_map, parse_scen, read_movingai_map, read_scen};
+pub use navigate::{NavigateOptions, Navigation, OnlinePlanner, Outcome, navigate};
 pub use optimal::{OptimalAnyAngleOptions, corner_cells, optimal_any_angle};
 pub use plan::{Plan, PlanStats, path_length};
 pub use planner::{Planned, Planner, PlannerKind};

@@ -5,6 +5,7 @@ mod bench;
 mod detect;
 mod eval;
 mod hostile;
+mod navigate;
 mod plan_mbpp;
 
 use std::path::{Path, PathBuf};

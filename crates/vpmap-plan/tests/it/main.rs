@@ -7,11 +7,13 @@
 mod any_angle;
 mod astar;
 mod budget;
+mod dstar_lite;
 mod inflation;
 mod line_of_sight;
 mod mbpp;
 mod movingai_benchmarks;
 mod movingai_files;
+mod navigate;
 mod raster;
 mod ros_files;
 

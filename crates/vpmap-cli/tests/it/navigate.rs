@@ -1,0 +1,152 @@
+//! `vpmap navigate`: a run on small Moving AI maps, its files, and refused inputs.
+
+use std::path::Path;
+
+use crate::{files_in, vpmap};
+
+/// Write a Moving AI map of `rows` ('.' free, '@' blocked).
+fn write_map(path: &Path, rows: &[&str]) {
+    let text = format!(
+        "type octile\nheight {}\nwidth {}\nmap\n{}\n",
+        rows.len(),
+        rows[0].len(),
+        rows.join("\n")
+    );
+    std::fs::write(path, text).unwrap();
+}
+
+const TRUTH: [&str; 8] = [
+    "............",
+    "............",
+    "......@.....",
+    "......@.....",
+    "......@.....",
+    "......@.....",
+    "......@.....",
+    "............",
+];
+
+#[test]
+fn navigate_unknown_terrain_writes_json_and_svg() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = dir.path().join("truth.map");
+    write_map(&truth, &TRUTH);
+    for planner in ["astar", "astar-ps", "dstar-lite", "mbpp"] {
+        let out = dir.path().join(planner);
+        let o = vpmap(&[
+            "navigate",
+            "--unknown",
+            "--truth",
+            truth.to_str().unwrap(),
+            "--from",
+            "0,4",
+            "--to",
+            "11,4",
+            "--planner",
+            planner,
+            "--sensor-range",
+            "2",
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(
+            o.status.success(),
+            "{planner}: {}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        assert_eq!(files_in(&out), ["navigate.json", "navigate.svg"]);
+        let json: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(out.join("navigate.json")).unwrap())
+                .unwrap();
+        assert_eq!(json["outcome"], "reached", "{planner}");
+        assert_eq!(json["planner"], planner);
+        let length = json["length"].as_f64().unwrap();
+        let octile = json["optimum_octile"].as_f64().unwrap();
+        let any_angle = json["optimum_any_angle"].as_f64().unwrap();
+        // The wall is unknown at the start: the robot re-plans and drives at least the optimum.
+        assert!(json["replans"].as_u64().unwrap() >= 1, "{planner}");
+        assert!(
+            length >= any_angle - 1e-9 && any_angle <= octile + 1e-9,
+            "{planner}: {length}"
+        );
+        let first = &json["waypoints"][0];
+        assert_eq!(
+            (first[0].as_f64(), first[1].as_f64()),
+            (Some(0.0), Some(4.0))
+        );
+        let svg = std::fs::read_to_string(out.join("navigate.svg")).unwrap();
+        let doc = roxmltree::Document::parse(&svg).unwrap();
+        assert!(doc.descendants().any(|n| n.has_tag_name("polyline")));
+        assert!(svg.contains("re-planning point") && svg.contains("sensed free floor"));
+    }
+}
+
+#[test]
+fn navigate_walled_in_goal_says_unreachable() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = dir.path().join("truth.map");
+    write_map(
+        &truth,
+        &["........", "....@@@.", "....@.@.", "....@@@.", "........"],
+    );
+    let out = dir.path().join("out");
+    let o = vpmap(&[
+        "navigate",
+        "--unknown",
+        "--truth",
+        truth.to_str().unwrap(),
+        "--from",
+        "0,0",
+        "--to",
+        "5,2",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let stdout = String::from_utf8_lossy(&o.stdout);
+    assert!(
+        stdout.contains("goal unreachable after sensing"),
+        "{stdout}"
+    );
+}
+
+#[test]
+fn navigate_refuses_bad_input_without_writing() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = dir.path().join("truth.map");
+    write_map(&truth, &TRUTH);
+    let small = dir.path().join("small.map");
+    write_map(&small, &TRUTH[..6]);
+    let out = dir.path().join("out");
+    let t = truth.to_str().unwrap();
+    let o_s = out.to_str().unwrap();
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["--unknown", "--sensor-range", "0"], "--sensor-range 0"),
+        (
+            vec!["--unknown", "--sensor-range", "-3"],
+            "--sensor-range -3",
+        ),
+        (
+            vec!["--unknown", "--sensor-range", "NaN"],
+            "--sensor-range NaN",
+        ),
+        (
+            vec!["--unknown", "--sensor-range", "1e9"],
+            "at most 256 cells",
+        ),
+        (vec![small.to_str().unwrap()], "12 x 6"),
+        (vec!["--unknown", "--from", "6,3"], "--from"),
+    ];
+    for (extra, expect) in cases {
+        let mut args = vec!["navigate", "--truth", t, "--out", o_s, "--to", "11,4"];
+        if !extra.contains(&"--from") {
+            args.extend(["--from", "0,4"]);
+        }
+        args.extend(extra.iter().copied());
+        let o = vpmap(&args);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "{extra:?}");
+        assert!(stderr.contains(expect), "{extra:?}: {stderr}");
+        assert!(files_in(&out).is_empty(), "{extra:?} left files");
+    }
+}

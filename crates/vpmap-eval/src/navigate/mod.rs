@@ -1,0 +1,255 @@
+//! The unknown-terrain navigation benchmark (`vpmap bench --navigate`): on Moving AI maps a
+//! robot starts knowing nothing (every cell unknown, believed free), senses within a range
+//! and re-plans with every online planner, side by side in one run on the same episodes.
+//!
+//! Per map and planner: total planning time per episode, travelled length, re-plans and
+//! expansions; per map the D* Lite / repeated A* time ratio and whether their travelled
+//! lengths are equal (both are optimal on the belief at every step, but equally short plans
+//! may differ and reveal different cells, so the totals can differ; the table counts the
+//! episodes where they are equal).
+
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+
+use rand::{RngExt, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use vpmap_plan::navigate::{NavigateOptions, OnlinePlanner, Outcome, navigate};
+use vpmap_plan::{CellXy, Components, Occupancy, OccupancyGrid};
+
+use crate::error::{EvalError, Result};
+use crate::output::OutputSet;
+use crate::progress::Progress;
+
+/// Options of [`run`].
+#[derive(Clone, Debug)]
+pub struct NavBenchOptions {
+    /// Moving AI `.map` files.
+    pub maps: Vec<PathBuf>,
+    /// Episodes (start and goal pairs) per map.
+    pub episodes: usize,
+    /// Sensor range, cells.
+    pub sensor_range_cells: f64,
+    /// The planners, run on the same episodes.
+    pub planners: Vec<OnlinePlanner>,
+    /// Seed of the episodes' endpoints.
+    pub seed: u64,
+    /// The command line, for the report.
+    pub command: String,
+}
+
+/// One episode of one planner.
+#[derive(Clone, Debug)]
+pub struct Episode {
+    /// Map file name.
+    pub map: String,
+    /// Episode number on its map.
+    pub episode: usize,
+    /// Start and goal cells.
+    pub endpoints: (CellXy, CellXy),
+    /// The planner.
+    pub planner: OnlinePlanner,
+    /// How it ended.
+    pub outcome: Outcome,
+    /// Travelled length, cells.
+    pub length_cells: f64,
+    /// Total planning time, seconds.
+    pub planning_time_s: f64,
+    /// Re-plans (events after the first).
+    pub replans: usize,
+    /// Expansions of every event.
+    pub expanded: usize,
+}
+
+/// Episodes' endpoints on `grid`: random free cells of its largest component, at least a
+/// quarter of the map's larger side apart (octile), drawn with `rng`.
+fn endpoints(grid: &OccupancyGrid, n: usize, rng: &mut ChaCha8Rng) -> Vec<(CellXy, CellXy)> {
+    let components = Components::label(grid, false);
+    let largest = (1..=components.count() as u32).max_by_key(|&l| components.size(l));
+    let Some(largest) = largest else {
+        return Vec::new();
+    };
+    let cells: Vec<CellXy> = components
+        .labels()
+        .iter()
+        .enumerate()
+        .filter(|&(_, &l)| l == largest)
+        .map(|(i, _)| components.cell_at(i))
+        .collect();
+    let min_apart = grid.width().max(grid.height()) / 4;
+    let mut out = Vec::new();
+    for _ in 0..n * 1000 {
+        if out.len() == n || cells.is_empty() {
+            break;
+        }
+        let a = cells[rng.random_range(0..cells.len())];
+        let b = cells[rng.random_range(0..cells.len())];
+        if a.x.abs_diff(b.x).max(a.y.abs_diff(b.y)) >= min_apart {
+            out.push((a, b));
+        }
+    }
+    out
+}
+
+/// Run every planner on every episode of every map.
+///
+/// # Errors
+/// A map that cannot be read, a planner error (budget), or no maps.
+pub fn run(opts: &NavBenchOptions, progress: &dyn Progress) -> Result<Vec<Episode>> {
+    if opts.maps.is_empty() || opts.planners.is_empty() || opts.episodes == 0 {
+        return Err(EvalError::Invalid(
+            "the navigation benchmark needs at least one map, one planner and one episode"
+                .to_owned(),
+        ));
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(opts.seed);
+    let total = (opts.maps.len() * opts.episodes * opts.planners.len()) as u64;
+    progress.start(total);
+    let mut results = Vec::new();
+    for path in &opts.maps {
+        let truth = vpmap_plan::read_movingai_map(path)?;
+        let name = map_name(path);
+        let belief = OccupancyGrid::new(
+            truth.width(),
+            truth.height(),
+            truth.resolution_m(),
+            truth.origin_m(),
+            Occupancy::Unknown,
+        )?;
+        for (episode, (start, goal)) in endpoints(&truth, opts.episodes, &mut rng)
+            .into_iter()
+            .enumerate()
+        {
+            for &planner in &opts.planners {
+                let nav = NavigateOptions {
+                    planner,
+                    sensor_range_cells: opts.sensor_range_cells,
+                    unknown_passable: true,
+                    ..NavigateOptions::default()
+                };
+                let run = navigate(&belief, &truth, start, goal, &nav)?;
+                results.push(Episode {
+                    map: name.clone(),
+                    episode,
+                    endpoints: (start, goal),
+                    planner,
+                    outcome: run.outcome,
+                    length_cells: run.length_cells,
+                    planning_time_s: run.planning_time_s,
+                    replans: run.events.len().saturating_sub(1),
+                    expanded: run.expanded,
+                });
+                progress.message(&format!("{name} #{episode} {}", planner.name()));
+                progress.step();
+            }
+        }
+    }
+    progress.finish();
+    Ok(results)
+}
+
+fn map_name(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
+}
+
+/// `navigate.csv` (one row per episode and planner) and `navigate.md` (per map: mean
+/// planning time per episode and mean travelled length for every planner, the D* Lite /
+/// repeated A* time ratio and the episodes of equal D* Lite and A* lengths).
+#[must_use]
+pub fn report(results: &[Episode], opts: &NavBenchOptions) -> OutputSet {
+    let mut csv = String::from(
+        "map,episode,start_x,start_y,goal_x,goal_y,planner,outcome,length_cells,planning_time_s,replans,expanded\n",
+    );
+    for e in results {
+        let _ = writeln!(
+            csv,
+            "{},{},{},{},{},{},{},{},{},{},{},{}",
+            e.map,
+            e.episode,
+            e.endpoints.0.x,
+            e.endpoints.0.y,
+            e.endpoints.1.x,
+            e.endpoints.1.y,
+            e.planner.name(),
+            e.outcome.as_str(),
+            e.length_cells,
+            e.planning_time_s,
+            e.replans,
+            e.expanded
+        );
+    }
+    let mut md = table(results, opts);
+    md.push('\n');
+    let mut files = OutputSet::default();
+    files.add("navigate.csv", csv);
+    files.add("navigate.md", std::mem::take(&mut md));
+    files
+}
+
+/// The Markdown table of [`report`].
+#[must_use]
+pub fn table(results: &[Episode], opts: &NavBenchOptions) -> String {
+    let mut maps: Vec<&str> = Vec::new();
+    for e in results {
+        if !maps.contains(&e.map.as_str()) {
+            maps.push(&e.map);
+        }
+    }
+    let mut md = String::new();
+    let _ = writeln!(
+        md,
+        "Unknown terrain: the robot starts knowing nothing (free-space assumption), sensor range {} cells; {} episodes per map; mean planning time per episode (ms) / mean travelled length (cells).\n",
+        opts.sensor_range_cells, opts.episodes
+    );
+    let _ = write!(md, "| map |");
+    for p in &opts.planners {
+        let _ = write!(md, " {} |", p.name());
+    }
+    let _ = writeln!(md, " D* Lite / A* time | D* Lite = A* length |");
+    let _ = write!(md, "|---|");
+    for _ in &opts.planners {
+        let _ = write!(md, "---|");
+    }
+    let _ = writeln!(md, "---|---|");
+    for map in maps {
+        let of = |p: OnlinePlanner| -> Vec<&Episode> {
+            results
+                .iter()
+                .filter(|e| e.map == map && e.planner == p)
+                .collect()
+        };
+        let mean = |v: &[&Episode], f: &dyn Fn(&Episode) -> f64| {
+            if v.is_empty() {
+                f64::NAN
+            } else {
+                v.iter().map(|e| f(e)).sum::<f64>() / v.len() as f64
+            }
+        };
+        let _ = write!(md, "| {map} |");
+        for &p in &opts.planners {
+            let v = of(p);
+            let _ = write!(
+                md,
+                " {:.1} / {:.1} |",
+                mean(&v, &|e| e.planning_time_s * 1e3),
+                mean(&v, &|e| e.length_cells)
+            );
+        }
+        let (d, a) = (of(OnlinePlanner::DStarLite), of(OnlinePlanner::Astar));
+        let ratio = mean(&d, &|e| e.planning_time_s) / mean(&a, &|e| e.planning_time_s);
+        let equal = d
+            .iter()
+            .zip(&a)
+            .filter(|(x, y)| (x.length_cells - y.length_cells).abs() < 1e-9)
+            .count();
+        let _ = writeln!(md, " {ratio:.2} | {equal} of {} |", d.len().min(a.len()));
+    }
+    let _ = writeln!(
+        md,
+        "\nMeasured with `{}` on a shared 2-core machine (other jobs running): times are indicative, ratios measured side by side in one run.",
+        opts.command
+    );
+    md
+}

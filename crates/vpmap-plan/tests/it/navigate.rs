@@ -1,0 +1,302 @@
+//! The navigation simulation against independent references: the validator on the true
+//! map, BFS reachability, the offline planners (perfect belief) and fresh A* on the belief
+//! at every step (D* Lite).
+
+use rand::RngExt;
+use rand_chacha::ChaCha8Rng;
+use vpmap_plan::navigate::{Belief, NavigateOptions, OnlinePlanner, Outcome, navigate};
+use vpmap_plan::planner::{Planner, PlannerKind};
+use vpmap_plan::{
+    AstarOptions, CellXy, Components, DStarLite, DStarLiteOptions, Occupancy, OccupancyGrid,
+    PlanError, astar, validate_path,
+};
+
+use crate::{random_grid, rng};
+
+/// A random free cell of `grid`.
+fn free_cell(rng: &mut ChaCha8Rng, grid: &OccupancyGrid) -> Option<CellXy> {
+    (0..1000).find_map(|_| {
+        let c = CellXy::new(
+            rng.random_range(0..grid.width()),
+            rng.random_range(0..grid.height()),
+        );
+        grid.is_free(c.x, c.y).then_some(c)
+    })
+}
+
+fn unknown_like(grid: &OccupancyGrid) -> OccupancyGrid {
+    OccupancyGrid::new(
+        grid.width(),
+        grid.height(),
+        grid.resolution_m(),
+        grid.origin_m(),
+        Occupancy::Unknown,
+    )
+    .unwrap()
+}
+
+/// A belief that is the truth with a fraction of cells flipped (free <-> occupied).
+fn noisy(rng: &mut ChaCha8Rng, truth: &OccupancyGrid, flip: f64) -> OccupancyGrid {
+    let mut g = truth.clone();
+    for c in g.cells_mut() {
+        if rng.random_bool(flip) {
+            *c = match *c {
+                Occupancy::Free => Occupancy::Occupied,
+                _ => Occupancy::Free,
+            };
+        }
+    }
+    g
+}
+
+#[test]
+fn driven_paths_are_valid_on_the_truth_and_reach_the_goal_iff_bfs_says_so() {
+    let mut rng = rng(1515);
+    let mut reached = 0;
+    let mut unreachable = 0;
+    for episode in 0..60 {
+        let (w, h) = (rng.random_range(3..30), rng.random_range(3..30));
+        let truth = random_grid(&mut rng, w, h, 0.3, 0.03);
+        let (Some(start), Some(goal)) = (free_cell(&mut rng, &truth), free_cell(&mut rng, &truth))
+        else {
+            continue;
+        };
+        let connected = Components::label(&truth, false).connected(start, goal);
+        let belief = if episode % 2 == 0 {
+            unknown_like(&truth)
+        } else {
+            noisy(&mut rng, &truth, 0.2)
+        };
+        for planner in OnlinePlanner::ALL {
+            for unknown_passable in [true, false] {
+                let opts = NavigateOptions {
+                    planner,
+                    sensor_range_cells: rng.random_range(1.0..8.0),
+                    unknown_passable,
+                    ..NavigateOptions::default()
+                };
+                let context =
+                    format!("episode {episode} {planner:?} unknown_passable {unknown_passable}");
+                let run = navigate(&belief, &truth, start, goal, &opts).unwrap();
+                validate_path(&truth, &run.waypoints, false)
+                    .unwrap_or_else(|e| panic!("{context}: {e:?}"));
+                // Every cell stood on is free on the truth, consecutive cells are neighbours.
+                assert!(
+                    run.cells.iter().all(|c| truth.is_free(c.x, c.y)),
+                    "{context}"
+                );
+                assert!(
+                    run.cells
+                        .windows(2)
+                        .all(|w| w[0].x.abs_diff(w[1].x) <= 1 && w[0].y.abs_diff(w[1].y) <= 1),
+                    "{context}"
+                );
+                assert_eq!(run.cells.first(), Some(&start));
+                assert_eq!(run.waypoints.first(), Some(&start));
+                match run.outcome {
+                    Outcome::Reached => {
+                        assert!(connected, "{context}: reached but BFS says unreachable");
+                        assert_eq!(run.waypoints.last(), Some(&goal), "{context}");
+                        reached += 1;
+                    }
+                    Outcome::GoalUnreachable => {
+                        // It gave up where the goal is unreachable on its final belief
+                        // (BFS); on unknown terrain with the free-space assumption the belief
+                        // has no false obstacles, so the goal is unreachable on the truth too.
+                        let last = *run.cells.last().unwrap();
+                        assert!(
+                            !Components::label(&run.belief.grid, unknown_passable)
+                                .connected(last, goal),
+                            "{context}: gave up but BFS on the belief says reachable"
+                        );
+                        if unknown_passable && episode % 2 == 0 {
+                            assert!(!connected, "{context}: gave up but BFS says reachable");
+                        }
+                        unreachable += 1;
+                    }
+                    other => panic!("{context}: {other:?}"),
+                }
+                assert!(run.length_cells >= 0.0 && !run.events.is_empty());
+            }
+        }
+    }
+    assert!(
+        reached > 100 && unreachable > 20,
+        "reached {reached}, unreachable {unreachable}"
+    );
+}
+
+#[test]
+fn walled_in_goal_stops_with_unreachable_for_every_planner() {
+    // The goal sits in a closed box the belief does not know about.
+    let mut truth = OccupancyGrid::new(20, 20, 0.05, [0.0; 2], Occupancy::Free).unwrap();
+    for i in 12..=18 {
+        for (x, y) in [(i, 12), (i, 18), (12, i), (18, i)] {
+            truth.set(x, y, Occupancy::Occupied).unwrap();
+        }
+    }
+    let (start, goal) = (CellXy::new(1, 1), CellXy::new(15, 15));
+    assert!(!Components::label(&truth, false).connected(start, goal));
+    let belief = unknown_like(&truth);
+    for planner in OnlinePlanner::ALL {
+        let opts = NavigateOptions {
+            planner,
+            sensor_range_cells: 4.0,
+            ..NavigateOptions::default()
+        };
+        let run = navigate(&belief, &truth, start, goal, &opts).unwrap();
+        assert_eq!(run.outcome, Outcome::GoalUnreachable, "{planner:?}");
+        assert_eq!(run.outcome.as_str(), "goal unreachable after sensing");
+        validate_path(&truth, &run.waypoints, false).unwrap();
+        assert!(run.moves < 2000, "{planner:?}: {} moves", run.moves);
+    }
+}
+
+#[test]
+fn with_a_perfect_belief_the_driven_length_is_the_offline_length() {
+    let mut rng = rng(1516);
+    let mut checked = 0;
+    for _ in 0..30 {
+        let truth = random_grid(&mut rng, 40, 30, 0.25, 0.0);
+        let (Some(start), Some(goal)) = (free_cell(&mut rng, &truth), free_cell(&mut rng, &truth))
+        else {
+            continue;
+        };
+        for (planner, kind) in [
+            (OnlinePlanner::Astar, PlannerKind::Astar),
+            (OnlinePlanner::DStarLite, PlannerKind::Astar),
+            (OnlinePlanner::AstarPs, PlannerKind::AstarPs),
+            (OnlinePlanner::Mbpp, PlannerKind::Mbpp),
+        ] {
+            let offline = kind.planner(false).plan(&truth, start, goal).unwrap().best;
+            let opts = NavigateOptions {
+                planner,
+                sensor_range_cells: 5.0,
+                ..NavigateOptions::default()
+            };
+            let run = navigate(&truth, &truth, start, goal, &opts).unwrap();
+            match offline {
+                Some(plan) => {
+                    assert_eq!(run.outcome, Outcome::Reached);
+                    assert!(
+                        (run.length_cells - plan.length_cells).abs() < 1e-9,
+                        "{planner:?}: {} vs {}",
+                        run.length_cells,
+                        plan.length_cells
+                    );
+                    assert_eq!(
+                        run.events.len(),
+                        1,
+                        "{planner:?}: no surprises, no re-plans"
+                    );
+                    checked += 1;
+                }
+                None => assert_eq!(run.outcome, Outcome::GoalUnreachable),
+            }
+        }
+    }
+    assert!(checked > 40);
+}
+
+#[test]
+fn dstar_lite_is_optimal_on_the_belief_at_every_step_of_an_unknown_terrain_drive() {
+    // Lockstep: the robot senses, D* Lite is told, and its path cost from the robot's cell
+    // must equal a fresh A*'s on the same belief; the robot then takes D* Lite's first step.
+    // (Whole runs of D* Lite and repeated A* may drive different lengths: both are optimal
+    // on the belief at every step, but among equally short paths they may pick different
+    // ones, which then reveal different cells.)
+    let mut rng = rng(1517);
+    let mut steps = 0;
+    for _ in 0..15 {
+        let truth = random_grid(&mut rng, 35, 35, 0.3, 0.0);
+        let (Some(start), Some(goal)) = (free_cell(&mut rng, &truth), free_cell(&mut rng, &truth))
+        else {
+            continue;
+        };
+        let mut belief = Belief::new(unknown_like(&truth), 3.0);
+        belief.grid.set(goal.x, goal.y, Occupancy::Free).unwrap();
+        belief.sense(&truth, start, true);
+        let opts = DStarLiteOptions {
+            unknown_passable: true,
+            ..DStarLiteOptions::default()
+        };
+        let mut dstar = DStarLite::new(&belief.grid, start, goal, &opts).unwrap();
+        let mut robot = start;
+        for _ in 0..500 {
+            let plan = dstar.path().unwrap();
+            let reference = astar(
+                &belief.grid,
+                robot,
+                goal,
+                &AstarOptions {
+                    unknown_passable: true,
+                    ..AstarOptions::default()
+                },
+            )
+            .unwrap();
+            assert_eq!(plan.is_some(), reference.is_some());
+            let (Some(plan), Some(reference)) = (plan, reference) else {
+                break;
+            };
+            assert!((plan.length_cells - reference.length_cells).abs() < 1e-9);
+            steps += 1;
+            if robot == goal {
+                break;
+            }
+            let next = plan.waypoints[1];
+            // The next cell is within range and so already sensed.
+            assert!(
+                truth.is_free(next.x, next.y),
+                "D* Lite stepped into an obstacle at {next:?}"
+            );
+            robot = next;
+            let sensed = belief.sense(&truth, robot, true);
+            dstar.move_start(robot).unwrap();
+            dstar.update_cells(&sensed.changes).unwrap();
+        }
+    }
+    assert!(steps > 200, "{steps}");
+}
+
+#[test]
+fn bad_navigation_inputs_are_refused_with_the_values() {
+    let truth = OccupancyGrid::new(10, 10, 0.05, [0.0; 2], Occupancy::Free).unwrap();
+    let other = OccupancyGrid::new(10, 11, 0.05, [0.0; 2], Occupancy::Free).unwrap();
+    let coarse = OccupancyGrid::new(10, 10, 0.1, [0.0; 2], Occupancy::Free).unwrap();
+    let opts = NavigateOptions::default();
+    let (s, g) = (CellXy::new(0, 0), CellXy::new(9, 9));
+    let err = navigate(&other, &truth, s, g, &opts).unwrap_err();
+    assert!(
+        matches!(err, PlanError::MapMismatch { .. }) && err.to_string().contains("10 x 11"),
+        "{err}"
+    );
+    let err = navigate(&coarse, &truth, s, g, &opts).unwrap_err();
+    assert!(
+        err.to_string().contains("0.1") && err.to_string().contains("0.05"),
+        "{err}"
+    );
+    for bad in [0.0, -1.0, f64::NAN, 1e6] {
+        let opts = NavigateOptions {
+            sensor_range_cells: bad,
+            ..NavigateOptions::default()
+        };
+        let err = navigate(&truth, &truth, s, g, &opts).unwrap_err();
+        assert!(
+            matches!(err, PlanError::InvalidParameter { .. }),
+            "{bad}: {err}"
+        );
+    }
+    let mut blocked = truth.clone();
+    blocked.set(9, 9, Occupancy::Occupied).unwrap();
+    let err = navigate(&truth, &blocked, s, g, &opts).unwrap_err();
+    assert!(
+        matches!(
+            err,
+            PlanError::EndpointBlocked {
+                endpoint: "goal",
+                ..
+            }
+        ),
+        "{err}"
+    );
+}
