@@ -312,6 +312,52 @@ async function main() {
     for (const r of s.plan.results) log(`  ${r.planner}: ${r.found ? `${r.length_m.toFixed(3)} m` : 'no path'}, ${r.time_ms.toFixed(2)} ms${r.planner === 'mbpp' ? `, ${(r.bugs || []).length} bugs, ${(r.alternatives || []).length} alternatives` : ''}`);
   });
 
+  await step('drive the true office', async () => {
+    // The example's photo is open (with the scene placed above), so its true room is known.
+    check(await page.isVisible('#drive'), 'the drive panel is hidden with the example open');
+    const before = (await status()).drives;
+    await page.selectOption('#drive-planner', 'dstar-lite');
+    await page.click('#btn-drive');
+    const s = await settle('driving', { drives: before + 1 }, 60_000);
+    check(s.driveError === null, `the drive failed: ${s.driveError}`);
+    const d = s.drive;
+    check(d.reached, `the robot did not reach the goal: ${d.outcome}`);
+    check(d.length >= d.optimum_any_angle - 1e-9, `the drive (${d.length} m) is shorter than the true room's shortest path (${d.optimum_any_angle} m)`);
+    // Independently of the server's grids: the track keeps the robot's radius (less a cell and
+    // a half of discretisation) from every true object.
+    const radius = 0.2, cell = 0.05;
+    const segDist = (p, a, b) => {
+      const d2 = (b[0] - a[0]) ** 2 + (b[1] - a[1]) ** 2;
+      const t = d2 > 0 ? Math.max(0, Math.min(1, ((p[0] - a[0]) * (b[0] - a[0]) + (p[1] - a[1]) * (b[1] - a[1])) / d2)) : 0;
+      return Math.hypot(p[0] - a[0] - t * (b[0] - a[0]), p[1] - a[1] - t * (b[1] - a[1]));
+    };
+    const crosses = (a, b, c, e) => {
+      const o = (p, q, r) => Math.sign((q[0] - p[0]) * (r[1] - p[1]) - (q[1] - p[1]) * (r[0] - p[0]));
+      return o(a, b, c) !== o(a, b, e) && o(c, e, a) !== o(c, e, b);
+    };
+    let nearest = Infinity;
+    for (const o of d.truth_objects) {
+      const ring = o.footprint;
+      for (let i = 0; i + 1 < d.waypoints.length; i++) {
+        const [a, b] = [d.waypoints[i], d.waypoints[i + 1]];
+        for (let j = 0; j < ring.length; j++) {
+          const [c, e] = [ring[j], ring[(j + 1) % ring.length]];
+          check(!crosses(a, b, c, e), `the track crosses the true ${o.name}`);
+          nearest = Math.min(nearest, segDist(c, a, b), segDist(a, c, e), segDist(b, c, e));
+        }
+      }
+    }
+    check(nearest >= radius - 1.5 * cell, `the track comes ${nearest.toFixed(3)} m from a true object (robot radius ${radius} m)`);
+    check((await page.locator('#plan-host svg .vp-drive-track').count()) === 1, 'the driven track is not drawn');
+    check((await page.locator('#plan-host svg .vp-truth polygon').count()) === d.truth_objects.length, 'the true objects are not all drawn');
+    check((await page.locator('#plan-host svg .vp-drive-replan').count()) === d.events.length - 1, 'the re-planning points are not all drawn');
+    const text = await page.textContent('#drive-result');
+    check(/^Reached the goal after \d+\.\d\d m; the true room's shortest path is \d+\.\d\d m/.test(text), `the drive result reads "${text}"`);
+    log(`  drive: ${d.length.toFixed(3)} m against ${d.optimum_any_angle.toFixed(3)} m, ${d.replans} re-plans, nearest true object ${nearest.toFixed(3)} m`);
+    await page.screenshot({ path: SCREENSHOT.replace(/(\.png)?$/, '-drive.png') });
+    noProblems();
+  });
+
   await step('error bars with the joint fit', async () => {
     const before = (await status()).builds;
     await page.selectOption('#set-method', 'fit');

@@ -352,6 +352,7 @@ fn router(state: AppState) -> Router {
         .route("/api/example", get(api::example))
         .route("/api/build", post(api::build))
         .route("/api/plan", post(api::plan))
+        .route("/api/navigate", post(api::navigate))
         .route("/api/detect", post(api::detect))
         .fallback(not_found)
         .method_not_allowed_fallback(method_not_allowed)

@@ -80,3 +80,11 @@ export function detect(photo, { focal_px, principal_point }, signal) {
 export function plan(request, signal) {
   return call('api/plan', { method: 'POST', body: JSON.stringify(request), type: 'application/json', signal });
 }
+
+/**
+ * `POST /api/navigate`: a plan request without `planners`, plus `truth`, `planner` and
+ * `sensor_range` -> the robot's drive on the true map (docs/web-api.md).
+ */
+export function navigate(request, signal) {
+  return call('api/navigate', { method: 'POST', body: JSON.stringify(request), type: 'application/json', signal });
+}

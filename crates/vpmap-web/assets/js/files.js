@@ -33,6 +33,7 @@ export function installFiles(app) {
     state.photo = bmp;
     state.photoBlob = blob;
     state.photoName = name || 'photo';
+    state.truth = null;
     state.detection = null;
     // This photo's scene as the browser kept it (autosave.js), if it was opened before.
     const kept = app.photoOpened(state.photoName, bmp.width, bmp.height, new Uint8Array(await blob.arrayBuffer()));
@@ -158,6 +159,7 @@ export function installFiles(app) {
       state.photo = bmp;
       state.photoBlob = blob;
       state.photoName = 'example.png';
+      state.truth = 'example';
       state.scene = ex.scene;
       state.detection = null;
       state.savedVpPoints = [null, null, null];

@@ -312,6 +312,8 @@ window.vpmap = Object.freeze({
     plan: state.plan.result,
     start: state.plan.start,
     goal: state.plan.goal,
+    drive: state.drive.result,
+    driveError: state.drive.error,
   }),
 });
 

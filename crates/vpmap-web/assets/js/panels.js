@@ -441,6 +441,7 @@ export function installPanels(app) {
 
   function renderPlanButtons() {
     $('btn-plan').disabled = !(state.plan.start && state.plan.goal && state.scene && state.build);
+    app.renderDrive?.();
   }
 
   function renderPlanResults() {

@@ -15,6 +15,10 @@ import { parseAffine, applyAffine, invertAffine, occupancyToSvg } from './geomet
 const ID_PREFIX = 'fp-';
 /** Bug track colours: none near a planner's (purple, orange, teal) or the alternatives' grey. */
 export const BUG_COLOURS = ['#1f5fd6', '#d62728', '#e377c2', '#8c564b', '#bcbd22', '#00b7eb', '#222222', '#ff9896'];
+/** The drive on the true office: its track, the true objects, the re-planning points. */
+export const DRIVE_COLOUR = '#111111';
+export const DRIVE_TRUTH_COLOUR = '#d50000';
+export const DRIVE_REPLAN_COLOUR = '#ff6f00';
 export const PLANNER_STYLE = {
   mbpp: { label: 'MBPP', colour: '#6a3d9a', width: 3.2, dash: null },
   'astar-ps': { label: 'A* PS', colour: '#ef7d00', width: 2.4, dash: null },
@@ -165,6 +169,7 @@ export class PlanView {
     this.occupancy = null;
     this.occupancyUrl = null;
     this.plan = null;
+    this.drive = null;
     this.start = null;
     this.goal = null;
     this.layers = { bugs: true, alternatives: true, mbpp: true, 'astar-ps': true, optimal: true, occupancy: false };
@@ -384,6 +389,12 @@ export class PlanView {
     this.draw();
   }
 
+  /** Show a drive on the true map (an /api/navigate answer), or none. */
+  setDrive(drive) {
+    this.drive = drive;
+    this.draw();
+  }
+
   setLayer(name, on) {
     this.layers[name] = on;
     this.draw();
@@ -496,6 +507,7 @@ export class PlanView {
         'stroke-dasharray': st.dash ? st.dash.split(' ').map((v) => this.u(Number(v))).join(' ') : null,
       });
     }
+    if (this.drive) this.drawDrive(g, this.drive);
     for (const [p, label, colour] of [[this.start, 'S', '#1b8a3a'], [this.goal, 'G', '#c62828']]) {
       if (!finite(p)) continue;
       const [x, y] = this.mapToSvg(p);
@@ -506,6 +518,34 @@ export class PlanView {
       m.append(t);
       g.append(m);
     }
+  }
+
+  /** The true objects (red dashed outlines), the driven track and where the robot re-planned. */
+  drawDrive(g, d) {
+    const wrap = svgEl('g', { class: 'vp-drive' });
+    const truth = svgEl('g', { class: 'vp-truth', fill: 'none', stroke: DRIVE_TRUTH_COLOUR, 'stroke-width': this.u(1.6), 'stroke-dasharray': `${this.u(4)} ${this.u(3)}` });
+    for (const o of d.truth_objects || []) {
+      const ring = (o.footprint || []).filter(finite);
+      if (ring.length < 3) continue;
+      const el = svgEl('polygon', { points: this.points(ring) });
+      const title = svgEl('title');
+      title.textContent = `${o.name}: where it really is`;
+      el.append(title);
+      truth.append(el);
+    }
+    wrap.append(truth);
+    this.polyline(wrap, d.waypoints || [], { class: 'vp-drive-track', stroke: DRIVE_COLOUR, 'stroke-width': this.u(2.6), 'stroke-opacity': 0.9 });
+    const arm = this.u(5);
+    for (const e of (d.events || []).slice(1)) {
+      if (!finite(e.at)) continue;
+      const [x, y] = this.mapToSvg(e.at);
+      const m = svgEl('path', { class: 'vp-drive-replan', d: `M${x} ${y - arm}L${x + arm} ${y}L${x} ${y + arm}L${x - arm} ${y}Z`, fill: DRIVE_REPLAN_COLOUR, stroke: '#fff', 'stroke-width': this.u(1) });
+      const title = svgEl('title');
+      title.textContent = `re-planned here: ${e.reason === 'blocked' ? 'the path ahead was blocked' : 'a shorter way opened'} (${fmt(e.time_ms, 2)} ms)`;
+      m.append(title);
+      wrap.append(m);
+    }
+    g.append(wrap);
   }
 
   drawBugs(g, bugs) {

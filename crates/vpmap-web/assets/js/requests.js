@@ -106,6 +106,7 @@ export function installRequests(app) {
     state.marked = null;
     state.plan.result = null;
     planView.clear();
+    clearDrive();
     app.renderCamera();
     app.renderWarnings([]);
     app.renderDownloads();
@@ -210,6 +211,7 @@ export function installRequests(app) {
   }
 
   function planMarkersChanged() {
+    clearDrive();
     planView.setMarkers(state.plan.start, state.plan.goal);
     update3dPaths();
     app.renderPlanButtons();
@@ -255,6 +257,82 @@ export function installRequests(app) {
     update3dPaths();
     app.renderPlanButtons();
   });
+
+  // ---- a drive on the true office (/api/navigate) ----------------------------------------------
+
+  let driveAbort = null;
+
+  /** Forget the last drive (the map, the start or the goal changed), and any on its way. */
+  function clearDrive() {
+    driveAbort?.abort();
+    driveAbort = null;
+    state.drive = { result: null, error: null };
+    state.busy.drive = false;
+    planView.setDrive(null);
+    renderDrive();
+  }
+
+  function renderDrive() {
+    $('drive').hidden = state.truth !== 'example';
+    $('btn-drive').disabled = state.busy.drive || !(state.plan.start && state.plan.goal && state.build);
+    const out = $('drive-result');
+    const r = state.drive.result;
+    out.classList.toggle('error', !!state.drive.error);
+    if (state.drive.error) out.textContent = planMessage(state.drive.error);
+    else if (state.busy.drive) out.textContent = 'Driving…';
+    else if (!r) out.textContent = 'Set a start and a goal, then Drive: the track, the true objects (red) and where the robot re-planned appear on the floor plan.';
+    else {
+      const count = (why) => r.events.filter((e) => e.reason === why).length;
+      const replans = `${r.replans} re-plan${r.replans === 1 ? '' : 's'} (${count('blocked')} on a blocked path, ${count('opened')} on an opening)`;
+      const timing = `planning ${fmt(r.planning_time_ms, r.planning_time_ms < 10 ? 2 : 1)} ms in all`;
+      if (r.reached && r.optimum_any_angle > 0) {
+        const excess = (100 * (r.length - r.optimum_any_angle)) / r.optimum_any_angle;
+        out.textContent = `Reached the goal after ${fmt(r.length, 2)} m; the true room's shortest path is ${fmt(r.optimum_any_angle, 2)} m (${excess < 0.05 ? 'no detour' : `+${fmt(excess, 1)} %`}). ${replans}, ${timing}.`;
+      } else {
+        out.textContent = `Stopped: ${r.outcome}, after ${fmt(r.length, 2)} m and ${replans}.`;
+      }
+    }
+  }
+
+  async function drive() {
+    driveAbort?.abort();
+    const ctl = new AbortController();
+    driveAbort = ctl;
+    state.drive = { result: null, error: null };
+    state.busy.drive = true;
+    renderDrive();
+    try {
+      const res = await api.navigate(
+        {
+          scene: state.scene,
+          method: state.settings.method ?? state.build?.map?.method ?? null,
+          resolution: state.settings.resolution,
+          robot_radius: state.settings.robot_radius,
+          click_sigma: state.settings.click_sigma,
+          hidden_free: state.settings.hidden_free,
+          start: state.plan.start,
+          goal: state.plan.goal,
+          truth: state.truth,
+          planner: $('drive-planner').value,
+          sensor_range: Number($('drive-range').value) || null,
+        },
+        ctl.signal,
+      );
+      if (driveAbort !== ctl) return;
+      state.drive.result = res;
+      state.counters.drives++;
+    } catch (err) {
+      if (api.isAbort(err) || driveAbort !== ctl) return;
+      state.drive.error = err.message;
+    }
+    driveAbort = null;
+    state.busy.drive = false;
+    planView.setDrive(state.drive.result);
+    renderDrive();
+  }
+
+  $('btn-drive').addEventListener('click', drive);
+  app.renderDrive = renderDrive;
 
   function schedulePlan() {
     if (state.plan.start && state.plan.goal && state.build) plan.schedule();

@@ -27,8 +27,12 @@ export function createState() {
     // may cross unknown cells (plan only).
     settings: { method: null, resolution: 0.05, robot_radius: 0.2, click_sigma: null, hidden_free: false },
     plan: { start: null, goal: null, result: null, error: null, unknown_passable: false },
-    counters: { builds: 0, plans: 0, detects: 0 },
-    busy: { build: false, plan: false, detect: false, example: false },
+    // The true map the server knows for this photo ('example': the bundled office), and the
+    // last drive on it (/api/navigate).
+    truth: null,
+    drive: { result: null, error: null },
+    counters: { builds: 0, plans: 0, detects: 0, drives: 0 },
+    busy: { build: false, plan: false, detect: false, example: false, drive: false },
   };
 }
 

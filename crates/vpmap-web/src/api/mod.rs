@@ -5,6 +5,7 @@ mod build;
 mod detect;
 #[doc(hidden)]
 pub mod fuzzing;
+mod navigate;
 mod plan;
 mod scene;
 
@@ -19,6 +20,7 @@ use serde_json::value::RawValue;
 
 pub use build::build;
 pub use detect::detect;
+pub use navigate::navigate_handler as navigate;
 pub use plan::plan;
 
 use crate::example::{OFFICE_SCENE, OFFICE_TRUTH, office_photo_png};

@@ -274,7 +274,7 @@ fn path_out(grid: &OccupancyGrid, plan: &Plan) -> PathOut {
 }
 
 /// Cell centres in map units, rounded to 1e-6 (a micrometre: the JSON stays short).
-fn world(grid: &OccupancyGrid, cells: &[CellXy]) -> Vec<[f64; 2]> {
+pub(super) fn world(grid: &OccupancyGrid, cells: &[CellXy]) -> Vec<[f64; 2]> {
     cells
         .iter()
         .map(|&CellXy { x, y }| {
@@ -285,19 +285,19 @@ fn world(grid: &OccupancyGrid, cells: &[CellXy]) -> Vec<[f64; 2]> {
 }
 
 /// When the planners of one request must stop.
-struct PlanStop {
+pub(super) struct PlanStop {
     /// Set when the client has gone.
-    cancelled: Arc<AtomicBool>,
+    pub(super) cancelled: Arc<AtomicBool>,
     /// The end of the time allowed to all planners of the request.
-    all_by: Instant,
+    pub(super) all_by: Instant,
     /// Time allowed to each planner.
-    each: std::time::Duration,
+    pub(super) each: std::time::Duration,
 }
 
 impl PlanStop {
     /// The [`Stop`] of a planner starting now: its own time limit, or what is left of the
     /// request's if that ends sooner.
-    fn for_planner(&self) -> Stop {
+    pub(super) fn for_planner(&self) -> Stop {
         let stop = Stop::new().with_flag(Arc::clone(&self.cancelled));
         match Instant::now().checked_add(self.each) {
             Some(own) if own < self.all_by => stop.with_timeout(self.each),
@@ -307,7 +307,7 @@ impl PlanStop {
 }
 
 /// Sets its flag when dropped: the handler's future is dropped when the client goes away.
-struct CancelOnDrop(Arc<AtomicBool>);
+pub(super) struct CancelOnDrop(pub(super) Arc<AtomicBool>);
 
 impl Drop for CancelOnDrop {
     fn drop(&mut self) {
@@ -416,6 +416,8 @@ pub(crate) struct CheckedPlan {
     pub warnings: Vec<String>,
     /// The map's units name (`m` or `camera heights`).
     pub units: &'static str,
+    /// The robot's radius the grid is inflated by, map units.
+    pub robot_radius: f64,
     /// The occupancy grid.
     pub grid: OccupancyGrid,
     /// The start and goal cells.
@@ -469,6 +471,7 @@ pub(crate) fn checked_plan_request(
         unknown_passable,
         warnings,
         units,
+        robot_radius: options.robot_radius_m,
         grid,
         start,
         goal,
@@ -485,6 +488,7 @@ fn plan_answer(body: &[u8], stop: &PlanStop) -> Result<Bytes, ApiError> {
         grid,
         start,
         goal,
+        ..
     } = checked_plan_request(body, MAX_GRID_CELLS)?;
     let mut budget = MAX_TRACK_POINTS;
     let results = kinds
