@@ -143,7 +143,7 @@ fn corners_of(passable: &PassableGrid) -> Vec<(usize, usize)> {
 /// assert_eq!(plan.waypoints.len(), 4);
 /// assert!((plan.length_cells - (2.0 + 2.0 * 2f64.sqrt())).abs() < 1e-12);
 /// ```
-pub fn optimal_any_angle(
+pub fn visibility_graph_any_angle(
     grid: &OccupancyGrid,
     start: impl Into<CellXy>,
     goal: impl Into<CellXy>,
@@ -232,6 +232,19 @@ pub fn optimal_any_angle(
         }
     }
     Ok(None)
+}
+
+/// The exact shortest any-angle path (until wired: the visibility graph).
+///
+/// # Errors
+/// As [`visibility_graph_any_angle`].
+pub fn optimal_any_angle(
+    grid: &OccupancyGrid,
+    start: impl Into<CellXy>,
+    goal: impl Into<CellXy>,
+    opts: &OptimalAnyAngleOptions,
+) -> Result<Option<Plan>> {
+    visibility_graph_any_angle(grid, start, goal, opts)
 }
 
 #[cfg(test)]

@@ -7,6 +7,7 @@
 mod any_angle;
 mod astar;
 mod budget;
+mod exact;
 mod inflation;
 mod line_of_sight;
 mod mbpp;
