@@ -78,7 +78,7 @@
 //! - M. Cui, D. Harabor, A. Grastien, "Compromise-free Pathfinding on a Navigation Mesh",
 //!   IJCAI 2017 (Polyanya, root-level pruning).
 
-use std::collections::BinaryHeap;
+use std::collections::{BinaryHeap, HashSet};
 
 use crate::budget::Budget;
 use crate::error::Result;
@@ -156,6 +156,8 @@ pub struct ExactPlanner {
     strips: Vec<Vec<(i32, i32)>>,
     /// Scratch of the searches: least `g` of each cell centre as a root.
     best_g: Vec<f64>,
+    /// Scratch: the root index of each cell centre's least `g`.
+    root_of: Vec<u32>,
     /// Cells whose `best_g` a search has set.
     touched: Vec<u32>,
 }
@@ -217,6 +219,7 @@ impl ExactPlanner {
             run,
             strips,
             best_g: vec![f64::INFINITY; grid.width() * grid.height()],
+            root_of: vec![0; grid.width() * grid.height()],
             touched: Vec::new(),
         }
     }
@@ -260,6 +263,7 @@ impl ExactPlanner {
             goal: (goal.0 as i32, goal.1 as i32),
             roots: Vec::new(),
             nodes: Vec::new(),
+            seen: HashSet::new(),
             open: BinaryHeap::new(),
             stats: PlanStats::default(),
         };
@@ -318,6 +322,9 @@ struct Search<'a> {
     goal: (i32, i32),
     roots: Vec<Root>,
     nodes: Vec<Node>,
+    /// Every node pushed, as `(root, row, interval ends' bits, kind)`: equal arrivals at a
+    /// root share it, so their equal successors are pushed once.
+    seen: HashSet<(u32, i32, u64, u64, i32)>,
     open: BinaryHeap<Entry>,
     stats: PlanStats,
 }
@@ -401,21 +408,27 @@ impl Search<'_> {
             .unwrap_or(f64::INFINITY)
     }
 
-    /// A new root at `at` reached with length `g` from `parent` (the start when `None`),
-    /// or `None` when `at` is already a root with a shorter path (root-level pruning).
+    /// The root at `at` reached with length `g` from `parent` (the start when `None`):
+    /// a new one when `g` is the least so far, the existing one when `g` equals its length
+    /// (an equally short path; its successors are still generated), `None` when `at` is
+    /// already a root with a shorter path (root-level pruning).
     fn new_root(&mut self, at: (i32, i32), g: f64, parent: Option<u32>) -> Option<u32> {
         let i = (at.1 * self.space.width + at.0) as usize;
-        let best = self.space.best_g.get_mut(i)?;
-        if g > *best + G_EPS {
+        let best = *self.space.best_g.get(i)?;
+        if g > best + G_EPS {
             return None;
+        }
+        if g >= best - G_EPS {
+            return self.space.root_of.get(i).copied();
         }
         if best.is_infinite() {
             self.space.touched.push(i as u32);
         }
-        if g < *best {
-            *best = g;
-        }
         let index = self.roots.len() as u32;
+        if let (Some(b), Some(r)) = (self.space.best_g.get_mut(i), self.space.root_of.get_mut(i)) {
+            *b = g;
+            *r = index;
+        }
         self.roots.push(Root {
             x: at.0,
             y: at.1,
@@ -469,6 +482,14 @@ impl Search<'_> {
                 r.g + dist(rx, ry, cross, yf) + dist(cross, yf, gx, gy),
             )
         };
+        let tag = match kind {
+            Kind::Cone(dir) => dir,
+            Kind::Flat => 0,
+            Kind::Final => 2,
+        };
+        if !self.seen.insert((root, y, l.to_bits(), u.to_bits(), tag)) {
+            return;
+        }
         let index = self.nodes.len() as u32;
         self.nodes.push(Node {
             root,

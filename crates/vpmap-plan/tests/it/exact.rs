@@ -2,10 +2,14 @@
 //! the visibility-graph reference ([`visibility_graph_any_angle`]) to 1e-9 on seeded random
 //! grids, against BFS connectivity, the independent validator and every other planner.
 
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
+
 use rand::RngExt;
 use vpmap_plan::{
-    AstarPsOptions, Budget, ExactPlanner, OccupancyGrid, OptimalAnyAngleOptions, Plan,
-    ThetaStarOptions, astar_ps, optimal::visibility_graph_any_angle, theta_star,
+    AstarPsOptions, Budget, CellXy, ExactPlanner, Occupancy, OccupancyGrid, OptimalAnyAngleOptions,
+    Plan, PlanError, Planner, PlannerKind, Stop, StopReason, ThetaStarOptions, astar_ps,
+    optimal::visibility_graph_any_angle, theta_star,
 };
 
 use crate::any_angle::{KINDS, check_plan, generate, traversable_cells};
@@ -162,4 +166,195 @@ fn exact_equals_the_visibility_graph_on_larger_mazes_and_clutter() {
         );
     }
     assert!(compared > 200, "{compared}");
+}
+
+/// A 60 x 60 field of pillars every 4 cells.
+fn pillar_field() -> OccupancyGrid {
+    let mut grid = OccupancyGrid::new(60, 60, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+    for y in (2..58).step_by(4) {
+        for x in (2..58).step_by(4) {
+            grid.set(x, y, Occupancy::Occupied).unwrap();
+        }
+    }
+    grid
+}
+
+#[test]
+fn exact_expansion_budget_allows_exactly_the_expansions_it_names() {
+    let grid = pillar_field();
+    let mut planner = ExactPlanner::new(&grid, false);
+    let full = planner
+        .plan((0, 1), (59, 57), &Budget::default())
+        .unwrap()
+        .unwrap();
+    let expanded = full.stats.expanded;
+    assert!(expanded > 10, "{expanded}");
+    let with = |max_expansions| Budget {
+        max_expansions,
+        ..Budget::default()
+    };
+    let enough = planner
+        .plan((0, 1), (59, 57), &with(expanded))
+        .unwrap()
+        .unwrap();
+    assert_eq!(enough.waypoints, full.waypoints);
+    let err = planner
+        .plan((0, 1), (59, 57), &with(expanded - 1))
+        .unwrap_err();
+    assert!(
+        matches!(err, PlanError::BudgetExhausted { option: "max_expansions", limit, .. } if limit == expanded - 1),
+        "{err}"
+    );
+}
+
+#[test]
+fn exact_planner_stops_when_its_flag_is_set() {
+    let grid = pillar_field();
+    let flag = Arc::new(AtomicBool::new(true));
+    let budget = Budget {
+        stop: Stop::new().with_flag(flag),
+        ..Budget::default()
+    };
+    let result = ExactPlanner::new(&grid, false).plan((0, 1), (59, 57), &budget);
+    assert!(
+        matches!(
+            result,
+            Err(PlanError::Stopped {
+                reason: StopReason::Cancelled,
+                ..
+            })
+        ),
+        "{result:?}"
+    );
+}
+
+#[test]
+fn built_in_optimal_rebuilds_its_free_space_when_the_grid_changes() {
+    let mut grid = pillar_field();
+    let mut planner = PlannerKind::Optimal.planner(false);
+    let before = planner
+        .plan(&grid, CellXy::new(0, 2), CellXy::new(12, 2))
+        .unwrap()
+        .best
+        .unwrap();
+    assert!(before.length_cells > 12.0, "{:?}", before.waypoints); // round the pillars
+    for x in 0..60 {
+        if x != 32 {
+            grid.set(x, 5, Occupancy::Occupied).unwrap();
+        }
+    }
+    for x in [2, 6, 10] {
+        grid.set(x, 2, Occupancy::Free).unwrap();
+    }
+    let after = planner
+        .plan(&grid, CellXy::new(0, 2), CellXy::new(12, 2))
+        .unwrap()
+        .best
+        .unwrap();
+    assert_eq!(after.waypoints, [CellXy::new(0, 2), CellXy::new(12, 2)]);
+    let crossing = planner
+        .plan(&grid, CellXy::new(0, 0), CellXy::new(0, 59))
+        .unwrap()
+        .best
+        .unwrap();
+    vpmap_plan::validate_path(&grid, &crossing.waypoints, false).unwrap();
+    let reference =
+        visibility_graph_any_angle(&grid, (0, 0), (0, 59), &OptimalAnyAngleOptions::default())
+            .unwrap()
+            .unwrap();
+    assert!((crossing.length_cells - reference.length_cells).abs() < 1e-9);
+}
+
+/// Every `(map path, scenario path)` pair of the shared Moving AI data, sorted.
+fn movingai_pairs() -> Vec<(std::path::PathBuf, std::path::PathBuf)> {
+    let dir = crate::movingai_dir();
+    let mut maps = std::collections::HashMap::new();
+    for set in std::fs::read_dir(dir.join("maps")).unwrap() {
+        for file in std::fs::read_dir(set.unwrap().path()).unwrap() {
+            let path = file.unwrap().path();
+            maps.insert(path.file_name().unwrap().to_owned(), path);
+        }
+    }
+    let mut out = Vec::new();
+    for set in std::fs::read_dir(dir.join("scen")).unwrap() {
+        for file in std::fs::read_dir(set.unwrap().path()).unwrap() {
+            let scen = file.unwrap().path();
+            let problems = vpmap_plan::read_scen(&scen).unwrap();
+            let name = std::ffi::OsString::from(problems[0].map_file_name());
+            out.push((maps[&name].clone(), scen));
+        }
+    }
+    out.sort();
+    out
+}
+
+/// Maps with more corner cells than this are compared on fewer problems (the reference is
+/// quadratic in them).
+const REFERENCE_CORNERS: usize = 25_000;
+
+#[test]
+#[ignore = "needs ../shared/data/movingai (absent from a fresh clone): cargo test -- --ignored shared_data"]
+fn shared_data_exact_equals_the_visibility_graph_on_every_benchmark_map() {
+    // Problems per scenario file, spread over its buckets (debug builds: fewer).
+    let per_map: usize = if cfg!(debug_assertions) { 4 } else { 40 };
+    let (mut compared, mut maps) = (0, 0);
+    for (map_path, scen_path) in movingai_pairs() {
+        let grid = vpmap_plan::read_movingai_map(&map_path).unwrap();
+        let corners = vpmap_plan::corner_cells(&grid, false).len();
+        let per_map = if corners > REFERENCE_CORNERS {
+            per_map.div_ceil(4)
+        } else {
+            per_map
+        };
+        let mut problems = vpmap_plan::read_scen(&scen_path).unwrap();
+        problems.sort_by_key(|p| p.bucket);
+        let n = problems.len();
+        let mut exact = ExactPlanner::new(&grid, false);
+        for i in 0..per_map.min(n) {
+            let p = &problems[(2 * i + 1) * n / (2 * per_map.min(n))];
+            let context = format!("{} {p:?}", map_path.display());
+            let e = exact
+                .plan(p.start, p.goal, &Budget::default())
+                .unwrap()
+                .unwrap_or_else(|| panic!("no path: {context}"));
+            check_plan("exact", &grid, &e, p.start, p.goal, false);
+            // The scenario's octile optimum is an 8-connected path: never shorter.
+            assert!(
+                e.length_cells <= p.optimal_length_cells + 1e-3,
+                "{context}: {}",
+                e.length_cells
+            );
+            let r = visibility_graph_any_angle(
+                &grid,
+                p.start,
+                p.goal,
+                &OptimalAnyAngleOptions::default(),
+            )
+            .unwrap()
+            .unwrap();
+            assert!(
+                (e.length_cells - r.length_cells).abs() < 1e-9,
+                "{context}: exact {} vs visibility graph {}",
+                e.length_cells,
+                r.length_cells
+            );
+            never_beaten(
+                &grid,
+                &e,
+                (p.start.x, p.start.y),
+                (p.goal.x, p.goal.y),
+                false,
+                &context,
+            );
+            compared += 1;
+        }
+        maps += 1;
+        println!(
+            "{}: {} problems equal ({corners} corner cells)",
+            map_path.display(),
+            per_map.min(n)
+        );
+    }
+    println!("exact equals the visibility graph on {compared} problems of {maps} maps");
+    assert!(maps >= 18 && compared >= 18 * 2, "{maps} {compared}");
 }
