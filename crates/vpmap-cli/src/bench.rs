@@ -44,7 +44,7 @@ pub struct BenchArgs {
     #[arg(long, default_value_t = 1)]
     seed: u64,
     /// Drop the exact `optimal` planner on a map when one of its queries takes longer than
-    /// this many seconds (it is also skipped on maps with more than 25,000 corner cells).
+    /// this many seconds.
     #[arg(long, default_value_t = DEFAULT_OPTIMAL_LIMIT_S, allow_negative_numbers = true)]
     optimal_limit: f64,
     /// Also write the summary into the `bench` section of this Markdown file.

@@ -6,6 +6,11 @@
 //!   heuristic; each iteration runs all the map's sampled queries.
 //! - `planners/<map>`: A*, A* PS, MBPP (the thesis's m-line leave rule and the
 //!   closer-than-hit rule), Theta* and the exact any-angle planner over the same queries.
+//! - `exact_vs_astar/<map>`: the exact any-angle planner ([`ExactPlanner`], its free space
+//!   built once per map outside the timing) against our A* ([`AstarSearch`], reused) on the
+//!   same queries, and `exact_build`, the one-off build alone, on one map of each Moving AI
+//!   category (dao, da2, bg512, cities, mazes, random, rooms, sc1). Before timing it checks
+//!   that the exact lengths equal the visibility graph's (to 1e-9) where that is fast.
 //! - `line_of_sight/<map>`: the shared line-of-sight core ([`PassableGrid`], built once per
 //!   map outside the timing, and built inside it) against the reference walk
 //!   ([`visit_swept_cells`](vpmap_plan::los::visit_swept_cells) through [`Traversable`]) on
@@ -24,9 +29,9 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use vpmap_plan::{
-    AstarOptions, AstarPsOptions, AstarSearch, CellXy, Occupancy, OccupancyGrid,
-    OptimalAnyAngleOptions, PassableGrid, ThetaStarOptions, Traversable, astar, astar_ps,
-    line_of_sight,
+    AstarOptions, AstarPsOptions, AstarSearch, Budget, CellXy, ExactPlanner, Occupancy,
+    OccupancyGrid, OptimalAnyAngleOptions, PassableGrid, ThetaStarOptions, Traversable, astar,
+    astar_ps, line_of_sight,
     mbpp::{LeaveRule, MbppOptions, mbpp},
     optimal_any_angle, path_length, read_movingai_map, read_scen, theta_star,
 };
@@ -56,6 +61,64 @@ const MAPS: [(&str, &str, &str); 4] = [
         "scen/dao/den520d.map.scen",
     ),
 ];
+/// `(group name, map file, scenario file)` of `exact_vs_astar`: one or two maps a category.
+const EXACT_MAPS: [(&str, &str, &str); 11] = [
+    (
+        "den520d",
+        "maps/dao/den520d.map",
+        "scen/dao/den520d.map.scen",
+    ),
+    (
+        "brc202d",
+        "maps/dao/brc202d.map",
+        "scen/dao/brc202d.map.scen",
+    ),
+    (
+        "ht_chantry",
+        "maps/da2/ht_chantry.map",
+        "scen/da2/ht_chantry.map.scen",
+    ),
+    (
+        "AR0500SR",
+        "maps/bg512/AR0500SR.map",
+        "scen/bg512/AR0500SR.map.scen",
+    ),
+    (
+        "Berlin_0_256",
+        "maps/cities/Berlin_0_256.map",
+        "scen/cities/Berlin_0_256.map.scen",
+    ),
+    (
+        "Milan_1_1024",
+        "maps/cities/Milan_1_1024.map",
+        "scen/cities/Milan_1_1024.map.scen",
+    ),
+    (
+        "maze512-32-0",
+        "maps/mazes/maze512-32-0.map",
+        "scen/mazes/maze512-32-0.map.scen",
+    ),
+    (
+        "maze512-2-5",
+        "maps/mazes/maze512-2-5.map",
+        "scen/mazes/maze512-2-5.map.scen",
+    ),
+    (
+        "random512-20-0",
+        "maps/random/random512-20-0.map",
+        "scen/random/random512-20-0.map.scen",
+    ),
+    (
+        "random-64-64-20",
+        "maps/mapf/random-64-64-20.map",
+        "scen/mapf/random-64-64-20-random-1.scen",
+    ),
+    (
+        "32room_000",
+        "maps/rooms/32room_000.map",
+        "scen/rooms/32room_000.map.scen",
+    ),
+];
 /// A single optimal any-angle query slower than this skips that planner on the map.
 const OPTIMAL_LIMIT: Duration = Duration::from_secs(1);
 
@@ -65,6 +128,35 @@ struct Case {
     name: String,
     grid: OccupancyGrid,
     queries: Vec<Query>,
+}
+
+/// The maps of `maps` with ~20 problems each, spread evenly over the (bucket-sorted)
+/// scenario file; a generated grid when the data folder is absent.
+fn cases_of(maps: &[(&str, &str, &str)]) -> Vec<Case> {
+    let dir = data_dir();
+    if !dir.is_dir() {
+        return vec![generated_case()];
+    }
+    maps.iter()
+        .filter(|(_, map, _)| dir.join(map).is_file())
+        .map(|&(name, map, scen)| {
+            let grid = read_movingai_map(dir.join(map)).unwrap();
+            let mut scen = read_scen(dir.join(scen)).unwrap();
+            scen.sort_by_key(|s| s.bucket);
+            let n = scen.len();
+            let queries = (0..QUERIES_PER_MAP.min(n))
+                .map(|i| {
+                    let s = &scen[(2 * i + 1) * n / (2 * QUERIES_PER_MAP.min(n))];
+                    (s.start, s.goal)
+                })
+                .collect();
+            Case {
+                name: name.to_owned(),
+                grid,
+                queries,
+            }
+        })
+        .collect()
 }
 
 fn data_dir() -> PathBuf {
@@ -323,6 +415,71 @@ fn benches(c: &mut Criterion) {
     }
 }
 
+/// The exact planner against our A* per query batch, and its one-off build.
+fn exact_benches(c: &mut Criterion) {
+    for case in cases_of(&EXACT_MAPS) {
+        let grid = &case.grid;
+        let queries = &case.queries;
+        let built = Instant::now();
+        let mut exact = ExactPlanner::new(grid, false);
+        let build = built.elapsed();
+        // Same answers as the reference where the reference is quick enough to ask.
+        let vg_opts = OptimalAnyAngleOptions::default();
+        let mut checked = 0;
+        // The reference is quadratic in the corner cells: asked only on maps with few.
+        let small = vpmap_plan::corner_cells(grid, false).len() <= 25_000;
+        for &(start, goal) in queries {
+            let e = exact.plan(start, goal, &Budget::default()).unwrap();
+            let t = Instant::now();
+            if checked < 5 && small {
+                let r =
+                    vpmap_plan::optimal::visibility_graph_any_angle(grid, start, goal, &vg_opts)
+                        .unwrap();
+                if t.elapsed() < OPTIMAL_LIMIT {
+                    let (e, r) = (e.unwrap(), r.unwrap());
+                    assert!(
+                        (e.length_cells - r.length_cells).abs() < 1e-9,
+                        "{}",
+                        case.name
+                    );
+                    checked += 1;
+                }
+            }
+        }
+        println!(
+            "exact_vs_astar/{}: {} queries, {checked} checked against the visibility graph; \
+             build {build:?} (one run)",
+            case.name,
+            queries.len()
+        );
+        let mut group = c.benchmark_group(format!("exact_vs_astar/{}", case.name));
+        group.sample_size(10);
+        group.measurement_time(Duration::from_secs(3));
+        group.warm_up_time(Duration::from_secs(1));
+        let mut search = AstarSearch::new();
+        let opts = AstarOptions::default();
+        group.bench_function("astar", |b| {
+            b.iter(|| {
+                for &(start, goal) in queries {
+                    black_box(search.search(grid, start, goal, &opts).unwrap());
+                }
+            });
+        });
+        let budget = Budget::default();
+        group.bench_function("exact", |b| {
+            b.iter(|| {
+                for &(start, goal) in queries {
+                    black_box(exact.plan(start, goal, &budget).unwrap());
+                }
+            });
+        });
+        group.bench_function("exact_build", |b| {
+            b.iter(|| black_box(ExactPlanner::new(grid, false)));
+        });
+        group.finish();
+    }
+}
+
 /// Segments from each query's A* path start to every fourth cell of that path.
 fn sight_segments(case: &Case) -> Vec<(CellXy, CellXy)> {
     let opts = AstarOptions::default();
@@ -387,5 +544,5 @@ fn sight_benches(c: &mut Criterion) {
     }
 }
 
-criterion_group!(planner_benches, benches, sight_benches);
+criterion_group!(planner_benches, benches, exact_benches, sight_benches);
 criterion_main!(planner_benches);

@@ -17,7 +17,8 @@
 //! | any-angle path | [`theta_star`](mod@theta_star) | Basic Theta*: A* whose nodes take a parent in line of sight (Nash, Daniel, Koenig and Felner 2007) |
 //! | multi-bug path | [`mbpp`](mod@mbpp) | the thesis's Multi-Bug Path Planning: greedy bugs on the m-line split at obstacles, follow walls both ways, note corners by line of sight; shortest `v_list`, checked, re-planned and smoothed |
 //! | navigation | [`navigate`](mod@navigate) | a robot driving a believed map, sensing the true one within a range by line of sight and re-planning (repeated A*, A* PS, D* Lite, online MBPP) |
-//! | shortest any-angle path | [`optimal`] | exact: A* on the visibility graph of start, goal and convex corner cells (Lozano-Pérez and Wesley 1979) |
+//! | shortest any-angle path | [`anya`] | exact: Anya-style interval search over the free space cut into row-line intervals and strip rectangles, built once per grid (Harabor et al. 2016, Cui et al. 2017) |
+//! | shortest any-angle path (reference) | [`optimal`] | exact: A* on the visibility graph of start, goal and convex corner cells (Lozano-Pérez and Wesley 1979) |
 //!
 //! # Example
 //! ```
@@ -48,6 +49,7 @@
 //!   Polyhedral Obstacles", Communications of the ACM 22(10), 1979.
 #![deny(missing_docs)]
 
+pub mod anya;
 pub mod astar;
 pub mod budget;
 pub mod dstar_lite;
@@ -67,6 +69,7 @@ pub mod smoothing;
 pub mod theta_star;
 pub mod validate;
 
+pub use anya::ExactPlanner;
 pub use astar::{AstarOptions, AstarSearch, astar};
 pub use budget::{Budget, Stop, StopReason};
 pub use dstar_lite::{DStarLite, DStarLiteOptions, dstar_lite};

@@ -1,5 +1,7 @@
-//! The exact shortest any-angle path under the collision rule of [`crate::los`]: A* on the
-//! visibility graph of the start, the goal and the grid's convex corner cells.
+//! The exact shortest any-angle path under the collision rule of [`crate::los`]:
+//! [`optimal_any_angle`] (the fast interval search of [`crate::anya`]) and its reference
+//! [`visibility_graph_any_angle`], A* on the visibility graph of the start, the goal and the
+//! grid's convex corner cells, which the rest of these docs describe.
 //!
 //! # Why it is exact
 //! Under the rule of [`crate::los`] the robot's centre may go anywhere outside the open
@@ -48,6 +50,7 @@
 
 use std::collections::BinaryHeap;
 
+use crate::anya::ExactPlanner;
 use crate::budget::Budget;
 use crate::error::Result;
 use crate::grid::{CellXy, OccupancyGrid};
@@ -55,7 +58,7 @@ use crate::los::{LosCounter, Passable, PassableGrid};
 use crate::plan::{Plan, PlanStats, check_endpoint, path_length, xy};
 use crate::theta_star::{Entry, distance, trace_back};
 
-/// Options of [`optimal_any_angle`].
+/// Options of [`optimal_any_angle`] and [`visibility_graph_any_angle`].
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct OptimalAnyAngleOptions {
     /// Whether [`Occupancy::Unknown`](crate::Occupancy::Unknown) cells may be entered (default: no).
@@ -112,8 +115,9 @@ fn corners_of(passable: &PassableGrid) -> Vec<(usize, usize)> {
 }
 
 /// The exact shortest any-angle path from `start` to `goal` under the rule of
-/// [`crate::los`] (see the [module docs](self)): a polyline through cell centres, turning
-/// only at corner cells. `Ok(None)` when the goal cannot be reached.
+/// [`crate::los`] by the visibility graph (see the [module docs](self)): a polyline through
+/// cell centres, turning only at corner cells. `Ok(None)` when the goal cannot be reached.
+/// The slow reference of [`optimal_any_angle`] in the tests.
 ///
 /// # Errors
 /// [`PlanError::EndpointOutsideGrid`](crate::PlanError::EndpointOutsideGrid) when `start`
@@ -131,19 +135,19 @@ fn corners_of(passable: &PassableGrid) -> Vec<(usize, usize)> {
 ///
 /// # Example
 /// ```
-/// use vpmap_plan::{Occupancy, OccupancyGrid, optimal::{optimal_any_angle, OptimalAnyAngleOptions}};
+/// use vpmap_plan::{Occupancy, OccupancyGrid, optimal::{visibility_graph_any_angle, OptimalAnyAngleOptions}};
 /// // .....
 /// // ..#..
 /// // .....
 /// let mut grid = OccupancyGrid::new(5, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
 /// grid.set(2, 1, Occupancy::Occupied).unwrap();
 /// let opts = OptimalAnyAngleOptions::default();
-/// let plan = optimal_any_angle(&grid, (0, 1), (4, 1), &opts).unwrap().unwrap();
+/// let plan = visibility_graph_any_angle(&grid, (0, 1), (4, 1), &opts).unwrap().unwrap();
 /// // Around the corner cell (1, 0) or (1, 2) and its mirror image.
 /// assert_eq!(plan.waypoints.len(), 4);
 /// assert!((plan.length_cells - (2.0 + 2.0 * 2f64.sqrt())).abs() < 1e-12);
 /// ```
-pub fn optimal_any_angle(
+pub fn visibility_graph_any_angle(
     grid: &OccupancyGrid,
     start: impl Into<CellXy>,
     goal: impl Into<CellXy>,
@@ -232,6 +236,35 @@ pub fn optimal_any_angle(
         }
     }
     Ok(None)
+}
+
+/// The exact shortest any-angle path from `start` to `goal` under the rule of
+/// [`crate::los`]: [`ExactPlanner`] (an Anya-style interval search, see [`crate::anya`])
+/// built for this one query. To ask several queries on one grid, build the
+/// [`ExactPlanner`] once and call [`ExactPlanner::plan`]. The answer's length equals
+/// [`visibility_graph_any_angle`]'s (the tests check it to 1e-9).
+/// `opts.budget.max_expansions` counts interval nodes; `max_sight_cells` does not apply.
+///
+/// # Errors
+/// As [`ExactPlanner::plan`].
+///
+/// # Example
+/// ```
+/// use vpmap_plan::{Occupancy, OccupancyGrid, optimal::{optimal_any_angle, OptimalAnyAngleOptions}};
+/// let mut grid = OccupancyGrid::new(5, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+/// grid.set(2, 1, Occupancy::Occupied).unwrap();
+/// let plan = optimal_any_angle(&grid, (0, 1), (4, 1), &OptimalAnyAngleOptions::default())
+///     .unwrap()
+///     .unwrap();
+/// assert!((plan.length_cells - (2.0 + 2.0 * 2f64.sqrt())).abs() < 1e-12);
+/// ```
+pub fn optimal_any_angle(
+    grid: &OccupancyGrid,
+    start: impl Into<CellXy>,
+    goal: impl Into<CellXy>,
+    opts: &OptimalAnyAngleOptions,
+) -> Result<Option<Plan>> {
+    ExactPlanner::new(grid, opts.unknown_passable).plan(start, goal, &opts.budget)
 }
 
 #[cfg(test)]

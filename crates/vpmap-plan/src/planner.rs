@@ -21,12 +21,12 @@
 use std::fmt;
 use std::str::FromStr;
 
+use crate::anya::ExactPlanner;
 use crate::astar::{AstarOptions, AstarSearch};
 use crate::budget::{Budget, Stop};
 use crate::error::{PlanError, Result};
 use crate::grid::{CellXy, OccupancyGrid};
 use crate::mbpp::{BugTrack, LeaveRule, MbppOptions, MbppStats, mbpp};
-use crate::optimal::{OptimalAnyAngleOptions, optimal_any_angle};
 use crate::plan::Plan;
 use crate::smoothing::{AstarPsOptions, astar_ps};
 use crate::theta_star::{ThetaStarOptions, theta_star};
@@ -76,7 +76,7 @@ pub enum PlannerKind {
     ThetaStar,
     /// 8-connected octile A* ([`crate::astar`](mod@crate::astar)).
     Astar,
-    /// The exact shortest any-angle path ([`crate::optimal`]).
+    /// The exact shortest any-angle path ([`crate::optimal`], by [`crate::anya`]).
     Optimal,
 }
 
@@ -117,6 +117,7 @@ impl PlannerKind {
             ),
             budget: Budget::default(),
             search: AstarSearch::new(),
+            exact: None,
         }
     }
 }
@@ -142,7 +143,8 @@ impl FromStr for PlannerKind {
 }
 
 /// A built-in planner (see [`PlannerKind::planner`]). A* keeps its search arrays between
-/// queries.
+/// queries; the exact planner keeps its [`ExactPlanner`] (the grid's free space) while the
+/// grid and `unknown_passable` stay the same (compared cell by cell at each query).
 #[derive(Clone, Debug)]
 pub struct BuiltIn {
     kind: PlannerKind,
@@ -151,6 +153,7 @@ pub struct BuiltIn {
     mbpp_budget: (usize, usize),
     budget: Budget,
     search: AstarSearch,
+    exact: Option<ExactPlanner>,
 }
 
 impl BuiltIn {
@@ -247,11 +250,11 @@ impl Planner for BuiltIn {
                 self.search.search(grid, start, goal, &opts)?
             }
             PlannerKind::Optimal => {
-                let opts = OptimalAnyAngleOptions {
-                    unknown_passable,
-                    budget: self.budget.clone(),
+                let exact = match &mut self.exact {
+                    Some(exact) if exact.is_for(grid, unknown_passable) => exact,
+                    slot => slot.insert(ExactPlanner::new(grid, unknown_passable)),
                 };
-                optimal_any_angle(grid, start, goal, &opts)?
+                exact.plan(start, goal, &self.budget)?
             }
         };
         Ok(Planned {

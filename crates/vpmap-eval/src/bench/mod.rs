@@ -11,9 +11,11 @@
 //! warm-up run and then [`BenchOptions::repeat`] timed runs (median kept; a warm-up run over a second is
 //! the query's only run); peak heap from a [`MemoryProbe`] (the binary's global allocator). Every path is checked by the
 //! independent validator, every "found" against breadth-first connectivity, every length
-//! against the exact optimum. The exact `optimal` planner is skipped on maps with more than
-//! [`OPTIMAL_CORNER_LIMIT`] corner cells, or from the first query slower than
-//! [`BenchOptions::optimal_limit_s`] (its results on that map are then dropped: all or nothing per map).
+//! against the exact optimum. The exact `optimal` planner (an interval search whose free
+//! space is built once per map; each query here builds it afresh, like every planner's
+//! fresh start, and [`MapResult::optimal_build_s`] reports the build alone) runs on every
+//! map; it is only dropped from the first query slower than [`BenchOptions::optimal_limit_s`]
+//! (its results on that map are then dropped: all or nothing per map).
 //!
 //! Outputs ([`Report::files`], written all or nothing): `results.csv` (one row per query and planner),
 //! `summary.md` and `summary.json` (per category and per map), and the plots
@@ -28,8 +30,8 @@ pub mod report;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
-use vpmap_plan::corner_cells;
 use vpmap_plan::planner::PlannerKind;
+use vpmap_plan::{ExactPlanner, corner_cells};
 
 use crate::error::{Result, ResultExt as _, bail};
 use crate::output::OutputSet;
@@ -37,13 +39,6 @@ use crate::progress::Progress;
 use crate::publish::{machine_description, relative_link};
 use maps::BenchMap;
 pub use measure::{Measured, MemoryProbe, NoMemoryProbe};
-
-/// Above this many corner cells (the nodes of its visibility graph) the exact `optimal`
-/// planner is not run on a map at all: its cost grows with their square. Below it,
-/// [`BenchOptions::optimal_limit_s`] decides. (On the default maps this skips only the two
-/// 512 x 512 random-obstacle maps, with 6.7 and 8.6 x 10^4 corners; maze512-2-5, with
-/// 2.2 x 10^4, takes 1-11 s a query in release on the project's 2-core machine.)
-pub const OPTIMAL_CORNER_LIMIT: usize = 25_000;
 
 /// What to run: the options of a benchmark.
 #[derive(Clone, Debug)]
@@ -119,8 +114,12 @@ impl Default for BenchOptions {
 pub struct MapResult {
     /// The map and its queries.
     pub map: BenchMap,
-    /// Corner cells of the map (the optimal planner's graph nodes).
+    /// Corner cells of the map (the nodes of the reference visibility graph).
     pub corner_cells: usize,
+    /// Time to build the exact planner's free space for the map once
+    /// ([`vpmap_plan::ExactPlanner::new`], one run), seconds; `None` when `optimal` was not
+    /// asked for. Included in each `optimal` query's time.
+    pub optimal_build_s: Option<f64>,
     /// Why `optimal` was not run on this map, if it was asked for and not run.
     pub optimal_skipped: Option<String>,
     /// `records[query][planner]`: `None` where the planner was not run.
@@ -251,8 +250,12 @@ pub fn measure_maps(
     for map in maps {
         let began = Instant::now();
         let corners = corner_cells(&map.grid, false).len();
-        let mut optimal_skipped = (optimal_at.is_some() && corners > OPTIMAL_CORNER_LIMIT)
-            .then(|| format!("{corners} corner cells, more than {OPTIMAL_CORNER_LIMIT}"));
+        let optimal_build_s = optimal_at.map(|_| {
+            let built = Instant::now();
+            std::hint::black_box(ExactPlanner::new(&map.grid, false));
+            built.elapsed().as_secs_f64()
+        });
+        let mut optimal_skipped: Option<String> = None;
         let mut records: Vec<Vec<Option<Measured>>> = Vec::with_capacity(map.queries.len());
         for (qi, q) in map.queries.iter().enumerate() {
             let mut row = Vec::with_capacity(planners.len());
@@ -290,11 +293,15 @@ pub fn measure_maps(
         }
         let wall_s = began.elapsed().as_secs_f64();
         progress.note(&format!(
-            "{} ({}): {} queries, {:.1} s{}",
+            "{} ({}): {} queries, {:.1} s{}{}",
             map.name,
             map.category,
             map.queries.len(),
             wall_s,
+            optimal_build_s.map_or_else(String::new, |b| format!(
+                "; optimal's free space built in {:.2} ms",
+                1e3 * b
+            )),
             optimal_skipped
                 .as_ref()
                 .map_or_else(String::new, |r| format!("; optimal skipped: {r}"))
@@ -302,6 +309,7 @@ pub fn measure_maps(
         results.push(MapResult {
             map,
             corner_cells: corners,
+            optimal_build_s,
             optimal_skipped,
             records,
             wall_s,

@@ -20,7 +20,7 @@ use serde_json::{Value, json};
 use vpmap_plan::planner::PlannerKind;
 
 use super::maps::{CATEGORY_ORDER, CellXy, Origin, UNSOLVABLE_PER_MAP};
-use super::{MapResult, OPTIMAL_CORNER_LIMIT, Results};
+use super::{MapResult, Results};
 use crate::stats::mean;
 
 /// Relative tolerance of "equal lengths" and of "not below the optimum".
@@ -745,8 +745,7 @@ pub fn markdown(
         } else {
             let _ = writeln!(
                 out,
-                "`optimal` was skipped (limits: {OPTIMAL_CORNER_LIMIT} corner cells, {} s for one \
-                 query) on: {}. Their optimal lengths are empty and they are left out of the \
+                "`optimal` was skipped (limit: {} s for one query) on: {}. Their optimal lengths are empty and they are left out of the \
                  excess columns.\n",
                 results.optimal_limit_s,
                 skipped
@@ -851,6 +850,7 @@ pub fn json(results: &Results, summary: &Summary) -> Value {
                 o.insert("components".to_owned(), json!(m.map.components.count()));
                 o.insert("corner_cells".to_owned(), json!(m.corner_cells));
                 o.insert("optimal_skipped".to_owned(), json!(m.optimal_skipped));
+                o.insert("optimal_build_s".to_owned(), json!(m.optimal_build_s));
                 o.insert("wall_s".to_owned(), json!(m.wall_s));
             }
             v

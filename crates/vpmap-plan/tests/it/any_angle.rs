@@ -14,7 +14,7 @@ use vpmap_plan::{
 use crate::rng;
 
 /// The kinds of generated grids.
-const KINDS: [&str; 7] = [
+pub(crate) const KINDS: [&str; 7] = [
     "open",
     "cluttered",
     "rooms",
@@ -42,7 +42,7 @@ fn clear(grid: &mut OccupancyGrid, x: i64, y: i64) {
 
 /// A random grid of `kind`, at most `max_side` cells a side (at least 3), and whether its
 /// unknown cells are passable.
-fn generate(rng: &mut ChaCha8Rng, kind: &str, max_side: usize) -> (OccupancyGrid, bool) {
+pub(crate) fn generate(rng: &mut ChaCha8Rng, kind: &str, max_side: usize) -> (OccupancyGrid, bool) {
     let min_side = if matches!(kind, "spiral" | "maze") {
         6
     } else {
@@ -210,7 +210,10 @@ fn generate(rng: &mut ChaCha8Rng, kind: &str, max_side: usize) -> (OccupancyGrid
 }
 
 /// The traversable cells of a grid.
-fn traversable_cells(grid: &OccupancyGrid, unknown_passable: bool) -> Vec<(usize, usize)> {
+pub(crate) fn traversable_cells(
+    grid: &OccupancyGrid,
+    unknown_passable: bool,
+) -> Vec<(usize, usize)> {
     let passable = Traversable::new(grid, unknown_passable);
     let mut cells = Vec::new();
     for y in 0..grid.height() {
@@ -223,7 +226,7 @@ fn traversable_cells(grid: &OccupancyGrid, unknown_passable: bool) -> Vec<(usize
     cells
 }
 
-fn check_plan(
+pub(crate) fn check_plan(
     name: &str,
     grid: &OccupancyGrid,
     plan: &vpmap_plan::Plan,

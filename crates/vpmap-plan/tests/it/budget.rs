@@ -8,7 +8,7 @@ use std::time::Duration;
 
 use vpmap_plan::astar::{AstarOptions, astar};
 use vpmap_plan::budget::{Budget, Stop, StopReason};
-use vpmap_plan::optimal::{OptimalAnyAngleOptions, optimal_any_angle};
+use vpmap_plan::optimal::{OptimalAnyAngleOptions, visibility_graph_any_angle};
 use vpmap_plan::planner::{Planner, PlannerKind};
 use vpmap_plan::theta_star::{ThetaStarOptions, theta_star};
 use vpmap_plan::{Occupancy, OccupancyGrid, PlanError};
@@ -122,10 +122,10 @@ fn an_expansion_budget_allows_exactly_the_expansions_it_names() {
 }
 
 #[test]
-fn a_sight_budget_stops_the_exact_planner() {
+fn a_sight_budget_stops_the_visibility_graph_planner() {
     let grid = pillars_with_walled_goal();
     let (start, goal) = ((0, 0), (100, 80));
-    let full = optimal_any_angle(&grid, start, goal, &OptimalAnyAngleOptions::default())
+    let full = visibility_graph_any_angle(&grid, start, goal, &OptimalAnyAngleOptions::default())
         .unwrap()
         .unwrap();
     let cells = full.stats.los_cells;
@@ -137,11 +137,11 @@ fn a_sight_budget_stops_the_exact_planner() {
         ..OptimalAnyAngleOptions::default()
     };
     // Enough for every query it made; the answer is the same.
-    let enough = optimal_any_angle(&grid, start, goal, &with(cells))
+    let enough = visibility_graph_any_angle(&grid, start, goal, &with(cells))
         .unwrap()
         .unwrap();
     assert_eq!(enough.length_cells, full.length_cells);
-    let err = optimal_any_angle(&grid, start, goal, &with(cells / 2)).unwrap_err();
+    let err = visibility_graph_any_angle(&grid, start, goal, &with(cells / 2)).unwrap_err();
     assert!(
         matches!(
             err,
@@ -156,7 +156,7 @@ fn a_sight_budget_stops_the_exact_planner() {
 
 #[test]
 fn a_flag_set_while_the_search_runs_stops_it() {
-    // The exact planner on a 240 x 240 pillar field with the goal walled in tries every
+    // The visibility-graph planner on a 240 x 240 pillar field with the goal walled in tries every
     // pair of its thousands of corner cells: minutes of work. Another thread cancels it.
     let n = 240;
     let mut grid = OccupancyGrid::new(n, n, 1.0, [0.0; 2], Occupancy::Free).unwrap();
@@ -183,7 +183,7 @@ fn a_flag_set_while_the_search_runs_stops_it() {
         },
         ..OptimalAnyAngleOptions::default()
     };
-    let result = optimal_any_angle(&grid, (0, 0), (238, 238), &opts);
+    let result = visibility_graph_any_angle(&grid, (0, 0), (238, 238), &opts);
     setter.join().unwrap();
     assert!(
         matches!(

@@ -8,6 +8,7 @@ mod any_angle;
 mod astar;
 mod budget;
 mod dstar_lite;
+mod exact;
 mod inflation;
 mod line_of_sight;
 mod mbpp;

@@ -1,0 +1,653 @@
+//! The exact shortest any-angle path, fast: an Anya-style interval search (Harabor,
+//! Grastien, Öz and Aksakalli 2016; the same search as Polyanya, Cui, Harabor and
+//! Grastien 2017, on a mesh of rectangles) over the free space of the collision rule of
+//! [`crate::los`], with the free space built once per grid ([`ExactPlanner::new`]).
+//!
+//! # The free space, exactly
+//! In cell-centre coordinates the robot's centre may go anywhere outside the open squares
+//! of side 2 centred on blocked cells (outside the grid counts as blocked; see
+//! [`crate::optimal`]). Cut that closed set along the horizontal lines `Y = y` through
+//! the cell centres:
+//! - **on a row line** `Y = y` a point `(X, y)` is free exactly when every cell centre
+//!   within Chebyshev distance below 1 of it is free: for `x < X < x + 1` the cells
+//!   `(x, y)` and `(x + 1, y)`, for `X = x` the cell `(x, y)`. So the row line's free set
+//!   is the union of the closed intervals `[a, b]` spanned by the maximal runs of free
+//!   cells `a..=b` of row `y` (a run of one cell is a point);
+//! - **in the open strip** `y < Y < y + 1` the cross-section is the same at every height:
+//!   `X` is free exactly when the columns `floor(X)` and `ceil(X)` are both *double free*
+//!   (the cells of rows `y` and `y + 1` free). So the strip's free set is a union of
+//!   disjoint closed rectangles `[a, b] x [y, y + 1]`, one per maximal run `a..=b` of
+//!   double-free columns, at least 2 apart; a run of one column is a zero-width vertical
+//!   corridor. Each rectangle's top and bottom edges lie in runs of the two row lines.
+//!
+//! So the free space is a mesh of convex pieces (rectangles, possibly of zero width, and
+//! row-line intervals, possibly of zero length) that meet only along the row lines, with
+//! every vertex at a cell centre, and zero-width corridors are pieces like any other (no
+//! relaxation is needed). A segment that leaves a row line into a strip stays in one
+//! rectangle until the next row line (the cross-section is a union of disjoint closed
+//! intervals and the segment's `X` varies continuously).
+//!
+//! # Search
+//! A node is a root `r` (a cell centre, the start or a turning point, with the exact
+//! length `g(r)` of the path that reaches it) and an interval `I` of a row line every
+//! point of which `r` sees. A **cone** node (`r` off the row) is expanded into the strip
+//! beyond the row: per rectangle `[a, b]` of that strip meeting `I`, the rays from `r`
+//! through `I` projected onto the next row line and clipped to `[a, b]` give the
+//! *observable* successor (same root); what of `[a, b]` lies left or right of that
+//! projection is seen from the interval's end on that side when that end is a cell centre
+//! (an integer), which becomes the root of a *non-observable* successor. A cone node also
+//! turns at an integer end of its interval onto its row line (a **flat** node: root on
+//! the row, the rest of the row's run beyond). A flat node turns at every rectangle side
+//! beyond its root in the strips above and below (the whole top or bottom edge of that
+//! rectangle, seen from that side's end). Nodes are ordered by `f = g(r) + h`, with `h`
+//! the Euclidean length of the shortest path from `r` through `I` to the goal (the goal
+//! mirrored through the row line when it lies on the root's side), which is admissible.
+//! A node whose interval holds the goal gives a final entry with `f = g(r) + |r goal|`;
+//! the first final entry taken off the open list is the answer. Polyanya's root-level
+//! pruning keeps, per cell centre, the least `g` with which it has become a root, and
+//! drops successors rooted there with a larger one.
+//!
+//! Turning points are cell centres, so the path is a polyline through cell centres like
+//! every other planner's, and its length is summed like theirs ([`crate::path_length`]).
+//! Interval ends are `f64`; an end within `1e-9` of an integer is that integer (a
+//! non-integer end is the crossing of a row line by the line through two cell centres at
+//! most `height` rows apart, so it is at least `1 / height` from any integer).
+//!
+//! # Why it is exact
+//! A shortest path is taut and bends only at cell centres ([`crate::optimal`]). Between
+//! two bends it is a segment, which crosses the row lines in turn and lies in one
+//! rectangle between two consecutive crossings, or runs along one row line. By induction
+//! over the bends, every point `q` of a row line on a shortest path to the goal with last
+//! bend `t` lies in the interval of some node rooted at `t` with `g(t)` optimal: from
+//! `t`'s own node the observable successors follow the segment strip by strip, as long
+//! as it stays in the projected cone; where the next bend `t'` lies at the end of that
+//! cone on a row line, `t'` is an integer end of the projected interval (or a rectangle
+//! side inside it), and the non-observable or flat successors rooted at `t'` contain the
+//! next segment's first crossing. Generating more successors than the taut ones (the
+//! planner does, where deciding tautness would cost more than the node) only adds
+//! feasible paths. Root-level pruning drops a node only when its root is reached by a
+//! path at least as short, and any continuation from the dropped arrival is then at least
+//! as long as the same continuation from the better one (Cui et al. 2017, section 5).
+//! The tests check the answer against the visibility graph of [`crate::optimal`] to
+//! `1e-9` on thousands of random grids (mazes, rooms, spirals, diagonal walls with gaps,
+//! cells touching at corners) and on Moving AI maps.
+//!
+//! # References
+//! - D. Harabor, A. Grastien, D. Öz, V. Aksakalli, "Optimal Any-Angle Pathfinding In
+//!   Practice", Journal of Artificial Intelligence Research 56, 2016 (Anya).
+//! - M. Cui, D. Harabor, A. Grastien, "Compromise-free Pathfinding on a Navigation Mesh",
+//!   IJCAI 2017 (Polyanya, root-level pruning).
+
+use std::collections::{BinaryHeap, HashSet};
+
+use crate::budget::Budget;
+use crate::error::Result;
+use crate::grid::{CellXy, OccupancyGrid};
+use crate::los::{Passable, PassableGrid};
+use crate::plan::{Plan, PlanStats, check_endpoint, path_length, xy};
+use crate::theta_star::Entry;
+
+/// The planner's name in errors.
+const PLANNER: &str = "the exact any-angle planner";
+
+/// Tolerance of interval ends, cells (see the [module docs](self)).
+const EPS: f64 = 1e-9;
+
+/// Tolerance of root-level pruning on path lengths, cells.
+const G_EPS: f64 = 1e-9;
+
+/// What a search node's interval is to its root.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Kind {
+    /// The root is on another row; expand away from it (`+1`: towards larger `y`).
+    Cone(i32),
+    /// The root is on the interval's row.
+    Flat,
+    /// The goal, seen from the root.
+    Final,
+}
+
+/// A search node: an interval `[l, u]` of row line `y` seen from root `root`.
+#[derive(Clone, Copy, Debug)]
+struct Node {
+    root: u32,
+    y: i32,
+    l: f64,
+    u: f64,
+    kind: Kind,
+}
+
+/// A root: a cell centre with the length of the path reaching it and its parent root.
+#[derive(Clone, Copy, Debug)]
+struct Root {
+    x: i32,
+    y: i32,
+    g: f64,
+    parent: u32,
+}
+
+/// The exact any-angle planner with its free space built once for a grid (see the
+/// [module docs](self)): build with [`ExactPlanner::new`], then ask any number of
+/// [`ExactPlanner::plan`] queries.
+///
+/// # Example
+/// ```
+/// use vpmap_plan::{Budget, Occupancy, OccupancyGrid, anya::ExactPlanner};
+/// // .....
+/// // ..#..
+/// // .....
+/// let mut grid = OccupancyGrid::new(5, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+/// grid.set(2, 1, Occupancy::Occupied).unwrap();
+/// let mut planner = ExactPlanner::new(&grid, false);
+/// let plan = planner.plan((0, 1), (4, 1), &Budget::default()).unwrap().unwrap();
+/// assert_eq!(plan.waypoints.len(), 4);
+/// assert!((plan.length_cells - (2.0 + 2.0 * 2f64.sqrt())).abs() < 1e-12);
+/// ```
+#[derive(Clone, Debug)]
+pub struct ExactPlanner {
+    grid: OccupancyGrid,
+    unknown_passable: bool,
+    width: i32,
+    height: i32,
+    /// Per cell: first and last column of its run of passable cells in its row
+    /// (meaningless for blocked cells).
+    run: Vec<(i32, i32)>,
+    /// Per strip `y` (between rows `y` and `y + 1`): its rectangles `(a, b)`, by `a`.
+    strips: Vec<Vec<(i32, i32)>>,
+    /// Scratch of the searches: least `g` of each cell centre as a root.
+    best_g: Vec<f64>,
+    /// Scratch: the root index of each cell centre's least `g`.
+    root_of: Vec<u32>,
+    /// Cells whose `best_g` a search has set.
+    touched: Vec<u32>,
+}
+
+impl ExactPlanner {
+    /// Build the free space of `grid` (unknown cells passable or not).
+    ///
+    /// # Complexity
+    /// One pass over the grid; about 16 bytes a cell.
+    #[must_use]
+    pub fn new(grid: &OccupancyGrid, unknown_passable: bool) -> Self {
+        let passable = PassableGrid::new(grid, unknown_passable);
+        let (w, h) = (grid.width() as i32, grid.height() as i32);
+        let free = |x: i32, y: i32| passable.passable(i64::from(x), i64::from(y));
+        let mut run = vec![(0, -1); grid.width() * grid.height()];
+        for y in 0..h {
+            let mut x = 0;
+            while x < w {
+                if !free(x, y) {
+                    x += 1;
+                    continue;
+                }
+                let a = x;
+                while x + 1 < w && free(x + 1, y) {
+                    x += 1;
+                }
+                for c in a..=x {
+                    if let Some(slot) = run.get_mut((y * w + c) as usize) {
+                        *slot = (a, x);
+                    }
+                }
+                x += 1;
+            }
+        }
+        let mut strips = Vec::with_capacity(grid.height().saturating_sub(1));
+        for y in 0..h - 1 {
+            let double = |x: i32| free(x, y) && free(x, y + 1);
+            let mut rects = Vec::new();
+            let mut x = 0;
+            while x < w {
+                if !double(x) {
+                    x += 1;
+                    continue;
+                }
+                let a = x;
+                while x + 1 < w && double(x + 1) {
+                    x += 1;
+                }
+                rects.push((a, x));
+                x += 1;
+            }
+            strips.push(rects);
+        }
+        Self {
+            grid: grid.clone(),
+            unknown_passable,
+            width: w,
+            height: h,
+            run,
+            strips,
+            best_g: vec![f64::INFINITY; grid.width() * grid.height()],
+            root_of: vec![0; grid.width() * grid.height()],
+            touched: Vec::new(),
+        }
+    }
+
+    /// Whether this planner was built for `grid` with `unknown_passable` (for callers that
+    /// cache it across queries).
+    #[must_use]
+    pub fn is_for(&self, grid: &OccupancyGrid, unknown_passable: bool) -> bool {
+        self.unknown_passable == unknown_passable && self.grid == *grid
+    }
+
+    /// The exact shortest any-angle path from `start` to goal under the rule of
+    /// [`crate::los`], as a polyline through cell centres; `Ok(None)` when the goal cannot
+    /// be reached. `budget.max_expansions` counts search nodes taken off the open list;
+    /// `budget.max_sight_cells` does not apply (no line-of-sight queries); the stop is
+    /// looked at every few thousand expansions.
+    ///
+    /// # Errors
+    /// [`PlanError::EndpointOutsideGrid`](crate::PlanError::EndpointOutsideGrid),
+    /// [`PlanError::EndpointBlocked`](crate::PlanError::EndpointBlocked) for a bad start
+    /// or goal, [`PlanError::BudgetExhausted`](crate::PlanError::BudgetExhausted) and
+    /// [`PlanError::Stopped`](crate::PlanError::Stopped) when the budget says so.
+    pub fn plan(
+        &mut self,
+        start: impl Into<CellXy>,
+        goal: impl Into<CellXy>,
+        budget: &Budget,
+    ) -> Result<Option<Plan>> {
+        let (start, goal) = (xy(start), xy(goal));
+        check_endpoint(&self.grid, "start", start, self.unknown_passable)?;
+        check_endpoint(&self.grid, "goal", goal, self.unknown_passable)?;
+        budget.stop.check(PLANNER)?;
+        for &i in &self.touched {
+            if let Some(b) = self.best_g.get_mut(i as usize) {
+                *b = f64::INFINITY;
+            }
+        }
+        self.touched.clear();
+        let mut search = Search {
+            space: self,
+            goal: (goal.0 as i32, goal.1 as i32),
+            roots: Vec::new(),
+            nodes: Vec::new(),
+            seen: HashSet::new(),
+            open: BinaryHeap::new(),
+            stats: PlanStats::default(),
+        };
+        let found = search.run((start.0 as i32, start.1 as i32), budget)?;
+        let stats = search.stats;
+        let Some(final_root) = found else {
+            return Ok(None);
+        };
+        let mut chain = vec![CellXy::from(goal)];
+        let mut index = final_root;
+        for _ in 0..=search.roots.len() {
+            let Some(root) = search.roots.get(index as usize) else {
+                break;
+            };
+            let cell = CellXy::new(root.x as usize, root.y as usize);
+            if chain.last() != Some(&cell) {
+                chain.push(cell);
+            }
+            if root.parent == index {
+                break;
+            }
+            index = root.parent;
+        }
+        chain.reverse();
+        let length_cells = path_length(&chain);
+        Ok(Some(Plan {
+            waypoints: chain,
+            length_cells,
+            stats,
+        }))
+    }
+
+    /// The run `(first, last)` of row `y` holding column `x`, if that cell is passable.
+    fn run_at(&self, x: i32, y: i32) -> Option<(i32, i32)> {
+        if x < 0 || y < 0 || x >= self.width || y >= self.height {
+            return None;
+        }
+        self.run
+            .get((y * self.width + x) as usize)
+            .copied()
+            .filter(|&(a, b)| a <= x && x <= b)
+    }
+
+    /// The rectangles of the strip between rows `s` and `s + 1` (none outside the grid).
+    fn strip(&self, s: i32) -> &[(i32, i32)] {
+        usize::try_from(s)
+            .ok()
+            .and_then(|s| self.strips.get(s))
+            .map_or(&[], Vec::as_slice)
+    }
+}
+
+/// One query's search state.
+struct Search<'a> {
+    space: &'a mut ExactPlanner,
+    goal: (i32, i32),
+    roots: Vec<Root>,
+    nodes: Vec<Node>,
+    /// Every node pushed, as `(root, row, interval ends' bits, kind)`: equal arrivals at a
+    /// root share it, so their equal successors are pushed once.
+    seen: HashSet<(u32, i32, u64, u64, i32)>,
+    open: BinaryHeap<Entry>,
+    stats: PlanStats,
+}
+
+/// Euclidean distance between `(ax, ay)` and `(bx, by)`.
+#[inline]
+fn dist(ax: f64, ay: f64, bx: f64, by: f64) -> f64 {
+    (ax - bx).hypot(ay - by)
+}
+
+/// `x` rounded when it is within [`EPS`] of an integer.
+#[inline]
+fn snap(x: f64) -> f64 {
+    let r = x.round();
+    if (x - r).abs() < EPS { r } else { x }
+}
+
+/// `x` as an integer when it is one (within [`EPS`]).
+#[inline]
+fn integral(x: f64) -> Option<i32> {
+    let r = x.round();
+    ((x - r).abs() < EPS).then_some(r as i32)
+}
+
+impl Search<'_> {
+    /// Run the search from `start`; the root the goal was reached from, if it was.
+    fn run(&mut self, start: (i32, i32), budget: &Budget) -> Result<Option<u32>> {
+        let s = self.new_root(start, 0.0, None);
+        let Some(s) = s else { return Ok(None) };
+        if start == self.goal {
+            return Ok(Some(s));
+        }
+        let (sx, sy) = start;
+        // Flat nodes along the start's run, cone nodes into the rectangles holding it.
+        if let Some((a, b)) = self.space.run_at(sx, sy) {
+            if a < sx {
+                self.push(s, sy, f64::from(a), f64::from(sx), Kind::Flat);
+            }
+            if sx < b {
+                self.push(s, sy, f64::from(sx), f64::from(b), Kind::Flat);
+            }
+        }
+        for dir in [1, -1] {
+            let strip = if dir > 0 { sy } else { sy - 1 };
+            if let Some(&(a, b)) = self
+                .space
+                .strip(strip)
+                .iter()
+                .find(|&&(a, b)| a <= sx && sx <= b)
+            {
+                self.push(s, sy + dir, f64::from(a), f64::from(b), Kind::Cone(dir));
+            }
+        }
+        while let Some(Entry { node, .. }) = self.open.pop() {
+            let Some(&n) = self.nodes.get(node as usize) else {
+                continue;
+            };
+            let Some(&root) = self.roots.get(n.root as usize) else {
+                continue;
+            };
+            if root.g > self.best(root.x, root.y) + G_EPS {
+                continue; // the root has since been reached by a shorter path
+            }
+            self.stats.expanded += 1;
+            budget.check(PLANNER, self.stats.expanded, 0, self.stats.expanded)?;
+            match n.kind {
+                Kind::Final => return Ok(Some(n.root)),
+                Kind::Cone(dir) => self.expand_cone(n, root, dir),
+                Kind::Flat => self.expand_flat(n, root),
+            }
+        }
+        Ok(None)
+    }
+
+    /// The least `g` of cell centre `(x, y)` as a root so far.
+    fn best(&self, x: i32, y: i32) -> f64 {
+        self.space
+            .best_g
+            .get((y * self.space.width + x) as usize)
+            .copied()
+            .unwrap_or(f64::INFINITY)
+    }
+
+    /// The root at `at` reached with length `g` from `parent` (the start when `None`):
+    /// a new one when `g` is the least so far, the existing one when `g` equals its length
+    /// (an equally short path; its successors are still generated), `None` when `at` is
+    /// already a root with a shorter path (root-level pruning).
+    fn new_root(&mut self, at: (i32, i32), g: f64, parent: Option<u32>) -> Option<u32> {
+        let i = (at.1 * self.space.width + at.0) as usize;
+        let best = *self.space.best_g.get(i)?;
+        if g > best + G_EPS {
+            return None;
+        }
+        if g >= best - G_EPS {
+            return self.space.root_of.get(i).copied();
+        }
+        if best.is_infinite() {
+            self.space.touched.push(i as u32);
+        }
+        let index = self.roots.len() as u32;
+        if let (Some(b), Some(r)) = (self.space.best_g.get_mut(i), self.space.root_of.get_mut(i)) {
+            *b = g;
+            *r = index;
+        }
+        self.roots.push(Root {
+            x: at.0,
+            y: at.1,
+            g,
+            parent: parent.unwrap_or(index),
+        });
+        Some(index)
+    }
+
+    /// A successor rooted at `c` (a cell centre on row `y`) of a node rooted at `parent`.
+    fn push_turn(&mut self, parent: Root, parent_index: u32, c: i32, y: i32, node: Node) {
+        let g = parent.g
+            + dist(
+                f64::from(parent.x),
+                f64::from(parent.y),
+                f64::from(c),
+                f64::from(y),
+            );
+        if let Some(root) = self.new_root((c, y), g, Some(parent_index)) {
+            self.push(root, node.y, node.l, node.u, node.kind);
+        }
+    }
+
+    /// Push the node (or, when its interval holds the goal, the final entry).
+    fn push(&mut self, root: u32, y: i32, l: f64, u: f64, kind: Kind) {
+        let Some(&r) = self.roots.get(root as usize) else {
+            return;
+        };
+        let (rx, ry) = (f64::from(r.x), f64::from(r.y));
+        let (gx, gy) = (f64::from(self.goal.0), f64::from(self.goal.1));
+        let yf = f64::from(y);
+        let (kind, f) = if y == self.goal.1 && l - EPS <= gx && gx <= u + EPS {
+            (Kind::Final, r.g + dist(rx, ry, gx, gy))
+        } else if r.y == y {
+            let h = [l, u]
+                .map(|q| dist(rx, ry, q, yf) + dist(q, yf, gx, gy))
+                .into_iter()
+                .fold(f64::INFINITY, f64::min);
+            (kind, r.g + h)
+        } else {
+            // Mirror the goal through the row when it lies on the root's side.
+            let gy = if (gy - yf) * (ry - yf) > 0.0 {
+                2.0 * yf - gy
+            } else {
+                gy
+            };
+            let t = (yf - ry) / (gy - ry);
+            let cross = (rx + t * (gx - rx)).clamp(l, u);
+            (
+                kind,
+                r.g + dist(rx, ry, cross, yf) + dist(cross, yf, gx, gy),
+            )
+        };
+        let tag = match kind {
+            Kind::Cone(dir) => dir,
+            Kind::Flat => 0,
+            Kind::Final => 2,
+        };
+        if !self.seen.insert((root, y, l.to_bits(), u.to_bits(), tag)) {
+            return;
+        }
+        let index = self.nodes.len() as u32;
+        self.nodes.push(Node {
+            root,
+            y,
+            l,
+            u,
+            kind,
+        });
+        self.open.push(Entry::new(f, r.g, index));
+        self.stats.generated += 1;
+    }
+
+    /// Expand a cone node into the strip beyond its row (direction `dir`).
+    fn expand_cone(&mut self, n: Node, r: Root, dir: i32) {
+        let y = n.y;
+        let next = y + dir;
+        let strip = if dir > 0 { y } else { y - 1 };
+        let rx = f64::from(r.x);
+        let k = f64::from(next - r.y) / f64::from(y - r.y);
+        let project = |x: f64| snap(rx + (x - rx) * k);
+        let rects = self.space.strip(strip);
+        let first = rects.partition_point(|&(_, b)| f64::from(b) < n.l - EPS);
+        let mut successors: Vec<(Option<i32>, f64, f64)> = Vec::new();
+        for &(a, b) in rects.get(first..).unwrap_or(&[]) {
+            let (af, bf) = (f64::from(a), f64::from(b));
+            if af > n.u + EPS {
+                break;
+            }
+            let (lr, ur) = (n.l.max(af), n.u.min(bf));
+            if lr > ur + EPS {
+                continue;
+            }
+            let (jl, ju) = (project(lr).max(af), project(ur).min(bf));
+            if jl <= ju + EPS {
+                successors.push((None, jl, ju.max(jl)));
+                if jl > af + EPS
+                    && let Some(c) = integral(lr)
+                {
+                    successors.push((Some(c), af, jl));
+                }
+                if ju < bf - EPS
+                    && let Some(c) = integral(ur)
+                {
+                    successors.push((Some(c), ju, bf));
+                }
+            } else {
+                let ends = [integral(lr), integral(ur)];
+                for (i, c) in ends.iter().enumerate() {
+                    if c.is_some() && (i == 0 || ends[0] != *c) {
+                        successors.push((*c, af, bf));
+                    }
+                }
+            }
+        }
+        for (c, l, u) in successors {
+            let node = Node {
+                root: n.root,
+                y: next,
+                l,
+                u,
+                kind: Kind::Cone(dir),
+            };
+            match c {
+                None => self.push(n.root, next, l, u, node.kind),
+                Some(c) => self.push_turn(r, n.root, c, y, node),
+            }
+        }
+        // Turning onto the row at an integer end of the interval.
+        if let Some(u) = integral(n.u)
+            && r.x <= u
+            && let Some((_, last)) = self.space.run_at(u, y)
+            && last > u
+        {
+            let node = Node {
+                root: n.root,
+                y,
+                l: f64::from(u),
+                u: f64::from(last),
+                kind: Kind::Flat,
+            };
+            self.push_turn(r, n.root, u, y, node);
+        }
+        if let Some(l) = integral(n.l)
+            && r.x >= l
+            && let Some((first, _)) = self.space.run_at(l, y)
+            && first < l
+        {
+            let node = Node {
+                root: n.root,
+                y,
+                l: f64::from(first),
+                u: f64::from(l),
+                kind: Kind::Flat,
+            };
+            self.push_turn(r, n.root, l, y, node);
+        }
+    }
+
+    /// Expand a flat node: turn into every rectangle above or below whose near side lies
+    /// on the interval beyond the root.
+    fn expand_flat(&mut self, n: Node, r: Root) {
+        let y = n.y;
+        let rightward = n.u > f64::from(r.x);
+        let mut turns: Vec<(i32, i32, i32, i32)> = Vec::new();
+        for dir in [1, -1] {
+            let strip = if dir > 0 { y } else { y - 1 };
+            for &(a, b) in self.space.strip(strip) {
+                let side = if rightward { a } else { b };
+                let sf = f64::from(side);
+                let beyond = if rightward { side > r.x } else { side < r.x };
+                if beyond && sf >= n.l - EPS && sf <= n.u + EPS {
+                    turns.push((side, dir, a, b));
+                }
+            }
+        }
+        for (side, dir, a, b) in turns {
+            let node = Node {
+                root: n.root,
+                y: y + dir,
+                l: f64::from(a),
+                u: f64::from(b),
+                kind: Kind::Cone(dir),
+            };
+            self.push_turn(r, n.root, side, y, node);
+        }
+    }
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used, clippy::float_cmp)]
+mod tests {
+    use super::*;
+    use crate::grid::Occupancy;
+
+    #[test]
+    fn one_cell_corridors_are_followed_along_their_centre_line() {
+        // .#...
+        // .#.#.
+        // ...#.
+        let mut grid = OccupancyGrid::new(5, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+        for (x, y) in [(1, 0), (1, 1), (3, 1), (3, 2)] {
+            grid.set(x, y, Occupancy::Occupied).unwrap();
+        }
+        let mut planner = ExactPlanner::new(&grid, false);
+        let plan = planner
+            .plan((0, 0), (4, 2), &Budget::default())
+            .unwrap()
+            .unwrap();
+        assert_eq!(
+            plan.waypoints,
+            [(0, 0), (0, 2), (2, 2), (2, 0), (4, 0), (4, 2)]
+        );
+        assert_eq!(plan.length_cells, 10.0);
+        grid.set(2, 1, Occupancy::Occupied).unwrap();
+        let mut planner = ExactPlanner::new(&grid, false);
+        assert_eq!(
+            planner.plan((0, 0), (4, 2), &Budget::default()).unwrap(),
+            None
+        );
+    }
+}
