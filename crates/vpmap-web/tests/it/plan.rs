@@ -172,21 +172,3 @@ fn bad_plan_requests_are_answered_and_the_server_keeps_serving() {
     assert!(message.contains("fast"), "{message}");
     assert_alive();
 }
-
-#[test]
-fn optimal_is_skipped_on_grids_with_too_many_corners() {
-    let mut body = request_body();
-    body["resolution"] = json!(0.005);
-    body["planners"] = json!(["optimal"]);
-    let v = post_json("/api/plan", &body.to_string()).json();
-    let r = &v["results"][0];
-    assert_eq!(r["planner"], "optimal");
-    assert_eq!(r["skipped"], true);
-    assert_eq!(r["found"], false);
-    assert!(r["length_m"].is_null());
-    assert!(
-        r["note"].as_str().unwrap().contains("corner cells"),
-        "{}",
-        r["note"]
-    );
-}
