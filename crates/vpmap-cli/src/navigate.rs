@@ -13,6 +13,8 @@ use vpmap_plan::navigate::{
     MAX_SENSOR_RANGE_CELLS, NavigateOptions, Navigation, OnlinePlanner, navigate, truth_optimum,
 };
 
+use vpmap_eval::navigate::truth_grid;
+
 use crate::num;
 use crate::output::OutputSet;
 use crate::plan::{PlanningMap, load_map};
@@ -76,29 +78,6 @@ fn is_truth_file(path: &Path) -> bool {
     })
 }
 
-/// `truth` rasterised into `frame`'s grid: a cell is free when its centre lies on the floor
-/// and in no object's footprint, occupied otherwise; then inflated by `radius_m`.
-pub fn truth_grid(truth: &Truth, frame: &OccupancyGrid, radius_m: f64) -> Result<OccupancyGrid> {
-    let mut grid = OccupancyGrid::new(
-        frame.width(),
-        frame.height(),
-        frame.resolution_m(),
-        frame.origin_m(),
-        Occupancy::Occupied,
-    )?;
-    for y in 0..grid.height() {
-        for x in 0..grid.width() {
-            let p = grid.world_from_cell(x, y);
-            let on_floor = inside(&truth.floor, p);
-            let in_object = truth.objects.iter().any(|o| inside(&o.footprint, p));
-            if on_floor && !in_object {
-                grid.set(x, y, Occupancy::Free)?;
-            }
-        }
-    }
-    Ok(grid.inflate(radius_m)?)
-}
-
 /// The grid frame around a truth's floor at `resolution_m` (for `--unknown` with a truth).
 fn truth_frame(truth: &Truth, resolution_m: f64) -> Result<OccupancyGrid> {
     let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
@@ -125,22 +104,6 @@ fn truth_frame(truth: &Truth, resolution_m: f64) -> Result<OccupancyGrid> {
         [lo[0] - resolution_m, lo[1] - resolution_m],
         Occupancy::Unknown,
     )?)
-}
-
-/// Even-odd point-in-polygon test.
-fn inside(polygon: &[[f64; 2]], p: [f64; 2]) -> bool {
-    let mut odd = false;
-    let n = polygon.len();
-    for i in 0..n {
-        let (a, b) = (polygon[i], polygon[(i + 1) % n]);
-        if (a[1] > p[1]) != (b[1] > p[1]) {
-            let x = a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
-            if p[0] < x {
-                odd = !odd;
-            }
-        }
-    }
-    odd
 }
 
 fn read_truth(path: &Path) -> Result<Truth> {
