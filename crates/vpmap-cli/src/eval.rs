@@ -105,6 +105,43 @@ pub struct EvalArgs {
     /// Long edges per vanishing point (with --vp-edges long; default 3).
     #[arg(long, allow_hyphen_values = true)]
     pub vp_edge_count: Option<String>,
+    /// What a map's error costs a robot instead (see docs/navigation.md): --trials synthetic
+    /// rooms annotated at each --sigma, their maps built with each of --methods, a robot
+    /// driven across each (D* Lite and online MBPP) against the true room; writes
+    /// navigate.md (excess travel and re-plans per noise level, method and planner).
+    #[arg(long)]
+    pub navigate: bool,
+}
+
+/// `vpmap eval --navigate`.
+fn run_navigate(args: &EvalArgs) -> Result<()> {
+    let mut methods = Vec::new();
+    for name in args.methods.split(',') {
+        methods.push(
+            name.trim()
+                .parse()
+                .map_err(|e: String| anyhow::anyhow!("--methods: {e}"))?,
+        );
+    }
+    let opts = vpmap_eval::navigate::NavEvalOptions {
+        scenes: args.trials,
+        noise_px: parse_sigmas(&args.sigma)?,
+        methods,
+        seed: args.seed,
+        ..vpmap_eval::navigate::NavEvalOptions::default()
+    };
+    let bar = crate::progress::Bar::new("{elapsed_precise} [{bar}] {pos}/{len} {msg}", "40");
+    let (trials, skipped) = vpmap_eval::navigate::run_eval(&opts, &bar)?;
+    let mut md = vpmap_eval::navigate::eval_table(&trials, &opts, skipped);
+    let _ = std::fmt::Write::write_fmt(
+        &mut md,
+        format_args!("\nMeasured with `{}`.\n", crate::command_line()),
+    );
+    let mut files = vpmap_eval::output::OutputSet::default();
+    files.add("navigate.md", md.clone());
+    files.write_all(&args.out)?;
+    print!("{md}");
+    Ok(())
 }
 
 fn parse_sigmas(text: &str) -> Result<Vec<f64>> {
@@ -324,6 +361,9 @@ fn check_publish_target(path: &Path, name: &str) -> Result<()> {
 
 /// `vpmap eval`.
 pub fn run(args: &EvalArgs) -> Result<()> {
+    if args.navigate {
+        return run_navigate(args);
+    }
     let config = check_args(args)?;
     let started = Instant::now();
     let bar = crate::progress::Bar::new(

@@ -15,6 +15,8 @@ use vpmap_plan::navigate::{
     MAX_SENSOR_RANGE_CELLS, NavigateOptions, Navigation, OnlinePlanner, navigate, truth_optimum,
 };
 
+use vpmap_eval::navigate::truth_grid;
+
 use crate::num;
 use crate::output::OutputSet;
 use crate::plan::{PlanningMap, load_map};

@@ -106,6 +106,25 @@ const MOVE_DX: [isize; 8] = [1, 0, -1, 0, 1, -1, -1, 1];
 /// See [`MOVE_DX`].
 const MOVE_DY: [isize; 8] = [0, 1, 0, -1, 1, 1, -1, -1];
 
+/// How far [`DStarLite::compute_shortest_path`] goes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Until {
+    /// The paper's condition: the top key below the start's, or the start overconsistent.
+    Paper,
+    /// Also every key whose first part ties with the start's (to a relative 1e-9).
+    Ties,
+    /// Until the queue is empty: every cell consistent.
+    Empty,
+}
+
+/// What following the search from the start gave.
+enum Extracted {
+    /// A path, or `None` when there is none.
+    Path(Option<Plan>),
+    /// A queued (possibly stale) cell was met at this padded index.
+    Inconsistent(usize),
+}
+
 /// A D* Lite search from a moving start to a fixed goal (see the [module docs](self)).
 #[derive(Clone, Debug)]
 pub struct DStarLite {
@@ -307,23 +326,41 @@ impl DStarLite {
     /// search state stays valid: a later call continues it);
     /// [`PlanError::InconsistentSearch`] if the path cannot be followed (a bug).
     pub fn path(&mut self) -> Result<Option<Plan>> {
-        let stats = if self.dirty {
-            self.compute_shortest_path()?
-        } else {
-            PlanStats::default()
-        };
+        let mut stats = PlanStats::default();
+        if self.dirty {
+            self.compute_shortest_path(Until::Paper, &mut stats)?;
+        }
         self.dirty = false;
+        // Following `argmin c + g` is safe through consistent cells; a cell left
+        // inconsistent with a key equal to the start's (a tie, which the paper's loop does
+        // not process) may hold a stale `g`. Then process the ties, and failing that every
+        // queued cell, and follow again.
+        for until in [Until::Ties, Until::Empty] {
+            match self.extract(stats) {
+                Extracted::Path(plan) => return Ok(plan),
+                Extracted::Inconsistent(_) => self.compute_shortest_path(until, &mut stats)?,
+            }
+        }
+        match self.extract(stats) {
+            Extracted::Path(plan) => Ok(plan),
+            Extracted::Inconsistent(at) => Err(self.inconsistent(at)),
+        }
+    }
+
+    /// Follow `argmin c(s, s') + g(s')` from the start to the goal through consistent
+    /// cells.
+    fn extract(&self, stats: PlanStats) -> Extracted {
         if !self.passable.get(self.start).copied().unwrap_or(false)
             || !self.rhs(self.start).is_finite()
         {
-            return Ok(None);
+            return Extracted::Path(None);
         }
         let mut waypoints = vec![self.cell(self.start)];
         let mut steps = [0u32; 2];
         let mut at = self.start;
         while at != self.goal {
             if waypoints.len() > self.nodes.len() {
-                return Err(self.inconsistent(at));
+                return Extracted::Inconsistent(at);
             }
             let mut best: Option<(f64, usize, usize)> = None;
             for k in 0..8 {
@@ -334,15 +371,18 @@ impl DStarLite {
                 }
             }
             let Some((_, next, k)) = best else {
-                return Err(self.inconsistent(at));
+                return Extracted::Inconsistent(at);
             };
+            if self.nodes.get(next).is_some_and(|n| n.queued) {
+                return Extracted::Inconsistent(next);
+            }
             if let Some(s) = steps.get_mut(usize::from(k >= 4)) {
                 *s += 1;
             }
             waypoints.push(self.cell(next));
             at = next;
         }
-        Ok(Some(Plan {
+        Extracted::Path(Some(Plan {
             waypoints,
             length_cells: f64::from(steps[0]) + f64::from(steps[1]) * SQRT_2,
             stats,
@@ -350,12 +390,18 @@ impl DStarLite {
     }
 
     /// The paper's `ComputeShortestPath` (Figure 4, lines 10-28).
-    fn compute_shortest_path(&mut self) -> Result<PlanStats> {
-        let mut stats = PlanStats::default();
+    /// `until` [`Until::Paper`] is the paper's loop; the others process more (see
+    /// [`DStarLite::path`]). Adds the expansions and pushes to `stats`.
+    fn compute_shortest_path(&mut self, until: Until, stats: &mut PlanStats) -> Result<()> {
         let pushes_before = self.pushes;
         while let Some((top, u)) = self.top() {
             let start_key = self.key(self.start);
-            if !(top < start_key || self.rhs(self.start) > self.g(self.start)) {
+            let more = match until {
+                Until::Paper => top < start_key,
+                Until::Ties => top.0 <= start_key.0 + 1e-9 * start_key.0.max(1.0),
+                Until::Empty => true,
+            };
+            if !(more || self.rhs(self.start) > self.g(self.start)) {
                 break;
             }
             stats.expanded += 1;
@@ -398,8 +444,8 @@ impl DStarLite {
                 self.update_vertex(u);
             }
         }
-        stats.generated = self.pushes - pushes_before;
-        Ok(stats)
+        stats.generated += self.pushes - pushes_before;
+        Ok(())
     }
 
     /// `UpdateVertex(u)` of Figure 4: queue `u` with its current key when inconsistent,

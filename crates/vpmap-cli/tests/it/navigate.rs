@@ -150,3 +150,66 @@ fn navigate_refuses_bad_input_without_writing() {
         assert!(files_in(&out).is_empty(), "{extra:?} left files");
     }
 }
+
+#[test]
+fn bench_navigate_runs_every_online_planner_on_the_same_episodes() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = dir.path().join("walls.map");
+    let rows: Vec<String> = (0..24)
+        .map(|y| {
+            (0..24)
+                .map(|x| {
+                    if (x == 8 && y < 18) || (x == 16 && y > 5) {
+                        '@'
+                    } else {
+                        '.'
+                    }
+                })
+                .collect()
+        })
+        .collect();
+    let rows: Vec<&str> = rows.iter().map(String::as_str).collect();
+    write_map(&map, &rows);
+    let out = dir.path().join("bench");
+    let o = vpmap(&[
+        "bench",
+        "--navigate",
+        "--per-map",
+        "2",
+        "--sensor-range",
+        "3",
+        "-o",
+        out.to_str().unwrap(),
+        map.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(files_in(&out), ["navigate.csv", "navigate.md"]);
+    let csv = std::fs::read_to_string(out.join("navigate.csv")).unwrap();
+    let rows: Vec<&str> = csv.lines().skip(1).collect();
+    assert_eq!(rows.len(), 2 * 4, "{csv}");
+    for planner in ["astar", "astar-ps", "dstar-lite", "mbpp"] {
+        assert_eq!(
+            rows.iter()
+                .filter(|r| r.contains(&format!(",{planner},")))
+                .count(),
+            2
+        );
+    }
+    assert!(rows.iter().all(|r| r.contains(",reached,")), "{csv}");
+    let md = std::fs::read_to_string(out.join("navigate.md")).unwrap();
+    assert!(
+        md.contains("| walls.map |") && md.contains("D* Lite / A* time"),
+        "{md}"
+    );
+    let bad = vpmap(&[
+        "bench",
+        "--navigate",
+        "--sensor-range",
+        "0",
+        "-o",
+        out.to_str().unwrap(),
+        map.to_str().unwrap(),
+    ]);
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--sensor-range 0"));
+}

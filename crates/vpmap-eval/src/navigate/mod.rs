@@ -8,6 +8,8 @@
 //! may differ and reveal different cells, so the totals can differ; the table counts the
 //! episodes where they are equal).
 
+mod eval;
+
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 
@@ -19,6 +21,8 @@ use vpmap_plan::{CellXy, Components, Occupancy, OccupancyGrid};
 use crate::error::{EvalError, Result};
 use crate::output::OutputSet;
 use crate::progress::Progress;
+
+pub use eval::{NavEvalOptions, NavTrial, eval_table, run_eval, truth_grid};
 
 /// Options of [`run`].
 #[derive(Clone, Debug)]
