@@ -6,16 +6,13 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use vpmap_metrology::synth::Truth;
-use vpmap_pipeline::{
-    Coordinates, Endpoint, EndpointRules, OptionNames, endpoint_cell, truth_grid,
-};
+use vpmap_pipeline::{Coordinates, Endpoint, EndpointRules, OptionNames, endpoint_cell};
 use vpmap_plan::budget::Budget;
 use vpmap_plan::grid::{CellXy, Occupancy, OccupancyGrid};
 use vpmap_plan::navigate::{
     MAX_SENSOR_RANGE_CELLS, NavigateOptions, Navigation, OnlinePlanner, navigate, truth_optimum,
 };
-
-use vpmap_eval::navigate::truth_grid;
+use vpmap_plan::raster::truth_grid;
 
 use crate::num;
 use crate::output::OutputSet;

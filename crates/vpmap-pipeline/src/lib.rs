@@ -11,7 +11,6 @@
 //! | [`map_and_grid`] | scene -> floor map and its occupancy grid (what `/api/plan` plans on) |
 //! | [`build`] | scene -> map, grid, glTF model, ROS map files and floor-plan SVG (what `vpmap build` writes and `/api/build` returns) |
 //! | [`endpoint_cell`] | a start or goal in map coordinates -> its grid cell, checked (`vpmap plan`, `/api/plan`) |
-//! | [`truth_grid`] | a synthetic scene's truth -> the true occupancy grid in a built map's frame (`vpmap navigate`, `/api/navigate`) |
 //!
 //! # Example
 //! ```
@@ -28,7 +27,6 @@
 pub mod endpoint;
 mod error;
 pub mod options;
-mod truth;
 
 use nalgebra::Vector2;
 use vpmap_metrology::map::{BuildOptions, FloorMap, ObjectUncertainty, Units, build_map};
@@ -43,7 +41,6 @@ pub use options::{
     BuildOption, DEFAULT_RESOLUTION_M, DEFAULT_ROBOT_RADIUS_M, GRID_MARGIN_M, MapOptions,
     RESOLUTION_RANGE_M, ROBOT_RADIUS_RANGE_M,
 };
-pub use truth::truth_grid;
 
 /// A floor map and its occupancy grid.
 #[derive(Debug, Clone)]

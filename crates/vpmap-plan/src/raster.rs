@@ -22,6 +22,7 @@
 //! `O(rows x edges + cells)`, not a point-in-polygon test per cell.
 
 use vpmap_metrology::map::{FloorMap, MapPoint};
+use vpmap_metrology::synth::Truth;
 
 use crate::error::{PlanError, Result};
 use crate::grid::{MAX_CELLS, Occupancy, OccupancyGrid};
@@ -377,10 +378,69 @@ pub fn rasterize_map(map: &FloorMap, opts: &RasterOptions) -> Result<OccupancyGr
     grid.inflate(opts.robot_radius_m)
 }
 
+/// `truth` rasterised into `frame`'s grid (its size, resolution and origin; the truth's
+/// coordinates are map metres, the frame of a map built from the truth's scene): a cell is
+/// free when its centre lies on the floor outline and in no object's footprint (even-odd
+/// rule), occupied otherwise; then inflated by `radius_m` like every planning grid.
+///
+/// # Errors
+/// [`PlanError::InvalidParameter`] when `radius_m` is negative or not finite.
+///
+/// # Example
+/// ```
+/// use vpmap_metrology::{map::{build_map, BuildOptions}, synth::{synthesize, SynthOptions}};
+/// use vpmap_plan::raster::{rasterize_map, truth_grid, RasterOptions};
+/// let (scene, truth) = synthesize(&SynthOptions::default()).unwrap();
+/// let map = build_map(&scene, &BuildOptions::default()).unwrap();
+/// let belief = rasterize_map(&map, &RasterOptions::default()).unwrap();
+/// let true_grid = truth_grid(&truth, &belief, 0.2).unwrap();
+/// assert_eq!((true_grid.width(), true_grid.height()), (belief.width(), belief.height()));
+/// ```
+pub fn truth_grid(truth: &Truth, frame: &OccupancyGrid, radius_m: f64) -> Result<OccupancyGrid> {
+    let mut grid = OccupancyGrid::new(
+        frame.width(),
+        frame.height(),
+        frame.resolution_m(),
+        frame.origin_m(),
+        Occupancy::Occupied,
+    )?;
+    for y in 0..grid.height() {
+        for x in 0..grid.width() {
+            let p = grid.world_from_cell(x, y);
+            let on_floor = inside_even_odd(&truth.floor, p);
+            let in_object = truth
+                .objects
+                .iter()
+                .any(|o| inside_even_odd(&o.footprint, p));
+            if on_floor && !in_object {
+                grid.set(x, y, Occupancy::Free)?;
+            }
+        }
+    }
+    grid.inflate(radius_m)
+}
+
+/// Even-odd point-in-polygon test.
+fn inside_even_odd(polygon: &[[f64; 2]], p: [f64; 2]) -> bool {
+    let mut odd = false;
+    let n = polygon.len();
+    for i in 0..n {
+        let (a, b) = (polygon[i], polygon[(i + 1) % n]);
+        if (a[1] > p[1]) != (b[1] > p[1]) {
+            let x = a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
+            if p[0] < x {
+                odd = !odd;
+            }
+        }
+    }
+    odd
+}
+
 #[cfg(test)]
 #[allow(clippy::unwrap_used)]
 mod tests {
     use super::*;
+    use vpmap_metrology::synth::{TruthCamera, TruthObject};
 
     fn grid(w: usize, h: usize) -> OccupancyGrid {
         OccupancyGrid::new(w, h, 1.0, [0.0; 2], Occupancy::Free).unwrap()
@@ -470,5 +530,35 @@ mod tests {
         .validate()
         .unwrap_err();
         assert!(e.to_string().contains("margin_m"), "{e}");
+    }
+
+    #[test]
+    fn truth_grid_of_a_square_room_with_a_box_in_it() {
+        // An independent count: a 4 x 4 m floor and a 1 x 1 m box, 0.5 m cells centred on
+        // the quarter metres, no inflation.
+        let truth = Truth {
+            camera: TruthCamera {
+                focal_px: 1000.0,
+                principal_point: None,
+                pitch_deg: 20.0,
+                roll_deg: 0.0,
+                height: 1.5,
+            },
+            objects: vec![TruthObject {
+                name: "box".to_owned(),
+                footprint: vec![[1.0, 1.0], [2.0, 1.0], [2.0, 2.0], [1.0, 2.0]],
+                height: 1.0,
+            }],
+            floor: vec![[0.0, 0.0], [4.0, 0.0], [4.0, 4.0], [0.0, 4.0]],
+        };
+        let frame = OccupancyGrid::new(10, 10, 0.5, [-0.5, -0.5], Occupancy::Unknown).unwrap();
+        let grid = truth_grid(&truth, &frame, 0.0).unwrap();
+        let free = grid
+            .cells()
+            .iter()
+            .filter(|&&c| c == Occupancy::Free)
+            .count();
+        // 8 x 8 cells on the floor, 2 x 2 of them in the box.
+        assert_eq!(free, 64 - 4);
     }
 }

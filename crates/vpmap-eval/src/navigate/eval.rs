@@ -2,7 +2,7 @@
 //! with noise, their maps built with each method, and a robot driven across each map
 //! against the true room.
 //!
-//! Per scene: the truth is rasterised into the believed map's grid ([`truth_grid`]); start
+//! Per scene: the truth is rasterised into the believed map's grid ([`truth_grid`](vpmap_plan::raster::truth_grid)); start
 //! and goal are two free cells of the true room at least 2 m apart (drawn once per scene on
 //! the noise-free truth, as map points, so every method and noise level drives between the
 //! same points); a trial whose start or goal falls on an obstacle of the true grid in a
@@ -17,7 +17,7 @@ use vpmap_metrology::map::{BuildOptions, build_map};
 use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::synth::{SynthOptions, Truth, add_noise, synthesize};
 use vpmap_plan::navigate::{NavigateOptions, OnlinePlanner, Outcome, navigate, truth_optimum};
-use vpmap_plan::raster::{RasterOptions, rasterize_map};
+use vpmap_plan::raster::{RasterOptions, rasterize_map, truth_grid};
 use vpmap_plan::{Budget, Occupancy, OccupancyGrid};
 
 use crate::error::Result;
@@ -78,53 +78,6 @@ pub struct NavTrial {
     pub optimum_m: f64,
     /// Re-plans.
     pub replans: usize,
-}
-
-/// `truth` rasterised into `frame`'s grid: a cell is free when its centre lies on the floor
-/// and in no object's footprint, occupied otherwise; then inflated by `radius_m` metres.
-///
-/// # Errors
-/// A radius the grid's inflation refuses.
-pub fn truth_grid(truth: &Truth, frame: &OccupancyGrid, radius_m: f64) -> Result<OccupancyGrid> {
-    let mut cells = Vec::with_capacity(frame.width() * frame.height());
-    for y in 0..frame.height() {
-        for x in 0..frame.width() {
-            let p = frame.world_from_cell(x, y);
-            let free =
-                inside(&truth.floor, p) && !truth.objects.iter().any(|o| inside(&o.footprint, p));
-            cells.push(if free {
-                Occupancy::Free
-            } else {
-                Occupancy::Occupied
-            });
-        }
-    }
-    let grid = OccupancyGrid::from_cells(
-        frame.width(),
-        frame.height(),
-        frame.resolution_m(),
-        frame.origin_m(),
-        cells,
-    )?;
-    Ok(grid.inflate(radius_m)?)
-}
-
-/// Even-odd point-in-polygon test.
-fn inside(polygon: &[[f64; 2]], p: [f64; 2]) -> bool {
-    let mut odd = false;
-    let n = polygon.len();
-    for i in 0..n {
-        let (Some(a), Some(b)) = (polygon.get(i), polygon.get((i + 1) % n)) else {
-            continue;
-        };
-        if (a[1] > p[1]) != (b[1] > p[1]) {
-            let x = a[0] + (p[1] - a[1]) / (b[1] - a[1]) * (b[0] - a[0]);
-            if p[0] < x {
-                odd = !odd;
-            }
-        }
-    }
-    odd
 }
 
 /// Two free map points of `truth` at least 2 m apart, or `None`.

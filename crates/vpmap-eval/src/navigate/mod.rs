@@ -22,7 +22,7 @@ use crate::error::{EvalError, Result};
 use crate::output::OutputSet;
 use crate::progress::Progress;
 
-pub use eval::{NavEvalOptions, NavTrial, eval_table, run_eval, truth_grid};
+pub use eval::{NavEvalOptions, NavTrial, eval_table, run_eval};
 
 /// Options of [`run`].
 #[derive(Clone, Debug)]

@@ -15,13 +15,14 @@ use vpmap_metrology::synth::Truth;
 use vpmap_plan::navigate::{
     MAX_SENSOR_RANGE_CELLS, NavigateOptions, OnlinePlanner, navigate, truth_optimum,
 };
+use vpmap_plan::raster::truth_grid;
 use vpmap_plan::{Budget, Stop};
 
 use super::plan::{
     CancelOnDrop, CheckedPlan, PAGE_MAX_EXPANSIONS, PAGE_MAX_SIGHT_CELLS, checked_plan_request,
     world,
 };
-use super::scene::{MAX_GRID_CELLS, pipeline_error};
+use super::scene::MAX_GRID_CELLS;
 use super::{elapsed_ms, respond, to_json};
 use crate::example::OFFICE_TRUTH;
 use crate::params::Query;
@@ -214,8 +215,8 @@ fn navigate_answer(body: &[u8], stop: Stop) -> Result<Bytes, ApiError> {
             "the true office is in metres: give the scene a scale (a camera height, a known distance or an object size) before driving on it",
         ));
     }
-    let true_grid =
-        vpmap_pipeline::truth_grid(&truth, &grid, robot_radius).map_err(pipeline_error)?;
+    let true_grid = truth_grid(&truth, &grid, robot_radius)
+        .map_err(|e| ApiError::bad_request(format!("the true office: {e}")))?;
     let budget = Budget {
         max_expansions: PAGE_MAX_EXPANSIONS,
         max_sight_cells: PAGE_MAX_SIGHT_CELLS,
