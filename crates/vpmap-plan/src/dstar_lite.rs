@@ -5,7 +5,7 @@
 //! between the centres of 8-neighbouring passable cells; a straight step costs 1 and needs
 //! both its cells passable, a diagonal step costs `sqrt 2` and needs both its cells **and
 //! both orthogonal neighbours** passable (no corner cutting). Passable is
-//! [`cell_passable`](crate::los::cell_passable): [`Occupancy::Free`], and
+//! [`cell_passable`]: [`Occupancy::Free`], and
 //! [`Occupancy::Unknown`] with [`DStarLiteOptions::unknown_passable`]. Step costs are
 //! symmetric, so every cell's predecessors are its successors (its 8 neighbours). A cell
 //! changing passability changes the costs of the 8 steps into and out of it, and of the 4
