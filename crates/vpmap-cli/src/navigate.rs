@@ -282,6 +282,7 @@ fn navigate_json(
                 "expanded": e.expanded,
                 "planned_length": e.planned_length_cells.map(|l| l * scale),
                 "used_alternative": e.used_alternative,
+                "doubted_cells": e.doubted_cells,
             })
         })
         .collect();

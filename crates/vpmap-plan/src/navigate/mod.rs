@@ -152,8 +152,10 @@ impl Default for NavigateOptions {
 pub enum Outcome {
     /// The robot reached the goal.
     Reached,
-    /// No path to the goal on the belief after sensing: the goal is unreachable as far as
-    /// the robot can know.
+    /// No path to the goal even when every cell the sensor has not seen is believed free:
+    /// the goal is unreachable as far as the robot can know. (When the belief has no path,
+    /// its obstacles the sensor has never seen are doubted first, so a map's false obstacles
+    /// never make the robot give up on a goal it could reach.)
     GoalUnreachable,
     /// [`NavigateOptions::max_moves`] reached.
     MoveLimit,
@@ -214,6 +216,10 @@ pub struct ReplanEvent {
     pub planned_length_cells: Option<f64>,
     /// Online MBPP: whether a kept alternative was used instead of the new run's path.
     pub used_alternative: bool,
+    /// Cells the map believed blocked that the sensor had never seen, believed free from
+    /// this event on because no path existed otherwise (0 in most events; see
+    /// [`Outcome::GoalUnreachable`]).
+    pub doubted_cells: usize,
 }
 
 /// The result of [`navigate`].
@@ -438,6 +444,33 @@ impl Run<'_> {
         }
     }
 
+    /// Believe free every cell the belief holds impassable that the sensor has never seen
+    /// (the map's unverified obstacles), telling D* Lite; returns how many.
+    fn doubt_unseen(&mut self, robot: CellXy) -> Result<usize> {
+        let unknown_passable = self.opts.unknown_passable;
+        let width = self.belief.grid.width();
+        let mut changes = Vec::new();
+        for (i, (&cell, &seen)) in self
+            .belief
+            .grid
+            .cells()
+            .iter()
+            .zip(&self.belief.seen)
+            .enumerate()
+        {
+            if !seen && !crate::los::cell_passable(cell, unknown_passable) && width > 0 {
+                changes.push((CellXy::new(i % width, i / width), Occupancy::Free));
+            }
+        }
+        for &(c, o) in &changes {
+            self.belief.grid.set(c.x, c.y, o)?;
+        }
+        if !changes.is_empty() {
+            self.observe(robot, &changes)?;
+        }
+        Ok(changes.len())
+    }
+
     /// Tell D* Lite about a move and the changes sensed there.
     fn observe(&mut self, robot: CellXy, changes: &[(CellXy, Occupancy)]) -> Result<()> {
         if let Online::DStarLite(Some(planner)) = &mut self.online {
@@ -548,7 +581,19 @@ pub fn navigate(
                     seg_cells.get(..k).unwrap_or_default(),
                 );
             }
-            let replanned = run.replan(robot)?;
+            let mut replanned = run.replan(robot)?;
+            let mut doubted_cells = 0;
+            if replanned.plan.is_none() {
+                // No path on the belief: doubt the map's obstacles not seen yet, plan again.
+                doubted_cells = run.doubt_unseen(robot)?;
+                if doubted_cells > 0 {
+                    let again = run.replan(robot)?;
+                    replanned = Replanned {
+                        time_s: replanned.time_s + again.time_s,
+                        ..again
+                    };
+                }
+            }
             event_s += replanned.time_s;
             let stats = replanned.plan.as_ref().map(|p| p.stats).unwrap_or_default();
             expanded += stats.expanded;
@@ -560,6 +605,7 @@ pub fn navigate(
                 expanded: stats.expanded,
                 planned_length_cells: replanned.plan.as_ref().map(|p| p.length_cells),
                 used_alternative: replanned.used_alternative,
+                doubted_cells,
             });
             path = replanned.plan.map(|p| p.waypoints);
             seg = 0;

@@ -55,6 +55,8 @@ struct EventOut {
     planned_length: Option<f64>,
     /// Online MBPP used a kept alternative.
     used_alternative: bool,
+    /// Unseen map obstacles believed free from here on (no path otherwise).
+    doubted_cells: usize,
 }
 
 /// A true object, for drawing.
@@ -244,6 +246,7 @@ fn navigate_answer(body: &[u8], stop: Stop) -> Result<Bytes, ApiError> {
             expanded: e.expanded,
             planned_length: e.planned_length_cells.map(|l| l * resolution),
             used_alternative: e.used_alternative,
+            doubted_cells: e.doubted_cells,
         })
         .collect::<Vec<_>>();
     to_json(&NavigateResponse {
