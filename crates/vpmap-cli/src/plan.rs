@@ -34,7 +34,7 @@ fn planner_help(kind: PlannerKind) -> &'static str {
         PlannerKind::AstarPs => "A* followed by line-of-sight post-smoothing",
         PlannerKind::ThetaStar => "Basic Theta* (any-angle)",
         PlannerKind::Optimal => {
-            "The exact shortest any-angle path (visibility graph over obstacle-corner cells)"
+            "The exact shortest any-angle path (Anya-style interval search over the free space of the grid)"
         }
     }
 }

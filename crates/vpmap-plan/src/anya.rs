@@ -63,9 +63,10 @@
 //! as it stays in the projected cone; where the next bend `t'` lies at the end of that
 //! cone on a row line, `t'` is an integer end of the projected interval (or a rectangle
 //! side inside it), and the non-observable or flat successors rooted at `t'` contain the
-//! next segment's first crossing. Generating more successors than the taut ones (the
-//! planner does, where deciding tautness would cost more than the node) only adds
-//! feasible paths. Root-level pruning drops a node only when its root is reached by a
+//! next segment's first crossing. Bends are corner cells ([`crate::optimal`]'s proof),
+//! so successors are rooted at corner cells only; generating more successors than the
+//! taut ones (the planner does, where deciding tautness costs more than the node) only
+//! adds feasible paths. Root-level pruning drops a node only when its root is reached by a
 //! path at least as short, and any continuation from the dropped arrival is then at least
 //! as long as the same continuation from the better one (Cui et al. 2017, section 5).
 //! The tests check the answer against the visibility graph of [`crate::optimal`] to
@@ -154,6 +155,9 @@ pub struct ExactPlanner {
     run: Vec<(i32, i32)>,
     /// Per strip `y` (between rows `y` and `y + 1`): its rectangles `(a, b)`, by `a`.
     strips: Vec<Vec<(i32, i32)>>,
+    /// Per cell: whether it is a corner cell ([`crate::optimal::corner_cells`]), the only
+    /// places a shortest path bends.
+    corner: Vec<bool>,
     /// Scratch of the searches: least `g` of each cell centre as a root.
     best_g: Vec<f64>,
     /// Scratch: the root index of each cell centre's least `g`.
@@ -211,8 +215,15 @@ impl ExactPlanner {
             }
             strips.push(rects);
         }
+        let mut corner = vec![false; grid.width() * grid.height()];
+        for c in crate::optimal::corner_cells(grid, unknown_passable) {
+            if let Some(slot) = corner.get_mut(c.y * grid.width() + c.x) {
+                *slot = true;
+            }
+        }
         Self {
             grid: grid.clone(),
+            corner,
             unknown_passable,
             width: w,
             height: h,
@@ -440,6 +451,16 @@ impl Search<'_> {
 
     /// A successor rooted at `c` (a cell centre on row `y`) of a node rooted at `parent`.
     fn push_turn(&mut self, parent: Root, parent_index: u32, c: i32, y: i32, node: Node) {
+        // A shortest path bends only at corner cells (crate::optimal's proof).
+        if !self
+            .space
+            .corner
+            .get((y * self.space.width + c) as usize)
+            .copied()
+            .unwrap_or(false)
+        {
+            return;
+        }
         let g = parent.g
             + dist(
                 f64::from(parent.x),

