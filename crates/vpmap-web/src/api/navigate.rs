@@ -20,13 +20,12 @@ use vpmap_plan::{Budget, Stop};
 
 use super::plan::{
     CancelOnDrop, CheckedPlan, PAGE_MAX_EXPANSIONS, PAGE_MAX_SIGHT_CELLS, checked_plan_request,
-    world,
+    json_body, world,
 };
 use super::scene::MAX_GRID_CELLS;
 use super::{elapsed_ms, respond, to_json};
 use crate::example::OFFICE_TRUTH;
-use crate::params::Query;
-use crate::{ApiError, AppState, MAX_JSON_BODY_BYTES, params, run_blocking};
+use crate::{ApiError, AppState, params, run_blocking};
 
 /// The sensor range when the request gives none, metres.
 pub const DEFAULT_SENSOR_RANGE_M: f64 = 2.0;
@@ -290,20 +289,11 @@ pub async fn navigate_handler(
     // Dropped with this future when the client goes away: the run then stops.
     let cancelled = CancelOnDrop(Arc::new(AtomicBool::new(false)));
     let result = async {
-        let limits = &state.0.limits;
-        let body = params::read_body(
-            &headers,
-            body,
-            MAX_JSON_BODY_BYTES,
-            limits.body_read_timeout,
-        )
-        .await?;
-        Query::parse(query.as_deref(), &[])?;
-        params::expect_json(&headers)?;
+        let body = json_body(&state, query.as_deref(), &headers, body).await?;
         let slot = state.0.plan_slots.take().await?;
         let stop = Stop::new()
             .with_flag(Arc::clone(&cancelled.0))
-            .with_timeout(limits.plan_timeout);
+            .with_timeout(state.0.limits.plan_timeout);
         run_blocking(&state, "/api/navigate", move || {
             let _slot = slot;
             navigate_answer(&body, stop)

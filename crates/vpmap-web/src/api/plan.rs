@@ -504,6 +504,27 @@ fn plan_answer(body: &[u8], stop: &PlanStop) -> Result<Bytes, ApiError> {
     })
 }
 
+/// The JSON body of a request without query parameters (`/api/plan`, `/api/navigate`):
+/// read within the server's body limits, the query refused when not empty, the content type
+/// checked.
+pub(super) async fn json_body(
+    state: &AppState,
+    query: Option<&str>,
+    headers: &HeaderMap,
+    body: Body,
+) -> Result<Bytes, ApiError> {
+    let body = params::read_body(
+        headers,
+        body,
+        MAX_JSON_BODY_BYTES,
+        state.0.limits.body_read_timeout,
+    )
+    .await?;
+    Query::parse(query, &[])?;
+    params::expect_json(headers)?;
+    Ok(body)
+}
+
 /// `POST /api/plan` with a plan request as the body.
 pub async fn plan(
     State(state): State<AppState>,
@@ -515,15 +536,7 @@ pub async fn plan(
     let cancelled = CancelOnDrop(Arc::new(AtomicBool::new(false)));
     let result = async {
         let limits = &state.0.limits;
-        let body = params::read_body(
-            &headers,
-            body,
-            MAX_JSON_BODY_BYTES,
-            limits.body_read_timeout,
-        )
-        .await?;
-        Query::parse(query.as_deref(), &[])?;
-        params::expect_json(&headers)?;
+        let body = json_body(&state, query.as_deref(), &headers, body).await?;
         let slot = state.0.plan_slots.take().await?;
         let stop = PlanStop {
             cancelled: Arc::clone(&cancelled.0),
