@@ -621,6 +621,11 @@ pub fn navigate(
         if moves >= opts.max_moves {
             break Outcome::MoveLimit;
         }
+        // The run's own work (sensing, moving) is bounded by the budget's stop too, not only
+        // the planner runs: looked at every 64 moves.
+        if moves % 64 == 0 {
+            opts.budget.stop.check("the navigation")?;
+        }
         let (Some(&a), Some(&b), Some(&next)) = (p.get(seg), p.get(seg + 1), seg_cells.get(k))
         else {
             // The plan ends here but not at the goal (not expected): plan again.

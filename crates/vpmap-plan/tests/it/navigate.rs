@@ -155,6 +155,34 @@ fn a_false_wall_in_the_map_is_doubted_not_given_up_on() {
 }
 
 #[test]
+fn a_set_stop_flag_ends_the_run_with_an_error_naming_it() {
+    // A long drive on unknown terrain; the flag is set before it starts: the first check
+    // (planner or run) stops it.
+    let truth = OccupancyGrid::new(200, 200, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+    let belief = OccupancyGrid::new(200, 200, 1.0, [0.0; 2], Occupancy::Unknown).unwrap();
+    let flag = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(true));
+    for planner in OnlinePlanner::ALL {
+        let opts = NavigateOptions {
+            planner,
+            budget: vpmap_plan::Budget {
+                stop: vpmap_plan::Stop::new().with_flag(flag.clone()),
+                ..vpmap_plan::Budget::default()
+            },
+            ..NavigateOptions::default()
+        };
+        let e = navigate(
+            &belief,
+            &truth,
+            CellXy::new(0, 0),
+            CellXy::new(199, 199),
+            &opts,
+        )
+        .unwrap_err();
+        assert!(matches!(e, PlanError::Stopped { .. }), "{planner:?}: {e:?}");
+    }
+}
+
+#[test]
 fn walled_in_goal_stops_with_unreachable_for_every_planner() {
     // The goal sits in a closed box the belief does not know about.
     let mut truth = OccupancyGrid::new(20, 20, 0.05, [0.0; 2], Occupancy::Free).unwrap();
