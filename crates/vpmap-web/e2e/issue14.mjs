@@ -150,6 +150,21 @@ async function loadExample() {
 }
 
 const client = (p) => page.evaluate(([x, y]) => window.vpmap.imageToClient(x, y), p);
+/**
+ * Viewport coordinates of an image point once the photo view has stopped moving (a build that
+ * lands re-lays the page out, and the fitted photo shifts under the pointer): two readings
+ * 150 ms apart agree.
+ */
+async function stableClient(p) {
+  let a = await client(p);
+  for (let k = 0; k < 40; k++) {
+    await page.waitForTimeout(150);
+    const b = await client(p);
+    if (Math.hypot(b[0] - a[0], b[1] - a[1]) < 0.01) return b;
+    a = b;
+  }
+  throw new Error(`the photo view kept moving: image point ${p} at ${a}`);
+}
 async function clickImage(p) {
   const [x, y] = await client(p);
   await page.mouse.click(x, y);
@@ -764,7 +779,8 @@ async function main() {
       return (b[0] - a[0]) / 1000;
     });
     const drag = async (from, to, { shift = false, alt = false } = {}) => {
-      const [x0, y0] = await client(from);
+      await settle('the builds before the drag', {});
+      const [x0, y0] = await stableClient(from);
       const [x1, y1] = await client(to);
       await page.mouse.move(x0, y0);
       await page.mouse.down();
