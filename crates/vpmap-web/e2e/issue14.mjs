@@ -320,7 +320,7 @@ async function main() {
     const d = [box.right[0] - box.near[0], box.right[1] - box.near[1]];
     const len = Math.hypot(d[0], d[1]);
     const off = [box.right[0] - (8 * d[1]) / len, box.right[1] + (8 * d[0]) / len];
-    const a = await client(box.right);
+    const a = await stableClient(box.right);
     const b = await client(off);
     await page.mouse.move(a[0], a[1]);
     await page.mouse.down();
@@ -475,7 +475,7 @@ async function main() {
     // A floor corner dragged above the horizon: the build fails and marks that corner.
     const sc = await sceneNow();
     const i = sc.floor.reduce((best, p, j) => (p[1] < sc.floor[best][1] ? j : best), 0);
-    const a = await client(sc.floor[i]);
+    const a = await stableClient(sc.floor[i]);
     const b = await client([sc.floor[i][0], hy - 40]);
     const builds = (await status()).builds;
     await page.mouse.move(a[0], a[1]);
@@ -571,7 +571,7 @@ async function main() {
     const j = before[k].reduce((b, l, i, all) => (Math.hypot(l[2] - l[0], l[3] - l[1]) > Math.hypot(all[b][2] - all[b][0], all[b][3] - all[b][1]) ? i : b), 0);
     const l = before[k][j];
     const drag = async (p, dx, dy) => {
-      const a = await client(p);
+      const a = await stableClient(p);
       await page.mouse.move(a[0], a[1]);
       await page.mouse.down();
       for (let i = 1; i <= 4; i++) await page.mouse.move(a[0] + (dx * i) / 4, a[1] + (dy * i) / 4);
