@@ -6,6 +6,7 @@
 use vpmap_pipeline::MapOptions;
 
 use super::detect::DetectQuery;
+use super::navigate::checked_navigate_request;
 use super::plan::checked_plan_request;
 use super::scene::{MAX_GRID_CELLS, map_options_from_query, pipeline_error, scene_from_text};
 use crate::{ApiError, params};
@@ -41,6 +42,16 @@ pub fn build_request(
 /// The 400 answer `/api/plan` would give before planning.
 pub fn plan_request(body: &[u8], max_grid_cells: f64) -> Result<(), ApiError> {
     checked_plan_request(body, max_grid_cells).map(|_| ())
+}
+
+/// `POST /api/navigate` with `body`: the request's own fields (`truth`, `planner`,
+/// `sensor_range`), then everything [`plan_request`] checks, the sensor range against the grid
+/// and the true office rasterised on the grid; the robot does not drive.
+///
+/// # Errors
+/// The 400 answer `/api/navigate` would give before driving.
+pub fn navigate_request(body: &[u8], max_grid_cells: f64) -> Result<(), ApiError> {
+    checked_navigate_request(body, max_grid_cells).map(|_| ())
 }
 
 /// `POST /api/detect?{query}` for a photo of `width` x `height` pixels: the query's options,
@@ -92,6 +103,27 @@ mod tests {
         )
         .err();
         assert!(e.is_some_and(|e| e.message.contains("unknown field \"x\"")));
+    }
+
+    #[test]
+    fn navigate_request_checks_its_fields_then_the_plan_request() {
+        let body = |extra: &str| {
+            format!(
+                r#"{{"scene": {OFFICE_SCENE}, "resolution": 0.1, "start": [1.1, 1.7], "goal": [0.2, 5.0]{extra}}}"#
+            )
+        };
+        assert!(navigate_request(body(r#", "truth": "example""#).as_bytes(), 1e5).is_ok());
+        let e = navigate_request(body("").as_bytes(), 1e5).err();
+        assert!(e.is_some_and(|e| e.message.contains("field `truth`")));
+        let e = navigate_request(
+            body(r#", "truth": "example", "sensor_range": -1"#).as_bytes(),
+            1e5,
+        )
+        .err();
+        assert!(e.is_some_and(|e| e.message.starts_with("sensor_range is -1")));
+        // The grid limit of the fuzz target applies to the believed grid.
+        let e = navigate_request(body(r#", "truth": "example""#).as_bytes(), 2e3).err();
+        assert!(e.is_some_and(|e| e.message.contains("the limit is 2000 cells")),);
     }
 
     #[test]

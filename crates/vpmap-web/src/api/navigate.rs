@@ -16,7 +16,7 @@ use vpmap_plan::navigate::{
     MAX_SENSOR_RANGE_CELLS, NavigateOptions, OnlinePlanner, navigate, truth_optimum,
 };
 use vpmap_plan::raster::truth_grid;
-use vpmap_plan::{Budget, Stop};
+use vpmap_plan::{Budget, OccupancyGrid, Stop};
 
 use super::plan::{
     CancelOnDrop, CheckedPlan, PAGE_MAX_EXPANSIONS, PAGE_MAX_SIGHT_CELLS, checked_plan_request,
@@ -100,7 +100,7 @@ struct NavigateResponse<'a> {
 }
 
 /// The request's own fields, taken out of its JSON object; the rest is a plan request.
-struct DriveFields {
+pub(crate) struct DriveFields {
     planner: OnlinePlanner,
     sensor_range: Option<f64>,
 }
@@ -169,20 +169,32 @@ fn drive_fields(body: &[u8]) -> Result<(DriveFields, Vec<u8>), ApiError> {
     ))
 }
 
-/// Check the request, drive, and write the answer.
-fn navigate_answer(body: &[u8], stop: Stop) -> Result<Bytes, ApiError> {
-    let started = Instant::now();
+/// A navigate request that passed every check: what the run needs.
+pub(crate) struct CheckedNavigate {
+    /// The request's own fields (the planner; the sensor range as given).
+    drive: DriveFields,
+    /// The sensor range, checked, map units.
+    sensor_range: f64,
+    /// The plan request's part (the believed grid, start, goal, ...).
+    plan: CheckedPlan,
+    /// The bundled truth.
+    truth: Truth,
+    /// The truth rasterised on the believed grid's cells.
+    true_grid: OccupancyGrid,
+}
+
+/// Parse and check a `/api/navigate` body, in the endpoint's order: its own fields, the plan
+/// request (with at most `max_grid_cells` grid cells), the sensor range, the units and the
+/// true grid.
+///
+/// # Errors
+/// The 400 answer `/api/navigate` gives before driving.
+pub(crate) fn checked_navigate_request(
+    body: &[u8],
+    max_grid_cells: f64,
+) -> Result<CheckedNavigate, ApiError> {
     let (drive, plan_body) = drive_fields(body)?;
-    let CheckedPlan {
-        unknown_passable,
-        warnings,
-        units,
-        robot_radius,
-        grid,
-        start,
-        goal,
-        ..
-    } = checked_plan_request(&plan_body, MAX_GRID_CELLS).map_err(|mut e| {
+    let plan = checked_plan_request(&plan_body, max_grid_cells).map_err(|mut e| {
         e.message = e
             .message
             .replace("a plan request", "a navigate request")
@@ -195,7 +207,7 @@ fn navigate_answer(body: &[u8], stop: Stop) -> Result<Bytes, ApiError> {
             );
         e
     })?;
-    let resolution = grid.resolution_m();
+    let (resolution, units) = (plan.grid.resolution_m(), plan.units);
     let sensor_range = drive.sensor_range.unwrap_or(DEFAULT_SENSOR_RANGE_M);
     let max_range = MAX_SENSOR_RANGE_CELLS * resolution;
     if !(sensor_range.is_finite() && sensor_range >= resolution && sensor_range <= max_range) {
@@ -216,8 +228,37 @@ fn navigate_answer(body: &[u8], stop: Stop) -> Result<Bytes, ApiError> {
             "the true office is in metres: give the scene a scale (a camera height, a known distance or an object size) before driving on it",
         ));
     }
-    let true_grid = truth_grid(&truth, &grid, robot_radius)
+    let true_grid = truth_grid(&truth, &plan.grid, plan.robot_radius)
         .map_err(|e| ApiError::bad_request(format!("the true office: {e}")))?;
+    Ok(CheckedNavigate {
+        drive,
+        sensor_range,
+        plan,
+        truth,
+        true_grid,
+    })
+}
+
+/// Check the request, drive, and write the answer.
+fn navigate_answer(body: &[u8], stop: Stop) -> Result<Bytes, ApiError> {
+    let started = Instant::now();
+    let CheckedNavigate {
+        drive,
+        sensor_range,
+        plan:
+            CheckedPlan {
+                unknown_passable,
+                warnings,
+                units,
+                grid,
+                start,
+                goal,
+                ..
+            },
+        truth,
+        true_grid,
+    } = checked_navigate_request(body, MAX_GRID_CELLS)?;
+    let resolution = grid.resolution_m();
     let budget = Budget {
         max_expansions: PAGE_MAX_EXPANSIONS,
         max_sight_cells: PAGE_MAX_SIGHT_CELLS,
