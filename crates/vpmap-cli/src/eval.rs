@@ -106,41 +106,86 @@ pub struct EvalArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub vp_edge_count: Option<String>,
     /// What a map's error costs a robot instead (see docs/navigation.md): --trials synthetic
-    /// rooms annotated at each --sigma, their maps built with each of --methods, a robot
-    /// driven across each (D* Lite and online MBPP) against the true room; writes
-    /// navigate.md (excess travel and re-plans per noise level, method and planner).
+    /// rooms annotated at each --sigma, their maps built with each of --methods (and the
+    /// fitted map grown by its error bars, see --grow-confidence), a robot driven across each
+    /// (D* Lite and online MBPP) against the true room; writes navigate.md (excess travel and
+    /// re-plans per noise level, map and planner); --publish writes the `eval-navigate`
+    /// section.
     #[arg(long)]
     pub navigate: bool,
+    /// With --navigate: the confidence the fitted map's obstacles are grown at by their error
+    /// bars for the extra "fit, grown" map (0.5 to 0.9999; default 0.95; 0: no grown map).
+    #[arg(long, allow_negative_numbers = true)]
+    pub grow_confidence: Option<f64>,
 }
+
+/// The `docs/results.md` section `vpmap eval --navigate --publish` writes.
+const NAVIGATE_SECTION: &str = "eval-navigate";
+
+/// The default growth confidence of `vpmap eval --navigate` (the fitted map is driven as
+/// built and grown by its error bars at this confidence).
+const DEFAULT_NAVIGATE_GROW_CONFIDENCE: f64 = 0.95;
 
 /// `vpmap eval --navigate`.
 fn run_navigate(args: &EvalArgs) -> Result<()> {
-    let mut methods = Vec::new();
-    for name in args.methods.split(',') {
-        methods.push(
-            name.trim()
-                .parse()
-                .map_err(|e: String| anyhow::anyhow!("--methods: {e}"))?,
+    if !(1..=MAX_TRIALS).contains(&args.trials) {
+        bail!(
+            "--trials must be a whole number from 1 to {MAX_TRIALS}, got {}",
+            args.trials
         );
     }
+    let grow_confidence = match args.grow_confidence {
+        None => Some(DEFAULT_NAVIGATE_GROW_CONFIDENCE),
+        Some(0.0) => None,
+        Some(p) if (0.5..=0.9999).contains(&p) => Some(p),
+        Some(p) => bail!(
+            "--grow-confidence {} must be from 0.5 to 0.9999 (or 0: do not drive a grown map)",
+            num(p)
+        ),
+    };
     let opts = vpmap_eval::navigate::NavEvalOptions {
         scenes: args.trials,
         noise_px: parse_sigmas(&args.sigma)?,
-        methods,
+        methods: parse_methods(&args.methods)?,
         seed: args.seed,
+        grow_confidence,
         ..vpmap_eval::navigate::NavEvalOptions::default()
     };
+    check_writable_folder(&args.out)?;
+    if let Some(path) = &args.publish {
+        check_publish_target(path, NAVIGATE_SECTION)?;
+    }
+    let started = std::time::Instant::now();
     let bar = crate::progress::Bar::new("{elapsed_precise} [{bar}] {pos}/{len} {msg}", "40");
     let (trials, skipped) = vpmap_eval::navigate::run_eval(&opts, &bar)?;
-    let mut md = vpmap_eval::navigate::eval_table(&trials, &opts, skipped);
-    let _ = std::fmt::Write::write_fmt(
-        &mut md,
-        format_args!("\nMeasured with `{}`.\n", crate::command_line()),
-    );
+    let elapsed = started.elapsed();
+    let table = vpmap_eval::navigate::eval_table(&trials, &opts, skipped);
+    let command = crate::command_line();
+    let md = format!("{table}\nMeasured with `{command}`.\n");
     let mut files = vpmap_eval::output::OutputSet::default();
     files.add("navigate.md", md.clone());
     files.write_all(&args.out)?;
+    if let Some(path) = &args.publish {
+        let section = vpmap_eval::accuracy::report::published(
+            "What a map's error costs a robot (`vpmap eval --navigate`)",
+            &format!(
+                "{} synthetic rooms, each annotated at every noise level; each method's map (and the fitted map grown by its error bars) driven from the same start to the same goal, sensing the true room within {} m; excess travel over the true room's optima (reached drives). How the drive works: [navigation.md](navigation.md).\n\n{table}",
+                opts.scenes,
+                num(opts.sensor_range_m)
+            ),
+            elapsed,
+            &command,
+        );
+        vpmap_eval::publish::replace_section(path, NAVIGATE_SECTION, &section)?;
+    }
     print!("{md}");
+    println!("wrote navigate.md in {}", args.out.display());
+    if let Some(path) = &args.publish {
+        println!(
+            "published the {NAVIGATE_SECTION} section of {}",
+            path.display()
+        );
+    }
     Ok(())
 }
 
@@ -275,6 +320,12 @@ fn check_args(args: &EvalArgs) -> Result<Config> {
         bail!(
             "--trials must be a whole number from 1 to {MAX_TRIALS}, got {}",
             args.trials
+        );
+    }
+    if let Some(p) = args.grow_confidence {
+        bail!(
+            "--grow-confidence {} is for --navigate (the accuracy evaluation measures the maps as built)",
+            num(p)
         );
     }
     let sigmas = parse_sigmas(&args.sigma)?;

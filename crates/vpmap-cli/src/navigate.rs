@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result, bail};
 use vpmap_metrology::synth::Truth;
 use vpmap_pipeline::{Coordinates, Endpoint, EndpointRules, OptionNames, endpoint_cell};
-use vpmap_plan::budget::Budget;
+use vpmap_plan::budget::{Budget, Stop};
 use vpmap_plan::grid::{CellXy, Occupancy, OccupancyGrid};
 use vpmap_plan::navigate::{
     MAX_SENSOR_RANGE_CELLS, NavigateOptions, Navigation, OnlinePlanner, navigate, truth_optimum,
@@ -53,12 +53,22 @@ pub struct NavigateArgs {
     /// Grid resolution for a `map.json` or a truth with `--unknown`, metres.
     #[arg(long, default_value_t = 0.05, allow_negative_numbers = true)]
     resolution: f64,
-    /// Most moves before the robot stops.
+    /// Most moves (cells) before the robot stops ("move limit reached").
     #[arg(long, default_value_t = 10_000_000)]
     max_moves: usize,
-    /// Most node expansions of each re-plan.
+    /// Most re-plans before the robot stops ("re-plan limit reached").
+    #[arg(long, default_value_t = 1_000_000)]
+    max_replans: usize,
+    /// Most node expansions (MBPP: bug steps) of each re-plan before it stops with an error.
     #[arg(long, default_value_t = vpmap_plan::budget::DEFAULT_MAX_EXPANSIONS)]
     max_expansions: usize,
+    /// Most grid cells the line-of-sight checks of each re-plan (A* PS, MBPP) look up.
+    #[arg(long, default_value_t = vpmap_plan::budget::DEFAULT_MAX_SIGHT_CELLS)]
+    max_sight_cells: usize,
+    /// Stop the whole drive (sensing, moving and planning) after this many seconds with an
+    /// error (default: no time limit; the counted limits above bound the work).
+    #[arg(long, value_name = "SECONDS", value_parser = crate::plan::parse_timeout, allow_negative_numbers = true)]
+    timeout: Option<std::time::Duration>,
     /// Output folder: navigate.json and navigate.svg (created if missing).
     #[arg(long, short)]
     out: PathBuf,
@@ -205,14 +215,19 @@ pub fn run(args: &NavigateArgs) -> Result<()> {
         sensor_range_cells: range_cells,
         unknown_passable: !args.unknown_blocked,
         max_moves: args.max_moves,
+        max_replans: args.max_replans,
         budget: Budget {
             max_expansions: args.max_expansions,
-            ..Budget::default()
+            max_sight_cells: args.max_sight_cells,
+            stop: args
+                .timeout
+                .map_or_else(Stop::new, |t| Stop::new().with_timeout(t)),
         },
-        ..NavigateOptions::default()
     };
-    let run = navigate(&believed.grid, &truth, start, goal, &opts)?;
-    let optimum = truth_optimum(&truth, start, goal, &opts.budget)?;
+    let run = navigate(&believed.grid, &truth, start, goal, &opts)
+        .map_err(|e| crate::plan::name_the_flag(e.into()))?;
+    let optimum = truth_optimum(&truth, start, goal, &opts.budget)
+        .map_err(|e| crate::plan::name_the_flag(e.into()))?;
     let coords = |c: CellXy| -> [f64; 2] {
         if believed.in_cells {
             [c.x as f64, c.y as f64]

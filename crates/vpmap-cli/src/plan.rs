@@ -115,7 +115,7 @@ pub struct PlanArgs {
 }
 
 /// `--timeout`: a positive number of seconds, at most a day.
-fn parse_timeout(text: &str) -> std::result::Result<std::time::Duration, String> {
+pub(crate) fn parse_timeout(text: &str) -> std::result::Result<std::time::Duration, String> {
     const MAX_S: f64 = 86_400.0;
     match text.trim().parse::<f64>() {
         Ok(s) if s > 0.0 && s <= MAX_S => Ok(std::time::Duration::from_secs_f64(s)),
@@ -284,7 +284,7 @@ pub fn run_planner(
 }
 
 /// A planner's budget error, ending with the command-line flag that raises the budget.
-fn name_the_flag(e: anyhow::Error) -> anyhow::Error {
+pub(crate) fn name_the_flag(e: anyhow::Error) -> anyhow::Error {
     let flag = match e.downcast_ref::<PlanError>() {
         Some(PlanError::BudgetExhausted { option, .. }) => {
             format!("--{}", option.replace('_', "-"))

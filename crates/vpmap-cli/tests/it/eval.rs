@@ -440,3 +440,104 @@ fn the_views_run_publishes_its_own_section_with_refusals_and_coverage() {
     // 4 set-ups x 1 trial x 2 noise levels x 2 methods refused.
     assert!(failures.lines().count() > 4 * 2 * 2, "{failures}");
 }
+
+#[test]
+fn the_navigate_run_drives_the_grown_fit_and_publishes_its_own_section() {
+    let dir = tempfile::tempdir().unwrap();
+    let results = dir.path().join("results.md");
+    let before = "# Results\n\n<!-- eval:begin -->\nkept\n<!-- eval:end -->\n";
+    std::fs::write(&results, before).unwrap();
+    let out = dir.path().join("nav");
+    let o = vpmap(&[
+        "eval",
+        "--navigate",
+        "--trials",
+        "1",
+        "--sigma",
+        "2",
+        "--methods",
+        "fit",
+        "--out",
+        out.to_str().unwrap(),
+        "--publish",
+        results.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert_eq!(files_in(&out), ["navigate.md"]);
+    let text = std::fs::read_to_string(&results).unwrap();
+    assert!(text.starts_with(before), "{text}");
+    let section = &text[before.len()..];
+    assert!(
+        section.starts_with("\n<!-- eval-navigate:begin -->\n## What a map's error costs a robot"),
+        "{section}"
+    );
+    assert!(
+        section.ends_with("<!-- eval-navigate:end -->\n"),
+        "{section}"
+    );
+    // The fitted map as built and grown by its error bars, each with both planners.
+    for row in [
+        "| 2 | fit | dstar-lite |",
+        "| 2 | fit | mbpp |",
+        "| 2 | fit, grown (95 %) | dstar-lite |",
+        "| 2 | fit, grown (95 %) | mbpp |",
+    ] {
+        assert!(section.contains(row), "{row} missing: {section}");
+    }
+    assert!(section.contains("eval --navigate"), "{section}");
+    // --grow-confidence 0 drives the maps as built only.
+    let o = vpmap(&[
+        "eval",
+        "--navigate",
+        "--trials",
+        "1",
+        "--sigma",
+        "2",
+        "--methods",
+        "fit",
+        "--grow-confidence",
+        "0",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(!String::from_utf8_lossy(&o.stdout).contains("grown"));
+}
+
+#[test]
+fn the_navigate_run_refuses_bad_arguments_before_any_work() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("out");
+    let o = out.to_str().unwrap();
+    for (args, needle) in [
+        (
+            vec!["--grow-confidence", "1"],
+            "--grow-confidence 1 must be from 0.5 to 0.9999",
+        ),
+        (vec!["--grow-confidence", "NaN"], "--grow-confidence NaN"),
+        (vec!["--methods", "fit,fit"], "names fit twice"),
+        (vec!["--trials", "0"], "--trials"),
+        (vec!["--sigma", "-1"], "--sigma"),
+    ] {
+        let mut full = vec!["eval", "--navigate", "--out", o];
+        if args[0] != "--trials" {
+            full.extend(["--trials", "1"]);
+        }
+        full.extend(args);
+        assert_refused(&full, &out, needle);
+    }
+    // Without --navigate the growth has no meaning.
+    assert_refused(
+        &[
+            "eval",
+            "--out",
+            o,
+            "--trials",
+            "1",
+            "--grow-confidence",
+            "0.9",
+        ],
+        &out,
+        "--grow-confidence 0.9 is for --navigate",
+    );
+}

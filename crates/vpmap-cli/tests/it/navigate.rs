@@ -111,6 +111,58 @@ fn navigate_walled_in_goal_says_unreachable() {
 }
 
 #[test]
+fn navigate_stops_at_its_limits_and_names_the_flag() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = dir.path().join("truth.map");
+    write_map(&truth, &TRUTH);
+    let run = |extra: &[&str]| {
+        let out = dir.path().join("out");
+        let _ = std::fs::remove_dir_all(&out);
+        let mut args = vec![
+            "navigate",
+            "--unknown",
+            "--truth",
+            truth.to_str().unwrap(),
+            "--from",
+            "0,4",
+            "--to",
+            "11,4",
+            "--sensor-range",
+            "2",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        let o = vpmap(&args);
+        let json = std::fs::read_to_string(out.join("navigate.json"))
+            .ok()
+            .map(|t| serde_json::from_str::<serde_json::Value>(&t).unwrap());
+        (o, json)
+    };
+    // The wall is unknown at the start, so the drive needs a re-plan: with none allowed the
+    // run stops there, says so and writes what it drove.
+    let (o, json) = run(&["--max-replans", "0"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json = json.unwrap();
+    assert_eq!(json["outcome"], "re-plan limit reached", "{json}");
+    assert_eq!(json["replans"], 0);
+    let (o, json) = run(&["--max-moves", "3"]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let json = json.unwrap();
+    assert_eq!(json["outcome"], "move limit reached", "{json}");
+    assert_eq!(json["moves"], 3);
+    // A planner's budget is an error naming the flag that raises it; nothing is written.
+    let (o, json) = run(&["--max-expansions", "2"]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(e.contains("with --max-expansions"), "{e}");
+    assert!(json.is_none());
+    let (o, _) = run(&["--timeout", "0"]);
+    assert_eq!(o.status.code(), Some(2));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("is not a time limit"));
+}
+
+#[test]
 fn navigate_refuses_bad_input_without_writing() {
     let dir = tempfile::tempdir().unwrap();
     let truth = dir.path().join("truth.map");

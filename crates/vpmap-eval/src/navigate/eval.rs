@@ -7,7 +7,13 @@
 //! the noise-free truth, as map points, so every method and noise level drives between the
 //! same points); a trial whose start or goal falls on an obstacle of the true grid in a
 //! method's frame is skipped (counted). Excess travel is the driven length over the true
-//! map's octile optimum, minus 1.
+//! map's optimum, minus 1: over the octile optimum (what an 8-connected planner can reach at
+//! best) and over the any-angle optimum (the shortest path of all).
+//!
+//! The fitted map is driven twice when [`NavEvalOptions::grow_confidence`] is set: as built,
+//! and with each object grown by its error bars at that confidence
+//! ([`vpmap_pipeline::grown_by_uncertainty`], what `vpmap build --grow-confidence` draws), so
+//! the table shows what the inflation costs or saves a robot.
 
 use std::fmt::Write as _;
 
@@ -16,6 +22,7 @@ use rand_chacha::ChaCha8Rng;
 use vpmap_metrology::map::{BuildOptions, build_map};
 use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::synth::{SynthOptions, Truth, add_noise, synthesize};
+use vpmap_pipeline::grown_by_uncertainty;
 use vpmap_plan::navigate::{NavigateOptions, OnlinePlanner, Outcome, navigate, truth_optimum};
 use vpmap_plan::raster::{RasterOptions, rasterize_map, truth_grid};
 use vpmap_plan::{Budget, Occupancy, OccupancyGrid};
@@ -42,6 +49,9 @@ pub struct NavEvalOptions {
     pub sensor_range_m: f64,
     /// First scene seed.
     pub seed: u64,
+    /// Also drive the fitted map with its obstacles grown by their error bars at this
+    /// confidence (0.5 to 0.9999); `None`: only the maps as built.
+    pub grow_confidence: Option<f64>,
 }
 
 impl Default for NavEvalOptions {
@@ -55,6 +65,7 @@ impl Default for NavEvalOptions {
             robot_radius_m: 0.2,
             sensor_range_m: 1.5,
             seed: 1,
+            grow_confidence: Some(0.95),
         }
     }
 }
@@ -68,6 +79,9 @@ pub struct NavTrial {
     pub noise_px: f64,
     /// Method.
     pub method: Method,
+    /// The map's obstacles were grown by their error bars
+    /// ([`NavEvalOptions::grow_confidence`]).
+    pub grown: bool,
     /// Planner.
     pub planner: OnlinePlanner,
     /// How it ended.
@@ -76,6 +90,8 @@ pub struct NavTrial {
     pub length_m: f64,
     /// True octile optimum, metres.
     pub optimum_m: f64,
+    /// True any-angle optimum, metres.
+    pub optimum_any_angle_m: f64,
     /// Re-plans.
     pub replans: usize,
 }
@@ -124,6 +140,24 @@ fn endpoints(
     Ok(None)
 }
 
+/// The maps driven: each method's as built, and the fitted one grown by its error bars when
+/// [`NavEvalOptions::grow_confidence`] is set.
+fn map_variants(opts: &NavEvalOptions) -> Vec<(Method, bool)> {
+    let mut variants: Vec<(Method, bool)> = opts.methods.iter().map(|&m| (m, false)).collect();
+    if opts.grow_confidence.is_some() && opts.methods.contains(&Method::Fit) {
+        variants.push((Method::Fit, true));
+    }
+    variants
+}
+
+/// The name of a map variant in the table: the method, and for a grown map the confidence.
+fn variant_name(method: Method, grown: bool, opts: &NavEvalOptions) -> String {
+    match (grown, opts.grow_confidence) {
+        (true, Some(p)) => format!("{method}, grown ({} %)", p * 100.0),
+        _ => method.to_string(),
+    }
+}
+
 /// Drive every planner across every method's map at every noise level of every scene.
 /// Returns the trials and the number skipped (start or goal blocked in a method's frame,
 /// or a map that could not be built).
@@ -133,6 +167,14 @@ fn endpoints(
 pub fn run_eval(opts: &NavEvalOptions, progress: &dyn Progress) -> Result<(Vec<NavTrial>, usize)> {
     let mut trials = Vec::new();
     let mut skipped = 0;
+    if let Some(p) = opts.grow_confidence
+        && !(0.5..=0.9999).contains(&p)
+    {
+        return Err(crate::error::EvalError::Invalid(format!(
+            "the growth confidence is {p}; it must be from 0.5 to 0.9999"
+        )));
+    }
+    let per_level = map_variants(opts).len() * opts.planners.len();
     progress.start(opts.scenes * opts.noise_px.len() as u64);
     for scene_seed in opts.seed..opts.seed + opts.scenes {
         let (scene, truth) = synthesize(&SynthOptions {
@@ -141,7 +183,7 @@ pub fn run_eval(opts: &NavEvalOptions, progress: &dyn Progress) -> Result<(Vec<N
         })?;
         let mut rng = ChaCha8Rng::seed_from_u64(scene_seed ^ 0x6e61_7669);
         let Some((from, to)) = endpoints(&truth, opts, &mut rng)? else {
-            skipped += opts.noise_px.len() * opts.methods.len() * opts.planners.len();
+            skipped += opts.noise_px.len() * per_level;
             continue;
         };
         for (level, &sigma) in opts.noise_px.iter().enumerate() {
@@ -152,7 +194,7 @@ pub fn run_eval(opts: &NavEvalOptions, progress: &dyn Progress) -> Result<(Vec<N
                 sigma,
                 &mut ChaCha8Rng::seed_from_u64(scene_seed * 1000 + level as u64),
             );
-            for &method in &opts.methods {
+            for (method, grown) in map_variants(opts) {
                 let built = build_map(
                     &noisy,
                     &BuildOptions {
@@ -161,6 +203,10 @@ pub fn run_eval(opts: &NavEvalOptions, progress: &dyn Progress) -> Result<(Vec<N
                     },
                 )
                 .ok()
+                .map(|map| match (grown, opts.grow_confidence) {
+                    (true, Some(p)) => grown_by_uncertainty(&map, p),
+                    _ => map,
+                })
                 .and_then(|map| {
                     rasterize_map(
                         &map,
@@ -187,7 +233,9 @@ pub fn run_eval(opts: &NavEvalOptions, progress: &dyn Progress) -> Result<(Vec<N
                     continue;
                 };
                 let optimum = truth_optimum(&true_grid, start, goal, &Budget::default())?;
-                let Some(optimum_cells) = optimum.octile_cells else {
+                let (Some(optimum_cells), Some(any_angle_cells)) =
+                    (optimum.octile_cells, optimum.any_angle_cells)
+                else {
                     skipped += opts.planners.len();
                     continue;
                 };
@@ -203,10 +251,12 @@ pub fn run_eval(opts: &NavEvalOptions, progress: &dyn Progress) -> Result<(Vec<N
                         scene: scene_seed,
                         noise_px: sigma,
                         method,
+                        grown,
                         planner,
                         outcome: run.outcome,
                         length_m: run.length_cells * opts.resolution_m,
                         optimum_m: optimum_cells * opts.resolution_m,
+                        optimum_any_angle_m: any_angle_cells * opts.resolution_m,
                         replans: run.events.len().saturating_sub(1),
                     });
                 }
@@ -218,43 +268,53 @@ pub fn run_eval(opts: &NavEvalOptions, progress: &dyn Progress) -> Result<(Vec<N
     Ok((trials, skipped))
 }
 
-/// The Markdown table: per noise level, method and planner, the trials, how many reached
-/// the goal, the median excess travel (reached trials) and the mean re-plans.
+/// The Markdown table: per noise level, map (method, grown or not) and planner, the trials,
+/// how many reached the goal, the median excess travel over the true octile and any-angle
+/// optima (reached trials) and the mean re-plans.
 #[must_use]
 pub fn eval_table(trials: &[NavTrial], opts: &NavEvalOptions, skipped: usize) -> String {
     let mut md = String::from(
-        "| noise (px) | method | planner | trials | reached | median excess travel | mean re-plans |\n|---|---|---|---|---|---|---|\n",
+        "| noise (px) | map | planner | trials | reached | median excess travel over the octile optimum | over the any-angle optimum | mean re-plans |\n|---|---|---|---|---|---|---|---|\n",
     );
     for &sigma in &opts.noise_px {
-        for &method in &opts.methods {
+        for (method, grown) in map_variants(opts) {
             for &planner in &opts.planners {
                 let v: Vec<&NavTrial> = trials
                     .iter()
                     .filter(|t| {
                         t.noise_px.to_bits() == sigma.to_bits()
                             && t.method == method
+                            && t.grown == grown
                             && t.planner == planner
                     })
                     .collect();
                 if v.is_empty() {
                     continue;
                 }
-                let mut excess: Vec<f64> = v
-                    .iter()
-                    .filter(|t| t.outcome == Outcome::Reached)
-                    .map(|t| t.length_m / t.optimum_m - 1.0)
-                    .collect();
-                excess.sort_by(f64::total_cmp);
-                let median = excess
-                    .get(excess.len() / 2)
-                    .map_or_else(|| "-".to_owned(), |m| format!("{:.1} %", m * 100.0));
+                let reached: Vec<&&NavTrial> =
+                    v.iter().filter(|t| t.outcome == Outcome::Reached).collect();
+                let median = |optimum: fn(&NavTrial) -> f64| {
+                    let mut excess: Vec<f64> = reached
+                        .iter()
+                        .map(|t| t.length_m / optimum(t) - 1.0)
+                        .collect();
+                    excess.sort_by(f64::total_cmp);
+                    // `+ 0.0`: a median a rounding error below zero prints as 0.0, not -0.0.
+                    excess.get(excess.len() / 2).map_or_else(
+                        || "-".to_owned(),
+                        |m| format!("{:.1} %", (m * 1000.0).round() / 10.0 + 0.0),
+                    )
+                };
+                let octile = median(|t| t.optimum_m);
+                let any_angle = median(|t| t.optimum_any_angle_m);
                 let replans = v.iter().map(|t| t.replans as f64).sum::<f64>() / v.len() as f64;
                 let _ = writeln!(
                     md,
-                    "| {sigma} | {method} | {} | {} | {} | {median} | {replans:.1} |",
+                    "| {sigma} | {} | {} | {} | {} | {octile} | {any_angle} | {replans:.1} |",
+                    variant_name(method, grown, opts),
                     planner.name(),
                     v.len(),
-                    excess.len()
+                    reached.len()
                 );
             }
         }
@@ -283,10 +343,51 @@ mod tests {
             ..NavEvalOptions::default()
         };
         let (trials, skipped) = run_eval(&opts, &crate::Silent).unwrap();
-        assert_eq!(trials.len() + skipped, 8);
-        assert!(trials.len() >= 4);
-        assert!(trials.iter().all(|t| t.length_m > 0.0 && t.optimum_m > 0.0));
+        // Two scenes, two noise levels, three maps (sideview, fit, fit grown), one planner.
+        assert_eq!(trials.len() + skipped, 12);
+        assert!(trials.len() >= 6);
+        assert!(trials.iter().all(|t| t.length_m > 0.0
+            && t.optimum_m > 0.0
+            && t.optimum_any_angle_m <= t.optimum_m + 1e-9));
         let table = eval_table(&trials, &opts, skipped);
         assert!(table.contains("| 0 | sideview | dstar-lite |"), "{table}");
+        assert!(
+            table.contains("| 2 | fit, grown (95 %) | dstar-lite |"),
+            "{table}"
+        );
+    }
+
+    /// The fitted map grown by its error bars is driven beside the built one, once per built
+    /// drive; only when the fit is among the methods; a confidence out of range is refused.
+    #[test]
+    fn the_grown_fitted_map_is_driven_beside_the_built_one() {
+        let opts = NavEvalOptions {
+            scenes: 3,
+            noise_px: vec![2.0],
+            methods: vec![Method::Fit],
+            planners: vec![OnlinePlanner::Astar],
+            ..NavEvalOptions::default()
+        };
+        let (trials, _) = run_eval(&opts, &crate::Silent).unwrap();
+        let grown: Vec<_> = trials.iter().filter(|t| t.grown).collect();
+        let built: Vec<_> = trials.iter().filter(|t| !t.grown).collect();
+        assert!(
+            !grown.is_empty() && grown.len() == built.len(),
+            "{trials:?}"
+        );
+        assert!(trials.iter().all(|t| t.method == Method::Fit));
+        // Without the fit among the methods there is nothing to grow.
+        let side = NavEvalOptions {
+            methods: vec![Method::Sideview],
+            ..opts.clone()
+        };
+        let (trials, _) = run_eval(&side, &crate::Silent).unwrap();
+        assert!(trials.iter().all(|t| !t.grown));
+        let bad = NavEvalOptions {
+            grow_confidence: Some(1.0),
+            ..opts
+        };
+        let e = run_eval(&bad, &crate::Silent).unwrap_err().to_string();
+        assert!(e.contains("growth confidence is 1"), "{e}");
     }
 }
