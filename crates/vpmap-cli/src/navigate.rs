@@ -247,19 +247,19 @@ pub fn run(args: &NavigateArgs) -> Result<()> {
     );
     outputs.write_all(&args.out)?;
     println!(
-        "{}: {} after {} moves, driven {} {unit} (true optimum {} octile, {} any-angle), {} re-plans, planning {} s; wrote {}",
+        "{}: {} after {} moves, driven {:.3} {unit} (true optimum {} octile, {} any-angle), {} re-plans, planning {:.3} ms; wrote {}",
         args.planner.name(),
         run.outcome.as_str(),
         run.moves,
-        num(run.length_cells * scale),
+        run.length_cells * scale,
         optimum
             .octile_cells
-            .map_or_else(|| "none".to_owned(), |l| num(l * scale)),
+            .map_or_else(|| "none".to_owned(), |l| format!("{:.3}", l * scale)),
         optimum
             .any_angle_cells
-            .map_or_else(|| "none".to_owned(), |l| num(l * scale)),
+            .map_or_else(|| "none".to_owned(), |l| format!("{:.3}", l * scale)),
         run.events.len().saturating_sub(1),
-        num(run.planning_time_s),
+        run.planning_time_s * 1e3,
         args.out.display()
     );
     Ok(())
@@ -330,6 +330,32 @@ fn navigate_json(
 
 /// navigate.svg: the true map, the believed obstacles, the sensed area, the driven track,
 /// the re-planning points, start, goal and a legend; one SVG unit per cell, row 0 at the top.
+/// The animation's speed, cells a second, and its duration's bounds, seconds.
+const ANIMATION_CELLS_PER_S: f64 = 40.0;
+/// See [`ANIMATION_CELLS_PER_S`].
+const MIN_ANIMATION_S: f64 = 4.0;
+/// See [`ANIMATION_CELLS_PER_S`].
+const MAX_ANIMATION_S: f64 = 30.0;
+
+/// For each waypoint, the fraction of the track's length driven when the robot reaches it
+/// (0 at the start, 1 at the end; all 0 for a track of no length).
+fn track_fractions(waypoints: &[CellXy]) -> Vec<f64> {
+    let mut cumulative = Vec::with_capacity(waypoints.len());
+    let mut length = 0.0;
+    for (i, c) in waypoints.iter().enumerate() {
+        if let Some(p) = i.checked_sub(1).and_then(|j| waypoints.get(j)) {
+            length += (c.x as f64 - p.x as f64).hypot(c.y as f64 - p.y as f64);
+        }
+        cumulative.push(length);
+    }
+    if length > 0.0 {
+        for v in &mut cumulative {
+            *v /= length;
+        }
+    }
+    cumulative
+}
+
 fn navigate_svg(
     truth: &OccupancyGrid,
     believed: &OccupancyGrid,
@@ -378,7 +404,7 @@ fn navigate_svg(
                     }
                     let _ = write!(
                         s,
-                        r#"<rect x="{x0}" y="{y}" width="{}" height="1" fill="{fill}" fill-opacity="{opacity}"/>"#,
+                        r#"<rect x="{x0}" y="{y}" width="{}" height="1" fill="{fill}" fill-opacity="{opacity}" shape-rendering="crispEdges"/>"#,
                         x - x0
                     );
                 } else {
@@ -417,14 +443,66 @@ fn navigate_svg(
         r##"<polyline points="{}" fill="none" stroke="#d62728" stroke-width="{stroke:.3}" stroke-linejoin="round"/>"##,
         points.join(" ")
     );
-    let r = (4.0 / px).max(0.4);
-    for e in run.events.iter().skip(1) {
+    // The animation (SMIL, played by browsers; a static renderer shows the whole drive with
+    // the robot at the start): the robot moves along the track at constant speed, the track darkens behind it, and each
+    // re-planning point appears when the robot reaches it. All share one duration and loop.
+    let along = track_fractions(&run.waypoints);
+    let total = run.length_cells;
+    let duration_s = (total / ANIMATION_CELLS_PER_S).clamp(MIN_ANIMATION_S, MAX_ANIMATION_S);
+    if total > 0.0 {
         let _ = write!(
             s,
-            r##"<circle cx="{}.5" cy="{}.5" r="{r:.3}" fill="none" stroke="#ff7f0e" stroke-width="{:.3}"/>"##,
+            r##"<polyline points="{}" fill="none" stroke="#7f0000" stroke-width="{:.3}" stroke-linejoin="round" stroke-dasharray="{total:.3} {total:.3}" stroke-dashoffset="{total:.3}"><animate attributeName="stroke-dashoffset" from="{total:.3}" to="0" dur="{duration_s:.2}s" repeatCount="indefinite"/></polyline>"##,
+            points.join(" "),
+            stroke * 1.2
+        );
+    }
+    let r = (4.0 / px).max(0.4);
+    let mut from = 0;
+    for e in run.events.iter().skip(1) {
+        // The event's cell is a waypoint of the track (re-planning cells are), at or after
+        // the previous event's.
+        let found = run.waypoints[from..]
+            .iter()
+            .position(|&c| c == e.cell)
+            .map(|k| from + k);
+        let fraction = found.map_or(0.0, |k| along[k]);
+        from = found.unwrap_or(from);
+        let _ = write!(
+            s,
+            r##"<circle cx="{}.5" cy="{}.5" r="{r:.3}" fill="none" stroke="#ff7f0e" stroke-width="{:.3}"><animate attributeName="opacity" values="0;1" keyTimes="0;{fraction:.5}" calcMode="discrete" dur="{duration_s:.2}s" repeatCount="indefinite"/></circle>"##,
             e.cell.x,
             e.cell.y,
             stroke * 0.7
+        );
+    }
+    if let (Some(first), true) = (run.waypoints.first(), total > 0.0) {
+        // The centre's coordinates animated through the waypoints, key times at their
+        // fractions of the length (constant speed); repeated points (no length) left out.
+        let (mut xs, mut ys, mut times) = (Vec::new(), Vec::new(), Vec::<String>::new());
+        let mut last = f64::NEG_INFINITY;
+        for (c, &f) in run.waypoints.iter().zip(&along) {
+            if f > last {
+                xs.push(format!("{}.5", c.x));
+                ys.push(format!("{}.5", c.y));
+                times.push(format!("{f:.5}"));
+                last = f;
+            }
+        }
+        if let Some(t) = times.last_mut() {
+            // Exactly 1 however the fractions round.
+            "1".clone_into(t);
+        }
+        let times = times.join(";");
+        let _ = write!(
+            s,
+            r##"<circle class="robot" cx="{}.5" cy="{}.5" r="{:.3}" fill="#7f0000" stroke="#ffffff" stroke-width="{:.3}"><animate attributeName="cx" values="{}" keyTimes="{times}" dur="{duration_s:.2}s" repeatCount="indefinite"/><animate attributeName="cy" values="{}" keyTimes="{times}" dur="{duration_s:.2}s" repeatCount="indefinite"/></circle>"##,
+            first.x,
+            first.y,
+            r * 1.1,
+            stroke * 0.5,
+            xs.join(";"),
+            ys.join(";"),
         );
     }
     for (c, colour) in [(start, "#2ca02c"), (goal, "#1f77b4")] {
@@ -441,7 +519,8 @@ fn navigate_svg(
         ("#cfe8ff", "sensed free floor"),
         ("#ff9896", "obstacle on the believed map"),
         ("#d62728", "driven track"),
-        ("#ff7f0e", "re-planning point"),
+        ("#ff7f0e", "re-planning point (appears when reached)"),
+        ("#7f0000", "robot and track driven (animated in a browser)"),
         ("#2ca02c", "start"),
         ("#1f77b4", "goal"),
     ];

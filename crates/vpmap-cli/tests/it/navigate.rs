@@ -78,7 +78,69 @@ fn navigate_unknown_terrain_writes_json_and_svg() {
         let doc = roxmltree::Document::parse(&svg).unwrap();
         assert!(doc.descendants().any(|n| n.has_tag_name("polyline")));
         assert!(svg.contains("re-planning point") && svg.contains("sensed free floor"));
+        check_animation(&doc, &json);
     }
+}
+
+/// The SVG's animation: the robot starts on the start's cell centre and moves through the
+/// driven waypoints with key times from 0 to 1, ascending, in proportion to the length
+/// driven; each re-planning ring appears at a key time in (0, 1].
+fn check_animation(doc: &roxmltree::Document, json: &serde_json::Value) {
+    let robot = doc
+        .descendants()
+        .find(|n| n.attribute("class") == Some("robot"))
+        .expect("an animated robot");
+    let waypoints: Vec<(f64, f64)> = json["waypoints"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| (p[0].as_f64().unwrap(), p[1].as_f64().unwrap()))
+        .collect();
+    let number = |n: roxmltree::Node, a: &str| n.attribute(a).unwrap().parse::<f64>().unwrap();
+    // Moving AI coordinates are cells; the SVG draws cell (x, y) at (x + 0.5, y + 0.5).
+    assert_eq!(
+        (number(robot, "cx"), number(robot, "cy")),
+        (waypoints[0].0 + 0.5, waypoints[0].1 + 0.5)
+    );
+    let anims: Vec<_> = robot
+        .children()
+        .filter(|n| n.has_tag_name("animate"))
+        .collect();
+    assert_eq!(anims.len(), 2);
+    let list = |n: roxmltree::Node, a: &str| -> Vec<f64> {
+        n.attribute(a)
+            .unwrap()
+            .split(';')
+            .map(|v| v.parse().unwrap())
+            .collect()
+    };
+    let times = list(anims[0], "keyTimes");
+    let xs = list(anims[0], "values");
+    let ys = list(anims[1], "values");
+    assert_eq!(
+        (times.len(), xs.len(), ys.len()),
+        (xs.len(), ys.len(), times.len())
+    );
+    assert_eq!((times[0], *times.last().unwrap()), (0.0, 1.0));
+    assert!(times.windows(2).all(|w| w[0] < w[1]), "{times:?}");
+    // Key times are the fractions of the driven length (the track's own length).
+    let length = json["length"].as_f64().unwrap();
+    let mut driven = 0.0;
+    for k in 1..xs.len() {
+        driven += (xs[k] - xs[k - 1]).hypot(ys[k] - ys[k - 1]);
+        assert!(
+            (driven / length - times[k]).abs() < 1e-4,
+            "{k}: {driven} / {length}"
+        );
+    }
+    let rings: Vec<f64> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("animate") && n.attribute("attributeName") == Some("opacity"))
+        .map(|n| list(n, "keyTimes")[1])
+        .collect();
+    assert_eq!(rings.len() as u64, json["replans"].as_u64().unwrap());
+    assert!(rings.iter().all(|&t| t > 0.0 && t <= 1.0), "{rings:?}");
+    assert!(rings.windows(2).all(|w| w[0] <= w[1]), "{rings:?}");
 }
 
 #[test]
