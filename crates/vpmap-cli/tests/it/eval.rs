@@ -448,20 +448,23 @@ fn the_navigate_run_drives_the_grown_fit_and_publishes_its_own_section() {
     let before = "# Results\n\n<!-- eval:begin -->\nkept\n<!-- eval:end -->\n";
     std::fs::write(&results, before).unwrap();
     let out = dir.path().join("nav");
-    let o = vpmap(&[
-        "eval",
-        "--navigate",
-        "--trials",
-        "1",
-        "--sigma",
-        "2",
-        "--methods",
-        "fit",
-        "--out",
-        out.to_str().unwrap(),
-        "--publish",
-        results.to_str().unwrap(),
-    ]);
+    let run = |extra: &[&str]| {
+        let mut args = vec![
+            "eval",
+            "--navigate",
+            "--trials",
+            "1",
+            "--sigma",
+            "2",
+            "--methods",
+            "fit",
+            "--out",
+            out.to_str().unwrap(),
+        ];
+        args.extend_from_slice(extra);
+        vpmap(&args)
+    };
+    let o = run(&["--publish", results.to_str().unwrap()]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert_eq!(files_in(&out), ["navigate.md"]);
     let text = std::fs::read_to_string(&results).unwrap();
@@ -486,20 +489,7 @@ fn the_navigate_run_drives_the_grown_fit_and_publishes_its_own_section() {
     }
     assert!(section.contains("eval --navigate"), "{section}");
     // --grow-confidence 0 drives the maps as built only.
-    let o = vpmap(&[
-        "eval",
-        "--navigate",
-        "--trials",
-        "1",
-        "--sigma",
-        "2",
-        "--methods",
-        "fit",
-        "--grow-confidence",
-        "0",
-        "--out",
-        out.to_str().unwrap(),
-    ]);
+    let o = run(&["--grow-confidence", "0"]);
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     assert!(!String::from_utf8_lossy(&o.stdout).contains("grown"));
 }
