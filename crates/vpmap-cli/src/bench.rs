@@ -47,7 +47,8 @@ pub struct BenchArgs {
     /// this many seconds.
     #[arg(long, default_value_t = DEFAULT_OPTIMAL_LIMIT_S, allow_negative_numbers = true)]
     optimal_limit: f64,
-    /// Also write the summary into the `bench` section of this Markdown file.
+    /// Also write the summary into the `bench` section of this Markdown file (with
+    /// `--navigate`: its `bench-navigate` section).
     #[arg(long)]
     publish: Option<PathBuf>,
     /// The unknown-terrain navigation benchmark instead (see docs/navigation.md): on the
@@ -111,6 +112,10 @@ fn run_navigate(args: &BenchArgs) -> Result<()> {
     if args.out.is_file() {
         bail!("--out {}: it is a file, not a folder", args.out.display());
     }
+    if let Some(p) = &args.publish {
+        check_publish_target(p, NAVIGATE_SECTION)?;
+    }
+    let started = std::time::Instant::now();
     let opts = vpmap_eval::navigate::NavBenchOptions {
         maps,
         episodes: args.per_map,
@@ -121,9 +126,28 @@ fn run_navigate(args: &BenchArgs) -> Result<()> {
     };
     let bar = crate::progress::Bar::new("{elapsed_precise} [{bar}] {pos}/{len} {msg}", "30");
     let results = vpmap_eval::navigate::run(&opts, &bar)?;
+    let elapsed = started.elapsed();
     let files = vpmap_eval::navigate::report(&results, &opts);
     files.write_all(&args.out)?;
-    print!("{}", vpmap_eval::navigate::table(&results, &opts));
+    let table = vpmap_eval::navigate::table(&results, &opts);
+    if let Some(path) = &args.publish {
+        let section = vpmap_eval::accuracy::report::published(
+            "Unknown terrain: every online planner on the same episodes (`vpmap bench --navigate`)",
+            &format!(
+                "How the drive works and how to read this: [navigation.md](navigation.md).\n\n{table}"
+            ),
+            elapsed,
+            &opts.command,
+        );
+        vpmap_eval::publish::replace_section(path, NAVIGATE_SECTION, &section)?;
+    }
+    print!("{table}");
+    if let Some(path) = &args.publish {
+        println!(
+            "published the {NAVIGATE_SECTION} section of {}",
+            path.display()
+        );
+    }
     Ok(())
 }
 
@@ -164,15 +188,18 @@ fn parse_planners(names: &[String]) -> Result<Vec<PlannerKind>> {
     Ok(out)
 }
 
-/// Fail before measuring when `--publish` names a file whose `bench` section is broken.
-fn check_publish_target(path: &Path) -> Result<()> {
+/// The `docs/results.md` section `vpmap bench --navigate --publish` writes.
+const NAVIGATE_SECTION: &str = "bench-navigate";
+
+/// Fail before measuring when `--publish` names a file whose section `name` is broken.
+fn check_publish_target(path: &Path, name: &str) -> Result<()> {
     if path.is_dir() {
         bail!(
             "--publish {}: it is a folder, not a Markdown file",
             path.display()
         );
     }
-    Ok(vpmap_eval::publish::check_section(path, "bench")?)
+    Ok(vpmap_eval::publish::check_section(path, name)?)
 }
 
 /// `vpmap bench`.
@@ -197,7 +224,7 @@ pub fn run(args: &BenchArgs) -> Result<()> {
     }
     opts.validate()?;
     if let Some(p) = &args.publish {
-        check_publish_target(p)?;
+        check_publish_target(p, "bench")?;
     }
     if args.out.is_file() {
         bail!("--out {}: it is a file, not a folder", args.out.display());

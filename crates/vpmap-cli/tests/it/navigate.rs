@@ -315,6 +315,46 @@ fn bench_navigate_runs_every_online_planner_on_the_same_episodes() {
         md.contains("| walls.map |") && md.contains("D* Lite / A* time"),
         "{md}"
     );
+    // --publish writes its own section and leaves the planners' bench section alone; a
+    // broken section is refused before any driving.
+    let results = dir.path().join("results.md");
+    let before = "# Results\n\n<!-- bench:begin -->\nkept\n<!-- bench:end -->\n";
+    std::fs::write(&results, before).unwrap();
+    let publish = |doc: &Path| {
+        vpmap(&[
+            "bench",
+            "--navigate",
+            "--per-map",
+            "1",
+            "--online-planners",
+            "astar,dstar-lite",
+            "-o",
+            out.to_str().unwrap(),
+            "--publish",
+            doc.to_str().unwrap(),
+            map.to_str().unwrap(),
+        ])
+    };
+    let o = publish(&results);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(&results).unwrap();
+    assert!(text.starts_with(before), "{text}");
+    let section = &text[before.len()..];
+    assert!(
+        section.starts_with("\n<!-- bench-navigate:begin -->\n## Unknown terrain"),
+        "{section}"
+    );
+    assert!(
+        section.contains("| walls.map |") && section.ends_with("<!-- bench-navigate:end -->\n")
+    );
+    std::fs::write(
+        &results,
+        "<!-- bench-navigate:end -->\n<!-- bench-navigate:begin -->\n",
+    )
+    .unwrap();
+    let o = publish(&results);
+    assert_eq!(o.status.code(), Some(1));
+    assert!(String::from_utf8_lossy(&o.stderr).contains("broken `bench-navigate` section"));
     let bad = vpmap(&[
         "bench",
         "--navigate",
