@@ -16,7 +16,7 @@ use vpmap_plan::raster::truth_grid;
 
 use crate::num;
 use crate::output::OutputSet;
-use crate::plan::{PlanningMap, load_map};
+use crate::plan::{PlanningMap, load_map, parse_point};
 
 /// Arguments of `vpmap navigate`.
 #[derive(clap::Args)]
@@ -263,15 +263,6 @@ pub fn run(args: &NavigateArgs) -> Result<()> {
         args.out.display()
     );
     Ok(())
-}
-
-fn parse_point(what: &str, text: &str) -> Result<[f64; 2]> {
-    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
-    let parsed: Vec<f64> = parts.iter().filter_map(|s| s.parse().ok()).collect();
-    match parsed.as_slice() {
-        [x, y] if parts.len() == 2 && x.is_finite() && y.is_finite() => Ok([*x, *y]),
-        _ => bail!("{what} {text:?} is not a point X,Y (two numbers separated by a comma)"),
-    }
 }
 
 /// navigate.json (format in docs/navigation.md).

@@ -188,7 +188,8 @@ impl PlanningMap {
     }
 }
 
-fn parse_point(what: &str, text: &str) -> Result<[f64; 2]> {
+/// A point `X,Y` given on the command line as `what` (`--from`, `--to`): two finite numbers.
+pub(crate) fn parse_point(what: &str, text: &str) -> Result<[f64; 2]> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
     let parsed: Vec<f64> = parts.iter().filter_map(|s| s.parse().ok()).collect();
     match parsed.as_slice() {
