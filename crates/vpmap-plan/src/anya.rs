@@ -90,7 +90,6 @@ use crate::error::Result;
 use crate::grid::{CellXy, OccupancyGrid};
 use crate::los::{Passable, PassableGrid};
 use crate::plan::{Plan, PlanStats, check_endpoint, path_length, xy};
-use crate::theta_star::Entry;
 
 /// The planner's name in errors.
 const PLANNER: &str = "the exact any-angle planner";
@@ -120,6 +119,24 @@ struct Node {
     l: f64,
     u: f64,
     kind: Kind,
+}
+
+/// An open-list entry: the heap pops the largest, so the smallest `f` (non-negative, so
+/// its IEEE bits order like the value; complemented), then the node pushed last.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+struct Entry {
+    key: u64,
+    node: u32,
+}
+
+impl Entry {
+    /// The entry of node `node` with `f` (cells).
+    fn new(f: f64, node: u32) -> Self {
+        Self {
+            key: !f.to_bits(),
+            node,
+        }
+    }
 }
 
 /// A root: a cell centre with the length of the path reaching it and its parent root.
@@ -630,7 +647,7 @@ impl Search<'_> {
             u,
             kind,
         });
-        self.s.open.push(Entry::new(f, r.g, index));
+        self.s.open.push(Entry::new(f, index));
         self.stats.generated += 1;
     }
 
