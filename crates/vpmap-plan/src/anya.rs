@@ -45,7 +45,10 @@
 //! A node whose interval holds the goal gives a final entry with `f = g(r) + |r goal|`;
 //! the first final entry taken off the open list is the answer. Polyanya's root-level
 //! pruning keeps, per cell centre, the least `g` with which it has become a root, and
-//! drops successors rooted there with a larger one.
+//! drops successors rooted there with a larger one. A cone node whose only successor is
+//! its observable one (no turning point, not the goal's row) is expanded at once, row
+//! after row, without the open list (Polyanya's intermediate pruning): a cone crosses an
+//! open area in one step of the open list instead of one per row.
 //!
 //! Turning points are cell centres, so the path is a polyline through cell centres like
 //! every other planner's, and its length is summed like theirs ([`crate::path_length`]).
@@ -80,13 +83,13 @@
 //!   IJCAI 2017 (Polyanya, root-level pruning).
 
 use std::collections::{BinaryHeap, HashSet};
+use std::hash::{BuildHasherDefault, Hash, Hasher};
 
 use crate::budget::Budget;
 use crate::error::Result;
 use crate::grid::{CellXy, OccupancyGrid};
 use crate::los::{Passable, PassableGrid};
 use crate::plan::{Plan, PlanStats, check_endpoint, path_length, xy};
-use crate::theta_star::Entry;
 
 /// The planner's name in errors.
 const PLANNER: &str = "the exact any-angle planner";
@@ -116,6 +119,24 @@ struct Node {
     l: f64,
     u: f64,
     kind: Kind,
+}
+
+/// An open-list entry: the heap pops the largest, so the smallest `f` (non-negative, so
+/// its IEEE bits order like the value; complemented), then the node pushed last.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+struct Entry {
+    key: u64,
+    node: u32,
+}
+
+impl Entry {
+    /// The entry of node `node` with `f` (cells).
+    fn new(f: f64, node: u32) -> Self {
+        Self {
+            key: !f.to_bits(),
+            node,
+        }
+    }
 }
 
 /// A root: a cell centre with the length of the path reaching it and its parent root.
@@ -164,6 +185,22 @@ pub struct ExactPlanner {
     root_of: Vec<u32>,
     /// Cells whose `best_g` a search has set.
     touched: Vec<u32>,
+    /// The searches' buffers, kept between queries.
+    scratch: Scratch,
+}
+
+/// One search's buffers, kept between queries so that a query allocates nothing once
+/// they have grown.
+#[derive(Clone, Debug, Default)]
+struct Scratch {
+    roots: Vec<Root>,
+    nodes: Vec<Node>,
+    /// Every node pushed: equal arrivals at a root share it, so their equal successors
+    /// are pushed once.
+    seen: HashSet<NodeKey, WordHash>,
+    open: BinaryHeap<Entry>,
+    /// A cone expansion's successors `(turning point, l, u)`.
+    successors: Vec<(Option<i32>, f64, f64)>,
 }
 
 impl ExactPlanner {
@@ -232,6 +269,7 @@ impl ExactPlanner {
             best_g: vec![f64::INFINITY; grid.width() * grid.height()],
             root_of: vec![0; grid.width() * grid.height()],
             touched: Vec::new(),
+            scratch: Scratch::default(),
         }
     }
 
@@ -269,36 +307,24 @@ impl ExactPlanner {
             }
         }
         self.touched.clear();
+        let mut scratch = std::mem::take(&mut self.scratch);
+        scratch.roots.clear();
+        scratch.nodes.clear();
+        scratch.seen.clear();
+        scratch.open.clear();
         let mut search = Search {
             space: self,
             goal: (goal.0 as i32, goal.1 as i32),
-            roots: Vec::new(),
-            nodes: Vec::new(),
-            seen: HashSet::new(),
-            open: BinaryHeap::new(),
+            s: scratch,
             stats: PlanStats::default(),
         };
-        let found = search.run((start.0 as i32, start.1 as i32), budget)?;
-        let stats = search.stats;
-        let Some(final_root) = found else {
+        let found = search.run((start.0 as i32, start.1 as i32), budget);
+        let (stats, scratch) = (search.stats, search.s);
+        let chain = found.map(|found| found.map(|root| trace(&scratch.roots, root, goal)));
+        self.scratch = scratch;
+        let Some(chain) = chain? else {
             return Ok(None);
         };
-        let mut chain = vec![CellXy::from(goal)];
-        let mut index = final_root;
-        for _ in 0..=search.roots.len() {
-            let Some(root) = search.roots.get(index as usize) else {
-                break;
-            };
-            let cell = CellXy::new(root.x as usize, root.y as usize);
-            if chain.last() != Some(&cell) {
-                chain.push(cell);
-            }
-            if root.parent == index {
-                break;
-            }
-            index = root.parent;
-        }
-        chain.reverse();
         let length_cells = path_length(&chain);
         Ok(Some(Plan {
             waypoints: chain,
@@ -318,6 +344,15 @@ impl ExactPlanner {
             .filter(|&(a, b)| a <= x && x <= b)
     }
 
+    /// Whether the cell centre `(x, y)` is a corner cell (none outside the grid).
+    fn is_corner(&self, x: i32, y: i32) -> bool {
+        x >= 0
+            && y >= 0
+            && x < self.width
+            && y < self.height
+            && self.corner.get((y * self.width + x) as usize) == Some(&true)
+    }
+
     /// The rectangles of the strip between rows `s` and `s + 1` (none outside the grid).
     fn strip(&self, s: i32) -> &[(i32, i32)] {
         usize::try_from(s)
@@ -327,38 +362,130 @@ impl ExactPlanner {
     }
 }
 
+/// The path to `goal` through the chain of roots ending at `last`, start first.
+fn trace(roots: &[Root], last: u32, goal: (usize, usize)) -> Vec<CellXy> {
+    let mut chain = vec![CellXy::from(goal)];
+    let mut index = last;
+    // A chain of parents is at most as long as the number of roots.
+    for _ in 0..=roots.len() {
+        let Some(root) = roots.get(index as usize) else {
+            break;
+        };
+        let cell = CellXy::new(root.x as usize, root.y as usize);
+        if chain.last() != Some(&cell) {
+            chain.push(cell);
+        }
+        if root.parent == index {
+            break;
+        }
+        index = root.parent;
+    }
+    chain.reverse();
+    chain
+}
+
 /// One query's search state.
 struct Search<'a> {
     space: &'a mut ExactPlanner,
     goal: (i32, i32),
-    roots: Vec<Root>,
-    nodes: Vec<Node>,
-    /// Every node pushed, as `(root, row, interval ends' bits, kind)`: equal arrivals at a
-    /// root share it, so their equal successors are pushed once.
-    seen: HashSet<(u32, i32, u64, u64, i32)>,
-    open: BinaryHeap<Entry>,
+    /// The buffers, taken from the planner for the query.
+    s: Scratch,
     stats: PlanStats,
 }
 
-/// Euclidean distance between `(ax, ay)` and `(bx, by)`.
+/// Euclidean distance between `(ax, ay)` and `(bx, by)` (a square root, not
+/// `f64::hypot`: the coordinates are at most a few thousand cells, far from overflow).
 #[inline]
 fn dist(ax: f64, ay: f64, bx: f64, by: f64) -> f64 {
-    (ax - bx).hypot(ay - by)
+    let (dx, dy) = (ax - bx, ay - by);
+    (dx * dx + dy * dy).sqrt()
+}
+
+/// The integer nearest `x` (either one at a tie), by truncation: `f64::round` is a
+/// library call on the baseline x86-64 target. `x` is a coordinate on the grid or a
+/// projection near it, far inside `i64`.
+#[inline]
+fn nearest(x: f64) -> f64 {
+    let t = x as i64 as f64;
+    if x - t >= 0.5 {
+        t + 1.0
+    } else if t - x >= 0.5 {
+        t - 1.0
+    } else {
+        t
+    }
 }
 
 /// `x` rounded when it is within [`EPS`] of an integer.
 #[inline]
 fn snap(x: f64) -> f64 {
-    let r = x.round();
+    let r = nearest(x);
     if (x - r).abs() < EPS { r } else { x }
 }
 
 /// `x` as an integer when it is one (within [`EPS`]).
 #[inline]
 fn integral(x: f64) -> Option<i32> {
-    let r = x.round();
+    let r = nearest(x);
     ((x - r).abs() < EPS).then_some(r as i32)
 }
+
+/// A node as the duplicate check sees it: root, row, the interval ends' bits and the
+/// kind's tag.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+struct NodeKey {
+    root: u32,
+    y: i32,
+    l: u64,
+    u: u64,
+    tag: i32,
+}
+
+impl Hash for NodeKey {
+    fn hash<H: Hasher>(&self, state: &mut H) {
+        state.write_u64((u64::from(self.root) << 32) | u64::from(self.y.cast_unsigned()));
+        state.write_u64(self.l);
+        state.write_u64(self.u);
+        state.write_u32(self.tag.cast_unsigned());
+    }
+}
+
+/// A multiply-rotate hash of the words written (the scheme of rustc's `FxHasher`): the
+/// keys are the search's own numbers, not an adversary's, so `SipHash`'s protection is
+/// not needed and its cost is (about a tenth of a query, measured).
+#[derive(Clone, Copy, Debug, Default)]
+struct WordHasher(u64);
+
+impl WordHasher {
+    #[inline]
+    fn add(&mut self, word: u64) {
+        self.0 = (self.0 ^ word).wrapping_mul(0xf135_7aea_2e62_a9c5);
+    }
+}
+
+impl Hasher for WordHasher {
+    fn write(&mut self, bytes: &[u8]) {
+        for &b in bytes {
+            self.add(u64::from(b));
+        }
+    }
+
+    fn write_u32(&mut self, word: u32) {
+        self.add(u64::from(word));
+    }
+
+    fn write_u64(&mut self, word: u64) {
+        self.add(word);
+    }
+
+    fn finish(&self) -> u64 {
+        // The product's entropy is in its high bits; the table indexes by the low ones.
+        self.0.rotate_left(26)
+    }
+}
+
+/// Builds [`WordHasher`]s.
+type WordHash = BuildHasherDefault<WordHasher>;
 
 impl Search<'_> {
     /// Run the search from `start`; the root the goal was reached from, if it was.
@@ -389,11 +516,11 @@ impl Search<'_> {
                 self.push(s, sy + dir, f64::from(a), f64::from(b), Kind::Cone(dir));
             }
         }
-        while let Some(Entry { node, .. }) = self.open.pop() {
-            let Some(&n) = self.nodes.get(node as usize) else {
+        while let Some(Entry { node, .. }) = self.s.open.pop() {
+            let Some(&n) = self.s.nodes.get(node as usize) else {
                 continue;
             };
-            let Some(&root) = self.roots.get(n.root as usize) else {
+            let Some(&root) = self.s.roots.get(n.root as usize) else {
                 continue;
             };
             if root.g > self.best(root.x, root.y) + G_EPS {
@@ -403,7 +530,7 @@ impl Search<'_> {
             budget.check(PLANNER, self.stats.expanded, 0, self.stats.expanded)?;
             match n.kind {
                 Kind::Final => return Ok(Some(n.root)),
-                Kind::Cone(dir) => self.expand_cone(n, root, dir),
+                Kind::Cone(dir) => self.expand_cone(n, root, dir, budget)?,
                 Kind::Flat => self.expand_flat(n, root),
             }
         }
@@ -435,12 +562,12 @@ impl Search<'_> {
         if best.is_infinite() {
             self.space.touched.push(i as u32);
         }
-        let index = self.roots.len() as u32;
+        let index = self.s.roots.len() as u32;
         if let (Some(b), Some(r)) = (self.space.best_g.get_mut(i), self.space.root_of.get_mut(i)) {
             *b = g;
             *r = index;
         }
-        self.roots.push(Root {
+        self.s.roots.push(Root {
             x: at.0,
             y: at.1,
             g,
@@ -452,13 +579,7 @@ impl Search<'_> {
     /// A successor rooted at `c` (a cell centre on row `y`) of a node rooted at `parent`.
     fn push_turn(&mut self, parent: Root, parent_index: u32, c: i32, y: i32, node: Node) {
         // A shortest path bends only at corner cells (crate::optimal's proof).
-        if !self
-            .space
-            .corner
-            .get((y * self.space.width + c) as usize)
-            .copied()
-            .unwrap_or(false)
-        {
+        if !self.space.is_corner(c, y) {
             return;
         }
         let g = parent.g
@@ -475,7 +596,7 @@ impl Search<'_> {
 
     /// Push the node (or, when its interval holds the goal, the final entry).
     fn push(&mut self, root: u32, y: i32, l: f64, u: f64, kind: Kind) {
-        let Some(&r) = self.roots.get(root as usize) else {
+        let Some(&r) = self.s.roots.get(root as usize) else {
             return;
         };
         let (rx, ry) = (f64::from(r.x), f64::from(r.y));
@@ -508,104 +629,164 @@ impl Search<'_> {
             Kind::Flat => 0,
             Kind::Final => 2,
         };
-        if !self.seen.insert((root, y, l.to_bits(), u.to_bits(), tag)) {
+        let key = NodeKey {
+            root,
+            y,
+            l: l.to_bits(),
+            u: u.to_bits(),
+            tag,
+        };
+        if !self.s.seen.insert(key) {
             return;
         }
-        let index = self.nodes.len() as u32;
-        self.nodes.push(Node {
+        let index = self.s.nodes.len() as u32;
+        self.s.nodes.push(Node {
             root,
             y,
             l,
             u,
             kind,
         });
-        self.open.push(Entry::new(f, r.g, index));
+        self.s.open.push(Entry::new(f, index));
         self.stats.generated += 1;
     }
 
-    /// Expand a cone node into the strip beyond its row (direction `dir`).
-    fn expand_cone(&mut self, n: Node, r: Root, dir: i32) {
-        let y = n.y;
-        let next = y + dir;
-        let strip = if dir > 0 { y } else { y - 1 };
+    /// Expand a cone node into the strip beyond its row (direction `dir`), and on, row
+    /// after row, while its only successor is the observable one (no turning point, not
+    /// the goal's row): those nodes are expanded at once instead of going through the open
+    /// list (Polyanya's intermediate pruning, Cui et al. 2017 section 5; expanding a node
+    /// early only adds nodes, and the answer is still the first final entry taken off the
+    /// open list). Each counts as an expansion.
+    fn expand_cone(&mut self, mut n: Node, r: Root, dir: i32, budget: &Budget) -> Result<()> {
+        let mut successors = std::mem::take(&mut self.s.successors);
+        let result = self.cone_rows(&mut n, r, dir, budget, &mut successors);
+        if result.is_ok() {
+            for &(c, l, u) in &successors {
+                let node = Node {
+                    root: n.root,
+                    y: n.y + dir,
+                    l,
+                    u,
+                    kind: Kind::Cone(dir),
+                };
+                match c {
+                    None => self.push(n.root, node.y, l, u, node.kind),
+                    Some(c) => self.push_turn(r, n.root, c, n.y, node),
+                }
+            }
+            self.push_flat_turns(n, r);
+        }
+        self.s.successors = successors;
+        result
+    }
+
+    /// Step the cone node `n` over the rows where its only successor is the observable
+    /// one; leave in `successors` the cone successors `(turning point, l, u)` of the
+    /// node it stops at, which `n` then is.
+    fn cone_rows(
+        &mut self,
+        n: &mut Node,
+        r: Root,
+        dir: i32,
+        budget: &Budget,
+        successors: &mut Vec<(Option<i32>, f64, f64)>,
+    ) -> Result<()> {
         let rx = f64::from(r.x);
-        let k = f64::from(next - r.y) / f64::from(y - r.y);
-        let project = |x: f64| snap(rx + (x - rx) * k);
-        let rects = self.space.strip(strip);
-        let first = rects.partition_point(|&(_, b)| f64::from(b) < n.l - EPS);
-        let mut successors: Vec<(Option<i32>, f64, f64)> = Vec::new();
-        for &(a, b) in rects.get(first..).unwrap_or(&[]) {
-            let (af, bf) = (f64::from(a), f64::from(b));
-            if af > n.u + EPS {
-                break;
-            }
-            let (lr, ur) = (n.l.max(af), n.u.min(bf));
-            if lr > ur + EPS {
-                continue;
-            }
-            let (jl, ju) = (project(lr).max(af), project(ur).min(bf));
-            if jl <= ju + EPS {
-                successors.push((None, jl, ju.max(jl)));
-                if jl > af + EPS
-                    && let Some(c) = integral(lr)
-                {
-                    successors.push((Some(c), af, jl));
+        let (gx, gy) = (f64::from(self.goal.0), self.goal.1);
+        loop {
+            successors.clear();
+            let y = n.y;
+            let next = y + dir;
+            let strip = if dir > 0 { y } else { y - 1 };
+            let k = f64::from(next - r.y) / f64::from(y - r.y);
+            let project = |x: f64| snap(rx + (x - rx) * k);
+            let space = &*self.space;
+            // A shortest path bends only at corner cells (crate::optimal's proof).
+            let turn = |x: f64| integral(x).filter(|&c| space.is_corner(c, y));
+            let rects = space.strip(strip);
+            let first = rects.partition_point(|&(_, b)| f64::from(b) < n.l - EPS);
+            for &(a, b) in rects.get(first..).unwrap_or(&[]) {
+                let (af, bf) = (f64::from(a), f64::from(b));
+                if af > n.u + EPS {
+                    break;
                 }
-                if ju < bf - EPS
-                    && let Some(c) = integral(ur)
-                {
-                    successors.push((Some(c), ju, bf));
+                let (lr, ur) = (n.l.max(af), n.u.min(bf));
+                if lr > ur + EPS {
+                    continue;
                 }
-            } else {
-                let ends = [integral(lr), integral(ur)];
-                for (i, c) in ends.iter().enumerate() {
-                    if c.is_some() && (i == 0 || ends[0] != *c) {
-                        successors.push((*c, af, bf));
+                let (jl, ju) = (project(lr).max(af), project(ur).min(bf));
+                if jl <= ju + EPS {
+                    successors.push((None, jl, ju.max(jl)));
+                    if jl > af + EPS
+                        && let Some(c) = turn(lr)
+                    {
+                        successors.push((Some(c), af, jl));
+                    }
+                    if ju < bf - EPS
+                        && let Some(c) = turn(ur)
+                    {
+                        successors.push((Some(c), ju, bf));
+                    }
+                } else {
+                    let (cl, cu) = (turn(lr), turn(ur));
+                    if cl.is_some() {
+                        successors.push((cl, af, bf));
+                    }
+                    if cu.is_some() && cu != cl {
+                        successors.push((cu, af, bf));
                     }
                 }
             }
-        }
-        for (c, l, u) in successors {
-            let node = Node {
-                root: n.root,
+            let &[(None, l, u)] = successors.as_slice() else {
+                return Ok(());
+            };
+            if (next == gy && l - EPS <= gx && gx <= u + EPS) || self.flat_turns(*n, r) != [None; 2]
+            {
+                return Ok(());
+            }
+            self.stats.expanded += 1;
+            budget.check(PLANNER, self.stats.expanded, 0, self.stats.expanded)?;
+            *n = Node {
                 y: next,
                 l,
                 u,
-                kind: Kind::Cone(dir),
+                ..*n
             };
-            match c {
-                None => self.push(n.root, next, l, u, node.kind),
-                Some(c) => self.push_turn(r, n.root, c, y, node),
-            }
         }
-        // Turning onto the row at an integer end of the interval.
-        if let Some(u) = integral(n.u)
-            && r.x <= u
-            && let Some((_, last)) = self.space.run_at(u, y)
-            && last > u
-        {
+    }
+
+    /// The turns of cone node `n` onto its own row at an integer end of its interval that
+    /// is a corner cell: `(turning point, l, u)` of the flat successor, beyond the upper
+    /// end and beyond the lower end.
+    fn flat_turns(&self, n: Node, r: Root) -> [Option<(i32, i32, i32)>; 2] {
+        let space = &*self.space;
+        let y = n.y;
+        let upper = integral(n.u)
+            .filter(|&u| r.x <= u && space.is_corner(u, y))
+            .and_then(|u| {
+                let (_, last) = space.run_at(u, y)?;
+                (last > u).then_some((u, u, last))
+            });
+        let lower = integral(n.l)
+            .filter(|&l| r.x >= l && space.is_corner(l, y))
+            .and_then(|l| {
+                let (first, _) = space.run_at(l, y)?;
+                (first < l).then_some((l, first, l))
+            });
+        [upper, lower]
+    }
+
+    /// Push the flat successors of cone node `n` (see [`Self::flat_turns`]).
+    fn push_flat_turns(&mut self, n: Node, r: Root) {
+        for (c, l, u) in self.flat_turns(n, r).into_iter().flatten() {
             let node = Node {
                 root: n.root,
-                y,
-                l: f64::from(u),
-                u: f64::from(last),
+                y: n.y,
+                l: f64::from(l),
+                u: f64::from(u),
                 kind: Kind::Flat,
             };
-            self.push_turn(r, n.root, u, y, node);
-        }
-        if let Some(l) = integral(n.l)
-            && r.x >= l
-            && let Some((first, _)) = self.space.run_at(l, y)
-            && first < l
-        {
-            let node = Node {
-                root: n.root,
-                y,
-                l: f64::from(first),
-                u: f64::from(l),
-                kind: Kind::Flat,
-            };
-            self.push_turn(r, n.root, l, y, node);
+            self.push_turn(r, n.root, c, n.y, node);
         }
     }
 
@@ -614,27 +795,34 @@ impl Search<'_> {
     fn expand_flat(&mut self, n: Node, r: Root) {
         let y = n.y;
         let rightward = n.u > f64::from(r.x);
-        let mut turns: Vec<(i32, i32, i32, i32)> = Vec::new();
+        let side_of = |&(a, b): &(i32, i32)| if rightward { a } else { b };
         for dir in [1, -1] {
             let strip = if dir > 0 { y } else { y - 1 };
-            for &(a, b) in self.space.strip(strip) {
-                let side = if rightward { a } else { b };
-                let sf = f64::from(side);
+            // The rectangles are disjoint and sorted, so their sides are too.
+            let first = self
+                .space
+                .strip(strip)
+                .partition_point(|rect| f64::from(side_of(rect)) < n.l - EPS);
+            for i in first.. {
+                let Some(&(a, b)) = self.space.strip(strip).get(i) else {
+                    break;
+                };
+                let side = side_of(&(a, b));
+                if f64::from(side) > n.u + EPS {
+                    break;
+                }
                 let beyond = if rightward { side > r.x } else { side < r.x };
-                if beyond && sf >= n.l - EPS && sf <= n.u + EPS {
-                    turns.push((side, dir, a, b));
+                if beyond {
+                    let node = Node {
+                        root: n.root,
+                        y: y + dir,
+                        l: f64::from(a),
+                        u: f64::from(b),
+                        kind: Kind::Cone(dir),
+                    };
+                    self.push_turn(r, n.root, side, y, node);
                 }
             }
-        }
-        for (side, dir, a, b) in turns {
-            let node = Node {
-                root: n.root,
-                y: y + dir,
-                l: f64::from(a),
-                u: f64::from(b),
-                kind: Kind::Cone(dir),
-            };
-            self.push_turn(r, n.root, side, y, node);
         }
     }
 }

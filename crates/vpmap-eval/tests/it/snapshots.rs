@@ -47,6 +47,7 @@ fn fixed_timings(results: &mut Results) {
     results.wall_s = 1.0;
     for m in &mut results.maps {
         m.wall_s = 1.0;
+        m.optimal_build_s = m.optimal_build_s.map(|_| 1e-3);
         for record in m.records.iter_mut().flatten().flatten() {
             record.time_s = 1e-3;
             record.peak_bytes = 0;
