@@ -56,6 +56,7 @@
 //! ```
 
 mod sensor;
+mod ties;
 
 use std::str::FromStr;
 use std::time::Instant;
@@ -82,11 +83,25 @@ pub enum OnlinePlanner {
     /// MBPP re-run from the robot's cell, keeping its alternatives (see the
     /// [module docs](self)).
     Mbpp,
+    /// A* from scratch at every re-plan under the common tie rule (a plain A*, not the
+    /// tuned one): drives the same track as [`OnlinePlanner::DStarLiteTies`].
+    AstarTies,
+    /// D* Lite under the common tie rule
+    /// ([`DStarLiteOptions::common_ties`]): drives the same track as
+    /// [`OnlinePlanner::AstarTies`].
+    DStarLiteTies,
 }
 
 impl OnlinePlanner {
     /// Every online planner.
-    pub const ALL: [Self; 4] = [Self::Astar, Self::AstarPs, Self::DStarLite, Self::Mbpp];
+    pub const ALL: [Self; 6] = [
+        Self::Astar,
+        Self::AstarPs,
+        Self::DStarLite,
+        Self::Mbpp,
+        Self::AstarTies,
+        Self::DStarLiteTies,
+    ];
 
     /// The planner's name (also what [`FromStr`] reads).
     #[must_use]
@@ -96,6 +111,8 @@ impl OnlinePlanner {
             Self::AstarPs => "astar-ps",
             Self::DStarLite => "dstar-lite",
             Self::Mbpp => "mbpp",
+            Self::AstarTies => "astar-ties",
+            Self::DStarLiteTies => "dstar-lite-ties",
         }
     }
 }
@@ -346,6 +363,8 @@ enum Online {
     BuiltIn(Box<BuiltIn>),
     /// D* Lite, created at the first plan.
     DStarLite(Option<Box<DStarLite>>),
+    /// A* under the common tie rule.
+    AstarTies(Box<ties::TieAstar>),
 }
 
 /// What a re-plan produced.
@@ -375,6 +394,7 @@ impl Run<'_> {
                     let opts = DStarLiteOptions {
                         unknown_passable: self.opts.unknown_passable,
                         budget: self.opts.budget.clone(),
+                        common_ties: self.opts.planner == OnlinePlanner::DStarLiteTies,
                     };
                     *state = Some(Box::new(DStarLite::new(
                         &self.belief.grid,
@@ -392,6 +412,20 @@ impl Run<'_> {
                 };
                 planner.move_start(robot)?;
                 let plan = planner.path()?;
+                Ok(Replanned {
+                    plan,
+                    time_s: t0.elapsed().as_secs_f64(),
+                    used_alternative: false,
+                })
+            }
+            Online::AstarTies(search) => {
+                let plan = search.search(
+                    &self.belief.grid,
+                    robot,
+                    self.goal,
+                    self.opts.unknown_passable,
+                    &self.opts.budget,
+                )?;
                 Ok(Replanned {
                     plan,
                     time_s: t0.elapsed().as_secs_f64(),
@@ -530,7 +564,8 @@ pub fn navigate(
     let mut belief_grid = believed.clone();
     belief_grid.set(goal.x, goal.y, Occupancy::Free)?;
     let online = match opts.planner {
-        OnlinePlanner::DStarLite => Online::DStarLite(None),
+        OnlinePlanner::DStarLite | OnlinePlanner::DStarLiteTies => Online::DStarLite(None),
+        OnlinePlanner::AstarTies => Online::AstarTies(Box::default()),
         other => {
             let kind = match other {
                 OnlinePlanner::Astar => PlannerKind::Astar,
