@@ -702,6 +702,9 @@ impl DStarLite {
                 return;
             };
             let old = entry.0;
+            if key == old {
+                return;
+            }
             entry.0 = key;
             if key < old {
                 self.sift_up(at);
@@ -851,10 +854,14 @@ impl DStarLite {
     }
 
     /// Octile distance between two padded cells.
+    #[inline]
     fn heuristic(&self, a: usize, b: usize) -> StepCost {
-        let dx = (a % self.pw).abs_diff(b % self.pw);
-        let dy = (a / self.pw).abs_diff(b / self.pw);
-        StepCost::octile(dx, dy)
+        // Padded indices fit in u32 (grids hold at most 30 million cells): 32-bit division.
+        let pw = self.pw as u32;
+        let (a, b) = (a as u32, b as u32);
+        let dx = (a % pw).abs_diff(b % pw);
+        let dy = (a / pw).abs_diff(b / pw);
+        StepCost::octile(dx as usize, dy as usize)
     }
 
     fn g(&self, u: usize) -> StepCost {

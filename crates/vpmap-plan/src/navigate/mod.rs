@@ -261,6 +261,11 @@ pub struct Navigation {
     pub moves: usize,
     /// The belief at the end, and the cells seen.
     pub belief: Belief,
+    /// [`navigate_with_astar_timed`] only: the time of the repeated A* (the tuned one,
+    /// [`OnlinePlanner::Astar`]'s planner) run at every planning event of this drive on
+    /// the same belief from the same cell, seconds; not part of
+    /// [`Navigation::planning_time_s`].
+    pub shadow_astar_time_s: Option<f64>,
 }
 
 /// The shortest paths on the true map, for comparison: octile (A*) and any-angle (the
@@ -383,10 +388,17 @@ struct Run<'a> {
     candidates: Vec<Vec<CellXy>>,
     /// D* Lite's bookkeeping time, seconds.
     update_s: f64,
+    /// The tuned A* timed beside the planner at every event, and its total time, seconds.
+    shadow: Option<(Box<BuiltIn>, f64)>,
 }
 
 impl Run<'_> {
     fn replan(&mut self, robot: CellXy) -> Result<Replanned> {
+        if let Some((astar, total)) = &mut self.shadow {
+            let t0 = Instant::now();
+            let _ = astar.plan(&self.belief.grid, robot, self.goal)?;
+            *total += t0.elapsed().as_secs_f64();
+        }
         let t0 = Instant::now();
         match &mut self.online {
             Online::DStarLite(state) => {
@@ -552,13 +564,43 @@ fn join_candidate(
 /// # Complexity
 /// Per move: `O(R^3)` for sensing with range `R` (cells not yet seen only), `O(remaining
 /// path)` line-of-sight work when a cell got blocked, plus the planner's work at re-plans.
-#[allow(clippy::too_many_lines)]
 pub fn navigate(
     believed: &OccupancyGrid,
     truth: &OccupancyGrid,
     start: CellXy,
     goal: CellXy,
     opts: &NavigateOptions,
+) -> Result<Navigation> {
+    drive(believed, truth, start, goal, opts, false)
+}
+
+/// [`navigate`], and at every planning event the tuned repeated A* ([`OnlinePlanner::Astar`]'s
+/// planner) is also run on the same belief from the same cell and timed apart
+/// ([`Navigation::shadow_astar_time_s`]; its plans are not used). With
+/// [`OnlinePlanner::DStarLiteTies`] this times D* Lite and repeated A* on one and the same
+/// track: the drive [`OnlinePlanner::AstarTies`] makes too, re-planning at the same cells.
+///
+/// # Errors
+/// As [`navigate`].
+pub fn navigate_with_astar_timed(
+    believed: &OccupancyGrid,
+    truth: &OccupancyGrid,
+    start: CellXy,
+    goal: CellXy,
+    opts: &NavigateOptions,
+) -> Result<Navigation> {
+    drive(believed, truth, start, goal, opts, true)
+}
+
+/// [`navigate`], with the A* timed beside when `shadow`.
+#[allow(clippy::too_many_lines)]
+fn drive(
+    believed: &OccupancyGrid,
+    truth: &OccupancyGrid,
+    start: CellXy,
+    goal: CellXy,
+    opts: &NavigateOptions,
+    shadow: bool,
 ) -> Result<Navigation> {
     check_inputs(believed, truth, start, goal, opts)?;
     let mut belief_grid = believed.clone();
@@ -585,6 +627,16 @@ pub fn navigate(
         online,
         candidates: Vec::new(),
         update_s: 0.0,
+        shadow: shadow.then(|| {
+            (
+                Box::new(
+                    PlannerKind::Astar
+                        .planner(opts.unknown_passable)
+                        .with_budget(opts.budget.clone()),
+                ),
+                0.0,
+            )
+        }),
     };
     let mut robot = start;
     run.belief.sense(truth, robot, opts.unknown_passable);
@@ -712,6 +764,7 @@ pub fn navigate(
         expanded,
         moves,
         belief: run.belief,
+        shadow_astar_time_s: run.shadow.map(|s| s.1),
     })
 }
 

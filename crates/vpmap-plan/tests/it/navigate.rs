@@ -513,3 +513,26 @@ fn shared_data_common_tie_drives_are_identical_on_movingai_maps() {
         }
     }
 }
+
+#[test]
+fn timing_the_tuned_astar_beside_a_drive_does_not_change_it() {
+    let mut rng = rng(1518);
+    let truth = random_grid(&mut rng, 40, 30, 0.2, 0.0);
+    let (start, goal) = (
+        free_cell(&mut rng, &truth).unwrap(),
+        free_cell(&mut rng, &truth).unwrap(),
+    );
+    let belief = unknown_like(&truth);
+    let opts = NavigateOptions {
+        planner: OnlinePlanner::DStarLiteTies,
+        sensor_range_cells: 4.0,
+        ..NavigateOptions::default()
+    };
+    let plain = navigate(&belief, &truth, start, goal, &opts).unwrap();
+    let timed =
+        vpmap_plan::navigate::navigate_with_astar_timed(&belief, &truth, start, goal, &opts)
+            .unwrap();
+    assert!(same_drive(&plain, &timed));
+    assert_eq!(plain.shadow_astar_time_s, None);
+    assert!(timed.shadow_astar_time_s.is_some_and(|t| t > 0.0));
+}
