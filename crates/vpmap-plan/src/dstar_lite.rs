@@ -20,10 +20,24 @@
 //! follows `argmin c(s, s') + g(s')` from the robot's cell: a shortest path on the current
 //! map, of the same cost as a fresh A* on it.
 //!
-//! The queue is a binary heap with lazy deletion: a cell's entry is valid while it carries
-//! the cell's current stamp, so "update" and "remove" are a push and a stamp change.
-//! Costs and keys are `f64` sums of `1` and `sqrt 2`; the length of a returned plan is
-//! recomputed from its straight and diagonal step counts, so it is exact like A*'s.
+//! Costs are exact: a path's cost is its counts of straight and diagonal steps (compared
+//! as `s + d sqrt 2` exactly, in integers), so equal lengths are equal and no rounding
+//! decides a tie, as in [`crate::astar`](mod@crate::astar). The queue is an indexed 4-ary
+//! heap (each cell knows its position: re-keying and removing are in place, no stale
+//! entries) of integer keys: lengths in fixed point with `2^-64` cells, which orders every
+//! length of fewer than `2^27` steps exactly (`k_m` is folded into the keys before it gets
+//! there).
+//!
+//! **The common tie rule** ([`DStarLiteOptions::common_ties`]): a cost is compared by
+//! length first and then by the sum of the [`tie_weight`]s of the cells the path enters
+//! (fixed pseudo-random 32-bit numbers per cell). The length stays exactly optimal; among
+//! equally short paths the one of the smallest weight sum is returned, which is unique
+//! unless two of them have equal sums (for two given paths that differ in some cell, a chance
+//! of at most `2^-32`). The heuristic (octile length, weight 0) stays consistent. A forward
+//! A* under the same rule returns the same path from the same belief, so the two drive the
+//! same track (the `astar-ties` planner of [`crate::navigate`](mod@crate::navigate)). Off (the default), ties fall
+//! as the search meets them: smaller cost-to-goal first, then the first move in the order
+//! E, S, W, N, SE, SW, NW, NE when following the path.
 //!
 //! Why not a crate: no Rust crate on docs.rs implements D* Lite on this grid model (no
 //! corner cutting, unknown cells as an option) with the project's [`Budget`] and error

@@ -1,5 +1,7 @@
 //! A robot that drives a believed map, senses the true one and re-plans: the online use of
-//! the planners (repeated A*, repeated A* PS, D* Lite and online MBPP).
+//! the planners (repeated A*, repeated A* PS, D* Lite and online MBPP; and repeated A* and
+//! D* Lite under the common tie rule of [`crate::dstar_lite`](mod@crate::dstar_lite), which
+//! drive identical tracks).
 //!
 //! # The model
 //! - Two grids of one size and resolution: the **belief** (what the robot thinks, e.g. a map
