@@ -267,23 +267,28 @@ impl Key {
 /// No queue position: the cell is not queued.
 const NOT_QUEUED: u32 = u32::MAX;
 
-/// Per-cell search state.
-#[derive(Clone, Copy, Debug)]
-struct Node {
-    /// Cost-to-goal estimate.
-    g: StepCost,
-    /// One-step lookahead `min c(s, s') + g(s')` (zero at the goal).
-    rhs: StepCost,
-    /// Position in the queue's heap, or [`NOT_QUEUED`].
-    pos: u32,
+/// A [`StepCost`] packed in 128 bits, zero for [`StepCost::INF`] (so that the per-cell
+/// arrays start as zeroed memory, which the allocator hands out without writing it):
+/// `straight + 1`, `diagonal`, `weight` from the top.
+#[inline]
+fn pack(c: StepCost) -> u128 {
+    if c.is_finite() {
+        (u128::from(c.straight + 1) << 96) | (u128::from(c.diagonal) << 64) | u128::from(c.weight)
+    } else {
+        0
+    }
 }
 
-impl Default for Node {
-    fn default() -> Self {
-        Self {
-            g: StepCost::INF,
-            rhs: StepCost::INF,
-            pos: NOT_QUEUED,
+/// The [`StepCost`] of [`pack`]ed bits.
+#[inline]
+fn unpack(p: u128) -> StepCost {
+    if p == 0 {
+        StepCost::INF
+    } else {
+        StepCost {
+            straight: ((p >> 96) as u32).wrapping_sub(1),
+            diagonal: (p >> 64) as u32,
+            weight: p as u64,
         }
     }
 }
@@ -326,7 +331,11 @@ pub struct DStarLite {
     passable: Vec<bool>,
     /// Tie weight of each padded cell (empty without the common tie rule).
     weights: Vec<u32>,
-    nodes: Vec<Node>,
+    /// Per padded cell: the [`pack`]ed cost-to-goal estimate `g` and one-step lookahead
+    /// `rhs = min c(s, s') + g(s')` (zero at the goal).
+    costs: Vec<[u128; 2]>,
+    /// Per padded cell: its position in the heap plus one, 0 when not queued.
+    pos: Vec<u32>,
     /// The queue: a 4-ary min-heap of keys and padded cells, positions in [`Node::pos`].
     heap: Vec<(Key, u32)>,
     /// Padded width.
@@ -355,7 +364,8 @@ impl DStarLite {
     /// `goal` outside the grid or not passable.
     ///
     /// # Complexity
-    /// `O(cells)`: 41 bytes per padded cell (45 with the common tie rule), plus the queue.
+    /// `O(cells)`: 37 bytes per padded cell (41 with the common tie rule), zeroed memory
+    /// except the passability, plus the queue.
     pub fn new(
         grid: &OccupancyGrid,
         start: impl Into<CellXy>,
@@ -380,7 +390,8 @@ impl DStarLite {
         let deltas = std::array::from_fn(|k| MOVE_DY[k] * pwi + MOVE_DX[k]);
         let pad = |c: CellXy| (c.y + 1) * pw + c.x + 1;
         let mut this = Self {
-            nodes: vec![Node::default(); passable.len()],
+            costs: vec![[0; 2]; passable.len()],
+            pos: vec![0; passable.len()],
             passable,
             weights,
             heap: Vec::new(),
@@ -397,9 +408,7 @@ impl DStarLite {
             pushes: 0,
         };
         let goal = this.goal;
-        if let Some(node) = this.nodes.get_mut(goal) {
-            node.rhs = StepCost::ZERO;
-        }
+        this.set_rhs(goal, StepCost::ZERO);
         this.update_vertex(goal);
         Ok(this)
     }
@@ -568,7 +577,7 @@ impl DStarLite {
         let mut total = StepCost::ZERO;
         let mut at = self.start;
         while at != self.goal {
-            if waypoints.len() > self.nodes.len() {
+            if waypoints.len() > self.costs.len() {
                 return Extracted::Inconsistent(at);
             }
             let mut best: Option<(StepCost, usize, StepCost)> = None;
@@ -665,13 +674,13 @@ impl DStarLite {
     /// `UpdateVertex(u)` of Figure 4: queue `u` with its current key when inconsistent
     /// (or re-key it), take it out when consistent.
     fn update_vertex(&mut self, u: usize) {
-        let Some(node) = self.nodes.get(u) else {
+        let Some(&[g, rhs]) = self.costs.get(u) else {
             return;
         };
-        if node.g != node.rhs {
+        if g != rhs {
             let key = self.key(u);
             self.queue_set(u, key);
-        } else if node.pos != NOT_QUEUED {
+        } else if self.queued(u) {
             self.queue_remove(u);
         }
     }
@@ -683,8 +692,8 @@ impl DStarLite {
         self.km = StepCost::ZERO;
         let cells: Vec<usize> = self.heap.iter().map(|e| e.1 as usize).collect();
         for u in cells {
-            if let Some(n) = self.nodes.get_mut(u) {
-                n.pos = NOT_QUEUED;
+            if let Some(p) = self.pos.get_mut(u) {
+                *p = 0;
             }
         }
         let entries: Vec<(Key, u32)> = std::mem::take(&mut self.heap)
@@ -698,13 +707,13 @@ impl DStarLite {
 
     /// Whether `u` is queued.
     fn queued(&self, u: usize) -> bool {
-        self.nodes.get(u).is_some_and(|n| n.pos != NOT_QUEUED)
+        self.pos.get(u).is_some_and(|&p| p != 0)
     }
 
     /// Queue `u` with `key`, or change its key.
     fn queue_set(&mut self, u: usize, key: Key) {
         self.pushes += 1;
-        let pos = self.nodes.get(u).map_or(NOT_QUEUED, |n| n.pos);
+        let pos = self.position(u);
         if pos == NOT_QUEUED {
             let at = self.heap.len();
             self.heap.push((key, u as u32));
@@ -730,13 +739,13 @@ impl DStarLite {
 
     /// Take `u` out of the queue.
     fn queue_remove(&mut self, u: usize) {
-        let pos = self.nodes.get(u).map_or(NOT_QUEUED, |n| n.pos);
+        let pos = self.position(u);
         if pos == NOT_QUEUED {
             return;
         }
         let at = pos as usize;
-        if let Some(n) = self.nodes.get_mut(u) {
-            n.pos = NOT_QUEUED;
+        if let Some(p) = self.pos.get_mut(u) {
+            *p = 0;
         }
         let Some(last) = self.heap.pop() else {
             return;
@@ -755,9 +764,18 @@ impl DStarLite {
         }
     }
 
+    /// The heap position of `u`, or [`NOT_QUEUED`].
+    #[inline]
+    fn position(&self, u: usize) -> u32 {
+        self.pos
+            .get(u)
+            .map_or(NOT_QUEUED, |&p| p.checked_sub(1).unwrap_or(NOT_QUEUED))
+    }
+
+    #[inline]
     fn set_pos(&mut self, u: usize, at: usize) {
-        if let Some(n) = self.nodes.get_mut(u) {
-            n.pos = at as u32;
+        if let Some(p) = self.pos.get_mut(u) {
+            *p = at as u32 + 1;
         }
     }
 
@@ -878,23 +896,27 @@ impl DStarLite {
         StepCost::octile(dx as usize, dy as usize)
     }
 
+    #[inline]
     fn g(&self, u: usize) -> StepCost {
-        self.nodes.get(u).map_or(StepCost::INF, |n| n.g)
+        self.costs.get(u).map_or(StepCost::INF, |c| unpack(c[0]))
     }
 
+    #[inline]
     fn rhs(&self, u: usize) -> StepCost {
-        self.nodes.get(u).map_or(StepCost::INF, |n| n.rhs)
+        self.costs.get(u).map_or(StepCost::INF, |c| unpack(c[1]))
     }
 
+    #[inline]
     fn set_g(&mut self, u: usize, g: StepCost) {
-        if let Some(n) = self.nodes.get_mut(u) {
-            n.g = g;
+        if let Some(c) = self.costs.get_mut(u) {
+            c[0] = pack(g);
         }
     }
 
+    #[inline]
     fn set_rhs(&mut self, u: usize, rhs: StepCost) {
-        if let Some(n) = self.nodes.get_mut(u) {
-            n.rhs = rhs;
+        if let Some(c) = self.costs.get_mut(u) {
+            c[1] = pack(rhs);
         }
     }
 
