@@ -573,33 +573,51 @@ impl DStarLite {
         {
             return Extracted::Path(None);
         }
-        let mut waypoints = vec![self.cell(self.start)];
+        let expected = self.rhs(self.start);
+        let mut waypoints = Vec::with_capacity(
+            (expected.straight as usize)
+                .saturating_add(expected.diagonal as usize)
+                .saturating_add(1)
+                .min(self.costs.len()),
+        );
+        let mut xy = self.cell(self.start);
+        waypoints.push(xy);
         let mut total = StepCost::ZERO;
         let mut at = self.start;
         while at != self.goal {
             if waypoints.len() > self.costs.len() {
                 return Extracted::Inconsistent(at);
             }
-            let mut best: Option<(StepCost, usize, StepCost)> = None;
+            let mut best: Option<(StepCost, usize, StepCost, usize)> = None;
             for k in 0..8 {
+                let n = at.wrapping_add_signed(self.deltas[k]);
+                let g_n = self.g(n);
+                if !g_n.is_finite() {
+                    continue;
+                }
                 let c = self.cost(at, k);
                 if !c.is_finite() {
                     continue;
                 }
-                let n = at.wrapping_add_signed(self.deltas[k]);
-                let through = c.add(self.g(n));
-                if through.is_finite() && best.is_none_or(|b| through < b.0) {
-                    best = Some((through, n, c));
+                let through = c.add(g_n);
+                if best.is_none_or(|b| through < b.0) {
+                    best = Some((through, n, c, k));
                 }
             }
-            let Some((_, next, step)) = best else {
+            let Some((_, next, step, k)) = best else {
                 return Extracted::Inconsistent(at);
             };
             if self.queued(next) {
                 return Extracted::Inconsistent(next);
             }
             total = total.add(step);
-            waypoints.push(self.cell(next));
+            // The next cell's coordinates by the move (no division).
+            let (dx, dy) = (
+                MOVE_DX.get(k).copied().unwrap_or(0),
+                MOVE_DY.get(k).copied().unwrap_or(0),
+            );
+            xy = CellXy::new(xy.x.wrapping_add_signed(dx), xy.y.wrapping_add_signed(dy));
+            waypoints.push(xy);
             at = next;
         }
         Extracted::Path(Some(Plan {
