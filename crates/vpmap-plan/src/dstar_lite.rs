@@ -20,10 +20,24 @@
 //! follows `argmin c(s, s') + g(s')` from the robot's cell: a shortest path on the current
 //! map, of the same cost as a fresh A* on it.
 //!
-//! The queue is a binary heap with lazy deletion: a cell's entry is valid while it carries
-//! the cell's current stamp, so "update" and "remove" are a push and a stamp change.
-//! Costs and keys are `f64` sums of `1` and `sqrt 2`; the length of a returned plan is
-//! recomputed from its straight and diagonal step counts, so it is exact like A*'s.
+//! Costs are exact: a path's cost is its counts of straight and diagonal steps (compared
+//! as `s + d sqrt 2` exactly, in integers), so equal lengths are equal and no rounding
+//! decides a tie, as in [`crate::astar`](mod@crate::astar). The queue is an indexed 4-ary
+//! heap (each cell knows its position: re-keying and removing are in place, no stale
+//! entries) of integer keys: lengths in fixed point with `2^-64` cells, which orders every
+//! length of fewer than `2^27` steps exactly (`k_m` is folded into the keys before it gets
+//! there).
+//!
+//! **The common tie rule** ([`DStarLiteOptions::common_ties`]): a cost is compared by
+//! length first and then by the sum of the [`tie_weight`]s of the cells the path enters
+//! (fixed pseudo-random 32-bit numbers per cell). The length stays exactly optimal; among
+//! equally short paths the one of the smallest weight sum is returned, which is unique
+//! unless two of them have equal sums (for two given paths that differ in some cell, a chance
+//! of at most `2^-32`). The heuristic (octile length, weight 0) stays consistent. A forward
+//! A* under the same rule returns the same path from the same belief, so the two drive the
+//! same track (the `astar-ties` planner of [`crate::navigate`](mod@crate::navigate)). Off (the default), ties fall
+//! as the search meets them: smaller cost-to-goal first, then the first move in the order
+//! E, S, W, N, SE, SW, NW, NE when following the path.
 //!
 //! Why not a crate: no Rust crate on docs.rs implements D* Lite on this grid model (no
 //! corner cutting, unknown cells as an option) with the project's [`Budget`] and error
@@ -52,8 +66,7 @@
 //! "Fast Replanning for Navigation in Unknown Terrain", IEEE Transactions on Robotics
 //! 21(3), 2005.
 
-use std::cmp::Reverse;
-use std::collections::BinaryHeap;
+use std::cmp::Ordering;
 use std::f64::consts::SQRT_2;
 
 use crate::budget::Budget;
@@ -70,48 +83,234 @@ pub struct DStarLiteOptions {
     /// Most expansions one [`DStarLite::path`] call may make (its re-planning), and the
     /// [`Stop`](crate::budget::Stop) it looks at (default: [`Budget::default`]).
     pub budget: Budget,
+    /// The common tie rule (default: off): among equally short paths, the one of the
+    /// smallest sum of [`tie_weight`]s of the cells it enters (see the [module docs](self)).
+    /// Off, ties fall as the search meets them (smaller cost-to-goal first).
+    pub common_ties: bool,
 }
 
-/// Per-cell search state.
-#[derive(Clone, Copy, Debug)]
-struct Node {
-    /// Cost-to-goal estimate, cells.
-    g: f64,
-    /// One-step lookahead `min c(s, s') + g(s')` (0 at the goal), cells.
-    rhs: f64,
-    /// Stamp of the cell's valid queue entry (entries with another stamp are stale).
-    stamp: u32,
-    /// Whether the cell is in the queue.
-    queued: bool,
+/// A path cost: exact counts of straight and diagonal steps (length
+/// `straight + diagonal * sqrt 2` cells) and, under the common tie rule, the sum of the entered cells'
+/// [`tie_weight`]s. Ordered by length (exactly), then by weight. [`StepCost::INF`] is
+/// larger than every finite cost.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) struct StepCost {
+    /// Straight steps (`u32::MAX`: infinite).
+    pub(crate) straight: u32,
+    /// Diagonal steps.
+    pub(crate) diagonal: u32,
+    /// Sum of tie weights.
+    pub(crate) weight: u64,
 }
 
-impl Default for Node {
-    fn default() -> Self {
+impl StepCost {
+    /// Zero.
+    pub(crate) const ZERO: Self = Self {
+        straight: 0,
+        diagonal: 0,
+        weight: 0,
+    };
+    /// Infinite: no path.
+    pub(crate) const INF: Self = Self {
+        straight: u32::MAX,
+        diagonal: u32::MAX,
+        weight: u64::MAX,
+    };
+
+    /// Whether the cost is finite.
+    #[inline]
+    pub(crate) fn is_finite(self) -> bool {
+        self.straight != u32::MAX
+    }
+
+    /// The sum (infinite when either is).
+    #[inline]
+    pub(crate) fn add(self, other: Self) -> Self {
+        if !self.is_finite() || !other.is_finite() {
+            return Self::INF;
+        }
         Self {
-            g: f64::INFINITY,
-            rhs: f64::INFINITY,
-            stamp: 0,
-            queued: false,
+            straight: self
+                .straight
+                .saturating_add(other.straight)
+                .min(u32::MAX - 1),
+            diagonal: self.diagonal.saturating_add(other.diagonal),
+            weight: self.weight.saturating_add(other.weight),
+        }
+    }
+
+    /// One step: straight or diagonal, entering a cell of tie weight `weight`.
+    #[inline]
+    pub(crate) fn step(diagonal: bool, weight: u32) -> Self {
+        Self {
+            straight: u32::from(!diagonal),
+            diagonal: u32::from(diagonal),
+            weight: u64::from(weight),
+        }
+    }
+
+    /// The octile distance between two cells (weight 0: a lower bound of every path's
+    /// cost, and consistent).
+    #[inline]
+    pub(crate) fn octile(dx: usize, dy: usize) -> Self {
+        let (long, short) = if dx >= dy { (dx, dy) } else { (dy, dx) };
+        Self {
+            straight: u32::try_from(long - short).unwrap_or(u32::MAX - 1),
+            diagonal: u32::try_from(short).unwrap_or(u32::MAX - 1),
+            weight: 0,
+        }
+    }
+
+    /// Length, cells (exact to the last bit for equal step counts: like A*'s).
+    #[inline]
+    pub(crate) fn length(self) -> f64 {
+        f64::from(self.straight) + f64::from(self.diagonal) * SQRT_2
+    }
+
+    /// Compare the lengths exactly: `s1 + d1 sqrt 2` against `s2 + d2 sqrt 2` as the sign
+    /// of `x - y sqrt 2` with `x = s1 - s2`, `y = d2 - d1`, which is never zero unless both
+    /// are (`sqrt 2` is irrational).
+    #[inline]
+    pub(crate) fn cmp_length(self, other: Self) -> Ordering {
+        match (self.is_finite(), other.is_finite()) {
+            (false, false) => return Ordering::Equal,
+            (false, true) => return Ordering::Greater,
+            (true, false) => return Ordering::Less,
+            (true, true) => {}
+        }
+        let x = i64::from(self.straight) - i64::from(other.straight);
+        let y = i64::from(other.diagonal) - i64::from(self.diagonal);
+        match (x.signum(), y.signum()) {
+            (0, 0) => Ordering::Equal,
+            (sx, sy) if sx >= 0 && sy <= 0 => Ordering::Greater,
+            (sx, sy) if sx <= 0 && sy >= 0 => Ordering::Less,
+            (sx, _) => {
+                // Same signs: compare x^2 with 2 y^2.
+                let x2 = u128::from(x.unsigned_abs()) * u128::from(x.unsigned_abs());
+                let y2 = 2 * u128::from(y.unsigned_abs()) * u128::from(y.unsigned_abs());
+                if (x2 > y2) == (sx > 0) {
+                    Ordering::Greater
+                } else {
+                    Ordering::Less
+                }
+            }
         }
     }
 }
 
-/// A queue key `[k1; k2]` as ordered bits (both non-negative, so their IEEE bit patterns
-/// order like the values), then the cell and its stamp.
-type Entry = Reverse<(u64, u64, u32, u32)>;
+impl Ord for StepCost {
+    #[inline]
+    fn cmp(&self, other: &Self) -> Ordering {
+        self.cmp_length(*other)
+            .then_with(|| self.weight.cmp(&other.weight))
+    }
+}
+
+impl PartialOrd for StepCost {
+    #[inline]
+    fn partial_cmp(&self, other: &Self) -> Option<Ordering> {
+        Some(self.cmp(other))
+    }
+}
+
+/// The tie weight of cell `(x, y)`: a fixed pseudo-random 32-bit number (the SplitMix64
+/// finaliser of the cell's coordinates), the same for every map and planner.
+#[must_use]
+pub fn tie_weight(x: usize, y: usize) -> u32 {
+    let mut z = (x as u64) ^ ((y as u64) << 32) ^ 0x9e37_79b9_7f4a_7c15;
+    z = (z ^ (z >> 30)).wrapping_mul(0xbf58_476d_1ce4_e5b9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94d0_49bb_1331_11eb);
+    (z ^ (z >> 31)) as u32
+}
+
+/// `sqrt 2` in units of `2^-64`, rounded: the diagonal step of [`fixed_length`].
+const SQRT_2_FIXED: u128 = 26_087_635_650_665_564_425;
+
+/// Step counts below this (per component) keep [`fixed_length`] exactly ordered; `k_m`
+/// is folded into the keys before it gets there ([`DStarLite::rekey`]).
+const FIXED_EXACT_BELOW: u32 = 1 << 27;
+
+/// The length of `c` in units of `2^-64` cells (`sqrt 2` rounded to that unit): for
+/// step counts below `2^27` its error (under `2^-37`) is far below the smallest gap between
+/// two different lengths (`|x - y sqrt 2| >= 1 / (x + y sqrt 2)`, over `10^-9`), so it
+/// orders lengths exactly and equal lengths (equal step counts) stay equal.
+#[inline]
+fn fixed_length(c: StepCost) -> u128 {
+    if c.is_finite() {
+        (u128::from(c.straight) << 64) + u128::from(c.diagonal) * SQRT_2_FIXED
+    } else {
+        u128::MAX
+    }
+}
+
+/// A queue key `[k1; k2]` as integers, compared lexicographically: each part's length
+/// ([`fixed_length`]) and then its tie weight.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+struct Key {
+    k1: u128,
+    k1_weight: u64,
+    k2: u128,
+    k2_weight: u64,
+}
+
+impl Key {
+    fn new(k1: StepCost, k2: StepCost) -> Self {
+        Self {
+            k1: fixed_length(k1),
+            k1_weight: k1.weight,
+            k2: fixed_length(k2),
+            k2_weight: k2.weight,
+        }
+    }
+}
+
+/// No queue position: the cell is not queued.
+const NOT_QUEUED: u32 = u32::MAX;
+
+/// A [`StepCost`] packed in 128 bits, zero for [`StepCost::INF`] (so that the per-cell
+/// arrays start as zeroed memory, which the allocator hands out without writing it):
+/// `straight + 1`, `diagonal`, `weight` from the top.
+#[inline]
+fn pack(c: StepCost) -> u128 {
+    if c.is_finite() {
+        (u128::from(c.straight + 1) << 96) | (u128::from(c.diagonal) << 64) | u128::from(c.weight)
+    } else {
+        0
+    }
+}
+
+/// The [`StepCost`] of [`pack`]ed bits.
+#[inline]
+fn unpack(p: u128) -> StepCost {
+    if p == 0 {
+        StepCost::INF
+    } else {
+        StepCost {
+            straight: ((p >> 96) as u32).wrapping_sub(1),
+            diagonal: (p >> 64) as u32,
+            weight: p as u64,
+        }
+    }
+}
 
 /// Index deltas of the 8 moves in padded cells are built from these: E, S, W, N, SE, SW,
 /// NW, NE.
 const MOVE_DX: [isize; 8] = [1, 0, -1, 0, 1, -1, -1, 1];
 /// See [`MOVE_DX`].
 const MOVE_DY: [isize; 8] = [0, 1, 0, -1, 1, 1, -1, -1];
+/// The orthogonal moves a diagonal move `4 + i` passes between (no corner cutting).
+const DIAGONAL_SIDES: [(usize, usize); 4] = [(0, 1), (2, 1), (2, 3), (0, 3)];
+/// The reverse of each move.
+const OPPOSITE: [usize; 8] = [2, 3, 0, 1, 6, 7, 4, 5];
+/// Heap arity of the queue.
+const ARITY: usize = 4;
 
 /// How far [`DStarLite::compute_shortest_path`] goes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Until {
     /// The paper's condition: the top key below the start's, or the start overconsistent.
     Paper,
-    /// Also every key whose first part ties with the start's (to a relative 1e-9).
+    /// Also every key whose first part's length ties with the start's.
     Ties,
     /// Until the queue is empty: every cell consistent.
     Empty,
@@ -130,8 +329,15 @@ enum Extracted {
 pub struct DStarLite {
     /// Padded passability, border blocked: cell `(x, y)` at `(y + 1) pw + x + 1`.
     passable: Vec<bool>,
-    nodes: Vec<Node>,
-    queue: BinaryHeap<Entry>,
+    /// Tie weight of each padded cell (empty without the common tie rule).
+    weights: Vec<u32>,
+    /// Per padded cell: the [`pack`]ed cost-to-goal estimate `g` and one-step lookahead
+    /// `rhs = min c(s, s') + g(s')` (zero at the goal).
+    costs: Vec<[u128; 2]>,
+    /// Per padded cell: its position in the heap plus one, 0 when not queued.
+    pos: Vec<u32>,
+    /// The queue: a 4-ary min-heap of keys and padded cells, positions in [`Node::pos`].
+    heap: Vec<(Key, u32)>,
     /// Padded width.
     pw: usize,
     width: usize,
@@ -139,19 +345,16 @@ pub struct DStarLite {
     start: usize,
     last: usize,
     goal: usize,
-    km: f64,
+    km: StepCost,
     opts: DStarLiteOptions,
     /// Index deltas of the 8 moves, padded cells.
     deltas: [isize; 8],
     /// Whether something changed since the last [`DStarLite::path`].
     dirty: bool,
-    /// Queue pushes so far.
+    /// Queue insertions and re-keyings so far.
     pushes: usize,
 }
 
-// The paper's consistency tests (`g != rhs`, `rhs(s) = c(s, u) + g_old`) are exact: both
-// sides are the same sums of the same stored values, so exact comparison is what they mean.
-#[allow(clippy::float_cmp)]
 impl DStarLite {
     /// Set up the search on `grid` from `start` to `goal` (no search runs until
     /// [`DStarLite::path`]).
@@ -161,7 +364,8 @@ impl DStarLite {
     /// `goal` outside the grid or not passable.
     ///
     /// # Complexity
-    /// `O(cells)`: 25 bytes per padded cell, plus the queue.
+    /// `O(cells)`: 37 bytes per padded cell (41 with the common tie rule), zeroed memory
+    /// except the passability, plus the queue.
     pub fn new(
         grid: &OccupancyGrid,
         start: impl Into<CellXy>,
@@ -175,30 +379,37 @@ impl DStarLite {
         let pw = width + 2;
         let mut passable = Vec::new();
         fill_padded(grid, opts.unknown_passable, &mut passable, false, true);
+        let weights = if opts.common_ties {
+            (0..passable.len())
+                .map(|i| tie_weight((i % pw).wrapping_sub(1), (i / pw).wrapping_sub(1)))
+                .collect()
+        } else {
+            Vec::new()
+        };
         let pwi = pw as isize;
         let deltas = std::array::from_fn(|k| MOVE_DY[k] * pwi + MOVE_DX[k]);
         let pad = |c: CellXy| (c.y + 1) * pw + c.x + 1;
         let mut this = Self {
-            nodes: vec![Node::default(); passable.len()],
+            costs: vec![[0; 2]; passable.len()],
+            pos: vec![0; passable.len()],
             passable,
-            queue: BinaryHeap::new(),
+            weights,
+            heap: Vec::new(),
             pw,
             width,
             height,
             start: pad(start),
             last: pad(start),
             goal: pad(goal),
-            km: 0.0,
+            km: StepCost::ZERO,
             opts: opts.clone(),
             deltas,
             dirty: true,
             pushes: 0,
         };
         let goal = this.goal;
-        if let Some(node) = this.nodes.get_mut(goal) {
-            node.rhs = 0.0;
-        }
-        this.push(goal);
+        this.set_rhs(goal, StepCost::ZERO);
+        this.update_vertex(goal);
         Ok(this)
     }
 
@@ -268,43 +479,50 @@ impl DStarLite {
         if flips.is_empty() {
             return Ok(0);
         }
-        self.km += self.heuristic(self.last, self.start);
+        self.km = self.km.add(self.heuristic(self.last, self.start));
         self.last = self.start;
-        // Every directed step whose cost may change: into and out of each flipped cell,
-        // and the diagonal steps between its orthogonal neighbours.
+        if self.km.straight >= FIXED_EXACT_BELOW / 2 || self.km.diagonal >= FIXED_EXACT_BELOW / 2 {
+            self.rekey();
+        }
+        // Every directed step whose cost may change, as (from, move): into and out of each
+        // flipped cell, and the diagonal steps between its orthogonal neighbours.
         let mut edges: Vec<(usize, usize)> = Vec::with_capacity(flips.len() * 24);
         for &(c, _) in &flips {
-            for k in 0..8 {
-                let n = c.wrapping_add_signed(self.deltas[k]);
-                edges.push((c, n));
-                edges.push((n, c));
+            for (k, (&delta, &back)) in self.deltas.iter().zip(&OPPOSITE).enumerate() {
+                edges.push((c, k));
+                edges.push((c.wrapping_add_signed(delta), back));
             }
-            for k in 0..4 {
-                let a = c.wrapping_add_signed(self.deltas[k]);
-                let b = c.wrapping_add_signed(self.deltas[(k + 1) % 4]);
-                edges.push((a, b));
-                edges.push((b, a));
+        }
+        // The diagonal moves `4 + i` from `u` that pass the flipped cell: it is one of their
+        // sides `u + delta[side]`.
+        for &(c, _) in &flips {
+            for (i, &(s0, s1)) in DIAGONAL_SIDES.iter().enumerate() {
+                for side in [s0, s1] {
+                    let u = c.wrapping_add_signed(-self.deltas[side]);
+                    edges.push((u, 4 + i));
+                }
             }
         }
         edges.sort_unstable();
         edges.dedup();
-        let old: Vec<f64> = edges.iter().map(|&(u, v)| self.cost(u, v)).collect();
+        let old: Vec<StepCost> = edges.iter().map(|&(u, k)| self.cost(u, k)).collect();
         for &(c, now) in &flips {
             if let Some(p) = self.passable.get_mut(c) {
                 *p = now;
             }
         }
-        for (&(u, v), &c_old) in edges.iter().zip(&old) {
-            let c_new = self.cost(u, v);
+        for (&(u, k), &c_old) in edges.iter().zip(&old) {
+            let c_new = self.cost(u, k);
             if c_new == c_old {
                 continue;
             }
+            let v = u.wrapping_add_signed(self.deltas[k]);
             if u != self.goal {
                 let g_v = self.g(v);
                 let rhs_u = self.rhs(u);
                 if c_old > c_new {
-                    self.set_rhs(u, rhs_u.min(c_new + g_v));
-                } else if rhs_u == c_old + g_v {
+                    self.set_rhs(u, rhs_u.min(c_new.add(g_v)));
+                } else if rhs_u == c_old.add(g_v) {
                     let best = self.best_successor(u);
                     self.set_rhs(u, best);
                 }
@@ -348,43 +566,63 @@ impl DStarLite {
     }
 
     /// Follow `argmin c(s, s') + g(s')` from the start to the goal through consistent
-    /// cells.
+    /// cells (exact ties to the first move in the order E, S, W, N, SE, SW, NW, NE).
     fn extract(&self, stats: PlanStats) -> Extracted {
         if !self.passable.get(self.start).copied().unwrap_or(false)
             || !self.rhs(self.start).is_finite()
         {
             return Extracted::Path(None);
         }
-        let mut waypoints = vec![self.cell(self.start)];
-        let mut steps = [0u32; 2];
+        let expected = self.rhs(self.start);
+        let mut waypoints = Vec::with_capacity(
+            (expected.straight as usize)
+                .saturating_add(expected.diagonal as usize)
+                .saturating_add(1)
+                .min(self.costs.len()),
+        );
+        let mut xy = self.cell(self.start);
+        waypoints.push(xy);
+        let mut total = StepCost::ZERO;
         let mut at = self.start;
         while at != self.goal {
-            if waypoints.len() > self.nodes.len() {
+            if waypoints.len() > self.costs.len() {
                 return Extracted::Inconsistent(at);
             }
-            let mut best: Option<(f64, usize, usize)> = None;
+            let mut best: Option<(StepCost, usize, StepCost, usize)> = None;
             for k in 0..8 {
                 let n = at.wrapping_add_signed(self.deltas[k]);
-                let total = self.cost(at, n) + self.g(n);
-                if total.is_finite() && best.is_none_or(|b| total < b.0) {
-                    best = Some((total, n, k));
+                let g_n = self.g(n);
+                if !g_n.is_finite() {
+                    continue;
+                }
+                let c = self.cost(at, k);
+                if !c.is_finite() {
+                    continue;
+                }
+                let through = c.add(g_n);
+                if best.is_none_or(|b| through < b.0) {
+                    best = Some((through, n, c, k));
                 }
             }
-            let Some((_, next, k)) = best else {
+            let Some((_, next, step, k)) = best else {
                 return Extracted::Inconsistent(at);
             };
-            if self.nodes.get(next).is_some_and(|n| n.queued) {
+            if self.queued(next) {
                 return Extracted::Inconsistent(next);
             }
-            if let Some(s) = steps.get_mut(usize::from(k >= 4)) {
-                *s += 1;
-            }
-            waypoints.push(self.cell(next));
+            total = total.add(step);
+            // The next cell's coordinates by the move (no division).
+            let (dx, dy) = (
+                MOVE_DX.get(k).copied().unwrap_or(0),
+                MOVE_DY.get(k).copied().unwrap_or(0),
+            );
+            xy = CellXy::new(xy.x.wrapping_add_signed(dx), xy.y.wrapping_add_signed(dy));
+            waypoints.push(xy);
             at = next;
         }
         Extracted::Path(Some(Plan {
             waypoints,
-            length_cells: f64::from(steps[0]) + f64::from(steps[1]) * SQRT_2,
+            length_cells: total.length(),
             stats,
         }))
     }
@@ -394,11 +632,12 @@ impl DStarLite {
     /// [`DStarLite::path`]). Adds the expansions and pushes to `stats`.
     fn compute_shortest_path(&mut self, until: Until, stats: &mut PlanStats) -> Result<()> {
         let pushes_before = self.pushes;
-        while let Some((top, u)) = self.top() {
+        while let Some(&(top, u)) = self.heap.first() {
+            let u = u as usize;
             let start_key = self.key(self.start);
             let more = match until {
                 Until::Paper => top < start_key,
-                Until::Ties => top.0 <= start_key.0 + 1e-9 * start_key.0.max(1.0),
+                Until::Ties => top.k1 <= start_key.k1,
                 Until::Empty => true,
             };
             if !(more || self.rhs(self.start) > self.g(self.start)) {
@@ -411,31 +650,33 @@ impl DStarLite {
             let new_key = self.key(u);
             let (g_u, rhs_u) = (self.g(u), self.rhs(u));
             if top < new_key {
-                self.push(u);
+                self.queue_set(u, new_key);
             } else if g_u > rhs_u {
                 self.set_g(u, rhs_u);
-                self.remove(u);
-                for k in 0..8 {
-                    let s = u.wrapping_add_signed(self.deltas[k]);
-                    let c = self.cost(s, u);
+                self.queue_remove(u);
+                for (delta, back) in self.deltas.into_iter().zip(OPPOSITE) {
+                    // Predecessor s = u + delta steps to u by the opposite move.
+                    let s = u.wrapping_add_signed(delta);
+                    let c = self.cost(s, back);
                     if !c.is_finite() {
                         continue;
                     }
-                    if s != self.goal && c + rhs_u < self.rhs(s) {
-                        self.set_rhs(s, c + rhs_u);
+                    let via = c.add(rhs_u);
+                    if s != self.goal && via < self.rhs(s) {
+                        self.set_rhs(s, via);
                     }
                     self.update_vertex(s);
                 }
             } else {
                 let g_old = g_u;
-                self.set_g(u, f64::INFINITY);
-                for k in 0..8 {
-                    let s = u.wrapping_add_signed(self.deltas[k]);
-                    let c = self.cost(s, u);
+                self.set_g(u, StepCost::INF);
+                for (delta, back) in self.deltas.into_iter().zip(OPPOSITE) {
+                    let s = u.wrapping_add_signed(delta);
+                    let c = self.cost(s, back);
                     if !c.is_finite() {
                         continue;
                     }
-                    if s != self.goal && self.rhs(s) == c + g_old {
+                    if s != self.goal && self.rhs(s) == c.add(g_old) {
                         let best = self.best_successor(s);
                         self.set_rhs(s, best);
                     }
@@ -448,119 +689,252 @@ impl DStarLite {
         Ok(())
     }
 
-    /// `UpdateVertex(u)` of Figure 4: queue `u` with its current key when inconsistent,
-    /// take it out when consistent.
+    /// `UpdateVertex(u)` of Figure 4: queue `u` with its current key when inconsistent
+    /// (or re-key it), take it out when consistent.
     fn update_vertex(&mut self, u: usize) {
-        let (g, rhs) = (self.g(u), self.rhs(u));
-        if g != rhs {
-            self.push(u);
-        } else if self.nodes.get(u).is_some_and(|n| n.queued) {
-            self.remove(u);
-        }
-    }
-
-    /// Queue (or re-key) `u` with its current key.
-    fn push(&mut self, u: usize) {
-        let key = self.key(u);
-        let Some(node) = self.nodes.get_mut(u) else {
+        let Some(&[g, rhs]) = self.costs.get(u) else {
             return;
         };
-        node.stamp = node.stamp.wrapping_add(1);
-        node.queued = true;
-        self.queue.push(Reverse((
-            key.0.to_bits(),
-            key.1.to_bits(),
-            u as u32,
-            node.stamp,
-        )));
-        self.pushes += 1;
-    }
-
-    /// Take `u` out of the queue (its entries become stale).
-    fn remove(&mut self, u: usize) {
-        if let Some(node) = self.nodes.get_mut(u) {
-            node.stamp = node.stamp.wrapping_add(1);
-            node.queued = false;
+        if g != rhs {
+            let key = self.key(u);
+            self.queue_set(u, key);
+        } else if self.queued(u) {
+            self.queue_remove(u);
         }
     }
 
-    /// The smallest valid key and its cell, dropping stale entries.
-    fn top(&mut self) -> Option<((f64, f64), usize)> {
-        while let Some(&Reverse((k1, k2, u, stamp))) = self.queue.peek() {
-            let u = u as usize;
-            if self
-                .nodes
-                .get(u)
-                .is_some_and(|n| n.queued && n.stamp == stamp)
-            {
-                return Some(((f64::from_bits(k1), f64::from_bits(k2)), u));
+    /// Start `k_m` again from zero: every queued key is computed anew for the current
+    /// start and the heap rebuilt (keeps the keys' step counts small; `O(queue)`, after
+    /// tens of millions of cells driven).
+    fn rekey(&mut self) {
+        self.km = StepCost::ZERO;
+        let cells: Vec<usize> = self.heap.iter().map(|e| e.1 as usize).collect();
+        for u in cells {
+            if let Some(p) = self.pos.get_mut(u) {
+                *p = 0;
             }
-            self.queue.pop();
         }
-        None
+        let entries: Vec<(Key, u32)> = std::mem::take(&mut self.heap)
+            .into_iter()
+            .map(|(_, u)| (self.key(u as usize), u))
+            .collect();
+        for (key, u) in entries {
+            self.queue_set(u as usize, key);
+        }
+    }
+
+    /// Whether `u` is queued.
+    fn queued(&self, u: usize) -> bool {
+        self.pos.get(u).is_some_and(|&p| p != 0)
+    }
+
+    /// Queue `u` with `key`, or change its key.
+    fn queue_set(&mut self, u: usize, key: Key) {
+        self.pushes += 1;
+        let pos = self.position(u);
+        if pos == NOT_QUEUED {
+            let at = self.heap.len();
+            self.heap.push((key, u as u32));
+            self.set_pos(u, at);
+            self.sift_up(at);
+        } else {
+            let at = pos as usize;
+            let Some(entry) = self.heap.get_mut(at) else {
+                return;
+            };
+            let old = entry.0;
+            if key == old {
+                return;
+            }
+            entry.0 = key;
+            if key < old {
+                self.sift_up(at);
+            } else {
+                self.sift_down(at);
+            }
+        }
+    }
+
+    /// Take `u` out of the queue.
+    fn queue_remove(&mut self, u: usize) {
+        let pos = self.position(u);
+        if pos == NOT_QUEUED {
+            return;
+        }
+        let at = pos as usize;
+        if let Some(p) = self.pos.get_mut(u) {
+            *p = 0;
+        }
+        let Some(last) = self.heap.pop() else {
+            return;
+        };
+        if at < self.heap.len() {
+            let old = self.heap.get(at).map(|e| e.0);
+            if let Some(slot) = self.heap.get_mut(at) {
+                *slot = last;
+            }
+            self.set_pos(last.1 as usize, at);
+            if old.is_some_and(|o| last.0 < o) {
+                self.sift_up(at);
+            } else {
+                self.sift_down(at);
+            }
+        }
+    }
+
+    /// The heap position of `u`, or [`NOT_QUEUED`].
+    #[inline]
+    fn position(&self, u: usize) -> u32 {
+        self.pos
+            .get(u)
+            .map_or(NOT_QUEUED, |&p| p.checked_sub(1).unwrap_or(NOT_QUEUED))
+    }
+
+    #[inline]
+    fn set_pos(&mut self, u: usize, at: usize) {
+        if let Some(p) = self.pos.get_mut(u) {
+            *p = at as u32 + 1;
+        }
+    }
+
+    fn sift_up(&mut self, mut at: usize) {
+        let Some(&item) = self.heap.get(at) else {
+            return;
+        };
+        while at > 0 {
+            let parent = (at - 1) / ARITY;
+            let Some(&p) = self.heap.get(parent) else {
+                break;
+            };
+            if item.0 >= p.0 {
+                break;
+            }
+            if let Some(slot) = self.heap.get_mut(at) {
+                *slot = p;
+            }
+            self.set_pos(p.1 as usize, at);
+            at = parent;
+        }
+        if let Some(slot) = self.heap.get_mut(at) {
+            *slot = item;
+        }
+        self.set_pos(item.1 as usize, at);
+    }
+
+    fn sift_down(&mut self, mut at: usize) {
+        let Some(&item) = self.heap.get(at) else {
+            return;
+        };
+        let n = self.heap.len();
+        loop {
+            let first = at * ARITY + 1;
+            if first >= n {
+                break;
+            }
+            let mut best = first;
+            let mut best_key = match self.heap.get(first) {
+                Some(e) => e.0,
+                None => break,
+            };
+            for c in first + 1..(first + ARITY).min(n) {
+                if let Some(e) = self.heap.get(c)
+                    && e.0 < best_key
+                {
+                    best = c;
+                    best_key = e.0;
+                }
+            }
+            if best_key >= item.0 {
+                break;
+            }
+            let Some(&child) = self.heap.get(best) else {
+                break;
+            };
+            if let Some(slot) = self.heap.get_mut(at) {
+                *slot = child;
+            }
+            self.set_pos(child.1 as usize, at);
+            at = best;
+        }
+        if let Some(slot) = self.heap.get_mut(at) {
+            *slot = item;
+        }
+        self.set_pos(item.1 as usize, at);
     }
 
     /// `CalculateKey(s)`.
-    fn key(&self, s: usize) -> (f64, f64) {
+    fn key(&self, s: usize) -> Key {
         let m = self.g(s).min(self.rhs(s));
-        (m + self.heuristic(self.start, s) + self.km, m)
+        Key::new(m.add(self.heuristic(self.start, s)).add(self.km), m)
     }
 
     /// `min over successors s' of c(u, s') + g(s')`.
-    fn best_successor(&self, u: usize) -> f64 {
-        let mut best = f64::INFINITY;
+    fn best_successor(&self, u: usize) -> StepCost {
+        let mut best = StepCost::INF;
         for k in 0..8 {
             let n = u.wrapping_add_signed(self.deltas[k]);
-            best = best.min(self.cost(u, n) + self.g(n));
+            best = best.min(self.cost(u, k).add(self.g(n)));
         }
         best
     }
 
-    /// Cost of the single step from `u` to its neighbour `v`, infinite when illegal.
-    fn cost(&self, u: usize, v: usize) -> f64 {
+    /// Cost of move `k` from `u`, infinite when illegal.
+    #[inline]
+    fn cost(&self, u: usize, k: usize) -> StepCost {
         let pass = |i: usize| self.passable.get(i).copied().unwrap_or(false);
+        let Some(&delta) = self.deltas.get(k) else {
+            return StepCost::INF;
+        };
+        let v = u.wrapping_add_signed(delta);
         if !pass(u) || !pass(v) {
-            return f64::INFINITY;
+            return StepCost::INF;
         }
-        let (ux, uy) = (u % self.pw, u / self.pw);
-        let (vx, vy) = (v % self.pw, v / self.pw);
-        if ux.abs_diff(vx) > 1 || uy.abs_diff(vy) > 1 || u == v {
-            return f64::INFINITY;
-        }
-        if ux == vx || uy == vy {
-            1.0
-        } else if pass(uy * self.pw + vx) && pass(vy * self.pw + ux) {
-            SQRT_2
-        } else {
-            f64::INFINITY
+        let weight = self.weights.get(v).copied().unwrap_or(0);
+        match k.checked_sub(4).and_then(|i| DIAGONAL_SIDES.get(i)) {
+            None => StepCost::step(false, weight),
+            Some(&(a, b)) => {
+                let side = |s: usize| pass(u.wrapping_add_signed(self.deltas[s]));
+                if side(a) && side(b) {
+                    StepCost::step(true, weight)
+                } else {
+                    StepCost::INF
+                }
+            }
         }
     }
 
     /// Octile distance between two padded cells.
-    fn heuristic(&self, a: usize, b: usize) -> f64 {
-        let dx = (a % self.pw).abs_diff(b % self.pw);
-        let dy = (a / self.pw).abs_diff(b / self.pw);
-        let (long, short) = if dx >= dy { (dx, dy) } else { (dy, dx) };
-        (long - short) as f64 + short as f64 * SQRT_2
+    #[inline]
+    fn heuristic(&self, a: usize, b: usize) -> StepCost {
+        // Padded indices fit in u32 (grids hold at most 30 million cells): 32-bit division.
+        let pw = self.pw as u32;
+        let (a, b) = (a as u32, b as u32);
+        let dx = (a % pw).abs_diff(b % pw);
+        let dy = (a / pw).abs_diff(b / pw);
+        StepCost::octile(dx as usize, dy as usize)
     }
 
-    fn g(&self, u: usize) -> f64 {
-        self.nodes.get(u).map_or(f64::INFINITY, |n| n.g)
+    #[inline]
+    fn g(&self, u: usize) -> StepCost {
+        self.costs.get(u).map_or(StepCost::INF, |c| unpack(c[0]))
     }
 
-    fn rhs(&self, u: usize) -> f64 {
-        self.nodes.get(u).map_or(f64::INFINITY, |n| n.rhs)
+    #[inline]
+    fn rhs(&self, u: usize) -> StepCost {
+        self.costs.get(u).map_or(StepCost::INF, |c| unpack(c[1]))
     }
 
-    fn set_g(&mut self, u: usize, g: f64) {
-        if let Some(n) = self.nodes.get_mut(u) {
-            n.g = g;
+    #[inline]
+    fn set_g(&mut self, u: usize, g: StepCost) {
+        if let Some(c) = self.costs.get_mut(u) {
+            c[0] = pack(g);
         }
     }
 
-    fn set_rhs(&mut self, u: usize, rhs: f64) {
-        if let Some(n) = self.nodes.get_mut(u) {
-            n.rhs = rhs;
+    #[inline]
+    fn set_rhs(&mut self, u: usize, rhs: StepCost) {
+        if let Some(c) = self.costs.get_mut(u) {
+            c[1] = pack(rhs);
         }
     }
 
@@ -613,5 +987,54 @@ mod tests {
         let mut p = DStarLite::new(&grid, (0, 1), (4, 1), &DStarLiteOptions::default()).unwrap();
         let plan = p.path().unwrap();
         assert_eq!(plan.unwrap().length_cells, 4.0);
+    }
+
+    /// The exact length order and its integer keys agree with each other and with the
+    /// lengths in high precision, also on near ties (Pell pairs: 99^2 - 2 * 70^2 = 1).
+    #[test]
+    fn lengths_compare_exactly_and_their_fixed_point_keys_keep_the_order() {
+        let c = |straight, diagonal| StepCost {
+            straight,
+            diagonal,
+            weight: 0,
+        };
+        let mut pairs = vec![c(99, 0), c(0, 70), c(3363, 0), c(0, 2378), c(1, 1), c(2, 0)];
+        // Large near ties: 114243^2 - 2 * 80782^2 = -1 ... scaled into big counts.
+        pairs.extend([c(114_243, 0), c(0, 80_782), c(1 << 26, 7), c(7, 1 << 26)]);
+        for a in 0..40 {
+            for d in 0..30 {
+                pairs.push(c(a, d));
+            }
+        }
+        for &p in &pairs {
+            for &q in &pairs {
+                let exact = p.cmp_length(q);
+                assert_eq!(exact, q.cmp_length(p).reverse());
+                assert_eq!(fixed_length(p).cmp(&fixed_length(q)), exact, "{p:?} {q:?}");
+                assert_eq!(exact == Ordering::Equal, p == q);
+                // f64 agrees where the values are far apart.
+                if (p.length() - q.length()).abs() > 1e-6 {
+                    assert_eq!(p.length().partial_cmp(&q.length()), Some(exact));
+                }
+            }
+        }
+        assert!(c(99, 0) > c(0, 70)); // 99 > 70 sqrt 2 = 98.9949...
+        assert!(StepCost::INF > c(u32::MAX - 1, u32::MAX - 1));
+        assert!(!c(1, 0).add(StepCost::INF).is_finite());
+    }
+
+    #[test]
+    fn tie_weights_are_fixed_and_spread() {
+        assert_eq!(tie_weight(3, 4), tie_weight(3, 4));
+        assert_ne!(tie_weight(3, 4), tie_weight(4, 3));
+        let mut w: Vec<u32> = (0..64)
+            .flat_map(|y| (0..64).map(move |x| tie_weight(x, y)))
+            .collect();
+        w.sort_unstable();
+        w.dedup();
+        assert_eq!(w.len(), 64 * 64);
+        // Roughly uniform: the median near 2^31.
+        let median = f64::from(w[w.len() / 2]) / f64::from(u32::MAX);
+        assert!((median - 0.5).abs() < 0.05, "{median}");
     }
 }

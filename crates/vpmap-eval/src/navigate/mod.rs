@@ -3,10 +3,13 @@
 //! and re-plans with every online planner, side by side in one run on the same episodes.
 //!
 //! Per map and planner: total planning time per episode, travelled length, re-plans and
-//! expansions; per map the D* Lite / repeated A* time ratio and whether their travelled
-//! lengths are equal (both are optimal on the belief at every step, but equally short plans
-//! may differ and reveal different cells, so the totals can differ; the table counts the
-//! episodes where they are equal).
+//! expansions; per map the D* Lite / repeated A* time ratio of their own drives (both are
+//! optimal on the belief at every step, but equally short plans may differ and reveal
+//! different cells, so the drives differ), and, when `dstar-lite-ties` runs, the ratio on
+//! one and the same track: the tuned repeated A* timed at every planning event of the
+//! common-tie D* Lite drive, on the same belief from the same cell (see
+//! [`vpmap_plan::navigate::navigate_with_astar_timed`]); with `astar-ties` too, the
+//! episodes where the two common-tie drives have equal lengths.
 
 mod eval;
 
@@ -15,7 +18,9 @@ use std::path::{Path, PathBuf};
 
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use vpmap_plan::navigate::{NavigateOptions, OnlinePlanner, Outcome, navigate};
+use vpmap_plan::navigate::{
+    NavigateOptions, OnlinePlanner, Outcome, navigate, navigate_with_astar_timed,
+};
 use vpmap_plan::{CellXy, Components, Occupancy, OccupancyGrid};
 
 use crate::error::{EvalError, Result};
@@ -62,6 +67,9 @@ pub struct Episode {
     pub replans: usize,
     /// Expansions of every event.
     pub expanded: usize,
+    /// `dstar-lite-ties` only: the tuned repeated A*'s time on this same track (every
+    /// planning event, same belief, same cell), seconds.
+    pub astar_same_track_time_s: Option<f64>,
 }
 
 /// Episodes' endpoints on `grid`: random free cells of its largest component, at least a
@@ -130,7 +138,11 @@ pub fn run(opts: &NavBenchOptions, progress: &dyn Progress) -> Result<Vec<Episod
                     unknown_passable: true,
                     ..NavigateOptions::default()
                 };
-                let run = navigate(&belief, &truth, start, goal, &nav)?;
+                let run = if planner == OnlinePlanner::DStarLiteTies {
+                    navigate_with_astar_timed(&belief, &truth, start, goal, &nav)?
+                } else {
+                    navigate(&belief, &truth, start, goal, &nav)?
+                };
                 results.push(Episode {
                     map: name.clone(),
                     episode,
@@ -141,6 +153,7 @@ pub fn run(opts: &NavBenchOptions, progress: &dyn Progress) -> Result<Vec<Episod
                     planning_time_s: run.planning_time_s,
                     replans: run.events.len().saturating_sub(1),
                     expanded: run.expanded,
+                    astar_same_track_time_s: run.shadow_astar_time_s,
                 });
                 progress.message(&format!("{name} #{episode} {}", planner.name()));
                 progress.step();
@@ -164,12 +177,12 @@ fn map_name(path: &Path) -> String {
 #[must_use]
 pub fn report(results: &[Episode], opts: &NavBenchOptions) -> OutputSet {
     let mut csv = String::from(
-        "map,episode,start_x,start_y,goal_x,goal_y,planner,outcome,length_cells,planning_time_s,replans,expanded\n",
+        "map,episode,start_x,start_y,goal_x,goal_y,planner,outcome,length_cells,planning_time_s,replans,expanded,astar_same_track_time_s\n",
     );
     for e in results {
         let _ = writeln!(
             csv,
-            "{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{}",
             e.map,
             e.episode,
             e.endpoints.0.x,
@@ -181,7 +194,9 @@ pub fn report(results: &[Episode], opts: &NavBenchOptions) -> OutputSet {
             e.length_cells,
             e.planning_time_s,
             e.replans,
-            e.expanded
+            e.expanded,
+            e.astar_same_track_time_s
+                .map_or_else(String::new, |t| t.to_string())
         );
     }
     let mut md = table(results, opts);
@@ -211,12 +226,15 @@ pub fn table(results: &[Episode], opts: &NavBenchOptions) -> String {
     for p in &opts.planners {
         let _ = write!(md, " {} |", p.name());
     }
-    let _ = writeln!(md, " D* Lite / A* time | D* Lite = A* length |");
+    let _ = writeln!(
+        md,
+        " D* Lite / A* time | D* Lite = A* length | same track: D* Lite / A* time | common ties: equal lengths |"
+    );
     let _ = write!(md, "|---|");
     for _ in &opts.planners {
         let _ = write!(md, "---|");
     }
-    let _ = writeln!(md, "---|---|");
+    let _ = writeln!(md, "---|---|---|---|");
     for map in maps {
         let of = |p: OnlinePlanner| -> Vec<&Episode> {
             results
@@ -248,11 +266,39 @@ pub fn table(results: &[Episode], opts: &NavBenchOptions) -> String {
             .zip(&a)
             .filter(|(x, y)| (x.length_cells - y.length_cells).abs() < 1e-9)
             .count();
-        let _ = writeln!(md, " {ratio:.2} | {equal} of {} |", d.len().min(a.len()));
+        let _ = write!(md, " {ratio:.2} | {equal} of {} |", d.len().min(a.len()));
+        let (dt, at) = (
+            of(OnlinePlanner::DStarLiteTies),
+            of(OnlinePlanner::AstarTies),
+        );
+        let shadowed: Vec<&Episode> = dt
+            .iter()
+            .copied()
+            .filter(|e| e.astar_same_track_time_s.is_some())
+            .collect();
+        if shadowed.is_empty() {
+            let _ = write!(md, " - |");
+        } else {
+            let same = mean(&shadowed, &|e| e.planning_time_s)
+                / mean(&shadowed, &|e| {
+                    e.astar_same_track_time_s.unwrap_or(f64::NAN)
+                });
+            let _ = write!(md, " {same:.2} |");
+        }
+        if dt.is_empty() || at.is_empty() {
+            let _ = writeln!(md, " - |");
+        } else {
+            let equal_ties = dt
+                .iter()
+                .zip(&at)
+                .filter(|(x, y)| (x.length_cells - y.length_cells).abs() < 1e-9)
+                .count();
+            let _ = writeln!(md, " {equal_ties} of {} |", dt.len().min(at.len()));
+        }
     }
     let _ = writeln!(
         md,
-        "\nMeasured with `{}` on a shared 2-core machine (other jobs running): times are indicative, ratios measured side by side in one run.",
+        "\nD* Lite / A* time: each on its own drive (the drives differ: equally short plans differ and reveal different cells). Same track: the common-tie D* Lite drive (`dstar-lite-ties`, the drive `astar-ties` makes too), with the tuned repeated A* timed at each of its planning events on the same belief from the same cell. `astar-ties` itself is a plain A* (binary heap), slower than the tuned one; it is run for the equal lengths.\n\nMeasured with `{}` on a shared 2-core machine (other jobs running): times are indicative, ratios measured side by side in one run.",
         opts.command
     );
     md

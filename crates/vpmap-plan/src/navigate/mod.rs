@@ -1,5 +1,7 @@
 //! A robot that drives a believed map, senses the true one and re-plans: the online use of
-//! the planners (repeated A*, repeated A* PS, D* Lite and online MBPP).
+//! the planners (repeated A*, repeated A* PS, D* Lite and online MBPP; and repeated A* and
+//! D* Lite under the common tie rule of [`crate::dstar_lite`](mod@crate::dstar_lite), which
+//! drive identical tracks).
 //!
 //! # The model
 //! - Two grids of one size and resolution: the **belief** (what the robot thinks, e.g. a map
@@ -56,6 +58,7 @@
 //! ```
 
 mod sensor;
+mod ties;
 
 use std::str::FromStr;
 use std::time::Instant;
@@ -82,11 +85,25 @@ pub enum OnlinePlanner {
     /// MBPP re-run from the robot's cell, keeping its alternatives (see the
     /// [module docs](self)).
     Mbpp,
+    /// A* from scratch at every re-plan under the common tie rule (a plain A*, not the
+    /// tuned one): drives the same track as [`OnlinePlanner::DStarLiteTies`].
+    AstarTies,
+    /// D* Lite under the common tie rule
+    /// ([`DStarLiteOptions::common_ties`]): drives the same track as
+    /// [`OnlinePlanner::AstarTies`].
+    DStarLiteTies,
 }
 
 impl OnlinePlanner {
     /// Every online planner.
-    pub const ALL: [Self; 4] = [Self::Astar, Self::AstarPs, Self::DStarLite, Self::Mbpp];
+    pub const ALL: [Self; 6] = [
+        Self::Astar,
+        Self::AstarPs,
+        Self::DStarLite,
+        Self::Mbpp,
+        Self::AstarTies,
+        Self::DStarLiteTies,
+    ];
 
     /// The planner's name (also what [`FromStr`] reads).
     #[must_use]
@@ -96,6 +113,8 @@ impl OnlinePlanner {
             Self::AstarPs => "astar-ps",
             Self::DStarLite => "dstar-lite",
             Self::Mbpp => "mbpp",
+            Self::AstarTies => "astar-ties",
+            Self::DStarLiteTies => "dstar-lite-ties",
         }
     }
 }
@@ -244,6 +263,11 @@ pub struct Navigation {
     pub moves: usize,
     /// The belief at the end, and the cells seen.
     pub belief: Belief,
+    /// [`navigate_with_astar_timed`] only: the time of the repeated A* (the tuned one,
+    /// [`OnlinePlanner::Astar`]'s planner) run at every planning event of this drive on
+    /// the same belief from the same cell, seconds; not part of
+    /// [`Navigation::planning_time_s`].
+    pub shadow_astar_time_s: Option<f64>,
 }
 
 /// The shortest paths on the true map, for comparison: octile (A*) and any-angle (the
@@ -346,6 +370,8 @@ enum Online {
     BuiltIn(Box<BuiltIn>),
     /// D* Lite, created at the first plan.
     DStarLite(Option<Box<DStarLite>>),
+    /// A* under the common tie rule.
+    AstarTies(Box<ties::TieAstar>),
 }
 
 /// What a re-plan produced.
@@ -364,10 +390,17 @@ struct Run<'a> {
     candidates: Vec<Vec<CellXy>>,
     /// D* Lite's bookkeeping time, seconds.
     update_s: f64,
+    /// The tuned A* timed beside the planner at every event, and its total time, seconds.
+    shadow: Option<(Box<BuiltIn>, f64)>,
 }
 
 impl Run<'_> {
     fn replan(&mut self, robot: CellXy) -> Result<Replanned> {
+        if let Some((astar, total)) = &mut self.shadow {
+            let t0 = Instant::now();
+            let _ = astar.plan(&self.belief.grid, robot, self.goal)?;
+            *total += t0.elapsed().as_secs_f64();
+        }
         let t0 = Instant::now();
         match &mut self.online {
             Online::DStarLite(state) => {
@@ -375,6 +408,7 @@ impl Run<'_> {
                     let opts = DStarLiteOptions {
                         unknown_passable: self.opts.unknown_passable,
                         budget: self.opts.budget.clone(),
+                        common_ties: self.opts.planner == OnlinePlanner::DStarLiteTies,
                     };
                     *state = Some(Box::new(DStarLite::new(
                         &self.belief.grid,
@@ -392,6 +426,20 @@ impl Run<'_> {
                 };
                 planner.move_start(robot)?;
                 let plan = planner.path()?;
+                Ok(Replanned {
+                    plan,
+                    time_s: t0.elapsed().as_secs_f64(),
+                    used_alternative: false,
+                })
+            }
+            Online::AstarTies(search) => {
+                let plan = search.search(
+                    &self.belief.grid,
+                    robot,
+                    self.goal,
+                    self.opts.unknown_passable,
+                    &self.opts.budget,
+                )?;
                 Ok(Replanned {
                     plan,
                     time_s: t0.elapsed().as_secs_f64(),
@@ -518,7 +566,6 @@ fn join_candidate(
 /// # Complexity
 /// Per move: `O(R^3)` for sensing with range `R` (cells not yet seen only), `O(remaining
 /// path)` line-of-sight work when a cell got blocked, plus the planner's work at re-plans.
-#[allow(clippy::too_many_lines)]
 pub fn navigate(
     believed: &OccupancyGrid,
     truth: &OccupancyGrid,
@@ -526,11 +573,43 @@ pub fn navigate(
     goal: CellXy,
     opts: &NavigateOptions,
 ) -> Result<Navigation> {
+    drive(believed, truth, start, goal, opts, false)
+}
+
+/// [`navigate`], and at every planning event the tuned repeated A* ([`OnlinePlanner::Astar`]'s
+/// planner) is also run on the same belief from the same cell and timed apart
+/// ([`Navigation::shadow_astar_time_s`]; its plans are not used). With
+/// [`OnlinePlanner::DStarLiteTies`] this times D* Lite and repeated A* on one and the same
+/// track: the drive [`OnlinePlanner::AstarTies`] makes too, re-planning at the same cells.
+///
+/// # Errors
+/// As [`navigate`].
+pub fn navigate_with_astar_timed(
+    believed: &OccupancyGrid,
+    truth: &OccupancyGrid,
+    start: CellXy,
+    goal: CellXy,
+    opts: &NavigateOptions,
+) -> Result<Navigation> {
+    drive(believed, truth, start, goal, opts, true)
+}
+
+/// [`navigate`], with the A* timed beside when `shadow`.
+#[allow(clippy::too_many_lines)]
+fn drive(
+    believed: &OccupancyGrid,
+    truth: &OccupancyGrid,
+    start: CellXy,
+    goal: CellXy,
+    opts: &NavigateOptions,
+    shadow: bool,
+) -> Result<Navigation> {
     check_inputs(believed, truth, start, goal, opts)?;
     let mut belief_grid = believed.clone();
     belief_grid.set(goal.x, goal.y, Occupancy::Free)?;
     let online = match opts.planner {
-        OnlinePlanner::DStarLite => Online::DStarLite(None),
+        OnlinePlanner::DStarLite | OnlinePlanner::DStarLiteTies => Online::DStarLite(None),
+        OnlinePlanner::AstarTies => Online::AstarTies(Box::default()),
         other => {
             let kind = match other {
                 OnlinePlanner::Astar => PlannerKind::Astar,
@@ -550,6 +629,16 @@ pub fn navigate(
         online,
         candidates: Vec::new(),
         update_s: 0.0,
+        shadow: shadow.then(|| {
+            (
+                Box::new(
+                    PlannerKind::Astar
+                        .planner(opts.unknown_passable)
+                        .with_budget(opts.budget.clone()),
+                ),
+                0.0,
+            )
+        }),
     };
     let mut robot = start;
     run.belief.sense(truth, robot, opts.unknown_passable);
@@ -677,6 +766,7 @@ pub fn navigate(
         expanded,
         moves,
         belief: run.belief,
+        shadow_astar_time_s: run.shadow.map(|s| s.1),
     })
 }
 

@@ -83,6 +83,7 @@ fn dstar_lite_matches_fresh_astar_after_every_batch_of_changes() {
     let mut episodes = 0;
     let mut found = 0;
     let mut none = 0;
+    let mut same_as_fresh = 0;
     while episodes < 120 {
         let (w, h) = (rng.random_range(2..28), rng.random_range(2..28));
         let unknown_passable = rng.random_bool(0.5);
@@ -95,8 +96,13 @@ fn dstar_lite_matches_fresh_astar_after_every_batch_of_changes() {
             continue;
         };
         episodes += 1;
+        // Every other episode under the common tie rule. In both, costs are exact, so the
+        // followed path depends on the map only: the repaired search must return exactly the
+        // path of a search from scratch.
+        let common_ties = episodes % 2 == 1;
         let opts = DStarLiteOptions {
             unknown_passable,
+            common_ties,
             ..DStarLiteOptions::default()
         };
         let mut planner = DStarLite::new(&grid, start, goal, &opts).unwrap();
@@ -124,6 +130,11 @@ fn dstar_lite_matches_fresh_astar_after_every_batch_of_changes() {
             planner.update_cells(&changes).unwrap();
             let context = format!("episode {episodes} ({w} x {h}) batch {batch}");
             path = check_against_reference(&mut planner, &grid, unknown_passable, &context);
+            let fresh = dstar_lite(&grid, planner.start(), goal, &opts)
+                .unwrap()
+                .map(|p| p.waypoints);
+            assert_eq!(path, fresh, "{context}: repaired and fresh paths differ");
+            same_as_fresh += 1;
             if path.is_some() {
                 found += 1;
             } else {
@@ -133,6 +144,7 @@ fn dstar_lite_matches_fresh_astar_after_every_batch_of_changes() {
     }
     // Both outcomes were exercised.
     assert!(found > 200 && none > 50, "found {found}, none {none}");
+    assert!(same_as_fresh > 600, "{same_as_fresh}");
 }
 
 #[test]

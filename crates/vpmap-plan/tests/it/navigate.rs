@@ -356,3 +356,183 @@ fn bad_navigation_inputs_are_refused_with_the_values() {
         "{err}"
     );
 }
+
+/// Drive `planner` and return the run.
+fn drive(
+    belief: &OccupancyGrid,
+    truth: &OccupancyGrid,
+    start: CellXy,
+    goal: CellXy,
+    planner: OnlinePlanner,
+    range: f64,
+) -> vpmap_plan::navigate::Navigation {
+    let opts = NavigateOptions {
+        planner,
+        sensor_range_cells: range,
+        ..NavigateOptions::default()
+    };
+    navigate(belief, truth, start, goal, &opts).unwrap()
+}
+
+/// Whether two runs drove the same track: the same cells, waypoints, length (to 1e-9) and
+/// planning events (cells, reasons, planned lengths).
+fn same_drive(a: &vpmap_plan::navigate::Navigation, b: &vpmap_plan::navigate::Navigation) -> bool {
+    a.outcome == b.outcome
+        && a.cells == b.cells
+        && a.waypoints == b.waypoints
+        && (a.length_cells - b.length_cells).abs() < 1e-9
+        && a.events.len() == b.events.len()
+        && a.events.iter().zip(&b.events).all(|(x, y)| {
+            x.cell == y.cell
+                && x.moves == y.moves
+                && x.reason == y.reason
+                && match (x.planned_length_cells, y.planned_length_cells) {
+                    (Some(p), Some(q)) => (p - q).abs() < 1e-9,
+                    (p, q) => p == q,
+                }
+        })
+}
+
+#[test]
+fn under_the_common_tie_rule_astar_and_dstar_lite_drive_identical_tracks() {
+    let mut rng = rng(1516);
+    let (mut episodes, mut default_ties_differ) = (0, 0);
+    for episode in 0..160 {
+        let (w, h) = (rng.random_range(8..48), rng.random_range(8..48));
+        let density = [0.05, 0.15, 0.3][episode % 3];
+        let truth = random_grid(&mut rng, w, h, density, 0.0);
+        let (Some(start), Some(goal)) = (free_cell(&mut rng, &truth), free_cell(&mut rng, &truth))
+        else {
+            continue;
+        };
+        // Unknown terrain mostly; every fourth episode a noisy map as belief.
+        let belief = if episode % 4 == 3 {
+            noisy(&mut rng, &truth, 0.1)
+        } else {
+            unknown_like(&truth)
+        };
+        let range = [2.0, 4.0, 10.0][episode % 3];
+        let a = drive(
+            &belief,
+            &truth,
+            start,
+            goal,
+            OnlinePlanner::AstarTies,
+            range,
+        );
+        let d = drive(
+            &belief,
+            &truth,
+            start,
+            goal,
+            OnlinePlanner::DStarLiteTies,
+            range,
+        );
+        assert!(
+            same_drive(&a, &d),
+            "episode {episode}: {w}x{h}, {start:?} -> {goal:?}: A* drove {} cells ({} events), D* Lite {} ({} events)",
+            a.length_cells,
+            a.events.len(),
+            d.length_cells,
+            d.events.len()
+        );
+        // Both stay optimal on the belief: with a perfect sensor history the tracks are
+        // valid on the truth.
+        if a.outcome == Outcome::Reached {
+            assert!(validate_path(&truth, &a.waypoints, false).is_ok());
+        }
+        episodes += 1;
+        // Without the common rule the two choose differently among equally short paths.
+        let a0 = drive(&belief, &truth, start, goal, OnlinePlanner::Astar, range);
+        let d0 = drive(
+            &belief,
+            &truth,
+            start,
+            goal,
+            OnlinePlanner::DStarLite,
+            range,
+        );
+        if !same_drive(&a0, &d0) {
+            default_ties_differ += 1;
+        }
+    }
+    assert!(episodes > 120, "{episodes} episodes");
+    // The test can tell: with their own tie rules the planners' tracks differ often.
+    assert!(
+        default_ties_differ > episodes / 4,
+        "{default_ties_differ} of {episodes}"
+    );
+}
+
+#[test]
+#[ignore = "needs ../shared/data/movingai (absent from a fresh clone): cargo test --release -- --ignored shared_data"]
+fn shared_data_common_tie_drives_are_identical_on_movingai_maps() {
+    let dir = crate::movingai_dir();
+    let mut rng = rng(1517);
+    for map in [
+        "rooms/32room_000.map",
+        "da2/ht_chantry.map",
+        "random/random512-20-0.map",
+        "bg512/AR0500SR.map",
+    ] {
+        let truth = vpmap_plan::read_movingai_map(dir.join("maps").join(map)).unwrap();
+        let components = Components::label(&truth, false);
+        let mut done = 0;
+        while done < 2 {
+            let (Some(start), Some(goal)) =
+                (free_cell(&mut rng, &truth), free_cell(&mut rng, &truth))
+            else {
+                continue;
+            };
+            if !components.connected(start, goal) {
+                continue;
+            }
+            let belief = unknown_like(&truth);
+            let a = drive(&belief, &truth, start, goal, OnlinePlanner::AstarTies, 10.0);
+            let d = drive(
+                &belief,
+                &truth,
+                start,
+                goal,
+                OnlinePlanner::DStarLiteTies,
+                10.0,
+            );
+            assert_eq!(a.outcome, Outcome::Reached, "{map}");
+            assert!(
+                same_drive(&a, &d),
+                "{map} {start:?} -> {goal:?}: {} against {}",
+                a.length_cells,
+                d.length_cells
+            );
+            println!(
+                "{map} {start:?} -> {goal:?}: identical, {:.3} cells, {} events",
+                a.length_cells,
+                a.events.len()
+            );
+            done += 1;
+        }
+    }
+}
+
+#[test]
+fn timing_the_tuned_astar_beside_a_drive_does_not_change_it() {
+    let mut rng = rng(1518);
+    let truth = random_grid(&mut rng, 40, 30, 0.2, 0.0);
+    let (start, goal) = (
+        free_cell(&mut rng, &truth).unwrap(),
+        free_cell(&mut rng, &truth).unwrap(),
+    );
+    let belief = unknown_like(&truth);
+    let opts = NavigateOptions {
+        planner: OnlinePlanner::DStarLiteTies,
+        sensor_range_cells: 4.0,
+        ..NavigateOptions::default()
+    };
+    let plain = navigate(&belief, &truth, start, goal, &opts).unwrap();
+    let timed =
+        vpmap_plan::navigate::navigate_with_astar_timed(&belief, &truth, start, goal, &opts)
+            .unwrap();
+    assert!(same_drive(&plain, &timed));
+    assert_eq!(plain.shadow_astar_time_s, None);
+    assert!(timed.shadow_astar_time_s.is_some_and(|t| t > 0.0));
+}
