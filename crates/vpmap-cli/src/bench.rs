@@ -57,11 +57,14 @@ pub struct BenchArgs {
     /// navigate.csv and navigate.md.
     #[arg(long)]
     navigate: bool,
-    /// Online planners of `--navigate`, comma-separated.
+    /// Online planners of `--navigate`, comma-separated: astar, astar-ps, dstar-lite, mbpp,
+    /// dstar-lite-ties (D* Lite under the common tie rule; the tuned repeated A* is timed on
+    /// its track: the "same track" ratio) and astar-ties (a plain A* under that rule, slow;
+    /// for the equal-lengths column).
     #[arg(
         long,
         value_delimiter = ',',
-        default_value = "astar,astar-ps,dstar-lite,mbpp"
+        default_value = "astar,astar-ps,dstar-lite,mbpp,dstar-lite-ties"
     )]
     online_planners: Vec<String>,
     /// Sensor range of `--navigate`, cells.

@@ -300,8 +300,8 @@ fn bench_navigate_runs_every_online_planner_on_the_same_episodes() {
     assert_eq!(files_in(&out), ["navigate.csv", "navigate.md"]);
     let csv = std::fs::read_to_string(out.join("navigate.csv")).unwrap();
     let rows: Vec<&str> = csv.lines().skip(1).collect();
-    assert_eq!(rows.len(), 2 * 4, "{csv}");
-    for planner in ["astar", "astar-ps", "dstar-lite", "mbpp"] {
+    assert_eq!(rows.len(), 2 * 5, "{csv}");
+    for planner in ["astar", "astar-ps", "dstar-lite", "mbpp", "dstar-lite-ties"] {
         assert_eq!(
             rows.iter()
                 .filter(|r| r.contains(&format!(",{planner},")))
@@ -315,6 +315,18 @@ fn bench_navigate_runs_every_online_planner_on_the_same_episodes() {
         md.contains("| walls.map |") && md.contains("D* Lite / A* time"),
         "{md}"
     );
+    // By default D* Lite also drives under the common tie rule, with the tuned A* timed on
+    // its track: the "same track" ratio is a number; without astar-ties no equal-lengths
+    // count under that rule.
+    let row: Vec<&str> = md
+        .lines()
+        .find(|l| l.starts_with("| walls.map |"))
+        .unwrap()
+        .split('|')
+        .map(str::trim)
+        .collect();
+    assert!(row[9].parse::<f64>().is_ok_and(|r| r > 0.0), "{row:?}");
+    assert_eq!(row[10], "-", "{row:?}");
     // --publish writes its own section and leaves the planners' bench section alone; a
     // broken section is refused before any driving.
     let results = dir.path().join("results.md");
