@@ -171,20 +171,17 @@ pub struct ExactPlanner {
     unknown_passable: bool,
     width: i32,
     height: i32,
-    /// Per cell: first and last column of its run of passable cells in its row
-    /// (meaningless for blocked cells).
-    run: Vec<(i32, i32)>,
+    /// Per row: its maximal runs `(first, last)` of passable cells, by column.
+    runs: Vec<Vec<(i32, i32)>>,
     /// Per strip `y` (between rows `y` and `y + 1`): its rectangles `(a, b)`, by `a`.
     strips: Vec<Vec<(i32, i32)>>,
     /// Per cell: whether it is a corner cell ([`crate::optimal::corner_cells`]), the only
     /// places a shortest path bends.
     corner: Vec<bool>,
-    /// Scratch of the searches: least `g` of each cell centre as a root.
-    best_g: Vec<f64>,
-    /// Scratch: the root index of each cell centre's least `g`.
+    /// Scratch of the searches: per cell, the index of its root with the least `g` in the
+    /// current search, valid only when that root is at this cell (so nothing is reset
+    /// between queries, and the zeroed table costs no pass over the grid to build).
     root_of: Vec<u32>,
-    /// Cells whose `best_g` a search has set.
-    touched: Vec<u32>,
     /// The searches' buffers, kept between queries.
     scratch: Scratch,
 }
@@ -213,49 +210,24 @@ impl ExactPlanner {
         let passable = PassableGrid::new(grid, unknown_passable);
         let (w, h) = (grid.width() as i32, grid.height() as i32);
         let free = |x: i32, y: i32| passable.passable(i64::from(x), i64::from(y));
-        let mut run = vec![(0, -1); grid.width() * grid.height()];
+        let runs: Vec<Vec<(i32, i32)>> = (0..h).map(|y| runs_of(w, |x| free(x, y))).collect();
+        let strips = (0..h - 1)
+            .map(|y| runs_of(w, |x| free(x, y) && free(x, y + 1)))
+            .collect();
+        // A corner cell (x, y) has a blocked diagonal neighbour (x + dx, y + dy) with
+        // (x, y + dy) passable: x ends a run of row y + dy on the dx side. So only the ends
+        // of the runs of the rows above and below are asked.
+        let mut corner = vec![false; grid.width() * grid.height()];
         for y in 0..h {
-            let mut x = 0;
-            while x < w {
-                if !free(x, y) {
-                    x += 1;
-                    continue;
-                }
-                let a = x;
-                while x + 1 < w && free(x + 1, y) {
-                    x += 1;
-                }
-                for c in a..=x {
-                    if let Some(slot) = run.get_mut((y * w + c) as usize) {
-                        *slot = (a, x);
+            let beside = [y - 1, y + 1].map(|r| usize::try_from(r).ok().and_then(|r| runs.get(r)));
+            for &(a, b) in beside.into_iter().flatten().flatten() {
+                for x in [a, b] {
+                    if crate::optimal::is_corner_cell(&passable, i64::from(x), i64::from(y))
+                        && let Some(slot) = corner.get_mut((y * w + x) as usize)
+                    {
+                        *slot = true;
                     }
                 }
-                x += 1;
-            }
-        }
-        let mut strips = Vec::with_capacity(grid.height().saturating_sub(1));
-        for y in 0..h - 1 {
-            let double = |x: i32| free(x, y) && free(x, y + 1);
-            let mut rects = Vec::new();
-            let mut x = 0;
-            while x < w {
-                if !double(x) {
-                    x += 1;
-                    continue;
-                }
-                let a = x;
-                while x + 1 < w && double(x + 1) {
-                    x += 1;
-                }
-                rects.push((a, x));
-                x += 1;
-            }
-            strips.push(rects);
-        }
-        let mut corner = vec![false; grid.width() * grid.height()];
-        for c in crate::optimal::corner_cells(grid, unknown_passable) {
-            if let Some(slot) = corner.get_mut(c.y * grid.width() + c.x) {
-                *slot = true;
             }
         }
         Self {
@@ -264,11 +236,9 @@ impl ExactPlanner {
             unknown_passable,
             width: w,
             height: h,
-            run,
+            runs,
             strips,
-            best_g: vec![f64::INFINITY; grid.width() * grid.height()],
             root_of: vec![0; grid.width() * grid.height()],
-            touched: Vec::new(),
             scratch: Scratch::default(),
         }
     }
@@ -301,12 +271,6 @@ impl ExactPlanner {
         check_endpoint(&self.grid, "start", start, self.unknown_passable)?;
         check_endpoint(&self.grid, "goal", goal, self.unknown_passable)?;
         budget.stop.check(PLANNER)?;
-        for &i in &self.touched {
-            if let Some(b) = self.best_g.get_mut(i as usize) {
-                *b = f64::INFINITY;
-            }
-        }
-        self.touched.clear();
         let mut scratch = std::mem::take(&mut self.scratch);
         scratch.roots.clear();
         scratch.nodes.clear();
@@ -335,13 +299,10 @@ impl ExactPlanner {
 
     /// The run `(first, last)` of row `y` holding column `x`, if that cell is passable.
     fn run_at(&self, x: i32, y: i32) -> Option<(i32, i32)> {
-        if x < 0 || y < 0 || x >= self.width || y >= self.height {
-            return None;
-        }
-        self.run
-            .get((y * self.width + x) as usize)
+        let runs = self.runs.get(usize::try_from(y).ok()?)?;
+        runs.get(runs.partition_point(|&(_, b)| b < x))
             .copied()
-            .filter(|&(a, b)| a <= x && x <= b)
+            .filter(|&(a, _)| a <= x)
     }
 
     /// Whether the cell centre `(x, y)` is a corner cell (none outside the grid).
@@ -360,6 +321,23 @@ impl ExactPlanner {
             .and_then(|s| self.strips.get(s))
             .map_or(&[], Vec::as_slice)
     }
+}
+
+/// The maximal runs `(first, last)` of the columns `0..width` where `inside` holds.
+fn runs_of(width: i32, inside: impl Fn(i32) -> bool) -> Vec<(i32, i32)> {
+    let mut runs = Vec::new();
+    let mut x = 0;
+    while x < width {
+        if inside(x) {
+            let first = x;
+            while x + 1 < width && inside(x + 1) {
+                x += 1;
+            }
+            runs.push((first, x));
+        }
+        x += 1;
+    }
+    runs
 }
 
 /// The path to `goal` through the chain of roots ending at `last`, start first.
@@ -539,11 +517,23 @@ impl Search<'_> {
 
     /// The least `g` of cell centre `(x, y)` as a root so far.
     fn best(&self, x: i32, y: i32) -> f64 {
-        self.space
-            .best_g
-            .get((y * self.space.width + x) as usize)
-            .copied()
-            .unwrap_or(f64::INFINITY)
+        self.root_at(x, y).map_or(f64::INFINITY, |(_, g)| g)
+    }
+
+    /// The root of cell centre `(x, y)` with the least `g` so far and that `g`, if it is a
+    /// root in this search. `root_of` may hold an index from an earlier search; it is this
+    /// search's only when the root it names is at `(x, y)` (every root made sets its
+    /// cell's entry, so a root at `(x, y)` named there was named by this search).
+    fn root_at(&self, x: i32, y: i32) -> Option<(u32, f64)> {
+        if x < 0 || y < 0 || x >= self.space.width || y >= self.space.height {
+            return None;
+        }
+        let index = *self
+            .space
+            .root_of
+            .get((y * self.space.width + x) as usize)?;
+        let root = self.s.roots.get(index as usize)?;
+        (root.x == x && root.y == y).then_some((index, root.g))
     }
 
     /// The root at `at` reached with length `g` from `parent` (the start when `None`):
@@ -551,22 +541,22 @@ impl Search<'_> {
     /// (an equally short path; its successors are still generated), `None` when `at` is
     /// already a root with a shorter path (root-level pruning).
     fn new_root(&mut self, at: (i32, i32), g: f64, parent: Option<u32>) -> Option<u32> {
-        let i = (at.1 * self.space.width + at.0) as usize;
-        let best = *self.space.best_g.get(i)?;
-        if g > best + G_EPS {
+        if at.0 < 0 || at.1 < 0 || at.0 >= self.space.width || at.1 >= self.space.height {
             return None;
         }
-        if g >= best - G_EPS {
-            return self.space.root_of.get(i).copied();
-        }
-        if best.is_infinite() {
-            self.space.touched.push(i as u32);
+        if let Some((existing, best)) = self.root_at(at.0, at.1) {
+            if g > best + G_EPS {
+                return None;
+            }
+            if g >= best - G_EPS {
+                return Some(existing);
+            }
         }
         let index = self.s.roots.len() as u32;
-        if let (Some(b), Some(r)) = (self.space.best_g.get_mut(i), self.space.root_of.get_mut(i)) {
-            *b = g;
-            *r = index;
-        }
+        *self
+            .space
+            .root_of
+            .get_mut((at.1 * self.space.width + at.0) as usize)? = index;
         self.s.roots.push(Root {
             x: at.0,
             y: at.1,
@@ -832,6 +822,39 @@ impl Search<'_> {
 mod tests {
     use super::*;
     use crate::grid::Occupancy;
+
+    #[test]
+    fn corner_flags_are_the_corner_cells() {
+        // A seeded pseudo-random grid (xorshift), unknown cells passable or not.
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        for density in [1, 3, 5] {
+            let mut grid = OccupancyGrid::new(23, 17, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+            for y in 0..17 {
+                for x in 0..23 {
+                    state ^= state << 13;
+                    state ^= state >> 7;
+                    state ^= state << 17;
+                    match state % 10 {
+                        v if v < density => grid.set(x, y, Occupancy::Occupied).unwrap(),
+                        9 => grid.set(x, y, Occupancy::Unknown).unwrap(),
+                        _ => {}
+                    }
+                }
+            }
+            for unknown_passable in [false, true] {
+                let planner = ExactPlanner::new(&grid, unknown_passable);
+                let flagged: Vec<CellXy> = (0..17)
+                    .flat_map(|y| (0..23).map(move |x| (x, y)))
+                    .filter(|&(x, y)| planner.is_corner(x, y))
+                    .map(|(x, y)| CellXy::new(x as usize, y as usize))
+                    .collect();
+                assert_eq!(
+                    flagged,
+                    crate::optimal::corner_cells(&grid, unknown_passable)
+                );
+            }
+        }
+    }
 
     #[test]
     fn one_cell_corridors_are_followed_along_their_centre_line() {
