@@ -252,9 +252,9 @@ impl ExactPlanner {
 
     /// The exact shortest any-angle path from `start` to goal under the rule of
     /// [`crate::los`], as a polyline through cell centres; `Ok(None)` when the goal cannot
-    /// be reached. `budget.max_expansions` counts search nodes taken off the open list;
-    /// `budget.max_sight_cells` does not apply (no line-of-sight queries); the stop is
-    /// looked at every few thousand expansions.
+    /// be reached. `budget.max_expansions` counts search nodes expanded (taken off the
+    /// open list, or a cone's intermediate rows); `budget.max_sight_cells` does not apply
+    /// (no line-of-sight queries); the stop is looked at every few thousand expansions.
     ///
     /// # Errors
     /// [`PlanError::EndpointOutsideGrid`](crate::PlanError::EndpointOutsideGrid),
