@@ -146,6 +146,9 @@ struct Root {
     y: i32,
     g: f64,
     parent: u32,
+    /// Whether its cell centre has since become a root with a shorter path (its nodes are
+    /// then dropped when taken off the open list).
+    superseded: bool,
 }
 
 /// The exact any-angle planner with its free space built once for a grid (see the
@@ -501,7 +504,7 @@ impl Search<'_> {
             let Some(&root) = self.s.roots.get(n.root as usize) else {
                 continue;
             };
-            if root.g > self.best(root.x, root.y) + G_EPS {
+            if root.superseded {
                 continue; // the root has since been reached by a shorter path
             }
             self.stats.expanded += 1;
@@ -513,11 +516,6 @@ impl Search<'_> {
             }
         }
         Ok(None)
-    }
-
-    /// The least `g` of cell centre `(x, y)` as a root so far.
-    fn best(&self, x: i32, y: i32) -> f64 {
-        self.root_at(x, y).map_or(f64::INFINITY, |(_, g)| g)
     }
 
     /// The root of cell centre `(x, y)` with the least `g` so far and that `g`, if it is a
@@ -551,6 +549,9 @@ impl Search<'_> {
             if g >= best - G_EPS {
                 return Some(existing);
             }
+            if let Some(old) = self.s.roots.get_mut(existing as usize) {
+                old.superseded = true;
+            }
         }
         let index = self.s.roots.len() as u32;
         *self
@@ -562,6 +563,7 @@ impl Search<'_> {
             y: at.1,
             g,
             parent: parent.unwrap_or(index),
+            superseded: false,
         });
         Some(index)
     }
