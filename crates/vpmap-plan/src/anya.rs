@@ -97,6 +97,9 @@ const PLANNER: &str = "the exact any-angle planner";
 /// Tolerance of interval ends, cells (see the [module docs](self)).
 const EPS: f64 = 1e-9;
 
+/// [`ExactPlanner::dead`]'s "not a dead end".
+const NOT_DEAD: i32 = i32::MIN;
+
 /// Tolerance of root-level pruning on path lengths, cells.
 const G_EPS: f64 = 1e-9;
 
@@ -178,6 +181,10 @@ pub struct ExactPlanner {
     runs: Vec<Vec<(i32, i32)>>,
     /// Per strip `y` (between rows `y` and `y + 1`): its rectangles `(a, b)`, by `a`.
     strips: Vec<Vec<(i32, i32)>>,
+    /// Per strip and rectangle (as `strips`): `[up, down]`, the last row of the dead end
+    /// entered through the rectangle upwards and downwards ([`NOT_DEAD`] when it is none;
+    /// see [`ExactPlanner::dead_end`]).
+    dead: Vec<Vec<[i32; 2]>>,
     /// Per cell: whether it is a corner cell ([`crate::optimal::corner_cells`]), the only
     /// places a shortest path bends.
     corner: Vec<bool>,
@@ -214,9 +221,10 @@ impl ExactPlanner {
         let (w, h) = (grid.width() as i32, grid.height() as i32);
         let free = |x: i32, y: i32| passable.passable(i64::from(x), i64::from(y));
         let runs: Vec<Vec<(i32, i32)>> = (0..h).map(|y| runs_of(w, |x| free(x, y))).collect();
-        let strips = (0..h - 1)
+        let strips: Vec<Vec<(i32, i32)>> = (0..h - 1)
             .map(|y| runs_of(w, |x| free(x, y) && free(x, y + 1)))
             .collect();
+        let dead = dead_ends(&runs, &strips);
         // A corner cell (x, y) has a blocked diagonal neighbour (x + dx, y + dy) with
         // (x, y + dy) passable: x ends a run of row y + dy on the dx side. So only the ends
         // of the runs of the rows above and below are asked.
@@ -241,6 +249,7 @@ impl ExactPlanner {
             height: h,
             runs,
             strips,
+            dead,
             root_of: vec![0; grid.width() * grid.height()],
             scratch: Scratch::default(),
         }
@@ -308,6 +317,33 @@ impl ExactPlanner {
             .filter(|&(a, _)| a <= x)
     }
 
+    /// Whether entering rectangle `index` of strip `strip` in direction `dir` leads into a
+    /// dead end that does not hold `goal`: a region of the free space whose only way out
+    /// is the row line the rectangle was entered from (see [`dead_ends`]). A path that
+    /// crosses that row line into the region and comes back crosses it twice, at `p` and
+    /// `q`, and the segment `pq` along the (free, convex) crossing is no longer, so a
+    /// shortest path to a goal outside never enters (Polyanya's dead-end pruning, Cui et
+    /// al. 2017 section 5). The region lies in the rectangle's columns, so that is where
+    /// the goal is looked for.
+    fn dead_end(&self, strip: i32, index: usize, dir: i32, goal: (i32, i32)) -> bool {
+        let Some(s) = usize::try_from(strip).ok() else {
+            return false;
+        };
+        let (Some(&(a, b)), Some(&[up, down])) = (
+            self.strips.get(s).and_then(|r| r.get(index)),
+            self.dead.get(s).and_then(|d| d.get(index)),
+        ) else {
+            return false;
+        };
+        let (gx, gy) = goal;
+        let in_columns = a <= gx && gx <= b;
+        if dir > 0 {
+            up != NOT_DEAD && !(in_columns && strip < gy && gy <= up)
+        } else {
+            down != NOT_DEAD && !(in_columns && down <= gy && gy <= strip)
+        }
+    }
+
     /// Whether the cell centre `(x, y)` is a corner cell (none outside the grid).
     fn is_corner(&self, x: i32, y: i32) -> bool {
         x >= 0
@@ -324,6 +360,63 @@ impl ExactPlanner {
             .and_then(|s| self.strips.get(s))
             .map_or(&[], Vec::as_slice)
     }
+}
+
+/// Per strip and rectangle, `[up, down]`: the last row of the dead end entered through the
+/// rectangle upwards (downwards), or [`NOT_DEAD`]. Upwards, rectangle `[a, b]` of strip `s`
+/// is a dead end when the run of row `s + 1` over it is exactly `[a, b]` (no way sideways)
+/// and strip `s + 1` has no rectangle over it (the dead end ends at row `s + 1`) or exactly
+/// one, itself a dead end upwards (the dead end ends where that one's does). Downwards the
+/// same, mirrored.
+fn dead_ends(runs: &[Vec<(i32, i32)>], strips: &[Vec<(i32, i32)>]) -> Vec<Vec<[i32; 2]>> {
+    let mut dead: Vec<Vec<[i32; 2]>> = strips
+        .iter()
+        .map(|rects| vec![[NOT_DEAD; 2]; rects.len()])
+        .collect();
+    let over = |strip: usize, a: i32, b: i32| -> Option<std::ops::Range<usize>> {
+        let rects = strips.get(strip)?;
+        let first = rects.partition_point(|&(_, rb)| rb < a);
+        let end = rects.partition_point(|&(ra, _)| ra <= b);
+        Some(first..end.max(first))
+    };
+    let exact_run = |row: usize, a: i32, b: i32| {
+        runs.get(row)
+            .is_some_and(|r| r.get(r.partition_point(|&(_, rb)| rb < a)) == Some(&(a, b)))
+    };
+    let n = strips.len();
+    for (side, order) in [(0, true), (1, false)] {
+        for k in 0..n {
+            // Upwards from the top strip down; downwards from the bottom strip up.
+            let s = if order { n - 1 - k } else { k };
+            let (far_row, next) = if side == 0 {
+                (s + 1, s.checked_add(1).filter(|&t| t < n))
+            } else {
+                (s, s.checked_sub(1))
+            };
+            let Some(rects) = strips.get(s) else { continue };
+            for (i, &(a, b)) in rects.iter().enumerate() {
+                if !exact_run(far_row, a, b) {
+                    continue;
+                }
+                let until = match next.and_then(|t| Some((t, over(t, a, b)?))) {
+                    None => Some(far_row as i32),
+                    Some((_, range)) if range.is_empty() => Some(far_row as i32),
+                    Some((t, range)) if range.len() == 1 => dead
+                        .get(t)
+                        .and_then(|d| d.get(range.start))
+                        .map(|d| d[side])
+                        .filter(|&u| u != NOT_DEAD),
+                    Some(_) => None,
+                };
+                if let Some(until) = until
+                    && let Some(slot) = dead.get_mut(s).and_then(|d| d.get_mut(i))
+                {
+                    slot[side] = until;
+                }
+            }
+        }
+    }
+    dead
 }
 
 /// The maximal runs `(first, last)` of the columns `0..width` where `inside` holds.
@@ -488,11 +581,13 @@ impl Search<'_> {
         }
         for dir in [1, -1] {
             let strip = if dir > 0 { sy } else { sy - 1 };
-            if let Some(&(a, b)) = self
+            if let Some((i, &(a, b))) = self
                 .space
                 .strip(strip)
                 .iter()
-                .find(|&&(a, b)| a <= sx && sx <= b)
+                .enumerate()
+                .find(|&(_, &(a, b))| a <= sx && sx <= b)
+                && !self.space.dead_end(strip, i, dir, self.goal)
             {
                 self.push(s, sy + dir, f64::from(a), f64::from(b), Kind::Cone(dir));
             }
@@ -697,10 +792,13 @@ impl Search<'_> {
             let turn = |x: f64| integral(x).filter(|&c| space.is_corner(c, y));
             let rects = space.strip(strip);
             let first = rects.partition_point(|&(_, b)| f64::from(b) < n.l - EPS);
-            for &(a, b) in rects.get(first..).unwrap_or(&[]) {
+            for (i, &(a, b)) in rects.iter().enumerate().skip(first) {
                 let (af, bf) = (f64::from(a), f64::from(b));
                 if af > n.u + EPS {
                     break;
+                }
+                if space.dead_end(strip, i, dir, self.goal) {
+                    continue;
                 }
                 let (lr, ur) = (n.l.max(af), n.u.min(bf));
                 if lr > ur + EPS {
@@ -803,6 +901,9 @@ impl Search<'_> {
                 if f64::from(side) > n.u + EPS {
                     break;
                 }
+                if self.space.dead_end(strip, i, dir, self.goal) {
+                    continue;
+                }
                 let beyond = if rightward { side > r.x } else { side < r.x };
                 if beyond {
                     let node = Node {
@@ -853,6 +954,56 @@ mod tests {
                 assert_eq!(
                     flagged,
                     crate::optimal::corner_cells(&grid, unknown_passable)
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn dead_ends_are_found_and_goals_inside_them_still_reached() {
+        // #.###
+        // #.###
+        // .....
+        // .....
+        let mut grid = OccupancyGrid::new(5, 4, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+        for (x, y) in [
+            (0, 0),
+            (2, 0),
+            (3, 0),
+            (4, 0),
+            (0, 1),
+            (2, 1),
+            (3, 1),
+            (4, 1),
+        ] {
+            grid.set(x, y, Occupancy::Occupied).unwrap();
+        }
+        let mut planner = ExactPlanner::new(&grid, false);
+        // Strips 0 and 1 hold the corridor's zero-width rectangle, a dead end towards row 0
+        // ending there; towards row 3 it opens into rows 2 and 3, no dead end. Strip 2
+        // (rows 2 and 3) is one both ways: towards row 3 the grid ends, towards row 0 the
+        // run of row 2 is exactly its span and the only way on is the corridor.
+        assert_eq!(planner.dead[0], [[NOT_DEAD, 0]]);
+        assert_eq!(planner.dead[1], [[NOT_DEAD, 0]]);
+        assert_eq!(planner.dead[2], [[3, 0]]);
+        let opts = crate::optimal::OptimalAnyAngleOptions::default();
+        let cells: Vec<(usize, usize)> = (0..4)
+            .flat_map(|y| (0..5).map(move |x| (x, y)))
+            .filter(|&(x, y)| grid.is_free(x, y))
+            .collect();
+        for &start in &cells {
+            for &goal in &cells {
+                let exact = planner
+                    .plan(start, goal, &Budget::default())
+                    .unwrap()
+                    .unwrap();
+                let reference =
+                    crate::optimal::visibility_graph_any_angle(&grid, start, goal, &opts)
+                        .unwrap()
+                        .unwrap();
+                assert!(
+                    (exact.length_cells - reference.length_cells).abs() < 1e-9,
+                    "{start:?} -> {goal:?}"
                 );
             }
         }
