@@ -48,7 +48,9 @@
 //! drops successors rooted there with a larger one. A cone node whose only successor is
 //! its observable one (no turning point, not the goal's row) is expanded at once, row
 //! after row, without the open list (Polyanya's intermediate pruning): a cone crosses an
-//! open area in one step of the open list instead of one per row.
+//! open area in one step of the open list instead of one per row. A node entering a dead
+//! end (a chain of rectangles with one way out, found in the build) that does not hold
+//! the goal is dropped.
 //!
 //! Turning points are cell centres, so the path is a polyline through cell centres like
 //! every other planner's, and its length is summed like theirs ([`crate::path_length`]).
@@ -72,6 +74,8 @@
 //! adds feasible paths. Root-level pruning drops a node only when its root is reached by a
 //! path at least as short, and any continuation from the dropped arrival is then at least
 //! as long as the same continuation from the better one (Cui et al. 2017, section 5).
+//! Dead-end pruning drops only paths that leave a region through the row line they
+//! entered it by, which a segment along that line shortens.
 //! The tests check the answer against the visibility graph of [`crate::optimal`] to
 //! `1e-9` on thousands of random grids (mazes, rooms, spirals, diagonal walls with gaps,
 //! cells touching at corners) and on Moving AI maps.
