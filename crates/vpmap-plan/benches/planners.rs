@@ -163,8 +163,7 @@ fn data_dir() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/movingai")
 }
 
-/// The benchmark maps with ~20 problems each, spread evenly over the (bucket-sorted)
-/// scenario file; a generated grid when the data folder is absent.
+/// The benchmark maps ([`MAPS`]) of [`cases_of`], saying so when the data folder is absent.
 fn cases() -> Vec<Case> {
     let dir = data_dir();
     if !dir.is_dir() {
@@ -172,27 +171,8 @@ fn cases() -> Vec<Case> {
             "Moving AI data not found at {}; using a generated 128x128 random grid",
             dir.display()
         );
-        return vec![generated_case()];
     }
-    MAPS.iter()
-        .map(|&(name, map, scen)| {
-            let grid = read_movingai_map(dir.join(map)).unwrap();
-            let mut scen = read_scen(dir.join(scen)).unwrap();
-            scen.sort_by_key(|s| s.bucket);
-            let n = scen.len();
-            let queries = (0..QUERIES_PER_MAP.min(n))
-                .map(|i| {
-                    let s = &scen[(2 * i + 1) * n / (2 * QUERIES_PER_MAP.min(n))];
-                    (s.start, s.goal)
-                })
-                .collect();
-            Case {
-                name: name.to_owned(),
-                grid,
-                queries,
-            }
-        })
-        .collect()
+    cases_of(&MAPS)
 }
 
 fn generated_case() -> Case {

@@ -48,7 +48,9 @@
 //! drops successors rooted there with a larger one. A cone node whose only successor is
 //! its observable one (no turning point, not the goal's row) is expanded at once, row
 //! after row, without the open list (Polyanya's intermediate pruning): a cone crosses an
-//! open area in one step of the open list instead of one per row.
+//! open area in one step of the open list instead of one per row. A node entering a dead
+//! end (a chain of rectangles with one way out, found in the build) that does not hold
+//! the goal is dropped.
 //!
 //! Turning points are cell centres, so the path is a polyline through cell centres like
 //! every other planner's, and its length is summed like theirs ([`crate::path_length`]).
@@ -72,6 +74,8 @@
 //! adds feasible paths. Root-level pruning drops a node only when its root is reached by a
 //! path at least as short, and any continuation from the dropped arrival is then at least
 //! as long as the same continuation from the better one (Cui et al. 2017, section 5).
+//! Dead-end pruning drops only paths that leave a region through the row line they
+//! entered it by, which a segment along that line shortens.
 //! The tests check the answer against the visibility graph of [`crate::optimal`] to
 //! `1e-9` on thousands of random grids (mazes, rooms, spirals, diagonal walls with gaps,
 //! cells touching at corners) and on Moving AI maps.
@@ -96,6 +100,9 @@ const PLANNER: &str = "the exact any-angle planner";
 
 /// Tolerance of interval ends, cells (see the [module docs](self)).
 const EPS: f64 = 1e-9;
+
+/// [`ExactPlanner::dead`]'s "not a dead end".
+const NOT_DEAD: i32 = i32::MIN;
 
 /// Tolerance of root-level pruning on path lengths, cells.
 const G_EPS: f64 = 1e-9;
@@ -146,6 +153,9 @@ struct Root {
     y: i32,
     g: f64,
     parent: u32,
+    /// Whether its cell centre has since become a root with a shorter path (its nodes are
+    /// then dropped when taken off the open list).
+    superseded: bool,
 }
 
 /// The exact any-angle planner with its free space built once for a grid (see the
@@ -171,20 +181,21 @@ pub struct ExactPlanner {
     unknown_passable: bool,
     width: i32,
     height: i32,
-    /// Per cell: first and last column of its run of passable cells in its row
-    /// (meaningless for blocked cells).
-    run: Vec<(i32, i32)>,
+    /// Per row: its maximal runs `(first, last)` of passable cells, by column.
+    runs: Vec<Vec<(i32, i32)>>,
     /// Per strip `y` (between rows `y` and `y + 1`): its rectangles `(a, b)`, by `a`.
     strips: Vec<Vec<(i32, i32)>>,
+    /// Per strip and rectangle (as `strips`): `[up, down]`, the last row of the dead end
+    /// entered through the rectangle upwards and downwards ([`NOT_DEAD`] when it is none;
+    /// see [`ExactPlanner::dead_end`]).
+    dead: Vec<Vec<[i32; 2]>>,
     /// Per cell: whether it is a corner cell ([`crate::optimal::corner_cells`]), the only
     /// places a shortest path bends.
     corner: Vec<bool>,
-    /// Scratch of the searches: least `g` of each cell centre as a root.
-    best_g: Vec<f64>,
-    /// Scratch: the root index of each cell centre's least `g`.
+    /// Scratch of the searches: per cell, the index of its root with the least `g` in the
+    /// current search, valid only when that root is at this cell (so nothing is reset
+    /// between queries, and the zeroed table costs no pass over the grid to build).
     root_of: Vec<u32>,
-    /// Cells whose `best_g` a search has set.
-    touched: Vec<u32>,
     /// The searches' buffers, kept between queries.
     scratch: Scratch,
 }
@@ -213,49 +224,25 @@ impl ExactPlanner {
         let passable = PassableGrid::new(grid, unknown_passable);
         let (w, h) = (grid.width() as i32, grid.height() as i32);
         let free = |x: i32, y: i32| passable.passable(i64::from(x), i64::from(y));
-        let mut run = vec![(0, -1); grid.width() * grid.height()];
+        let runs: Vec<Vec<(i32, i32)>> = (0..h).map(|y| runs_of(w, |x| free(x, y))).collect();
+        let strips: Vec<Vec<(i32, i32)>> = (0..h - 1)
+            .map(|y| runs_of(w, |x| free(x, y) && free(x, y + 1)))
+            .collect();
+        let dead = dead_ends(&runs, &strips);
+        // A corner cell (x, y) has a blocked diagonal neighbour (x + dx, y + dy) with
+        // (x, y + dy) passable: x ends a run of row y + dy on the dx side. So only the ends
+        // of the runs of the rows above and below are asked.
+        let mut corner = vec![false; grid.width() * grid.height()];
         for y in 0..h {
-            let mut x = 0;
-            while x < w {
-                if !free(x, y) {
-                    x += 1;
-                    continue;
-                }
-                let a = x;
-                while x + 1 < w && free(x + 1, y) {
-                    x += 1;
-                }
-                for c in a..=x {
-                    if let Some(slot) = run.get_mut((y * w + c) as usize) {
-                        *slot = (a, x);
+            let beside = [y - 1, y + 1].map(|r| usize::try_from(r).ok().and_then(|r| runs.get(r)));
+            for &(a, b) in beside.into_iter().flatten().flatten() {
+                for x in [a, b] {
+                    if crate::optimal::is_corner_cell(&passable, i64::from(x), i64::from(y))
+                        && let Some(slot) = corner.get_mut((y * w + x) as usize)
+                    {
+                        *slot = true;
                     }
                 }
-                x += 1;
-            }
-        }
-        let mut strips = Vec::with_capacity(grid.height().saturating_sub(1));
-        for y in 0..h - 1 {
-            let double = |x: i32| free(x, y) && free(x, y + 1);
-            let mut rects = Vec::new();
-            let mut x = 0;
-            while x < w {
-                if !double(x) {
-                    x += 1;
-                    continue;
-                }
-                let a = x;
-                while x + 1 < w && double(x + 1) {
-                    x += 1;
-                }
-                rects.push((a, x));
-                x += 1;
-            }
-            strips.push(rects);
-        }
-        let mut corner = vec![false; grid.width() * grid.height()];
-        for c in crate::optimal::corner_cells(grid, unknown_passable) {
-            if let Some(slot) = corner.get_mut(c.y * grid.width() + c.x) {
-                *slot = true;
             }
         }
         Self {
@@ -264,11 +251,10 @@ impl ExactPlanner {
             unknown_passable,
             width: w,
             height: h,
-            run,
+            runs,
             strips,
-            best_g: vec![f64::INFINITY; grid.width() * grid.height()],
+            dead,
             root_of: vec![0; grid.width() * grid.height()],
-            touched: Vec::new(),
             scratch: Scratch::default(),
         }
     }
@@ -282,9 +268,9 @@ impl ExactPlanner {
 
     /// The exact shortest any-angle path from `start` to goal under the rule of
     /// [`crate::los`], as a polyline through cell centres; `Ok(None)` when the goal cannot
-    /// be reached. `budget.max_expansions` counts search nodes taken off the open list;
-    /// `budget.max_sight_cells` does not apply (no line-of-sight queries); the stop is
-    /// looked at every few thousand expansions.
+    /// be reached. `budget.max_expansions` counts search nodes expanded (taken off the
+    /// open list, or a cone's intermediate rows); `budget.max_sight_cells` does not apply
+    /// (no line-of-sight queries); the stop is looked at every few thousand expansions.
     ///
     /// # Errors
     /// [`PlanError::EndpointOutsideGrid`](crate::PlanError::EndpointOutsideGrid),
@@ -301,12 +287,6 @@ impl ExactPlanner {
         check_endpoint(&self.grid, "start", start, self.unknown_passable)?;
         check_endpoint(&self.grid, "goal", goal, self.unknown_passable)?;
         budget.stop.check(PLANNER)?;
-        for &i in &self.touched {
-            if let Some(b) = self.best_g.get_mut(i as usize) {
-                *b = f64::INFINITY;
-            }
-        }
-        self.touched.clear();
         let mut scratch = std::mem::take(&mut self.scratch);
         scratch.roots.clear();
         scratch.nodes.clear();
@@ -335,13 +315,37 @@ impl ExactPlanner {
 
     /// The run `(first, last)` of row `y` holding column `x`, if that cell is passable.
     fn run_at(&self, x: i32, y: i32) -> Option<(i32, i32)> {
-        if x < 0 || y < 0 || x >= self.width || y >= self.height {
-            return None;
-        }
-        self.run
-            .get((y * self.width + x) as usize)
+        let runs = self.runs.get(usize::try_from(y).ok()?)?;
+        runs.get(runs.partition_point(|&(_, b)| b < x))
             .copied()
-            .filter(|&(a, b)| a <= x && x <= b)
+            .filter(|&(a, _)| a <= x)
+    }
+
+    /// Whether entering rectangle `index` of strip `strip` in direction `dir` leads into a
+    /// dead end that does not hold `goal`: a region of the free space whose only way out
+    /// is the row line the rectangle was entered from (see [`dead_ends`]). A path that
+    /// crosses that row line into the region and comes back crosses it twice, at `p` and
+    /// `q`, and the segment `pq` along the (free, convex) crossing is no longer, so a
+    /// shortest path to a goal outside never enters (Polyanya's dead-end pruning, Cui et
+    /// al. 2017 section 5). The region lies in the rectangle's columns, so that is where
+    /// the goal is looked for.
+    fn dead_end(&self, strip: i32, index: usize, dir: i32, goal: (i32, i32)) -> bool {
+        let Some(s) = usize::try_from(strip).ok() else {
+            return false;
+        };
+        let (Some(&(a, b)), Some(&[up, down])) = (
+            self.strips.get(s).and_then(|r| r.get(index)),
+            self.dead.get(s).and_then(|d| d.get(index)),
+        ) else {
+            return false;
+        };
+        let (gx, gy) = goal;
+        let in_columns = a <= gx && gx <= b;
+        if dir > 0 {
+            up != NOT_DEAD && !(in_columns && strip < gy && gy <= up)
+        } else {
+            down != NOT_DEAD && !(in_columns && down <= gy && gy <= strip)
+        }
     }
 
     /// Whether the cell centre `(x, y)` is a corner cell (none outside the grid).
@@ -360,6 +364,80 @@ impl ExactPlanner {
             .and_then(|s| self.strips.get(s))
             .map_or(&[], Vec::as_slice)
     }
+}
+
+/// Per strip and rectangle, `[up, down]`: the last row of the dead end entered through the
+/// rectangle upwards (downwards), or [`NOT_DEAD`]. Upwards, rectangle `[a, b]` of strip `s`
+/// is a dead end when the run of row `s + 1` over it is exactly `[a, b]` (no way sideways)
+/// and strip `s + 1` has no rectangle over it (the dead end ends at row `s + 1`) or exactly
+/// one, itself a dead end upwards (the dead end ends where that one's does). Downwards the
+/// same, mirrored.
+fn dead_ends(runs: &[Vec<(i32, i32)>], strips: &[Vec<(i32, i32)>]) -> Vec<Vec<[i32; 2]>> {
+    let mut dead: Vec<Vec<[i32; 2]>> = strips
+        .iter()
+        .map(|rects| vec![[NOT_DEAD; 2]; rects.len()])
+        .collect();
+    let over = |strip: usize, a: i32, b: i32| -> Option<std::ops::Range<usize>> {
+        let rects = strips.get(strip)?;
+        let first = rects.partition_point(|&(_, rb)| rb < a);
+        let end = rects.partition_point(|&(ra, _)| ra <= b);
+        Some(first..end.max(first))
+    };
+    let exact_run = |row: usize, a: i32, b: i32| {
+        runs.get(row)
+            .is_some_and(|r| r.get(r.partition_point(|&(_, rb)| rb < a)) == Some(&(a, b)))
+    };
+    let n = strips.len();
+    for (side, order) in [(0, true), (1, false)] {
+        for k in 0..n {
+            // Upwards from the top strip down; downwards from the bottom strip up.
+            let s = if order { n - 1 - k } else { k };
+            let (far_row, next) = if side == 0 {
+                (s + 1, s.checked_add(1).filter(|&t| t < n))
+            } else {
+                (s, s.checked_sub(1))
+            };
+            let Some(rects) = strips.get(s) else { continue };
+            for (i, &(a, b)) in rects.iter().enumerate() {
+                if !exact_run(far_row, a, b) {
+                    continue;
+                }
+                let until = match next.and_then(|t| Some((t, over(t, a, b)?))) {
+                    None => Some(far_row as i32),
+                    Some((_, range)) if range.is_empty() => Some(far_row as i32),
+                    Some((t, range)) if range.len() == 1 => dead
+                        .get(t)
+                        .and_then(|d| d.get(range.start))
+                        .map(|d| d[side])
+                        .filter(|&u| u != NOT_DEAD),
+                    Some(_) => None,
+                };
+                if let Some(until) = until
+                    && let Some(slot) = dead.get_mut(s).and_then(|d| d.get_mut(i))
+                {
+                    slot[side] = until;
+                }
+            }
+        }
+    }
+    dead
+}
+
+/// The maximal runs `(first, last)` of the columns `0..width` where `inside` holds.
+fn runs_of(width: i32, inside: impl Fn(i32) -> bool) -> Vec<(i32, i32)> {
+    let mut runs = Vec::new();
+    let mut x = 0;
+    while x < width {
+        if inside(x) {
+            let first = x;
+            while x + 1 < width && inside(x + 1) {
+                x += 1;
+            }
+            runs.push((first, x));
+        }
+        x += 1;
+    }
+    runs
 }
 
 /// The path to `goal` through the chain of roots ending at `last`, start first.
@@ -507,11 +585,13 @@ impl Search<'_> {
         }
         for dir in [1, -1] {
             let strip = if dir > 0 { sy } else { sy - 1 };
-            if let Some(&(a, b)) = self
+            if let Some((i, &(a, b))) = self
                 .space
                 .strip(strip)
                 .iter()
-                .find(|&&(a, b)| a <= sx && sx <= b)
+                .enumerate()
+                .find(|&(_, &(a, b))| a <= sx && sx <= b)
+                && !self.space.dead_end(strip, i, dir, self.goal)
             {
                 self.push(s, sy + dir, f64::from(a), f64::from(b), Kind::Cone(dir));
             }
@@ -523,7 +603,7 @@ impl Search<'_> {
             let Some(&root) = self.s.roots.get(n.root as usize) else {
                 continue;
             };
-            if root.g > self.best(root.x, root.y) + G_EPS {
+            if root.superseded {
                 continue; // the root has since been reached by a shorter path
             }
             self.stats.expanded += 1;
@@ -537,13 +617,20 @@ impl Search<'_> {
         Ok(None)
     }
 
-    /// The least `g` of cell centre `(x, y)` as a root so far.
-    fn best(&self, x: i32, y: i32) -> f64 {
-        self.space
-            .best_g
-            .get((y * self.space.width + x) as usize)
-            .copied()
-            .unwrap_or(f64::INFINITY)
+    /// The root of cell centre `(x, y)` with the least `g` so far and that `g`, if it is a
+    /// root in this search. `root_of` may hold an index from an earlier search; it is this
+    /// search's only when the root it names is at `(x, y)` (every root made sets its
+    /// cell's entry, so a root at `(x, y)` named there was named by this search).
+    fn root_at(&self, x: i32, y: i32) -> Option<(u32, f64)> {
+        if x < 0 || y < 0 || x >= self.space.width || y >= self.space.height {
+            return None;
+        }
+        let index = *self
+            .space
+            .root_of
+            .get((y * self.space.width + x) as usize)?;
+        let root = self.s.roots.get(index as usize)?;
+        (root.x == x && root.y == y).then_some((index, root.g))
     }
 
     /// The root at `at` reached with length `g` from `parent` (the start when `None`):
@@ -551,27 +638,31 @@ impl Search<'_> {
     /// (an equally short path; its successors are still generated), `None` when `at` is
     /// already a root with a shorter path (root-level pruning).
     fn new_root(&mut self, at: (i32, i32), g: f64, parent: Option<u32>) -> Option<u32> {
-        let i = (at.1 * self.space.width + at.0) as usize;
-        let best = *self.space.best_g.get(i)?;
-        if g > best + G_EPS {
+        if at.0 < 0 || at.1 < 0 || at.0 >= self.space.width || at.1 >= self.space.height {
             return None;
         }
-        if g >= best - G_EPS {
-            return self.space.root_of.get(i).copied();
-        }
-        if best.is_infinite() {
-            self.space.touched.push(i as u32);
+        if let Some((existing, best)) = self.root_at(at.0, at.1) {
+            if g > best + G_EPS {
+                return None;
+            }
+            if g >= best - G_EPS {
+                return Some(existing);
+            }
+            if let Some(old) = self.s.roots.get_mut(existing as usize) {
+                old.superseded = true;
+            }
         }
         let index = self.s.roots.len() as u32;
-        if let (Some(b), Some(r)) = (self.space.best_g.get_mut(i), self.space.root_of.get_mut(i)) {
-            *b = g;
-            *r = index;
-        }
+        *self
+            .space
+            .root_of
+            .get_mut((at.1 * self.space.width + at.0) as usize)? = index;
         self.s.roots.push(Root {
             x: at.0,
             y: at.1,
             g,
             parent: parent.unwrap_or(index),
+            superseded: false,
         });
         Some(index)
     }
@@ -705,10 +796,13 @@ impl Search<'_> {
             let turn = |x: f64| integral(x).filter(|&c| space.is_corner(c, y));
             let rects = space.strip(strip);
             let first = rects.partition_point(|&(_, b)| f64::from(b) < n.l - EPS);
-            for &(a, b) in rects.get(first..).unwrap_or(&[]) {
+            for (i, &(a, b)) in rects.iter().enumerate().skip(first) {
                 let (af, bf) = (f64::from(a), f64::from(b));
                 if af > n.u + EPS {
                     break;
+                }
+                if space.dead_end(strip, i, dir, self.goal) {
+                    continue;
                 }
                 let (lr, ur) = (n.l.max(af), n.u.min(bf));
                 if lr > ur + EPS {
@@ -811,6 +905,9 @@ impl Search<'_> {
                 if f64::from(side) > n.u + EPS {
                     break;
                 }
+                if self.space.dead_end(strip, i, dir, self.goal) {
+                    continue;
+                }
                 let beyond = if rightward { side > r.x } else { side < r.x };
                 if beyond {
                     let node = Node {
@@ -832,6 +929,89 @@ impl Search<'_> {
 mod tests {
     use super::*;
     use crate::grid::Occupancy;
+
+    #[test]
+    fn corner_flags_are_the_corner_cells() {
+        // A seeded pseudo-random grid (xorshift), unknown cells passable or not.
+        let mut state = 0x9e37_79b9_7f4a_7c15_u64;
+        for density in [1, 3, 5] {
+            let mut grid = OccupancyGrid::new(23, 17, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+            for y in 0..17 {
+                for x in 0..23 {
+                    state ^= state << 13;
+                    state ^= state >> 7;
+                    state ^= state << 17;
+                    match state % 10 {
+                        v if v < density => grid.set(x, y, Occupancy::Occupied).unwrap(),
+                        9 => grid.set(x, y, Occupancy::Unknown).unwrap(),
+                        _ => {}
+                    }
+                }
+            }
+            for unknown_passable in [false, true] {
+                let planner = ExactPlanner::new(&grid, unknown_passable);
+                let flagged: Vec<CellXy> = (0..17)
+                    .flat_map(|y| (0..23).map(move |x| (x, y)))
+                    .filter(|&(x, y)| planner.is_corner(x, y))
+                    .map(|(x, y)| CellXy::new(x as usize, y as usize))
+                    .collect();
+                assert_eq!(
+                    flagged,
+                    crate::optimal::corner_cells(&grid, unknown_passable)
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn dead_ends_are_found_and_goals_inside_them_still_reached() {
+        // #.###
+        // #.###
+        // .....
+        // .....
+        let mut grid = OccupancyGrid::new(5, 4, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+        for (x, y) in [
+            (0, 0),
+            (2, 0),
+            (3, 0),
+            (4, 0),
+            (0, 1),
+            (2, 1),
+            (3, 1),
+            (4, 1),
+        ] {
+            grid.set(x, y, Occupancy::Occupied).unwrap();
+        }
+        let mut planner = ExactPlanner::new(&grid, false);
+        // Strips 0 and 1 hold the corridor's zero-width rectangle, a dead end towards row 0
+        // ending there; towards row 3 it opens into rows 2 and 3, no dead end. Strip 2
+        // (rows 2 and 3) is one both ways: towards row 3 the grid ends, towards row 0 the
+        // run of row 2 is exactly its span and the only way on is the corridor.
+        assert_eq!(planner.dead[0], [[NOT_DEAD, 0]]);
+        assert_eq!(planner.dead[1], [[NOT_DEAD, 0]]);
+        assert_eq!(planner.dead[2], [[3, 0]]);
+        let opts = crate::optimal::OptimalAnyAngleOptions::default();
+        let cells: Vec<(usize, usize)> = (0..4)
+            .flat_map(|y| (0..5).map(move |x| (x, y)))
+            .filter(|&(x, y)| grid.is_free(x, y))
+            .collect();
+        for &start in &cells {
+            for &goal in &cells {
+                let exact = planner
+                    .plan(start, goal, &Budget::default())
+                    .unwrap()
+                    .unwrap();
+                let reference =
+                    crate::optimal::visibility_graph_any_angle(&grid, start, goal, &opts)
+                        .unwrap()
+                        .unwrap();
+                assert!(
+                    (exact.length_cells - reference.length_cells).abs() < 1e-9,
+                    "{start:?} -> {goal:?}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn one_cell_corridors_are_followed_along_their_centre_line() {

@@ -99,19 +99,23 @@ fn corners_of(passable: &PassableGrid) -> Vec<(usize, usize)> {
     let mut corners = Vec::new();
     for y in 0..passable.height() {
         for x in 0..passable.width() {
-            let (xi, yi) = (x as i64, y as i64);
-            if passable.passable(xi, yi)
-                && DIAGONALS.iter().any(|&(dx, dy)| {
-                    !passable.passable(xi + dx, yi + dy)
-                        && passable.passable(xi + dx, yi)
-                        && passable.passable(xi, yi + dy)
-                })
-            {
+            if is_corner_cell(passable, x as i64, y as i64) {
                 corners.push((x, y));
             }
         }
     }
     corners
+}
+
+/// Whether `(x, y)` is a corner cell (see [`corner_cells`]): passable, with a blocked
+/// diagonal neighbour whose two cells next to both are passable.
+pub(crate) fn is_corner_cell(passable: &PassableGrid, x: i64, y: i64) -> bool {
+    passable.passable(x, y)
+        && DIAGONALS.iter().any(|&(dx, dy)| {
+            !passable.passable(x + dx, y + dy)
+                && passable.passable(x + dx, y)
+                && passable.passable(x, y + dy)
+        })
 }
 
 /// The exact shortest any-angle path from `start` to `goal` under the rule of

@@ -117,7 +117,8 @@ pub struct MapResult {
     /// Corner cells of the map (the nodes of the reference visibility graph).
     pub corner_cells: usize,
     /// Time to build the exact planner's free space for the map once
-    /// ([`vpmap_plan::ExactPlanner::new`], one run), seconds; `None` when `optimal` was not
+    /// ([`vpmap_plan::ExactPlanner::new`]; one warm-up build, then the median of the
+    /// query's number of timed runs), seconds; `None` when `optimal` was not
     /// asked for. Included in each `optimal` query's time.
     pub optimal_build_s: Option<f64>,
     /// Why `optimal` was not run on this map, if it was asked for and not run.
@@ -250,10 +251,17 @@ pub fn measure_maps(
     for map in maps {
         let began = Instant::now();
         let corners = corner_cells(&map.grid, false).len();
+        // Like the queries: one warm-up build, then the median of `repeat` timed ones.
         let optimal_build_s = optimal_at.map(|_| {
-            let built = Instant::now();
             std::hint::black_box(ExactPlanner::new(&map.grid, false));
-            built.elapsed().as_secs_f64()
+            let times: Vec<f64> = (0..repeat.max(1))
+                .map(|_| {
+                    let built = Instant::now();
+                    std::hint::black_box(ExactPlanner::new(&map.grid, false));
+                    built.elapsed().as_secs_f64()
+                })
+                .collect();
+            crate::stats::median(&times).unwrap_or(0.0)
         });
         let mut optimal_skipped: Option<String> = None;
         let mut records: Vec<Vec<Option<Measured>>> = Vec::with_capacity(map.queries.len());

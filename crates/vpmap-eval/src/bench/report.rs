@@ -656,7 +656,7 @@ pub fn markdown(
             out,
             "`optimal`'s time per query includes building its free space (a fresh planner per \
              run, like every planner); the build alone, once per map, is in its own column \
-             (one run). A caller that keeps the planner pays it once per map.\n"
+             (timed like a query: warm-up, then the median). A caller that keeps the planner pays it once per map.\n"
         );
     }
     let mut head = vec![
