@@ -99,3 +99,33 @@ for planner in astar astar-ps theta-star optimal mbpp mbpp-closer; do
   k2=$(kib_at 0.002 "$planner")
   echo "| $planner | $((k1 / 1024)) MB | $((k2 / 1024)) MB | $(( (k2 - k1) * 1024 / (c2 - c1) )) |"
 done
+
+# The same with every reachable cell expanded: an open Moving AI map whose goal is walled in
+# (no path), at 2000 x 2000 and 4000 x 4000 cells.
+write_open() {
+  local n=$1
+  printf 'type octile\nheight %d\nwidth %d\nmap\n' "$n" "$n"
+  local row
+  row=$(printf '.%.0s' $(seq 1 "$n"))
+  for ((y = 0; y < n - 3; y++)); do printf '%s\n' "$row"; done
+  printf '%s@@@\n%s@.@\n%s@.@\n' "${row:3}" "${row:3}" "${row:3}"
+}
+write_open 2000 > "$tmp/open2000.map"
+write_open 4000 > "$tmp/open4000.map"
+open_kib() {
+  /usr/bin/time -f '%M' -o "$tmp/time" "$VPMAP" plan "$tmp/open$1.map" --planner "$2" \
+    --from 0,0 --to "$(($1 - 2)),$(($1 - 2))" > /dev/null 2>&1 || true
+  tail -n 1 "$tmp/time"
+}
+echo
+echo "Every cell expanded (an open map, the goal walled in), 2000 x 2000 and 4000 x 4000 cells:"
+echo
+echo "| planner | peak at 2000 x 2000 | peak at 4000 x 4000 | bytes a cell |"
+echo "|---|---|---|---|"
+for planner in astar theta-star optimal mbpp; do
+  k1=$(open_kib 2000 "$planner")
+  k2=$(open_kib 4000 "$planner")
+  echo "| $planner | $((k1 / 1024)) MB | $((k2 / 1024)) MB | $(( (k2 - k1) * 1024 / (4000 * 4000 - 2000 * 2000) )) |"
+done
+echo
+echo "(Theta* stops at its line-of-sight budget on these maps, an error; the others answer \"no path\".)"

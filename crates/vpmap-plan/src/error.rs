@@ -278,7 +278,7 @@ fn stopped_message(reason: crate::budget::StopReason, allowed_s: f64) -> String 
     }
 }
 
-/// The work memory of `cells` grid cells, in readable units ("510 MB", "3.4 GB").
+/// The work memory of `cells` grid cells, in readable units ("540 MB", "3.5 GB").
 fn megabytes(cells: usize) -> String {
     let bytes = cells as f64 * crate::grid::BYTES_PER_CELL as f64;
     if bytes >= 1e15 {

@@ -18,11 +18,12 @@ use crate::error::{PlanError, Result};
 
 /// About how many bytes of memory one grid cell costs from reading or rasterising the grid
 /// to a planned path: its [`Occupancy`], the obstacle inflation's distance transform and the
-/// largest planner's search arrays (measured peak resident memory of `vpmap plan` on large
-/// grids, 14-17 bytes a cell).
-pub const BYTES_PER_CELL: usize = 17;
+/// largest planner's search arrays (the slope of `vpmap plan`'s peak resident memory against
+/// cells, `scripts/limits-table.sh`: A* and A* PS 18 bytes a cell, also when A* expands every
+/// cell of a 4000 x 4000 map; Theta* 15, the exact planner 8-10, MBPP 2-10).
+pub const BYTES_PER_CELL: usize = 18;
 
-/// Largest number of cells a grid may have: 30 million cells, about 510 MB of work memory
+/// Largest number of cells a grid may have: 30 million cells, about 540 MB of work memory
 /// at [`BYTES_PER_CELL`] (a 5,477 x 5,477 grid; 274 m square at 5 cm). A grid is refused
 /// with [`PlanError::GridTooLarge`] before anything of its size is allocated.
 pub const MAX_CELLS: usize = 30_000_000;

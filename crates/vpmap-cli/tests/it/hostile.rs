@@ -203,7 +203,7 @@ fn map_images_are_bounded_by_their_header_and_named_plainly() {
         "0.1,0.1",
     ]);
     assert!(
-        e.contains("14000 x 14000") && e.contains("3.3 GB") && e.contains("510 MB"),
+        e.contains("14000 x 14000") && e.contains("3.5 GB") && e.contains("540 MB"),
         "{e}"
     );
     // A damaged header checksum.
