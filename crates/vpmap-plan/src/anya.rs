@@ -218,7 +218,9 @@ impl ExactPlanner {
     /// Build the free space of `grid` (unknown cells passable or not).
     ///
     /// # Complexity
-    /// One pass over the grid; about 16 bytes a cell.
+    /// One pass over the grid; about 6 bytes a cell (a copy of the grid, a corner flag and a
+    /// root slot per cell; the runs, rectangles and dead ends per row), 8 bytes a cell of peak
+    /// memory with a search that reaches every cell (`scripts/limits-table.sh`).
     #[must_use]
     pub fn new(grid: &OccupancyGrid, unknown_passable: bool) -> Self {
         let passable = PassableGrid::new(grid, unknown_passable);
