@@ -33,6 +33,7 @@ pub mod calibration;
 pub mod error;
 pub mod eval;
 pub mod fit;
+pub mod linalg;
 pub mod map;
 pub mod projective;
 pub mod reconstruct;

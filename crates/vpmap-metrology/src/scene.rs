@@ -1194,6 +1194,10 @@ impl Scene {
                         field: format!("vanishing_points[{i}].lines"),
                         reason: "the segments lie on one line, so they do not fix a point: click edges on different lines that run to the vanishing point".to_owned(),
                     },
+                    SegmentFit::Overflow => MetrologyError::InvalidField {
+                        field: format!("vanishing_points[{i}].lines"),
+                        reason: "the segments' coordinates are too large for their intersection to be computed: give them in pixels of the image".to_owned(),
+                    },
                 })
             })
             .collect()
@@ -1236,7 +1240,7 @@ pub fn intersect_segments(
         let l = l / norm;
         m += l * l.transpose();
     }
-    let eig = m.symmetric_eigen();
+    let eig = crate::linalg::symmetric_eigen(m).ok_or(SegmentFit::Overflow)?;
     let mut order = [0usize, 1, 2];
     order.sort_by(|&a, &b| eig.eigenvalues[a].total_cmp(&eig.eigenvalues[b]));
     // Two vanishing eigenvalues: every line is the same line.
@@ -1257,4 +1261,6 @@ pub enum SegmentFit {
     Parallel,
     /// The segments all lie on one line.
     Collinear,
+    /// The lines' coordinates are so large that their intersection overflows.
+    Overflow,
 }

@@ -306,6 +306,31 @@ fn scenes_follow_the_pages_rules() {
     assert!(!out.exists());
 }
 
+/// A fuzz-found scene (`fuzz/regressions/web_body/build-svd-nan-fd183c8d`, its body): the joint
+/// fit's start ran to a focal length of about 1e159, and nalgebra's SVD panicked (exit 101).
+#[test]
+fn a_runaway_starting_focal_length_is_an_error_not_a_panic() {
+    let dir = tempfile::tempdir().unwrap();
+    let input = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../fuzz/regressions/web_body/build-svd-nan-fd183c8d");
+    let text = std::fs::read_to_string(input).unwrap();
+    let (_, body) = text.split_once('\n').unwrap();
+    let path = dir.path().join("scene.json");
+    std::fs::write(&path, body).unwrap();
+    let out = dir.path().join("out");
+    let o = vpmap(&[
+        "build",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    let e = String::from_utf8_lossy(&o.stderr);
+    assert_eq!(o.status.code(), Some(1), "{e}");
+    assert!(!e.contains("panicked"), "{e}");
+    assert!(e.contains("error:") && e.contains("objects[0]"), "{e}");
+    assert!(!out.exists());
+}
+
 #[cfg(unix)]
 #[test]
 fn a_dangling_output_link_is_named() {

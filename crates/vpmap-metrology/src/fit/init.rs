@@ -19,8 +19,8 @@ pub(crate) struct Built {
 }
 
 /// The least-squares intersection of segments' lines, homogeneous pixel coordinates (may be
-/// at infinity).
-fn homogeneous_vp(lines: &[[f64; 4]], image: ImageSize) -> Vector3<f64> {
+/// at infinity); `None` when the lines' moment matrix has no finite decomposition.
+fn homogeneous_vp(lines: &[[f64; 4]], image: ImageSize) -> Option<Vector3<f64>> {
     let c = image.centre();
     let s = image.diagonal();
     let mut m = Matrix3::<f64>::zeros();
@@ -34,11 +34,11 @@ fn homogeneous_vp(lines: &[[f64; 4]], image: ImageSize) -> Vector3<f64> {
             m += l * l.transpose();
         }
     }
-    let eig = m.symmetric_eigen();
+    let eig = crate::linalg::symmetric_eigen(m)?;
     let k = eig.eigenvalues.imin();
     let v = eig.eigenvectors.column(k);
     // Back to pixels: (x, y, w) -> (x s + c w, y s + c w, w).
-    Vector3::new(v.x * s + c.x * v.z, v.y * s + c.y * v.z, v.z)
+    Some(Vector3::new(v.x * s + c.x * v.z, v.y * s + c.y * v.z, v.z))
 }
 
 /// `K^-1 v` for a homogeneous pixel `v`.
@@ -134,7 +134,7 @@ fn linear_box(
             b[3 * row + q] = *rhs;
         }
     }
-    let svd = a.svd(true, true);
+    let svd = crate::linalg::svd(a)?;
     let sv = &svd.singular_values;
     if sv.min() <= 1e-10 * sv.max() {
         return None;
@@ -366,13 +366,19 @@ pub(crate) fn build(scene: &Scene) -> Result<Vec<Built>> {
             None => VpEvidence::Lines(v.lines.clone()),
         })
         .collect();
-    let points: Vec<Vector3<f64>> = all
+    let points = all
         .iter()
-        .map(|e| match e {
-            VpEvidence::Lines(l) => homogeneous_vp(l, scene.image),
-            VpEvidence::Point(p) => Vector3::new(p.x, p.y, 1.0),
+        .enumerate()
+        .map(|(i, e)| match e {
+            VpEvidence::Lines(l) => {
+                homogeneous_vp(l, scene.image).ok_or_else(|| MetrologyError::Degenerate {
+                    field: format!("vanishing_points[{i}].lines"),
+                    reason: "the segments' coordinates are too large for their intersection to be computed: give them in pixels of the image".to_owned(),
+                })
+            }
+            VpEvidence::Point(p) => Ok(Vector3::new(p.x, p.y, 1.0)),
         })
-        .collect();
+        .collect::<Result<Vec<Vector3<f64>>>>()?;
     // A segment drawn between two clicked box corners repeats those clicks: the box model
     // already runs that edge to its vanishing point, so counting the segment again would count
     // the same click noise twice (and make the error bars too small). It helps the start only.

@@ -205,7 +205,8 @@ fn scaled_min_eigenvalue(a: &DMatrix<f64>) -> f64 {
         .map(|i| a[(i, i)].max(f64::MIN_POSITIVE).sqrt())
         .collect();
     let s = DMatrix::from_fn(n, n, |i, j| a[(i, j)] / (d[i] * d[j]));
-    s.symmetric_eigenvalues().min()
+    // A matrix without a finite decomposition counts as singular.
+    crate::linalg::symmetric_eigen(s).map_or(0.0, |e| e.eigenvalues.min())
 }
 
 /// Relative size under which a scaled block counts as singular.

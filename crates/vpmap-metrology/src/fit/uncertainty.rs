@@ -240,11 +240,19 @@ fn quad(
     a.0.dot(&yc) + a.1.iter().zip(&yo).map(|(p, q)| p.dot(q)).sum::<f64>()
 }
 
-/// The 95 % ellipse of a 2x2 covariance.
+/// The 95 % ellipse of a 2x2 covariance; unbounded (infinite semi-axes) for a covariance
+/// with a non-finite entry.
 #[must_use]
 pub fn ellipse_95(centre: [f64; 2], cov: [[f64; 2]; 2]) -> Ellipse {
     let m = Matrix2::new(cov[0][0], cov[0][1], cov[1][0], cov[1][1]);
-    let eig = m.symmetric_eigen();
+    let Some(eig) = crate::linalg::symmetric_eigen(m) else {
+        // No finite covariance: an ellipse of unbounded size says so.
+        return Ellipse {
+            centre,
+            semi_axes: [f64::INFINITY, f64::INFINITY],
+            angle_deg: 0.0,
+        };
+    };
     let (big, small) = if eig.eigenvalues[0] >= eig.eigenvalues[1] {
         (0, 1)
     } else {
@@ -426,6 +434,9 @@ impl Fitted {
             ];
             let sym = 0.5 * (cov[0][1] + cov[1][0]);
             let cov = [[cov[0][0], sym], [sym, cov[1][1]]];
+            if !cov.iter().flatten().all(|v| v.is_finite()) {
+                return Err(singular());
+            }
             let is_box = matches!(problem.parts[part], Part::Box { .. });
             let has_height = match &problem.parts[part] {
                 Part::Box { has_top, .. } => *has_top,

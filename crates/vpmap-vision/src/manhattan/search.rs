@@ -18,7 +18,7 @@
 //!    by a weak log-normal prior around `f = longer side` (a 53 degree horizontal field of view),
 //!    which decides only when the image cannot (one-point perspective).
 
-use nalgebra::{Matrix3, SymmetricEigen, Vector3};
+use nalgebra::{Matrix3, Vector3};
 use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 
@@ -106,7 +106,9 @@ impl Problem<'_> {
             if count < 2 {
                 return v;
             }
-            let eig = SymmetricEigen::new(m);
+            let Some(eig) = vpmap_metrology::linalg::symmetric_eigen(m) else {
+                return v;
+            };
             let (k, _) =
                 eig.eigenvalues
                     .iter()

@@ -5,6 +5,7 @@
 
 mod build;
 mod detect;
+mod fuzz_regressions;
 mod limits;
 mod load;
 mod page;
