@@ -453,13 +453,16 @@ impl DStarLite {
     /// Cells whose state changed (to the state given). Updates the affected step costs
     /// and the `rhs` values and queue entries of their ends (Figure 4, lines 38-47), adding
     /// `h(s_last, s_start)` to `k_m` first when any passability changed; returns how many
-    /// cells changed passability. The new plan comes from the next [`DStarLite::path`].
+    /// cells changed passability. A cell listed more than once takes its last state. The new
+    /// plan comes from the next [`DStarLite::path`].
     ///
     /// # Errors
     /// [`PlanError::CellOutOfBounds`] for a cell outside the grid (nothing is changed).
     pub fn update_cells(&mut self, changes: &[(CellXy, Occupancy)]) -> Result<usize> {
-        let mut flips = Vec::new();
-        for &(c, state) in changes {
+        // (padded cell, position in `changes` reversed, passable now): a cell listed twice takes its
+        // last state, as writing the changes to a grid in order would.
+        let mut latest = Vec::with_capacity(changes.len());
+        for (order, &(c, state)) in changes.iter().enumerate() {
             if c.x >= self.width || c.y >= self.height {
                 return Err(PlanError::CellOutOfBounds {
                     x: c.x,
@@ -468,14 +471,16 @@ impl DStarLite {
                     height: self.height,
                 });
             }
-            let index = self.pad(c);
             let now = cell_passable(state, self.opts.unknown_passable);
-            if self.passable.get(index).copied() != Some(now) {
-                flips.push((index, now));
-            }
+            latest.push((self.pad(c), std::cmp::Reverse(order), now));
         }
-        flips.sort_unstable();
-        flips.dedup_by_key(|f| f.0);
+        latest.sort_unstable();
+        latest.dedup_by_key(|f| f.0);
+        let flips: Vec<(usize, bool)> = latest
+            .into_iter()
+            .filter(|&(index, _, now)| self.passable.get(index).copied() != Some(now))
+            .map(|(index, _, now)| (index, now))
+            .collect();
         if flips.is_empty() {
             return Ok(0);
         }

@@ -243,3 +243,27 @@ fn dstar_lite_goal_walled_in_then_opened() {
         0
     );
 }
+
+/// A cell listed twice in one batch takes its last state, as the grid written in order does
+/// (the first state used to win).
+#[test]
+fn dstar_lite_takes_the_last_state_of_a_cell_listed_twice() {
+    let mut grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Occupancy::Occupied).unwrap();
+    for x in 0..3 {
+        grid.set(x, 1, Occupancy::Free).unwrap();
+    }
+    let opts = DStarLiteOptions::default();
+    let mut planner = DStarLite::new(&grid, (0, 1), (2, 1), &opts).unwrap();
+    assert_eq!(planner.path().unwrap().unwrap().length_cells, 2.0);
+    let c = CellXy::new(1, 1);
+    // Blocked, then free again: still a path.
+    planner
+        .update_cells(&[(c, Occupancy::Occupied), (c, Occupancy::Free)])
+        .unwrap();
+    assert_eq!(planner.path().unwrap().unwrap().length_cells, 2.0);
+    // Free, then unknown (not passable by default): no path.
+    planner
+        .update_cells(&[(c, Occupancy::Free), (c, Occupancy::Unknown)])
+        .unwrap();
+    assert!(planner.path().unwrap().is_none());
+}
