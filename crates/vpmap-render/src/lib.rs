@@ -35,12 +35,14 @@ pub mod error;
 mod geometry;
 mod metrics;
 pub mod model;
+pub mod navigation_svg;
 pub mod plan_svg;
 pub mod raster;
 pub mod svg;
 
 pub use error::RenderError;
 pub use model::model_glb;
+pub use navigation_svg::navigation_svg;
 pub use plan_svg::{GridCoordinates, plan_svg};
 pub use raster::svg_to_png;
 pub use svg::{FloorPlanStyle, SVG_FROM_MAP_ATTRIBUTE, escape_xml, floor_plan_svg, matrix_text};

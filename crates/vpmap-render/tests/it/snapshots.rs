@@ -5,8 +5,9 @@ use vpmap_metrology::map::{BuildOptions, FloorMap, build_map};
 use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::scene::Scene;
 use vpmap_plan::grid::{Occupancy, OccupancyGrid};
+use vpmap_plan::navigate::{NavigateOptions, OnlinePlanner, navigate};
 use vpmap_plan::{Planned, Planner, PlannerKind};
-use vpmap_render::{FloorPlanStyle, GridCoordinates, floor_plan_svg, plan_svg};
+use vpmap_render::{FloorPlanStyle, GridCoordinates, floor_plan_svg, navigation_svg, plan_svg};
 
 const OFFICE: &str = include_str!("../../../../examples/office.json");
 
@@ -160,6 +161,47 @@ fn mbpp_plan_with_bugs() {
         GridCoordinates::World,
         "MBPP on two walls",
     );
+    insta::assert_snapshot!(svg);
+}
+
+/// A D* Lite drive across a 12 x 8 room knowing nothing: a wall with a gap, met as the robot
+/// senses it (range 3 cells).
+#[test]
+fn navigation_drive_over_a_wall() {
+    let mut truth = OccupancyGrid::new(12, 8, 0.1, [0.0; 2], Occupancy::Free).unwrap();
+    for y in 0..6 {
+        truth.set(6, y, Occupancy::Occupied).unwrap();
+    }
+    let believed = OccupancyGrid::new(12, 8, 0.1, [0.0; 2], Occupancy::Unknown).unwrap();
+    let opts = NavigateOptions {
+        planner: OnlinePlanner::DStarLite,
+        sensor_range_cells: 3.0,
+        ..NavigateOptions::default()
+    };
+    let (start, goal) = ((1, 1).into(), (10, 1).into());
+    let run = navigate(&believed, &truth, start, goal, &opts).unwrap();
+    assert!(run.events.len() >= 2, "the wall makes it re-plan");
+    let svg = navigation_svg(&truth, &believed, &run, start, goal, opts.planner);
+    // The robot's animation starts at the start and ends at the goal's centre.
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let robot = doc
+        .descendants()
+        .find(|n| n.attribute("class") == Some("robot"))
+        .unwrap();
+    let values = |name: &str| -> Vec<String> {
+        let a = robot
+            .children()
+            .find(|c| c.attribute("attributeName") == Some(name))
+            .unwrap();
+        a.attribute("values")
+            .unwrap()
+            .split(';')
+            .map(str::to_owned)
+            .collect()
+    };
+    assert_eq!(values("cx").first().map(String::as_str), Some("1.5"));
+    assert_eq!(values("cx").last().map(String::as_str), Some("10.5"));
+    assert_eq!(values("cy").last().map(String::as_str), Some("1.5"));
     insta::assert_snapshot!(svg);
 }
 
