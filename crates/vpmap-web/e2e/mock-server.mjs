@@ -88,10 +88,11 @@ function pgmSize(bytes) {
   return { width: Number(head[1]), height: Number(head[2]) };
 }
 
-async function buildIn(dir, scene, { method, resolution, robot_radius }) {
+async function buildIn(dir, scene, { method, resolution, robot_radius, click_sigma }) {
   await writeFile(join(dir, 'scene.json'), JSON.stringify(scene));
   const out = join(dir, 'out');
-  const stdout = await run(['build', join(dir, 'scene.json'), '--out', out, '--method', method, '--resolution', String(resolution), '--robot-radius', String(robot_radius)]);
+  const sigma = click_sigma === undefined ? [] : ['--click-sigma', String(click_sigma)];
+  const stdout = await run(['build', join(dir, 'scene.json'), '--out', out, '--method', method, '--resolution', String(resolution), '--robot-radius', String(robot_radius), ...sigma]);
   const map = JSON.parse(await readFile(join(out, 'map.json'), 'utf8'));
   const svg = await readFile(join(out, 'map.svg'), 'utf8');
   const glb = await readFile(join(out, 'model.glb'));
@@ -116,12 +117,12 @@ async function buildIn(dir, scene, { method, resolution, robot_radius }) {
 function buildSettings(q, body = {}) {
   const method = body.method ?? q.get('method') ?? 'sideview';
   if (!['fit', 'sideview', 'projective'].includes(method)) throw new HttpError(400, `unknown method ${JSON.stringify(method)}`);
-  // click_sigma is not passed on: the command line has no option for it (the mock's fit
-  // estimates the noise).
+  const sigma = body.click_sigma ?? q.get('click_sigma');
   return {
     method,
     resolution: num(body.resolution ?? q.get('resolution'), 'resolution', 0.05),
     robot_radius: num(body.robot_radius ?? q.get('robot_radius'), 'robot_radius', 0.2),
+    click_sigma: sigma === null || sigma === undefined || sigma === '' ? undefined : num(sigma, 'click_sigma', 1),
   };
 }
 

@@ -327,6 +327,22 @@ fn bench_navigate_runs_every_online_planner_on_the_same_episodes() {
         .collect();
     assert!(row[9].parse::<f64>().is_ok_and(|r| r > 0.0), "{row:?}");
     assert_eq!(row[10], "-", "{row:?}");
+    // MBPP's mean length over D* Lite's (own ties ; common ties), from the CSV's lengths.
+    let mean_length = |planner: &str| {
+        let v: Vec<f64> = rows
+            .iter()
+            .map(|r| r.split(',').collect::<Vec<_>>())
+            .filter(|f| f[6] == planner)
+            .map(|f| f[8].parse::<f64>().unwrap())
+            .collect();
+        v.iter().sum::<f64>() / v.len() as f64
+    };
+    let expected = format!(
+        "{:.2} ; {:.2}",
+        mean_length("mbpp") / mean_length("dstar-lite"),
+        mean_length("mbpp") / mean_length("dstar-lite-ties")
+    );
+    assert_eq!(row[11], expected, "{row:?}");
     // --publish writes its own section and leaves the planners' bench section alone; a
     // broken section is refused before any driving.
     let results = dir.path().join("results.md");

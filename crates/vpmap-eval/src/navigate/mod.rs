@@ -228,13 +228,13 @@ pub fn table(results: &[Episode], opts: &NavBenchOptions) -> String {
     }
     let _ = writeln!(
         md,
-        " D* Lite / A* time | D* Lite = A* length | same track: D* Lite / A* time | common ties: equal lengths |"
+        " D* Lite / A* time | D* Lite = A* length | same track: D* Lite / A* time | common ties: equal lengths | MBPP / D* Lite length |"
     );
     let _ = write!(md, "|---|");
     for _ in &opts.planners {
         let _ = write!(md, "---|");
     }
-    let _ = writeln!(md, "---|---|---|---|");
+    let _ = writeln!(md, "---|---|---|---|---|");
     for map in maps {
         let of = |p: OnlinePlanner| -> Vec<&Episode> {
             results
@@ -286,20 +286,43 @@ pub fn table(results: &[Episode], opts: &NavBenchOptions) -> String {
             let _ = write!(md, " {same:.2} |");
         }
         if dt.is_empty() || at.is_empty() {
-            let _ = writeln!(md, " - |");
+            let _ = write!(md, " - |");
         } else {
             let equal_ties = dt
                 .iter()
                 .zip(&at)
                 .filter(|(x, y)| (x.length_cells - y.length_cells).abs() < 1e-9)
                 .count();
-            let _ = writeln!(md, " {equal_ties} of {} |", dt.len().min(at.len()));
+            let _ = write!(md, " {equal_ties} of {} |", dt.len().min(at.len()));
         }
+        // Online MBPP's mean travelled length over D* Lite's, with its own ties and with the
+        // common tie rule (the spread between the two is what ties alone make).
+        let m = of(OnlinePlanner::Mbpp);
+        let length = |v: &[&Episode]| mean(v, &|e| e.length_cells);
+        let over = |v: &[&Episode]| {
+            if m.is_empty() || v.is_empty() {
+                "-".to_owned()
+            } else {
+                format!("{:.2}", length(&m) / length(v))
+            }
+        };
+        let _ = writeln!(md, " {} ; {} |", over(&d), over(&dt));
     }
     let _ = writeln!(
         md,
-        "\nD* Lite / A* time: each on its own drive (the drives differ: equally short plans differ and reveal different cells). Same track: the common-tie D* Lite drive (`dstar-lite-ties`, the drive `astar-ties` makes too), with the tuned repeated A* timed at each of its planning events on the same belief from the same cell. `astar-ties` itself is a plain A* (binary heap), slower than the tuned one; it is run for the equal lengths.\n\nMeasured with `{}` on a shared 2-core machine (other jobs running): times are indicative, ratios measured side by side in one run.",
-        opts.command
+        "\nD* Lite / A* time: each on its own drive (the drives differ: equally short plans differ and reveal different cells). Same track: the common-tie D* Lite drive (`dstar-lite-ties`, the drive `astar-ties` makes too), with the tuned repeated A* timed at each of its planning events on the same belief from the same cell. `astar-ties` itself is a plain A* (binary heap), slower than the tuned one; it is run for the equal lengths. MBPP / D* Lite length: online MBPP's mean travelled length over `dstar-lite`'s ; over `dstar-lite-ties`'s.\n\nMeasured with `{}` on {}{}: times are indicative, ratios measured side by side in one run.",
+        opts.command,
+        crate::publish::machine_description(),
+        load_average().map_or_else(String::new, |l| format!(
+            " (load average {l} at the end of the run)"
+        ))
     );
     md
+}
+
+/// The one-minute load average (`/proc/loadavg`), where the system reports it.
+fn load_average() -> Option<String> {
+    let text = std::fs::read_to_string("/proc/loadavg").ok()?;
+    let first = text.split_whitespace().next()?;
+    first.parse::<f64>().ok().map(|_| first.to_owned())
 }
