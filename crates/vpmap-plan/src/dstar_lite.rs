@@ -71,7 +71,7 @@ use std::f64::consts::SQRT_2;
 
 use crate::budget::Budget;
 use crate::error::{PlanError, Result};
-use crate::grid::{CellXy, Occupancy, OccupancyGrid};
+use crate::grid::{CellXy, DIAGONAL_SIDES, MOVES, Occupancy, OccupancyGrid};
 use crate::los::{cell_passable, fill_padded};
 use crate::plan::{Plan, PlanStats, check_endpoint, xy};
 
@@ -293,13 +293,6 @@ fn unpack(p: u128) -> StepCost {
     }
 }
 
-/// Index deltas of the 8 moves in padded cells are built from these: E, S, W, N, SE, SW,
-/// NW, NE.
-const MOVE_DX: [isize; 8] = [1, 0, -1, 0, 1, -1, -1, 1];
-/// See [`MOVE_DX`].
-const MOVE_DY: [isize; 8] = [0, 1, 0, -1, 1, 1, -1, -1];
-/// The orthogonal moves a diagonal move `4 + i` passes between (no corner cutting).
-const DIAGONAL_SIDES: [(usize, usize); 4] = [(0, 1), (2, 1), (2, 3), (0, 3)];
 /// The reverse of each move.
 const OPPOSITE: [usize; 8] = [2, 3, 0, 1, 6, 7, 4, 5];
 /// Heap arity of the queue.
@@ -387,7 +380,7 @@ impl DStarLite {
             Vec::new()
         };
         let pwi = pw as isize;
-        let deltas = std::array::from_fn(|k| MOVE_DY[k] * pwi + MOVE_DX[k]);
+        let deltas = std::array::from_fn(|k| MOVES[k].1 * pwi + MOVES[k].0);
         let pad = |c: CellXy| (c.y + 1) * pw + c.x + 1;
         let mut this = Self {
             costs: vec![[0; 2]; passable.len()],
@@ -618,8 +611,8 @@ impl DStarLite {
             total = total.add(step);
             // The next cell's coordinates by the move (no division).
             let (dx, dy) = (
-                MOVE_DX.get(k).copied().unwrap_or(0),
-                MOVE_DY.get(k).copied().unwrap_or(0),
+                MOVES.get(k).map_or(0, |m| m.0),
+                MOVES.get(k).map_or(0, |m| m.1),
             );
             xy = CellXy::new(xy.x.wrapping_add_signed(dx), xy.y.wrapping_add_signed(dy));
             waypoints.push(xy);

@@ -28,6 +28,24 @@ pub const BYTES_PER_CELL: usize = 18;
 /// with [`PlanError::GridTooLarge`] before anything of its size is allocated.
 pub const MAX_CELLS: usize = 30_000_000;
 
+/// The 8 grid moves `(dx, dy)` in the order E, S, W, N, SE, SW, NW, NE (row 0 at the top,
+/// so S is `+y`): the straight ones first, each diagonal `4 + i` between the straight moves
+/// [`DIAGONAL_SIDES`]`[i]`. The order is what the planners' documented tie-breaks refer to.
+pub(crate) const MOVES: [(isize, isize); 8] = [
+    (1, 0),
+    (0, 1),
+    (-1, 0),
+    (0, -1),
+    (1, 1),
+    (-1, 1),
+    (-1, -1),
+    (1, -1),
+];
+
+/// The straight moves (indices into [`MOVES`]) that the diagonal move `4 + i` passes
+/// between: both must be open for it (no corner cutting).
+pub(crate) const DIAGONAL_SIDES: [(usize, usize); 4] = [(0, 1), (2, 1), (2, 3), (0, 3)];
+
 /// Where a grid cell is: column `x` (left to right) and row `y` (from the top), both in
 /// cells. Converts from and to the tuple `(x, y)` and compares equal to it, so
 /// `plan.waypoints == [(0, 2), (5, 2)]` reads as before.

@@ -25,7 +25,7 @@ use std::collections::BinaryHeap;
 
 use crate::budget::Budget;
 use crate::error::Result;
-use crate::grid::{CellXy, OccupancyGrid};
+use crate::grid::{CellXy, MOVES, OccupancyGrid};
 use crate::los::{LosCounter, Passable, PassableGrid};
 use crate::plan::{Plan, PlanStats, cells_of, check_endpoint, path_length, xy};
 
@@ -37,18 +37,6 @@ pub struct ThetaStarOptions {
     /// Most work before the search stops with an error (default: [`Budget::default`]).
     pub budget: Budget,
 }
-
-/// The 8 moves `(dx, dy)`, straight ones first.
-const MOVES: [(i64, i64); 8] = [
-    (1, 0),
-    (0, 1),
-    (-1, 0),
-    (0, -1),
-    (1, 1),
-    (-1, 1),
-    (-1, -1),
-    (1, -1),
-];
 
 /// An open-list entry of a best-first search over `f64` costs. The heap pops the largest
 /// `key`: the smallest `f`, then the largest `g` (both non-negative, so their IEEE bit
@@ -176,7 +164,7 @@ pub fn theta_star(
         let parent_cell = (parent_index % width, parent_index / width);
         let g_parent = g.get(parent_index).copied().unwrap_or(f64::INFINITY);
         let (x, y) = (cell.0 as i64, cell.1 as i64);
-        for (dx, dy) in MOVES {
+        for (dx, dy) in MOVES.map(|(dx, dy)| (dx as i64, dy as i64)) {
             if !passable.step_clear((x, y), (dx, dy)) {
                 continue;
             }

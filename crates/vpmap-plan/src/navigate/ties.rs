@@ -17,22 +17,10 @@ use crate::budget::Budget;
 use crate::dstar_lite::{StepCost, tie_weight};
 use crate::error::Result;
 use crate::grid::{CellXy, OccupancyGrid};
+use crate::grid::{DIAGONAL_SIDES, MOVES};
 use crate::los::fill_padded;
 use crate::plan::{Plan, PlanStats, check_endpoint};
 
-/// Moves E, S, W, N, SE, SW, NW, NE as (dx, dy).
-const MOVES: [(isize, isize); 8] = [
-    (1, 0),
-    (0, 1),
-    (-1, 0),
-    (0, -1),
-    (1, 1),
-    (-1, 1),
-    (-1, -1),
-    (1, -1),
-];
-/// The orthogonal moves a diagonal move `4 + i` passes between.
-const SIDES: [(usize, usize); 4] = [(0, 1), (2, 1), (2, 3), (0, 3)];
 /// No parent.
 const NO_PARENT: u32 = u32::MAX;
 
@@ -115,7 +103,7 @@ impl TieAstar {
                     continue;
                 }
                 let diagonal = k >= 4;
-                if let Some(&(a, b)) = k.checked_sub(4).and_then(|i| SIDES.get(i))
+                if let Some(&(a, b)) = k.checked_sub(4).and_then(|i| DIAGONAL_SIDES.get(i))
                     && !(pass(&self.passable, u.wrapping_add_signed(deltas[a]))
                         && pass(&self.passable, u.wrapping_add_signed(deltas[b])))
                 {
