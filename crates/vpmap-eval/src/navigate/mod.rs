@@ -222,19 +222,29 @@ pub fn table(results: &[Episode], opts: &NavBenchOptions) -> String {
         "Unknown terrain: the robot starts knowing nothing (free-space assumption), sensor range {} cells; {} episodes per map; mean planning time per episode (ms) / mean travelled length (cells).\n",
         opts.sensor_range_cells, opts.episodes
     );
-    let _ = write!(md, "| map |");
-    for p in &opts.planners {
-        let _ = write!(md, " {} |", p.name());
+    // The comparison columns that the planners run make meaningful, each with its note.
+    let has = |p: OnlinePlanner| opts.planners.contains(&p);
+    let own = has(OnlinePlanner::Astar) && has(OnlinePlanner::DStarLite);
+    let same_track = has(OnlinePlanner::DStarLiteTies);
+    let common = has(OnlinePlanner::AstarTies) && has(OnlinePlanner::DStarLiteTies);
+    let mbpp = has(OnlinePlanner::Mbpp)
+        && (has(OnlinePlanner::DStarLite) || has(OnlinePlanner::DStarLiteTies));
+    let mut headers: Vec<&str> = vec!["map"];
+    headers.extend(opts.planners.iter().map(|p| p.name()));
+    if own {
+        headers.extend(["D* Lite / A* time", "D* Lite = A* length"]);
     }
-    let _ = writeln!(
-        md,
-        " D* Lite / A* time | D* Lite = A* length | same track: D* Lite / A* time | common ties: equal lengths | MBPP / D* Lite length |"
-    );
-    let _ = write!(md, "|---|");
-    for _ in &opts.planners {
-        let _ = write!(md, "---|");
+    if same_track {
+        headers.push("same track: D* Lite / A* time");
     }
-    let _ = writeln!(md, "---|---|---|---|---|");
+    if common {
+        headers.push("common ties: equal lengths");
+    }
+    if mbpp {
+        headers.push("MBPP / D* Lite length");
+    }
+    let _ = writeln!(md, "| {} |", headers.join(" | "));
+    let _ = writeln!(md, "|{}", "---|".repeat(headers.len()));
     for map in maps {
         let of = |p: OnlinePlanner| -> Vec<&Episode> {
             results
@@ -259,58 +269,85 @@ pub fn table(results: &[Episode], opts: &NavBenchOptions) -> String {
                 mean(&v, &|e| e.length_cells)
             );
         }
+        let equal_lengths = |x: &[&Episode], y: &[&Episode]| {
+            let equal = x
+                .iter()
+                .zip(y)
+                .filter(|(a, b)| (a.length_cells - b.length_cells).abs() < 1e-9)
+                .count();
+            format!("{equal} of {}", x.len().min(y.len()))
+        };
         let (d, a) = (of(OnlinePlanner::DStarLite), of(OnlinePlanner::Astar));
-        let ratio = mean(&d, &|e| e.planning_time_s) / mean(&a, &|e| e.planning_time_s);
-        let equal = d
-            .iter()
-            .zip(&a)
-            .filter(|(x, y)| (x.length_cells - y.length_cells).abs() < 1e-9)
-            .count();
-        let _ = write!(md, " {ratio:.2} | {equal} of {} |", d.len().min(a.len()));
+        if own {
+            let ratio = mean(&d, &|e| e.planning_time_s) / mean(&a, &|e| e.planning_time_s);
+            let _ = write!(md, " {ratio:.2} | {} |", equal_lengths(&d, &a));
+        }
         let (dt, at) = (
             of(OnlinePlanner::DStarLiteTies),
             of(OnlinePlanner::AstarTies),
         );
-        let shadowed: Vec<&Episode> = dt
-            .iter()
-            .copied()
-            .filter(|e| e.astar_same_track_time_s.is_some())
-            .collect();
-        if shadowed.is_empty() {
-            let _ = write!(md, " - |");
-        } else {
-            let same = mean(&shadowed, &|e| e.planning_time_s)
-                / mean(&shadowed, &|e| {
-                    e.astar_same_track_time_s.unwrap_or(f64::NAN)
-                });
-            let _ = write!(md, " {same:.2} |");
-        }
-        if dt.is_empty() || at.is_empty() {
-            let _ = write!(md, " - |");
-        } else {
-            let equal_ties = dt
+        if same_track {
+            let shadowed: Vec<&Episode> = dt
                 .iter()
-                .zip(&at)
-                .filter(|(x, y)| (x.length_cells - y.length_cells).abs() < 1e-9)
-                .count();
-            let _ = write!(md, " {equal_ties} of {} |", dt.len().min(at.len()));
-        }
-        // Online MBPP's mean travelled length over D* Lite's, with its own ties and with the
-        // common tie rule (the spread between the two is what ties alone make).
-        let m = of(OnlinePlanner::Mbpp);
-        let length = |v: &[&Episode]| mean(v, &|e| e.length_cells);
-        let over = |v: &[&Episode]| {
-            if m.is_empty() || v.is_empty() {
-                "-".to_owned()
+                .copied()
+                .filter(|e| e.astar_same_track_time_s.is_some())
+                .collect();
+            if shadowed.is_empty() {
+                let _ = write!(md, " - |");
             } else {
-                format!("{:.2}", length(&m) / length(v))
+                let same = mean(&shadowed, &|e| e.planning_time_s)
+                    / mean(&shadowed, &|e| {
+                        e.astar_same_track_time_s.unwrap_or(f64::NAN)
+                    });
+                let _ = write!(md, " {same:.2} |");
             }
-        };
-        let _ = writeln!(md, " {} ; {} |", over(&d), over(&dt));
+        }
+        if common {
+            let _ = write!(md, " {} |", equal_lengths(&dt, &at));
+        }
+        if mbpp {
+            // Online MBPP's mean travelled length over D* Lite's, with its own ties and with
+            // the common tie rule (the spread between the two is what ties alone make).
+            let m = of(OnlinePlanner::Mbpp);
+            let length = |v: &[&Episode]| mean(v, &|e| e.length_cells);
+            let over = |v: &[&Episode]| {
+                if m.is_empty() || v.is_empty() {
+                    "-".to_owned()
+                } else {
+                    format!("{:.2}", length(&m) / length(v))
+                }
+            };
+            let _ = write!(md, " {} ; {} |", over(&d), over(&dt));
+        }
+        md.push('\n');
+    }
+    let mut notes: Vec<&str> = Vec::new();
+    if own {
+        notes.push(
+            "D* Lite / A* time: each on its own drive (the drives differ: equally short plans differ and reveal different cells).",
+        );
+    }
+    if same_track {
+        notes.push(
+            "Same track: the common-tie D* Lite drive (`dstar-lite-ties`, the drive `astar-ties` makes too), with the tuned repeated A* timed at each of its planning events on the same belief from the same cell.",
+        );
+    }
+    if has(OnlinePlanner::AstarTies) {
+        notes.push(
+            "`astar-ties` itself is a plain A* (binary heap), slower than the tuned one; it is run for the equal lengths.",
+        );
+    }
+    if mbpp {
+        notes.push(
+            "MBPP / D* Lite length: online MBPP's mean travelled length over `dstar-lite`'s ; over `dstar-lite-ties`'s (`-` for a planner not run).",
+        );
+    }
+    if !notes.is_empty() {
+        let _ = writeln!(md, "\n{}", notes.join(" "));
     }
     let _ = writeln!(
         md,
-        "\nD* Lite / A* time: each on its own drive (the drives differ: equally short plans differ and reveal different cells). Same track: the common-tie D* Lite drive (`dstar-lite-ties`, the drive `astar-ties` makes too), with the tuned repeated A* timed at each of its planning events on the same belief from the same cell. `astar-ties` itself is a plain A* (binary heap), slower than the tuned one; it is run for the equal lengths. MBPP / D* Lite length: online MBPP's mean travelled length over `dstar-lite`'s ; over `dstar-lite-ties`'s.\n\nMeasured with `{}` on {}{}: times are indicative, ratios measured side by side in one run.",
+        "\nMeasured with `{}` on {}{}: times are indicative, ratios measured side by side in one run.",
         opts.command,
         crate::publish::machine_description(),
         load_average().map_or_else(String::new, |l| format!(
