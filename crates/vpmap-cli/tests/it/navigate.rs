@@ -310,6 +310,24 @@ fn bench_navigate_runs_every_online_planner_on_the_same_episodes() {
         );
     }
     assert!(rows.iter().all(|r| r.contains(",reached,")), "{csv}");
+    // The A* timed beside the common-tie D* Lite drive, forward and backward: time and
+    // expansions in its rows only.
+    assert!(csv.starts_with(
+        "map,episode,start_x,start_y,goal_x,goal_y,planner,outcome,length_cells,planning_time_s,replans,expanded,astar_same_track_time_s,astar_same_track_expanded,backward_astar_same_track_time_s,backward_astar_same_track_expanded\n"
+    ));
+    for r in &rows {
+        let f: Vec<&str> = r.split(',').collect();
+        assert_eq!(f.len(), 16, "{r}");
+        let shadow_filled = f[12..]
+            .iter()
+            .all(|v| v.parse::<f64>().is_ok_and(|x| x > 0.0));
+        let shadow_empty = f[12..].iter().all(|v| v.is_empty());
+        if f[6] == "dstar-lite-ties" {
+            assert!(shadow_filled, "{r}");
+        } else {
+            assert!(shadow_empty, "{r}");
+        }
+    }
     let md = std::fs::read_to_string(out.join("navigate.md")).unwrap();
     assert!(
         md.contains("| walls.map |") && md.contains("D* Lite / A* time"),
@@ -335,11 +353,16 @@ fn bench_navigate_runs_every_online_planner_on_the_same_episodes() {
     assert_eq!(header.len(), row.len(), "{md}");
     assert_eq!(header[9], "same track: D* Lite / A* time", "{header:?}");
     assert!(row[9].parse::<f64>().is_ok_and(|r| r > 0.0), "{row:?}");
+    assert_eq!(
+        header[10], "same track: D* Lite / backward A* time",
+        "{header:?}"
+    );
+    assert!(row[10].parse::<f64>().is_ok_and(|r| r > 0.0), "{row:?}");
     assert!(
         !md.contains("common ties") && !md.contains("`astar-ties` itself"),
         "{md}"
     );
-    assert_eq!(header[10], "MBPP / D* Lite length", "{header:?}");
+    assert_eq!(header[11], "MBPP / D* Lite length", "{header:?}");
     // MBPP's mean length over D* Lite's (own ties ; common ties), from the CSV's lengths.
     let mean_length = |planner: &str| {
         let v: Vec<f64> = rows
@@ -355,7 +378,7 @@ fn bench_navigate_runs_every_online_planner_on_the_same_episodes() {
         mean_length("mbpp") / mean_length("dstar-lite"),
         mean_length("mbpp") / mean_length("dstar-lite-ties")
     );
-    assert_eq!(row[10], expected, "{row:?}");
+    assert_eq!(row[11], expected, "{row:?}");
     // --publish writes its own section and leaves the planners' bench section alone; a
     // broken section is refused before any driving.
     let results = dir.path().join("results.md");

@@ -19,7 +19,7 @@ use std::path::{Path, PathBuf};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use vpmap_plan::navigate::{
-    NavigateOptions, OnlinePlanner, Outcome, navigate, navigate_with_astar_timed,
+    NavigateOptions, OnlinePlanner, Outcome, ShadowAstar, navigate, navigate_with_astar_timed,
 };
 use vpmap_plan::{CellXy, Components, Occupancy, OccupancyGrid};
 
@@ -67,9 +67,9 @@ pub struct Episode {
     pub replans: usize,
     /// Expansions of every event.
     pub expanded: usize,
-    /// `dstar-lite-ties` only: the tuned repeated A*'s time on this same track (every
-    /// planning event, same belief, same cell), seconds.
-    pub astar_same_track_time_s: Option<f64>,
+    /// `dstar-lite-ties` only: the tuned repeated A* on this same track (every planning
+    /// event, same belief), forward from the robot and backward from the goal.
+    pub astar_same_track: Option<ShadowAstar>,
 }
 
 /// Episodes' endpoints on `grid`: random free cells of its largest component, at least a
@@ -153,7 +153,7 @@ pub fn run(opts: &NavBenchOptions, progress: &dyn Progress) -> Result<Vec<Episod
                     planning_time_s: run.planning_time_s,
                     replans: run.events.len().saturating_sub(1),
                     expanded: run.expanded,
-                    astar_same_track_time_s: run.shadow_astar_time_s,
+                    astar_same_track: run.shadow_astar,
                 });
                 progress.message(&format!("{name} #{episode} {}", planner.name()));
                 progress.step();
@@ -177,12 +177,15 @@ fn map_name(path: &Path) -> String {
 #[must_use]
 pub fn report(results: &[Episode], opts: &NavBenchOptions) -> OutputSet {
     let mut csv = String::from(
-        "map,episode,start_x,start_y,goal_x,goal_y,planner,outcome,length_cells,planning_time_s,replans,expanded,astar_same_track_time_s\n",
+        "map,episode,start_x,start_y,goal_x,goal_y,planner,outcome,length_cells,planning_time_s,replans,expanded,astar_same_track_time_s,astar_same_track_expanded,backward_astar_same_track_time_s,backward_astar_same_track_expanded\n",
     );
     for e in results {
+        let shadow = |f: &dyn Fn(&ShadowAstar) -> String| {
+            e.astar_same_track.as_ref().map_or_else(String::new, f)
+        };
         let _ = writeln!(
             csv,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             e.map,
             e.episode,
             e.endpoints.0.x,
@@ -195,8 +198,10 @@ pub fn report(results: &[Episode], opts: &NavBenchOptions) -> OutputSet {
             e.planning_time_s,
             e.replans,
             e.expanded,
-            e.astar_same_track_time_s
-                .map_or_else(String::new, |t| t.to_string())
+            shadow(&|a| a.forward_time_s.to_string()),
+            shadow(&|a| a.forward_expanded.to_string()),
+            shadow(&|a| a.backward_time_s.to_string()),
+            shadow(&|a| a.backward_expanded.to_string()),
         );
     }
     let mut md = table(results, opts);
@@ -235,7 +240,10 @@ pub fn table(results: &[Episode], opts: &NavBenchOptions) -> String {
         headers.extend(["D* Lite / A* time", "D* Lite = A* length"]);
     }
     if same_track {
-        headers.push("same track: D* Lite / A* time");
+        headers.extend([
+            "same track: D* Lite / A* time",
+            "same track: D* Lite / backward A* time",
+        ]);
     }
     if common {
         headers.push("common ties: equal lengths");
@@ -290,16 +298,23 @@ pub fn table(results: &[Episode], opts: &NavBenchOptions) -> String {
             let shadowed: Vec<&Episode> = dt
                 .iter()
                 .copied()
-                .filter(|e| e.astar_same_track_time_s.is_some())
+                .filter(|e| e.astar_same_track.is_some())
                 .collect();
             if shadowed.is_empty() {
-                let _ = write!(md, " - |");
+                let _ = write!(md, " - | - |");
             } else {
-                let same = mean(&shadowed, &|e| e.planning_time_s)
-                    / mean(&shadowed, &|e| {
-                        e.astar_same_track_time_s.unwrap_or(f64::NAN)
-                    });
-                let _ = write!(md, " {same:.2} |");
+                let d_time = mean(&shadowed, &|e| e.planning_time_s);
+                let a_time = |f: fn(&ShadowAstar) -> f64| {
+                    mean(&shadowed, &|e| {
+                        e.astar_same_track.as_ref().map_or(f64::NAN, f)
+                    })
+                };
+                let _ = write!(
+                    md,
+                    " {:.2} | {:.2} |",
+                    d_time / a_time(|a| a.forward_time_s),
+                    d_time / a_time(|a| a.backward_time_s)
+                );
             }
         }
         if common {
@@ -329,7 +344,7 @@ pub fn table(results: &[Episode], opts: &NavBenchOptions) -> String {
     }
     if same_track {
         notes.push(
-            "Same track: the common-tie D* Lite drive (`dstar-lite-ties`, the drive `astar-ties` makes too), with the tuned repeated A* timed at each of its planning events on the same belief from the same cell.",
+            "Same track: the common-tie D* Lite drive (`dstar-lite-ties`, the drive `astar-ties` makes too), with the tuned repeated A* timed at each of its planning events on the same belief, forward from the robot's cell (as the `astar` planner plans) and backward from the goal (the direction D* Lite searches in: what D* Lite's reuse saves over searching that way from scratch).",
         );
     }
     if has(OnlinePlanner::AstarTies) {

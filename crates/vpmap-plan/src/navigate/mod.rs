@@ -71,7 +71,7 @@ use crate::error::{PlanError, Result};
 use crate::grid::{CellXy, Occupancy, OccupancyGrid};
 use crate::los::{Traversable, line_of_sight, visit_swept_cells};
 use crate::plan::{Plan, check_endpoint, path_length};
-use crate::planner::{BuiltIn, Planner, PlannerKind};
+use crate::planner::{BuiltIn, Planned, Planner, PlannerKind};
 
 /// The planners a robot can re-plan with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -263,11 +263,27 @@ pub struct Navigation {
     pub moves: usize,
     /// The belief at the end, and the cells seen.
     pub belief: Belief,
-    /// [`navigate_with_astar_timed`] only: the time of the repeated A* (the tuned one,
+    /// [`navigate_with_astar_timed`] only: the repeated A* (the tuned one,
     /// [`OnlinePlanner::Astar`]'s planner) run at every planning event of this drive on
-    /// the same belief from the same cell, seconds; not part of
-    /// [`Navigation::planning_time_s`].
-    pub shadow_astar_time_s: Option<f64>,
+    /// the same belief, forward from the robot's cell and backward from the goal; not part
+    /// of [`Navigation::planning_time_s`].
+    pub shadow_astar: Option<ShadowAstar>,
+}
+
+/// The tuned repeated A* run beside a drive at each of its planning events
+/// ([`navigate_with_astar_timed`]), its plans not used: forward (robot to goal, as
+/// [`OnlinePlanner::Astar`] plans) and backward (goal to robot, the direction D* Lite
+/// searches in). Totals over the events.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ShadowAstar {
+    /// Forward searches' time, seconds.
+    pub forward_time_s: f64,
+    /// Forward searches' expansions.
+    pub forward_expanded: usize,
+    /// Backward searches' time, seconds.
+    pub backward_time_s: f64,
+    /// Backward searches' expansions.
+    pub backward_expanded: usize,
 }
 
 /// The shortest paths on the true map, for comparison: octile (A*) and any-angle (the
@@ -390,16 +406,22 @@ struct Run<'a> {
     candidates: Vec<Vec<CellXy>>,
     /// D* Lite's bookkeeping time, seconds.
     update_s: f64,
-    /// The tuned A* timed beside the planner at every event, and its total time, seconds.
-    shadow: Option<(Box<BuiltIn>, f64)>,
+    /// The tuned A* run beside the planner at every event, and its totals.
+    shadow: Option<(Box<BuiltIn>, ShadowAstar)>,
 }
 
 impl Run<'_> {
     fn replan(&mut self, robot: CellXy) -> Result<Replanned> {
         if let Some((astar, total)) = &mut self.shadow {
             let t0 = Instant::now();
-            let _ = astar.plan(&self.belief.grid, robot, self.goal)?;
-            *total += t0.elapsed().as_secs_f64();
+            let forward = astar.plan(&self.belief.grid, robot, self.goal)?;
+            total.forward_time_s += t0.elapsed().as_secs_f64();
+            let t0 = Instant::now();
+            let backward = astar.plan(&self.belief.grid, self.goal, robot)?;
+            total.backward_time_s += t0.elapsed().as_secs_f64();
+            let expanded = |p: &Planned| p.best.as_ref().map_or(0, |b| b.stats.expanded);
+            total.forward_expanded += expanded(&forward);
+            total.backward_expanded += expanded(&backward);
         }
         let t0 = Instant::now();
         match &mut self.online {
@@ -577,8 +599,8 @@ pub fn navigate(
 }
 
 /// [`navigate`], and at every planning event the tuned repeated A* ([`OnlinePlanner::Astar`]'s
-/// planner) is also run on the same belief from the same cell and timed apart
-/// ([`Navigation::shadow_astar_time_s`]; its plans are not used). With
+/// planner) is also run on the same belief, forward from the robot's cell and backward from
+/// the goal, and timed apart ([`Navigation::shadow_astar`]; its plans are not used). With
 /// [`OnlinePlanner::DStarLiteTies`] this times D* Lite and repeated A* on one and the same
 /// track: the drive [`OnlinePlanner::AstarTies`] makes too, re-planning at the same cells.
 ///
@@ -636,7 +658,7 @@ fn drive(
                         .planner(opts.unknown_passable)
                         .with_budget(opts.budget.clone()),
                 ),
-                0.0,
+                ShadowAstar::default(),
             )
         }),
     };
@@ -766,7 +788,7 @@ fn drive(
         expanded,
         moves,
         belief: run.belief,
-        shadow_astar_time_s: run.shadow.map(|s| s.1),
+        shadow_astar: run.shadow.map(|s| s.1),
     })
 }
 

@@ -533,6 +533,49 @@ fn timing_the_tuned_astar_beside_a_drive_does_not_change_it() {
         vpmap_plan::navigate::navigate_with_astar_timed(&belief, &truth, start, goal, &opts)
             .unwrap();
     assert!(same_drive(&plain, &timed));
-    assert_eq!(plain.shadow_astar_time_s, None);
-    assert!(timed.shadow_astar_time_s.is_some_and(|t| t > 0.0));
+    assert_eq!(plain.shadow_astar, None);
+    let shadow = timed.shadow_astar.unwrap();
+    assert!(shadow.forward_time_s > 0.0 && shadow.backward_time_s > 0.0);
+    assert!(shadow.forward_expanded > 0 && shadow.backward_expanded > 0);
+}
+
+#[test]
+fn the_astar_beside_a_drive_searches_forward_from_the_robot_and_backward_from_the_goal() {
+    // A belief equal to the truth and a reachable goal: nothing sensed changes the belief,
+    // so the drive has one planning event, and the A* beside it must expand what a fresh A*
+    // expands from the start to the goal, and from the goal to the start.
+    let mut rng = rng(1519);
+    let fresh = |grid: &OccupancyGrid, from: CellXy, to: CellXy| {
+        vpmap_plan::astar::astar(grid, from, to, &vpmap_plan::astar::AstarOptions::default())
+            .unwrap()
+            .map(|p| p.stats.expanded)
+    };
+    let mut checked = 0;
+    for _ in 0..40 {
+        let truth = random_grid(&mut rng, 40, 30, 0.25, 0.0);
+        let (Some(start), Some(goal)) = (free_cell(&mut rng, &truth), free_cell(&mut rng, &truth))
+        else {
+            continue;
+        };
+        let (Some(forward), Some(backward)) =
+            (fresh(&truth, start, goal), fresh(&truth, goal, start))
+        else {
+            continue;
+        };
+        let opts = NavigateOptions {
+            planner: OnlinePlanner::DStarLiteTies,
+            sensor_range_cells: 4.0,
+            ..NavigateOptions::default()
+        };
+        let run =
+            vpmap_plan::navigate::navigate_with_astar_timed(&truth, &truth, start, goal, &opts)
+                .unwrap();
+        assert_eq!(run.outcome, Outcome::Reached);
+        assert_eq!(run.events.len(), 1, "{start:?} -> {goal:?}");
+        let shadow = run.shadow_astar.unwrap();
+        assert_eq!(shadow.forward_expanded, forward, "{start:?} -> {goal:?}");
+        assert_eq!(shadow.backward_expanded, backward, "{start:?} -> {goal:?}");
+        checked += 1;
+    }
+    assert!(checked >= 15, "only {checked} reachable pairs");
 }
