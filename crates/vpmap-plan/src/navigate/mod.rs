@@ -71,7 +71,7 @@ use crate::error::{PlanError, Result};
 use crate::grid::{CellXy, Occupancy, OccupancyGrid};
 use crate::los::{Traversable, line_of_sight, visit_swept_cells};
 use crate::plan::{Plan, check_endpoint, path_length};
-use crate::planner::{BuiltIn, Planned, Planner, PlannerKind};
+use crate::planner::{BuiltIn, Planner, PlannerKind};
 
 /// The planners a robot can re-plan with.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -270,10 +270,12 @@ pub struct Navigation {
     pub shadow_astar: Option<ShadowAstar>,
 }
 
-/// The tuned repeated A* run beside a drive at each of its planning events
+/// The tuned repeated A* run on the belief of each planning event of a drive
 /// ([`navigate_with_astar_timed`]), its plans not used: forward (robot to goal, as
 /// [`OnlinePlanner::Astar`] plans) and backward (goal to robot, the direction D* Lite
-/// searches in). Totals over the events.
+/// searches in). Totals over the events. The beliefs are replayed after the drive from its
+/// log of changes, each direction in a pass of its own, so that no search shares the caches
+/// with the planner driven or with the other direction.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct ShadowAstar {
     /// Forward searches' time, seconds.
@@ -406,22 +408,76 @@ struct Run<'a> {
     candidates: Vec<Vec<CellXy>>,
     /// D* Lite's bookkeeping time, seconds.
     update_s: f64,
-    /// The tuned A* run beside the planner at every event, and its totals.
-    shadow: Option<(Box<BuiltIn>, ShadowAstar)>,
+    /// With the A* timed beside ([`navigate_with_astar_timed`]): the belief's history, to
+    /// replay after the drive.
+    log: Option<BeliefLog>,
+}
+
+/// The belief as it was when planning started, and every change and planning event after
+/// it in order: enough to rebuild the belief of every event after the drive.
+struct BeliefLog {
+    initial: OccupancyGrid,
+    steps: Vec<Logged>,
+}
+
+enum Logged {
+    /// Cells that took these states.
+    Changes(Vec<(CellXy, Occupancy)>),
+    /// A planning event with the robot at this cell.
+    Event(CellXy),
+}
+
+impl BeliefLog {
+    /// Replay the drive's beliefs with the tuned A* alone, forward (robot to goal) and then
+    /// backward (goal to robot), each in its own pass so that neither the planner driven nor
+    /// the other direction shares the caches with it; check that the replay ends on the
+    /// drive's final belief.
+    fn replay(&self, goal: CellXy, opts: &NavigateOptions, last: &Belief) -> Result<ShadowAstar> {
+        let mut total = ShadowAstar::default();
+        for backward in [false, true] {
+            let mut astar = PlannerKind::Astar
+                .planner(opts.unknown_passable)
+                .with_budget(opts.budget.clone());
+            let mut grid = self.initial.clone();
+            let (mut time_s, mut expanded) = (0.0, 0);
+            for step in &self.steps {
+                match step {
+                    Logged::Changes(changes) => {
+                        for &(c, o) in changes {
+                            grid.set(c.x, c.y, o)?;
+                        }
+                    }
+                    &Logged::Event(robot) => {
+                        let (from, to) = if backward {
+                            (goal, robot)
+                        } else {
+                            (robot, goal)
+                        };
+                        let t0 = Instant::now();
+                        let planned = astar.plan(&grid, from, to)?;
+                        time_s += t0.elapsed().as_secs_f64();
+                        expanded += planned.best.as_ref().map_or(0, |b| b.stats.expanded);
+                    }
+                }
+            }
+            debug_assert!(
+                grid.cells() == last.grid.cells(),
+                "the belief log missed a change"
+            );
+            if backward {
+                (total.backward_time_s, total.backward_expanded) = (time_s, expanded);
+            } else {
+                (total.forward_time_s, total.forward_expanded) = (time_s, expanded);
+            }
+        }
+        Ok(total)
+    }
 }
 
 impl Run<'_> {
     fn replan(&mut self, robot: CellXy) -> Result<Replanned> {
-        if let Some((astar, total)) = &mut self.shadow {
-            let t0 = Instant::now();
-            let forward = astar.plan(&self.belief.grid, robot, self.goal)?;
-            total.forward_time_s += t0.elapsed().as_secs_f64();
-            let t0 = Instant::now();
-            let backward = astar.plan(&self.belief.grid, self.goal, robot)?;
-            total.backward_time_s += t0.elapsed().as_secs_f64();
-            let expanded = |p: &Planned| p.best.as_ref().map_or(0, |b| b.stats.expanded);
-            total.forward_expanded += expanded(&forward);
-            total.backward_expanded += expanded(&backward);
+        if let Some(log) = &mut self.log {
+            log.steps.push(Logged::Event(robot));
         }
         let t0 = Instant::now();
         match &mut self.online {
@@ -543,6 +599,11 @@ impl Run<'_> {
 
     /// Tell D* Lite about a move and the changes sensed there.
     fn observe(&mut self, robot: CellXy, changes: &[(CellXy, Occupancy)]) -> Result<()> {
+        if let Some(log) = &mut self.log
+            && !changes.is_empty()
+        {
+            log.steps.push(Logged::Changes(changes.to_vec()));
+        }
         if let Online::DStarLite(Some(planner)) = &mut self.online {
             let t0 = Instant::now();
             planner.move_start(robot)?;
@@ -598,9 +659,10 @@ pub fn navigate(
     drive(believed, truth, start, goal, opts, false)
 }
 
-/// [`navigate`], and at every planning event the tuned repeated A* ([`OnlinePlanner::Astar`]'s
-/// planner) is also run on the same belief, forward from the robot's cell and backward from
-/// the goal, and timed apart ([`Navigation::shadow_astar`]; its plans are not used). With
+/// [`navigate`], and the tuned repeated A* ([`OnlinePlanner::Astar`]'s planner) is also run
+/// on the belief of every planning event, forward from the robot's cell and backward from
+/// the goal, and timed apart ([`Navigation::shadow_astar`]; its plans are not used; the
+/// beliefs are replayed after the drive, see [`ShadowAstar`]). With
 /// [`OnlinePlanner::DStarLiteTies`] this times D* Lite and repeated A* on one and the same
 /// track: the drive [`OnlinePlanner::AstarTies`] makes too, re-planning at the same cells.
 ///
@@ -651,19 +713,16 @@ fn drive(
         online,
         candidates: Vec::new(),
         update_s: 0.0,
-        shadow: shadow.then(|| {
-            (
-                Box::new(
-                    PlannerKind::Astar
-                        .planner(opts.unknown_passable)
-                        .with_budget(opts.budget.clone()),
-                ),
-                ShadowAstar::default(),
-            )
-        }),
+        log: None,
     };
     let mut robot = start;
     run.belief.sense(truth, robot, opts.unknown_passable);
+    if shadow {
+        run.log = Some(BeliefLog {
+            initial: run.belief.grid.clone(),
+            steps: Vec::new(),
+        });
+    }
     let mut events = Vec::new();
     let mut cells = vec![start];
     let mut waypoints = vec![start];
@@ -778,6 +837,10 @@ fn drive(
         }
     };
     let length_cells = path_length(&waypoints);
+    let shadow_astar = match &run.log {
+        Some(log) => Some(log.replay(goal, opts, &run.belief)?),
+        None => None,
+    };
     Ok(Navigation {
         outcome,
         cells,
@@ -788,7 +851,7 @@ fn drive(
         expanded,
         moves,
         belief: run.belief,
-        shadow_astar: run.shadow.map(|s| s.1),
+        shadow_astar,
     })
 }
 
