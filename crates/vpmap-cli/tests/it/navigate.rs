@@ -336,20 +336,15 @@ fn bench_navigate_runs_every_online_planner_on_the_same_episodes() {
     // By default D* Lite also drives under the common tie rule, with the tuned A* timed on
     // its track: the "same track" ratio is a number; without astar-ties there is no
     // equal-lengths column under that rule (nor its note).
-    let row: Vec<&str> = md
-        .lines()
-        .find(|l| l.starts_with("| walls.map |"))
-        .unwrap()
-        .split('|')
-        .map(str::trim)
-        .collect();
-    let header: Vec<&str> = md
-        .lines()
-        .find(|l| l.starts_with("| map |"))
-        .unwrap()
-        .split('|')
-        .map(str::trim)
-        .collect();
+    let cells_of = |prefix: &str| -> Vec<&str> {
+        md.lines()
+            .find(|l| l.starts_with(prefix))
+            .unwrap()
+            .split('|')
+            .map(str::trim)
+            .collect()
+    };
+    let (row, header) = (cells_of("| walls.map |"), cells_of("| map |"));
     assert_eq!(header.len(), row.len(), "{md}");
     assert_eq!(header[9], "same track: D* Lite / A* time", "{header:?}");
     assert!(row[9].parse::<f64>().is_ok_and(|r| r > 0.0), "{row:?}");

@@ -597,7 +597,8 @@ impl Run<'_> {
         Ok(changes.len())
     }
 
-    /// Tell D* Lite about a move and the changes sensed there.
+    /// Tell D* Lite about a move and the changes sensed there (and log the changes when
+    /// the belief is logged for the A* timed beside).
     fn observe(&mut self, robot: CellXy, changes: &[(CellXy, Occupancy)]) -> Result<()> {
         if let Some(log) = &mut self.log
             && !changes.is_empty()
@@ -837,10 +838,11 @@ fn drive(
         }
     };
     let length_cells = path_length(&waypoints);
-    let shadow_astar = match &run.log {
-        Some(log) => Some(log.replay(goal, opts, &run.belief)?),
-        None => None,
-    };
+    let shadow_astar = run
+        .log
+        .as_ref()
+        .map(|log| log.replay(goal, opts, &run.belief))
+        .transpose()?;
     Ok(Navigation {
         outcome,
         cells,
