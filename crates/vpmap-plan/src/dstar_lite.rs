@@ -24,9 +24,12 @@
 //! as `s + d sqrt 2` exactly, in integers), so equal lengths are equal and no rounding
 //! decides a tie, as in [`crate::astar`](mod@crate::astar). The queue is an indexed 4-ary
 //! heap (each cell knows its position: re-keying and removing are in place, no stale
-//! entries) of integer keys: lengths in fixed point with `2^-64` cells, which orders every
-//! length of fewer than `2^27` steps exactly (`k_m` is folded into the keys before it gets
-//! there).
+//! entries) of integer keys, exact in either of two sizes: without the common tie rule,
+//! 16-byte keys of lengths in fixed point with `2^-42` cells, exact up to a million steps of
+//! each kind; with it, or once a key outgrows that (a search over a million steps long,
+//! checked at every key), 48-byte keys of lengths with `2^-64` cells and tie weights, exact
+//! below `2^27` steps (`k_m` is folded into the keys before either limit). The smaller keys
+//! make a drive's planning about a quarter faster (docs/navigation.md).
 //!
 //! **The common tie rule** ([`DStarLiteOptions::common_ties`]): a cost is compared by
 //! length first and then by the sum of the [`tie_weight`]s of the cells the path enters
@@ -227,7 +230,7 @@ pub fn tie_weight(x: usize, y: usize) -> u32 {
 const SQRT_2_FIXED: u128 = 26_087_635_650_665_564_425;
 
 /// Step counts below this (per component) keep [`fixed_length`] exactly ordered; `k_m`
-/// is folded into the keys before it gets there ([`DStarLite::rekey`]).
+/// is folded into the keys before it gets there ([`Search::rekey`]).
 const FIXED_EXACT_BELOW: u32 = 1 << 27;
 
 /// The length of `c` in units of `2^-64` cells (`sqrt 2` rounded to that unit): for
@@ -243,24 +246,102 @@ fn fixed_length(c: StepCost) -> u128 {
     }
 }
 
-/// A queue key `[k1; k2]` as integers, compared lexicographically: each part's length
-/// ([`fixed_length`]) and then its tie weight.
+/// A queue key `[k1; k2]`, compared lexicographically, held exactly: [`NarrowKey`]
+/// without tie weights and while the step counts are small, [`WideKey`] otherwise.
+trait QueueKey: Copy + Ord + std::fmt::Debug {
+    /// Larger than every key [`QueueKey::new`] returns: the key given to a cell whose key
+    /// does not fit, until the search is widened.
+    const MAX: Self;
+    /// `k_m`'s step counts are folded into the keys ([`Search::rekey`]) before either
+    /// reaches this.
+    const KM_LIMIT: u32;
+    /// The key `[k1; k2]`, or `None` when this type cannot hold it exactly.
+    fn new(k1: StepCost, k2: StepCost) -> Option<Self>;
+    /// Whether the first part's length is at most `other`'s (tie weights aside).
+    fn k1_length_le(self, other: Self) -> bool;
+}
+
+/// A key of any step counts and tie weights: each part's length ([`fixed_length`], `2^-64`
+/// cells) and then its tie weight; 48 bytes.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
-struct Key {
+struct WideKey {
     k1: u128,
     k1_weight: u64,
     k2: u128,
     k2_weight: u64,
 }
 
-impl Key {
-    fn new(k1: StepCost, k2: StepCost) -> Self {
-        Self {
+impl QueueKey for WideKey {
+    const MAX: Self = Self {
+        k1: u128::MAX,
+        k1_weight: u64::MAX,
+        k2: u128::MAX,
+        k2_weight: u64::MAX,
+    };
+    const KM_LIMIT: u32 = FIXED_EXACT_BELOW / 2;
+
+    #[inline]
+    fn new(k1: StepCost, k2: StepCost) -> Option<Self> {
+        Some(Self {
             k1: fixed_length(k1),
             k1_weight: k1.weight,
             k2: fixed_length(k2),
             k2_weight: k2.weight,
+        })
+    }
+
+    #[inline]
+    fn k1_length_le(self, other: Self) -> bool {
+        self.k1 <= other.k1
+    }
+}
+
+/// `sqrt 2` in units of `2^-42`, rounded: the diagonal step of [`narrow_length`].
+const SQRT_2_NARROW: u64 = 6_219_777_023_951;
+
+/// Step counts up to this (per component) keep [`narrow_length`] exactly ordered and
+/// within 64 bits.
+const NARROW_MAX_STEPS: u32 = 1_000_000;
+
+/// The length of `c` in units of `2^-42` cells, or `None` for a count over
+/// [`NARROW_MAX_STEPS`] (infinite: `u64::MAX`). Exact order: two different lengths of
+/// counts up to `n = 10^6` differ by `|x - y sqrt 2| >= 1 / (x + y sqrt 2) > 4.1e-7` cells,
+/// while the rounded `sqrt 2` errs by at most `2^-43` a diagonal step, `1.2e-7` cells over
+/// `10^6` of them; the longest length, `2.42e6` cells, stays below `2^22`, so the sum fits
+/// in 64 bits. Equal counts give equal lengths.
+#[inline]
+fn narrow_length(c: StepCost) -> Option<u64> {
+    if !c.is_finite() {
+        Some(u64::MAX)
+    } else if c.straight <= NARROW_MAX_STEPS && c.diagonal <= NARROW_MAX_STEPS {
+        Some((u64::from(c.straight) << 42) + u64::from(c.diagonal) * SQRT_2_NARROW)
+    } else {
+        None
+    }
+}
+
+/// A key without tie weights (the common tie rule off) and of step counts up to
+/// [`NARROW_MAX_STEPS`]: each part's length ([`narrow_length`]); 16 bytes, a third of a
+/// [`WideKey`], which makes the queue's sifting about a quarter faster.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+struct NarrowKey(u128);
+
+impl QueueKey for NarrowKey {
+    const MAX: Self = Self(u128::MAX);
+    const KM_LIMIT: u32 = NARROW_MAX_STEPS / 4;
+
+    #[inline]
+    fn new(k1: StepCost, k2: StepCost) -> Option<Self> {
+        if (k1.is_finite() && k1.weight != 0) || (k2.is_finite() && k2.weight != 0) {
+            return None;
         }
+        let (k1, k2) = (narrow_length(k1)?, narrow_length(k2)?);
+        Some(Self((u128::from(k1) << 64) | u128::from(k2)))
+    }
+
+    #[inline]
+    fn k1_length_le(self, other: Self) -> bool {
+        self.0 >> 64 <= other.0 >> 64
     }
 }
 
@@ -317,9 +398,44 @@ enum Extracted {
     Inconsistent(usize),
 }
 
+/// What [`Search::path`] gave.
+enum Planned {
+    /// The path, or `None` when there is none.
+    Done(Option<Plan>),
+    /// A key did not fit: the search must widen and go on.
+    Widen,
+}
+
 /// A D* Lite search from a moving start to a fixed goal (see the [module docs](self)).
+///
+/// Its queue holds [`NarrowKey`]s when it can (the common tie rule off) and widens to
+/// [`WideKey`]s, once and for good, when a key's step counts outgrow them (cells over
+/// about a million steps from the goal).
 #[derive(Clone, Debug)]
 pub struct DStarLite {
+    search: Searches,
+}
+
+/// The search with either kind of key.
+#[derive(Clone, Debug)]
+enum Searches {
+    Narrow(Search<NarrowKey>),
+    Wide(Search<WideKey>),
+}
+
+/// The same code on either kind of search.
+macro_rules! each {
+    ($searches:expr, $s:ident => $e:expr) => {
+        match $searches {
+            Searches::Narrow($s) => $e,
+            Searches::Wide($s) => $e,
+        }
+    };
+}
+
+/// The D* Lite search itself, over queue keys of type `K`.
+#[derive(Clone, Debug)]
+struct Search<K> {
     /// Padded passability, border blocked: cell `(x, y)` at `(y + 1) pw + x + 1`.
     passable: Vec<bool>,
     /// Tie weight of each padded cell (empty without the common tie rule).
@@ -330,7 +446,7 @@ pub struct DStarLite {
     /// Per padded cell: its position in the heap plus one, 0 when not queued.
     pos: Vec<u32>,
     /// The queue: a 4-ary min-heap of keys and padded cells, positions in [`Node::pos`].
-    heap: Vec<(Key, u32)>,
+    heap: Vec<(K, u32)>,
     /// Padded width.
     pw: usize,
     width: usize,
@@ -346,6 +462,8 @@ pub struct DStarLite {
     dirty: bool,
     /// Queue insertions and re-keyings so far.
     pushes: usize,
+    /// Whether a key did not fit `K` (the search must widen before it goes on).
+    overflow: std::cell::Cell<bool>,
 }
 
 impl DStarLite {
@@ -366,6 +484,100 @@ impl DStarLite {
         opts: &DStarLiteOptions,
     ) -> Result<Self> {
         let (start, goal) = (start.into(), goal.into());
+        let search = if opts.common_ties {
+            Searches::Wide(Search::new(grid, start, goal, opts)?)
+        } else {
+            Searches::Narrow(Search::new(grid, start, goal, opts)?)
+        };
+        let mut this = Self { search };
+        this.widen_if_needed();
+        Ok(this)
+    }
+
+    /// The robot's cell.
+    #[must_use]
+    pub fn start(&self) -> CellXy {
+        each!(&self.search, s => s.cell(s.start))
+    }
+
+    /// The goal cell.
+    #[must_use]
+    pub fn goal(&self) -> CellXy {
+        each!(&self.search, s => s.cell(s.goal))
+    }
+
+    /// The robot moved to `start` (the paper's `s_start = argmin ...`; any cell is accepted,
+    /// the heuristic stays consistent). The key modifier `k_m` grows at the next
+    /// [`DStarLite::update_cells`] that changes something.
+    ///
+    /// # Errors
+    /// [`PlanError::EndpointOutsideGrid`] outside the grid.
+    pub fn move_start(&mut self, start: impl Into<CellXy>) -> Result<()> {
+        let start = start.into();
+        each!(&mut self.search, s => s.move_start(start))
+    }
+
+    /// Cells whose state changed (to the state given). Updates the affected step costs
+    /// and the `rhs` values and queue entries of their ends (Figure 4, lines 38-47), adding
+    /// `h(s_last, s_start)` to `k_m` first when any passability changed; returns how many
+    /// cells changed passability. A cell listed more than once takes its last state. The new
+    /// plan comes from the next [`DStarLite::path`].
+    ///
+    /// # Errors
+    /// [`PlanError::CellOutOfBounds`] for a cell outside the grid (nothing is changed).
+    pub fn update_cells(&mut self, changes: &[(CellXy, Occupancy)]) -> Result<usize> {
+        let changed = each!(&mut self.search, s => s.update_cells(changes))?;
+        self.widen_if_needed();
+        Ok(changed)
+    }
+
+    /// A shortest path from the robot's cell to the goal on the current map, every cell
+    /// of it (like [`astar`](crate::astar::astar)), or `Ok(None)` when there is none.
+    /// Runs the paper's `ComputeShortestPath` first when anything changed; the plan's
+    /// statistics count that run's expansions and queue pushes (zero when nothing
+    /// changed).
+    ///
+    /// # Errors
+    /// [`PlanError::BudgetExhausted`] or [`PlanError::Stopped`] from the budget (the
+    /// search state stays valid: a later call continues it);
+    /// [`PlanError::InconsistentSearch`] if the path cannot be followed (a bug).
+    pub fn path(&mut self) -> Result<Option<Plan>> {
+        let mut stats = PlanStats::default();
+        loop {
+            match each!(&mut self.search, s => s.path(&mut stats))? {
+                Planned::Done(plan) => return Ok(plan),
+                Planned::Widen => self.widen_if_needed(),
+            }
+        }
+    }
+
+    /// Whether the queue holds [`WideKey`]s (for tests).
+    #[cfg(test)]
+    fn is_wide(&self) -> bool {
+        matches!(self.search, Searches::Wide(_))
+    }
+
+    /// Move a narrow search whose keys overflowed to wide keys (its `g`, `rhs` and queue
+    /// membership carry over as they are: D* Lite's invariants do not depend on the order
+    /// of past expansions; every queued key is computed anew).
+    fn widen_if_needed(&mut self) {
+        if let Searches::Narrow(s) = &mut self.search
+            && s.overflow.get()
+        {
+            let wide = s.convert();
+            self.search = Searches::Wide(wide);
+        }
+    }
+}
+
+impl<K: QueueKey> Search<K> {
+    /// [`DStarLite::new`].
+    fn new(
+        grid: &OccupancyGrid,
+        start: CellXy,
+        goal: CellXy,
+        opts: &DStarLiteOptions,
+    ) -> Result<Self> {
         check_endpoint(grid, "start", start, opts.unknown_passable)?;
         check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
         let (width, height) = (grid.width(), grid.height());
@@ -399,6 +611,7 @@ impl DStarLite {
             deltas,
             dirty: true,
             pushes: 0,
+            overflow: std::cell::Cell::new(false),
         };
         let goal = this.goal;
         this.set_rhs(goal, StepCost::ZERO);
@@ -406,26 +619,44 @@ impl DStarLite {
         Ok(this)
     }
 
-    /// The robot's cell.
-    #[must_use]
-    pub fn start(&self) -> CellXy {
-        self.cell(self.start)
+    /// The same search with keys of type `K2`, this one left empty: every field moves
+    /// over and each queued key is computed anew.
+    fn convert<K2: QueueKey>(&mut self) -> Search<K2> {
+        let heap = std::mem::take(&mut self.heap);
+        let mut to = Search {
+            passable: std::mem::take(&mut self.passable),
+            weights: std::mem::take(&mut self.weights),
+            costs: std::mem::take(&mut self.costs),
+            pos: std::mem::take(&mut self.pos),
+            heap: Vec::with_capacity(heap.len()),
+            pw: self.pw,
+            width: self.width,
+            height: self.height,
+            start: self.start,
+            last: self.last,
+            goal: self.goal,
+            km: self.km,
+            opts: self.opts.clone(),
+            deltas: self.deltas,
+            dirty: self.dirty,
+            pushes: self.pushes,
+            overflow: std::cell::Cell::new(false),
+        };
+        for &(_, u) in &heap {
+            if let Some(p) = to.pos.get_mut(u as usize) {
+                *p = 0;
+            }
+        }
+        for (_, u) in heap {
+            let key = to.key(u as usize);
+            to.queue_set(u as usize, key);
+        }
+        to.pushes = self.pushes;
+        to
     }
 
-    /// The goal cell.
-    #[must_use]
-    pub fn goal(&self) -> CellXy {
-        self.cell(self.goal)
-    }
-
-    /// The robot moved to `start` (the paper's `s_start = argmin ...`; any cell is accepted,
-    /// the heuristic stays consistent). The key modifier `k_m` grows at the next
-    /// [`DStarLite::update_cells`] that changes something.
-    ///
-    /// # Errors
-    /// [`PlanError::EndpointOutsideGrid`] outside the grid.
-    pub fn move_start(&mut self, start: impl Into<CellXy>) -> Result<()> {
-        let c = start.into();
+    /// [`DStarLite::move_start`].
+    fn move_start(&mut self, c: CellXy) -> Result<()> {
         if c.x >= self.width || c.y >= self.height {
             return Err(PlanError::EndpointOutsideGrid {
                 endpoint: "start",
@@ -443,15 +674,8 @@ impl DStarLite {
         Ok(())
     }
 
-    /// Cells whose state changed (to the state given). Updates the affected step costs
-    /// and the `rhs` values and queue entries of their ends (Figure 4, lines 38-47), adding
-    /// `h(s_last, s_start)` to `k_m` first when any passability changed; returns how many
-    /// cells changed passability. A cell listed more than once takes its last state. The new
-    /// plan comes from the next [`DStarLite::path`].
-    ///
-    /// # Errors
-    /// [`PlanError::CellOutOfBounds`] for a cell outside the grid (nothing is changed).
-    pub fn update_cells(&mut self, changes: &[(CellXy, Occupancy)]) -> Result<usize> {
+    /// [`DStarLite::update_cells`].
+    fn update_cells(&mut self, changes: &[(CellXy, Occupancy)]) -> Result<usize> {
         // (padded cell, position in `changes` reversed, passable now): a cell listed twice takes its
         // last state, as writing the changes to a grid in order would.
         let mut latest = Vec::with_capacity(changes.len());
@@ -479,7 +703,7 @@ impl DStarLite {
         }
         self.km = self.km.add(self.heuristic(self.last, self.start));
         self.last = self.start;
-        if self.km.straight >= FIXED_EXACT_BELOW / 2 || self.km.diagonal >= FIXED_EXACT_BELOW / 2 {
+        if self.km.straight >= K::KM_LIMIT || self.km.diagonal >= K::KM_LIMIT {
             self.rekey();
         }
         // Every directed step whose cost may change, as (from, move): into and out of each
@@ -531,20 +755,13 @@ impl DStarLite {
         Ok(flips.len())
     }
 
-    /// A shortest path from the robot's cell to the goal on the current map, every cell
-    /// of it (like [`astar`](crate::astar::astar)), or `Ok(None)` when there is none.
-    /// Runs the paper's `ComputeShortestPath` first when anything changed; the plan's
-    /// statistics count that run's expansions and queue pushes (zero when nothing
-    /// changed).
-    ///
-    /// # Errors
-    /// [`PlanError::BudgetExhausted`] or [`PlanError::Stopped`] from the budget (the
-    /// search state stays valid: a later call continues it);
-    /// [`PlanError::InconsistentSearch`] if the path cannot be followed (a bug).
-    pub fn path(&mut self) -> Result<Option<Plan>> {
-        let mut stats = PlanStats::default();
+    /// [`DStarLite::path`], adding to `stats`.
+    fn path(&mut self, stats: &mut PlanStats) -> Result<Planned> {
         if self.dirty {
-            self.compute_shortest_path(Until::Paper, &mut stats)?;
+            self.compute_shortest_path(Until::Paper, stats)?;
+            if self.overflow.get() {
+                return Ok(Planned::Widen);
+            }
         }
         self.dirty = false;
         // Following `argmin c + g` is safe through consistent cells; a cell left
@@ -552,13 +769,19 @@ impl DStarLite {
         // not process) may hold a stale `g`. Then process the ties, and failing that every
         // queued cell, and follow again.
         for until in [Until::Ties, Until::Empty] {
-            match self.extract(stats) {
-                Extracted::Path(plan) => return Ok(plan),
-                Extracted::Inconsistent(_) => self.compute_shortest_path(until, &mut stats)?,
+            match self.extract(*stats) {
+                Extracted::Path(plan) => return Ok(Planned::Done(plan)),
+                Extracted::Inconsistent(_) => {
+                    self.compute_shortest_path(until, stats)?;
+                    if self.overflow.get() {
+                        self.dirty = true;
+                        return Ok(Planned::Widen);
+                    }
+                }
             }
         }
-        match self.extract(stats) {
-            Extracted::Path(plan) => Ok(plan),
+        match self.extract(*stats) {
+            Extracted::Path(plan) => Ok(Planned::Done(plan)),
             Extracted::Inconsistent(at) => Err(self.inconsistent(at)),
         }
     }
@@ -631,11 +854,14 @@ impl DStarLite {
     fn compute_shortest_path(&mut self, until: Until, stats: &mut PlanStats) -> Result<()> {
         let pushes_before = self.pushes;
         while let Some(&(top, u)) = self.heap.first() {
+            if self.overflow.get() {
+                break;
+            }
             let u = u as usize;
             let start_key = self.key(self.start);
             let more = match until {
                 Until::Paper => top < start_key,
-                Until::Ties => top.k1 <= start_key.k1,
+                Until::Ties => top.k1_length_le(start_key),
                 Until::Empty => true,
             };
             if !(more || self.rhs(self.start) > self.g(self.start)) {
@@ -712,7 +938,7 @@ impl DStarLite {
                 *p = 0;
             }
         }
-        let entries: Vec<(Key, u32)> = std::mem::take(&mut self.heap)
+        let entries: Vec<(K, u32)> = std::mem::take(&mut self.heap)
             .into_iter()
             .map(|(_, u)| (self.key(u as usize), u))
             .collect();
@@ -727,7 +953,7 @@ impl DStarLite {
     }
 
     /// Queue `u` with `key`, or change its key.
-    fn queue_set(&mut self, u: usize, key: Key) {
+    fn queue_set(&mut self, u: usize, key: K) {
         self.pushes += 1;
         let pos = self.position(u);
         if pos == NOT_QUEUED {
@@ -861,9 +1087,12 @@ impl DStarLite {
     }
 
     /// `CalculateKey(s)`.
-    fn key(&self, s: usize) -> Key {
+    fn key(&self, s: usize) -> K {
         let m = self.g(s).min(self.rhs(s));
-        Key::new(m.add(self.heuristic(self.start, s)).add(self.km), m)
+        K::new(m.add(self.heuristic(self.start, s)).add(self.km), m).unwrap_or_else(|| {
+            self.overflow.set(true);
+            K::MAX
+        })
     }
 
     /// `min over successors s' of c(u, s') + g(s')`.
@@ -1019,6 +1248,118 @@ mod tests {
         assert!(c(99, 0) > c(0, 70)); // 99 > 70 sqrt 2 = 98.9949...
         assert!(StepCost::INF > c(u32::MAX - 1, u32::MAX - 1));
         assert!(!c(1, 0).add(StepCost::INF).is_finite());
+    }
+
+    /// The narrow keys' lengths order exactly like the exact comparison up to
+    /// [`NARROW_MAX_STEPS`], on the nearest ties there are (Pell pairs up to a million
+    /// steps: `665857^2 - 2 * 470832^2 = 1`), and refuse larger counts.
+    #[test]
+    fn narrow_lengths_order_exactly_up_to_their_limit() {
+        let c = |straight, diagonal| StepCost {
+            straight,
+            diagonal,
+            weight: 0,
+        };
+        let max = NARROW_MAX_STEPS;
+        let mut pairs = vec![c(0, 0), c(1, 0), c(0, 1), c(max, max), c(max, 0), c(0, max)];
+        // Pell pairs (x, y) with x^2 - 2 y^2 = +-1: x straight against y diagonal steps.
+        for (x, y) in [
+            (3, 2),
+            (7, 5),
+            (99, 70),
+            (3363, 2378),
+            (114_243, 80_782),
+            (665_857, 470_832),
+        ] {
+            pairs.extend([c(x, 0), c(0, y), c(x + 1, 0), c(x - 1, 0), c(0, y + 1)]);
+            // The same near tie shifted to large common counts.
+            pairs.extend([c(x + max - 665_857, max - y), c(max, max - y)]);
+            pairs.extend([c(max - x, y), c(max - x, 0), c(max, y)]);
+        }
+        for a in (0..max).step_by(99_991) {
+            for d in (0..max).step_by(77_773) {
+                pairs.push(c(a, d));
+            }
+        }
+        for &p in &pairs {
+            for &q in &pairs {
+                let (np, nq) = (narrow_length(p).unwrap(), narrow_length(q).unwrap());
+                assert_eq!(np.cmp(&nq), p.cmp_length(q), "{p:?} {q:?}");
+            }
+        }
+        assert_eq!(narrow_length(StepCost::INF), Some(u64::MAX));
+        assert_eq!(narrow_length(c(max + 1, 0)), None);
+        assert_eq!(narrow_length(c(0, max + 1)), None);
+        assert!(narrow_length(c(max, max)).unwrap() < u64::MAX);
+        // The rounded sqrt 2 against the 2^-64 one.
+        let scaled = u128::from(SQRT_2_NARROW) << 22;
+        assert!(scaled.abs_diff(SQRT_2_FIXED) <= 1 << 21);
+        // Tie weights do not fit a narrow key; infinite costs do.
+        assert!(NarrowKey::new(StepCost::step(false, 1), StepCost::ZERO).is_none());
+        assert_eq!(
+            NarrowKey::new(StepCost::INF, StepCost::INF),
+            Some(NarrowKey::MAX)
+        );
+    }
+
+    /// Ordinary searches keep their narrow keys: through walls, dead ends and no path.
+    #[test]
+    fn ordinary_searches_stay_narrow() {
+        let mut grid = OccupancyGrid::new(30, 20, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+        for y in 0..19 {
+            grid.set(15, y, Occupancy::Occupied).unwrap();
+        }
+        let opts = DStarLiteOptions::default();
+        let mut p = DStarLite::new(&grid, (2, 2), (28, 2), &opts).unwrap();
+        assert!(p.path().unwrap().is_some());
+        p.move_start((3, 3)).unwrap();
+        p.update_cells(&[(CellXy::new(15, 19), Occupancy::Occupied)])
+            .unwrap();
+        assert!(p.path().unwrap().is_none());
+        p.update_cells(&[(CellXy::new(15, 10), Occupancy::Free)])
+            .unwrap();
+        assert!(p.path().unwrap().is_some());
+        assert!(!p.is_wide());
+        let ties = DStarLiteOptions {
+            common_ties: true,
+            ..DStarLiteOptions::default()
+        };
+        assert!(
+            DStarLite::new(&grid, (2, 2), (28, 2), &ties)
+                .unwrap()
+                .is_wide()
+        );
+    }
+
+    /// A search whose keys outgrow the narrow ones (over a million steps from the goal)
+    /// widens and still finds the shortest path: at the start (the heuristic alone is too
+    /// long) and in the middle of a drive (with a queue to carry over).
+    #[test]
+    #[allow(clippy::float_cmp)]
+    fn a_search_too_long_for_narrow_keys_widens_and_stays_exact() {
+        let width = NARROW_MAX_STEPS as usize + 100;
+        let grid = OccupancyGrid::new(width, 1, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+        let opts = DStarLiteOptions::default();
+        let mut far = DStarLite::new(&grid, (0, 0), (width - 1, 0), &opts).unwrap();
+        assert!(far.is_wide());
+        let plan = far.path().unwrap().unwrap();
+        assert_eq!(plan.length_cells, (width - 1) as f64);
+
+        let mut p = DStarLite::new(&grid, (width - 50, 0), (width - 1, 0), &opts).unwrap();
+        assert!(!p.is_wide());
+        assert_eq!(p.path().unwrap().unwrap().length_cells, 49.0);
+        // The robot is carried far away; a cell beyond the goal's side changes.
+        p.move_start((10, 0)).unwrap();
+        p.update_cells(&[(CellXy::new(5, 0), Occupancy::Occupied)])
+            .unwrap();
+        let plan = p.path().unwrap().unwrap();
+        assert!(p.is_wide());
+        assert_eq!(plan.length_cells, (width - 11) as f64);
+        assert_eq!(plan.waypoints.first(), Some(&CellXy::new(10, 0)));
+        // And it re-plans on: a wall between the robot and the goal.
+        p.update_cells(&[(CellXy::new(20, 0), Occupancy::Occupied)])
+            .unwrap();
+        assert!(p.path().unwrap().is_none());
     }
 
     #[test]
