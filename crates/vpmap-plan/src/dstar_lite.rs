@@ -408,9 +408,9 @@ enum Planned {
 
 /// A D* Lite search from a moving start to a fixed goal (see the [module docs](self)).
 ///
-/// Its queue holds [`NarrowKey`]s when it can (the common tie rule off) and widens to
-/// [`WideKey`]s, once and for good, when a key's step counts outgrow them (cells over
-/// about a million steps from the goal).
+/// Its queue holds 16-byte keys when it can (the common tie rule off) and widens to
+/// 48-byte ones, once and for good, when a key's step counts outgrow them (cells over
+/// about a million steps from the goal; see the [module docs](self)).
 #[derive(Clone, Debug)]
 pub struct DStarLite {
     search: Searches,
