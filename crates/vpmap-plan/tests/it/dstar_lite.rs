@@ -267,3 +267,45 @@ fn dstar_lite_takes_the_last_state_of_a_cell_listed_twice() {
         .unwrap();
     assert!(planner.path().unwrap().is_none());
 }
+
+/// The experiment of docs/navigation.md ("Why D* Lite loses on open ground"): on an empty
+/// grid, a first D* Lite search, then four cells blocked next to the robot (a detour of
+/// 1.76 cells), against a fresh forward A* on the changed map. Prints the expansions;
+/// checks that both find paths of the octile length before and equal lengths after.
+#[test]
+#[ignore = "an experiment that prints figures: cargo test --release --test it experiment_ -- --ignored --nocapture"]
+#[allow(clippy::float_cmp)]
+fn experiment_repair_next_to_the_robot_on_open_ground() {
+    for (dx, dy) in [(380, 0), (380, 50), (380, 150), (200, 100)] {
+        let grid = OccupancyGrid::new(400, 400, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+        let (start, goal) = ((10, 100), (10 + dx, 100 + dy));
+        let mut planner = DStarLite::new(&grid, start, goal, &DStarLiteOptions::default()).unwrap();
+        let first = planner.path().unwrap().unwrap();
+        let octile = (dx - dy) as f64 + dy as f64 * std::f64::consts::SQRT_2;
+        assert!((first.length_cells - octile).abs() < 1e-9);
+        let wall: Vec<(CellXy, Occupancy)> = (99..=102)
+            .map(|y| (CellXy::new(11, y), Occupancy::Occupied))
+            .collect();
+        let mut changed = grid.clone();
+        for &(c, state) in &wall {
+            changed.set(c.x, c.y, state).unwrap();
+        }
+        planner.update_cells(&wall).unwrap();
+        let repaired = planner.path().unwrap().unwrap();
+        let fresh = astar(&changed, start, goal, &AstarOptions::default())
+            .unwrap()
+            .unwrap();
+        assert_eq!(repaired.length_cells, fresh.length_cells);
+        assert!(repaired.length_cells > first.length_cells);
+        println!(
+            "goal {dx} east, {dy} north: equally short paths cover {} cells; D* Lite's first \
+             search {} expansions; its repair {} (length {:.2} -> {:.2}); a fresh forward A* {}",
+            (dx - dy) * dy + dx + 1,
+            first.stats.expanded,
+            repaired.stats.expanded,
+            first.length_cells,
+            repaired.length_cells,
+            fresh.stats.expanded
+        );
+    }
+}
