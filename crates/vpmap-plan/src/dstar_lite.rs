@@ -24,12 +24,13 @@
 //! as `s + d sqrt 2` exactly, in integers), so equal lengths are equal and no rounding
 //! decides a tie, as in [`crate::astar`](mod@crate::astar). The queue is an indexed 4-ary
 //! heap (each cell knows its position: re-keying and removing are in place, no stale
-//! entries) of integer keys, exact in either of two sizes: without the common tie rule,
-//! 16-byte keys of lengths in fixed point with `2^-42` cells, exact up to a million steps of
-//! each kind; with it, or once a key outgrows that (a search over a million steps long,
-//! checked at every key), 48-byte keys of lengths with `2^-64` cells and tie weights, exact
-//! below `2^27` steps (`k_m` is folded into the keys before either limit). The smaller keys
-//! make a drive's planning about a quarter faster (docs/navigation.md).
+//! entries) of exact integer keys: lengths in fixed point with `2^-42` cells, exact up to a
+//! million steps of each kind, in 16 bytes (24 with the common tie rule's weight); once a
+//! key outgrows that (a search over a million steps long, checked at every key), the search
+//! widens to 48-byte keys of lengths with `2^-64` cells and tie weights, exact below `2^27`
+//! steps (`k_m` is folded into the keys before either limit). The smaller keys make a
+//! drive's planning about a quarter faster, a tenth under the common tie rule
+//! (docs/navigation.md).
 //!
 //! **The common tie rule** ([`DStarLiteOptions::common_ties`]): a cost is compared by
 //! length first and then by the sum of the [`tie_weight`]s of the cells the path enters
@@ -345,6 +346,46 @@ impl QueueKey for NarrowKey {
     }
 }
 
+/// A key of step counts up to [`NARROW_MAX_STEPS`] under the common tie rule: each part's
+/// length ([`narrow_length`]) and their tie weight once, ordered as `(k1 length, weight, k2
+/// length)`. Both parts have the same weight (`k1 = k2 + h + k_m`, and the heuristic and
+/// `k_m` are octile lengths of weight 0), so this is the order of [`WideKey`]'s four parts;
+/// a key whose parts' weights differ is not held. 24 bytes (a [`NarrowKey`] and its
+/// comparison are smaller still: measured, each type is the faster one for its mode).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+struct TieKey {
+    k1: u64,
+    weight: u64,
+    k2: u64,
+}
+
+impl QueueKey for TieKey {
+    const MAX: Self = Self {
+        k1: u64::MAX,
+        weight: u64::MAX,
+        k2: u64::MAX,
+    };
+    const KM_LIMIT: u32 = NARROW_MAX_STEPS / 4;
+
+    #[inline]
+    fn new(k1: StepCost, k2: StepCost) -> Option<Self> {
+        match (k1.is_finite(), k2.is_finite()) {
+            (false, false) => Some(Self::MAX),
+            (true, true) if k1.weight == k2.weight => Some(Self {
+                k1: narrow_length(k1)?,
+                weight: k1.weight,
+                k2: narrow_length(k2)?,
+            }),
+            _ => None,
+        }
+    }
+
+    #[inline]
+    fn k1_length_le(self, other: Self) -> bool {
+        self.k1 <= other.k1
+    }
+}
+
 /// No queue position: the cell is not queued.
 const NOT_QUEUED: u32 = u32::MAX;
 
@@ -408,9 +449,9 @@ enum Planned {
 
 /// A D* Lite search from a moving start to a fixed goal (see the [module docs](self)).
 ///
-/// Its queue holds 16-byte keys when it can (the common tie rule off) and widens to
-/// 48-byte ones, once and for good, when a key's step counts outgrow them (cells over
-/// about a million steps from the goal; see the [module docs](self)).
+/// Its queue holds 16-byte keys (24 under the common tie rule) and widens to 48-byte ones,
+/// once and for good, when a key's step counts outgrow them (cells over about a million
+/// steps from the goal; see the [module docs](self)).
 #[derive(Clone, Debug)]
 pub struct DStarLite {
     search: Searches,
@@ -420,6 +461,7 @@ pub struct DStarLite {
 #[derive(Clone, Debug)]
 enum Searches {
     Narrow(Search<NarrowKey>),
+    Ties(Search<TieKey>),
     Wide(Search<WideKey>),
 }
 
@@ -428,6 +470,7 @@ macro_rules! each {
     ($searches:expr, $s:ident => $e:expr) => {
         match $searches {
             Searches::Narrow($s) => $e,
+            Searches::Ties($s) => $e,
             Searches::Wide($s) => $e,
         }
     };
@@ -485,7 +528,7 @@ impl DStarLite {
     ) -> Result<Self> {
         let (start, goal) = (start.into(), goal.into());
         let search = if opts.common_ties {
-            Searches::Wide(Search::new(grid, start, goal, opts)?)
+            Searches::Ties(Search::new(grid, start, goal, opts)?)
         } else {
             Searches::Narrow(Search::new(grid, start, goal, opts)?)
         };
@@ -561,12 +604,12 @@ impl DStarLite {
     /// membership carry over as they are: D* Lite's invariants do not depend on the order
     /// of past expansions; every queued key is computed anew).
     fn widen_if_needed(&mut self) {
-        if let Searches::Narrow(s) = &mut self.search
-            && s.overflow.get()
-        {
-            let wide = s.convert();
-            self.search = Searches::Wide(wide);
-        }
+        let wide = match &mut self.search {
+            Searches::Narrow(s) if s.overflow.get() => s.convert(),
+            Searches::Ties(s) if s.overflow.get() => s.convert(),
+            _ => return,
+        };
+        self.search = Searches::Wide(wide);
     }
 }
 
@@ -1302,6 +1345,47 @@ mod tests {
         );
     }
 
+    /// Tie keys order like the wide keys (lengths exactly, then the weight) and refuse parts
+    /// of different weights.
+    #[test]
+    fn tie_keys_order_like_wide_keys() {
+        let c = |straight, diagonal, weight| StepCost {
+            straight,
+            diagonal,
+            weight,
+        };
+        let h = StepCost::octile(7, 3);
+        let mut parts = vec![StepCost::INF];
+        for (s, d) in [
+            (0, 0),
+            (99, 0),
+            (0, 70),
+            (3, 1),
+            (4, 0),
+            (665_857, 0),
+            (0, 470_832),
+        ] {
+            for w in [0, 1, 5, u64::from(u32::MAX) * 3] {
+                parts.push(c(s, d, w));
+            }
+        }
+        let keys: Vec<(Option<TieKey>, WideKey)> = parts
+            .iter()
+            .map(|&m| {
+                let k1 = m.add(h);
+                (TieKey::new(k1, m), WideKey::new(k1, m).unwrap())
+            })
+            .collect();
+        for (a, wa) in &keys {
+            for (b, wb) in &keys {
+                assert_eq!(a.unwrap().cmp(&b.unwrap()), wa.cmp(wb), "{wa:?} {wb:?}");
+            }
+        }
+        assert!(TieKey::new(c(5, 0, 1), c(1, 0, 2)).is_none());
+        assert!(TieKey::new(c(5, 0, 1), StepCost::INF).is_none());
+        assert!(TieKey::new(c(NARROW_MAX_STEPS + 1, 0, 0), c(0, 0, 0)).is_none());
+    }
+
     /// Ordinary searches keep their narrow keys: through walls, dead ends and no path.
     #[test]
     fn ordinary_searches_stay_narrow() {
@@ -1309,26 +1393,22 @@ mod tests {
         for y in 0..19 {
             grid.set(15, y, Occupancy::Occupied).unwrap();
         }
-        let opts = DStarLiteOptions::default();
-        let mut p = DStarLite::new(&grid, (2, 2), (28, 2), &opts).unwrap();
-        assert!(p.path().unwrap().is_some());
-        p.move_start((3, 3)).unwrap();
-        p.update_cells(&[(CellXy::new(15, 19), Occupancy::Occupied)])
-            .unwrap();
-        assert!(p.path().unwrap().is_none());
-        p.update_cells(&[(CellXy::new(15, 10), Occupancy::Free)])
-            .unwrap();
-        assert!(p.path().unwrap().is_some());
-        assert!(!p.is_wide());
-        let ties = DStarLiteOptions {
-            common_ties: true,
-            ..DStarLiteOptions::default()
-        };
-        assert!(
-            DStarLite::new(&grid, (2, 2), (28, 2), &ties)
-                .unwrap()
-                .is_wide()
-        );
+        for common_ties in [false, true] {
+            let opts = DStarLiteOptions {
+                common_ties,
+                ..DStarLiteOptions::default()
+            };
+            let mut p = DStarLite::new(&grid, (2, 2), (28, 2), &opts).unwrap();
+            assert!(p.path().unwrap().is_some());
+            p.move_start((3, 3)).unwrap();
+            p.update_cells(&[(CellXy::new(15, 19), Occupancy::Occupied)])
+                .unwrap();
+            assert!(p.path().unwrap().is_none());
+            p.update_cells(&[(CellXy::new(15, 10), Occupancy::Free)])
+                .unwrap();
+            assert!(p.path().unwrap().is_some());
+            assert!(!p.is_wide(), "common ties {common_ties}");
+        }
     }
 
     /// A search whose keys outgrow the narrow ones (over a million steps from the goal)
@@ -1339,13 +1419,24 @@ mod tests {
     fn a_search_too_long_for_narrow_keys_widens_and_stays_exact() {
         let width = NARROW_MAX_STEPS as usize + 100;
         let grid = OccupancyGrid::new(width, 1, 1.0, [0.0; 2], Occupancy::Free).unwrap();
-        let opts = DStarLiteOptions::default();
-        let mut far = DStarLite::new(&grid, (0, 0), (width - 1, 0), &opts).unwrap();
+        for common_ties in [false, true] {
+            let opts = DStarLiteOptions {
+                common_ties,
+                ..DStarLiteOptions::default()
+            };
+            widens_and_stays_exact(&grid, &opts);
+        }
+    }
+
+    #[allow(clippy::float_cmp)]
+    fn widens_and_stays_exact(grid: &OccupancyGrid, opts: &DStarLiteOptions) {
+        let (grid, opts, width) = (grid, opts, grid.width());
+        let mut far = DStarLite::new(grid, (0, 0), (width - 1, 0), opts).unwrap();
         assert!(far.is_wide());
         let plan = far.path().unwrap().unwrap();
         assert_eq!(plan.length_cells, (width - 1) as f64);
 
-        let mut p = DStarLite::new(&grid, (width - 50, 0), (width - 1, 0), &opts).unwrap();
+        let mut p = DStarLite::new(grid, (width - 50, 0), (width - 1, 0), opts).unwrap();
         assert!(!p.is_wide());
         assert_eq!(p.path().unwrap().unwrap().length_cells, 49.0);
         // The robot is carried far away; a cell beyond the goal's side changes.
