@@ -665,13 +665,16 @@ impl<K: QueueKey> Search<K> {
     /// The same search with keys of type `K2`, this one left empty: every field moves
     /// over and each queued key is computed anew.
     fn convert<K2: QueueKey>(&mut self) -> Search<K2> {
-        let heap = std::mem::take(&mut self.heap);
+        let cells: Vec<u32> = std::mem::take(&mut self.heap)
+            .into_iter()
+            .map(|(_, u)| u)
+            .collect();
         let mut to = Search {
             passable: std::mem::take(&mut self.passable),
             weights: std::mem::take(&mut self.weights),
             costs: std::mem::take(&mut self.costs),
             pos: std::mem::take(&mut self.pos),
-            heap: Vec::with_capacity(heap.len()),
+            heap: Vec::with_capacity(cells.len()),
             pw: self.pw,
             width: self.width,
             height: self.height,
@@ -685,15 +688,8 @@ impl<K: QueueKey> Search<K> {
             pushes: self.pushes,
             overflow: std::cell::Cell::new(false),
         };
-        for &(_, u) in &heap {
-            if let Some(p) = to.pos.get_mut(u as usize) {
-                *p = 0;
-            }
-        }
-        for (_, u) in heap {
-            let key = to.key(u as usize);
-            to.queue_set(u as usize, key);
-        }
+        to.queue_afresh(&cells);
+        // Converting is not searching: the re-queued keys are not counted as pushes.
         to.pushes = self.pushes;
         to
     }
@@ -975,17 +971,23 @@ impl<K: QueueKey> Search<K> {
     /// tens of millions of cells driven).
     fn rekey(&mut self) {
         self.km = StepCost::ZERO;
-        let cells: Vec<usize> = self.heap.iter().map(|e| e.1 as usize).collect();
-        for u in cells {
-            if let Some(p) = self.pos.get_mut(u) {
+        let cells: Vec<u32> = std::mem::take(&mut self.heap)
+            .into_iter()
+            .map(|(_, u)| u)
+            .collect();
+        self.queue_afresh(&cells);
+    }
+
+    /// Queue `cells`, taken out of an emptied queue, again, each with its key computed
+    /// afresh ([`Search::rekey`], [`Search::convert`]).
+    fn queue_afresh(&mut self, cells: &[u32]) {
+        for &u in cells {
+            if let Some(p) = self.pos.get_mut(u as usize) {
                 *p = 0;
             }
         }
-        let entries: Vec<(K, u32)> = std::mem::take(&mut self.heap)
-            .into_iter()
-            .map(|(_, u)| (self.key(u as usize), u))
-            .collect();
-        for (key, u) in entries {
+        for &u in cells {
+            let key = self.key(u as usize);
             self.queue_set(u as usize, key);
         }
     }
