@@ -7,7 +7,7 @@
 //! `../shared/thesis/errata.md`, "Frame and signs"): `x` along the horizon towards image right,
 //! `y` perpendicular to it, positive towards the sky.
 
-use nalgebra::{Matrix2, Vector2};
+use nalgebra::{Matrix2, Vector2, Vector3};
 use serde::{Deserialize, Serialize};
 
 use crate::error::{MetrologyError, Result};
@@ -107,9 +107,10 @@ impl Calibration {
 
     /// Calibrate from resolved vanishing points.
     ///
-    /// `vanishing_points_px` holds VP1, VP2 (horizontal, any order) and optionally VP3
-    /// (vertical). `principal_point_px` defaults to the image centre (2PP) or the orthocentre
-    /// of the VP triangle (3PP).
+    /// `vanishing_points_px` holds two horizontal vanishing points (two-point perspective) or
+    /// three, in any order: the vertical one is the one opposite the most level side
+    /// ([`vertical_index`]), the horizontal ones keep their order. `principal_point_px`
+    /// defaults to the image centre (2PP) or the orthocentre of the VP triangle (3PP).
     ///
     /// * 2PP (Appendix B): `d^2 = OC1 * OC2 = -(VP1 - O).(VP2 - O)` for `O` on the horizon
     ///   (power of a point on the vanishing circle). A principal point off the horizon is moved
@@ -139,6 +140,30 @@ impl Calibration {
         principal_point_px: Option<Vector2<f64>>,
         image: ImageSize,
     ) -> Result<Self> {
+        let points: Vec<Vector3<f64>> = vanishing_points_px
+            .iter()
+            .map(|v| Vector3::new(v.x, v.y, 1.0))
+            .collect();
+        Self::from_homogeneous(&points, principal_point_px, image)
+    }
+
+    /// Calibrate from vanishing points in homogeneous pixel coordinates `(x, y, w)`: `w = 1`
+    /// for a point, `w = 0` for a direction (a vanishing point at infinity), as
+    /// [`crate::scene::Scene::resolve_vanishing_points`] gives them; otherwise as
+    /// [`Calibration::from_vanishing_points`].
+    ///
+    /// Of three, the vertical one may be at infinity: the camera is level (pitch 0) and is
+    /// calibrated from the two horizontal ones as in two-point perspective, with a warning
+    /// when the given direction is not perpendicular to their horizon.
+    ///
+    /// # Errors
+    /// As [`Calibration::from_vanishing_points`], and a horizontal vanishing point at infinity
+    /// (it fixes no focal length in closed form).
+    pub fn from_homogeneous(
+        vanishing_points_px: &[Vector3<f64>],
+        principal_point_px: Option<Vector2<f64>>,
+        image: ImageSize,
+    ) -> Result<Self> {
         let n = vanishing_points_px.len();
         if !(2..=3).contains(&n) {
             return Err(MetrologyError::VanishingPointCount(n));
@@ -146,17 +171,74 @@ impl Calibration {
         let tol = 1e-9 * image.diagonal();
         for i in 0..n {
             for j in i + 1..n {
-                let (a, b) = (vanishing_points_px[i], vanishing_points_px[j]);
-                if (a - b).norm() <= tol {
+                let (a, b) = (&vanishing_points_px[i], &vanishing_points_px[j]);
+                let same = match (finite_point(a), finite_point(b)) {
+                    (Some(p), Some(q)) => (p - q).norm() <= tol,
+                    _ => false,
+                };
+                if same {
                     return Err(MetrologyError::CoincidentVanishingPoints {
                         first: i + 1,
                         second: j + 1,
-                        x: a.x,
-                        y: a.y,
+                        x: a.x / a.z,
+                        y: a.y / a.z,
                     });
                 }
             }
         }
+        let mut warnings = Vec::new();
+        let order = vertical_last_order(vanishing_points_px).unwrap_or([0, 1, 2]);
+        if n == 3 && order[2] != 2 {
+            warnings.push(reorder_warning(vanishing_points_px, order));
+        }
+        let ordered: Vec<Vector3<f64>> =
+            order[..n].iter().map(|&i| vanishing_points_px[i]).collect();
+        let mut finite = Vec::with_capacity(n);
+        for (k, v) in ordered.iter().enumerate() {
+            match finite_point(v) {
+                Some(p) => finite.push(p),
+                None if k == 2 => {}
+                None => {
+                    return Err(MetrologyError::NoRealFocalLength(format!(
+                        "horizontal vanishing point {} is given as a direction ({:.3}, {:.3}), at infinity: it fixes no focal length in closed form; give it as a point or as segments",
+                        order[k] + 1,
+                        v.x,
+                        v.y
+                    )));
+                }
+            }
+        }
+        if finite.len() == 2 && n == 3 {
+            // A level camera: the vertical edges are parallel in the image, perpendicular to
+            // the horizon. Calibrated as two-point perspective.
+            let along = (finite[1] - finite[0]).normalize();
+            let dir = Vector2::new(ordered[2].x, ordered[2].y).normalize();
+            let off_deg = dir.dot(&along).abs().clamp(0.0, 1.0).asin().to_degrees();
+            let mut cal = Self::from_finite(&finite, principal_point_px, image)?;
+            if off_deg > LEVEL_DIRECTION_TOLERANCE_DEG {
+                cal.warnings.push(format!(
+                    "the vertical vanishing point's direction ({:.3}, {:.3}) is {off_deg:.2} deg from perpendicular to the horizon through the other two; the camera was taken as level (pitch 0)",
+                    ordered[2].x, ordered[2].y
+                ));
+            }
+            warnings.append(&mut cal.warnings);
+            cal.warnings = warnings;
+            return Ok(cal);
+        }
+        let mut cal = Self::from_finite(&finite, principal_point_px, image)?;
+        warnings.append(&mut cal.warnings);
+        cal.warnings = warnings;
+        Ok(cal)
+    }
+
+    /// The closed forms on finite vanishing points in the documented order (horizontal ones,
+    /// then the vertical one).
+    fn from_finite(
+        vanishing_points_px: &[Vector2<f64>],
+        principal_point_px: Option<Vector2<f64>>,
+        image: ImageSize,
+    ) -> Result<Self> {
+        let n = vanishing_points_px.len();
         let (v1, v2) = (vanishing_points_px[0], vanishing_points_px[1]);
         let mut along = (v2 - v1).normalize();
         if along.x < 0.0 || (along.x == 0.0 && along.y > 0.0) {
@@ -253,6 +335,89 @@ impl Calibration {
             warnings,
         })
     }
+}
+
+/// Largest angle, degrees, between a level camera's vertical direction (a vanishing point
+/// given at infinity) and the perpendicular to the horizon, before a warning.
+pub const LEVEL_DIRECTION_TOLERANCE_DEG: f64 = 1.0;
+
+/// A homogeneous pixel point as a finite point, or `None` at infinity (beyond
+/// [`crate::scene::MAX_VANISHING_POINT_PX`]).
+#[must_use]
+pub fn finite_point(v: &Vector3<f64>) -> Option<Vector2<f64>> {
+    let p = Vector2::new(v.x / v.z, v.y / v.z);
+    (v.z != 0.0
+        && p.x.is_finite()
+        && p.y.is_finite()
+        && p.norm() <= crate::scene::MAX_VANISHING_POINT_PX)
+        .then_some(p)
+}
+
+/// The image direction of the line through two homogeneous points (either may be at
+/// infinity, not both), or `None`.
+fn line_direction(a: &Vector3<f64>, b: &Vector3<f64>) -> Option<Vector2<f64>> {
+    let d = match (finite_point(a), finite_point(b)) {
+        (Some(p), Some(q)) => q - p,
+        (None, Some(_)) => Vector2::new(a.x, a.y),
+        (Some(_), None) => Vector2::new(b.x, b.y),
+        (None, None) => return None,
+    };
+    (d.norm() > 0.0 && d.x.is_finite() && d.y.is_finite()).then_some(d)
+}
+
+/// The angle, degrees in `[0, 90]`, between the line through two vanishing points and the
+/// image's rows, or `None`.
+fn tilt_deg(a: &Vector3<f64>, b: &Vector3<f64>) -> Option<f64> {
+    line_direction(a, b).map(|d| (d.y.abs() / d.norm()).clamp(0.0, 1.0).asin().to_degrees())
+}
+
+/// Which of three vanishing points (homogeneous, any order) is the vertical one: the one
+/// opposite the most level side, since the other two span the horizon and photos are taken
+/// with a small roll. Ties keep the documented order (the last). The three are symmetric in
+/// the camera's geometry (any of them fits the same focal length and principal point), so
+/// this is a prior on how people hold cameras; it reads a photo looking down steeply at
+/// walls nearly face-on, with a large roll, the other way. `None` for fewer than three.
+#[must_use]
+pub fn vertical_index(points: &[Vector3<f64>]) -> Option<usize> {
+    if points.len() != 3 {
+        return None;
+    }
+    let mut best: Option<(usize, f64)> = None;
+    for k in (0..3).rev() {
+        let others: Vec<&Vector3<f64>> = (0..3).filter(|&i| i != k).map(|i| &points[i]).collect();
+        if let Some(t) = tilt_deg(others[0], others[1])
+            && best.is_none_or(|(_, b)| t < b - TIE_DEG)
+        {
+            best = Some((k, t));
+        }
+    }
+    best.map(|(k, _)| k)
+}
+
+/// Tilts closer than this, degrees, count as a tie in [`vertical_index`].
+const TIE_DEG: f64 = 1e-9;
+
+/// The indices of three vanishing points in the documented order: the horizontal ones as
+/// given, then the vertical one ([`vertical_index`]); `None` for fewer than three.
+pub(crate) fn vertical_last_order(points: &[Vector3<f64>]) -> Option<[usize; 3]> {
+    let v = vertical_index(points)?;
+    let mut order = [0, 1, v];
+    for (at, i) in (0..3).filter(|&i| i != v).enumerate() {
+        order[at] = i;
+    }
+    Some(order)
+}
+
+/// The warning for vanishing points whose vertical one was not listed last.
+pub(crate) fn reorder_warning(points: &[Vector3<f64>], order: [usize; 3]) -> String {
+    let tilt = |i: usize, j: usize| tilt_deg(&points[i], &points[j]).unwrap_or(f64::NAN);
+    format!(
+        "vanishing point {} (as listed) was taken as the vertical one: the line through the other two is the most level ({:.1} deg from the image rows, against {:.1} and {:.1} deg); list the vertical one last",
+        order[2] + 1,
+        tilt(order[0], order[1]),
+        tilt(order[0], order[2]),
+        tilt(order[1], order[2]),
+    )
 }
 
 /// The orthocentre of a triangle (intersection of its altitudes), or `None` when the vertices

@@ -46,6 +46,10 @@ pub struct CameraReport {
     pub pitch_deg: f64,
     /// Roll, degrees: the horizon's angle in the image, positive when it falls to the right.
     pub roll_deg: f64,
+    /// The room's yaw: the direction on the floor of the first horizontal vanishing point's
+    /// edges, degrees counter-clockwise from `+x` (the second runs 90 degrees from it).
+    #[serde(default)]
+    pub room_yaw_deg: f64,
     /// Camera height above the floor, in the map's units.
     pub height: f64,
     /// The intrinsic matrix `K = [[f, 0, cx], [0, f, cy], [0, 0, 1]]` (pixels; square pixels,
@@ -155,8 +159,16 @@ pub struct CameraUncertainty {
     pub pitch_deg_sd: f64,
     /// Roll, degrees.
     pub roll_deg_sd: f64,
-    /// Camera height, map units (0 when the scale is the camera height).
+    /// Camera height, map units (0 when the scale is the camera height, or without a scale:
+    /// then the camera height is the unit, which nothing in a photo can fix).
     pub height_sd: f64,
+    /// Principal point `[x, y]`, pixels, when the fit placed it (three finite vanishing
+    /// points); absent when it was held at the given value or the image centre.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub principal_point_px_sd: Option<[f64; 2]>,
+    /// The room's yaw ([`CameraReport::room_yaw_deg`]), degrees.
+    #[serde(default)]
+    pub room_yaw_deg_sd: f64,
 }
 
 /// How the joint fit went (method `fit` only).
@@ -238,7 +250,7 @@ pub const WARN_RESIDUAL_SIGMAS: f64 = 3.0;
 pub fn calibrate(scene: &Scene) -> Result<Calibration> {
     let vps = scene.resolve_vanishing_points()?;
     let pp = scene.principal_point.map(|p| Vector2::new(p[0], p[1]));
-    let mut cal = Calibration::from_vanishing_points(&vps, pp, scene.image)?;
+    let mut cal = Calibration::from_homogeneous(&vps, pp, scene.image)?;
     if let Some(f) = scene.focal_px
         && (f - cal.focal_px).abs() > 0.02 * cal.focal_px
     {
@@ -248,6 +260,20 @@ pub fn calibrate(scene: &Scene) -> Result<Calibration> {
         ));
     }
     Ok(cal)
+}
+
+/// The room's yaw from a calibration: the floor direction, from `+x`, of the edges that run to
+/// the first vanishing point, radians.
+#[must_use]
+pub fn room_yaw_rad(cal: &Calibration) -> f64 {
+    let Some(v) = cal.vanishing_points_px.first() else {
+        return 0.0;
+    };
+    let q = (v - cal.principal_point_px()) / cal.focal_px;
+    let r = rotation_map_from_camera(cal.pitch_rad, cal.roll_rad);
+    let x = r[0][0] * q.x + r[0][1] * q.y + r[0][2];
+    let y = r[1][0] * q.x + r[1][1] * q.y + r[1][2];
+    y.atan2(x)
 }
 
 /// Reconstruct a validated scene with one method, in camera heights.
@@ -687,6 +713,7 @@ fn fit_warnings(scene: &Scene, fitted: &Fitted, u: &crate::fit::FitUncertainty) 
             ));
         }
     }
+    out.extend(camera_warnings(scene, fitted, u));
     if u.click_sigma_px > 0.0 {
         for r in &fitted.point_residuals {
             if r.distance_px > WARN_RESIDUAL_SIGMAS * u.click_sigma_px {
@@ -699,6 +726,55 @@ fn fit_warnings(scene: &Scene, fitted: &Fitted, u: &crate::fit::FitUncertainty) 
                 ));
             }
         }
+    }
+    out
+}
+
+/// Largest standard deviation of a fitted principal point, as a fraction of the image
+/// diagonal, before a warning.
+pub const WARN_PRINCIPAL_POINT_SD_DIAGONALS: f64 = 0.01;
+
+/// Largest relative standard deviation of the fitted focal length before a warning.
+pub const WARN_FOCAL_SD_FRACTION: f64 = 0.05;
+
+/// Warnings for a camera the vanishing points fix poorly: a principal point or focal length
+/// with a large error bar, naming the vanishing point farthest from the image (the one whose
+/// direction a pixel of noise turns most).
+fn camera_warnings(scene: &Scene, fitted: &Fitted, u: &crate::fit::FitUncertainty) -> Vec<String> {
+    let mut out = Vec::new();
+    let centre = scene.image.centre();
+    let far = fitted
+        .calibration
+        .vanishing_points_px
+        .iter()
+        .enumerate()
+        .map(|(k, v)| (k, (v - centre).norm()))
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    let far_text = far.map_or_else(String::new, |(k, d)| {
+        format!(
+            ": the {} vanishing point lies {d:.0} px ({:.0} image diagonals) from the image centre",
+            if k == 2 { "vertical" } else { "horizontal" },
+            d / scene.image.diagonal()
+        )
+    });
+    let cam = &u.camera;
+    if let Some([sx, sy]) = cam.principal_point_px_sd
+        && sx.hypot(sy) > WARN_PRINCIPAL_POINT_SD_DIAGONALS * scene.image.diagonal()
+    {
+        let pp = fitted.calibration.principal_point_px();
+        out.push(format!(
+            "the principal point ({:.1}, {:.1}) is poorly fixed, +-({sx:.1}, {sy:.1}) px (1 sigma, for {:.2} px clicks){far_text}; give longer edges towards it, or the principal point if it is known",
+            pp.x, pp.y, u.click_sigma_px
+        ));
+    }
+    let f = fitted.calibration.focal_px;
+    if cam.focal_px_sd > WARN_FOCAL_SD_FRACTION * f {
+        out.push(format!(
+            "the focal length {f:.1} px is poorly fixed, +-{:.1} px ({:.0} %, 1 sigma, for {:.2} px clicks){far_text}; give longer edges towards it, or `focal_px` if it is known",
+            cam.focal_px_sd,
+            100.0 * cam.focal_px_sd / f,
+            u.click_sigma_px
+        ));
     }
     out
 }
@@ -829,6 +905,10 @@ pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
             principal_point: [o.x, o.y],
             pitch_deg: cal.pitch_rad.to_degrees(),
             roll_deg: cal.roll_rad.to_degrees(),
+            room_yaw_deg: fitted
+                .as_ref()
+                .map_or_else(|| room_yaw_rad(&cal), |f| f.room_yaw_rad)
+                .to_degrees(),
             height: k,
             k_matrix: [
                 [cal.focal_px, 0.0, o.x],

@@ -36,15 +36,21 @@ impl ImageSize {
     }
 }
 
-/// One vanishing point: a point, or two or more image segments whose lines meet there.
+/// One vanishing point: a point, a direction (a point at infinity), or two or more image
+/// segments whose lines meet there.
 ///
-/// When both are present, `point` wins and `lines` are kept as the evidence a person can check
-/// (that is how `vpmap detect` writes them).
+/// When a point and segments are both present, `point` wins and `lines` are kept as the
+/// evidence a person can check (that is how `vpmap detect` writes them).
 #[derive(Debug, Clone, PartialEq, Default, Serialize, Deserialize)]
 pub struct VanishingPointSpec {
     /// The vanishing point itself, pixels.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub point: Option<PixelPoint>,
+    /// The vanishing point at infinity: the image direction `[dx, dy]` its edges run along
+    /// (they are parallel in the photo), e.g. the vertical of a level camera. At most one
+    /// entry of a scene with three vanishing points.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub direction: Option<PixelPoint>,
     /// Segments `[x1, y1, x2, y2]` whose lines meet at the vanishing point (least squares).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub lines: Vec<[f64; 4]>,
@@ -575,6 +581,21 @@ fn check_coords(field: &str, p: &[f64], limit: f64) -> Result<()> {
     Ok(())
 }
 
+/// A direction: finite and not zero.
+fn check_direction(field: &str, d: PixelPoint) -> Result<()> {
+    check_coords(field, &d, MAX_VANISHING_POINT_PX)?;
+    if d[0] == 0.0 && d[1] == 0.0 {
+        return Err(MetrologyError::InvalidField {
+            field: field.to_owned(),
+            reason: format!(
+                "is the zero vector ({}, {}): give the direction the edges run along",
+                d[0], d[1]
+            ),
+        });
+    }
+    Ok(())
+}
+
 fn check_point(field: &str, p: PixelPoint) -> Result<()> {
     check_coords(field, &p, MAX_POINT_PX)
 }
@@ -962,15 +983,36 @@ impl Scene {
                 });
             }
         }
+        let directions = self
+            .vanishing_points
+            .iter()
+            .filter(|v| v.direction.is_some())
+            .count();
         for (i, vp) in self.vanishing_points.iter().enumerate() {
             let field = format!("vanishing_points[{i}]");
-            if let Some(p) = vp.point {
+            if let Some(d) = vp.direction {
+                check_direction(&format!("{field}.direction"), d)?;
+                if vp.point.is_some() {
+                    return Err(MetrologyError::InvalidField {
+                        field,
+                        reason: "give `point` or `direction`, not both".to_owned(),
+                    });
+                }
+                if n != 3 || directions > 1 {
+                    return Err(MetrologyError::InvalidField {
+                        field: format!("{field}.direction"),
+                        reason: format!(
+                            "a vanishing point at infinity is supported as one of three (the vertical one of a level camera); this scene gives {n} vanishing points, {directions} of them as directions"
+                        ),
+                    });
+                }
+            } else if let Some(p) = vp.point {
                 check_coords(&format!("{field}.point"), &p, MAX_VANISHING_POINT_PX)?;
             } else if vp.lines.len() < 2 {
                 return Err(MetrologyError::InvalidField {
                     field,
                     reason: format!(
-                        "give `point` or at least 2 `lines` (got {} lines)",
+                        "give `point`, `direction` or at least 2 `lines` (got {} lines)",
                         vp.lines.len()
                     ),
                 });
@@ -1167,25 +1209,32 @@ impl Scene {
         }))
     }
 
-    /// The vanishing points as image points: given points as they are, segments by their
-    /// least-squares intersection ([`intersect_segments`]).
+    /// The vanishing points in homogeneous pixel coordinates `(x, y, w)`, in the order given:
+    /// a given point as `(x, y, 1)`, a direction as `(dx, dy, 0)`, segments by their
+    /// least-squares intersection ([`intersect_segments`]) as `(x, y, 1)`. Which one is
+    /// vertical is decided by [`crate::calibration::vertical_index`].
     ///
     /// # Errors
     /// [`MetrologyError::ParallelLines`] when a set of segments meets at infinity.
-    pub fn resolve_vanishing_points(&self) -> Result<Vec<Vector2<f64>>> {
+    pub fn resolve_vanishing_points(&self) -> Result<Vec<Vector3<f64>>> {
         let n = self.vanishing_points.len();
         self.vanishing_points
             .iter()
             .enumerate()
             .map(|(i, vp)| {
-                if let Some(p) = vp.point {
-                    return Ok(Vector2::new(p[0], p[1]));
+                if let Some(d) = vp.direction {
+                    return Ok(Vector3::new(d[0], d[1], 0.0));
                 }
-                intersect_segments(&vp.lines, self.image).map_err(|fit| match fit {
+                if let Some(p) = vp.point {
+                    return Ok(Vector3::new(p[0], p[1], 1.0));
+                }
+                intersect_segments(&vp.lines, self.image)
+                    .map(|p| Vector3::new(p.x, p.y, 1.0))
+                    .map_err(|fit| match fit {
                     SegmentFit::Parallel => MetrologyError::ParallelLines {
                         index: i + 1,
-                        hint: if i == 2 && n == 3 {
-                            "; for a two-point-perspective photo (vertical edges parallel) give only the two horizontal vanishing points".to_owned()
+                        hint: if n == 3 {
+                            "; for a level camera (vertical edges parallel in the photo) give the vertical vanishing point as a `direction`, or only the two horizontal ones".to_owned()
                         } else {
                             String::new()
                         },

@@ -512,16 +512,19 @@ pub fn render_annotated(
         VanishingPointSpec {
             point: Some(arr(camera.vanishing_point(room_axes[0])?)),
             lines: Vec::new(),
+            direction: None,
         },
         VanishingPointSpec {
             point: Some(arr(camera.vanishing_point(room_axes[1])?)),
             lines: Vec::new(),
+            direction: None,
         },
     ];
     if camera.pitch_rad.abs() > 1e-12 {
         vps.push(VanishingPointSpec {
             point: Some(arr(camera.vanishing_point(Vector3::new(0.0, 0.0, 1.0))?)),
             lines: Vec::new(),
+            direction: None,
         });
     }
     let scene = Scene {

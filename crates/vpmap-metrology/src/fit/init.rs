@@ -16,6 +16,8 @@ pub(crate) struct Built {
     pub x0: Vec<f64>,
     pub object_parts: Vec<usize>,
     pub floor_distance_parts: Option<[usize; 2]>,
+    /// Notes on how the vanishing points were read (which one was taken as vertical).
+    pub warnings: Vec<String>,
 }
 
 /// The least-squares intersection of segments' lines, homogeneous pixel coordinates (may be
@@ -351,19 +353,23 @@ fn box_clicks(scene: &Scene) -> Vec<[f64; 2]> {
     out
 }
 
-/// Build the problem and its starting points, best (lowest starting cost) first.
-///
-/// # Errors
-/// When an object's clicks fit no box in front of any starting camera, or the scene's
-/// shapes or scale are invalid.
-pub(crate) fn build(scene: &Scene) -> Result<Vec<Built>> {
+/// The scene's vanishing-point evidence and each one as a homogeneous pixel point, in the
+/// order given.
+fn evidence(scene: &Scene) -> Result<(Vec<VpEvidence>, Vec<Vector3<f64>>)> {
     let all: Vec<VpEvidence> = scene
         .vanishing_points
         .iter()
-        .map(|v| match v.point {
+        .map(|v| match (v.point, v.direction) {
             _ if v.lines.len() >= 2 => VpEvidence::Lines(v.lines.clone()),
-            Some(p) => VpEvidence::Point(px(p)),
-            None => VpEvidence::Lines(v.lines.clone()),
+            (_, Some(d)) => VpEvidence::Point {
+                at: Vector3::new(d[0], d[1], 0.0),
+                scale_px: scene.image.diagonal(),
+            },
+            (Some(p), None) => VpEvidence::Point {
+                at: Vector3::new(p[0], p[1], 1.0),
+                scale_px: scene.image.diagonal(),
+            },
+            (None, None) => VpEvidence::Lines(v.lines.clone()),
         })
         .collect();
     let points = all
@@ -376,9 +382,52 @@ pub(crate) fn build(scene: &Scene) -> Result<Vec<Built>> {
                     reason: "the segments' coordinates are too large for their intersection to be computed: give them in pixels of the image".to_owned(),
                 })
             }
-            VpEvidence::Point(p) => Ok(Vector3::new(p.x, p.y, 1.0)),
+            VpEvidence::Point { at, .. } => Ok(*at),
         })
         .collect::<Result<Vec<Vector3<f64>>>>()?;
+    Ok((all, points))
+}
+
+/// The readings of the scene's vanishing points to fit, each as the indices of the
+/// horizontal ones and then the vertical one: the one opposite the most level side
+/// ([`crate::calibration::vertical_index`]) first, then the documented order (the vertical
+/// one listed last) when it differs. With segments the fit's likelihood chooses between them
+/// (the objects' vertical edges tell); where it cannot (vanishing points alone fit any
+/// reading equally), the first wins. One reading for two vanishing points.
+///
+/// # Errors
+/// When a vanishing point's segments have no computable intersection.
+pub(crate) fn vanishing_point_orders(scene: &Scene) -> Result<Vec<[usize; 3]>> {
+    let (_, points) = evidence(scene)?;
+    let documented = [0, 1, 2];
+    Ok(match crate::calibration::vertical_last_order(&points) {
+        Some(level) if level != documented => vec![level, documented],
+        _ => vec![documented],
+    })
+}
+
+/// Build the problem and its starting points, best (lowest starting cost) first.
+///
+/// `fit_pp`: whether the principal point is a parameter when the scene allows it (three
+/// finite vanishing points and no given principal point); else it is held at the given
+/// value or the image centre. `order`: which vanishing points are horizontal and which is
+/// vertical ([`vanishing_point_orders`]).
+///
+/// # Errors
+/// When an object's clicks fit no box in front of any starting camera, or the scene's
+/// shapes or scale are invalid.
+pub(crate) fn build(scene: &Scene, fit_pp: bool, order: [usize; 3]) -> Result<Vec<Built>> {
+    let (mut all, mut points) = evidence(scene)?;
+    // The documented order: the horizontal vanishing points as given, the vertical one last.
+    let mut warnings = Vec::new();
+    if points.len() == 3 {
+        if order[2] != 2 {
+            warnings.push(crate::calibration::reorder_warning(&points, order));
+        }
+        let (p, a) = (points.clone(), all.clone());
+        points = order.iter().map(|&i| p[i]).collect();
+        all = order.iter().map(|&i| a[i].clone()).collect();
+    }
     // A segment drawn between two clicked box corners repeats those clicks: the box model
     // already runs that edge to its vanishing point, so counting the segment again would count
     // the same click noise twice (and make the error bars too small). It helps the start only.
@@ -396,83 +445,135 @@ pub(crate) fn build(scene: &Scene) -> Result<Vec<Built>> {
                     .filter(|s| !(is_click(s[0], s[1]) && is_click(s[2], s[3])))
                     .collect(),
             ),
-            point @ VpEvidence::Point(_) => point,
+            point @ VpEvidence::Point { .. } => point,
         })
         .collect();
-    let pp = scene
-        .principal_point
-        .map_or_else(|| scene.image.centre(), px);
-    // Starting focal lengths: from each pair of vanishing points, the scene's, and the range
-    // of real lenses (0.4 to 2 image diagonals); vanishing points from short noisy edges can
-    // put the first far off, where the fit runs towards an orthographic camera.
-    let mut focals = Vec::new();
-    focals.extend(focal_from_pair(points[0], points[1], pp));
-    if points.len() == 3 {
-        focals.extend(focal_from_pair(points[0], points[2], pp));
-        focals.extend(focal_from_pair(points[1], points[2], pp));
+    // The principal point: given, or fitted from three finite vanishing points (starting at
+    // their orthocentre, and at the image centre), or held at the image centre.
+    let finite: Vec<Vector2<f64>> = points
+        .iter()
+        .filter_map(crate::calibration::finite_point)
+        .collect();
+    // A vanishing point counts as given when it is a point or has segments of its own: the
+    // vertical one measured only by box edges between clicked corners repeats those clicks,
+    // which fix the principal point poorly (and first-order error bars badly).
+    let vertical_measured = vps.get(2).is_some_and(|e| match e {
+        VpEvidence::Lines(l) => !l.is_empty(),
+        VpEvidence::Point { .. } => true,
+    });
+    let free_pp =
+        fit_pp && scene.principal_point.is_none() && finite.len() == 3 && vertical_measured;
+    let mut pp_starts = Vec::new();
+    if free_pp && let Some(o) = crate::calibration::orthocentre(finite[0], finite[1], finite[2]) {
+        pp_starts.push(o);
     }
-    focals.extend(scene.focal_px);
-    let d = scene.image.diagonal();
-    focals.extend([0.4 * d, 0.6 * d, 0.8 * d, 1.1 * d, 1.5 * d, 2.0 * d]);
-    // Two-point perspective: the scene format defines the camera as level (pitch 0).
-    let level = scene.vanishing_points.len() == 2;
+    pp_starts.push(
+        scene
+            .principal_point
+            .map_or_else(|| scene.image.centre(), px),
+    );
+    let (camera_len, fixed) = if free_pp {
+        (6, None)
+    } else {
+        (4, Some(pp_starts[0]))
+    };
+    // One fixed scale for the given points' angular residuals: the focal length the scene
+    // gives or its vanishing points imply, else the image diagonal.
+    let scale_px = scene
+        .focal_px
+        .or_else(|| {
+            [(0, 1), (0, 2), (1, 2)]
+                .iter()
+                .filter(|(_, j)| *j < points.len())
+                .find_map(|&(i, j)| focal_from_pair(points[i], points[j], pp_starts[0]))
+        })
+        .unwrap_or_else(|| scene.image.diagonal());
+    let vps: Vec<VpEvidence> = vps
+        .into_iter()
+        .map(|e| match e {
+            VpEvidence::Point { at, .. } => VpEvidence::Point { at, scale_px },
+            lines @ VpEvidence::Lines(_) => lines,
+        })
+        .collect();
     let mut candidates: Vec<(f64, Built)> = Vec::new();
     let mut first_error = None;
-    for f in focals {
-        let Some(mut c) = camera_params(&points, pp, f, level) else {
-            continue;
-        };
-        // The camera that best explains the vanishing-point evidence alone (orthogonal room
-        // directions seen from the held principal point), before any object.
-        let alone = Problem {
-            camera_len: 4,
-            fixed_pp: Some(pp),
-            fixed_pitch: level,
-            parts: Vec::new(),
-            offsets: Vec::new(),
-            vps: vps.clone(),
-        };
-        if let Some(sol) = super::solve::minimise(&alone, c.to_vec())
-            && sol.x.iter().all(|v| v.is_finite())
-            && sol.x[0] > 0.0
-        {
-            c.copy_from_slice(&sol.x[..4]);
+    for &pp in &pp_starts {
+        // Starting focal lengths: from each pair of vanishing points, the scene's, and the range
+        // of real lenses (0.4 to 2 image diagonals); vanishing points from short noisy edges can
+        // put the first far off, where the fit runs towards an orthographic camera.
+        let mut focals = Vec::new();
+        focals.extend(focal_from_pair(points[0], points[1], pp));
+        if points.len() == 3 {
+            focals.extend(focal_from_pair(points[0], points[2], pp));
+            focals.extend(focal_from_pair(points[1], points[2], pp));
         }
-        let cam = Camera::from_params(&c, Some(pp));
-        let (parts, params, object_parts, floor_distance_parts) = match start_parts(scene, &cam) {
-            Ok(v) => v,
-            Err(e) => {
-                first_error.get_or_insert(e);
+        focals.extend(scene.focal_px);
+        let d = scene.image.diagonal();
+        focals.extend([0.4 * d, 0.6 * d, 0.8 * d, 1.1 * d, 1.5 * d, 2.0 * d]);
+        // Two-point perspective: the scene format defines the camera as level (pitch 0).
+        let level = scene.vanishing_points.len() == 2;
+        for f in focals {
+            let Some(c) = camera_params(&points, pp, f, level) else {
                 continue;
+            };
+            // The camera that best explains the vanishing-point evidence alone (orthogonal room
+            // directions seen from the held principal point), before any object.
+            let alone = Problem {
+                camera_len,
+                fixed_pp: fixed,
+                fixed_pitch: level,
+                parts: Vec::new(),
+                offsets: Vec::new(),
+                vps: vps.clone(),
+            };
+            let mut c = c.to_vec();
+            if free_pp {
+                c.extend([pp.x, pp.y]);
             }
-        };
-        let mut offsets = Vec::with_capacity(parts.len());
-        let mut at = 4;
-        for p in &parts {
-            offsets.push(at);
-            at += p.len();
-        }
-        let problem = Problem {
-            camera_len: 4,
-            fixed_pp: Some(pp),
-            fixed_pitch: level,
-            parts,
-            offsets,
-            vps: vps.clone(),
-        };
-        let mut x0 = c.to_vec();
-        x0.extend(params);
-        let cost = problem.cost(&x0);
-        if cost.is_finite() {
-            candidates.push((
-                cost,
-                Built {
-                    problem,
-                    x0,
-                    object_parts,
-                    floor_distance_parts,
-                },
-            ));
+            if let Some(sol) = super::solve::minimise(&alone, c.clone())
+                && sol.x.iter().all(|v| v.is_finite())
+                && sol.x[0] > 0.0
+            {
+                c.copy_from_slice(&sol.x[..camera_len]);
+            }
+            let cam = Camera::from_params(&c, fixed);
+            let (parts, params, object_parts, floor_distance_parts) = match start_parts(scene, &cam)
+            {
+                Ok(v) => v,
+                Err(e) => {
+                    first_error.get_or_insert(e);
+                    continue;
+                }
+            };
+            let mut offsets = Vec::with_capacity(parts.len());
+            let mut at = camera_len;
+            for p in &parts {
+                offsets.push(at);
+                at += p.len();
+            }
+            let problem = Problem {
+                camera_len,
+                fixed_pp: fixed,
+                fixed_pitch: level,
+                parts,
+                offsets,
+                vps: vps.clone(),
+            };
+            let mut x0 = c;
+            x0.extend(params);
+            let cost = problem.cost(&x0);
+            if cost.is_finite() {
+                candidates.push((
+                    cost,
+                    Built {
+                        problem,
+                        x0,
+                        object_parts,
+                        floor_distance_parts,
+                        warnings: warnings.clone(),
+                    },
+                ));
+            }
         }
     }
     candidates.sort_by(|a, b| a.0.total_cmp(&b.0));

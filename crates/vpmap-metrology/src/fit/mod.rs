@@ -109,11 +109,72 @@ pub struct Fitted {
 ///   camera can be found.
 pub fn fit_scene(scene: &Scene, options: &FitOptions) -> Result<Fitted> {
     check_below_given_horizon(scene)?;
-    let starts = init::build(scene)?;
-    let three_point = scene.vanishing_points.len() == 3;
+    let _ = options;
+    // Each reading of which vanishing point is vertical; the best fit wins, the first on a
+    // tie (init::vanishing_point_orders).
+    let mut best: Option<(f64, Fitted)> = None;
+    let mut first_error = None;
+    for order in init::vanishing_point_orders(scene)? {
+        match fit_order(scene, order) {
+            Ok(fitted) => {
+                let cost = fitted.problem.cost(&fitted.x);
+                if best
+                    .as_ref()
+                    .is_none_or(|(b, _)| cost < b - TIE_COST_PX2 * b.max(1.0))
+                {
+                    best = Some((cost, fitted));
+                }
+            }
+            Err(e) => {
+                first_error.get_or_insert(e);
+            }
+        }
+    }
+    match (best, first_error) {
+        (Some((_, fitted)), _) => Ok(fitted),
+        (None, Some(e)) => Err(e),
+        (None, None) => Err(MetrologyError::Degenerate {
+            field: "vanishing_points".to_owned(),
+            reason: "the fit found no reading of the vanishing points".to_owned(),
+        }),
+    }
+}
+
+/// Relative difference of two fits' costs under which they count as equally good.
+const TIE_COST_PX2: f64 = 1e-9;
+
+/// The fit for one reading of the vanishing points: the principal point fitted where the
+/// scene allows it, else (or when that fails) held at the image centre, with a warning.
+fn fit_order(scene: &Scene, order: [usize; 3]) -> Result<Fitted> {
+    match fit_with(scene, true, order) {
+        Ok(fitted) => Ok(fitted),
+        Err((e, false)) => Err(e),
+        // The vanishing points did not fix the principal point after all (nearly parallel
+        // edges meeting far outside the image): hold it at the image centre and say so.
+        Err((free_error, true)) => {
+            let mut fitted = fit_with(scene, false, order).map_err(|(e, _)| e)?;
+            fitted.calibration.warnings.push(format!(
+                "the three vanishing points do not fix the principal point ({free_error}); it was held at the image centre ({:.1}, {:.1})",
+                scene.image.centre().x,
+                scene.image.centre().y
+            ));
+            Ok(fitted)
+        }
+    }
+}
+
+/// The fit with the principal point fitted where the scene allows it (`fit_pp`) or held;
+/// on failure the error and whether the principal point was fitted.
+fn fit_with(
+    scene: &Scene,
+    fit_pp: bool,
+    order: [usize; 3],
+) -> std::result::Result<Fitted, (MetrologyError, bool)> {
+    let starts = init::build(scene, fit_pp, order).map_err(|e| (e, false))?;
+    let pp_free = starts.first().is_some_and(|s| s.problem.fixed_pp.is_none());
     // From the best start; the others only when it fails or ends with residuals far above
     // a pixel (a local minimum, or a camera running off to infinite focal length).
-    let mut fixed: Option<(Solved, usize)> = None;
+    let mut best: Option<(Solved, usize)> = None;
     let mut first_error = None;
     for (k, start) in starts.iter().enumerate() {
         match run(scene, &start.problem, start.x0.clone()) {
@@ -124,8 +185,8 @@ pub fn fit_scene(scene: &Scene, options: &FitOptions) -> Result<Fitted> {
                     .saturating_sub(start.problem.len())
                     .max(1);
                 let good = sol.cost / dof as f64 <= GOOD_FIT_PX2;
-                if fixed.as_ref().is_none_or(|(b, _)| sol.cost < b.cost) {
-                    fixed = Some((sol, k));
+                if best.as_ref().is_none_or(|(b, _)| sol.cost < b.cost) {
+                    best = Some((sol, k));
                 }
                 if good {
                     break;
@@ -136,65 +197,26 @@ pub fn fit_scene(scene: &Scene, options: &FitOptions) -> Result<Fitted> {
             }
         }
     }
-    let Some((fixed, k)) = fixed else {
-        return Err(first_error.unwrap_or_else(|| MetrologyError::Degenerate {
+    let Some((best, k)) = best else {
+        let e = first_error.unwrap_or_else(|| MetrologyError::Degenerate {
             field: "objects".to_owned(),
             reason: "the fit found no starting point".to_owned(),
-        }));
+        });
+        return Err((e, pp_free));
     };
     let built = &starts[k];
-    // In three-point perspective without a given principal point, let the fit place it too
-    // when the data fix it to within 1 % of the image diagonal; else keep the centre.
-    let mut best = fixed;
-    // Only a vertical vanishing point measured on its own (a point, or segments that are not
-    // box edges between clicked corners) can be well measured.
-    let vertical_measured = built.problem.vps.get(2).is_some_and(|e| match e {
-        model::VpEvidence::Lines(l) => !l.is_empty(),
-        model::VpEvidence::Point(_) => true,
-    });
-    if three_point && vertical_measured && scene.principal_point.is_none() {
-        let mut free = built.problem.clone();
-        free.camera_len = 6;
-        let pp = built
-            .problem
-            .fixed_pp
-            .unwrap_or_else(|| scene.image.centre());
-        free.fixed_pp = None;
-        let shift = 2;
-        free.offsets = built.problem.offsets.iter().map(|o| o + shift).collect();
-        let mut x = best.x[..4].to_vec();
-        x.extend([pp.x, pp.y]);
-        x.extend_from_slice(&best.x[4..]);
-        if let Ok(sol) = run(scene, &free, x)
-            && let Some(normal) = free.normal(&sol.x)
-            && let Ok(f) = normal.factor(0.0)
-        {
-            let sigma = click_sigma(options, sol.cost, &free);
-            let sd = |i: usize| {
-                let mut g = nalgebra::DVector::zeros(6);
-                g[i] = 1.0;
-                let go: Vec<_> = free
-                    .parts
-                    .iter()
-                    .map(|p| nalgebra::DVector::zeros(p.len()))
-                    .collect();
-                let (y, _) = f.solve(&g, &go);
-                sigma.0 * y[i].max(0.0).sqrt()
-            };
-            if sd(4).hypot(sd(5)) < 0.01 * scene.image.diagonal() {
-                best = Solved {
-                    problem: free,
-                    ..sol
-                };
-            }
-        }
-    }
-    finish(
+    let mut fitted = finish(
         scene,
         best,
         built.object_parts.clone(),
         built.floor_distance_parts,
     )
+    .map_err(|e| (e, pp_free))?;
+    fitted
+        .calibration
+        .warnings
+        .extend(built.warnings.iter().cloned());
+    Ok(fitted)
 }
 
 /// Mean squared residual (pixels squared) under which a fit from the first start is taken

@@ -242,8 +242,15 @@ impl Part {
 pub(crate) enum VpEvidence {
     /// Segments whose lines run to it.
     Lines(Vec<[f64; 4]>),
-    /// The point itself (computed elsewhere).
-    Point(Vector2<f64>),
+    /// The point itself.
+    Point {
+        /// Homogeneous pixel coordinates (`w = 0` for a direction at infinity).
+        at: Vector3<f64>,
+        /// Pixels per radian of the residual: a fixed focal length (the starting camera's),
+        /// so that the residual is about the pixels near the image centre that the angle
+        /// spans, yet cannot shrink by shrinking the fitted focal length.
+        scale_px: f64,
+    },
 }
 
 /// The map direction of vanishing point `k`: the room's horizontal directions, then up.
@@ -260,7 +267,7 @@ pub(crate) fn vp_direction(cam: &Camera, k: usize) -> Vector3<f64> {
 pub(crate) fn vp_residual_count(e: &VpEvidence) -> usize {
     match e {
         VpEvidence::Lines(l) => l.len(),
-        VpEvidence::Point(_) => 2,
+        VpEvidence::Point { .. } => 2,
     }
 }
 
@@ -269,7 +276,7 @@ pub(crate) fn vp_residual_count(e: &VpEvidence) -> usize {
 /// A segment's residual is the distance of its first end from the line through its midpoint
 /// and the predicted vanishing point, times `sqrt(2)`: under independent noise of `sigma` on
 /// each coordinate of both ends it has standard deviation `sigma`. A given point's residuals
-/// are the angle between the predicted and the given vanishing directions, times the focal
+/// are the angle between the predicted and the given vanishing directions, times a fixed focal
 /// length (pixels near the image centre), in two orthogonal components.
 pub(crate) fn vp_residuals(cam: &Camera, k: usize, evidence: &VpEvidence, out: &mut [f64]) {
     let v = cam.vanishing_point(vp_direction(cam, k));
@@ -286,9 +293,14 @@ pub(crate) fn vp_residuals(cam: &Camera, k: usize, evidence: &VpEvidence, out: &
                 };
             }
         }
-        VpEvidence::Point(g) => {
-            let q = (g - cam.principal_point_px) / cam.focal_px;
-            let given = Vector3::new(q.x, q.y, 1.0).normalize();
+        VpEvidence::Point { at: g, scale_px } => {
+            let o = cam.principal_point_px;
+            let given = Vector3::new(
+                (g.x - o.x * g.z) / cam.focal_px,
+                (g.y - o.y * g.z) / cam.focal_px,
+                g.z,
+            )
+            .normalize();
             let mut pred = Vector3::new(
                 (v.x - cam.principal_point_px.x * v.z) / cam.focal_px,
                 (v.y - cam.principal_point_px.y * v.z) / cam.focal_px,
@@ -308,8 +320,8 @@ pub(crate) fn vp_residuals(cam: &Camera, k: usize, evidence: &VpEvidence, out: &
             };
             let t2 = given.cross(&t1);
             let d = pred - given;
-            out[0] = cam.focal_px * d.dot(&t1);
-            out[1] = cam.focal_px * d.dot(&t2);
+            out[0] = scale_px * d.dot(&t1);
+            out[1] = scale_px * d.dot(&t2);
         }
     }
 }

@@ -461,12 +461,24 @@ impl Fitted {
                 yaw_sd_deg: is_box.then(|| sd(&g[5]).to_degrees()),
             });
         }
+        let pp_fitted = problem.fixed_pp.is_none();
         let g = gradients(
             problem,
             x,
             &measure.parts(),
-            |xs| [xs[0], xs[1], xs[2], k_at(xs)],
-            [false; 4],
+            |xs| {
+                let cam = problem.camera(xs);
+                [
+                    xs[0],
+                    xs[1],
+                    xs[2],
+                    k_at(xs),
+                    cam.room_yaw_rad,
+                    cam.principal_point_px.x,
+                    cam.principal_point_px.y,
+                ]
+            },
+            [false, false, false, false, true, false, false],
         );
         Ok(FitUncertainty {
             objects,
@@ -475,6 +487,8 @@ impl Fitted {
                 pitch_deg_sd: sd(&g[1]).to_degrees(),
                 roll_deg_sd: sd(&g[2]).to_degrees(),
                 height_sd: sd(&g[3]),
+                principal_point_px_sd: pp_fitted.then(|| [sd(&g[5]), sd(&g[6])]),
+                room_yaw_deg_sd: sd(&g[4]).to_degrees(),
             },
             click_sigma_px: sigma,
             click_sigma_source: source,

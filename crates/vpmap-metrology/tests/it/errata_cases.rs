@@ -78,7 +78,7 @@ fn assert_exact(scene: &Scene, truth: &Truth) {
 /// Signed offset of a pixel from the principal point perpendicular to the horizon (up > 0).
 fn offset_up(scene: &Scene, p: [f64; 2]) -> f64 {
     let vps = scene.resolve_vanishing_points().unwrap();
-    let cal = Calibration::from_vanishing_points(&vps, None, scene.image).unwrap();
+    let cal = Calibration::from_homogeneous(&vps, None, scene.image).unwrap();
     cal.frame.coords(Vector2::new(p[0], p[1])).y
 }
 
@@ -123,7 +123,7 @@ fn top_corner_above_the_horizon() {
         30.0,
     );
     let vps = scene.resolve_vanishing_points().unwrap();
-    let cal = Calibration::from_vanishing_points(&vps, None, scene.image).unwrap();
+    let cal = Calibration::from_homogeneous(&vps, None, scene.image).unwrap();
     let top = scene.objects[1].top.unwrap().corners.near.unwrap();
     assert!(
         cal.frame.below_horizon_px(Vector2::new(top[0], top[1])) < 0.0,

@@ -2,6 +2,7 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::missing_panics_doc)]
 
 mod bad_input;
+mod camera_only;
 mod errata_cases;
 mod eval;
 mod fit;

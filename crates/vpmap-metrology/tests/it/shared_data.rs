@@ -135,3 +135,68 @@ fn york_urban_orthogonal_vanishing_points_give_back_the_calibration() {
     }
     assert!(seen >= 50, "expected the YUD training images, found {seen}");
 }
+
+#[test]
+#[ignore = "needs ../shared/data/yud-train (absent from a fresh clone): cargo test -- --ignored shared_data"]
+fn york_urban_cameras_from_vanishing_points_alone_under_every_method() {
+    // A scene of the three labelled orthogonal vanishing points and nothing else, in the
+    // order the data set lists them (the vertical one second) and with the vertical one last:
+    // every method, the default fit included, gives back K to 1e-6 px.
+    let dir = shared("yud-train");
+    let mut seen = 0;
+    let mut names: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .unwrap()
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|e| e == "json"))
+        .collect();
+    names.sort();
+    for path in names {
+        let yud: Yud = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        let v = yud.most_vertical_vp_index;
+        let vertical_last: Vec<usize> = (0..3).filter(|&i| i != v).chain([v]).collect();
+        for order in [vec![0, 1, 2], vertical_last] {
+            let scene = serde_json::json!({
+                "version": 1,
+                "image": {"width": yud.width, "height": yud.height},
+                "vanishing_points": order
+                    .iter()
+                    .map(|&i| serde_json::json!({"point": yud.vp_orthogonal_px[i]}))
+                    .collect::<Vec<_>>(),
+            });
+            let scene = Scene::from_json_str(&scene.to_string()).unwrap();
+            for method in [Method::Fit, Method::Projective, Method::Sideview] {
+                let name = format!("{} {order:?} {method}", path.display());
+                let map = build_map(
+                    &scene,
+                    &BuildOptions {
+                        method,
+                        ..BuildOptions::default()
+                    },
+                )
+                .unwrap_or_else(|e| panic!("{name}: {e}"));
+                let c = &map.camera;
+                assert!(
+                    (c.focal_px - yud.k[0][0]).abs() < 1e-6,
+                    "{name}: f = {}",
+                    c.focal_px
+                );
+                assert!(
+                    (c.principal_point[0] - yud.k[0][2]).abs() < 1e-6
+                        && (c.principal_point[1] - yud.k[1][2]).abs() < 1e-6,
+                    "{name}: principal point {:?}",
+                    c.principal_point
+                );
+                // The vertical vanishing point is reported last, wherever it was listed.
+                let reported = c.vanishing_points[2];
+                let want = yud.vp_orthogonal_px[v];
+                assert!(
+                    (reported[0] - want[0]).hypot(reported[1] - want[1])
+                        < 1e-6 * want[0].hypot(want[1]).max(1.0),
+                    "{name}: vertical {reported:?} vs {want:?}"
+                );
+            }
+        }
+        seen += 1;
+    }
+    assert!(seen >= 50, "expected the YUD training images, found {seen}");
+}

@@ -37,10 +37,11 @@ export function normaliseScene(scene) {
   return null;
 }
 
-/** The vanishing point entry can be resolved (a point, or two or more lines). */
+/** The vanishing point entry can be resolved (a point, a direction at infinity, or two or more lines). */
 export function vpUsable(vp) {
   if (!vp) return false;
   if (Array.isArray(vp.point) && vp.point.length === 2) return true;
+  if (Array.isArray(vp.direction) && vp.direction.length === 2) return true;
   return Array.isArray(vp.lines) && vp.lines.length >= 2;
 }
 

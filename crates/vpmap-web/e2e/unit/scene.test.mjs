@@ -33,6 +33,7 @@ test('a vanishing point is usable with a point or two lines; buildBlocker names 
   assert.equal(vpUsable({ lines: lines(1) }), false);
   assert.equal(vpUsable({ lines: lines(2) }), true);
   assert.equal(vpUsable({ point: [1, 2], lines: [] }), true);
+  assert.equal(vpUsable({ direction: [0, 1] }), true, 'a vertical at infinity (a level camera)');
   assert.equal(vpUsable(undefined), false);
   const s = emptyScene(100, 100);
   s.vanishing_points = [{ point: [-500, 50] }, { lines: lines(1) }];
