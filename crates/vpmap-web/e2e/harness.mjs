@@ -1,4 +1,4 @@
-// What the browser tests (e2e.mjs, issue14.mjs) share: starting the server under test and
+// What the browser tests (e2e.mjs, usability.mjs) share: starting the server under test and
 // launching Debian's Chromium through playwright-core.
 
 import { spawn } from 'node:child_process';

@@ -5,8 +5,10 @@
 //   panels.js    the step panel, the status line, the error banner and the tabs
 //   files.js     opening photos and scene files, the example, saving and downloads
 //   autosave.js  each photo's scene kept in the browser, and the warning before leaving
-// and the views (photo-view.js, plan-view.js, model-view.js) and photo tools (tools.js; a box's
-// corners by name, corner or face view, in box.js).
+// and the views (photo-view.js, plan-view.js, model-view.js) and photo tools (select-tool.js;
+// placement-tool.js and the tools on it, box-tool.js, outline-tools.js, floor-distance-tool.js,
+// vp-line-tool.js; where points snap, snap.js; a box's corners by name, corner or face view, in
+// box.js).
 // Every module talks to the others through `app`, the object this file builds. Every edit
 // goes through `app.edit`, which records undo, redraws and schedules a rebuild (debounced
 // 100 ms, stale requests aborted).
@@ -15,7 +17,10 @@ import { $, isTyping } from './util.js';
 import { emptyScene, cloneScene } from './scene.js';
 import { createState, History, busyNames } from './state.js';
 import { PhotoView } from './photo-view.js';
-import { SelectTool, BoxTool, FootprintTool, FloorTool, FloorDistanceTool, moveHandle } from './tools.js';
+import { SelectTool, moveHandle } from './select-tool.js';
+import { BoxTool } from './box-tool.js';
+import { FootprintTool, FloorTool } from './outline-tools.js';
+import { FloorDistanceTool } from './floor-distance-tool.js';
 import { PlanView } from './plan-view.js';
 import { ModelView } from './model-view.js';
 import { installPanels } from './panels.js';

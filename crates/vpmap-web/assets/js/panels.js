@@ -6,7 +6,7 @@ import { $, h, fmt, fmtSd, parsePair, formatPair } from './util.js';
 import { VP_NAMES, resolvedVps, vpUsable } from './scene.js';
 import { OFF_LINE_PX, boxEdgeNames, describeBox, edgeChoice, guideOffsets, parseEdgeChoice } from './box.js';
 import { vpPoint } from './geometry.js';
-import { VpLineTool } from './tools.js';
+import { VpLineTool } from './vp-line-tool.js';
 import { BUG_COLOURS, PLANNER_STYLE } from './plan-view.js';
 import { busyNames } from './state.js';
 

@@ -1,7 +1,8 @@
 // The photo canvas: the photo with zoom and pan, and over it the detected segments, the
 // vanishing-point lines, the horizon and principal point of the last build, the annotations
-// and the active tool's preview. Pointer input goes to the active tool (tools.js); what a
-// tool does not take pans the view, and a press without movement is a click.
+// and the active tool's preview. Pointer input goes to the active tool (select-tool.js and
+// the placement tools, placement-tool.js); what a tool does not take pans the view, and a
+// press without movement is a click.
 
 import { VP_COLOURS, objectOutline, resolvedVps } from './scene.js';
 import { OFF_LINE_PX, boxEdges, boxPoints, guideOffsets } from './box.js';

@@ -1,5 +1,6 @@
-// Browser checks of issue 14's bugs ("first contact as people expect it"), each in a fresh page
-// of headless Chromium against `vpmap serve`, the way a new user meets them:
+// Browser checks of the page's usability, the way a new user meets it (the bugs of issue 14,
+// "first contact as people expect it"), each in a fresh page of headless Chromium against
+// `vpmap serve`:
 //
 //   1. the page never scrolls off screen (wheel over the top bar and the plan legend, Tab to
 //      "Set start"), at 1366 x 768 and 1920 x 1080;
@@ -19,7 +20,7 @@
 // No console error or warning is allowed in any page (except where a step expects the
 // browser's own log line of a refused request). Same environment as e2e.mjs (VPMAP_BIN,
 // VPMAP_URL, VPMAP_E2E_CHROMIUM, VPMAP_E2E_SCREENSHOT, VPMAP_E2E_HEADED); exits 0 with
-// `ISSUE14 PASSED`, or 1 naming the failed step.
+// `USABILITY PASSED`, or 1 naming the failed step.
 
 import { mkdtemp, readFile, rm, writeFile } from 'node:fs/promises';
 import { tmpdir } from 'node:os';
@@ -29,7 +30,7 @@ import { launchChromium, startServer } from './harness.mjs';
 import { segmentCorners } from '../assets/js/geometry.js';
 
 const TOTAL_MS = 150_000;
-const SCREENSHOT = (process.env.VPMAP_E2E_SCREENSHOT || '/tmp/vpmap-e2e.png').replace(/(\.png)?$/, '-issue14.png');
+const SCREENSHOT = (process.env.VPMAP_E2E_SCREENSHOT || '/tmp/vpmap-e2e.png').replace(/(\.png)?$/, '-usability.png');
 // Free floor of the example (map metres), as in e2e.mjs.
 const PLAN_GOAL = [0.2, 5.0];
 
@@ -55,7 +56,7 @@ async function cleanup() {
 }
 
 async function fail(msg) {
-  console.error(`\nISSUE14 FAILED in step "${currentStep}": ${msg}`);
+  console.error(`\nUSABILITY FAILED in step "${currentStep}": ${msg}`);
   if (page) {
     const shot = SCREENSHOT.replace(/(\.png)?$/, '-failed.png');
     try {
@@ -75,8 +76,8 @@ function check(cond, msg) {
   if (!cond) throw new Error(msg);
 }
 
-// ISSUE14_ONLY=2,3: run only the numbered steps given (for working on one bug).
-const ONLY = (process.env.ISSUE14_ONLY || '').split(',').filter(Boolean);
+// USABILITY_ONLY=2,3: run only the numbered steps given (for working on one bug).
+const ONLY = (process.env.USABILITY_ONLY || '').split(',').filter(Boolean);
 
 async function step(name, fn) {
   const num = /^(\d+)\./.exec(name)?.[1];
@@ -234,7 +235,7 @@ async function main() {
   await step('launch Chromium', async () => {
     browser = await launchChromium();
   });
-  tmp = await mkdtemp(join(tmpdir(), 'vpmap-issue14-'));
+  tmp = await mkdtemp(join(tmpdir(), 'vpmap-usability-'));
   const example = await (await fetch(`${url}api/example`)).json();
   const examplePng = join(tmp, 'office.png');
   await writeFile(examplePng, Buffer.from(example.photo_png_base64, 'base64'));
@@ -891,7 +892,7 @@ main()
   .then(async () => {
     clearTimeout(watchdog);
     await cleanup();
-    log('ISSUE14 PASSED');
+    log('USABILITY PASSED');
     process.exit(0);
   })
   .catch((err) => fail(err.stack || String(err)));

@@ -1,0 +1,73 @@
+// What the placement tools share (box-tool.js, outline-tools.js, floor-distance-tool.js,
+// vp-line-tool.js): their base class, the rubber band and vanishing-point guide lines they
+// draw, and the refusal of a floor point on or above the horizon.
+//
+// A placement tool walks the user through clicking points with a step prompt; it talks to the
+// page through `app` (main.js): `state`, `edit(fn, opts)`, `endTool()`, `promptChanged()`,
+// `addObject(obj)`, `detachVpPoint(k)`, `showError(msg)`, `clearError()`, `syncForms()` and
+// `setStatus(msg)`.
+
+import { VP_COLOURS } from './scene.js';
+import { aboveHorizon, vpPoint } from './geometry.js';
+import { hexAlpha } from './photo-view.js';
+
+/** Draw a rubber band and guide lines in image coordinates. */
+export function band(view, a, b, colour, dash = [6, 4]) {
+  view.path([a, b]);
+  view.strokeHalo(colour, 1.5, dash);
+}
+
+/** A faint line from `from` towards the vanishing point `k` (where an edge from `from` must run). */
+export function guide(view, app, from, k) {
+  const vp = vpPoint(app.state.scene?.vanishing_points?.[k]);
+  if (!vp || !from) return;
+  const d = [vp[0] - from[0], vp[1] - from[1]];
+  const len = Math.hypot(d[0], d[1]);
+  if (!(len > 1)) return;
+  // Both ways: the corner may lie on either side of `from`.
+  const reach = 4000 / view.s;
+  const u = [d[0] / len, d[1] / len];
+  const a = [from[0] - u[0] * reach, from[1] - u[1] * reach];
+  const b = len < reach ? vp : [from[0] + u[0] * reach, from[1] + u[1] * reach];
+  view.path([a, b]);
+  view.ctx.strokeStyle = hexAlpha(VP_COLOURS[k], 0.55);
+  view.ctx.lineWidth = 1;
+  view.ctx.setLineDash([2, 4]);
+  view.ctx.stroke();
+  view.ctx.setLineDash([]);
+}
+
+const HORIZON_REFUSAL = 'That point is ';
+
+/** Take away the refusal of refuseAboveHorizon (a point was taken), not any other message. */
+export function clearRefusal(app) {
+  if (document.getElementById('error-text')?.textContent.startsWith(HORIZON_REFUSAL)) app.clearError();
+}
+
+/**
+ * Refuse a floor point on or above the horizon of the last build (it cannot be on the floor):
+ * true, with a message, when `p` is refused. No build yet: nothing to check against.
+ */
+export function refuseAboveHorizon(app, p) {
+  const hz = app.state.camera?.horizon;
+  if (!Array.isArray(hz) || hz.length !== 2) return false;
+  const up = aboveHorizon(p, hz[0], hz[1]);
+  if (up === null || up < 0) return false;
+  app.showError(`${HORIZON_REFUSAL}${up.toFixed(0)} px above the horizon (the yellow dashed line): a point on the floor must lie below it. Click it again below the horizon.`);
+  return true;
+}
+
+export class PlacementTool {
+  constructor(app) {
+    this.app = app;
+    this.loupe = true;
+  }
+
+  cursor(view) {
+    return view.cursor;
+  }
+
+  canUndo() {
+    return false;
+  }
+}
