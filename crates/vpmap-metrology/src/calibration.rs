@@ -164,6 +164,22 @@ impl Calibration {
         principal_point_px: Option<Vector2<f64>>,
         image: ImageSize,
     ) -> Result<Self> {
+        Self::from_listed(vanishing_points_px, principal_point_px, image, false)
+    }
+
+    /// As [`Calibration::from_homogeneous`], where `labelled` says the list's order was set by
+    /// a tool that names each vanishing point (segments drawn on the page, `vpmap detect`,
+    /// `vpmap eval`): then the listed order is kept unless its horizon is implausible
+    /// ([`reading`]).
+    ///
+    /// # Errors
+    /// As [`Calibration::from_homogeneous`].
+    pub fn from_listed(
+        vanishing_points_px: &[Vector3<f64>],
+        principal_point_px: Option<Vector2<f64>>,
+        image: ImageSize,
+        labelled: bool,
+    ) -> Result<Self> {
         let n = vanishing_points_px.len();
         if !(2..=3).contains(&n) {
             return Err(MetrologyError::VanishingPointCount(n));
@@ -187,7 +203,7 @@ impl Calibration {
             }
         }
         let mut warnings = Vec::new();
-        let order = vertical_last_order(vanishing_points_px).unwrap_or([0, 1, 2]);
+        let order = reading(vanishing_points_px, labelled).unwrap_or([0, 1, 2]);
         if n == 3 && order[2] != 2 {
             warnings.push(reorder_warning(vanishing_points_px, order));
         }
@@ -406,6 +422,31 @@ pub(crate) fn vertical_last_order(points: &[Vector3<f64>]) -> Option<[usize; 3]>
         order[at] = i;
     }
     Some(order)
+}
+
+/// Largest angle, degrees, between the image rows and the horizon through the first two of
+/// three labelled vanishing points for the list to be read as given ([`reading`]).
+pub const LISTED_HORIZON_MAX_TILT_DEG: f64 = 45.0;
+
+/// How three vanishing points are read: the indices of the horizontal ones, then the vertical
+/// one. Points given as such are facts that any data set may list in its own order (York
+/// Urban lists the vertical one second): the vertical one is the one opposite the most level
+/// side ([`vertical_index`]). A `labelled` list (its order set by a tool that names each one)
+/// is read as listed, the vertical one last, unless the horizon through the first two is more
+/// than [`LISTED_HORIZON_MAX_TILT_DEG`] from level: segments from short, noisy edges can put
+/// a vanishing point where the most level side would misread them. `None` for fewer than
+/// three.
+#[must_use]
+pub fn reading(points: &[Vector3<f64>], labelled: bool) -> Option<[usize; 3]> {
+    if points.len() != 3 {
+        return None;
+    }
+    if labelled
+        && tilt_deg(&points[0], &points[1]).is_some_and(|t| t <= LISTED_HORIZON_MAX_TILT_DEG)
+    {
+        return Some([0, 1, 2]);
+    }
+    vertical_last_order(points)
 }
 
 /// The warning for vanishing points whose vertical one was not listed last.

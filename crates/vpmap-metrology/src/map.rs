@@ -250,7 +250,8 @@ pub const WARN_RESIDUAL_SIGMAS: f64 = 3.0;
 pub fn calibrate(scene: &Scene) -> Result<Calibration> {
     let vps = scene.resolve_vanishing_points()?;
     let pp = scene.principal_point.map(|p| Vector2::new(p[0], p[1]));
-    let mut cal = Calibration::from_homogeneous(&vps, pp, scene.image)?;
+    let mut cal =
+        Calibration::from_listed(&vps, pp, scene.image, scene.vanishing_points_labelled())?;
     if let Some(f) = scene.focal_px
         && (f - cal.focal_px).abs() > 0.02 * cal.focal_px
     {

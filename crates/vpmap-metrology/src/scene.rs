@@ -1209,6 +1209,17 @@ impl Scene {
         }))
     }
 
+    /// Whether the vanishing points' order was set by a tool that names each one: some are
+    /// given only by segments (drawn on the page under their names, or written by
+    /// `vpmap detect`). Vanishing points all given as points or directions may come in any
+    /// data set's order ([`crate::calibration::reading`]).
+    #[must_use]
+    pub fn vanishing_points_labelled(&self) -> bool {
+        self.vanishing_points
+            .iter()
+            .any(|v| v.point.is_none() && v.direction.is_none())
+    }
+
     /// The vanishing points in homogeneous pixel coordinates `(x, y, w)`, in the order given:
     /// a given point as `(x, y, 1)`, a direction as `(dx, dy, 0)`, segments by their
     /// least-squares intersection ([`intersect_segments`]) as `(x, y, 1)`. Which one is

@@ -389,9 +389,9 @@ fn evidence(scene: &Scene) -> Result<(Vec<VpEvidence>, Vec<Vector3<f64>>)> {
 }
 
 /// The readings of the scene's vanishing points to fit, each as the indices of the
-/// horizontal ones and then the vertical one: the one opposite the most level side
-/// ([`crate::calibration::vertical_index`]) first, then the documented order (the vertical
-/// one listed last) when it differs. With segments the fit's likelihood chooses between them
+/// horizontal ones and then the vertical one: the closed forms' reading
+/// ([`crate::calibration::reading`]) first, then the other of the listed order and the one
+/// opposite the most level side when it differs. The fit's likelihood chooses between them
 /// (the objects' vertical edges tell); where it cannot (vanishing points alone fit any
 /// reading equally), the first wins. One reading for two vanishing points.
 ///
@@ -400,9 +400,20 @@ fn evidence(scene: &Scene) -> Result<(Vec<VpEvidence>, Vec<Vector3<f64>>)> {
 pub(crate) fn vanishing_point_orders(scene: &Scene) -> Result<Vec<[usize; 3]>> {
     let (_, points) = evidence(scene)?;
     let documented = [0, 1, 2];
-    Ok(match crate::calibration::vertical_last_order(&points) {
-        Some(level) if level != documented => vec![level, documented],
-        _ => vec![documented],
+    let Some(first) = crate::calibration::reading(&points, scene.vanishing_points_labelled())
+    else {
+        return Ok(vec![documented]);
+    };
+    let level = crate::calibration::vertical_last_order(&points).unwrap_or(documented);
+    let other = if first == documented {
+        level
+    } else {
+        documented
+    };
+    Ok(if other == first {
+        vec![first]
+    } else {
+        vec![first, other]
     })
 }
 
