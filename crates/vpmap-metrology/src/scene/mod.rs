@@ -14,7 +14,7 @@ mod vanishing;
 
 pub use types::{
     BoxBase, BoxCorner, BoxCorners, BoxPoint, BoxView, Dimension, FloorDistance, ImageSize,
-    ObjectShape, ObjectSpec, PixelPoint, Scale, ScaleSpec, Scene, ThesisBox, TopSpec,
+    ObjectShape, ObjectSpec, Perspective, PixelPoint, Scale, ScaleSpec, Scene, ThesisBox, TopSpec,
     VanishingPointSpec,
 };
 pub use validate::{

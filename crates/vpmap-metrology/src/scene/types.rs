@@ -404,6 +404,28 @@ impl BoxPoint {
     }
 }
 
+/// Two- or three-point perspective.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+pub enum Perspective {
+    /// Two horizontal vanishing points: the camera's pitch is 0.
+    #[serde(rename = "2pp")]
+    TwoPoint,
+    /// Two horizontal and one vertical vanishing point.
+    #[serde(rename = "3pp")]
+    ThreePoint,
+}
+
+impl Perspective {
+    /// The scene file's spelling: `"2pp"` or `"3pp"` (as serialised).
+    #[must_use]
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::TwoPoint => "2pp",
+            Self::ThreePoint => "3pp",
+        }
+    }
+}
+
 /// A scene file, version 1.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Scene {
@@ -432,7 +454,7 @@ pub struct Scene {
     /// `"2pp"` or `"3pp"` as `vpmap detect` judged the photo (informational: the number of
     /// vanishing points decides; a value that disagrees with it is refused).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub perspective: Option<crate::calibration::Perspective>,
+    pub perspective: Option<Perspective>,
 }
 
 /// The kind of an object, after validation.

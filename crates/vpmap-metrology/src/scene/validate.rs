@@ -2,7 +2,8 @@
 //! shape, the scale's form, and the fields vpmap does not read.
 
 use super::types::{
-    BoxCorner, BoxCorners, BoxPoint, ObjectShape, ObjectSpec, PixelPoint, Scale, Scene, TopSpec,
+    BoxCorner, BoxCorners, BoxPoint, ObjectShape, ObjectSpec, Perspective, PixelPoint, Scale,
+    Scene, TopSpec,
 };
 use crate::error::{MetrologyError, Result};
 
@@ -422,8 +423,8 @@ impl Scene {
         self.check_sizes()?;
         if let Some(p) = self.perspective {
             let expected = match p {
-                crate::calibration::Perspective::TwoPoint => 2,
-                crate::calibration::Perspective::ThreePoint => 3,
+                Perspective::TwoPoint => 2,
+                Perspective::ThreePoint => 3,
             };
             if expected != n {
                 return Err(MetrologyError::InvalidField {
