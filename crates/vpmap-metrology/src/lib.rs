@@ -30,6 +30,7 @@
 #![deny(missing_docs)]
 
 pub mod calibration;
+mod camera;
 pub mod error;
 pub mod eval;
 pub mod fit;
@@ -40,5 +41,6 @@ pub mod reconstruct;
 pub mod scene;
 pub mod sideview;
 pub mod synth;
+mod uncertainty;
 
 pub use error::{MetrologyError, Result};

@@ -12,15 +12,14 @@ use nalgebra::Vector2;
 use serde::{Deserialize, Serialize};
 
 use crate::calibration::{Calibration, Perspective};
+pub use crate::camera::{MapPoint, calibrate, room_yaw_rad, rotation_map_from_camera};
 use crate::error::{MetrologyError, Result};
 use crate::fit::{FitOptions, Fitted, fit_scene};
 use crate::projective::Projective;
 use crate::reconstruct::{FloorProjection, Method, ObjectKind, Reconstruction, reconstruct};
 use crate::scene::{Dimension, ImageSize, Scale, Scene};
 use crate::sideview::SideView;
-
-/// A floor position `[x, y]` in the map frame.
-pub type MapPoint = [f64; 2];
+pub use crate::uncertainty::{CameraUncertainty, Ellipse, ObjectUncertainty};
 
 /// Length unit of a map.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
@@ -112,65 +111,6 @@ pub struct MapObject {
     pub uncertainty: Option<ObjectUncertainty>,
 }
 
-/// A 2-D confidence ellipse on the floor.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct Ellipse {
-    /// Centre `[x, y]`, map units.
-    pub centre: MapPoint,
-    /// Semi-major and semi-minor axis lengths, map units.
-    pub semi_axes: [f64; 2],
-    /// Direction of the major axis, degrees counter-clockwise from `+x`.
-    pub angle_deg: f64,
-}
-
-/// One object's error bars: standard deviations (1 sigma) and the centroid's covariance, for
-/// the click noise in [`FitReport::click_sigma_px`], first-order propagated through the fit
-/// and the scale.
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct ObjectUncertainty {
-    /// Covariance of the centroid `[[xx, xy], [xy, yy]]`, map units squared.
-    pub centroid_covariance: [[f64; 2]; 2],
-    /// The centroid's 95 % confidence ellipse.
-    pub centroid_ellipse_95: Ellipse,
-    /// Standard deviation of a box's longer side, map units.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub length_sd: Option<f64>,
-    /// Standard deviation of a box's shorter side, map units.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub breadth_sd: Option<f64>,
-    /// Standard deviation of the height, map units.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub height_sd: Option<f64>,
-    /// A box's yaw: the direction of its longer side, degrees counter-clockwise from `+x`,
-    /// in `[0, 180)`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub yaw_deg: Option<f64>,
-    /// Standard deviation of the yaw, degrees.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub yaw_sd_deg: Option<f64>,
-}
-
-/// The camera's error bars (1 sigma), as [`ObjectUncertainty`].
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
-pub struct CameraUncertainty {
-    /// Focal length, pixels.
-    pub focal_px_sd: f64,
-    /// Pitch, degrees.
-    pub pitch_deg_sd: f64,
-    /// Roll, degrees.
-    pub roll_deg_sd: f64,
-    /// Camera height, map units (0 when the scale is the camera height, or without a scale:
-    /// then the camera height is the unit, which nothing in a photo can fix).
-    pub height_sd: f64,
-    /// Principal point `[x, y]`, pixels, when the fit placed it (three finite vanishing
-    /// points); absent when it was held at the given value or the image centre.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub principal_point_px_sd: Option<[f64; 2]>,
-    /// The room's yaw ([`CameraReport::room_yaw_deg`]), degrees.
-    #[serde(default)]
-    pub room_yaw_deg_sd: f64,
-}
-
 /// How the joint fit went (method `fit` only).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct FitReport {
@@ -242,39 +182,6 @@ pub struct BuildOptions {
 pub const WARN_RELATIVE_SD: f64 = 0.2;
 /// Misfit of a clicked point, in click sigmas, above which the build warns.
 pub const WARN_RESIDUAL_SIGMAS: f64 = 3.0;
-
-/// Calibrate the camera of a validated scene.
-///
-/// # Errors
-/// As [`Scene::resolve_vanishing_points`] and [`Calibration::from_vanishing_points`].
-pub fn calibrate(scene: &Scene) -> Result<Calibration> {
-    let vps = scene.resolve_vanishing_points()?;
-    let pp = scene.principal_point.map(|p| Vector2::new(p[0], p[1]));
-    let mut cal = Calibration::from_homogeneous(&vps, pp, scene.image)?;
-    if let Some(f) = scene.focal_px
-        && (f - cal.focal_px).abs() > 0.02 * cal.focal_px
-    {
-        cal.warnings.push(format!(
-            "the scene's focal_px {f:.1} disagrees with the {:.1} px the vanishing points give; the vanishing points were used",
-            cal.focal_px
-        ));
-    }
-    Ok(cal)
-}
-
-/// The room's yaw from a calibration: the floor direction, from `+x`, of the edges that run to
-/// the first vanishing point, radians.
-#[must_use]
-pub fn room_yaw_rad(cal: &Calibration) -> f64 {
-    let Some(v) = cal.vanishing_points_px.first() else {
-        return 0.0;
-    };
-    let q = (v - cal.principal_point_px()) / cal.focal_px;
-    let r = rotation_map_from_camera(cal.pitch_rad, cal.roll_rad);
-    let x = r[0][0] * q.x + r[0][1] * q.y + r[0][2];
-    let y = r[1][0] * q.x + r[1][1] * q.y + r[1][2];
-    y.atan2(x)
-}
 
 /// Reconstruct a validated scene with one method, in camera heights.
 ///
@@ -534,25 +441,6 @@ pub fn occlusion_shadow(
         points.push(Point::new(q.x, q.y));
     }
     Some(MultiPoint::new(points).convex_hull())
-}
-
-/// The rotation from camera coordinates (x right, y down, z forward) to the map frame for a
-/// camera pitched down by `pitch` and rolled by `roll` (positive: the horizon falls to the
-/// right in the image). Its columns are the camera's right, down and forward axes in the map.
-#[must_use]
-pub fn rotation_map_from_camera(pitch_rad: f64, roll_rad: f64) -> [[f64; 3]; 3] {
-    let (sp, cp) = pitch_rad.sin_cos();
-    let (sr, cr) = roll_rad.sin_cos();
-    // Unrolled axes: right (1, 0, 0), down (0, -sin p, -cos p), forward (0, cos p, -sin p);
-    // roll turns right and down about forward.
-    let right = [cr, sr * sp, sr * cp];
-    let down = [sr, -cr * sp, -cr * cp];
-    let forward = [0.0, cp, -sp];
-    [
-        [right[0], down[0], forward[0]],
-        [right[1], down[1], forward[1]],
-        [right[2], down[2], forward[2]],
-    ]
 }
 
 /// The image rectangle's floor footprint, cut at forward distance `reach` (in units where the

@@ -231,7 +231,7 @@ fn check_below_given_horizon(scene: &Scene) -> Result<()> {
         .vanishing_points
         .iter()
         .all(|v| v.point.is_some() && v.lines.len() < 2);
-    let cal = match crate::map::calibrate(scene) {
+    let cal = match crate::camera::calibrate(scene) {
         Ok(cal) => cal,
         // Vanishing points given as points are facts: if they calibrate no camera, no fit
         // can honour them. Fitted to segments, they are evidence the fit weighs with the
