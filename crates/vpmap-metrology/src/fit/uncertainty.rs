@@ -8,9 +8,9 @@
 
 use nalgebra::{DVector, Matrix2, Vector2};
 
+use super::fitted::{FitOptions, Fitted, click_sigma};
 use super::model::Part;
 use super::solve::{Factored, Problem};
-use super::{FitOptions, Fitted, click_sigma};
 use crate::error::{MetrologyError, Result};
 use crate::scene::{Dimension, Scale, Scene};
 use crate::uncertainty::{CameraUncertainty, Ellipse, ObjectUncertainty};
