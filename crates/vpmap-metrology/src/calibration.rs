@@ -8,32 +8,14 @@
 //! `y` perpendicular to it, positive towards the sky.
 
 use nalgebra::{Matrix2, Vector2, Vector3};
-use serde::{Deserialize, Serialize};
 
 use crate::error::{MetrologyError, Result};
 use crate::scene::ImageSize;
 
-/// Two- or three-point perspective.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-pub enum Perspective {
-    /// Two horizontal vanishing points: the camera's pitch is 0.
-    #[serde(rename = "2pp")]
-    TwoPoint,
-    /// Two horizontal and one vertical vanishing point.
-    #[serde(rename = "3pp")]
-    ThreePoint,
-}
-
-impl Perspective {
-    /// The scene file's spelling: `"2pp"` or `"3pp"` (as serialised).
-    #[must_use]
-    pub fn name(self) -> &'static str {
-        match self {
-            Self::TwoPoint => "2pp",
-            Self::ThreePoint => "3pp",
-        }
-    }
-}
+// Two- or three-point perspective: the scene file's type (it lives with the scene's types,
+// which this module reads), here too where the calibration reports it.
+#[doc(inline)]
+pub use crate::scene::Perspective;
 
 /// The image frame aligned with the horizon, origin at the principal point.
 #[derive(Debug, Clone, Copy, PartialEq)]

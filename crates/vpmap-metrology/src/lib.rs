@@ -14,6 +14,33 @@
 //! | synthetic scenes | [`synth`] | an independent pinhole camera: the test oracle |
 //! | map accuracy | [`eval`] | the thesis's scale factor `S_k` (eq. 6.1), six error metrics (6.1.1), experiment set-ups |
 //!
+//! # Module order
+//! Modules import one way: each uses only the modules listed before it, bottom-up. Inside a
+//! directory module the files do the same, in the order given; its `mod.rs` declares and
+//! re-exports them (`fit/mod.rs` also drives the fit), and no file imports from its `mod.rs`.
+//!
+//! 1. [`error`] (the error type, which every later module may use) and [`linalg`]
+//!    (decompositions that cannot panic): they import nothing from the crate.
+//! 2. [`scene`]: the scene file (uses `linalg`). `types`, then `validate` and `vanishing`.
+//! 3. [`calibration`]: the camera from the vanishing points (uses `scene`).
+//! 4. `camera` (private; re-exported from [`map`]): the map frame's point, the rotation from
+//!    camera to map, a scene's calibrated camera, the room's yaw (uses `calibration`, `scene`).
+//! 5. `uncertainty` (private; re-exported from [`map`]): the error-bar types the fit computes
+//!    and the map carries (uses `camera`).
+//! 6. [`reconstruct`]: methods, reconstructed objects, the floor-projection trait (uses
+//!    `calibration`, `scene`).
+//! 7. [`sideview`] and [`projective`]: the two reference methods (use `reconstruct`,
+//!    `calibration`, `scene`).
+//! 8. [`fit`]: the joint fit (uses `camera`, `uncertainty`, `reconstruct`, `calibration`,
+//!    `scene`, `linalg`). `model`, `solve`, `fitted`, then `init` and `uncertainty`.
+//! 9. [`synth`]: synthetic scenes from an independent pinhole camera (uses `scene` only).
+//!    `camera`, `truth`, `noise`, `annotate`, `vp_edges`, then `random_scene`.
+//! 10. [`map`]: the floor map (uses `fit`, `sideview`, `projective`, `reconstruct`,
+//!     `uncertainty`, `camera`, `calibration`, `scene`; its tests also `synth`). `types`, then
+//!     `reconstruction`, `regions` and `warnings`, then `build`.
+//! 11. [`eval`]: map accuracy against a synthetic truth (uses `map`, `synth`, `reconstruct`,
+//!     `calibration`, `scene`). `metrics`, `coverage`, `evaluate`, `setups`, then `trial`.
+//!
 //! # Example
 //! ```
 //! use vpmap_metrology::{map::{build_map, BuildOptions}, synth::{synthesize, SynthOptions}};
@@ -30,6 +57,7 @@
 #![deny(missing_docs)]
 
 pub mod calibration;
+mod camera;
 pub mod error;
 pub mod eval;
 pub mod fit;
@@ -40,5 +68,6 @@ pub mod reconstruct;
 pub mod scene;
 pub mod sideview;
 pub mod synth;
+mod uncertainty;
 
 pub use error::{MetrologyError, Result};

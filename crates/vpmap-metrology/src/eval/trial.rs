@@ -300,7 +300,7 @@ pub fn run_trial_with(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::eval::SETUPS;
+    use crate::eval::setups::SETUPS;
 
     #[test]
     fn seeds_depend_on_every_input() {

@@ -18,6 +18,7 @@
 //! variance, propagated to each reported quantity by its gradient (first order), as in
 //! Criminisi, Reid & Zisserman, "Single view metrology", IJCV 40(2), 2000, section 5.
 
+mod fitted;
 mod init;
 mod model;
 mod solve;
@@ -36,66 +37,11 @@ use model::{Camera, Part, px, vp_direction};
 pub(crate) use solve::Problem;
 use solve::{Singular, minimise};
 
+pub use fitted::{FitOptions, Fitted, MIN_CLICK_SIGMA_PX, MIN_DOF_FOR_SIGMA, PointResidual};
 pub use uncertainty::FitUncertainty;
-
-/// Options of [`fit_scene`].
-#[derive(Debug, Clone, Copy, PartialEq, Default)]
-pub struct FitOptions {
-    /// The click noise, pixels (1 sigma per coordinate). `None`: estimated from the residuals
-    /// when the data over-determine the model by at least [`MIN_DOF_FOR_SIGMA`], else 1 px.
-    pub click_sigma_px: Option<f64>,
-}
 
 /// Largest focal length the fit accepts, in image diagonals (a 1.5 degree field of view).
 pub const MAX_FOCAL_DIAGONALS: f64 = 40.0;
-
-/// The least click noise the fit assumes when it estimates it from the residuals, pixels:
-/// the standard deviation of rounding to whole pixels, `1/sqrt(12)`.
-pub const MIN_CLICK_SIGMA_PX: f64 = 0.288_675_134_594_812_9;
-
-/// Fewest redundant observations (residuals minus parameters) for estimating the click
-/// noise from the residuals.
-pub const MIN_DOF_FOR_SIGMA: usize = 20;
-
-/// A clicked point's misfit after the fit.
-#[derive(Debug, Clone, PartialEq)]
-pub struct PointResidual {
-    /// The object's name (or `floor distance`).
-    pub object: String,
-    /// The point's field, e.g. `objects[2].top.left`.
-    pub field: String,
-    /// Distance between the click and the fitted model's point, pixels.
-    pub distance_px: f64,
-}
-
-/// The result of [`fit_scene`].
-#[derive(Debug, Clone)]
-pub struct Fitted {
-    /// The fitted camera, as a calibration (principal point, focal length, pitch, roll and
-    /// the vanishing points the fit predicts).
-    pub calibration: Calibration,
-    /// The objects and floor in camera heights.
-    pub reconstruction: Reconstruction,
-    /// Root-mean-square reprojection error of the clicked points, pixels.
-    pub rms_residual_px: f64,
-    /// Residuals minus parameters.
-    pub degrees_of_freedom: usize,
-    /// Levenberg-Marquardt iterations.
-    pub iterations: usize,
-    /// Whether the principal point was fitted.
-    pub principal_point_fitted: bool,
-    /// Every clicked point's misfit, in scene order.
-    pub point_residuals: Vec<PointResidual>,
-    /// The fitted room directions' angle from `+x`, radians (the scene's first vanishing
-    /// point).
-    pub room_yaw_rad: f64,
-    pub(crate) problem: Problem,
-    pub(crate) x: Vec<f64>,
-    /// Part index of each scene object.
-    pub(crate) object_parts: Vec<usize>,
-    /// Part indices of the scale's floor points, if the scale is a floor distance.
-    pub(crate) floor_distance_parts: Option<[usize; 2]>,
-}
 
 /// Fit the camera and every object of a validated scene.
 ///
@@ -231,7 +177,7 @@ fn check_below_given_horizon(scene: &Scene) -> Result<()> {
         .vanishing_points
         .iter()
         .all(|v| v.point.is_some() && v.lines.len() < 2);
-    let cal = match crate::map::calibrate(scene) {
+    let cal = match crate::camera::calibrate(scene) {
         Ok(cal) => cal,
         // Vanishing points given as points are facts: if they calibrate no camera, no fit
         // can honour them. Fitted to segments, they are evidence the fit weighs with the
@@ -305,29 +251,6 @@ fn run(scene: &Scene, problem: &Problem, x0: Vec<f64>) -> Result<Solved> {
         cost: sol.cost,
         iterations: sol.iterations,
     })
-}
-
-/// The click noise for the error bars and where it comes from.
-pub(crate) fn click_sigma(
-    options: &FitOptions,
-    cost: f64,
-    problem: &Problem,
-) -> (f64, &'static str) {
-    if let Some(s) = options.click_sigma_px {
-        return (s, "given");
-    }
-    let dof = problem.residual_count().saturating_sub(problem.len());
-    if dof >= MIN_DOF_FOR_SIGMA {
-        // Never below the rounding of a click to whole pixels (a uniform error of one pixel
-        // has a standard deviation of 1/sqrt(12) px): exact synthetic clicks would otherwise
-        // claim error bars of zero.
-        (
-            (cost / dof as f64).sqrt().max(MIN_CLICK_SIGMA_PX),
-            "residuals",
-        )
-    } else {
-        (1.0, "default")
-    }
 }
 
 /// The vanishing point of a map direction as a finite pixel (points at infinity are pushed

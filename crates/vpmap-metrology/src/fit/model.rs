@@ -8,7 +8,7 @@
 
 use nalgebra::{Matrix3, Vector2, Vector3};
 
-use crate::map::rotation_map_from_camera;
+use crate::camera::rotation_map_from_camera;
 use crate::scene::{BoxView, PixelPoint};
 
 /// The camera as the model sees it.

@@ -8,12 +8,12 @@
 
 use nalgebra::{DVector, Matrix2, Vector2};
 
+use super::fitted::{FitOptions, Fitted, click_sigma};
 use super::model::Part;
 use super::solve::{Factored, Problem};
-use super::{FitOptions, Fitted, click_sigma};
 use crate::error::{MetrologyError, Result};
-use crate::map::{CameraUncertainty, Ellipse, ObjectUncertainty};
 use crate::scene::{Dimension, Scale, Scene};
+use crate::uncertainty::{CameraUncertainty, Ellipse, ObjectUncertainty};
 
 /// The chi-square quantile with 2 degrees of freedom at 95 %: `-2 ln 0.05`.
 pub const CHI2_2DOF_95: f64 = 5.991_464_547_107_979;

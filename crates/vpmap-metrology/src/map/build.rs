@@ -1,0 +1,202 @@
+//! Building the map: everything `vpmap build` computes, from a validated scene to a
+//! [`FloorMap`].
+
+use geo::{Area, BooleanOps, Centroid, Polygon};
+use nalgebra::Vector2;
+
+use super::reconstruction::{
+    box_size, check_plausible, meters_per_camera_height, reconstruct_scene,
+};
+use super::regions::{free_space, occlusion_shadow, ring, to_polygons, view_on_floor};
+use super::types::{CameraReport, FitReport, FloorMap, MapObject, Units};
+use super::warnings::{crossing_warnings, fit_warnings};
+use crate::camera::{room_yaw_rad, rotation_map_from_camera};
+use crate::error::Result;
+use crate::fit::{FitOptions, fit_scene};
+use crate::reconstruct::{Method, ObjectKind};
+use crate::scene::Scene;
+
+/// Options of [`build_map`].
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct BuildOptions {
+    /// Reconstruction method.
+    pub method: Method,
+    /// The click noise the fit's error bars are computed for, pixels (1 sigma per
+    /// coordinate); `None`: estimated from the residuals when the data over-determine the
+    /// model, else 1 px ([`crate::fit::FitOptions`]). Method `fit` only.
+    pub click_sigma_px: Option<f64>,
+}
+
+/// Everything `vpmap build` computes, from a validated scene to a [`FloorMap`].
+///
+/// # Errors
+/// Any calibration, reconstruction or scale error, naming the scene field and value.
+///
+/// # Example
+/// ```
+/// use vpmap_metrology::map::{build_map, BuildOptions, Units};
+/// use vpmap_metrology::synth::{SynthOptions, synthesize};
+/// let (scene, truth) = synthesize(&SynthOptions { seed: 7, ..SynthOptions::default() }).unwrap();
+/// let map = build_map(&scene, &BuildOptions::default()).unwrap();
+/// assert_eq!(map.units, Units::Meters);
+/// assert!((map.objects[0].footprint[0][1] - truth.objects[0].footprint[0][1]).abs() < 1e-9);
+/// ```
+pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
+    scene.validate()?;
+    let fitted = if options.method == Method::Fit {
+        Some(fit_scene(scene, &FitOptions::default())?)
+    } else {
+        None
+    };
+    let (cal, rec, factor) = if let Some(f) = &fitted {
+        check_plausible(&f.calibration, &f.reconstruction)?;
+        (
+            f.calibration.clone(),
+            f.reconstruction.clone(),
+            f.meters_per_camera_height(scene)?,
+        )
+    } else {
+        let (cal, rec) = reconstruct_scene(scene, options.method)?;
+        let factor = meters_per_camera_height(scene, &cal, &rec)?;
+        (cal, rec, factor)
+    };
+    let (k, units) = match factor {
+        Some(f) => (f, Units::Meters),
+        None => (1.0, Units::CameraHeights),
+    };
+    let scaled = |v: &Vector2<f64>| v * k;
+    let mut objects = Vec::with_capacity(rec.objects.len());
+    let mut footprints = Vec::with_capacity(rec.objects.len());
+    for o in &rec.objects {
+        let fp: Vec<Vector2<f64>> = o.footprint.iter().map(scaled).collect();
+        let poly = Polygon::new(ring(&fp), vec![]);
+        let centroid = poly.centroid().map_or([f64::NAN; 2], |c| [c.x(), c.y()]);
+        objects.push(MapObject {
+            name: o.name.clone(),
+            kind: o.kind,
+            footprint: fp.iter().map(|p| [p.x, p.y]).collect(),
+            height: o.height.map(|h| h * k),
+            size: match o.kind {
+                ObjectKind::Box => box_size(&fp),
+                ObjectKind::Footprint => None,
+            },
+            centroid,
+            area: poly.unsigned_area(),
+            uncertainty: None,
+        });
+        footprints.push(fp);
+    }
+    let floor: Vec<Vector2<f64>> = rec.floor.iter().map(scaled).collect();
+    let free_mp = free_space(&floor, &footprints);
+    let reach = 2.0
+        * floor
+            .iter()
+            .chain(footprints.iter().flatten())
+            .map(Vector2::norm)
+            .fold(k, f64::max);
+    let shadows: Vec<Polygon<f64>> = footprints
+        .iter()
+        .zip(&objects)
+        .filter_map(|(fp, o)| occlusion_shadow(fp, o.height, k, reach))
+        .collect();
+    let hidden = if shadows.is_empty() || free_mp.0.is_empty() {
+        Vec::new()
+    } else {
+        to_polygons(&free_mp.intersection(&geo::unary_union(&shadows)))
+    };
+    let free = to_polygons(&free_mp);
+    let corners = [
+        Vector2::new(0.0, 0.0),
+        Vector2::new(f64::from(scene.image.width), 0.0),
+        Vector2::new(0.0, f64::from(scene.image.height)),
+        Vector2::new(f64::from(scene.image.width), f64::from(scene.image.height)),
+    ];
+    let xs = corners.map(|c| cal.frame.coords(c).x);
+    let d0 = cal.top_view_distance_px();
+    let fov = [
+        xs.iter().copied().fold(f64::INFINITY, f64::min),
+        xs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+    ]
+    .map(|x| x.atan2(d0).to_degrees());
+    let o = cal.principal_point_px();
+    let view = view_on_floor(&cal, scene.image, k, 0.75 * reach.max(3.0 * k));
+    let mut warnings = cal.warnings.clone();
+    warnings.extend(crossing_warnings(scene, &rec));
+    let mut camera_uncertainty = None;
+    let mut fit_report = None;
+    if let Some(f) = &fitted {
+        let fit_options = FitOptions {
+            click_sigma_px: options.click_sigma_px,
+        };
+        let u = f.uncertainty(scene, &fit_options)?;
+        warnings.extend(fit_warnings(scene, f, &u));
+        for (o, ou) in objects.iter_mut().zip(&u.objects) {
+            o.uncertainty = Some(ou.clone());
+        }
+        camera_uncertainty = Some(u.camera);
+        fit_report = Some(FitReport {
+            click_sigma_px: u.click_sigma_px,
+            click_sigma_source: u.click_sigma_source.to_owned(),
+            rms_residual_px: f.rms_residual_px,
+            degrees_of_freedom: f.degrees_of_freedom,
+            iterations: f.iterations,
+            principal_point_fitted: f.principal_point_fitted,
+        });
+    }
+    Ok(FloorMap {
+        version: 1,
+        units,
+        method: options.method,
+        camera: CameraReport {
+            perspective: cal.perspective,
+            focal_px: cal.focal_px,
+            principal_point: [o.x, o.y],
+            pitch_deg: cal.pitch_rad.to_degrees(),
+            roll_deg: cal.roll_rad.to_degrees(),
+            room_yaw_deg: fitted
+                .as_ref()
+                .map_or_else(|| room_yaw_rad(&cal), |f| f.room_yaw_rad)
+                .to_degrees(),
+            height: k,
+            k_matrix: [
+                [cal.focal_px, 0.0, o.x],
+                [0.0, cal.focal_px, o.y],
+                [0.0, 0.0, 1.0],
+            ],
+            rotation_map_from_camera: rotation_map_from_camera(cal.pitch_rad, cal.roll_rad),
+            position: [0.0, 0.0, k],
+            image: scene.image,
+            vanishing_points: cal.vanishing_points_px.iter().map(|v| [v.x, v.y]).collect(),
+            uncertainty: camera_uncertainty,
+            horizontal_fov_deg: fov,
+            view_on_floor: view,
+        },
+        objects,
+        floor: floor.iter().map(|p| [p.x, p.y]).collect(),
+        free_space: free,
+        hidden,
+        warnings,
+        fit: fit_report,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn free_area_is_the_floor_minus_the_footprints() {
+        // Synthetic objects stand apart inside the floor, so the areas simply subtract.
+        let (scene, _) = crate::synth::synthesize(&crate::synth::SynthOptions::default()).unwrap();
+        let map = build_map(&scene, &BuildOptions::default()).unwrap();
+        let floor: Vec<Vector2<f64>> = map.floor.iter().map(|p| Vector2::new(p[0], p[1])).collect();
+        let floor_area = Polygon::new(ring(&floor), vec![]).unsigned_area();
+        let objects: f64 = map.objects.iter().map(|o| o.area).sum();
+        let expected = floor_area - objects;
+        assert!(
+            (map.free_area() - expected).abs() < 1e-9 * floor_area,
+            "{} vs {expected}",
+            map.free_area()
+        );
+    }
+}

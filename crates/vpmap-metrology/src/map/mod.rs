@@ -1,0 +1,26 @@
+//! The floor map: the result of `vpmap build`, as written to `map.json`.
+//!
+//! Frame: origin at the station point, `+x` right, `+y` forward along the camera's horizontal
+//! viewing direction, `+z` up. Units: metres when the scene gives a scale, else camera heights.
+//! The format is documented for users in `docs/map-format.md`.
+//!
+//! The types are in `map/types.rs`; `map/build.rs` builds a map from the reconstruction and its
+//! scale (`map/reconstruction.rs`), the regions on the floor (`map/regions.rs`) and the warnings
+//! (`map/warnings.rs`).
+
+mod build;
+mod reconstruction;
+mod regions;
+mod types;
+mod warnings;
+
+pub use crate::camera::{MapPoint, calibrate, room_yaw_rad, rotation_map_from_camera};
+pub use crate::uncertainty::{CameraUncertainty, Ellipse, ObjectUncertainty};
+pub use build::{BuildOptions, build_map};
+pub use reconstruction::{MAX_RANGE_CAMERA_HEIGHTS, meters_per_camera_height, reconstruct_scene};
+pub use regions::{free_space, occlusion_shadow, to_polygons};
+pub use types::{BoxSize, CameraReport, FitReport, FloorMap, MapObject, PolygonWithHoles, Units};
+pub use warnings::{
+    WARN_FOCAL_SD_FRACTION, WARN_PRINCIPAL_POINT_SD_DIAGONALS, WARN_RELATIVE_SD,
+    WARN_RESIDUAL_SIGMAS, self_crossing,
+};

@@ -1,0 +1,172 @@
+//! The build's warnings for the user: outlines that cross themselves, sizes the fit leaves
+//! uncertain, misplaced clicks, and a camera the vanishing points fix poorly.
+
+use nalgebra::Vector2;
+
+use crate::fit::Fitted;
+use crate::reconstruct::{ObjectKind, Reconstruction};
+use crate::scene::Scene;
+
+/// Relative standard deviation of a size above which the build warns.
+pub const WARN_RELATIVE_SD: f64 = 0.2;
+/// Misfit of a clicked point, in click sigmas, above which the build warns.
+pub const WARN_RESIDUAL_SIGMAS: f64 = 3.0;
+
+/// The first two non-adjacent edges of a closed ring that touch or cross, as edge indices
+/// (edge `i` runs from point `i` to point `i + 1`), or `None` for a simple ring.
+#[must_use]
+pub fn self_crossing(ring: &[Vector2<f64>]) -> Option<(usize, usize)> {
+    let n = ring.len();
+    if n < 4 {
+        return None;
+    }
+    let orient = |a: Vector2<f64>, b: Vector2<f64>, c: Vector2<f64>| {
+        let v = (b - a).perp(&(c - a));
+        let scale = (b - a).norm() * (c - a).norm();
+        if v.abs() <= 1e-12 * scale {
+            0.0
+        } else {
+            v.signum()
+        }
+    };
+    let on = |a: Vector2<f64>, b: Vector2<f64>, p: Vector2<f64>| {
+        p.x >= a.x.min(b.x) && p.x <= a.x.max(b.x) && p.y >= a.y.min(b.y) && p.y <= a.y.max(b.y)
+    };
+    for i in 0..n {
+        let (a, b) = (ring[i], ring[(i + 1) % n]);
+        for j in i + 2..n {
+            if i == 0 && j == n - 1 {
+                continue;
+            }
+            let (c, d) = (ring[j], ring[(j + 1) % n]);
+            let (o1, o2, o3, o4) = (
+                orient(a, b, c),
+                orient(a, b, d),
+                orient(c, d, a),
+                orient(c, d, b),
+            );
+            let crosses = (o1 * o2 < 0.0 && o3 * o4 < 0.0)
+                || (o1 == 0.0 && on(a, b, c))
+                || (o2 == 0.0 && on(a, b, d))
+                || (o3 == 0.0 && on(c, d, a))
+                || (o4 == 0.0 && on(c, d, b));
+            if crosses {
+                return Some((i, j));
+            }
+        }
+    }
+    None
+}
+
+/// Warnings for a floor outline or a footprint object that crosses itself (clicked out of
+/// order): its area, and so the free space, would be wrong.
+pub(super) fn crossing_warnings(scene: &Scene, rec: &Reconstruction) -> Vec<String> {
+    let mut out = Vec::new();
+    if let Some((i, j)) = self_crossing(&rec.floor) {
+        out.push(format!(
+            "the floor outline crosses itself (its edges from floor[{i}] and floor[{j}]): click the floor corners in order around the floor; the free space is wrong as it stands"
+        ));
+    }
+    for (k, o) in rec.objects.iter().enumerate() {
+        if o.kind == ObjectKind::Footprint
+            && let Some((i, j)) = self_crossing(&o.footprint)
+        {
+            let name = scene
+                .objects
+                .get(k)
+                .map_or(o.name.as_str(), |s| s.name.as_str());
+            out.push(format!(
+                "the footprint of object {name:?} crosses itself (its edges from footprint[{i}] and footprint[{j}]): click its vertices in order around it"
+            ));
+        }
+    }
+    out
+}
+
+/// The fit's warnings: sizes uncertain by more than [`WARN_RELATIVE_SD`] (naming the corner
+/// that would help) and clicks farther than [`WARN_RESIDUAL_SIGMAS`] click sigmas from the
+/// fitted model (a misplaced click).
+pub(super) fn fit_warnings(
+    scene: &Scene,
+    fitted: &Fitted,
+    u: &crate::fit::FitUncertainty,
+) -> Vec<String> {
+    let mut out = Vec::new();
+    for &(i, what, rel) in &u.relative_size_sd {
+        if rel > WARN_RELATIVE_SD
+            && let Some(obj) = scene.objects.get(i)
+        {
+            out.push(format!(
+                "object {:?}: its {what} is uncertain by +-{:.0} % (1 sigma, for {:.2} px clicks); {}",
+                obj.name,
+                100.0 * rel,
+                u.click_sigma_px,
+                crate::fit::advice_for(scene, i, what)
+            ));
+        }
+    }
+    out.extend(camera_warnings(scene, fitted, u));
+    if u.click_sigma_px > 0.0 {
+        for r in &fitted.point_residuals {
+            if r.distance_px > WARN_RESIDUAL_SIGMAS * u.click_sigma_px {
+                out.push(format!(
+                    "`{}` of object {:?} lies {:.1} px ({:.1} sigma) from the fitted box: a misplaced click?",
+                    r.field,
+                    r.object,
+                    r.distance_px,
+                    r.distance_px / u.click_sigma_px
+                ));
+            }
+        }
+    }
+    out
+}
+
+/// Largest standard deviation of a fitted principal point, as a fraction of the image
+/// diagonal, before a warning.
+pub const WARN_PRINCIPAL_POINT_SD_DIAGONALS: f64 = 0.01;
+
+/// Largest relative standard deviation of the fitted focal length before a warning.
+pub const WARN_FOCAL_SD_FRACTION: f64 = 0.05;
+
+/// Warnings for a camera the vanishing points fix poorly: a principal point or focal length
+/// with a large error bar, naming the vanishing point farthest from the image (the one whose
+/// direction a pixel of noise turns most).
+fn camera_warnings(scene: &Scene, fitted: &Fitted, u: &crate::fit::FitUncertainty) -> Vec<String> {
+    let mut out = Vec::new();
+    let centre = scene.image.centre();
+    let far = fitted
+        .calibration
+        .vanishing_points_px
+        .iter()
+        .enumerate()
+        .map(|(k, v)| (k, (v - centre).norm()))
+        .max_by(|a, b| a.1.total_cmp(&b.1));
+    let far_text = far.map_or_else(String::new, |(k, d)| {
+        format!(
+            ": the {} vanishing point lies {d:.0} px ({:.0} image diagonals) from the image centre",
+            if k == 2 { "vertical" } else { "horizontal" },
+            d / scene.image.diagonal()
+        )
+    });
+    let cam = &u.camera;
+    if let Some([sx, sy]) = cam.principal_point_px_sd
+        && sx.hypot(sy) > WARN_PRINCIPAL_POINT_SD_DIAGONALS * scene.image.diagonal()
+    {
+        let pp = fitted.calibration.principal_point_px();
+        out.push(format!(
+            "the principal point ({:.1}, {:.1}) is poorly fixed, +-({sx:.1}, {sy:.1}) px (1 sigma, for {:.2} px clicks){far_text}; give longer edges towards it, or the principal point if it is known",
+            pp.x, pp.y, u.click_sigma_px
+        ));
+    }
+    let f = fitted.calibration.focal_px;
+    if cam.focal_px_sd > WARN_FOCAL_SD_FRACTION * f {
+        out.push(format!(
+            "the focal length {f:.1} px is poorly fixed, +-{:.1} px ({:.0} %, 1 sigma, for {:.2} px clicks){far_text}; give longer edges towards it, or `focal_px` if it is known",
+            cam.focal_px_sd,
+            100.0 * cam.focal_px_sd / f,
+            u.click_sigma_px
+        ));
+    }
+    out
+}

@@ -1,0 +1,23 @@
+//! The scene file: what a user annotates on one photo (format version 1).
+//!
+//! Pixel coordinates, origin at the image's top-left corner, x right, y down.
+//! The format is documented for users in `docs/scene-format.md`; this module is its
+//! reference implementation. [`Scene::from_json_str`] parses and validates in one step,
+//! so every later stage can rely on finite numbers and well-formed objects.
+//!
+//! The types are in `scene/types.rs`, reading and validation in `scene/validate.rs`, the
+//! vanishing points' resolution in `scene/vanishing.rs`.
+
+mod types;
+mod validate;
+mod vanishing;
+
+pub use types::{
+    BoxBase, BoxCorner, BoxCorners, BoxPoint, BoxView, Dimension, FloorDistance, ImageSize,
+    ObjectShape, ObjectSpec, Perspective, PixelPoint, Scale, ScaleSpec, Scene, ThesisBox, TopSpec,
+    VanishingPointSpec,
+};
+pub use validate::{
+    MAX_OBJECTS, MAX_POINT_PX, MAX_POINTS, MAX_SCALE_M, MAX_VANISHING_POINT_PX, unknown_fields,
+};
+pub use vanishing::{SegmentFit, intersect_segments};
