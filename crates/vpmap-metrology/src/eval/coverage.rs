@@ -10,8 +10,9 @@ use crate::reconstruct::ObjectKind;
 use crate::synth::TruthObject;
 
 /// The largest squared Mahalanobis distance inside a 2-D 95 % confidence ellipse: the 0.95
-/// quantile of the chi-squared distribution with 2 degrees of freedom, `-2 ln 0.05`.
-pub const CHI2_2DOF_95: f64 = 5.991_464_547_107_979;
+/// quantile of the chi-squared distribution with 2 degrees of freedom, `-2 ln 0.05` (the one
+/// the fit draws its ellipses with).
+pub use crate::fit::CHI2_2DOF_95;
 
 /// How far the truth lies from a fitted object, in the object's own error bars (at the true
 /// scale: the map in metres against the truth in metres).

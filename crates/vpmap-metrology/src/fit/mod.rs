@@ -38,7 +38,7 @@ pub(crate) use solve::Problem;
 use solve::{Singular, minimise};
 
 pub use fitted::{FitOptions, Fitted, MIN_CLICK_SIGMA_PX, MIN_DOF_FOR_SIGMA, PointResidual};
-pub use uncertainty::FitUncertainty;
+pub use uncertainty::{CHI2_2DOF_95, FitUncertainty};
 
 /// Largest focal length the fit accepts, in image diagonals (a 1.5 degree field of view).
 pub const MAX_FOCAL_DIAGONALS: f64 = 40.0;
