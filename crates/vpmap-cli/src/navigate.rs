@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use vpmap_metrology::synth::Truth;
-use vpmap_pipeline::{Coordinates, Endpoint, EndpointRules, OptionNames, endpoint_cell};
+use vpmap_pipeline::{Endpoint, EndpointRules, OptionNames, PlanningMap, endpoint_cell};
 use vpmap_plan::budget::{Budget, Stop};
 use vpmap_plan::grid::{CellXy, Occupancy, OccupancyGrid};
 use vpmap_plan::navigate::{
@@ -15,7 +15,7 @@ use vpmap_plan::raster::truth_grid;
 
 use crate::num;
 use crate::output::OutputSet;
-use crate::plan::{PlanningMap, load_map, parse_point};
+use crate::plan::{load_map, parse_point};
 
 /// Arguments of `vpmap navigate`.
 #[derive(clap::Args)]
@@ -193,11 +193,7 @@ pub fn run(args: &NavigateArgs) -> Result<()> {
         }
         None => 10.0,
     };
-    let coordinates = if believed.in_cells {
-        Coordinates::Cells
-    } else {
-        Coordinates::Map { units: "m" }
-    };
+    let coordinates = believed.coordinates();
     let rules = EndpointRules {
         unknown_passable: false,
         robot_radius: believed.robot_radius,
