@@ -28,17 +28,17 @@ pub const GROW_CONFIDENCE_RANGE: RangeInclusive<f64> = 0.5..=0.9999;
 /// Unknown border around the map in the occupancy grid, map units.
 pub const GRID_MARGIN_M: f64 = 0.5;
 
-/// One option of [`MapOptions`] that has a range, to name it in messages.
+/// One option of [`MapOptions`](crate::MapOptions) that has a range, to name it in messages.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[non_exhaustive]
 pub enum BuildOption {
-    /// [`MapOptions::resolution_m`].
+    /// [`MapOptions::resolution_m`](crate::MapOptions::resolution_m).
     Resolution,
-    /// [`MapOptions::robot_radius_m`].
+    /// [`MapOptions::robot_radius_m`](crate::MapOptions::robot_radius_m).
     RobotRadius,
-    /// [`MapOptions::click_sigma_px`].
+    /// [`MapOptions::click_sigma_px`](crate::MapOptions::click_sigma_px).
     ClickSigma,
-    /// [`MapOptions::grow_confidence`].
+    /// [`MapOptions::grow_confidence`](crate::MapOptions::grow_confidence).
     GrowConfidence,
 }
 
