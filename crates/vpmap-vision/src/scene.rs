@@ -26,7 +26,7 @@
 
 use std::f64::consts::FRAC_1_SQRT_2;
 
-use crate::Detection;
+use crate::detection::Detection;
 use nalgebra::Vector3;
 use vpmap_metrology::calibration::{Calibration, Perspective};
 use vpmap_metrology::map::calibrate;
@@ -38,6 +38,8 @@ pub const MAX_VANISHING_POINT_OFFSET_PX: f64 = 1e7;
 pub const MAX_LINES_PER_VANISHING_POINT: usize = 40;
 /// Shortest segment written as evidence, pixels.
 const MIN_LINE_LENGTH_PX: f64 = 2.0;
+/// The vanishing points' names in messages, in role order ([`DetectedScene::roles`]).
+pub const VP_NAMES: [&str; 3] = ["horizontal VP1", "horizontal VP2", "vertical VP3"];
 
 type Vec3 = Vector3<f64>;
 
@@ -320,7 +322,7 @@ pub fn detected_scene(det: &Detection) -> Result<DetectedScene, SceneError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Intrinsics, Segment, VanishingPoint};
+    use crate::detection::{Intrinsics, Segment, VanishingPoint};
 
     fn detection(frame: [Vec3; 3], perspective: Perspective) -> Detection {
         let (f, c) = (800.0, [320.0, 240.0]);
