@@ -12,7 +12,7 @@ use vpmap_plan::grid::{CellXy, Occupancy, OccupancyGrid};
 use vpmap_plan::mbpp::BugTrack;
 
 use crate::metrics::text_width_px;
-use crate::{SVG_FROM_MAP_ATTRIBUTE, escape_xml, matrix_text};
+use crate::svg::{SVG_FROM_MAP_ATTRIBUTE, escape_xml, matrix_text};
 
 /// How the map coordinates of a plan read, for the picture's `data-svg-from-map` transform.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
