@@ -11,7 +11,7 @@ use vpmap_plan::budget::{Budget, Stop, StopReason};
 use vpmap_plan::mbpp::MbppStats;
 use vpmap_plan::plan::Plan;
 use vpmap_plan::planner::PlannerKind;
-use vpmap_render::{GridCoordinates, plan_svg};
+use vpmap_render::{GridCoordinates, plan_svg, plan_title};
 
 use crate::num;
 use crate::output::write_file;
@@ -31,18 +31,6 @@ fn planner_help(kind: PlannerKind) -> &'static str {
         PlannerKind::Optimal => {
             "The exact shortest any-angle path (Anya-style interval search over the free space of the grid)"
         }
-    }
-}
-
-/// A planner's name as the `--svg` picture's title writes it.
-fn planner_title(kind: PlannerKind) -> &'static str {
-    match kind {
-        PlannerKind::Mbpp => "MBPP",
-        PlannerKind::MbppCloser => "MBPP (closer leave rule)",
-        PlannerKind::Astar => "A*",
-        PlannerKind::AstarPs => "A* PS",
-        PlannerKind::ThetaStar => "Theta*",
-        PlannerKind::Optimal => "Shortest any-angle path",
     }
 }
 
@@ -214,13 +202,12 @@ pub fn run(args: &PlanArgs) -> Result<()> {
         } else {
             GridCoordinates::World
         };
-        let title = format!(
-            "{} on {}",
-            planner_title(args.planner),
-            args.map.file_name().map_or_else(
+        let title = plan_title(
+            args.planner,
+            &args.map.file_name().map_or_else(
                 || args.map.display().to_string(),
-                |n| n.to_string_lossy().into_owned()
-            )
+                |n| n.to_string_lossy().into_owned(),
+            ),
         );
         write_file(
             svg_path,

@@ -8,7 +8,6 @@
 //! labelled photos ([`eval`]).
 
 mod eval;
-mod overlay;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -23,9 +22,9 @@ pub use eval::{EvalDetectArgs, run_eval_detect};
 
 use crate::num;
 use crate::output::write_file;
-use overlay::{VP_COLOUR_NAMES, render_overlay};
+use vpmap_render::overlay::{VP_COLOUR_NAMES, detection_overlay_png};
 use vpmap_vision::photo::{PhotoLimits, decode_photo};
-use vpmap_vision::scene::{DetectedScene, detected_scene};
+use vpmap_vision::scene::{DetectedScene, VP_NAMES, detected_scene};
 
 /// Largest photo side accepted, pixels (the detector's limit).
 pub const MAX_PHOTO_SIDE_PX: u32 = vpmap_vision::MAX_SIDE_PX;
@@ -43,8 +42,6 @@ const FOCAL_RANGE_SIDES: std::ops::RangeInclusive<f64> = 0.1..=100.0;
 
 /// A vanishing point resting on fewer segments than this is worth a warning.
 const FEW_SEGMENTS: usize = 6;
-/// The vanishing points' names in messages, in role order.
-const VP_NAMES: [&str; 3] = ["horizontal VP1", "horizontal VP2", "vertical VP3"];
 
 fn default_options() -> DetectOptions {
     DetectOptions::default()
@@ -236,7 +233,7 @@ pub fn run_detect(args: &DetectArgs) -> Result<()> {
     let overlay = args
         .overlay
         .as_ref()
-        .map(|_| render_overlay(&photo.image, &det, &scene))
+        .map(|_| detection_overlay_png(&photo.image, &det, &scene))
         .transpose()?;
 
     if let (Some(path), Some(bytes)) = (&args.overlay, overlay) {

@@ -15,7 +15,7 @@ use vpmap_vision::{DetectOptions, Detection, VisionError, detect as detect_photo
 use super::{elapsed_ms, respond, to_json};
 use crate::params::{Query, parse_number, parse_point};
 use crate::{ApiError, AppState, MAX_IMAGE_BODY_BYTES, params, run_blocking};
-use vpmap_vision::scene::detected_scene;
+use vpmap_vision::scene::{VP_NAMES, detected_scene};
 
 /// Largest photo side, pixels.
 pub const MAX_PHOTO_SIDE_PX: u32 = 8000;
@@ -175,10 +175,9 @@ struct DetectResponse {
 
 /// Warnings about a detection: thinly supported vanishing points, the calibration's notes.
 fn warnings(det: &Detection, roles: [usize; 3], calibration_warnings: &[String]) -> Vec<String> {
-    const NAMES: [&str; 3] = ["horizontal VP1", "horizontal VP2", "vertical VP3"];
     let mut out: Vec<String> = roles
         .iter()
-        .zip(NAMES)
+        .zip(VP_NAMES)
         .filter_map(|(&i, name)| {
             let n = det.vanishing_points.get(i)?.segments.len();
             (n < FEW_SEGMENTS).then(|| format!("{name} rests on only {n} segments; check it"))
