@@ -108,6 +108,17 @@ pub enum PipelineError {
         /// The file.
         path: PathBuf,
     },
+    /// A `.json` file that is not a synthetic scene's truth.
+    #[error("{}: not a synthetic scene's truth", path.display())]
+    NotATruth {
+        /// The file.
+        path: PathBuf,
+        /// Why it is not one.
+        source: serde_json::Error,
+    },
+    /// A truth without a (finite) floor outline, which no grid can frame.
+    #[error("the truth has no floor outline to make a grid of")]
+    NoTruthFloor,
     /// A planner refused its input, ran out of its budget or was stopped.
     #[error(transparent)]
     Plan(PlanError),

@@ -15,12 +15,13 @@
 //! | [`read_planning_map`] | a `.map`, ROS `.yaml` or `map.json` file -> an inflated grid to plan on (`vpmap plan`, `vpmap navigate`) |
 //! | [`endpoint_cell`] | a start or goal in map coordinates -> its grid cell, checked (`vpmap plan`, `/api/plan`) |
 //! | [`run_planner`] | one planner on a grid within counted limits (`vpmap plan`) |
+//! | [`truth_frame`], [`navigate_json`] | an empty grid around a synthetic truth, and a drive's report file (`vpmap navigate`) |
 //! | [`demo_path`] | the path `vpmap demo` draws across the bundled example |
 //!
 //! Modules, bottom-up (each uses only those before it): `text` (numbers and units in
 //! messages), `ranges` (each option's range and names), `error`, [`options`], [`scene`],
 //! `grid` ([`occupancy_grid`]), `build` ([`map_and_grid`], [`build`]), [`endpoint`],
-//! [`planning`], [`demo`]. This file only declares and re-exports them.
+//! [`planning`], [`drive`], [`demo`]. This file only declares and re-exports them.
 //!
 //! # Example
 //! ```
@@ -36,6 +37,7 @@
 
 mod build;
 pub mod demo;
+pub mod drive;
 pub mod endpoint;
 mod error;
 mod grid;
@@ -47,6 +49,7 @@ mod text;
 
 pub use build::{Built, MapAndGrid, build, map_and_grid};
 pub use demo::{DemoPath, DemoRoute, TruthErrors, demo_path, errors_against_truth};
+pub use drive::{DriveReport, navigate_json, read_truth, truth_frame};
 pub use endpoint::{Coordinates, Endpoint, EndpointRules, OptionNames, endpoint_cell};
 pub use error::PipelineError;
 pub use grid::{grown_by_uncertainty, occupancy_grid, uncertainty_margin};
