@@ -103,10 +103,6 @@ pub(crate) fn estimate(
 }
 
 impl Problem<'_> {
-    fn default_pp(&self) -> [f64; 2] {
-        self.known_pp.unwrap_or([0.0, 0.0])
-    }
-
     /// Order the directions, check their support and convert to pixels.
     fn finish(&self, frame: &Frame, pp_free: bool) -> Result<Estimate> {
         let vertical = vertical_index(&frame.rot);

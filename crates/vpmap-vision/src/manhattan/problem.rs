@@ -62,3 +62,10 @@ pub(super) struct Problem<'a> {
     /// Every segment, input pixels.
     pub(super) all: &'a [Segment],
 }
+
+impl Problem<'_> {
+    /// The known principal point, else the image centre (normalised coordinates).
+    pub(super) fn default_pp(&self) -> [f64; 2] {
+        self.known_pp.unwrap_or([0.0, 0.0])
+    }
+}
