@@ -28,8 +28,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use vpmap_eval::accuracy::{Config, DEFAULT_TRIALS, section_name};
-use vpmap_metrology::eval::{SETUPS, Setup, VIEW_SETUPS, VpEdges};
+use vpmap_eval::accuracy::{Config, DEFAULT_TRIALS, section_name, select_setups};
+use vpmap_eval::output::check_writable_folder;
+use vpmap_metrology::eval::{Setup, VpEdges};
 use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::synth::LongEdgeOptions;
 
@@ -227,44 +228,9 @@ fn parse_methods(text: &str) -> Result<Vec<Method>> {
     Ok(methods)
 }
 
+/// `--experiments`: the set-ups it names ([`vpmap_eval::accuracy::select_setups`]).
 fn parse_experiments(text: &str) -> Result<Vec<&'static Setup>> {
-    // The thesis's seventeen, then the views' six; `all`, `2pp` and `3pp` choose among the
-    // seventeen, `views` the six.
-    let every: Vec<(&'static Setup, bool)> = SETUPS
-        .iter()
-        .map(|s| (s, false))
-        .chain(VIEW_SETUPS.iter().map(|s| (s, true)))
-        .collect();
-    let mut chosen = vec![false; every.len()];
-    for part in text.split(',') {
-        let part = part.trim().to_ascii_lowercase();
-        let matched: Vec<usize> = (0..every.len())
-            .filter(|&i| {
-                let (setup, view) = every[i];
-                match part.as_str() {
-                    "all" => !view,
-                    "views" => view,
-                    "2pp" | "3pp" => !view && setup.name.starts_with(&part),
-                    name => setup.name == name,
-                }
-            })
-            .collect();
-        if matched.is_empty() {
-            let names: Vec<&str> = every.iter().map(|(s, _)| s.name).collect();
-            bail!(
-                "--experiments {part:?} is not a set-up; use all, 2pp, 3pp, views or names among {}",
-                names.join(", ")
-            );
-        }
-        for i in matched {
-            chosen[i] = true;
-        }
-    }
-    Ok(every
-        .into_iter()
-        .zip(chosen)
-        .filter_map(|((s, _), c)| c.then_some(s))
-        .collect())
+    select_setups(text).map_err(|e| anyhow::anyhow!("--experiments {e}"))
 }
 
 /// `--vp-edges` with its `--vp-edge-px` and `--vp-edge-count`, for the chosen set-ups.
@@ -365,30 +331,6 @@ fn check_args(args: &EvalArgs) -> Result<Config> {
     })
 }
 
-/// Fail early (before minutes of work) when the output folder cannot be created or written:
-/// its nearest existing ancestor must be a folder that accepts a file. Leaves nothing behind.
-fn check_writable_folder(dir: &Path) -> Result<()> {
-    let existing = dir
-        .ancestors()
-        .find(|a| a.as_os_str().is_empty() || a.exists())
-        .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
-    let existing = if existing.as_os_str().is_empty() {
-        PathBuf::from(".")
-    } else {
-        existing
-    };
-    if !existing.is_dir() {
-        bail!(
-            "cannot create output folder {}: {} is not a folder",
-            dir.display(),
-            existing.display()
-        );
-    }
-    tempfile::tempfile_in(&existing)
-        .with_context(|| format!("cannot write into output folder {}", dir.display()))?;
-    Ok(())
-}
-
 /// The publish target must be a Markdown file whose `name` section markers, if any, are in
 /// order, in a folder that can be written.
 fn check_publish_target(path: &Path, name: &str) -> Result<()> {
@@ -476,23 +418,11 @@ mod tests {
             vec![Method::Projective]
         );
         assert!(parse_methods("sideview,bogus").is_err());
-        assert_eq!(parse_experiments("2pp").unwrap().len(), 9);
-        assert_eq!(parse_experiments("all").unwrap().len(), 17);
-        let views = parse_experiments("views").unwrap();
-        assert_eq!(views.len(), 6);
-        assert!(
-            views
-                .iter()
-                .all(|s| s.name.contains('-') && !s.name.ends_with(char::is_numeric))
-        );
-        assert_eq!(
-            parse_experiments("3pp-yaw,2pp-1").unwrap()[1].name,
-            "3pp-yaw"
-        );
-        assert_eq!(parse_experiments("all,views").unwrap().len(), 23);
-        assert_eq!(parse_experiments("3pp-2,2pp-1").unwrap()[0].name, "2pp-1");
-        assert!(parse_experiments("4pp").is_err());
-        let all: Vec<&Setup> = SETUPS.iter().collect();
+        assert!(parse_experiments("4pp").is_err_and(|e| {
+            e.to_string()
+                .starts_with("--experiments \"4pp\" is not a set-up")
+        }));
+        let all = parse_experiments("all").unwrap();
         assert_eq!(
             parse_vp_edges("objects", None, None, &all).unwrap(),
             VpEdges::Objects
