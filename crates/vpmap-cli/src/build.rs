@@ -13,7 +13,7 @@ use vpmap_plan::grid::OccupancyGrid;
 use vpmap_render::{FloorPlanStyle, floor_plan_svg, svg_to_png};
 
 use crate::output::OutputSet;
-use crate::{BuildArgs, num};
+use vpmap_pipeline::num;
 
 /// The scene file at `path`, read by the pipeline's one scene reader; unknown fields are
 /// warned about on stderr.
@@ -37,6 +37,42 @@ fn read_scene(path: &Path) -> Result<Scene> {
         eprintln!("warning: {}: {w}", path.display());
     }
     scene.with_context(|| format!("{}", path.display()))
+}
+
+/// Options shared by `build` and `demo`.
+#[derive(clap::Args, Clone)]
+pub struct BuildArgs {
+    /// Output folder (created if missing).
+    #[arg(long, short)]
+    pub out: PathBuf,
+    /// Reconstruction method: `fit`, the joint maximum-likelihood fit of the camera and every
+    /// object to all clicks, with error bars; `sideview`, the thesis's method; `projective`,
+    /// the camera-matrix form (see docs/method.md).
+    #[arg(long, default_value = "fit", value_parser = parse_method)]
+    pub method: Method,
+    /// Click noise the fit's error bars are computed for, pixels (1 sigma per coordinate;
+    /// default: estimated from the residuals when the clicks over-determine the model, else 1).
+    #[arg(long, allow_negative_numbers = true)]
+    pub click_sigma: Option<f64>,
+    /// Grow each obstacle in the occupancy grid by its uncertainty at this confidence (e.g.
+    /// 0.95), so a robot keeps clear of what is not known well (method fit).
+    #[arg(long, allow_negative_numbers = true)]
+    pub grow_confidence: Option<f64>,
+    /// Occupancy-grid cell size, metres (map units when the scene has no scale).
+    #[arg(long, default_value_t = vpmap_pipeline::DEFAULT_RESOLUTION_M, allow_negative_numbers = true)]
+    pub resolution: f64,
+    /// Robot radius: obstacles in the occupancy grid are inflated by it, metres (0 for a
+    /// grid of the bare obstacles).
+    #[arg(long, default_value_t = vpmap_pipeline::DEFAULT_ROBOT_RADIUS_M, allow_negative_numbers = true)]
+    pub robot_radius: f64,
+    /// Mark floor hidden behind objects as free in the occupancy grid (default: unknown).
+    #[arg(long)]
+    pub hidden_free: bool,
+}
+
+/// `--method`: a reconstruction method by its name.
+pub fn parse_method(s: &str) -> Result<Method, String> {
+    s.parse()
 }
 
 /// Everything `build` writes, rendered in memory.

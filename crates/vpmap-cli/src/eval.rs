@@ -29,12 +29,13 @@ use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
 use vpmap_eval::accuracy::{Config, DEFAULT_TRIALS, section_name, select_setups};
+use vpmap_eval::navigate::{EVAL_SECTION, eval_published_section};
 use vpmap_eval::output::check_writable_folder;
 use vpmap_metrology::eval::{Setup, VpEdges};
 use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::synth::LongEdgeOptions;
 
-use crate::num;
+use vpmap_pipeline::num;
 
 /// Most trials per set-up accepted (objects.csv grows by about 300 kB per trial with three
 /// methods).
@@ -120,9 +121,6 @@ pub struct EvalArgs {
     pub grow_confidence: Option<f64>,
 }
 
-/// The `docs/results.md` section `vpmap eval --navigate --publish` writes.
-const NAVIGATE_SECTION: &str = "eval-navigate";
-
 /// The default growth confidence of `vpmap eval --navigate` (the fitted map is driven as
 /// built and grown by its error bars at this confidence).
 const DEFAULT_NAVIGATE_GROW_CONFIDENCE: f64 = 0.95;
@@ -154,38 +152,26 @@ fn run_navigate(args: &EvalArgs) -> Result<()> {
     };
     check_writable_folder(&args.out)?;
     if let Some(path) = &args.publish {
-        check_publish_target(path, NAVIGATE_SECTION)?;
+        check_publish_target(path, EVAL_SECTION)?;
     }
     let started = std::time::Instant::now();
     let bar = crate::progress::Bar::new("{elapsed_precise} [{bar}] {pos}/{len} {msg}", "40");
     let (trials, skipped) = vpmap_eval::navigate::run_eval(&opts, &bar)?;
     let elapsed = started.elapsed();
     let table = vpmap_eval::navigate::eval_table(&trials, &opts, skipped);
-    let command = crate::command_line();
+    let command = crate::output::command_line();
     let md = format!("{table}\nMeasured with `{command}`.\n");
     let mut files = vpmap_eval::output::OutputSet::default();
     files.add("navigate.md", md.clone());
     files.write_all(&args.out)?;
     if let Some(path) = &args.publish {
-        let section = vpmap_eval::accuracy::report::published(
-            "What a map's error costs a robot (`vpmap eval --navigate`)",
-            &format!(
-                "{} synthetic rooms, each annotated at every noise level; each method's map (and the fitted map grown by its error bars) driven from the same start to the same goal, sensing the true room within {} m; excess travel over the true room's optima (reached drives). How the drive works: [navigation.md](navigation.md).\n\n{table}",
-                opts.scenes,
-                num(opts.sensor_range_m)
-            ),
-            elapsed,
-            &command,
-        );
-        vpmap_eval::publish::replace_section(path, NAVIGATE_SECTION, &section)?;
+        let section = eval_published_section(&table, &opts, elapsed, &command);
+        vpmap_eval::publish::replace_section(path, EVAL_SECTION, &section)?;
     }
     print!("{md}");
     println!("wrote navigate.md in {}", args.out.display());
     if let Some(path) = &args.publish {
-        println!(
-            "published the {NAVIGATE_SECTION} section of {}",
-            path.display()
-        );
+        println!("published the {EVAL_SECTION} section of {}", path.display());
     }
     Ok(())
 }
@@ -373,7 +359,13 @@ pub fn run(args: &EvalArgs) -> Result<()> {
     let written = report.files.write_all(&args.out)?;
     let elapsed = started.elapsed();
     if let Some(path) = &args.publish {
-        let section = report.published(&config, path, &args.out, &crate::command_line(), elapsed);
+        let section = report.published(
+            &config,
+            path,
+            &args.out,
+            &crate::output::command_line(),
+            elapsed,
+        );
         vpmap_eval::publish::replace_section(
             path,
             section_name(&config.vp_edges, &config.setups),

@@ -1,7 +1,7 @@
 //! `vpmap navigate`: a robot drives a believed map, senses the true one and re-plans (see
 //! docs/navigation.md).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
 use vpmap_metrology::synth::Truth;
@@ -16,9 +16,9 @@ use vpmap_plan::navigate::{
 };
 use vpmap_plan::raster::truth_grid;
 
-use crate::num;
 use crate::output::OutputSet;
 use crate::plan::{load_map, parse_point};
+use vpmap_pipeline::num;
 
 /// Arguments of `vpmap navigate`.
 #[derive(clap::Args)]
@@ -80,15 +80,6 @@ fn parse_planner(s: &str) -> std::result::Result<OnlinePlanner, String> {
     s.parse::<OnlinePlanner>().map_err(|e| e.to_string())
 }
 
-/// Whether `path` names a synthetic scene's truth.
-fn is_truth_file(path: &Path) -> bool {
-    path.file_name().is_some_and(|n| {
-        n.to_string_lossy()
-            .to_ascii_lowercase()
-            .ends_with(".truth.json")
-    })
-}
-
 /// The grid frame around a truth's floor at `resolution_m` (for `--unknown` with a truth).
 fn truth_frame(truth: &Truth, resolution_m: f64) -> Result<OccupancyGrid> {
     vpmap_pipeline::truth_frame(truth, resolution_m).map_err(|e| match e {
@@ -107,7 +98,7 @@ fn load_maps(args: &NavigateArgs) -> Result<(PlanningMap, OccupancyGrid)> {
         (None, false) => bail!("give a believed map (map.json, .yaml or .map) or --unknown"),
         _ => {}
     }
-    if is_truth_file(&args.truth) {
+    if vpmap_pipeline::is_truth_file(&args.truth) {
         let truth = vpmap_pipeline::read_truth(&args.truth)?;
         let believed = match &args.map {
             Some(path) => load_map(path, args.robot_radius, args.resolution)?,

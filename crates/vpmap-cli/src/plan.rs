@@ -4,17 +4,17 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Result, bail};
-use vpmap_pipeline::{Limits, OptionNames, PlanningMap, read_planning_map, run_planner};
+use vpmap_pipeline::{
+    Limits, OptionNames, PlanningMap, mbpp_stats, plan_json, read_planning_map, run_planner,
+};
 use vpmap_plan::PlanError;
 use vpmap_plan::Planned;
 use vpmap_plan::budget::{Budget, Stop, StopReason};
-use vpmap_plan::mbpp::MbppStats;
-use vpmap_plan::plan::Plan;
 use vpmap_plan::planner::PlannerKind;
 use vpmap_render::{GridCoordinates, plan_svg, plan_title};
 
-use crate::num;
 use crate::output::write_file;
+use vpmap_pipeline::num;
 
 /// What `vpmap plan --help` says of each planner.
 fn planner_help(kind: PlannerKind) -> &'static str {
@@ -150,11 +150,6 @@ pub(crate) fn name_the_flag(e: anyhow::Error) -> anyhow::Error {
     anyhow::anyhow!("{e:#} with {flag}")
 }
 
-/// MBPP's counters, for the MBPP planners only.
-fn mbpp_stats(kind: PlannerKind, planned: &Planned) -> Option<MbppStats> {
-    matches!(kind, PlannerKind::Mbpp | PlannerKind::MbppCloser).then_some(planned.mbpp_stats)
-}
-
 /// `count` followed by `noun`, with an `s` unless `count` is 1.
 fn counted(count: usize, noun: &str) -> String {
     if count == 1 {
@@ -220,61 +215,6 @@ pub fn run(args: &PlanArgs) -> Result<()> {
         println!("{}", plan_text(&map, args.planner, &outcome, seconds));
     }
     Ok(())
-}
-
-/// The `--json` answer: one object.
-fn plan_json(
-    map: &PlanningMap,
-    planner: PlannerKind,
-    outcome: &Planned,
-    seconds: f64,
-) -> serde_json::Value {
-    let scale = map.scale();
-    let plan = outcome.best.as_ref();
-    let waypoints =
-        |p: &Plan| -> Vec<[f64; 2]> { p.waypoints.iter().map(|c| map.coords(*c)).collect() };
-    let alternatives: Vec<serde_json::Value> = outcome
-        .alternatives
-        .iter()
-        .map(|p| serde_json::json!({ "length": p.length_cells * scale, "waypoints": waypoints(p) }))
-        .collect();
-    let mut stats = serde_json::Map::new();
-    if let Some(s) = mbpp_stats(planner, outcome) {
-        // MBPP's own counters are there even when no path was found.
-        for (key, value) in [
-            ("expanded", s.bug_steps),
-            ("generated", s.bugs),
-            ("los_checks", s.los_checks),
-            ("los_cells", s.los_cells),
-            ("bugs", s.bugs),
-            ("bug_steps", s.bug_steps),
-            ("hits", s.hits),
-            ("waits", s.waits),
-            ("replans", s.replans),
-        ] {
-            stats.insert(key.to_owned(), value.into());
-        }
-    } else {
-        let s = plan.map(|p| p.stats).unwrap_or_default();
-        for (key, value) in [
-            ("expanded", s.expanded),
-            ("generated", s.generated),
-            ("los_checks", s.los_checks),
-            ("los_cells", s.los_cells),
-        ] {
-            stats.insert(key.to_owned(), value.into());
-        }
-    }
-    stats.insert("time_s".to_owned(), seconds.into());
-    serde_json::json!({
-        "found": plan.is_some(),
-        "length": plan.map(|p| p.length_cells * scale),
-        "units": map.unit(),
-        "waypoints": plan.map(waypoints).unwrap_or_default(),
-        "planner": planner.name(),
-        "alternatives": alternatives,
-        "stats": stats,
-    })
 }
 
 /// The text answer: one line.

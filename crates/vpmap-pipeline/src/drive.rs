@@ -1,5 +1,5 @@
 //! What `vpmap navigate` needs besides the drive itself: a synthetic scene's truth read from
-//! its file ([`read_truth`]), an empty grid framing it ([`truth_frame`], for a drive that
+//! its file ([`is_truth_file`], [`read_truth`]), an empty grid framing it ([`truth_frame`], for a drive that
 //! starts knowing nothing), and the drive's report file, `navigate.json` ([`navigate_json`];
 //! format in docs/navigation.md).
 
@@ -11,6 +11,17 @@ use vpmap_plan::navigate::{Navigation, OnlinePlanner, Outcome, TruthOptimum};
 
 use crate::error::PipelineError;
 use crate::ranges::BuildOption;
+
+/// Whether `path` names a synthetic scene's truth: its file name ends in `.truth.json` (any
+/// case), as `vpmap synth` writes it.
+#[must_use]
+pub fn is_truth_file(path: &Path) -> bool {
+    path.file_name().is_some_and(|n| {
+        n.to_string_lossy()
+            .to_ascii_lowercase()
+            .ends_with(".truth.json")
+    })
+}
 
 /// A synthetic scene's truth (`*.truth.json`, as `vpmap synth` writes it).
 ///
@@ -168,5 +179,7 @@ mod tests {
             truth_frame(&empty, 0.1),
             Err(PipelineError::NoTruthFloor)
         ));
+        assert!(is_truth_file(Path::new("out/Office.Truth.JSON")));
+        assert!(!is_truth_file(Path::new("out/map.json")));
     }
 }

@@ -49,7 +49,7 @@ mod text;
 
 pub use build::{Built, MapAndGrid, build, map_and_grid};
 pub use demo::{DemoPath, DemoRoute, TruthErrors, demo_path, errors_against_truth};
-pub use drive::{DriveReport, navigate_json, read_truth, truth_frame};
+pub use drive::{DriveReport, is_truth_file, navigate_json, read_truth, truth_frame};
 pub use endpoint::{Coordinates, Endpoint, EndpointRules, OptionNames, endpoint_cell};
 pub use error::PipelineError;
 pub use grid::{grown_by_uncertainty, occupancy_grid, uncertainty_margin};
@@ -57,6 +57,6 @@ pub use options::{
     BuildOption, DEFAULT_RESOLUTION_M, DEFAULT_ROBOT_RADIUS_M, GRID_MARGIN_M, MapOptions,
     RESOLUTION_RANGE_M, ROBOT_RADIUS_RANGE_M,
 };
-pub use planning::{Limits, PlanningMap, read_planning_map, run_planner};
+pub use planning::{Limits, PlanningMap, mbpp_stats, plan_json, read_planning_map, run_planner};
 pub use scene::{ParsedScene, parse_scene};
 pub use text::{num, units_name};

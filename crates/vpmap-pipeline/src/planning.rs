@@ -1,7 +1,7 @@
 //! A map file ready for planning ([`read_planning_map`]: a Moving AI `.map`, a ROS map `.yaml`
 //! or a vpmap `map.json`, its obstacles inflated by the robot's radius), how its coordinates
-//! read ([`PlanningMap`]), and one planner run within counted limits ([`run_planner`]), for
-//! `vpmap plan` and `vpmap navigate`.
+//! read ([`PlanningMap`]), one planner run within counted limits ([`run_planner`]) and its
+//! answer as JSON ([`plan_json`]), for `vpmap plan` and `vpmap navigate`.
 //!
 //! A `map.json` is rasterised by [`occupancy_grid`], the rasterisation `vpmap build` and the
 //! page's `/api/plan` use: with the same resolution and radius (and hidden floor unknown), a
@@ -13,6 +13,8 @@ use vpmap_metrology::map::FloorMap;
 use vpmap_plan::PlanError;
 use vpmap_plan::budget::Budget;
 use vpmap_plan::grid::{CellXy, OccupancyGrid};
+use vpmap_plan::mbpp::MbppStats;
+use vpmap_plan::plan::Plan;
 use vpmap_plan::planner::{Planned, Planner, PlannerKind};
 
 use crate::endpoint::{Coordinates, Endpoint, EndpointRules, OptionNames, endpoint_cell};
@@ -210,6 +212,70 @@ pub fn run_planner(
     planner.plan(grid, start, goal)
 }
 
+/// MBPP's counters, for the MBPP planners only (`None` for the others).
+#[must_use]
+pub fn mbpp_stats(kind: PlannerKind, planned: &Planned) -> Option<MbppStats> {
+    matches!(kind, PlannerKind::Mbpp | PlannerKind::MbppCloser).then_some(planned.mbpp_stats)
+}
+
+/// The answer of `vpmap plan --json`, one object: `found`, `length` and `waypoints` in the
+/// map's units, `planner`, MBPP's `alternatives`, and `stats` (the planner's counters, MBPP's
+/// own when it is MBPP, and `time_s`, the `seconds` the planner took).
+#[must_use]
+pub fn plan_json(
+    map: &PlanningMap,
+    planner: PlannerKind,
+    outcome: &Planned,
+    seconds: f64,
+) -> serde_json::Value {
+    let scale = map.scale();
+    let plan = outcome.best.as_ref();
+    let waypoints =
+        |p: &Plan| -> Vec<[f64; 2]> { p.waypoints.iter().map(|c| map.coords(*c)).collect() };
+    let alternatives: Vec<serde_json::Value> = outcome
+        .alternatives
+        .iter()
+        .map(|p| serde_json::json!({ "length": p.length_cells * scale, "waypoints": waypoints(p) }))
+        .collect();
+    let mut stats = serde_json::Map::new();
+    if let Some(s) = mbpp_stats(planner, outcome) {
+        // MBPP's own counters are there even when no path was found.
+        for (key, value) in [
+            ("expanded", s.bug_steps),
+            ("generated", s.bugs),
+            ("los_checks", s.los_checks),
+            ("los_cells", s.los_cells),
+            ("bugs", s.bugs),
+            ("bug_steps", s.bug_steps),
+            ("hits", s.hits),
+            ("waits", s.waits),
+            ("replans", s.replans),
+        ] {
+            stats.insert(key.to_owned(), value.into());
+        }
+    } else {
+        let s = plan.map(|p| p.stats).unwrap_or_default();
+        for (key, value) in [
+            ("expanded", s.expanded),
+            ("generated", s.generated),
+            ("los_checks", s.los_checks),
+            ("los_cells", s.los_cells),
+        ] {
+            stats.insert(key.to_owned(), value.into());
+        }
+    }
+    stats.insert("time_s".to_owned(), seconds.into());
+    serde_json::json!({
+        "found": plan.is_some(),
+        "length": plan.map(|p| p.length_cells * scale),
+        "units": map.unit(),
+        "waypoints": plan.map(waypoints).unwrap_or_default(),
+        "planner": planner.name(),
+        "alternatives": alternatives,
+        "stats": stats,
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -291,5 +357,17 @@ mod tests {
         assert!(quiet.best.is_some());
         let other = run_planner(PlannerKind::ThetaStar, &grid, ends, false, true, BUDGET).unwrap();
         assert!(other.bugs.is_empty() && other.alternatives.is_empty());
+        assert!(mbpp_stats(PlannerKind::Mbpp, &quiet).is_some());
+        assert!(mbpp_stats(PlannerKind::ThetaStar, &other).is_none());
+        let map = PlanningMap {
+            grid,
+            in_cells: true,
+            robot_radius: 0.0,
+        };
+        let json = plan_json(&map, PlannerKind::Mbpp, &quiet, 0.5);
+        assert_eq!(json["found"], true);
+        assert_eq!(json["units"], "cells");
+        assert_eq!(json["stats"]["bugs"], quiet.mbpp_stats.bugs);
+        assert_eq!(json["waypoints"][0], serde_json::json!([0.0, 2.0]));
     }
 }

@@ -148,7 +148,7 @@ impl Report {
             format!("{link}/")
         };
         let body = report::markdown(config, &self.collected, &self.image_of, &prefix);
-        report::published(report::title(config), &body, elapsed, command)
+        crate::publish::published(report::title(config), &body, elapsed, command)
     }
 
     /// A few lines for the console: per method and noise level, the centroid shift and the

@@ -4,7 +4,6 @@
 
 use std::collections::BTreeMap;
 use std::fmt::Write as _;
-use std::time::Duration;
 
 use vpmap_metrology::calibration::Perspective;
 use vpmap_metrology::eval::{COVERAGE_METRICS, OBJECT_METRICS, VpEdges};
@@ -399,18 +398,6 @@ pub fn title(config: &Config) -> &'static str {
             "Map accuracy of the views real photos show, vanishing points from long edges (`vpmap eval --experiments views --vp-edges long`)"
         }
     }
-}
-
-/// The published section: where, when and how it was measured, then the report.
-#[must_use]
-pub fn published(title: &str, body: &str, elapsed: Duration, command: &str) -> String {
-    format!(
-        "## {title}\n\nMeasured on {}, {} (UTC), in {:.1} s, with\n\n    {}\n\n{body}",
-        crate::publish::machine_description(),
-        crate::publish::utc_date(),
-        elapsed.as_secs_f64(),
-        command
-    )
 }
 
 /// A few lines for the console: per method and noise level, the centroid shift and the
