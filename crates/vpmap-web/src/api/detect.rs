@@ -12,9 +12,10 @@ use serde_json::value::RawValue;
 use vpmap_vision::photo::{Photo, PhotoLimits, decode_photo};
 use vpmap_vision::{DetectOptions, Detection, VisionError, detect as detect_photo};
 
-use super::{elapsed_ms, respond, to_json};
-use crate::params::{Query, parse_number, parse_point};
-use crate::{ApiError, AppState, MAX_IMAGE_BODY_BYTES, params, run_blocking};
+use super::answer::{elapsed_ms, respond, to_json};
+use crate::error::ApiError;
+use crate::params::{self, MAX_IMAGE_BODY_BYTES, Query, parse_number, parse_point};
+use crate::state::{AppState, run_blocking};
 use vpmap_vision::scene::{DetectedScene, detected_scene};
 
 /// Largest photo side, pixels.

@@ -6,7 +6,7 @@ use vpmap_metrology::scene::Scene;
 use vpmap_pipeline::scene::unknown_field_warnings;
 use vpmap_pipeline::{MapOptions, ParsedScene, PipelineError};
 
-use crate::ApiError;
+use crate::error::ApiError;
 use crate::params::{Query, parse_number};
 
 /// Most cells in an occupancy grid (2000 x 2000).
