@@ -6,10 +6,12 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Result, bail};
-use vpmap_eval::bench::{BenchOptions, MemoryProbe};
+use vpmap_eval::bench::BenchOptions;
+use vpmap_eval::navigate::SECTION;
 use vpmap_plan::planner::PlannerKind;
 
-use crate::ALLOCATOR;
+use crate::memory::PeakAllocProbe;
+use crate::output::command_line;
 
 /// The planners compared by default.
 const DEFAULT_PLANNERS: &str = "mbpp,astar-ps,theta-star,astar,optimal";
@@ -72,15 +74,6 @@ pub struct BenchArgs {
     sensor_range: f64,
 }
 
-/// The default maps of `--navigate`: larger Moving AI maps of several kinds.
-const NAVIGATE_MAPS: [&str; 5] = [
-    "bg512/AR0500SR.map",
-    "random/random512-20-0.map",
-    "rooms/32room_000.map",
-    "mazes/maze512-32-0.map",
-    "da2/ht_chantry.map",
-];
-
 /// `vpmap bench --navigate`.
 fn run_navigate(args: &BenchArgs) -> Result<()> {
     use vpmap_plan::navigate::{MAX_SENSOR_RANGE_CELLS, OnlinePlanner};
@@ -89,8 +82,8 @@ fn run_navigate(args: &BenchArgs) -> Result<()> {
     {
         bail!(
             "--sensor-range {} is not a sensor range; give 1 to {} cells",
-            crate::num(args.sensor_range),
-            crate::num(MAX_SENSOR_RANGE_CELLS)
+            vpmap_pipeline::num(args.sensor_range),
+            vpmap_pipeline::num(MAX_SENSOR_RANGE_CELLS)
         );
     }
     let mut planners = Vec::new();
@@ -104,11 +97,7 @@ fn run_navigate(args: &BenchArgs) -> Result<()> {
         }
     }
     let maps = if args.inputs.is_empty() {
-        let dir = vpmap_eval::bench::maps::movingai_dir().map_err(|e| anyhow::anyhow!(e))?;
-        NAVIGATE_MAPS
-            .iter()
-            .map(|m| dir.join("maps").join(m))
-            .collect()
+        vpmap_eval::navigate::default_maps().map_err(|e| anyhow::anyhow!(e))?
     } else {
         args.inputs.clone()
     };
@@ -116,7 +105,7 @@ fn run_navigate(args: &BenchArgs) -> Result<()> {
         bail!("--out {}: it is a file, not a folder", args.out.display());
     }
     if let Some(p) = &args.publish {
-        check_publish_target(p, NAVIGATE_SECTION)?;
+        check_publish_target(p, SECTION)?;
     }
     let started = std::time::Instant::now();
     let opts = vpmap_eval::navigate::NavBenchOptions {
@@ -125,7 +114,7 @@ fn run_navigate(args: &BenchArgs) -> Result<()> {
         sensor_range_cells: args.sensor_range,
         planners,
         seed: args.seed,
-        command: crate::command_line(),
+        command: command_line(),
     };
     let bar = crate::progress::Bar::new("{elapsed_precise} [{bar}] {pos}/{len} {msg}", "30");
     let results = vpmap_eval::navigate::run(&opts, &bar)?;
@@ -134,39 +123,14 @@ fn run_navigate(args: &BenchArgs) -> Result<()> {
     files.write_all(&args.out)?;
     let table = vpmap_eval::navigate::table(&results, &opts);
     if let Some(path) = &args.publish {
-        let section = vpmap_eval::accuracy::report::published(
-            "Unknown terrain: every online planner on the same episodes (`vpmap bench --navigate`)",
-            &format!(
-                "How the drive works and how to read this: [navigation.md](navigation.md).\n\n{table}"
-            ),
-            elapsed,
-            &opts.command,
-        );
-        vpmap_eval::publish::replace_section(path, NAVIGATE_SECTION, &section)?;
+        let section = vpmap_eval::navigate::published_section(&table, elapsed, &opts.command);
+        vpmap_eval::publish::replace_section(path, SECTION, &section)?;
     }
     print!("{table}");
     if let Some(path) = &args.publish {
-        println!(
-            "published the {NAVIGATE_SECTION} section of {}",
-            path.display()
-        );
+        println!("published the {SECTION} section of {}", path.display());
     }
     Ok(())
-}
-
-/// The global allocator's counters, lent to the benchmark.
-struct PeakAllocProbe;
-
-impl MemoryProbe for PeakAllocProbe {
-    fn current_bytes(&self) -> usize {
-        ALLOCATOR.current_usage()
-    }
-    fn reset_peak(&self) {
-        ALLOCATOR.reset_peak_usage();
-    }
-    fn peak_bytes(&self) -> usize {
-        ALLOCATOR.peak_usage()
-    }
 }
 
 fn parse_planners(names: &[String]) -> Result<Vec<PlannerKind>> {
@@ -191,9 +155,6 @@ fn parse_planners(names: &[String]) -> Result<Vec<PlannerKind>> {
     Ok(out)
 }
 
-/// The `docs/results.md` section `vpmap bench --navigate --publish` writes.
-const NAVIGATE_SECTION: &str = "bench-navigate";
-
 /// Fail before measuring when `--publish` names a file whose section `name` is broken.
 fn check_publish_target(path: &Path, name: &str) -> Result<()> {
     if path.is_dir() {
@@ -217,12 +178,12 @@ pub fn run(args: &BenchArgs) -> Result<()> {
         repeat: args.repeat,
         seed: args.seed,
         optimal_limit_s: args.optimal_limit,
-        command: crate::command_line(),
+        command: command_line(),
     };
     if !(args.optimal_limit.is_finite() && args.optimal_limit > 0.0) {
         bail!(
             "--optimal-limit must be a positive number of seconds, got {}",
-            crate::num(args.optimal_limit)
+            vpmap_pipeline::num(args.optimal_limit)
         );
     }
     opts.validate()?;

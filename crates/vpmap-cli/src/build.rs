@@ -7,40 +7,72 @@ use vpmap_metrology::map::{FloorMap, Units};
 use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::scene::Scene;
 use vpmap_metrology::synth::Truth;
-use vpmap_pipeline::{MapOptions, PipelineError};
-use vpmap_plan::grid::{Occupancy, OccupancyGrid};
-use vpmap_plan::mbpp::{MbppOptions, mbpp};
-use vpmap_plan::reach::Components;
+use vpmap_pipeline::demo::{EXAMPLE_SCENE, EXAMPLE_TRUTH};
+use vpmap_pipeline::{DemoPath, MapOptions, PipelineError, TruthErrors, errors_against_truth};
+use vpmap_plan::grid::OccupancyGrid;
 use vpmap_render::{FloorPlanStyle, floor_plan_svg, svg_to_png};
 
 use crate::output::OutputSet;
-use crate::{BuildArgs, num};
+use vpmap_pipeline::num;
 
-/// The bundled example: a synthetic office seen at 25 degrees pitch, with its truth.
-const EXAMPLE_SCENE: &str = include_str!("../../../examples/office.json");
-const EXAMPLE_TRUTH: &str = include_str!("../../../examples/office.truth.json");
-
+/// The scene file at `path`, read by the pipeline's one scene reader; unknown fields are
+/// warned about on stderr.
 fn read_scene(path: &Path) -> Result<Scene> {
     let text = vpmap_files::read_text(path, vpmap_files::Format::Scene)?;
     // Editors on Windows may start the file with a byte-order mark; it is not JSON.
     let text = text.strip_prefix('\u{feff}').unwrap_or(&text);
-    if !text.trim_start().starts_with('{') {
-        bail!(
+    let (scene, warnings) = match vpmap_pipeline::parse_scene(text) {
+        Ok(parsed) => (Ok(parsed.scene), parsed.warnings),
+        Err(PipelineError::SceneNotAnObject) => bail!(
             "{}: scene file is malformed: it must be a JSON object ({{ ... }})",
             path.display()
-        );
+        ),
+        Err(PipelineError::SceneJson(e)) => {
+            bail!("{}: scene file is malformed: {e}", path.display())
+        }
+        Err(PipelineError::InvalidScene { error, warnings }) => (Err(error), warnings),
+        Err(other) => return Err(other.into()),
+    };
+    for w in warnings {
+        eprintln!("warning: {}: {w}", path.display());
     }
-    // The same parse as the page's: a file it cannot read as a JSON value (nested deeper than
-    // serde_json's 128 levels, say) is refused here too, rather than read without warnings.
-    let value: serde_json::Value = serde_json::from_str(text)
-        .map_err(|e| anyhow::anyhow!("{}: scene file is malformed: {e}", path.display()))?;
-    for field in vpmap_metrology::scene::unknown_fields(&value) {
-        eprintln!(
-            "warning: {}: unknown field {field} is ignored (see docs/scene-format.md)",
-            path.display()
-        );
-    }
-    Scene::from_json_str(text).with_context(|| format!("{}", path.display()))
+    scene.with_context(|| format!("{}", path.display()))
+}
+
+/// Options shared by `build` and `demo`.
+#[derive(clap::Args, Clone)]
+pub struct BuildArgs {
+    /// Output folder (created if missing).
+    #[arg(long, short)]
+    pub out: PathBuf,
+    /// Reconstruction method: `fit`, the joint maximum-likelihood fit of the camera and every
+    /// object to all clicks, with error bars; `sideview`, the thesis's method; `projective`,
+    /// the camera-matrix form (see docs/method.md).
+    #[arg(long, default_value = "fit", value_parser = parse_method)]
+    pub method: Method,
+    /// Click noise the fit's error bars are computed for, pixels (1 sigma per coordinate;
+    /// default: estimated from the residuals when the clicks over-determine the model, else 1).
+    #[arg(long, allow_negative_numbers = true)]
+    pub click_sigma: Option<f64>,
+    /// Grow each obstacle in the occupancy grid by its uncertainty at this confidence (e.g.
+    /// 0.95), so a robot keeps clear of what is not known well (method fit).
+    #[arg(long, allow_negative_numbers = true)]
+    pub grow_confidence: Option<f64>,
+    /// Occupancy-grid cell size, metres (map units when the scene has no scale).
+    #[arg(long, default_value_t = vpmap_pipeline::DEFAULT_RESOLUTION_M, allow_negative_numbers = true)]
+    pub resolution: f64,
+    /// Robot radius: obstacles in the occupancy grid are inflated by it, metres (0 for a
+    /// grid of the bare obstacles).
+    #[arg(long, default_value_t = vpmap_pipeline::DEFAULT_ROBOT_RADIUS_M, allow_negative_numbers = true)]
+    pub robot_radius: f64,
+    /// Mark floor hidden behind objects as free in the occupancy grid (default: unknown).
+    #[arg(long)]
+    pub hidden_free: bool,
+}
+
+/// `--method`: a reconstruction method by its name.
+pub fn parse_method(s: &str) -> Result<Method, String> {
+    s.parse()
 }
 
 /// Everything `build` writes, rendered in memory.
@@ -227,25 +259,6 @@ pub fn run_build(scene_path: &Path, args: &BuildArgs) -> Result<()> {
     Ok(())
 }
 
-/// Largest errors of a map against its truth: (corner or floor point, metres; height,
-/// metres).
-pub fn errors_against_truth(map: &FloorMap, truth: &Truth) -> (f64, f64) {
-    let mut pos = 0.0f64;
-    let mut height = 0.0f64;
-    for (m, t) in map.objects.iter().zip(&truth.objects) {
-        for (a, b) in m.footprint.iter().zip(&t.footprint) {
-            pos = pos.max((a[0] - b[0]).hypot(a[1] - b[1]));
-        }
-        if let Some(h) = m.height {
-            height = height.max((h - t.height).abs());
-        }
-    }
-    for (a, b) in map.floor.iter().zip(&truth.floor) {
-        pos = pos.max((a[0] - b[0]).hypot(a[1] - b[1]));
-    }
-    (pos, height)
-}
-
 /// `vpmap demo`: the bundled example, end to end.
 pub fn run_demo(out: &Path, method: Method) -> Result<()> {
     let scene = Scene::from_json_str(EXAMPLE_SCENE).context("the bundled example scene")?;
@@ -270,7 +283,10 @@ pub fn run_demo(out: &Path, method: Method) -> Result<()> {
     let paths = built.files.write_all(out)?;
     print_summary(&built.map, &built.grid_summary);
     println!("{path_line}");
-    let (pos, height) = errors_against_truth(&built.map, &truth);
+    let TruthErrors {
+        position: pos,
+        height,
+    } = errors_against_truth(&built.map, &truth);
     let c = &built.map.camera;
     println!(
         "error against the known truth ({method}): corners and floor {pos:.2e} m, heights {height:.2e} m, pitch {:.2e} deg, focal {:.2e} px",
@@ -281,54 +297,29 @@ pub fn run_demo(out: &Path, method: Method) -> Result<()> {
     Ok(())
 }
 
-/// The demo's path: from the free cell nearest a point half a metre into the seen floor in
-/// front of the camera to the reachable free cell deepest into the room, by the thesis's
-/// Multi-Bug Path Planning, and the floor-plan style that draws it; the line printed names the
-/// `vpmap plan` command that draws the bugs and alternatives too (into `out`).
+/// The demo's path ([`vpmap_pipeline::demo_path`]) and the floor-plan style that draws it;
+/// the line printed names the `vpmap plan` command that draws the bugs and alternatives too
+/// (into `out`).
 fn demo_path(built: &Built, out: &Path) -> Result<(String, FloorPlanStyle)> {
-    let grid = &built.grid;
-    let near_y = built
-        .map
-        .floor
-        .iter()
-        .map(|p| p[1])
-        .fold(f64::INFINITY, f64::min);
-    let target = [0.0, near_y + 0.5];
-    let free: Vec<(usize, usize)> = (0..grid.height())
-        .flat_map(|y| (0..grid.width()).map(move |x| (x, y)))
-        .filter(|&(x, y)| grid.get(x, y) == Some(Occupancy::Free))
-        .collect();
-    let dist = |c: (usize, usize)| {
-        let w = grid.world_from_cell(c.0, c.1);
-        (w[0] - target[0]).hypot(w[1] - target[1])
+    let route = match vpmap_pipeline::demo_path(&built.map, &built.grid)? {
+        DemoPath::Found(route) => route,
+        DemoPath::NoFreeFloor => {
+            return Ok((
+                "path: the map has no free floor to plan on".to_owned(),
+                FloorPlanStyle::default(),
+            ));
+        }
+        DemoPath::NoPath => {
+            return Ok(("path: no path found".to_owned(), FloorPlanStyle::default()));
+        }
     };
-    let Some(start) = free
-        .iter()
-        .copied()
-        .min_by(|a, b| dist(*a).total_cmp(&dist(*b)))
-    else {
-        return Ok((
-            "path: the map has no free floor to plan on".to_owned(),
-            FloorPlanStyle::default(),
-        ));
-    };
-    let goal = deepest_reachable(grid, start);
-    let result = mbpp(grid, start, goal, &MbppOptions::default())?;
-    let Some(plan) = result.best else {
-        return Ok(("path: no path found".to_owned(), FloorPlanStyle::default()));
-    };
-    let points: Vec<[f64; 2]> = plan
-        .waypoints
-        .iter()
-        .map(|c| grid.world_from_cell(c.x, c.y))
-        .collect();
-    let length = plan.length_cells * grid.resolution_m();
+    let length = route.length;
     let style = FloorPlanStyle {
-        path: points.clone(),
+        path: route.waypoints.clone(),
         path_label: format!("path (MBPP, {length:.2} m)"),
         ..FloorPlanStyle::default()
     };
-    let (a, b) = (points[0], points[points.len() - 1]);
+    let (a, b) = (route.from, route.to);
     let line = format!(
         "path: MBPP from ({:.2}, {:.2}) to ({:.2}, {:.2}) m around the objects (robot radius {} m): {length:.2} m, {} bugs, {} alternatives; the path is drawn in map.svg and map.png, and\n  vpmap plan {} --from={:.2},{:.2} --to={:.2},{:.2} --planner mbpp --svg {}\ndraws it with every bug's track and the alternatives",
         a[0],
@@ -336,8 +327,8 @@ fn demo_path(built: &Built, out: &Path) -> Result<(String, FloorPlanStyle)> {
         b[0],
         b[1],
         vpmap_pipeline::DEFAULT_ROBOT_RADIUS_M,
-        result.mbpp_stats.bugs,
-        result.alternatives.len(),
+        route.bugs,
+        route.alternatives,
         out.join("map.json").display(),
         a[0],
         a[1],
@@ -346,20 +337,4 @@ fn demo_path(built: &Built, out: &Path) -> Result<(String, FloorPlanStyle)> {
         out.join("plan.svg").display(),
     );
     Ok((line, style))
-}
-
-/// The free cell reachable from `start` with the largest world y (the far side of the room),
-/// the leftmost of them on a tie.
-fn deepest_reachable(grid: &OccupancyGrid, start: (usize, usize)) -> (usize, usize) {
-    let components = Components::label(grid, false);
-    let Some(label) = components.of(start) else {
-        return start;
-    };
-    // Row 0 is the top, the largest world y: the first cell of the component in row-major
-    // order.
-    components
-        .labels()
-        .iter()
-        .position(|&l| l == label)
-        .map_or(start, |i| components.cell_at(i).into())
 }

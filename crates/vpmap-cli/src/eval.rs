@@ -28,12 +28,14 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use vpmap_eval::accuracy::{Config, DEFAULT_TRIALS, section_name};
-use vpmap_metrology::eval::{SETUPS, Setup, VIEW_SETUPS, VpEdges};
+use vpmap_eval::accuracy::{Config, DEFAULT_TRIALS, section_name, select_setups};
+use vpmap_eval::navigate::{EVAL_SECTION, eval_published_section};
+use vpmap_eval::output::check_writable_folder;
+use vpmap_metrology::eval::{Setup, VpEdges};
 use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::synth::LongEdgeOptions;
 
-use crate::num;
+use vpmap_pipeline::num;
 
 /// Most trials per set-up accepted (objects.csv grows by about 300 kB per trial with three
 /// methods).
@@ -119,9 +121,6 @@ pub struct EvalArgs {
     pub grow_confidence: Option<f64>,
 }
 
-/// The `docs/results.md` section `vpmap eval --navigate --publish` writes.
-const NAVIGATE_SECTION: &str = "eval-navigate";
-
 /// The default growth confidence of `vpmap eval --navigate` (the fitted map is driven as
 /// built and grown by its error bars at this confidence).
 const DEFAULT_NAVIGATE_GROW_CONFIDENCE: f64 = 0.95;
@@ -153,38 +152,26 @@ fn run_navigate(args: &EvalArgs) -> Result<()> {
     };
     check_writable_folder(&args.out)?;
     if let Some(path) = &args.publish {
-        check_publish_target(path, NAVIGATE_SECTION)?;
+        check_publish_target(path, EVAL_SECTION)?;
     }
     let started = std::time::Instant::now();
     let bar = crate::progress::Bar::new("{elapsed_precise} [{bar}] {pos}/{len} {msg}", "40");
     let (trials, skipped) = vpmap_eval::navigate::run_eval(&opts, &bar)?;
     let elapsed = started.elapsed();
     let table = vpmap_eval::navigate::eval_table(&trials, &opts, skipped);
-    let command = crate::command_line();
+    let command = crate::output::command_line();
     let md = format!("{table}\nMeasured with `{command}`.\n");
     let mut files = vpmap_eval::output::OutputSet::default();
     files.add("navigate.md", md.clone());
     files.write_all(&args.out)?;
     if let Some(path) = &args.publish {
-        let section = vpmap_eval::accuracy::report::published(
-            "What a map's error costs a robot (`vpmap eval --navigate`)",
-            &format!(
-                "{} synthetic rooms, each annotated at every noise level; each method's map (and the fitted map grown by its error bars) driven from the same start to the same goal, sensing the true room within {} m; excess travel over the true room's optima (reached drives). How the drive works: [navigation.md](navigation.md).\n\n{table}",
-                opts.scenes,
-                num(opts.sensor_range_m)
-            ),
-            elapsed,
-            &command,
-        );
-        vpmap_eval::publish::replace_section(path, NAVIGATE_SECTION, &section)?;
+        let section = eval_published_section(&table, &opts, elapsed, &command);
+        vpmap_eval::publish::replace_section(path, EVAL_SECTION, &section)?;
     }
     print!("{md}");
     println!("wrote navigate.md in {}", args.out.display());
     if let Some(path) = &args.publish {
-        println!(
-            "published the {NAVIGATE_SECTION} section of {}",
-            path.display()
-        );
+        println!("published the {EVAL_SECTION} section of {}", path.display());
     }
     Ok(())
 }
@@ -227,44 +214,9 @@ fn parse_methods(text: &str) -> Result<Vec<Method>> {
     Ok(methods)
 }
 
+/// `--experiments`: the set-ups it names ([`vpmap_eval::accuracy::select_setups`]).
 fn parse_experiments(text: &str) -> Result<Vec<&'static Setup>> {
-    // The thesis's seventeen, then the views' six; `all`, `2pp` and `3pp` choose among the
-    // seventeen, `views` the six.
-    let every: Vec<(&'static Setup, bool)> = SETUPS
-        .iter()
-        .map(|s| (s, false))
-        .chain(VIEW_SETUPS.iter().map(|s| (s, true)))
-        .collect();
-    let mut chosen = vec![false; every.len()];
-    for part in text.split(',') {
-        let part = part.trim().to_ascii_lowercase();
-        let matched: Vec<usize> = (0..every.len())
-            .filter(|&i| {
-                let (setup, view) = every[i];
-                match part.as_str() {
-                    "all" => !view,
-                    "views" => view,
-                    "2pp" | "3pp" => !view && setup.name.starts_with(&part),
-                    name => setup.name == name,
-                }
-            })
-            .collect();
-        if matched.is_empty() {
-            let names: Vec<&str> = every.iter().map(|(s, _)| s.name).collect();
-            bail!(
-                "--experiments {part:?} is not a set-up; use all, 2pp, 3pp, views or names among {}",
-                names.join(", ")
-            );
-        }
-        for i in matched {
-            chosen[i] = true;
-        }
-    }
-    Ok(every
-        .into_iter()
-        .zip(chosen)
-        .filter_map(|((s, _), c)| c.then_some(s))
-        .collect())
+    select_setups(text).map_err(|e| anyhow::anyhow!("--experiments {e}"))
 }
 
 /// `--vp-edges` with its `--vp-edge-px` and `--vp-edge-count`, for the chosen set-ups.
@@ -365,30 +317,6 @@ fn check_args(args: &EvalArgs) -> Result<Config> {
     })
 }
 
-/// Fail early (before minutes of work) when the output folder cannot be created or written:
-/// its nearest existing ancestor must be a folder that accepts a file. Leaves nothing behind.
-fn check_writable_folder(dir: &Path) -> Result<()> {
-    let existing = dir
-        .ancestors()
-        .find(|a| a.as_os_str().is_empty() || a.exists())
-        .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
-    let existing = if existing.as_os_str().is_empty() {
-        PathBuf::from(".")
-    } else {
-        existing
-    };
-    if !existing.is_dir() {
-        bail!(
-            "cannot create output folder {}: {} is not a folder",
-            dir.display(),
-            existing.display()
-        );
-    }
-    tempfile::tempfile_in(&existing)
-        .with_context(|| format!("cannot write into output folder {}", dir.display()))?;
-    Ok(())
-}
-
 /// The publish target must be a Markdown file whose `name` section markers, if any, are in
 /// order, in a folder that can be written.
 fn check_publish_target(path: &Path, name: &str) -> Result<()> {
@@ -431,7 +359,13 @@ pub fn run(args: &EvalArgs) -> Result<()> {
     let written = report.files.write_all(&args.out)?;
     let elapsed = started.elapsed();
     if let Some(path) = &args.publish {
-        let section = report.published(&config, path, &args.out, &crate::command_line(), elapsed);
+        let section = report.published(
+            &config,
+            path,
+            &args.out,
+            &crate::output::command_line(),
+            elapsed,
+        );
         vpmap_eval::publish::replace_section(
             path,
             section_name(&config.vp_edges, &config.setups),
@@ -476,23 +410,11 @@ mod tests {
             vec![Method::Projective]
         );
         assert!(parse_methods("sideview,bogus").is_err());
-        assert_eq!(parse_experiments("2pp").unwrap().len(), 9);
-        assert_eq!(parse_experiments("all").unwrap().len(), 17);
-        let views = parse_experiments("views").unwrap();
-        assert_eq!(views.len(), 6);
-        assert!(
-            views
-                .iter()
-                .all(|s| s.name.contains('-') && !s.name.ends_with(char::is_numeric))
-        );
-        assert_eq!(
-            parse_experiments("3pp-yaw,2pp-1").unwrap()[1].name,
-            "3pp-yaw"
-        );
-        assert_eq!(parse_experiments("all,views").unwrap().len(), 23);
-        assert_eq!(parse_experiments("3pp-2,2pp-1").unwrap()[0].name, "2pp-1");
-        assert!(parse_experiments("4pp").is_err());
-        let all: Vec<&Setup> = SETUPS.iter().collect();
+        assert!(parse_experiments("4pp").is_err_and(|e| {
+            e.to_string()
+                .starts_with("--experiments \"4pp\" is not a set-up")
+        }));
+        let all = parse_experiments("all").unwrap();
         assert_eq!(
             parse_vp_edges("objects", None, None, &all).unwrap(),
             VpEdges::Objects

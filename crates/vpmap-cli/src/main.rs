@@ -1,9 +1,18 @@
 //! The `vpmap` command: one photo's annotations to a metric floor map.
+//!
+//! Flags, progress and printing only; the work is in the library crates. Modules, bottom-up
+//! (each uses only those before it): `output` (files written all or nothing, the command
+//! line as typed), `progress` (the bar), `memory` (the counting allocator), then one module
+//! per command: `synth`, `build` (and `demo`), `plan`, `navigate` (uses `plan`'s map loading
+//! and flag helpers), `eval`, `bench`, `detect` (inside: `options`, `eval` for
+//! `eval-detect`, then its `mod.rs`), `serve`; this file parses the command line and
+//! dispatches.
 
 mod bench;
 mod build;
 mod detect;
 mod eval;
+mod memory;
 mod navigate;
 mod output;
 mod plan;
@@ -15,12 +24,7 @@ use std::path::PathBuf;
 use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
-use peak_alloc::PeakAlloc;
 use vpmap_metrology::reconstruct::Method;
-
-/// The allocator, counting bytes in use and their peak (for `vpmap bench`'s memory column).
-#[global_allocator]
-pub static ALLOCATOR: PeakAlloc = PeakAlloc;
 
 /// One ordinary photo of a room in, a metric floor map a robot can use out.
 #[derive(Parser)]
@@ -30,53 +34,6 @@ struct Cli {
     command: Command,
 }
 
-/// Options shared by `build` and `demo`.
-#[derive(clap::Args, Clone)]
-pub struct BuildArgs {
-    /// Output folder (created if missing).
-    #[arg(long, short)]
-    pub out: PathBuf,
-    /// Reconstruction method: `fit`, the joint maximum-likelihood fit of the camera and every
-    /// object to all clicks, with error bars; `sideview`, the thesis's method; `projective`,
-    /// the camera-matrix form (see docs/method.md).
-    #[arg(long, default_value = "fit", value_parser = parse_method)]
-    pub method: Method,
-    /// Click noise the fit's error bars are computed for, pixels (1 sigma per coordinate;
-    /// default: estimated from the residuals when the clicks over-determine the model, else 1).
-    #[arg(long, allow_negative_numbers = true)]
-    pub click_sigma: Option<f64>,
-    /// Grow each obstacle in the occupancy grid by its uncertainty at this confidence (e.g.
-    /// 0.95), so a robot keeps clear of what is not known well (method fit).
-    #[arg(long, allow_negative_numbers = true)]
-    pub grow_confidence: Option<f64>,
-    /// Occupancy-grid cell size, metres (map units when the scene has no scale).
-    #[arg(long, default_value_t = vpmap_pipeline::DEFAULT_RESOLUTION_M, allow_negative_numbers = true)]
-    pub resolution: f64,
-    /// Robot radius: obstacles in the occupancy grid are inflated by it, metres (0 for a
-    /// grid of the bare obstacles).
-    #[arg(long, default_value_t = vpmap_pipeline::DEFAULT_ROBOT_RADIUS_M, allow_negative_numbers = true)]
-    pub robot_radius: f64,
-    /// Mark floor hidden behind objects as free in the occupancy grid (default: unknown).
-    #[arg(long)]
-    pub hidden_free: bool,
-}
-
-pub use vpmap_pipeline::num;
-
-/// The command line as typed, `vpmap` for the program, arguments quoted for a POSIX shell
-/// where needed (for the reports' "measured with").
-#[must_use]
-pub fn command_line() -> String {
-    let args: Vec<String> = std::iter::once("vpmap".to_owned())
-        .chain(std::env::args().skip(1))
-        .collect();
-    shell_words::join(args)
-}
-
-fn parse_method(s: &str) -> Result<Method, String> {
-    s.parse()
-}
-
 #[derive(Subcommand)]
 enum Command {
     /// Build a floor map, picture, 3D model and occupancy grid from a scene file.
@@ -84,7 +41,7 @@ enum Command {
         /// The scene file (JSON, version 1; see docs/scene-format.md).
         scene: PathBuf,
         #[command(flatten)]
-        args: BuildArgs,
+        args: build::BuildArgs,
     },
     /// Build the bundled example end to end and compare it with its known truth.
     Demo {
@@ -92,7 +49,7 @@ enum Command {
         #[arg(long, short, default_value = "out/demo")]
         out: PathBuf,
         /// Reconstruction method: fit, sideview or projective.
-        #[arg(long, default_value = "fit", value_parser = parse_method)]
+        #[arg(long, default_value = "fit", value_parser = build::parse_method)]
         method: Method,
     },
     /// Write a random synthetic scene (and its truth) from the built-in pinhole camera.

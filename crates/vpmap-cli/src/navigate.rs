@@ -1,21 +1,24 @@
 //! `vpmap navigate`: a robot drives a believed map, senses the true one and re-plans (see
 //! docs/navigation.md).
 
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
 use vpmap_metrology::synth::Truth;
-use vpmap_pipeline::{Coordinates, Endpoint, EndpointRules, OptionNames, endpoint_cell};
+use vpmap_pipeline::{
+    DriveReport, Endpoint, EndpointRules, OptionNames, PipelineError, PlanningMap, endpoint_cell,
+    navigate_json,
+};
 use vpmap_plan::budget::{Budget, Stop};
 use vpmap_plan::grid::{CellXy, Occupancy, OccupancyGrid};
 use vpmap_plan::navigate::{
-    MAX_SENSOR_RANGE_CELLS, NavigateOptions, Navigation, OnlinePlanner, navigate, truth_optimum,
+    MAX_SENSOR_RANGE_CELLS, NavigateOptions, OnlinePlanner, navigate, truth_optimum,
 };
 use vpmap_plan::raster::truth_grid;
 
-use crate::num;
 use crate::output::OutputSet;
-use crate::plan::{PlanningMap, load_map, parse_point};
+use crate::plan::{load_map, parse_point};
+use vpmap_pipeline::num;
 
 /// Arguments of `vpmap navigate`.
 #[derive(clap::Args)]
@@ -77,47 +80,15 @@ fn parse_planner(s: &str) -> std::result::Result<OnlinePlanner, String> {
     s.parse::<OnlinePlanner>().map_err(|e| e.to_string())
 }
 
-/// Whether `path` names a synthetic scene's truth.
-fn is_truth_file(path: &Path) -> bool {
-    path.file_name().is_some_and(|n| {
-        n.to_string_lossy()
-            .to_ascii_lowercase()
-            .ends_with(".truth.json")
-    })
-}
-
 /// The grid frame around a truth's floor at `resolution_m` (for `--unknown` with a truth).
 fn truth_frame(truth: &Truth, resolution_m: f64) -> Result<OccupancyGrid> {
-    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
-    for p in &truth.floor {
-        for k in 0..2 {
-            lo[k] = lo[k].min(p[k]);
-            hi[k] = hi[k].max(p[k]);
-        }
-    }
-    if !(lo[0].is_finite() && hi[0].is_finite() && lo[1].is_finite() && hi[1].is_finite()) {
-        bail!("the truth has no floor outline to make a grid of");
-    }
-    if !(resolution_m.is_finite() && resolution_m > 0.0) {
-        bail!(
+    vpmap_pipeline::truth_frame(truth, resolution_m).map_err(|e| match e {
+        PipelineError::OptionOutOfRange { value, .. } => anyhow::anyhow!(
             "--resolution must be a positive number of metres, got {}",
-            num(resolution_m)
-        );
-    }
-    let cells = |k: usize| ((hi[k] - lo[k]) / resolution_m).ceil().max(1.0) as usize + 2;
-    Ok(OccupancyGrid::new(
-        cells(0),
-        cells(1),
-        resolution_m,
-        [lo[0] - resolution_m, lo[1] - resolution_m],
-        Occupancy::Unknown,
-    )?)
-}
-
-fn read_truth(path: &Path) -> Result<Truth> {
-    let text = vpmap_files::read_text(path, vpmap_files::Format::Map)?;
-    serde_json::from_str(&text)
-        .with_context(|| format!("{}: not a synthetic scene's truth", path.display()))
+            num(value)
+        ),
+        other => other.into(),
+    })
 }
 
 /// The believed and true maps of a run (same grid), and the believed map's coordinates.
@@ -127,8 +98,8 @@ fn load_maps(args: &NavigateArgs) -> Result<(PlanningMap, OccupancyGrid)> {
         (None, false) => bail!("give a believed map (map.json, .yaml or .map) or --unknown"),
         _ => {}
     }
-    if is_truth_file(&args.truth) {
-        let truth = read_truth(&args.truth)?;
+    if vpmap_pipeline::is_truth_file(&args.truth) {
+        let truth = vpmap_pipeline::read_truth(&args.truth)?;
         let believed = match &args.map {
             Some(path) => load_map(path, args.robot_radius, args.resolution)?,
             None => PlanningMap {
@@ -193,11 +164,7 @@ pub fn run(args: &NavigateArgs) -> Result<()> {
         }
         None => 10.0,
     };
-    let coordinates = if believed.in_cells {
-        Coordinates::Cells
-    } else {
-        Coordinates::Map { units: "m" }
-    };
+    let coordinates = believed.coordinates();
     let rules = EndpointRules {
         unknown_passable: false,
         robot_radius: believed.robot_radius,
@@ -234,7 +201,16 @@ pub fn run(args: &NavigateArgs) -> Result<()> {
             truth.world_from_cell(c.x, c.y)
         }
     };
-    let json = navigate_json(&run, &optimum, args, range_cells, scale, unit, &coords);
+    let report = DriveReport {
+        run: &run,
+        optimum: &optimum,
+        planner: args.planner,
+        unknown_passable: !args.unknown_blocked,
+        sensor_range_cells: range_cells,
+        scale,
+        unit,
+    };
+    let json = navigate_json(&report, &coords);
     let mut outputs = OutputSet::default();
     outputs.add(
         "navigate.json",
@@ -262,58 +238,4 @@ pub fn run(args: &NavigateArgs) -> Result<()> {
         args.out.display()
     );
     Ok(())
-}
-
-/// navigate.json (format in docs/navigation.md).
-fn navigate_json(
-    run: &Navigation,
-    optimum: &vpmap_plan::navigate::TruthOptimum,
-    args: &NavigateArgs,
-    range_cells: f64,
-    scale: f64,
-    unit: &str,
-    coords: &dyn Fn(CellXy) -> [f64; 2],
-) -> serde_json::Value {
-    let events: Vec<serde_json::Value> = run
-        .events
-        .iter()
-        .map(|e| {
-            serde_json::json!({
-                "moves": e.moves,
-                "cell": [e.cell.x, e.cell.y],
-                "at": coords(e.cell),
-                "reason": e.reason.as_str(),
-                "time_s": e.time_s,
-                "expanded": e.expanded,
-                "planned_length": e.planned_length_cells.map(|l| l * scale),
-                "used_alternative": e.used_alternative,
-                "doubted_cells": e.doubted_cells,
-            })
-        })
-        .collect();
-    let excess = |opt: Option<f64>| opt.filter(|&o| o > 0.0).map(|o| run.length_cells / o - 1.0);
-    serde_json::json!({
-        "version": 1,
-        "planner": args.planner.name(),
-        "units": unit,
-        "sensor_range_cells": range_cells,
-        "unknown_passable": !args.unknown_blocked,
-        "outcome": run.outcome.as_str(),
-        "reached": run.outcome == vpmap_plan::Outcome::Reached,
-        "moves": run.moves,
-        "length": run.length_cells * scale,
-        "length_cells": run.length_cells,
-        "length_m": if unit == "m" { Some(run.length_cells * scale) } else { None },
-        "optimum_octile": optimum.octile_cells.map(|l| l * scale),
-        "optimum_any_angle": optimum.any_angle_cells.map(|l| l * scale),
-        "excess_over_octile": excess(optimum.octile_cells),
-        "excess_over_any_angle": excess(optimum.any_angle_cells),
-        "replans": run.events.len().saturating_sub(1),
-        "planning_time_s": run.planning_time_s,
-        "expanded": run.expanded,
-        "waypoints": run.waypoints.iter().map(|&c| coords(c)).collect::<Vec<_>>(),
-        "cells": run.cells.iter().map(|c| [c.x, c.y]).collect::<Vec<_>>(),
-        "events": events,
-        "seen_cells": run.belief.seen.iter().filter(|&&s| s).count(),
-    })
 }

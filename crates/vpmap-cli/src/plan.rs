@@ -3,23 +3,18 @@
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
-use anyhow::{Context, Result, bail};
-use vpmap_metrology::map::FloorMap;
+use anyhow::{Result, bail};
 use vpmap_pipeline::{
-    Coordinates, DEFAULT_ROBOT_RADIUS_M, Endpoint, EndpointRules, OptionNames, endpoint_cell,
+    Limits, OptionNames, PlanningMap, mbpp_stats, plan_json, read_planning_map, run_planner,
 };
 use vpmap_plan::PlanError;
 use vpmap_plan::Planned;
 use vpmap_plan::budget::{Budget, Stop, StopReason};
-use vpmap_plan::grid::{CellXy, OccupancyGrid};
-use vpmap_plan::mbpp::MbppStats;
-use vpmap_plan::plan::Plan;
-use vpmap_plan::planner::{Planner, PlannerKind};
-use vpmap_plan::raster::{RasterOptions, rasterize_map};
-use vpmap_render::{GridCoordinates, plan_svg};
+use vpmap_plan::planner::PlannerKind;
+use vpmap_render::{GridCoordinates, plan_svg, plan_title};
 
-use crate::num;
 use crate::output::write_file;
+use vpmap_pipeline::num;
 
 /// What `vpmap plan --help` says of each planner.
 fn planner_help(kind: PlannerKind) -> &'static str {
@@ -36,18 +31,6 @@ fn planner_help(kind: PlannerKind) -> &'static str {
         PlannerKind::Optimal => {
             "The exact shortest any-angle path (Anya-style interval search over the free space of the grid)"
         }
-    }
-}
-
-/// A planner's name as the `--svg` picture's title writes it.
-fn planner_title(kind: PlannerKind) -> &'static str {
-    match kind {
-        PlannerKind::Mbpp => "MBPP",
-        PlannerKind::MbppCloser => "MBPP (closer leave rule)",
-        PlannerKind::Astar => "A*",
-        PlannerKind::AstarPs => "A* PS",
-        PlannerKind::ThetaStar => "Theta*",
-        PlannerKind::Optimal => "Shortest any-angle path",
     }
 }
 
@@ -125,69 +108,6 @@ pub(crate) fn parse_timeout(text: &str) -> std::result::Result<std::time::Durati
     }
 }
 
-/// The work limits of one planning query: MBPP's budget and every planner's [`Budget`].
-#[derive(Clone, Debug, Default)]
-pub struct Limits {
-    /// MBPP's most bug steps and most alternatives kept (`None`: the library's defaults).
-    pub mbpp: Option<(usize, usize)>,
-    /// The budget of A*, A* PS, Theta* and the exact planner, and every planner's stop.
-    pub budget: Budget,
-}
-
-/// A map ready for planning, and how its coordinates read.
-pub struct PlanningMap {
-    /// The grid (inflated).
-    pub grid: OccupancyGrid,
-    /// Coordinates are cells (Moving AI) rather than metres.
-    pub in_cells: bool,
-    /// The radius the obstacles were inflated by, in the map's coordinates.
-    pub robot_radius: f64,
-}
-
-impl PlanningMap {
-    /// The cell of `--from` or `--to`, which a path must be able to enter.
-    fn endpoint(&self, name: &str, point: [f64; 2], unknown_passable: bool) -> Result<CellXy> {
-        let coordinates = if self.in_cells {
-            Coordinates::Cells
-        } else {
-            Coordinates::Map { units: "m" }
-        };
-        let rules = EndpointRules {
-            unknown_passable,
-            robot_radius: self.robot_radius,
-            names: OptionNames::CommandLine,
-        };
-        Ok(endpoint_cell(
-            &self.grid,
-            coordinates,
-            &Endpoint { name, point },
-            &rules,
-        )?)
-    }
-
-    /// A waypoint in the map's coordinates.
-    fn coords(&self, cell: CellXy) -> [f64; 2] {
-        if self.in_cells {
-            [cell.x as f64, cell.y as f64]
-        } else {
-            self.grid.world_from_cell(cell.x, cell.y)
-        }
-    }
-
-    fn unit(&self) -> &'static str {
-        if self.in_cells { "cells" } else { "m" }
-    }
-
-    /// Map units per cell: lengths in cells times this are in [`Self::unit`].
-    fn scale(&self) -> f64 {
-        if self.in_cells {
-            1.0
-        } else {
-            self.grid.resolution_m()
-        }
-    }
-}
-
 /// A point `X,Y` given on the command line as `what` (`--from`, `--to`): two finite numbers.
 pub(crate) fn parse_point(what: &str, text: &str) -> Result<[f64; 2]> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
@@ -198,8 +118,8 @@ pub(crate) fn parse_point(what: &str, text: &str) -> Result<[f64; 2]> {
     }
 }
 
-/// Read any supported map and inflate its obstacles by `robot_radius` (by default
-/// [`DEFAULT_ROBOT_RADIUS_M`] for a `map.json`, 0 for the others).
+/// Read any supported map and inflate its obstacles by `robot_radius`
+/// ([`vpmap_pipeline::read_planning_map`]), the radius checked first.
 pub fn load_map(path: &Path, robot_radius: Option<f64>, resolution: f64) -> Result<PlanningMap> {
     // The same range as `vpmap build` and the page (in cells for a Moving AI map).
     let range = &vpmap_pipeline::ROBOT_RADIUS_RANGE_M;
@@ -212,76 +132,7 @@ pub fn load_map(path: &Path, robot_radius: Option<f64>, resolution: f64) -> Resu
             num(r)
         );
     }
-    let ext = path
-        .extension()
-        .map(|e| e.to_string_lossy().to_ascii_lowercase())
-        .unwrap_or_default();
-    let (grid, in_cells) = match ext.as_str() {
-        "map" => (vpmap_plan::movingai::read_movingai_map(path)?, true),
-        "yaml" | "yml" => (vpmap_plan::ros::read_ros_map(path)?, false),
-        "json" => {
-            let text = vpmap_files::read_text(path, vpmap_files::Format::Map)?;
-            let map = FloorMap::from_json_str(&text)
-                .with_context(|| format!("{}: not a vpmap map.json", path.display()))?;
-            let grid = rasterize_map(
-                &map,
-                &RasterOptions {
-                    resolution_m: resolution,
-                    ..RasterOptions::default()
-                },
-            )
-            .with_context(|| {
-                format!(
-                    "rasterising {} at {} m a cell",
-                    path.display(),
-                    num(resolution)
-                )
-            })?;
-            (grid, false)
-        }
-        _ => bail!(
-            "{}: unknown map type; give a Moving AI .map, a ROS map .yaml or a vpmap map.json",
-            path.display()
-        ),
-    };
-    let robot_radius = robot_radius.unwrap_or(if ext == "json" {
-        DEFAULT_ROBOT_RADIUS_M
-    } else {
-        0.0
-    });
-    let radius = if in_cells {
-        robot_radius * grid.resolution_m()
-    } else {
-        robot_radius
-    };
-    let grid = grid.inflate(radius)?;
-    Ok(PlanningMap {
-        grid,
-        in_cells,
-        robot_radius,
-    })
-}
-
-/// Run one planner (through the library's [`Planner`] interface) and keep everything it
-/// found: the path, MBPP's alternatives and bugs (with their walked cells when
-/// `record_tracks`; that costs memory in proportion to the bugs' steps, so ask only when
-/// drawing them), within `limits`.
-pub fn run_planner(
-    kind: PlannerKind,
-    grid: &OccupancyGrid,
-    (start, goal): (CellXy, CellXy),
-    unknown_passable: bool,
-    record_tracks: bool,
-    limits: &Limits,
-) -> Result<Planned> {
-    let mut planner = kind
-        .planner(unknown_passable)
-        .with_tracks(record_tracks)
-        .with_budget(limits.budget.clone());
-    if let Some((max_bug_steps, max_alternatives)) = limits.mbpp {
-        planner = planner.with_mbpp_budget(max_bug_steps, max_alternatives);
-    }
-    Ok(planner.plan(grid, start, goal)?)
+    Ok(read_planning_map(path, robot_radius, resolution)?)
 }
 
 /// A planner's budget error, ending with the command-line flag that raises the budget.
@@ -299,11 +150,6 @@ pub(crate) fn name_the_flag(e: anyhow::Error) -> anyhow::Error {
     anyhow::anyhow!("{e:#} with {flag}")
 }
 
-/// MBPP's counters, for the MBPP planners only.
-fn mbpp_stats(kind: PlannerKind, planned: &Planned) -> Option<MbppStats> {
-    matches!(kind, PlannerKind::Mbpp | PlannerKind::MbppCloser).then_some(planned.mbpp_stats)
-}
-
 /// `count` followed by `noun`, with an `s` unless `count` is 1.
 fn counted(count: usize, noun: &str) -> String {
     if count == 1 {
@@ -318,8 +164,13 @@ pub fn run(args: &PlanArgs) -> Result<()> {
     let from = parse_point("--from", &args.from)?;
     let to = parse_point("--to", &args.to)?;
     let map = load_map(&args.map, args.robot_radius, args.resolution)?;
-    let start = map.endpoint("--from", from, args.unknown_passable)?;
-    let goal = map.endpoint("--to", to, args.unknown_passable)?;
+    let start = map.endpoint(
+        "--from",
+        from,
+        args.unknown_passable,
+        OptionNames::CommandLine,
+    )?;
+    let goal = map.endpoint("--to", to, args.unknown_passable, OptionNames::CommandLine)?;
     let began = Instant::now();
     let outcome = run_planner(
         args.planner,
@@ -338,7 +189,7 @@ pub fn run(args: &PlanArgs) -> Result<()> {
             },
         },
     )
-    .map_err(name_the_flag)?;
+    .map_err(|e| name_the_flag(e.into()))?;
     let seconds = began.elapsed().as_secs_f64();
     if let Some(svg_path) = &args.svg {
         let coordinates = if map.in_cells {
@@ -346,13 +197,12 @@ pub fn run(args: &PlanArgs) -> Result<()> {
         } else {
             GridCoordinates::World
         };
-        let title = format!(
-            "{} on {}",
-            planner_title(args.planner),
-            args.map.file_name().map_or_else(
+        let title = plan_title(
+            args.planner,
+            &args.map.file_name().map_or_else(
                 || args.map.display().to_string(),
-                |n| n.to_string_lossy().into_owned()
-            )
+                |n| n.to_string_lossy().into_owned(),
+            ),
         );
         write_file(
             svg_path,
@@ -365,61 +215,6 @@ pub fn run(args: &PlanArgs) -> Result<()> {
         println!("{}", plan_text(&map, args.planner, &outcome, seconds));
     }
     Ok(())
-}
-
-/// The `--json` answer: one object.
-fn plan_json(
-    map: &PlanningMap,
-    planner: PlannerKind,
-    outcome: &Planned,
-    seconds: f64,
-) -> serde_json::Value {
-    let scale = map.scale();
-    let plan = outcome.best.as_ref();
-    let waypoints =
-        |p: &Plan| -> Vec<[f64; 2]> { p.waypoints.iter().map(|c| map.coords(*c)).collect() };
-    let alternatives: Vec<serde_json::Value> = outcome
-        .alternatives
-        .iter()
-        .map(|p| serde_json::json!({ "length": p.length_cells * scale, "waypoints": waypoints(p) }))
-        .collect();
-    let mut stats = serde_json::Map::new();
-    if let Some(s) = mbpp_stats(planner, outcome) {
-        // MBPP's own counters are there even when no path was found.
-        for (key, value) in [
-            ("expanded", s.bug_steps),
-            ("generated", s.bugs),
-            ("los_checks", s.los_checks),
-            ("los_cells", s.los_cells),
-            ("bugs", s.bugs),
-            ("bug_steps", s.bug_steps),
-            ("hits", s.hits),
-            ("waits", s.waits),
-            ("replans", s.replans),
-        ] {
-            stats.insert(key.to_owned(), value.into());
-        }
-    } else {
-        let s = plan.map(|p| p.stats).unwrap_or_default();
-        for (key, value) in [
-            ("expanded", s.expanded),
-            ("generated", s.generated),
-            ("los_checks", s.los_checks),
-            ("los_cells", s.los_cells),
-        ] {
-            stats.insert(key.to_owned(), value.into());
-        }
-    }
-    stats.insert("time_s".to_owned(), seconds.into());
-    serde_json::json!({
-        "found": plan.is_some(),
-        "length": plan.map(|p| p.length_cells * scale),
-        "units": map.unit(),
-        "waypoints": plan.map(waypoints).unwrap_or_default(),
-        "planner": planner.name(),
-        "alternatives": alternatives,
-        "stats": stats,
-    })
 }
 
 /// The text answer: one line.
@@ -458,72 +253,6 @@ fn plan_text(map: &PlanningMap, planner: PlannerKind, outcome: &Planned, seconds
 #[cfg(test)]
 mod tests {
     use super::*;
-    use vpmap_plan::grid::Occupancy;
-
-    const BUDGET: &Limits = &Limits {
-        mbpp: None,
-        budget: Budget {
-            max_expansions: vpmap_plan::budget::DEFAULT_MAX_EXPANSIONS,
-            max_sight_cells: vpmap_plan::budget::DEFAULT_MAX_SIGHT_CELLS,
-            stop: Stop::new(),
-        },
-    };
-
-    #[test]
-    fn mbpp_tracks_are_recorded_only_when_asked() -> Result<()> {
-        // A wall across the straight line, open at both ends.
-        let mut grid = OccupancyGrid::new(6, 5, 1.0, [0.0; 2], Occupancy::Free)?;
-        for y in 1..4 {
-            grid.set(2, y, Occupancy::Occupied)?;
-        }
-        let (start, goal) = ((0, 2), (5, 2));
-        let quiet = run_planner(
-            PlannerKind::Mbpp,
-            &grid,
-            (start.into(), goal.into()),
-            false,
-            false,
-            BUDGET,
-        )?;
-        let drawn = run_planner(
-            PlannerKind::Mbpp,
-            &grid,
-            (start.into(), goal.into()),
-            false,
-            true,
-            BUDGET,
-        )?;
-        assert!(quiet.bugs.len() >= 2 && quiet.bugs.iter().all(|b| b.cells.is_empty()));
-        assert_eq!(drawn.bugs.len(), quiet.bugs.len());
-        assert_eq!(
-            drawn.bugs.first().and_then(|b| b.cells.first()),
-            Some(&CellXy::from(start))
-        );
-        assert!(drawn.bugs.iter().all(|b| !b.cells.is_empty()));
-        assert_eq!(drawn.best, quiet.best);
-        let best = run_planner(
-            PlannerKind::Mbpp,
-            &grid,
-            (start.into(), goal.into()),
-            false,
-            false,
-            BUDGET,
-        )?
-        .best;
-        assert_eq!(best, quiet.best);
-        assert!(best.is_some() && mbpp_stats(PlannerKind::Mbpp, &quiet).is_some());
-        let other = run_planner(
-            PlannerKind::ThetaStar,
-            &grid,
-            (start.into(), goal.into()),
-            false,
-            true,
-            BUDGET,
-        )?;
-        assert!(other.bugs.is_empty() && other.alternatives.is_empty());
-        assert!(mbpp_stats(PlannerKind::ThetaStar, &other).is_none());
-        Ok(())
-    }
 
     #[test]
     fn counts_and_text_read_well() {

@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use anyhow::{Context, Result, bail};
 use vpmap_metrology::synth::{Annotation, SynthOptions, VanishingPointForm, synthesize};
 
-use crate::num;
 use crate::output::write_file;
+use vpmap_pipeline::num;
 
 /// Arguments of `vpmap synth`.
 #[derive(clap::Args)]

@@ -18,6 +18,13 @@
 //! - [`publish`]: a report's section of a Markdown file such as `docs/results.md`, and the
 //!   description of the machine that measured it.
 //!
+//! # Modules
+//! Bottom-up, each using only those before it (inside a folder, the files before its
+//! `mod.rs`): `error`, [`progress`], [`stats`], [`output`], [`publish`];
+//! [`accuracy`] (`config`, `collect`, `files`, `report`, `plot`); [`bench`](mod@bench) (`maps`,
+//! `measure`, `results`, `summary`, `plots`, `report`); [`navigate`](mod@navigate) (`eval`);
+//! [`detection`] (`geom`, `horizon`, `results`, `report`).
+//!
 //! Each measurement is a function with an options struct; it returns its results and the files
 //! of its report and writes them all or nothing ([`output::OutputSet`]). Nothing here prints:
 //! progress goes through [`progress::Progress`], which the command line draws as a bar.

@@ -6,6 +6,35 @@ use std::path::{Path, PathBuf};
 
 use crate::error::{Result, ResultExt as _, bail};
 
+/// Fail early (before minutes of work) when the output folder `dir` cannot be created or
+/// written: its nearest existing ancestor must be a folder that accepts a file. Leaves
+/// nothing behind.
+///
+/// # Errors
+/// `cannot create output folder DIR: ANCESTOR is not a folder`, or `cannot write into output
+/// folder DIR` with the system's reason.
+pub fn check_writable_folder(dir: &Path) -> Result<()> {
+    let existing = dir
+        .ancestors()
+        .find(|a| a.as_os_str().is_empty() || a.exists())
+        .map_or_else(|| PathBuf::from("."), Path::to_path_buf);
+    let existing = if existing.as_os_str().is_empty() {
+        PathBuf::from(".")
+    } else {
+        existing
+    };
+    if !existing.is_dir() {
+        bail!(
+            "cannot create output folder {}: {} is not a folder",
+            dir.display(),
+            existing.display()
+        );
+    }
+    tempfile::tempfile_in(&existing)
+        .with_context(|| format!("cannot write into output folder {}", dir.display()))?;
+    Ok(())
+}
+
 /// Files to write into one folder, all or nothing.
 #[derive(Default)]
 pub struct OutputSet {

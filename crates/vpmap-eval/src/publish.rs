@@ -3,6 +3,7 @@
 
 use std::fmt::Write as _;
 use std::path::{Component, Path, PathBuf};
+use std::time::Duration;
 
 use crate::error::{Result, ResultExt as _, bail};
 use crate::output::write_file;
@@ -151,6 +152,19 @@ pub fn machine_description() -> String {
         "{model}, {cores} logical cores{memory}, {} {}",
         std::env::consts::OS,
         std::env::consts::ARCH
+    )
+}
+
+/// A published section titled `title`: where, when and how it was measured (`elapsed`,
+/// `command`), then `body`.
+#[must_use]
+pub fn published(title: &str, body: &str, elapsed: Duration, command: &str) -> String {
+    format!(
+        "## {title}\n\nMeasured on {}, {} (UTC), in {:.1} s, with\n\n    {}\n\n{body}",
+        machine_description(),
+        utc_date(),
+        elapsed.as_secs_f64(),
+        command
     )
 }
 

@@ -3,8 +3,9 @@
 
 use vpmap_plan::{CellXy, Occupancy, OccupancyGrid};
 
-use crate::options::BuildOption;
-use crate::{PipelineError, num};
+use crate::error::PipelineError;
+use crate::ranges::BuildOption;
+use crate::text::num;
 
 /// How a point's coordinates read.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

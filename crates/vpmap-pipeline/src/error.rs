@@ -1,18 +1,22 @@
 //! The one error type of this crate.
 
+use std::path::PathBuf;
+
 use thiserror::Error;
+use vpmap_files::FileError;
 use vpmap_metrology::MetrologyError;
 use vpmap_plan::PlanError;
 use vpmap_render::RenderError;
 
-use crate::options::BuildOption;
+use crate::ranges::BuildOption;
+use crate::text::num;
 
 /// Everything that can go wrong between a scene and its built map.
 #[derive(Debug, Error)]
 #[non_exhaustive]
 pub enum PipelineError {
     /// A build option is outside its range (see [`BuildOption::requirement`]).
-    #[error("{} is {}; it must be {}", option.key(), crate::num(*value), option.requirement())]
+    #[error("{} is {}; it must be {}", option.key(), num(*value), option.requirement())]
     OptionOutOfRange {
         /// Which option.
         option: BuildOption,
@@ -59,4 +63,63 @@ pub enum PipelineError {
         /// The method asked for.
         method: vpmap_metrology::reconstruct::Method,
     },
+    /// Scene text that does not start as a JSON object (`{ ... }`).
+    #[error("the scene is not a JSON object ({{ ... }})")]
+    SceneNotAnObject,
+    /// Scene text that is not JSON (with line and column).
+    #[error("the scene is not valid JSON: {0}")]
+    SceneJson(serde_json::Error),
+    /// JSON that is not a valid scene; the unknown fields found before are kept, so that a
+    /// caller can still show them.
+    #[error("{error}")]
+    InvalidScene {
+        /// Why the scene is invalid (naming the field and value).
+        error: MetrologyError,
+        /// One line per unknown field, as [`crate::scene::ParsedScene::warnings`].
+        warnings: Vec<String>,
+    },
+    /// A map file could not be read (missing, not a regular file, too large, not text).
+    #[error(transparent)]
+    File(FileError),
+    /// A `.json` map file that is not a vpmap `map.json`.
+    #[error("{}: not a vpmap map.json", path.display())]
+    NotAMap {
+        /// The file.
+        path: PathBuf,
+        /// Why it is not one.
+        source: MetrologyError,
+    },
+    /// A map file's floor map cannot be rasterised at the resolution asked for.
+    #[error("rasterising {} at {} m a cell", path.display(), num(*resolution))]
+    Rasterise {
+        /// The map file.
+        path: PathBuf,
+        /// The resolution asked for, metres a cell.
+        resolution: f64,
+        /// Why not.
+        source: PlanError,
+    },
+    /// A map file of a type vpmap does not read (by its extension).
+    #[error(
+        "{}: unknown map type; give a Moving AI .map, a ROS map .yaml or a vpmap map.json",
+        path.display()
+    )]
+    UnknownMapType {
+        /// The file.
+        path: PathBuf,
+    },
+    /// A `.json` file that is not a synthetic scene's truth.
+    #[error("{}: not a synthetic scene's truth", path.display())]
+    NotATruth {
+        /// The file.
+        path: PathBuf,
+        /// Why it is not one.
+        source: serde_json::Error,
+    },
+    /// A truth without a (finite) floor outline, which no grid can frame.
+    #[error("the truth has no floor outline to make a grid of")]
+    NoTruthFloor,
+    /// A planner refused its input, ran out of its budget or was stopped.
+    #[error(transparent)]
+    Plan(PlanError),
 }

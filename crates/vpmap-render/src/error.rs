@@ -77,4 +77,12 @@ pub enum RenderError {
     /// PNG encoding failed.
     #[error("cannot encode the PNG: {0}")]
     Png(String),
+    /// A step of drawing the detection overlay failed.
+    #[error("{step}: {reason}")]
+    Overlay {
+        /// What was being done, e.g. `encoding the overlay as PNG`.
+        step: &'static str,
+        /// Why it failed: the error's message and its causes.
+        reason: String,
+    },
 }

@@ -10,9 +10,10 @@ use std::fmt::Write as _;
 use vpmap_plan::Planned;
 use vpmap_plan::grid::{CellXy, Occupancy, OccupancyGrid};
 use vpmap_plan::mbpp::BugTrack;
+use vpmap_plan::planner::PlannerKind;
 
 use crate::metrics::text_width_px;
-use crate::{SVG_FROM_MAP_ATTRIBUTE, escape_xml, matrix_text};
+use crate::svg::{SVG_FROM_MAP_ATTRIBUTE, escape_xml, matrix_text};
 
 /// How the map coordinates of a plan read, for the picture's `data-svg-from-map` transform.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -98,6 +99,25 @@ const PAD_PX: f64 = 10.0;
 
 /// Start and goal marker radius, screen pixels (at least 0.4 cells).
 const MARKER_PX: f64 = 5.0;
+
+/// A planner's name as a plan picture's title writes it: `MBPP`, `A* PS`, `Theta*`, ...
+#[must_use]
+pub fn planner_title(kind: PlannerKind) -> &'static str {
+    match kind {
+        PlannerKind::Mbpp => "MBPP",
+        PlannerKind::MbppCloser => "MBPP (closer leave rule)",
+        PlannerKind::Astar => "A*",
+        PlannerKind::AstarPs => "A* PS",
+        PlannerKind::ThetaStar => "Theta*",
+        PlannerKind::Optimal => "Shortest any-angle path",
+    }
+}
+
+/// The title of a plan picture: `<planner> on <map_name>` (`vpmap plan --svg`).
+#[must_use]
+pub fn plan_title(kind: PlannerKind, map_name: &str) -> String {
+    format!("{} on {map_name}", planner_title(kind))
+}
 
 /// The grid (free cells white, occupied black, unknown grey; run-length rectangles per row),
 /// the path, start (green) and goal (blue), one SVG unit per cell, row 0 at the top, with a

@@ -7,7 +7,7 @@ use std::io::Cursor;
 use image::{DynamicImage, ImageDecoder, ImageFormat, ImageReader, Limits};
 
 use crate::error::{Result, VisionError};
-use crate::{MAX_SIDE_PX, MIN_SIDE_PX};
+use crate::prepare::{MAX_SIDE_PX, MIN_SIDE_PX};
 
 /// How large a photo [`decode_photo`] accepts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

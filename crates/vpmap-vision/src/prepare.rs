@@ -9,7 +9,8 @@
 
 use image::DynamicImage;
 
-use crate::{DetectOptions, Result, VisionError};
+use crate::detection::DetectOptions;
+use crate::error::{Result, VisionError};
 
 /// The smallest image side accepted, pixels.
 pub const MIN_SIDE_PX: u32 = 16;

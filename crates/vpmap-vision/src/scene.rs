@@ -26,7 +26,7 @@
 
 use std::f64::consts::FRAC_1_SQRT_2;
 
-use crate::Detection;
+use crate::detection::Detection;
 use nalgebra::Vector3;
 use vpmap_metrology::calibration::{Calibration, Perspective};
 use vpmap_metrology::map::calibrate;
@@ -38,6 +38,11 @@ pub const MAX_VANISHING_POINT_OFFSET_PX: f64 = 1e7;
 pub const MAX_LINES_PER_VANISHING_POINT: usize = 40;
 /// Shortest segment written as evidence, pixels.
 const MIN_LINE_LENGTH_PX: f64 = 2.0;
+/// A vanishing point resting on fewer segments than this is worth a warning
+/// ([`DetectedScene::thinly_supported`]).
+pub const FEW_SEGMENTS: usize = 6;
+/// The vanishing points' names in messages, in role order ([`DetectedScene::roles`]).
+pub const VP_NAMES: [&str; 3] = ["horizontal VP1", "horizontal VP2", "vertical VP3"];
 
 type Vec3 = Vector3<f64>;
 
@@ -61,6 +66,33 @@ pub struct DetectedScene {
     pub lines_written: [usize; 3],
     /// The largest angle any vanishing direction was turned by, degrees.
     pub adjusted_deg: f64,
+}
+
+impl DetectedScene {
+    /// The written vanishing points resting on fewer than [`FEW_SEGMENTS`] segments of `det`,
+    /// in role order: each one's name ([`VP_NAMES`]) and its number of segments.
+    #[must_use]
+    pub fn thinly_supported(&self, det: &Detection) -> Vec<(&'static str, usize)> {
+        self.roles
+            .iter()
+            .zip(VP_NAMES)
+            .filter_map(|(&i, name)| {
+                let n = det.vanishing_points.get(i)?.segments.len();
+                (n < FEW_SEGMENTS).then_some((name, n))
+            })
+            .collect()
+    }
+
+    /// Signed distance of the written horizon above the principal point the detector used
+    /// (`det`'s), pixels, perpendicular to the horizon; positive when the camera looks down.
+    #[must_use]
+    pub fn horizon_offset_px(&self, det: &Detection) -> f64 {
+        let cal = &self.calibration;
+        let [cx, cy] = det.intrinsics.principal_point_px;
+        cal.vanishing_points_px.first().map_or(0.0, |vp| {
+            (vp.x - cx) * cal.frame.up.x + (vp.y - cy) * cal.frame.up.y
+        })
+    }
 }
 
 /// Why a detection gives no scene.
@@ -320,7 +352,7 @@ pub fn detected_scene(det: &Detection) -> Result<DetectedScene, SceneError> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::{Intrinsics, Segment, VanishingPoint};
+    use crate::detection::{Intrinsics, Segment, VanishingPoint};
 
     fn detection(frame: [Vec3; 3], perspective: Perspective) -> Detection {
         let (f, c) = (800.0, [320.0, 240.0]);

@@ -13,8 +13,9 @@
 
 use image::DynamicImage;
 
+use crate::detection::{DetectOptions, Segment};
+use crate::error::Result;
 use crate::prepare::{self, WorkingImage};
-use crate::{DetectOptions, Result, Segment};
 
 /// LSD's standard working scale (the article's `S = 0.8`).
 pub const LSD_SCALE: f64 = 0.8;

@@ -32,7 +32,8 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 
-use crate::{Intrinsics, Perspective};
+use crate::detection::Intrinsics;
+use vpmap_metrology::calibration::Perspective;
 
 /// How to render a scene. `Default` gives a 640 x 480 colour photo at 25 degrees pitch.
 #[derive(Clone, Copy, Debug, PartialEq)]

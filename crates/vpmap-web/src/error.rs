@@ -91,8 +91,10 @@ impl std::error::Error for ApiError {}
 
 impl IntoResponse for ApiError {
     fn into_response(self) -> Response {
-        let mut response =
-            crate::json_response(self.status, &serde_json::json!({ "error": self.message }));
+        let mut response = crate::response::json_response(
+            self.status,
+            &serde_json::json!({ "error": self.message }),
+        );
         let headers = response.headers_mut();
         if let Some(seconds) = self.retry_after_s {
             headers.insert(header::RETRY_AFTER, HeaderValue::from(seconds));

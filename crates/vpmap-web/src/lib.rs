@@ -28,6 +28,13 @@
 //! away. [`serve_until_ctrl_c`] makes the allocator give freed memory back
 //! ([`return_freed_memory_promptly`]).
 //!
+//! # Modules
+//! Bottom-up, each using only those before it: `response` (JSON answers), `error`
+//! ([`ApiError`], [`WebError`]), `limits` ([`ServerLimits`], the slots), `memory`, `params`
+//! (query strings and bodies), `state` (what every request shares, blocking work), [`example`],
+//! `assets` (the page), `api` (inside: `answer`, `scene`, `plan`, `navigate`, `build`,
+//! `detect`, `fuzzing`, then its `mod.rs`); this file binds, guards and routes.
+//!
 //! # Example
 //! ```no_run
 //! # async fn run() -> Result<(), vpmap_web::WebError> {
@@ -45,14 +52,15 @@ pub mod example;
 mod limits;
 mod memory;
 mod params;
+mod response;
+mod state;
 
 #[doc(hidden)]
 pub use api::fuzzing;
 
 use std::future::Future;
 use std::net::{IpAddr, SocketAddr};
-use std::panic::AssertUnwindSafe;
-use std::sync::{Arc, OnceLock};
+use std::sync::Arc;
 
 use axum::Router;
 use axum::extract::{Request, State};
@@ -60,68 +68,19 @@ use axum::http::{HeaderValue, StatusCode, header};
 use axum::middleware::{self, Next};
 use axum::response::{IntoResponse, Response};
 use axum::routing::{get, post};
-use serde::Serialize;
 
 pub use error::{ApiError, WebError};
 pub use limits::ServerLimits;
-use limits::Slots;
 pub use memory::{MMAP_THRESHOLD_BYTES, return_freed_memory_promptly};
-
-/// Largest JSON body (`/api/build`, `/api/plan`), bytes.
-pub const MAX_JSON_BODY_BYTES: usize = 4 << 20;
-/// Largest image body (`/api/detect`), bytes.
-pub const MAX_IMAGE_BODY_BYTES: usize = 25_000_000;
-
-/// Where the server writes what its operator should know (internal errors); one line each.
-pub type Logger = Arc<dyn Fn(&str) + Send + Sync>;
+pub use params::{MAX_IMAGE_BODY_BYTES, MAX_JSON_BODY_BYTES};
+use state::AppState;
+pub use state::Logger;
 
 /// How to serve.
 #[derive(Clone, Default)]
 pub struct ServeOptions {
     /// Receives a line for every internal error (a bug); nothing is written without it.
     pub log: Option<Logger>,
-}
-
-/// Shared by every request.
-struct Shared {
-    log: Option<Logger>,
-    /// Bound to loopback: accept only loopback names in `Host`.
-    loopback_hosts_only: bool,
-    /// Timeouts and caps.
-    limits: ServerLimits,
-    /// Scenes built at once.
-    build_slots: Slots,
-    /// Plans computed at once.
-    plan_slots: Slots,
-    /// Photos decoded and analysed at once (each may take hundreds of megabytes).
-    detect_slots: Slots,
-    /// `/api/example`'s answer, made on first use.
-    example: OnceLock<Result<axum::body::Bytes, String>>,
-}
-
-/// The state handed to every handler.
-#[derive(Clone)]
-struct AppState(Arc<Shared>);
-
-impl AppState {
-    fn new(log: Option<Logger>, loopback_hosts_only: bool, limits: ServerLimits) -> Self {
-        let wait = limits.slot_wait;
-        Self(Arc::new(Shared {
-            log,
-            loopback_hosts_only,
-            build_slots: Slots::new("/api/build", limits.build_slots, wait),
-            plan_slots: Slots::new("/api/plan", limits.plan_slots, wait),
-            detect_slots: Slots::new("/api/detect", limits.detect_slots, wait),
-            limits,
-            example: OnceLock::new(),
-        }))
-    }
-
-    fn log(&self, line: &str) {
-        if let Some(log) = &self.0.log {
-            log(line);
-        }
-    }
 }
 
 /// A bound server, ready to [`serve`](Server::serve).
@@ -449,68 +408,10 @@ async fn guard(State(state): State<AppState>, request: Request, next: Next) -> R
     response
 }
 
-/// A JSON answer (`Cache-Control: no-store`).
-pub(crate) fn json_response(status: StatusCode, value: &impl Serialize) -> Response {
-    match serde_json::to_vec(value) {
-        Ok(body) => json_bytes_response(status, body.into()),
-        Err(e) => (
-            StatusCode::INTERNAL_SERVER_ERROR,
-            [(header::CONTENT_TYPE, "application/json")],
-            format!(
-                "{{\"error\": \"internal error: cannot write the answer as JSON: {}\"}}",
-                e.to_string().replace(['"', '\\'], "'")
-            ),
-        )
-            .into_response(),
-    }
-}
-
-/// A JSON answer from bytes already serialised.
-pub(crate) fn json_bytes_response(status: StatusCode, body: axum::body::Bytes) -> Response {
-    (
-        status,
-        [
-            (header::CONTENT_TYPE, "application/json"),
-            (header::CACHE_CONTROL, "no-store"),
-        ],
-        body,
-    )
-        .into_response()
-}
-
-/// Run `work` on a blocking thread; a panic there becomes a 500 [`ApiError`] and a log line.
-pub(crate) async fn run_blocking<T: Send + 'static>(
-    state: &AppState,
-    what: &'static str,
-    work: impl FnOnce() -> Result<T, ApiError> + Send + 'static,
-) -> Result<T, ApiError> {
-    let outcome =
-        tokio::task::spawn_blocking(move || std::panic::catch_unwind(AssertUnwindSafe(work))).await;
-    let message = match outcome {
-        Ok(Ok(result)) => return result,
-        Ok(Err(payload)) => panic_text(payload.as_ref()),
-        Err(join) => join.to_string(),
-    };
-    state.log(&format!("internal error in {what}: {message}"));
-    Err(ApiError::new(
-        StatusCode::INTERNAL_SERVER_ERROR,
-        format!("internal error in {what}: {message} (a bug in vpmap; please report it)"),
-    ))
-}
-
-fn panic_text(payload: &(dyn std::any::Any + Send)) -> String {
-    if let Some(s) = payload.downcast_ref::<&str>() {
-        (*s).to_owned()
-    } else if let Some(s) = payload.downcast_ref::<String>() {
-        s.clone()
-    } else {
-        "panic".to_owned()
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::state::run_blocking;
 
     #[test]
     fn loopback_host_names() {

@@ -7,7 +7,7 @@ use std::time::Duration;
 use axum::http::StatusCode;
 use tokio::sync::{OwnedSemaphorePermit, Semaphore};
 
-use crate::ApiError;
+use crate::error::ApiError;
 
 /// How long the server waits for clients and how much heavy work it takes on at once.
 /// Every value is documented in `docs/web-api.md`; [`Default`] is what `vpmap serve` uses.

@@ -6,7 +6,12 @@ use axum::body::{Body, Bytes};
 use axum::http::{HeaderMap, StatusCode, header};
 use http_body_util::BodyExt as _;
 
-use crate::ApiError;
+use crate::error::ApiError;
+
+/// Largest JSON body (`/api/build`, `/api/plan`), bytes.
+pub const MAX_JSON_BODY_BYTES: usize = 4 << 20;
+/// Largest image body (`/api/detect`), bytes.
+pub const MAX_IMAGE_BODY_BYTES: usize = 25_000_000;
 
 /// The parameters of a query string, each allowed once and only from `known`.
 pub struct Query {

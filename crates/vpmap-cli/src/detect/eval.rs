@@ -10,7 +10,7 @@ use vpmap_eval::detection::{DetectionOptions, Intrinsics, evaluate, find_pairs};
 use vpmap_vision::DetectOptions;
 use vpmap_vision::photo::PhotoLimits;
 
-use super::default_options;
+use super::options::{check_max_side, check_two_point_tolerance, default_options};
 
 /// Arguments of `vpmap eval-detect`.
 #[derive(clap::Args)]
@@ -44,8 +44,8 @@ pub fn run_eval_detect(args: &EvalDetectArgs) -> Result<()> {
     let _ = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
         .build_global();
-    super::check_max_side(args.max_side)?;
-    super::check_two_point_tolerance(args.two_point_tolerance)?;
+    check_max_side(args.max_side)?;
+    check_two_point_tolerance(args.two_point_tolerance)?;
     if args.limit == Some(0) {
         bail!("--limit must be at least 1");
     }
@@ -93,7 +93,7 @@ pub fn run_eval_detect(args: &EvalDetectArgs) -> Result<()> {
         println!("wrote {} in {}", names.join(", "), out.display());
     }
     if let Some(path) = &args.publish {
-        let section = report.published(&results, &crate::command_line());
+        let section = report.published(&results, &crate::output::command_line());
         vpmap_eval::publish::replace_section(path, "detect", &section)?;
         println!("published the summary into {}", path.display());
     }

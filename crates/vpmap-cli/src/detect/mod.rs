@@ -8,47 +8,28 @@
 //! labelled photos ([`eval`]).
 
 mod eval;
-mod overlay;
+mod options;
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
 use anyhow::{Context, Result, anyhow, bail};
-use image::DynamicImage;
 use vpmap_metrology::calibration::Perspective;
 use vpmap_vision::{DetectOptions, Detection, detect};
 
 pub use eval::{EvalDetectArgs, run_eval_detect};
 
-use crate::num;
 use crate::output::write_file;
-use overlay::{VP_COLOUR_NAMES, render_overlay};
+use options::{check_max_side, check_two_point_tolerance, default_options};
+use vpmap_pipeline::num;
+use vpmap_render::overlay::{VP_COLOUR_NAMES, detection_overlay_png};
 use vpmap_vision::photo::{PhotoLimits, decode_photo};
-use vpmap_vision::scene::{DetectedScene, detected_scene};
+use vpmap_vision::scene::{DetectedScene, VP_NAMES, detected_scene};
 
-/// Largest photo side accepted, pixels (the detector's limit).
-pub const MAX_PHOTO_SIDE_PX: u32 = vpmap_vision::MAX_SIDE_PX;
-/// Most pixels accepted (a 150-megapixel photo).
-pub const MAX_PHOTO_PIXELS: u64 = 150_000_000;
-/// Most memory the image decoder may allocate, bytes.
-const MAX_DECODE_BYTES: u64 = 2 << 30;
-/// Accepted `--max-side` values, pixels.
-const MAX_SIDE_RANGE: std::ops::RangeInclusive<u32> = 64..=8192;
-/// Accepted `--two-point-tolerance` values, degrees.
-const TOLERANCE_RANGE_DEG: std::ops::RangeInclusive<f64> = 0.0..=30.0;
 /// Accepted `--focal-px`, as multiples of the photo's longer side (fields of view from about
 /// 157 degrees down to 0.6 degree).
 const FOCAL_RANGE_SIDES: std::ops::RangeInclusive<f64> = 0.1..=100.0;
-
-/// A vanishing point resting on fewer segments than this is worth a warning.
-const FEW_SEGMENTS: usize = 6;
-/// The vanishing points' names in messages, in role order.
-const VP_NAMES: [&str; 3] = ["horizontal VP1", "horizontal VP2", "vertical VP3"];
-
-fn default_options() -> DetectOptions {
-    DetectOptions::default()
-}
 
 /// Arguments of `vpmap detect`.
 #[derive(clap::Args)]
@@ -89,12 +70,9 @@ pub use vpmap_vision::photo::Photo;
 /// One line naming the file and the problem.
 pub fn read_photo(path: &Path) -> Result<Photo> {
     let bytes = vpmap_files::read_bytes(path, vpmap_files::Format::Photo)?;
-    let limits = PhotoLimits {
-        max_side_px: MAX_PHOTO_SIDE_PX,
-        max_pixels: MAX_PHOTO_PIXELS,
-        max_decode_bytes: MAX_DECODE_BYTES,
-    };
-    decode_photo(&bytes, &limits).map_err(|e| anyhow!("{}: {e}", path.display()))
+    // The vision crate's limits: the detector's largest side, 150 megapixels, 2 GiB of
+    // decoder memory.
+    decode_photo(&bytes, &PhotoLimits::default()).map_err(|e| anyhow!("{}: {e}", path.display()))
 }
 
 /// `X,Y` as two finite numbers.
@@ -204,17 +182,6 @@ fn check_intrinsics(
     Ok(())
 }
 
-/// Run the detector, timing it.
-///
-/// # Errors
-/// The detector's error, as one line.
-pub fn run_detector(image: &DynamicImage, opts: &DetectOptions) -> (Result<Detection>, Duration) {
-    let started = Instant::now();
-    let result = detect(image, opts);
-    let elapsed = started.elapsed();
-    (result.map_err(|e| anyhow!("{e}")), elapsed)
-}
-
 /// `vpmap detect`.
 pub fn run_detect(args: &DetectArgs) -> Result<()> {
     let principal_point = check_args(args)?;
@@ -228,15 +195,18 @@ pub fn run_detect(args: &DetectArgs) -> Result<()> {
         two_point_tolerance_deg: args.two_point_tolerance,
         ..default_options()
     };
-    let (result, elapsed) = run_detector(&photo.image, &opts);
-    let det =
-        result.with_context(|| format!("no vanishing points found in {}", args.photo.display()))?;
+    let started = Instant::now();
+    let result = detect(&photo.image, &opts);
+    let elapsed = started.elapsed();
+    let det = result
+        .map_err(|e| anyhow!("{e}"))
+        .with_context(|| format!("no vanishing points found in {}", args.photo.display()))?;
     let scene = detected_scene(&det)
         .with_context(|| format!("no usable vanishing points in {}", args.photo.display()))?;
     let overlay = args
         .overlay
         .as_ref()
-        .map(|_| render_overlay(&photo.image, &det, &scene))
+        .map(|_| detection_overlay_png(&photo.image, &det, &scene))
         .transpose()?;
 
     if let (Some(path), Some(bytes)) = (&args.overlay, overlay) {
@@ -253,19 +223,13 @@ pub fn run_detect(args: &DetectArgs) -> Result<()> {
         "{}",
         wrap(&summary(args, &photo, &det, &scene, elapsed), 100)
     );
-    for (role, &vp) in scene.roles.iter().enumerate() {
-        let n = det.vanishing_points[vp].segments.len();
-        if n < FEW_SEGMENTS {
-            eprintln!(
-                "warning: {} rests on only {n} segments; check it{}",
-                VP_NAMES[role],
-                if args.overlay.is_some() {
-                    " in the overlay"
-                } else {
-                    " (--overlay draws them)"
-                }
-            );
-        }
+    for (name, n) in scene.thinly_supported(&det) {
+        let drawn = if args.overlay.is_some() {
+            " in the overlay"
+        } else {
+            " (--overlay draws them)"
+        };
+        eprintln!("warning: {name} rests on only {n} segments; check it{drawn}");
     }
     for w in &scene.calibration.warnings {
         eprintln!("warning: {w}");
@@ -279,16 +243,6 @@ fn point_text(p: Option<[f64; 2]>) -> String {
         Some([x, y]) => format!("({x:.3e}, {y:.3e})"),
         None => "at infinity".to_owned(),
     }
-}
-
-/// Signed distance of the written horizon above the principal point the detector used,
-/// pixels (perpendicular to the horizon; positive when the camera looks down).
-fn horizon_offset_px(det: &Detection, scene: &DetectedScene) -> f64 {
-    let cal = &scene.calibration;
-    let [cx, cy] = det.intrinsics.principal_point_px;
-    cal.vanishing_points_px.first().map_or(0.0, |vp| {
-        (vp.x - cx) * cal.frame.up.x + (vp.y - cy) * cal.frame.up.y
-    })
 }
 
 /// The one-paragraph summary `vpmap detect` prints.
@@ -343,8 +297,8 @@ fn summary(
             } else {
                 "their vanishing point too far to write".to_owned()
             },
-            horizon_offset_px(det, scene).abs(),
-            if horizon_offset_px(det, scene) >= 0.0 {
+            scene.horizon_offset_px(det).abs(),
+            if scene.horizon_offset_px(det) >= 0.0 {
                 "above"
             } else {
                 "below"
@@ -428,29 +382,4 @@ fn wrap(text: &str, width: usize) -> String {
         line_len += len;
     }
     out
-}
-
-/// `--two-point-tolerance` must be within [`TOLERANCE_RANGE_DEG`].
-pub(crate) fn check_two_point_tolerance(tolerance_deg: f64) -> Result<()> {
-    if !(tolerance_deg.is_finite() && TOLERANCE_RANGE_DEG.contains(&tolerance_deg)) {
-        bail!(
-            "--two-point-tolerance must be from {} to {} degrees, got {}",
-            TOLERANCE_RANGE_DEG.start(),
-            TOLERANCE_RANGE_DEG.end(),
-            num(tolerance_deg)
-        );
-    }
-    Ok(())
-}
-
-/// `--max-side` must be within [`MAX_SIDE_RANGE`].
-pub(crate) fn check_max_side(max_side: u32) -> Result<()> {
-    if !MAX_SIDE_RANGE.contains(&max_side) {
-        bail!(
-            "--max-side must be from {} to {} pixels, got {max_side}",
-            MAX_SIDE_RANGE.start(),
-            MAX_SIDE_RANGE.end(),
-        );
-    }
-    Ok(())
 }

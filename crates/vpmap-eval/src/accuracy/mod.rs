@@ -22,6 +22,9 @@
 //! the image of a 3D line in the vanishing direction in front of the true camera, their end
 //! points clicked with the same noise; [`vpmap_metrology::eval::VpEdges`]).
 
+pub mod collect;
+pub mod config;
+pub mod files;
 pub mod plot;
 pub mod report;
 
@@ -30,63 +33,15 @@ use std::path::Path;
 use std::time::Duration;
 
 use rayon::prelude::*;
-use vpmap_metrology::eval::{SETUPS, Setup, Trial, TrialOptions, VpEdges, run_trial_with};
-use vpmap_metrology::reconstruct::Method;
-use vpmap_metrology::synth::Annotation;
+use vpmap_metrology::eval::{Trial, TrialOptions, run_trial_with};
 
 use crate::error::Result;
 use crate::output::OutputSet;
 use crate::progress::Progress;
 use crate::publish::relative_link;
 
-pub use report::Collected;
-
-/// Trials per set-up by default: 200 scenes x about 4 objects per box of the plots; the
-/// whole default run (three methods) takes about half a minute on two cores (see the
-/// report's timing).
-pub const DEFAULT_TRIALS: u64 = 200;
-
-/// What to measure: the options of a map-accuracy run.
-#[derive(Clone, Debug)]
-pub struct Config {
-    /// Trials (random scenes) per set-up.
-    pub trials: u64,
-    /// The run's seed; the same seed and options give the same files.
-    pub seed: u64,
-    /// Noise levels (standard deviation of every annotated point), pixels, ascending.
-    pub sigmas: Vec<f64>,
-    /// Methods in the order given.
-    pub methods: Vec<Method>,
-    /// The set-ups, in table order.
-    pub setups: Vec<&'static Setup>,
-    /// The box plots' noise level, pixels; one of [`Self::sigmas`].
-    pub plot_sigma: f64,
-    /// The edges the vanishing points are fitted to.
-    pub vp_edges: VpEdges,
-}
-
-impl Default for Config {
-    /// `vpmap eval`'s defaults: 200 trials, seed 0, noise 0, 0.5, 1, 2 and 4 px, the three
-    /// methods (side view, projective, fit), the seventeen set-ups of [`SETUPS`], plots at
-    /// 1 px, the objects' own edges.
-    fn default() -> Self {
-        Self {
-            trials: DEFAULT_TRIALS,
-            seed: 0,
-            sigmas: vec![0.0, 0.5, 1.0, 2.0, 4.0],
-            methods: vec![Method::Sideview, Method::Projective, Method::Fit],
-            setups: SETUPS.iter().collect(),
-            plot_sigma: 1.0,
-            vp_edges: VpEdges::Objects,
-        }
-    }
-}
-
-/// Every trial of every chosen set-up, in (set-up, trial) order.
-pub struct Results {
-    /// Per chosen set-up (index into [`Config::setups`]), its trials in order.
-    pub trials: Vec<Vec<Trial>>,
-}
+pub use collect::Collected;
+pub use config::{Config, DEFAULT_TRIALS, Results, has_views, section_name, select_setups};
 
 /// Run every trial of every set-up, in parallel (rayon); one [`Progress::step`] per scene.
 pub fn run_trials(config: &Config, progress: &dyn Progress) -> Results {
@@ -122,26 +77,6 @@ pub fn run_trials(config: &Config, progress: &dyn Progress) -> Results {
     Results { trials }
 }
 
-/// Whether a run includes set-ups of the views real photos showed
-/// ([`vpmap_metrology::eval::VIEW_SETUPS`]: another annotation than the thesis's).
-#[must_use]
-pub fn has_views(setups: &[&Setup]) -> bool {
-    setups.iter().any(|s| s.annotation != Annotation::Thesis)
-}
-
-/// The section of a results file a run publishes into: `eval` for the objects' own
-/// vanishing-point edges, `eval-long-edges` for long edges, `eval-views` and
-/// `eval-views-long-edges` for runs with the views' set-ups, so they can stand side by side.
-#[must_use]
-pub fn section_name(vp_edges: &VpEdges, setups: &[&Setup]) -> &'static str {
-    match (vp_edges, has_views(setups)) {
-        (VpEdges::Objects, false) => "eval",
-        (VpEdges::Long(_), false) => "eval-long-edges",
-        (VpEdges::Objects, true) => "eval-views",
-        (VpEdges::Long(_), true) => "eval-views-long-edges",
-    }
-}
-
 /// A run's report: its summaries and its files.
 pub struct Report {
     /// The values and their summaries per method, noise level, set-up and metric.
@@ -159,11 +94,11 @@ pub struct Report {
 /// # Errors
 /// When a plot cannot be drawn or rendered, or the summary cannot be serialised.
 pub fn report(config: &Config, results: &Results) -> Result<Report> {
-    let collected = report::collect(config, results);
+    let collected = collect::collect(config, results);
     let mut files = OutputSet::default();
-    files.add("summary.json", report::summary_json(config, &collected)?);
-    files.add("objects.csv", report::objects_csv(config, results));
-    files.add("failures.csv", report::failures_csv(config, results));
+    files.add("summary.json", files::summary_json(config, &collected)?);
+    files.add("objects.csv", files::objects_csv(config, results));
+    files.add("failures.csv", files::failures_csv(config, results));
     let plots = plot::box_plots(config, &collected)?;
     let mut image_of = BTreeMap::new();
     for p in &plots {
@@ -213,7 +148,7 @@ impl Report {
             format!("{link}/")
         };
         let body = report::markdown(config, &self.collected, &self.image_of, &prefix);
-        report::published(report::title(config), &body, elapsed, command)
+        crate::publish::published(report::title(config), &body, elapsed, command)
     }
 
     /// A few lines for the console: per method and noise level, the centroid shift and the

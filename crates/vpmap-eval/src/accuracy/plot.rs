@@ -10,8 +10,8 @@ use rayon::prelude::*;
 use vpmap_metrology::calibration::Perspective;
 use vpmap_render::RenderError;
 
-use super::Config;
-use super::report::{Collected, DESCRIBED, Described, Group};
+use super::collect::{Collected, DESCRIBED, Described, Group};
+use super::config::Config;
 use crate::error::{EvalError, Result};
 use crate::stats::Summary;
 

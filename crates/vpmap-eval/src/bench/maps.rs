@@ -39,6 +39,14 @@ pub const UNSOLVABLE_PER_MAP: usize = 2;
 const CANDIDATES_PER_QUERY: usize = 20;
 
 /// The default benchmark: `(category, map under maps/, scenario file under scen/)`.
+///
+/// `crates/vpmap-plan/benches/planners.rs` has a similar table (`MAPS`, four of these maps)
+/// on purpose: they answer different questions. This one is the thesis's comparison (section
+/// 6.2), one to three maps in each of its kinds of environment, so that every category row of
+/// `vpmap bench`'s report and `docs/results.md` has maps behind it; the criterion bench keeps
+/// four mid-sized maps so that its per-commit timings of the planners' inner loops (our A*
+/// against `pathfinding::astar`) stay short and comparable across runs. Changing one must not
+/// change the other, and the plan crate cannot depend on this one.
 const DEFAULT_MAPS: [(&str, &str, &str); 18] = [
     (
         "free",

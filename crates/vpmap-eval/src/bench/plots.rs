@@ -9,8 +9,8 @@ use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use vpmap_plan::planner::PlannerKind;
 
-use super::Results;
-use super::report::{Summary, planner_label};
+use super::results::Results;
+use super::summary::{PlannerStats, Summary, planner_label};
 use crate::error::{EvalError, Result};
 
 /// One plot, named without its extension.
@@ -109,14 +109,13 @@ pub fn plots(results: &Results, summary: &Summary) -> Result<Vec<Plot>> {
         .iter()
         .map(|m| format!("{} ({})", m.map.name, m.map.category))
         .collect();
-    let column =
-        |f: &dyn Fn(&super::report::PlannerStats) -> Option<f64>| -> Vec<Vec<Option<f64>>> {
-            summary
-                .maps
-                .iter()
-                .map(|g| g.planners.iter().map(f).collect())
-                .collect()
-        };
+    let column = |f: &dyn Fn(&PlannerStats) -> Option<f64>| -> Vec<Vec<Option<f64>>> {
+        summary
+            .maps
+            .iter()
+            .map(|g| g.planners.iter().map(f).collect())
+            .collect()
+    };
     let mut out = vec![
         Plot {
             name: "runtime",

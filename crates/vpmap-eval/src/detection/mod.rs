@@ -24,6 +24,7 @@ use std::path::{Path, PathBuf};
 pub mod geom;
 pub mod horizon;
 pub mod report;
+pub mod results;
 
 use std::time::Instant;
 
@@ -38,6 +39,7 @@ use crate::output::OutputSet;
 use crate::progress::Progress;
 use geom::{Vec3, direction_of_pixel, line_angle_deg, normalize};
 use horizon::{Line, horizon_error, horizon_of_vertical, line_through};
+pub use results::{ImageResult, Intrinsics, Run, RunOk};
 
 /// How to run the detector on the photos.
 #[derive(Clone, Debug, Default)]
@@ -202,72 +204,6 @@ pub fn find_pairs(dir: &Path) -> Result<Vec<Pair>> {
         );
     }
     Ok(pairs)
-}
-
-/// With the true intrinsics given to the detector, or estimated by it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Intrinsics {
-    /// `--focal-px` and `--principal-point` from the label's `K`.
-    Given,
-    /// Estimated from the photo.
-    Estimated,
-}
-
-impl Intrinsics {
-    /// Both, in report order.
-    pub const BOTH: [Self; 2] = [Self::Given, Self::Estimated];
-
-    /// Key in the JSON report.
-    #[must_use]
-    pub fn key(self) -> &'static str {
-        match self {
-            Self::Given => "given_intrinsics",
-            Self::Estimated => "estimated_intrinsics",
-        }
-    }
-}
-
-/// One detection run on one photo.
-#[derive(Clone, Debug)]
-pub struct Run {
-    /// Wall time of `detect`, milliseconds (`None` when the photo could not be read).
-    pub time_ms: Option<f64>,
-    /// What came out, or why nothing did.
-    pub outcome: std::result::Result<RunOk, String>,
-}
-
-/// A successful run.
-#[derive(Clone, Debug)]
-pub struct RunOk {
-    /// Error of each labelled vanishing point (label order), degrees; `None`: not detected.
-    pub errors_deg: [Option<f64>; 3],
-    /// Focal length used, pixels.
-    pub focal_px: f64,
-    /// Relative focal error `|f - f_true| / f_true` (only when estimated).
-    pub focal_error: Option<f64>,
-    /// Principal point used, pixels.
-    pub principal_point_px: [f64; 2],
-    /// "2pp" or "3pp", as the detector judged it.
-    pub perspective: &'static str,
-    /// Segments found.
-    pub segments: usize,
-    /// The horizon error of the scene file written for the detection, image heights
-    /// ([`horizon::horizon_error`]) against [`Label::horizon`] and against
-    /// [`Label::horizon_of_horizontals`]; `None` when the detection gives no scene.
-    pub horizon_error: Option<[f64; 2]>,
-}
-
-/// One photo's two runs.
-#[derive(Clone, Debug)]
-pub struct ImageResult {
-    /// The file stem.
-    pub name: String,
-    /// `[width, height]`, pixels (`None` when unreadable).
-    pub size_px: Option<[u32; 2]>,
-    /// Which labelled vanishing point is the vertical one.
-    pub vertical: usize,
-    /// Runs in [`Intrinsics::BOTH`] order.
-    pub runs: [Run; 2],
 }
 
 /// The detected direction of one vanishing point through the intrinsics the detector used.

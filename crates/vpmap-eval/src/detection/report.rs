@@ -17,7 +17,7 @@ use crate::stats::{auc, fraction_at_most, quantile_of};
 use serde_json::json;
 
 use super::horizon::HORIZON_AUC_LIMIT;
-use super::{ImageResult, Intrinsics};
+use super::results::{ImageResult, Intrinsics};
 
 /// Thresholds of the "within" rows, degrees.
 pub const WITHIN_DEG: [f64; 4] = [1.0, 3.0, 5.0, 10.0];

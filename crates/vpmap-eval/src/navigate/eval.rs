@@ -326,6 +326,30 @@ pub fn eval_table(trials: &[NavTrial], opts: &NavEvalOptions, skipped: usize) ->
     md
 }
 
+/// The section of a results file (`docs/results.md`) the evaluation publishes into.
+pub const EVAL_SECTION: &str = "eval-navigate";
+
+/// The evaluation's published section: where, when and how it was measured (`elapsed`,
+/// `command`), what was driven (from `opts`), then its [`eval_table`].
+#[must_use]
+pub fn eval_published_section(
+    table: &str,
+    opts: &NavEvalOptions,
+    elapsed: std::time::Duration,
+    command: &str,
+) -> String {
+    crate::publish::published(
+        "What a map's error costs a robot (`vpmap eval --navigate`)",
+        &format!(
+            "{} synthetic rooms, each annotated at every noise level; each method's map (and the fitted map grown by its error bars) driven from the same start to the same goal, sensing the true room within {} m; excess travel over the true room's optima (reached drives). How the drive works: [navigation.md](navigation.md).\n\n{table}",
+            opts.scenes,
+            vpmap_pipeline::num(opts.sensor_range_m)
+        ),
+        elapsed,
+        command,
+    )
+}
+
 #[cfg(test)]
 #[allow(clippy::unwrap_used)]
 mod tests {

@@ -27,7 +27,48 @@ use crate::error::{EvalError, Result};
 use crate::output::OutputSet;
 use crate::progress::Progress;
 
-pub use eval::{NavEvalOptions, NavTrial, eval_table, run_eval};
+pub use eval::{
+    EVAL_SECTION, NavEvalOptions, NavTrial, eval_published_section, eval_table, run_eval,
+};
+
+/// The default maps of the benchmark, under the Moving AI folder's `maps/`: larger maps of
+/// several kinds.
+pub const DEFAULT_MAPS: [&str; 5] = [
+    "bg512/AR0500SR.map",
+    "random/random512-20-0.map",
+    "rooms/32room_000.map",
+    "mazes/maze512-32-0.map",
+    "da2/ht_chantry.map",
+];
+
+/// The section of a results file (`docs/results.md`) the benchmark publishes into.
+pub const SECTION: &str = "bench-navigate";
+
+/// [`DEFAULT_MAPS`] in the Moving AI folder ([`crate::bench::maps::movingai_dir`]).
+///
+/// # Errors
+/// When the Moving AI folder is not found (the message says where it was looked for).
+pub fn default_maps() -> std::result::Result<Vec<PathBuf>, String> {
+    let dir = crate::bench::maps::movingai_dir()?;
+    Ok(DEFAULT_MAPS
+        .iter()
+        .map(|m| dir.join("maps").join(m))
+        .collect())
+}
+
+/// The benchmark's published section: where, when and how it was measured (`elapsed`,
+/// `command`), then its [`table`].
+#[must_use]
+pub fn published_section(table: &str, elapsed: std::time::Duration, command: &str) -> String {
+    crate::publish::published(
+        "Unknown terrain: every online planner on the same episodes (`vpmap bench --navigate`)",
+        &format!(
+            "How the drive works and how to read this: [navigation.md](navigation.md).\n\n{table}"
+        ),
+        elapsed,
+        command,
+    )
+}
 
 /// Options of [`run`].
 #[derive(Clone, Debug)]

@@ -28,9 +28,9 @@ fn map_accuracy_summary() {
     };
     assert_eq!(config.setups.len(), 2);
     let results = accuracy::run_trials(&config, &Silent);
-    let collected = accuracy::report::collect(&config, &results);
+    let collected = accuracy::collect::collect(&config, &results);
     // SVG links, whether or not this machine has fonts for the PNGs.
-    let image_of: BTreeMap<&'static str, String> = accuracy::report::DESCRIBED
+    let image_of: BTreeMap<&'static str, String> = accuracy::collect::DESCRIBED
         .iter()
         .map(|d| (d.name, format!("box_{}.svg", d.name)))
         .collect();
@@ -95,7 +95,7 @@ fn bench_summary() {
         notes: vec!["generated maps only (test)".to_owned()],
     };
     fixed_timings(&mut results);
-    let summary = bench::report::Summary::compute(&results);
+    let summary = bench::summary::Summary::compute(&results);
     insta::assert_snapshot!(
         "bench_summary_md",
         bench::report::markdown(&results, &summary, "", "svg")

@@ -6,12 +6,14 @@ use std::fmt::Write as _;
 use vpmap_metrology::map::{FloorMap, MapPoint};
 use vpmap_metrology::reconstruct::ObjectKind;
 
-use super::labels::{Swatch, UnitNames, fmt_sd, has_ellipses};
-use super::layout::{Layout, fmt_num, grid_indices, polygon_path, ring_path};
-use super::{
-    FONT_FAMILY, FloorPlanStyle, HIDDEN_PATTERN_FILL, HIDDEN_PATTERN_ID, MAX_PX,
-    SVG_FROM_MAP_ATTRIBUTE, colour, escape_xml, matrix_text,
+use super::labels::fmt_sd;
+use super::layout::{Layout, polygon_path, ring_path};
+use super::legend::{Swatch, UnitNames, has_ellipses};
+use super::numbers::{fmt_num, grid_indices};
+use super::style::{
+    FONT_FAMILY, FloorPlanStyle, HIDDEN_PATTERN_FILL, HIDDEN_PATTERN_ID, MAX_PX, colour,
 };
+use super::xml::{SVG_FROM_MAP_ATTRIBUTE, escape_xml, matrix_text};
 use crate::geometry::is_finite;
 
 /// The XML declaration, the root element, title, description, clip path and patterns, and the paper.

@@ -10,135 +10,26 @@
 //! pixel) and the output byte-for-byte deterministic, which snapshot tests need. The `svg`
 //! crate would add a dependency without removing any of the layout work.
 
-//! The module is split by concern: `layout` places everything (the plot frame, the title
-//! band, the footer), `layers` draws back to front, `labels` holds the words (unit names,
-//! object labels and their placement, the legend's entries, the title).
+//! The module is split by concern, bottom-up (each file uses only those before it): `style`
+//! (the options, font, colours and limits), `xml` (escaping, the map-to-picture transform),
+//! `numbers` (grid steps and number formats), `legend` (unit names and the legend's entries),
+//! `layout` (where everything goes: the plot frame, the title band, the footer), `labels`
+//! (object labels and their placement, the title), `layers` (the drawing, back to front);
+//! this file puts them together.
 
-use vpmap_metrology::map::{FloorMap, MapPoint};
+use vpmap_metrology::map::FloorMap;
 
 mod labels;
 mod layers;
 mod layout;
+mod legend;
+mod numbers;
+mod style;
+mod xml;
 
-pub(crate) use layout::{decimals_for, fmt_num, grid_indices, grid_step};
-
-/// Font list of every text element. resvg needs `sans-serif` mapped to an installed family, see
-/// [`crate::svg_to_png`].
-pub const FONT_FAMILY: &str = "DejaVu Sans, sans-serif";
-
-/// Longest object name drawn in full; longer names are cut with an ellipsis.
-const MAX_NAME_CHARS: usize = 40;
-/// Largest pixel coordinate written.
-const MAX_PX: f64 = 1.0e6;
-/// Smallest font size, pixels, before text is cut instead of shrunk.
-const MIN_FONT_PX: f64 = 8.0;
-/// Id of the hatch pattern of the hidden floor (defined only when the map has some).
-const HIDDEN_PATTERN_ID: &str = "hidden-hatch";
-/// Legend text of the hidden floor.
-const HIDDEN_LEGEND: &str = "hidden from the camera";
-/// Paint of the hidden floor: the hatch pattern.
-const HIDDEN_PATTERN_FILL: &str = "url(#hidden-hatch)";
-
-/// Colours of the drawing (also used in the legend).
-mod colour {
-    pub const PAPER: &str = "#ffffff";
-    pub const PLOT: &str = "#fafafa";
-    pub const FREE_FILL: &str = "#dcefd7";
-    pub const FREE_STROKE: &str = "#8fbf85";
-    pub const HIDDEN_FILL: &str = "#e3e3e3";
-    pub const HIDDEN_HATCH: &str = "#8c8c8c";
-    pub const HIDDEN_STROKE: &str = "#9a9a9a";
-    pub const FLOOR: &str = "#333333";
-    pub const GRID: &str = "#9a9a9a";
-    /// The floor in view, opaque under the free space (so that free space shows
-    /// [`FREE_FILL`] itself and the legend's swatches match what is drawn).
-    pub const FOV_FILL: &str = "#fcf5e0";
-    pub const FOV_RAY: &str = "#b8860b";
-    pub const BOX_FILL: &str = "#a9cbe8";
-    pub const BOX_STROKE: &str = "#2f6690";
-    pub const FOOTPRINT_FILL: &str = "#f5c89a";
-    pub const FOOTPRINT_STROKE: &str = "#b5651d";
-    pub const CAMERA: &str = "#d62728";
-    pub const ELLIPSE: &str = "#c2185b";
-    pub const PATH: &str = "#6a3d9a";
-    pub const TEXT: &str = "#1a1a1a";
-    pub const MUTED: &str = "#555555";
-}
-
-/// The root element's attribute holding the transform from map coordinates (`+x` right,
-/// `+y` up, map units) to the SVG's user units, as six numbers `a b c d e f` in SVG
-/// `matrix()` order: `x_svg = a x + c y + e`, `y_svg = b x + d y + f`. Written on every
-/// floor plan ([`floor_plan_svg`]) and plan picture ([`crate::plan_svg()`]), so that a reader
-/// (the web page) places map points on the picture without fitting it.
-pub const SVG_FROM_MAP_ATTRIBUTE: &str = "data-svg-from-map";
-
-/// Six numbers separated by spaces, each in Rust's shortest round-trip form (`{}`), with no
-/// negative zero.
-#[must_use]
-pub fn matrix_text(m: [f64; 6]) -> String {
-    m.map(|v| format!("{}", v + 0.0)).join(" ")
-}
-
-/// Options of [`floor_plan_svg`].
-// The flags are independent layer switches, not a state machine.
-#[allow(clippy::struct_excessive_bools)]
-#[derive(Debug, Clone, PartialEq)]
-pub struct FloorPlanStyle {
-    /// Width of the picture, pixels (clamped to 200..=20000); the height follows the map.
-    pub width_px: u32,
-    /// First line of the title; `None` gives "Floor map".
-    pub title: Option<String>,
-    /// Draw the grid lines (1-2-5 steps, about 5 to 20 lines across the map).
-    pub show_grid: bool,
-    /// Label each object with its name and sizes.
-    pub show_labels: bool,
-    /// Draw the camera's horizontal field of view as a wedge from the station point.
-    pub show_field_of_view: bool,
-    /// Draw the legend next to the scale bar.
-    pub show_legend: bool,
-    /// Empty border around the map's bounds, as a fraction of their larger side.
-    pub margin_frac: f64,
-    /// A planned path to draw over the map (map coordinates), with its legend text; empty for
-    /// none.
-    pub path: Vec<MapPoint>,
-    /// Legend text of `path`, e.g. "path (A*, 9.16 m)".
-    pub path_label: String,
-}
-
-impl Default for FloorPlanStyle {
-    fn default() -> Self {
-        Self {
-            width_px: 1000,
-            title: None,
-            show_grid: true,
-            show_labels: true,
-            show_field_of_view: true,
-            show_legend: true,
-            margin_frac: 0.06,
-            path: Vec::new(),
-            path_label: String::new(),
-        }
-    }
-}
-
-/// Escape the five XML special characters and drop characters XML 1.0 forbids.
-#[must_use]
-pub fn escape_xml(text: &str) -> String {
-    let mut out = String::with_capacity(text.len());
-    for c in text.chars() {
-        match c {
-            '&' => out.push_str("&amp;"),
-            '<' => out.push_str("&lt;"),
-            '>' => out.push_str("&gt;"),
-            '"' => out.push_str("&quot;"),
-            '\'' => out.push_str("&apos;"),
-            '\t' | '\n' | '\r' => out.push(' '),
-            c if u32::from(c) < 0x20 || c == '\u{fffe}' || c == '\u{ffff}' => out.push('\u{fffd}'),
-            c => out.push(c),
-        }
-    }
-    out
-}
+pub(crate) use numbers::{decimals_for, fmt_num, grid_indices, grid_step};
+pub use style::{FONT_FAMILY, FloorPlanStyle};
+pub use xml::{SVG_FROM_MAP_ATTRIBUTE, escape_xml, matrix_text};
 
 ///
 /// Shows the free space (shaded, holes cut with `fill-rule="evenodd"`), the parts of it hidden
@@ -171,7 +62,7 @@ pub fn escape_xml(text: &str) -> String {
 /// `O(n + k²)` for `n` polygon corners and `k` objects (label placement).
 #[must_use]
 pub fn floor_plan_svg(map: &FloorMap, style: &FloorPlanStyle) -> String {
-    let u = labels::unit_names(map.units);
+    let u = legend::unit_names(map.units);
     let l = layout::layout(map, style, &u);
     let mut out = String::with_capacity(16 * 1024);
     layers::header(&mut out, style, &l, &u);
@@ -199,7 +90,9 @@ pub fn floor_plan_svg(map: &FloorMap, style: &FloorPlanStyle) -> String {
 #[cfg(test)]
 mod tests {
     use super::labels::{fit_text, fmt_sd, place_label};
-    use super::layout::{Frame, Rect, decimals_for, fmt_num, grid_step, nice_at_most};
+    use super::layout::{Frame, Rect};
+    use super::numbers::nice_at_most;
+    use super::style::MIN_FONT_PX;
     use super::*;
     use crate::metrics::text_width_px;
     use approx::assert_relative_eq;

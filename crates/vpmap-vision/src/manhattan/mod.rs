@@ -19,61 +19,25 @@
 
 mod lm;
 mod model;
+mod problem;
 mod refine;
 mod score;
 mod search;
 
-use nalgebra::{Matrix3, Vector3};
+use nalgebra::Vector3;
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 
-use crate::{Intrinsics, Result, Segment, VisionError};
-use model::{Frame, Normaliser, Seg};
+use crate::detection::{Intrinsics, Segment};
+use crate::error::{Result, VisionError};
+use model::{Frame, Normaliser, Seg, vertical_index};
+use problem::Problem;
+pub use problem::{
+    CAUCHY_SCALE_PX, FOCAL_PRIOR, FOCAL_PRIOR_SIGMA_REFINE, FOCAL_PRIOR_SIGMA_SEARCH,
+    INLIER_ANGLE_DEG, INLIER_DISTANCE_PX, MAX_SEGMENTS, MIN_SEGMENT_LENGTH_PX, MIN_SEGMENTS,
+    PRINCIPAL_POINT_MIN_TILT_DEG, PRINCIPAL_POINT_PRIOR_SIGMA, SCORE_TOLERANCE_DEG,
+};
 use refine::best_support;
-
-/// Segments shorter than this (working pixels) are not used for the estimation.
-pub const MIN_SEGMENT_LENGTH_PX: f64 = 12.0;
-/// At most this many (longest) segments are used for the estimation.
-pub const MAX_SEGMENTS: usize = 350;
-/// Fewer usable segments than this give [`VisionError::NotEnoughLines`].
-pub const MIN_SEGMENTS: usize = 8;
-/// Angle tolerance `tau` of the hypothesis score, degrees.
-pub const SCORE_TOLERANCE_DEG: f64 = 2.0;
-/// A segment supports a vanishing point when its endpoints are within this distance of the
-/// line through its midpoint and the point (working pixels)...
-pub const INLIER_DISTANCE_PX: f64 = 2.0;
-/// ...and its angle to that line is below this, degrees.
-pub const INLIER_ANGLE_DEG: f64 = 3.0;
-/// Scale of the Cauchy weights of the refinement, working pixels.
-pub const CAUCHY_SCALE_PX: f64 = 1.0;
-/// Prior focal length, in units of the image's longer side.
-pub const FOCAL_PRIOR: f64 = 1.0;
-/// Standard deviation of the focal-length prior in the search, natural log units.
-pub const FOCAL_PRIOR_SIGMA_SEARCH: f64 = 1.5;
-/// Standard deviation of the focal-length prior in the refinement, natural log units.
-pub const FOCAL_PRIOR_SIGMA_REFINE: f64 = 1.0;
-/// Standard deviation of the principal point's prior around the image centre, in units of
-/// the longer side.
-pub const PRINCIPAL_POINT_PRIOR_SIGMA: f64 = 0.1;
-/// The principal point is estimated only when the vertical direction is tilted from the image
-/// plane by at least this, degrees.
-pub const PRINCIPAL_POINT_MIN_TILT_DEG: f64 = 15.0;
-/// Focal-length search range, in units of the longer side.
-const FOCAL_RANGE: (f64, f64) = (0.3, 3.0);
-/// Ratio between neighbouring focal lengths of the search grid.
-const FOCAL_STEP: f64 = 1.06;
-/// Random segment pairs drawn for the first vanishing point.
-const PAIR_SAMPLES: usize = 400;
-/// First vanishing point candidates kept.
-const CANDIDATES: usize = 6;
-/// Bins of the 90-degree great-circle histogram.
-const CIRCLE_BINS: usize = 90;
-/// Hypotheses refined.
-const REFINED_HYPOTHESES: usize = 3;
-/// Assignment rounds of the refinement.
-const REFINE_ROUNDS: usize = 4;
-/// Levenberg-Marquardt iterations per round.
-const LM_ITERATIONS: usize = 10;
 
 /// What the estimation found, in input pixels.
 #[derive(Clone, Debug)]
@@ -86,15 +50,6 @@ pub(crate) struct Estimate {
     pub intrinsics: Intrinsics,
     /// Whether the principal point was estimated.
     pub principal_point_estimated: bool,
-}
-
-/// The inputs of the estimation that do not change during it.
-struct Problem<'a> {
-    segs: Vec<Seg>,
-    norm: Normaliser,
-    known_focal: Option<f64>,
-    known_pp: Option<[f64; 2]>,
-    all: &'a [Segment],
 }
 
 /// Estimate the Manhattan frame and the camera from `segments` (input pixels) of an image of
@@ -148,10 +103,6 @@ pub(crate) fn estimate(
 }
 
 impl Problem<'_> {
-    fn default_pp(&self) -> [f64; 2] {
-        self.known_pp.unwrap_or([0.0, 0.0])
-    }
-
     /// Order the directions, check their support and convert to pixels.
     fn finish(&self, frame: &Frame, pp_free: bool) -> Result<Estimate> {
         let vertical = vertical_index(&frame.rot);
@@ -205,16 +156,6 @@ impl Problem<'_> {
     }
 }
 
-/// The column closest to the image's y axis (largest `|d_y|`).
-pub(crate) fn vertical_index(rot: &Matrix3<f64>) -> usize {
-    (0..3)
-        .max_by(|&i, &j| {
-            let y = |k: usize| rot.get((1, k)).map_or(0.0, |v| v.abs());
-            y(i).total_cmp(&y(j))
-        })
-        .unwrap_or(2)
-}
-
 /// The sign with `z >= 0` (then `x >= 0`, then `y >= 0` when the earlier ones are zero).
 pub(crate) fn canonical_sign(d: Vector3<f64>) -> Vector3<f64> {
     const EPS: f64 = 1e-12;
@@ -231,6 +172,7 @@ pub(crate) fn canonical_sign(d: Vector3<f64>) -> Vector3<f64> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use nalgebra::Matrix3;
 
     #[test]
     fn the_vertical_is_the_direction_closest_to_the_image_y_axis() {

@@ -30,7 +30,7 @@
 
 use nalgebra::{Matrix3, Vector3};
 
-use crate::Segment;
+use crate::detection::Segment;
 
 /// A segment in normalised coordinates.
 #[derive(Clone, Copy, Debug)]
@@ -182,6 +182,16 @@ impl Frame {
     pub(super) fn vps(&self) -> [Vector3<f64>; 3] {
         [0, 1, 2].map(|k| self.cam.vp(&self.rot.column(k).into_owned()))
     }
+}
+
+/// The column closest to the image's y axis (largest `|d_y|`).
+pub(crate) fn vertical_index(rot: &Matrix3<f64>) -> usize {
+    (0..3)
+        .max_by(|&i, &j| {
+            let y = |k: usize| rot.get((1, k)).map_or(0.0, |v| v.abs());
+            y(i).total_cmp(&y(j))
+        })
+        .unwrap_or(2)
 }
 
 #[cfg(test)]

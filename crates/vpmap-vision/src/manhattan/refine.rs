@@ -20,11 +20,11 @@
 use nalgebra::{Rotation3, Vector3};
 
 use super::lm::levenberg_marquardt;
-use super::model::{Frame, Seg};
-use super::{
+use super::model::{Frame, Seg, vertical_index};
+use super::problem::{
     CAUCHY_SCALE_PX, FOCAL_PRIOR, FOCAL_PRIOR_SIGMA_REFINE, INLIER_ANGLE_DEG, INLIER_DISTANCE_PX,
     LM_ITERATIONS, PRINCIPAL_POINT_MIN_TILT_DEG, PRINCIPAL_POINT_PRIOR_SIGMA, Problem,
-    REFINE_ROUNDS, vertical_index,
+    REFINE_ROUNDS,
 };
 
 impl Problem<'_> {

@@ -4,7 +4,7 @@
 use nalgebra::Vector3;
 
 use super::model::Frame;
-use super::{FOCAL_PRIOR, FOCAL_PRIOR_SIGMA_SEARCH, Problem, SCORE_TOLERANCE_DEG};
+use super::problem::{FOCAL_PRIOR, FOCAL_PRIOR_SIGMA_SEARCH, Problem, SCORE_TOLERANCE_DEG};
 
 impl Problem<'_> {
     pub(super) fn sin2_tau() -> f64 {

@@ -23,7 +23,7 @@ use rand::RngExt;
 use rand_chacha::ChaCha8Rng;
 
 use super::model::{Camera, Frame};
-use super::{
+use super::problem::{
     CANDIDATES, CIRCLE_BINS, FOCAL_RANGE, FOCAL_STEP, PAIR_SAMPLES, Problem, REFINED_HYPOTHESES,
     SCORE_TOLERANCE_DEG,
 };

@@ -13,9 +13,11 @@ use serde::Serialize;
 use vpmap_metrology::map::{CameraReport, FloorMap};
 use vpmap_pipeline::{MapOptions, units_name};
 
+use super::answer::{elapsed_ms, respond, to_json};
 use super::scene::{map_options_from_query, pipeline_error, scene_from_text};
-use super::{elapsed_ms, respond, to_json};
-use crate::{ApiError, AppState, MAX_JSON_BODY_BYTES, params, run_blocking};
+use crate::error::ApiError;
+use crate::params::{self, MAX_JSON_BODY_BYTES};
+use crate::state::{AppState, run_blocking};
 
 #[derive(Serialize)]
 struct Occupancy {

@@ -12,10 +12,11 @@ use serde_json::value::RawValue;
 use vpmap_vision::photo::{Photo, PhotoLimits, decode_photo};
 use vpmap_vision::{DetectOptions, Detection, VisionError, detect as detect_photo};
 
-use super::{elapsed_ms, respond, to_json};
-use crate::params::{Query, parse_number, parse_point};
-use crate::{ApiError, AppState, MAX_IMAGE_BODY_BYTES, params, run_blocking};
-use vpmap_vision::scene::detected_scene;
+use super::answer::{elapsed_ms, respond, to_json};
+use crate::error::ApiError;
+use crate::params::{self, MAX_IMAGE_BODY_BYTES, Query, parse_number, parse_point};
+use crate::state::{AppState, run_blocking};
+use vpmap_vision::scene::{DetectedScene, detected_scene};
 
 /// Largest photo side, pixels.
 pub const MAX_PHOTO_SIDE_PX: u32 = 8000;
@@ -27,8 +28,6 @@ const FOCAL_RANGE_SIDES: std::ops::RangeInclusive<f64> = 0.1..=100.0;
 const TOLERANCE_RANGE_DEG: std::ops::RangeInclusive<f64> = 0.0..=30.0;
 /// Accepted `max_side`, pixels.
 const MAX_SIDE_RANGE: std::ops::RangeInclusive<f64> = 64.0..=8192.0;
-/// A vanishing point resting on fewer segments than this is worth a warning.
-const FEW_SEGMENTS: usize = 6;
 /// The query parameters `/api/detect` reads.
 const DETECT_QUERY: [&str; 4] = [
     "focal_px",
@@ -174,17 +173,13 @@ struct DetectResponse {
 }
 
 /// Warnings about a detection: thinly supported vanishing points, the calibration's notes.
-fn warnings(det: &Detection, roles: [usize; 3], calibration_warnings: &[String]) -> Vec<String> {
-    const NAMES: [&str; 3] = ["horizontal VP1", "horizontal VP2", "vertical VP3"];
-    let mut out: Vec<String> = roles
-        .iter()
-        .zip(NAMES)
-        .filter_map(|(&i, name)| {
-            let n = det.vanishing_points.get(i)?.segments.len();
-            (n < FEW_SEGMENTS).then(|| format!("{name} rests on only {n} segments; check it"))
-        })
+fn warnings(det: &Detection, scene: &DetectedScene) -> Vec<String> {
+    let mut out: Vec<String> = scene
+        .thinly_supported(det)
+        .into_iter()
+        .map(|(name, n)| format!("{name} rests on only {n} segments; check it"))
         .collect();
-    out.extend(calibration_warnings.iter().cloned());
+    out.extend(scene.calibration.warnings.iter().cloned());
     out
 }
 
@@ -238,7 +233,7 @@ fn detect_answer(bytes: &[u8], query: &DetectQuery) -> Result<Bytes, ApiError> {
         vertical_tilt_deg: det.vertical_tilt_deg,
         adjusted_deg: scene.adjusted_deg,
         reoriented: photo.reoriented,
-        warnings: warnings(&det, scene.roles, &scene.calibration.warnings),
+        warnings: warnings(&det, &scene),
         time_ms: elapsed_ms(started),
     };
     to_json(&answer)

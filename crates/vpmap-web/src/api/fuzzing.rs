@@ -9,7 +9,8 @@ use super::detect::DetectQuery;
 use super::navigate::checked_navigate_request;
 use super::plan::checked_plan_request;
 use super::scene::{MAX_GRID_CELLS, map_options_from_query, pipeline_error, scene_from_text};
-use crate::{ApiError, params};
+use crate::error::ApiError;
+use crate::params;
 
 /// The grid limit: the page's ([`MAX_GRID_CELLS`]) or `max_grid_cells`, whichever is smaller.
 fn capped(mut options: MapOptions, max_grid_cells: f64) -> MapOptions {

@@ -1,6 +1,7 @@
 //! The JSON endpoints. Each handler checks what it can cheaply, then does the work on a
-//! blocking thread ([`crate::run_blocking`]), serialising the answer there too.
+//! blocking thread (`crate::state::run_blocking`), serialising the answer there too.
 
+mod answer;
 mod build;
 mod detect;
 #[doc(hidden)]
@@ -12,7 +13,7 @@ mod scene;
 use axum::body::Bytes;
 use axum::extract::State;
 use axum::http::StatusCode;
-use axum::response::{IntoResponse, Response};
+use axum::response::Response;
 use base64::Engine as _;
 use base64::engine::general_purpose::STANDARD as BASE64;
 use serde::Serialize;
@@ -23,41 +24,10 @@ pub use detect::detect;
 pub use navigate::navigate_handler as navigate;
 pub use plan::plan;
 
+use crate::error::ApiError;
 use crate::example::{OFFICE_SCENE, OFFICE_TRUTH, office_photo_png};
-use crate::{ApiError, AppState, json_bytes_response, run_blocking};
-
-/// Milliseconds since `start`.
-fn elapsed_ms(start: std::time::Instant) -> f64 {
-    start.elapsed().as_secs_f64() * 1e3
-}
-
-/// A response, or the error as one.
-fn respond(result: Result<Bytes, ApiError>) -> Response {
-    match result {
-        Ok(body) => json_bytes_response(StatusCode::OK, body),
-        Err(e) => e.into_response(),
-    }
-}
-
-/// Serialise an answer (on the blocking thread that made it).
-fn to_json(value: &impl Serialize) -> Result<Bytes, ApiError> {
-    serde_json::to_vec(value).map(Bytes::from).map_err(|e| {
-        ApiError::new(
-            StatusCode::INTERNAL_SERVER_ERROR,
-            format!("internal error: cannot write the answer as JSON: {e}"),
-        )
-    })
-}
-
-/// JSON text compiled in, embedded as it is (key order kept).
-fn raw(text: &str) -> Result<Box<RawValue>, ApiError> {
-    RawValue::from_string(text.trim().to_owned()).map_err(|e| {
-        ApiError::new(
-            StatusCode::INTERNAL_SERVER_ERROR,
-            format!("internal error: a bundled JSON file does not parse: {e}"),
-        )
-    })
-}
+use crate::state::{AppState, run_blocking};
+use answer::{raw, respond, to_json};
 
 #[derive(Serialize)]
 struct PhotoInfo {

@@ -18,14 +18,16 @@ use vpmap_plan::navigate::{
 use vpmap_plan::raster::truth_grid;
 use vpmap_plan::{Budget, OccupancyGrid, Stop};
 
+use super::answer::{elapsed_ms, respond, to_json};
 use super::plan::{
     CancelOnDrop, CheckedPlan, PAGE_MAX_EXPANSIONS, PAGE_MAX_SIGHT_CELLS, checked_plan_request,
     json_body, world,
 };
 use super::scene::MAX_GRID_CELLS;
-use super::{elapsed_ms, respond, to_json};
+use crate::error::ApiError;
 use crate::example::OFFICE_TRUTH;
-use crate::{ApiError, AppState, params, run_blocking};
+use crate::params;
+use crate::state::{AppState, run_blocking};
 
 /// The sensor range when the request gives none, metres.
 pub const DEFAULT_SENSOR_RANGE_M: f64 = 2.0;

@@ -19,10 +19,11 @@ use vpmap_plan::plan::Plan;
 use vpmap_plan::planner::{Planner, PlannerKind};
 use vpmap_plan::{Budget, Stop};
 
+use super::answer::{elapsed_ms, respond, to_json};
 use super::scene::{MAX_GRID_CELLS, map_options, pipeline_error, scene_from_value};
-use super::{elapsed_ms, respond, to_json};
-use crate::params::Query;
-use crate::{ApiError, AppState, MAX_JSON_BODY_BYTES, params, run_blocking};
+use crate::error::ApiError;
+use crate::params::{self, MAX_JSON_BODY_BYTES, Query};
+use crate::state::{AppState, run_blocking};
 
 /// Most bug-track points returned in all (MBPP's tracks are cut beyond).
 pub const MAX_TRACK_POINTS: usize = 100_000;

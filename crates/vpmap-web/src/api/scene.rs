@@ -3,21 +3,14 @@
 
 use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::scene::Scene;
-use vpmap_pipeline::{MapOptions, PipelineError};
+use vpmap_pipeline::scene::unknown_field_warnings;
+use vpmap_pipeline::{MapOptions, ParsedScene, PipelineError};
 
-use crate::ApiError;
+use crate::error::ApiError;
 use crate::params::{Query, parse_number};
 
 /// Most cells in an occupancy grid (2000 x 2000).
 pub const MAX_GRID_CELLS: f64 = 4e6;
-
-/// A scene and the notes about it (unknown fields).
-pub struct ParsedScene {
-    /// The scene, validated.
-    pub scene: Scene,
-    /// One line per unknown field.
-    pub warnings: Vec<String>,
-}
 
 /// The query parameters `/api/build` reads.
 pub const BUILD_QUERY: [&str; 5] = [
@@ -111,32 +104,24 @@ pub fn pipeline_error(e: PipelineError) -> ApiError {
     }
 }
 
-/// Fields of a scene that vpmap does not read (often typos such as `scael`), as warnings.
-fn unknown_fields(value: &serde_json::Value) -> Vec<String> {
-    vpmap_metrology::scene::unknown_fields(value)
-        .into_iter()
-        .map(|field| format!("unknown field {field} is ignored (see docs/scene-format.md)"))
-        .collect()
-}
-
-/// A scene from JSON text (the body of `/api/build`).
+/// A scene from JSON text (the body of `/api/build`), read by the pipeline's one scene
+/// reader ([`vpmap_pipeline::parse_scene`]) in the page's words.
 ///
 /// # Errors
 /// Not a JSON object, malformed (with line and column), or an invalid scene (naming the field
 /// and value).
 pub fn scene_from_text(text: &str) -> Result<ParsedScene, ApiError> {
-    if !text.trim_start().starts_with('{') {
-        return Err(ApiError::bad_request(
+    vpmap_pipeline::parse_scene(text).map_err(|e| match e {
+        PipelineError::SceneNotAnObject => ApiError::bad_request(
             "the body is not a scene: it must be a JSON object ({ ... }), see docs/scene-format.md",
-        ));
-    }
-    let value: serde_json::Value = serde_json::from_str(text)
-        .map_err(|e| ApiError::bad_request(format!("the body is not valid JSON: {e}")))?;
-    let scene =
-        Scene::from_json_str(text).map_err(|e| ApiError::bad_request(format!("scene: {e}")))?;
-    Ok(ParsedScene {
-        scene,
-        warnings: unknown_fields(&value),
+        ),
+        PipelineError::SceneJson(e) => {
+            ApiError::bad_request(format!("the body is not valid JSON: {e}"))
+        }
+        PipelineError::InvalidScene { error, .. } => {
+            ApiError::bad_request(format!("scene: {error}"))
+        }
+        other => pipeline_error(other),
     })
 }
 
@@ -157,26 +142,13 @@ pub fn scene_from_value(value: &serde_json::Value) -> Result<ParsedScene, ApiErr
         .map_err(|e| ApiError::bad_request(format!("scene: {e}")))?;
     Ok(ParsedScene {
         scene,
-        warnings: unknown_fields(value),
+        warnings: unknown_field_warnings(value),
     })
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn unknown_fields_are_named() {
-        let v: serde_json::Value = serde_json::from_str(
-            r#"{"version": 1, "scael": {}, "objects": [{"name": "a", "heigth": 2}], "scale": {"meter": 1}}"#,
-        )
-        .unwrap_or_default();
-        let w = unknown_fields(&v);
-        assert_eq!(w.len(), 3, "{w:?}");
-        assert!(w[0].contains("\"scael\""));
-        assert!(w[1].contains("objects[0].\"heigth\""));
-        assert!(w[2].contains("scale.\"meter\""));
-    }
 
     #[test]
     fn parameters_are_range_checked() {

@@ -1,4 +1,5 @@
-//! `--overlay`: the photo with what was detected drawn on it.
+//! The detection overlay (`vpmap detect --overlay`): the photo with what was detected drawn
+//! on it, as PNG ([`detection_overlay_png`]).
 //!
 //! The photo is half desaturated so that the drawing stands out. Segments supporting the first
 //! horizontal vanishing point are red, the second green, the vertical blue, each drawn
@@ -11,15 +12,17 @@
 use std::fmt::Write as _;
 use std::io::Cursor;
 
-use anyhow::{Context, Result};
 use image::{DynamicImage, ImageFormat, Rgb, RgbImage};
 use imageproc::drawing::{
     draw_antialiased_line_segment_mut, draw_filled_circle_mut, draw_hollow_circle_mut,
 };
 use imageproc::pixelops::interpolate;
 use vpmap_vision::Detection;
+use vpmap_vision::scene::{DetectedScene, VP_NAMES};
 
-use vpmap_vision::scene::DetectedScene;
+use crate::error::RenderError;
+use crate::raster::svg_to_png;
+use crate::svg::{FONT_FAMILY, escape_xml};
 
 /// Colours of the two horizontal and the vertical vanishing point.
 pub const VP_COLOURS: [Rgb<u8>; 3] = [Rgb([235, 45, 45]), Rgb([40, 205, 60]), Rgb([40, 120, 255])];
@@ -30,22 +33,40 @@ const HORIZON: Rgb<u8> = Rgb([255, 215, 0]);
 const PRINCIPAL_POINT: Rgb<u8> = Rgb([255, 0, 255]);
 const OUTLINE: Rgb<u8> = Rgb([255, 255, 255]);
 
-/// The overlay as PNG bytes.
+/// An error's message followed by its sources', joined by `: `.
+fn chain_text(e: &dyn std::error::Error) -> String {
+    let mut text = e.to_string();
+    let mut source = e.source();
+    while let Some(s) = source {
+        text.push_str(": ");
+        text.push_str(&s.to_string());
+        source = s.source();
+    }
+    text
+}
+
+/// The overlay of a detection on its photo, as PNG bytes: the photo half desaturated, the
+/// segments coloured by vanishing point ([`VP_COLOURS`]; unassigned ones thin and grey), the
+/// horizon, the vanishing points inside the photo and the principal point, and a legend strip
+/// under the photo (whose pixels keep their coordinates).
 ///
 /// # Errors
-/// When PNG encoding fails.
-pub fn render_overlay(
+/// [`RenderError::Overlay`] when the legend cannot be drawn or the PNG encoded.
+pub fn detection_overlay_png(
     photo: &DynamicImage,
     det: &Detection,
     scene: &DetectedScene,
-) -> Result<Vec<u8>> {
+) -> Result<Vec<u8>, RenderError> {
     let mut canvas = desaturated(photo);
     let (w, h) = canvas.dimensions();
     let thickness = (w.max(h) / 500).clamp(2, 12);
 
     let mut role_of = vec![None; det.segments.len()];
     for (role, &vp) in scene.roles.iter().enumerate() {
-        for &s in &det.vanishing_points[vp].segments {
+        let Some(point) = det.vanishing_points.get(vp) else {
+            continue;
+        };
+        for &s in &point.segments {
             if let Some(slot) = role_of.get_mut(s) {
                 *slot = Some(role);
             }
@@ -57,14 +78,8 @@ pub fn render_overlay(
         }
     }
     for (seg, role) in det.segments.iter().zip(&role_of) {
-        if let Some(r) = role {
-            draw_thick_segment(
-                &mut canvas,
-                seg.start_px,
-                seg.end_px,
-                thickness,
-                VP_COLOURS[*r],
-            );
+        if let Some(&colour) = role.and_then(|r| VP_COLOURS.get(r)) {
+            draw_thick_segment(&mut canvas, seg.start_px, seg.end_px, thickness, colour);
         }
     }
 
@@ -78,13 +93,13 @@ pub fn render_overlay(
     }
 
     let radius = 2 * thickness as i32 + 2;
-    for (role, p) in scene.points_px.iter().enumerate() {
+    for (p, &colour) in scene.points_px.iter().zip(&VP_COLOURS) {
         if let Some(p) = p
             && inside(*p, w, h)
         {
             let centre = (p[0].round() as i32, p[1].round() as i32);
             draw_filled_circle_mut(&mut canvas, centre, radius + 1, OUTLINE);
-            draw_filled_circle_mut(&mut canvas, centre, radius, VP_COLOURS[role]);
+            draw_filled_circle_mut(&mut canvas, centre, radius, colour);
         }
     }
     if inside(c, w, h) {
@@ -118,7 +133,10 @@ pub fn render_overlay(
     let mut bytes = Vec::new();
     DynamicImage::ImageRgb8(canvas)
         .write_to(&mut Cursor::new(&mut bytes), ImageFormat::Png)
-        .context("encoding the overlay as PNG")?;
+        .map_err(|e| RenderError::Overlay {
+            step: "encoding the overlay as PNG",
+            reason: chain_text(&e),
+        })?;
     Ok(bytes)
 }
 
@@ -140,7 +158,7 @@ enum Symbol {
 /// The legend's SVG for a photo `width` pixels wide, and its height in pixels: one row per
 /// fitting run of entries, text about 1/70 of the width (11 to 28 px).
 fn legend_svg(width: u32, thickness: u32) -> (String, u32) {
-    let names = super::VP_NAMES;
+    let names = VP_NAMES;
     let entries: [(Symbol, String); 7] = [
         (
             Symbol::Line(VP_COLOURS[0], thickness),
@@ -184,8 +202,7 @@ fn legend_svg(width: u32, thickness: u32) -> (String, u32) {
     let height = (2.0 * pad + f64::from(row + 1) * row_h).ceil() as u32;
     let t = f64::from(thickness);
     let mut svg = format!(
-        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" font-family="{}" font-size="{font:.1}"><rect width="{width}" height="{height}" fill="#ffffff"/>"##,
-        vpmap_render::svg::FONT_FAMILY
+        r##"<svg xmlns="http://www.w3.org/2000/svg" width="{width}" height="{height}" font-family="{FONT_FAMILY}" font-size="{font:.1}"><rect width="{width}" height="{height}" fill="#ffffff"/>"##
     );
     for (sym, label, x, row) in placed {
         let y = pad + (f64::from(row) + 0.5) * row_h;
@@ -228,7 +245,7 @@ fn legend_svg(width: u32, thickness: u32) -> (String, u32) {
             r##"<text x="{:.1}" y="{:.1}" fill="#1a1a1a">{}</text>"##,
             x + symbol + gap,
             y + 0.35 * font,
-            vpmap_render::escape_xml(&label)
+            escape_xml(&label)
         );
     }
     svg.push_str("</svg>\n");
@@ -236,12 +253,18 @@ fn legend_svg(width: u32, thickness: u32) -> (String, u32) {
 }
 
 /// The drawing with the legend strip under it: the photo's pixels keep their coordinates.
-fn with_legend(drawing: &RgbImage, thickness: u32) -> Result<RgbImage> {
+fn with_legend(drawing: &RgbImage, thickness: u32) -> Result<RgbImage, RenderError> {
     let (w, h) = drawing.dimensions();
     let (svg, strip_h) = legend_svg(w, thickness);
-    let png = vpmap_render::svg_to_png(&svg).context("drawing the overlay's legend")?;
+    let png = svg_to_png(&svg).map_err(|e| RenderError::Overlay {
+        step: "drawing the overlay's legend",
+        reason: chain_text(&e),
+    })?;
     let strip = image::load_from_memory_with_format(&png, ImageFormat::Png)
-        .context("reading the overlay's legend")?
+        .map_err(|e| RenderError::Overlay {
+            step: "reading the overlay's legend",
+            reason: chain_text(&e),
+        })?
         .to_rgb8();
     let mut out = RgbImage::from_pixel(w, h + strip_h, OUTLINE);
     image::imageops::replace(&mut out, drawing, 0, 0);

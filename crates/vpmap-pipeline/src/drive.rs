@@ -1,0 +1,185 @@
+//! What `vpmap navigate` needs besides the drive itself: a synthetic scene's truth read from
+//! its file ([`is_truth_file`], [`read_truth`]), an empty grid framing it ([`truth_frame`], for a drive that
+//! starts knowing nothing), and the drive's report file, `navigate.json` ([`navigate_json`];
+//! format in docs/navigation.md).
+
+use std::path::Path;
+
+use vpmap_metrology::synth::Truth;
+use vpmap_plan::grid::{CellXy, Occupancy, OccupancyGrid};
+use vpmap_plan::navigate::{Navigation, OnlinePlanner, Outcome, TruthOptimum};
+
+use crate::error::PipelineError;
+use crate::ranges::BuildOption;
+
+/// Whether `path` names a synthetic scene's truth: its file name ends in `.truth.json` (any
+/// case), as `vpmap synth` writes it.
+#[must_use]
+pub fn is_truth_file(path: &Path) -> bool {
+    path.file_name().is_some_and(|n| {
+        n.to_string_lossy()
+            .to_ascii_lowercase()
+            .ends_with(".truth.json")
+    })
+}
+
+/// A synthetic scene's truth (`*.truth.json`, as `vpmap synth` writes it).
+///
+/// # Errors
+/// [`PipelineError::File`] when the file cannot be read, [`PipelineError::NotATruth`] when it
+/// is not a truth.
+pub fn read_truth(path: &Path) -> Result<Truth, PipelineError> {
+    let text =
+        vpmap_files::read_text(path, vpmap_files::Format::Map).map_err(PipelineError::File)?;
+    serde_json::from_str(&text).map_err(|source| PipelineError::NotATruth {
+        path: path.to_path_buf(),
+        source,
+    })
+}
+
+/// An all-unknown grid of cells of `resolution_m` around a truth's floor outline, one cell of
+/// border on every side.
+///
+/// # Errors
+/// [`PipelineError::NoTruthFloor`] when the truth has no finite floor outline,
+/// [`PipelineError::OptionOutOfRange`] for [`BuildOption::Resolution`] when `resolution_m`
+/// is not a positive number, and [`PipelineError::Grid`] for a grid too large to make.
+pub fn truth_frame(truth: &Truth, resolution_m: f64) -> Result<OccupancyGrid, PipelineError> {
+    let (mut lo, mut hi) = ([f64::INFINITY; 2], [f64::NEG_INFINITY; 2]);
+    for p in &truth.floor {
+        for ((l, h), v) in lo.iter_mut().zip(hi.iter_mut()).zip(p) {
+            *l = l.min(*v);
+            *h = h.max(*v);
+        }
+    }
+    if !(lo.iter().chain(&hi).all(|v| v.is_finite())) {
+        return Err(PipelineError::NoTruthFloor);
+    }
+    if !(resolution_m.is_finite() && resolution_m > 0.0) {
+        return Err(PipelineError::OptionOutOfRange {
+            option: BuildOption::Resolution,
+            value: resolution_m,
+        });
+    }
+    let cells = |l: f64, h: f64| ((h - l) / resolution_m).ceil().max(1.0) as usize + 2;
+    OccupancyGrid::new(
+        cells(lo[0], hi[0]),
+        cells(lo[1], hi[1]),
+        resolution_m,
+        [lo[0] - resolution_m, lo[1] - resolution_m],
+        Occupancy::Unknown,
+    )
+    .map_err(PipelineError::Grid)
+}
+
+/// What a drive's report says besides the drive: who drove, how, in which units.
+#[derive(Debug, Clone, Copy)]
+pub struct DriveReport<'a> {
+    /// The drive.
+    pub run: &'a Navigation,
+    /// The true map's optima between the same start and goal.
+    pub optimum: &'a TruthOptimum,
+    /// The online planner.
+    pub planner: OnlinePlanner,
+    /// Unknown cells were believed free.
+    pub unknown_passable: bool,
+    /// The sensor's range, cells.
+    pub sensor_range_cells: f64,
+    /// Map units per cell.
+    pub scale: f64,
+    /// The map's unit: `m` or `cells`.
+    pub unit: &'a str,
+}
+
+/// `navigate.json` (format in docs/navigation.md); `coords` gives a cell's place in the map's
+/// coordinates.
+#[must_use]
+pub fn navigate_json(
+    report: &DriveReport<'_>,
+    coords: &dyn Fn(CellXy) -> [f64; 2],
+) -> serde_json::Value {
+    let DriveReport {
+        run,
+        optimum,
+        planner,
+        unknown_passable,
+        sensor_range_cells,
+        scale,
+        unit,
+    } = *report;
+    let events: Vec<serde_json::Value> = run
+        .events
+        .iter()
+        .map(|e| {
+            serde_json::json!({
+                "moves": e.moves,
+                "cell": [e.cell.x, e.cell.y],
+                "at": coords(e.cell),
+                "reason": e.reason.as_str(),
+                "time_s": e.time_s,
+                "expanded": e.expanded,
+                "planned_length": e.planned_length_cells.map(|l| l * scale),
+                "used_alternative": e.used_alternative,
+                "doubted_cells": e.doubted_cells,
+            })
+        })
+        .collect();
+    let excess = |opt: Option<f64>| opt.filter(|&o| o > 0.0).map(|o| run.length_cells / o - 1.0);
+    serde_json::json!({
+        "version": 1,
+        "planner": planner.name(),
+        "units": unit,
+        "sensor_range_cells": sensor_range_cells,
+        "unknown_passable": unknown_passable,
+        "outcome": run.outcome.as_str(),
+        "reached": run.outcome == Outcome::Reached,
+        "moves": run.moves,
+        "length": run.length_cells * scale,
+        "length_cells": run.length_cells,
+        "length_m": if unit == "m" { Some(run.length_cells * scale) } else { None },
+        "optimum_octile": optimum.octile_cells.map(|l| l * scale),
+        "optimum_any_angle": optimum.any_angle_cells.map(|l| l * scale),
+        "excess_over_octile": excess(optimum.octile_cells),
+        "excess_over_any_angle": excess(optimum.any_angle_cells),
+        "replans": run.events.len().saturating_sub(1),
+        "planning_time_s": run.planning_time_s,
+        "expanded": run.expanded,
+        "waypoints": run.waypoints.iter().map(|&c| coords(c)).collect::<Vec<_>>(),
+        "cells": run.cells.iter().map(|c| [c.x, c.y]).collect::<Vec<_>>(),
+        "events": events,
+        "seen_cells": run.belief.seen.iter().filter(|&&s| s).count(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use vpmap_metrology::synth::{SynthOptions, synthesize};
+
+    #[test]
+    fn a_truth_frame_holds_the_floor_with_a_cell_to_spare() {
+        let (_, truth) = synthesize(&SynthOptions::default()).unwrap();
+        let grid = truth_frame(&truth, 0.1).unwrap();
+        let o = grid.origin_m();
+        for p in &truth.floor {
+            assert!(
+                p[0] > o[0] + 0.1 - 1e-9 && p[1] > o[1] + 0.1 - 1e-9,
+                "{p:?}"
+            );
+            assert!(p[0] < o[0] + 0.1 * (grid.width() - 1) as f64 + 1e-9);
+            assert!(p[1] < o[1] + 0.1 * (grid.height() - 1) as f64 + 1e-9);
+        }
+        assert_eq!(grid.counts().2, grid.width() * grid.height());
+        assert!(truth_frame(&truth, 0.0).is_err());
+        let empty = Truth {
+            floor: Vec::new(),
+            ..truth
+        };
+        assert!(matches!(
+            truth_frame(&empty, 0.1),
+            Err(PipelineError::NoTruthFloor)
+        ));
+        assert!(is_truth_file(Path::new("out/Office.Truth.JSON")));
+        assert!(!is_truth_file(Path::new("out/map.json")));
+    }
+}

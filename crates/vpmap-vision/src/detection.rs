@@ -1,0 +1,113 @@
+//! What detection takes and gives: [`Segment`], [`Intrinsics`], [`VanishingPoint`],
+//! [`Detection`] and the options [`DetectOptions`].
+
+use vpmap_metrology::calibration::Perspective;
+
+/// A line segment in the image, pixels: origin at the top-left corner of the top-left pixel
+/// (pixel centres at `i + 0.5`), `x` right, `y` down, as in `docs/scene-format.md`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Segment {
+    /// One end, pixels `[x, y]` (x right, y down).
+    pub start_px: [f64; 2],
+    /// The other end, pixels.
+    pub end_px: [f64; 2],
+    /// Detector-specific strength (higher is more certain), e.g. `-log10(NFA)` for LSD.
+    pub strength: f64,
+}
+
+/// Camera intrinsics: square pixels, no skew.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Intrinsics {
+    /// Focal length, pixels.
+    pub focal_px: f64,
+    /// Principal point, pixels `[x, y]`.
+    pub principal_point_px: [f64; 2],
+}
+
+/// One detected vanishing point.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VanishingPoint {
+    /// The point in the image, pixels (may be far outside the image; `None` only when the
+    /// direction is exactly parallel to the image plane, i.e. the point is at infinity). A
+    /// photo judged two-point perspective still has its measured, far, vertical point here.
+    pub point_px: Option<[f64; 2]>,
+    /// The unit direction in the camera frame (x right, y down, z forward), sign chosen with
+    /// z >= 0 (x >= 0 when z = 0). It vanishes at `K d`:
+    /// `point_px = principal_point + focal * (d_x / d_z, d_y / d_z)`.
+    pub direction_camera: [f64; 3],
+    /// Indices into [`Detection::segments`] of the segments that support it.
+    pub segments: Vec<usize>,
+    /// Whether this is the vertical direction.
+    pub vertical: bool,
+}
+
+/// What [`detect`](crate::detect) found.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Detection {
+    /// Image size, pixels `[width, height]` (of the input, not of any internal downscale).
+    pub image_size_px: [u32; 2],
+    /// Every line segment found, in input-image pixels.
+    pub segments: Vec<Segment>,
+    /// The three Manhattan vanishing points: the two horizontal ones first, then the
+    /// vertical one.
+    pub vanishing_points: Vec<VanishingPoint>,
+    /// The intrinsics used or estimated.
+    pub intrinsics: Intrinsics,
+    /// Whether the focal length was estimated (not given).
+    pub focal_estimated: bool,
+    /// Whether the principal point was estimated (not given).
+    pub principal_point_estimated: bool,
+    /// Two- or three-point perspective, from the vertical direction's tilt:
+    /// [`Perspective::TwoPoint`] when it is tilted from the image plane by less than
+    /// [`DetectOptions::two_point_tolerance_deg`] (its vanishing point far towards infinity, and
+    /// left out of the scene file), [`Perspective::ThreePoint`] otherwise. A report, not a
+    /// correction: the directions are the measured ones either way (see [`scene`](crate::scene), which also
+    /// writes a two-point scene when the vertical point is out of reach).
+    pub perspective: Perspective,
+    /// Angle between the vertical direction and the image plane, degrees: the absolute
+    /// camera pitch (whatever the roll).
+    pub vertical_tilt_deg: f64,
+}
+
+/// Options of [`detect`](crate::detect).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DetectOptions {
+    /// Known focal length, pixels (default: estimate it, between 0.3 and 3 times the
+    /// image's longer side, i.e. horizontal fields of view of about 160 to 19 degrees).
+    pub focal_px: Option<f64>,
+    /// Known principal point, pixels (default: estimate it in clear three-point perspective,
+    /// with a weak prior at the image centre; the image centre otherwise, since there the
+    /// vanishing points do not fix it: see [`detect`](crate::detect)).
+    pub principal_point_px: Option<[f64; 2]>,
+    /// The image is downscaled internally (area average) so that its longer side is at most
+    /// this (default 640, at least 64); results are in input pixels. Larger values keep
+    /// finer edges of big photos at a cost linear in the pixel count.
+    pub max_side_px: u32,
+    /// A vertical direction tilted by less than this from the image plane makes the photo
+    /// two-point perspective, degrees (default 0: never, the measured vertical vanishing point
+    /// is kept however far it is). It decides only whether the vertical point is reported and
+    /// written, never the directions: a two-point scene still carries the measured horizon.
+    pub two_point_tolerance_deg: f64,
+    /// Seed of the random sampling, for reproducible results (default 0).
+    pub seed: u64,
+}
+
+impl Default for DetectOptions {
+    fn default() -> Self {
+        Self {
+            focal_px: None,
+            principal_point_px: None,
+            max_side_px: 640,
+            two_point_tolerance_deg: 0.0,
+            seed: 0,
+        }
+    }
+}
+
+impl Segment {
+    /// Length, pixels.
+    #[must_use]
+    pub fn length_px(&self) -> f64 {
+        (self.end_px[0] - self.start_px[0]).hypot(self.end_px[1] - self.start_px[1])
+    }
+}
