@@ -175,8 +175,12 @@ fn print_summary(map: &FloorMap, grid_summary: &str) {
     );
     if let (Some(e), Some(f)) = (&c.uncertainty, &map.fit) {
         println!(
-            "  +- (1 sigma): focal {:.1} px, pitch {:.2} deg, roll {:.2} deg, height {:.3} {u}; for {:.2} px clicks ({}), reprojection RMS {:.2} px",
+            "  +- (1 sigma): focal {:.1} px{}, pitch {:.2} deg, roll {:.2} deg, height {:.3} {u}; for {:.2} px clicks ({}), reprojection RMS {:.2} px",
             e.focal_px_sd,
+            e.principal_point_px_sd
+                .map_or_else(String::new, |[x, y]| format!(
+                    ", principal point ({x:.1}, {y:.1}) px"
+                )),
             e.pitch_deg_sd,
             e.roll_deg_sd,
             e.height_sd,

@@ -476,10 +476,11 @@ fn finish(
     let residuals = problem.residuals(&x).unwrap_or_default();
     let point_residuals = point_residuals(scene, &problem, &object_parts, &residuals);
     let clicks = point_residuals.len().max(1);
+    // Folded from +0: an empty sum of f64 is -0, which would print as "-0.00 px".
     let rms = (point_residuals
         .iter()
         .map(|r| r.distance_px * r.distance_px)
-        .sum::<f64>()
+        .fold(0.0, |a, b| a + b)
         / clicks as f64)
         .sqrt();
     let principal_point_fitted = problem.fixed_pp.is_none();
