@@ -162,10 +162,7 @@ fn print_summary(map: &FloorMap, grid_summary: &str) {
     let c = &map.camera;
     println!(
         "camera: {} perspective, focal {:.1} px, principal point ({:.1}, {:.1}), pitch {:.2} deg, roll {:.2} deg, height {:.3} {u}",
-        match c.perspective {
-            vpmap_metrology::calibration::Perspective::TwoPoint => "two-point",
-            vpmap_metrology::calibration::Perspective::ThreePoint => "three-point",
-        },
+        c.perspective.words(),
         c.focal_px,
         c.principal_point[0],
         c.principal_point[1],
@@ -174,13 +171,13 @@ fn print_summary(map: &FloorMap, grid_summary: &str) {
         c.height
     );
     if let (Some(e), Some(f)) = (&c.uncertainty, &map.fit) {
+        let pp = e
+            .principal_point_px_sd
+            .map(|[x, y]| format!(", principal point ({x:.1}, {y:.1}) px"));
         println!(
             "  +- (1 sigma): focal {:.1} px{}, pitch {:.2} deg, roll {:.2} deg, height {:.3} {u}; for {:.2} px clicks ({}), reprojection RMS {:.2} px",
             e.focal_px_sd,
-            e.principal_point_px_sd
-                .map_or_else(String::new, |[x, y]| format!(
-                    ", principal point ({x:.1}, {y:.1}) px"
-                )),
+            pp.unwrap_or_default(),
             e.pitch_deg_sd,
             e.roll_deg_sd,
             e.height_sd,

@@ -276,10 +276,7 @@ fn summary(
         } else {
             ""
         },
-        match scene.perspective {
-            Perspective::TwoPoint => "two-point",
-            Perspective::ThreePoint => "three-point",
-        },
+        scene.perspective.words(),
         det.intrinsics.focal_px,
         focal_source,
         det.intrinsics.principal_point_px[0],

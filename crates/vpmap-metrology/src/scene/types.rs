@@ -424,6 +424,15 @@ impl Perspective {
             Self::ThreePoint => "3pp",
         }
     }
+
+    /// In words: `"two-point"` or `"three-point"` (as summaries print it).
+    #[must_use]
+    pub fn words(self) -> &'static str {
+        match self {
+            Self::TwoPoint => "two-point",
+            Self::ThreePoint => "three-point",
+        }
+    }
 }
 
 /// A scene file, version 1.
