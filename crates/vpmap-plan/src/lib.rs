@@ -52,6 +52,7 @@
 pub mod anya;
 pub mod astar;
 pub mod budget;
+mod cell;
 pub mod dstar_lite;
 pub mod error;
 pub mod grid;
@@ -66,6 +67,7 @@ pub mod raster;
 pub mod reach;
 pub mod ros;
 pub mod smoothing;
+mod stop_reason;
 pub mod theta_star;
 pub mod validate;
 
