@@ -239,7 +239,7 @@ impl ExactPlanner {
             let beside = [y - 1, y + 1].map(|r| usize::try_from(r).ok().and_then(|r| runs.get(r)));
             for &(a, b) in beside.into_iter().flatten().flatten() {
                 for x in [a, b] {
-                    if crate::optimal::is_corner_cell(&passable, i64::from(x), i64::from(y))
+                    if crate::corners::is_corner_cell(&passable, i64::from(x), i64::from(y))
                         && let Some(slot) = corner.get_mut((y * w + x) as usize)
                     {
                         *slot = true;

@@ -53,6 +53,7 @@ pub mod anya;
 pub mod astar;
 pub mod budget;
 mod cell;
+mod corners;
 pub mod dstar_lite;
 pub mod error;
 pub mod grid;
