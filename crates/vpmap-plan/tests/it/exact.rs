@@ -265,6 +265,51 @@ fn built_in_optimal_rebuilds_its_free_space_when_the_grid_changes() {
     assert!((crossing.length_cells - reference.length_cells).abs() < 1e-9);
 }
 
+/// Goals inside a dead end (the corridor) and outside it are reached as the visibility graph
+/// reaches them, from every free cell (moved here from the exact planner's unit test of its
+/// dead-end table).
+#[test]
+fn dead_ends_are_pruned_and_goals_inside_them_still_reached() {
+    // #.###
+    // #.###
+    // .....
+    // .....
+    let mut grid = OccupancyGrid::new(5, 4, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+    for (x, y) in [
+        (0, 0),
+        (2, 0),
+        (3, 0),
+        (4, 0),
+        (0, 1),
+        (2, 1),
+        (3, 1),
+        (4, 1),
+    ] {
+        grid.set(x, y, Occupancy::Occupied).unwrap();
+    }
+    let mut planner = ExactPlanner::new(&grid, false);
+    let opts = OptimalAnyAngleOptions::default();
+    let cells: Vec<(usize, usize)> = (0..4)
+        .flat_map(|y| (0..5).map(move |x| (x, y)))
+        .filter(|&(x, y)| grid.is_free(x, y))
+        .collect();
+    for &start in &cells {
+        for &goal in &cells {
+            let exact = planner
+                .plan(start, goal, &Budget::default())
+                .unwrap()
+                .unwrap();
+            let reference = visibility_graph_any_angle(&grid, start, goal, &opts)
+                .unwrap()
+                .unwrap();
+            assert!(
+                (exact.length_cells - reference.length_cells).abs() < 1e-9,
+                "{start:?} -> {goal:?}"
+            );
+        }
+    }
+}
+
 /// Every `(map path, scenario path)` pair of the shared Moving AI data, sorted.
 fn movingai_pairs() -> Vec<(std::path::PathBuf, std::path::PathBuf)> {
     let dir = crate::movingai_dir();
