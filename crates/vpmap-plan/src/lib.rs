@@ -63,6 +63,7 @@ pub mod movingai;
 pub mod navigate;
 pub mod optimal;
 pub mod plan;
+mod planned;
 pub mod planner;
 pub mod raster;
 pub mod reach;
