@@ -12,8 +12,8 @@ use vpmap_plan::{
     optimal::visibility_graph_any_angle, theta_star,
 };
 
-use crate::any_angle::{KINDS, check_plan, generate, traversable_cells};
-use crate::rng;
+use crate::grids::{KINDS, generate, random_grid, traversable_cells};
+use crate::{check_plan, rng};
 
 /// Compare the two exact planners on `queries` random pairs of `grid`'s traversable cells
 /// (one [`ExactPlanner`] for all of them); the number of paths compared.
@@ -137,7 +137,7 @@ fn exact_equals_the_visibility_graph_on_random_grids_of_several_densities() {
         let occupied = [0.05, 0.15, 0.25, 0.35, 0.45][round % 5];
         let (w, h) = (rng.random_range(2..=24), rng.random_range(2..=24));
         let unknown = if round % 3 == 0 { 0.1 } else { 0.0 };
-        let grid = crate::random_grid(&mut rng, w, h, occupied, unknown);
+        let grid = random_grid(&mut rng, w, h, occupied, unknown);
         let unknown_passable = round % 2 == 0;
         compared += compare(
             &mut rng,
