@@ -26,10 +26,11 @@
 //! assert!(matches!(err, PlanError::Stopped { reason: StopReason::Cancelled, .. }));
 //! ```
 
-use std::fmt;
 use std::sync::Arc;
 use std::sync::atomic::{AtomicBool, Ordering};
 use std::time::{Duration, Instant};
+
+pub use crate::stop_reason::StopReason;
 
 use crate::error::{PlanError, Result};
 
@@ -103,15 +104,6 @@ impl Budget {
         }
         Ok(())
     }
-}
-
-/// Why a [`Stop`] stopped a planner.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum StopReason {
-    /// Its deadline passed.
-    Deadline,
-    /// Its cancellation flag was set.
-    Cancelled,
 }
 
 /// A deadline and a cancellation flag a running planner looks at every few thousand
@@ -207,14 +199,5 @@ impl Stop {
                 allowed_s: self.allowed_s(),
             }),
         }
-    }
-}
-
-impl fmt::Display for StopReason {
-    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
-        f.write_str(match self {
-            Self::Deadline => "its time ran out",
-            Self::Cancelled => "it was cancelled",
-        })
     }
 }

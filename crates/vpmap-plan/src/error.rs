@@ -4,7 +4,8 @@ use std::path::{Path, PathBuf};
 
 use thiserror::Error;
 
-use crate::grid::Occupancy;
+use crate::cell::{BYTES_PER_CELL, Occupancy};
+use crate::stop_reason::StopReason;
 
 /// Everything that can go wrong when building, reading or writing an occupancy grid.
 ///
@@ -37,7 +38,7 @@ pub enum PlanError {
         count(*width),
         count(*height),
         megabytes(width.saturating_mul(*height)),
-        crate::grid::BYTES_PER_CELL,
+        BYTES_PER_CELL,
         megabytes(*max)
     )]
     GridTooLarge {
@@ -124,7 +125,7 @@ pub enum PlanError {
         /// The planner.
         planner: &'static str,
         /// Deadline or cancellation.
-        reason: crate::budget::StopReason,
+        reason: StopReason,
         /// The time it was allowed, seconds (0 without a deadline).
         allowed_s: f64,
     },
@@ -268,19 +269,19 @@ fn cell_name(cell: Occupancy) -> &'static str {
 pub type Result<T, E = PlanError> = std::result::Result<T, E>;
 
 /// The explanation of [`PlanError::Stopped`].
-fn stopped_message(reason: crate::budget::StopReason, allowed_s: f64) -> String {
+fn stopped_message(reason: StopReason, allowed_s: f64) -> String {
     match reason {
-        crate::budget::StopReason::Deadline => format!(
+        StopReason::Deadline => format!(
             "it did not finish within its time limit of {} s; plan on a coarser grid, or allow more time",
             vpmap_files::num((allowed_s * 1e3).round() / 1e3)
         ),
-        crate::budget::StopReason::Cancelled => "the request was cancelled".to_owned(),
+        StopReason::Cancelled => "the request was cancelled".to_owned(),
     }
 }
 
 /// The work memory of `cells` grid cells, in readable units ("540 MB", "3.5 GB").
 fn megabytes(cells: usize) -> String {
-    let bytes = cells as f64 * crate::grid::BYTES_PER_CELL as f64;
+    let bytes = cells as f64 * BYTES_PER_CELL as f64;
     if bytes >= 1e15 {
         format!("{bytes:.1e} bytes")
     } else if bytes >= 1e9 {

@@ -20,6 +20,32 @@
 //! | shortest any-angle path | [`anya`] | exact: Anya-style interval search over the free space cut into row-line intervals and strip rectangles, built once per grid (Harabor et al. 2016, Cui et al. 2017) |
 //! | shortest any-angle path (reference) | [`optimal`] | exact: A* on the visibility graph of start, goal and convex corner cells (Lozano-Pérez and Wesley 1979) |
 //!
+//! # Module order
+//! Imports go one way: each module uses only modules listed before it (types two modules
+//! share live in a third, lower one). Bottom-up, with what each uses (from step 6 on,
+//! besides `budget`, `error`, `grid`, `los` and `plan`):
+//! 1. `cell` (private: [`CellXy`], [`Occupancy`], [`BYTES_PER_CELL`](grid::BYTES_PER_CELL))
+//!    and `stop_reason` (private: [`StopReason`]) use nothing;
+//! 2. [`error`] uses `cell`, `stop_reason`;
+//! 3. [`budget`] uses `error`, `stop_reason`; [`grid`] uses `cell`, `error`;
+//! 4. [`los`] uses `grid`;
+//! 5. [`plan`] uses `error`, `grid`, `los`; `corners` (private: the corner cells) uses `grid`,
+//!    `los`; [`validate`] and [`reach`] use `grid` (and `los`); the files, [`raster`], [`ros`]
+//!    and [`movingai`], use `error`, `grid`;
+//! 6. the searches, [`astar`](mod@astar), [`theta_star`](mod@theta_star),
+//!    [`dstar_lite`](mod@dstar_lite) and [`anya`] (also `corners`), use `budget`, `error`,
+//!    `grid`, `los`, `plan`;
+//! 7. [`smoothing`] uses `astar`; [`optimal`] uses `anya`, `corners`, `theta_star`;
+//! 8. `planned` (private: [`Planned`] and MBPP's records) uses `budget`, `grid`, `plan`;
+//! 9. [`mbpp`](mod@mbpp) uses `planned`, `smoothing`;
+//! 10. [`planner`] uses `planned`, `astar`, `smoothing`, `theta_star`, `anya`, `mbpp`;
+//! 11. [`navigate`](mod@navigate) uses `planner`, `dstar_lite`, `mbpp`.
+//!
+//! Inside the folders, bottom-up: `anya/`: `dead_ends`, `space`, `search`, `mod.rs`;
+//! `dstar_lite/`: `cost`, `keys`, `queue`, `search`, `drive`, `mod.rs`; `mbpp/`: `cells` and
+//! `options`, `walk`, `graph`, `alternatives`, `run`, `mod.rs`; `navigate/`: `options`,
+//! `sensor`, `ties`, `shadow`, `outcome`, `replan`, `mod.rs`.
+//!
 //! # Example
 //! ```
 //! use vpmap_metrology::{map::{build_map, BuildOptions}, synth::{synthesize, SynthOptions}};
@@ -52,6 +78,8 @@
 pub mod anya;
 pub mod astar;
 pub mod budget;
+mod cell;
+mod corners;
 pub mod dstar_lite;
 pub mod error;
 pub mod grid;
@@ -61,11 +89,13 @@ pub mod movingai;
 pub mod navigate;
 pub mod optimal;
 pub mod plan;
+mod planned;
 pub mod planner;
 pub mod raster;
 pub mod reach;
 pub mod ros;
 pub mod smoothing;
+mod stop_reason;
 pub mod theta_star;
 pub mod validate;
 

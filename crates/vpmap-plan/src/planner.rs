@@ -21,34 +21,16 @@
 use std::fmt;
 use std::str::FromStr;
 
+pub use crate::planned::Planned;
+
 use crate::anya::ExactPlanner;
 use crate::astar::{AstarOptions, AstarSearch};
 use crate::budget::{Budget, Stop};
 use crate::error::{PlanError, Result};
 use crate::grid::{CellXy, OccupancyGrid};
-use crate::mbpp::{BugTrack, LeaveRule, MbppOptions, MbppStats, mbpp};
-use crate::plan::Plan;
+use crate::mbpp::{LeaveRule, MbppOptions, mbpp};
 use crate::smoothing::{AstarPsOptions, astar_ps};
 use crate::theta_star::{ThetaStarOptions, theta_star};
-
-/// What a planner returns for one query (also what [`mbpp`] returns).
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Planned {
-    /// The path, or `None` when the goal cannot be reached from the start. MBPP's is the
-    /// shortest feasible path after smoothing; its statistics count bug steps as `expanded`
-    /// and bugs as `generated`.
-    pub best: Option<Plan>,
-    /// Other feasible paths the planner found (empty for all but MBPP). MBPP's: the
-    /// `v_list`s of the bugs that reached the goal and of the waiting bugs completed from
-    /// them whose segments are all clear, unsmoothed, shortest first, without duplicates or
-    /// the path `best` was smoothed from.
-    pub alternatives: Vec<Plan>,
-    /// MBPP's bugs of the top-level run, in order of birth (tracks only when asked for;
-    /// empty for the other planners).
-    pub bugs: Vec<BugTrack>,
-    /// MBPP's counters (zero for the other planners).
-    pub mbpp_stats: MbppStats,
-}
 
 /// A path planner on occupancy grids: start and goal are cells `(x, y)`.
 pub trait Planner {

@@ -5,8 +5,8 @@
 use std::cmp::Ordering;
 use std::collections::BinaryHeap;
 
-use super::walk::{Join, Vertex};
-use super::{NONE, Xy, dist};
+use super::cells::{Xy, dist};
+use super::walk::{Join, NONE, Vertex};
 
 /// A segment of the `v_list` graph; `clear` once its line of sight is known to be clear.
 #[derive(Clone, Copy, Debug)]

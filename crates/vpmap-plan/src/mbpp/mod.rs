@@ -83,8 +83,8 @@
 //! selection is repeated until the shortest path is clear. A re-planning that fails
 //! (nesting deeper than [`MbppOptions::max_replan_depth`]) drops the segment; bugs' own
 //! `v_list`s are clear, so a path is always left when one was found. The chosen path is
-//! then smoothed by [`smooth_path`] (the thesis's `Path_smooth`: farthest visible state
-//! first).
+//! then smoothed by [`smooth_path`](crate::smoothing::smooth_path) (the thesis's
+//! `Path_smooth`: farthest visible state first).
 //!
 //! # Completeness and bounds
 //! If the goal is reachable, the m-line beyond a hit runs from the obstacle to the goal, and
@@ -106,35 +106,36 @@
 //!   detection).
 //!
 //! # Files
-//! - `result.rs`: the options, the bugs' records and the counters;
+//! - `cells.rs`: the cells as signed integer pairs and their arithmetic;
+//! - `options.rs`: the options and limits (the result and its records, shared with
+//!   [`crate::planner`], are in `planned.rs` beside this folder);
 //! - `walk.rs`: the m-line and the bugs' walk (greedy moves, hits, wall following,
 //!   leaving, waiting), which builds the `v_list` tree;
 //! - `graph.rs`: every `v_list` as one graph, with its shortest-path searches;
-//! - `select.rs`: selection, line-of-sight check and re-planning, and the alternatives;
-//! - this file: [`mbpp`], which runs those steps and smooths the result.
+//! - `alternatives.rs`: the other feasible paths;
+//! - `run.rs`: one run: the walk, then selection, line-of-sight check and re-planning (by
+//!   nested runs), the alternatives and the smoothing;
+//! - this file: [`mbpp`], which runs it and turns its outcome into a [`Planned`].
 
+mod alternatives;
+mod cells;
 mod graph;
-mod result;
-mod select;
+mod options;
+mod run;
 mod walk;
 
-pub use result::{
-    BugFate, BugTrack, DEFAULT_MAX_ALTERNATIVES, DEFAULT_MAX_BUG_STEPS, LeaveRule, MbppOptions,
-    MbppStats,
-};
+pub use crate::planned::{BugFate, BugTrack, MbppStats};
+pub use options::{DEFAULT_MAX_ALTERNATIVES, DEFAULT_MAX_BUG_STEPS, LeaveRule, MbppOptions};
 pub use walk::m_line;
 
 use crate::error::Result;
-use crate::grid::CellXy;
-use crate::grid::OccupancyGrid;
-use crate::los::{LosCounter, Passable, PassableGrid};
+use crate::grid::{CellXy, OccupancyGrid};
+use crate::los::{LosCounter, PassableGrid};
 use crate::plan::{Plan, PlanStats, check_endpoint, path_length};
-use crate::planner::Planned;
-use crate::smoothing::smooth_path;
+use crate::planned::Planned;
 
-use graph::Graph;
-use select::{alternatives, select};
-use walk::{Walk, WalkEnd};
+use cells::to_i;
+use run::run;
 
 /// Multi-Bug Path Planning from `start` to `goal` (see the [module docs](self)).
 ///
@@ -253,132 +254,4 @@ pub fn mbpp(
         bugs: outcome.bugs,
         mbpp_stats: stats,
     })
-}
-
-/// Cell coordinates as signed integers.
-type Xy = (i64, i64);
-
-#[inline]
-fn to_i(c: CellXy) -> Xy {
-    (c.x as i64, c.y as i64)
-}
-
-#[inline]
-fn to_u(c: Xy) -> CellXy {
-    CellXy::new(c.0 as usize, c.1 as usize)
-}
-
-const NONE: u32 = u32::MAX;
-/// What one (possibly nested) run produces.
-struct Outcome {
-    best: Option<Vec<CellXy>>,
-    alternatives: Vec<Vec<CellXy>>,
-    bugs: Vec<BugTrack>,
-}
-
-/// The bugs' walk, then selection, check and re-planning.
-fn run(
-    grid: &PassableGrid,
-    start: Xy,
-    goal: Xy,
-    opts: &MbppOptions,
-    depth: usize,
-    stats: &mut MbppStats,
-    counter: &mut LosCounter,
-) -> Outcome {
-    if start == goal {
-        stats.bugs += 1;
-        return Outcome {
-            best: Some(vec![to_u(start)]),
-            alternatives: Vec::new(),
-            bugs: vec![BugTrack::born(
-                None,
-                start,
-                opts.record_tracks,
-                BugFate::ReachedGoal,
-            )],
-        };
-    }
-    let mut walk = Walk::new(
-        grid,
-        start,
-        goal,
-        opts.record_tracks && depth == 0,
-        opts.leave,
-    );
-    let budget = opts.max_bug_steps.saturating_sub(stats.bug_steps);
-    match walk.run(counter, (budget, opts.max_sight_cells), &opts.stop) {
-        WalkEnd::Done => {}
-        WalkEnd::Budget => stats.budget_exhausted = true,
-        WalkEnd::SightBudget => stats.sight_budget_exhausted = true,
-        WalkEnd::Stopped(reason) => stats.stopped = Some(reason),
-    }
-    stats.bugs += walk.bugs.len();
-    stats.bug_steps += walk.steps;
-    stats.hits += walk.hits;
-    stats.waits += walk.joins.len();
-    let Walk {
-        vertices,
-        joins,
-        goals,
-        bugs,
-        ..
-    } = walk;
-    let bugs: Vec<BugTrack> = bugs.into_iter().map(|b| b.track).collect();
-    if goals.is_empty() || halted(opts, stats, counter) {
-        return Outcome {
-            best: None,
-            alternatives: Vec::new(),
-            bugs,
-        };
-    }
-    let mut graph = Graph::new(&vertices, &joins);
-    let selected = select(&mut graph, grid, goal, opts, depth, stats, counter);
-    let alternatives = alternatives(
-        graph,
-        (&goals, &joins),
-        grid,
-        (opts, &mut *stats, &mut *counter),
-        selected.as_deref(),
-    );
-    let best = selected.map(|path| smooth_path(grid, &path, counter));
-    Outcome {
-        best,
-        alternatives,
-        bugs,
-    }
-}
-
-/// Whether the run must stop: a budget is spent or the [`Stop`](crate::budget::Stop) says
-/// so (recorded in `stats`). Looked at between the walk, the selection's rounds and the
-/// alternatives' checks.
-fn halted(opts: &MbppOptions, stats: &mut MbppStats, counter: &LosCounter) -> bool {
-    if counter.cells > opts.max_sight_cells {
-        stats.sight_budget_exhausted = true;
-    }
-    if stats.stopped.is_none() {
-        stats.stopped = opts.stop.reason();
-    }
-    stats.budget_exhausted || stats.sight_budget_exhausted || stats.stopped.is_some()
-}
-
-/// Whether a bug may stand on cell `c`.
-#[inline]
-fn passable(grid: &PassableGrid, c: Xy) -> bool {
-    grid.passable(c.0, c.1)
-}
-
-#[inline]
-fn add(a: Xy, b: Xy) -> Xy {
-    (a.0 + b.0, a.1 + b.1)
-}
-
-#[inline]
-fn d2(a: Xy, b: Xy) -> i64 {
-    (a.0 - b.0).pow(2) + (a.1 - b.1).pow(2)
-}
-
-#[inline]
-fn dist(a: Xy, b: Xy) -> f64 {
-    ((a.0 - b.0) as f64).hypot((a.1 - b.1) as f64)
 }

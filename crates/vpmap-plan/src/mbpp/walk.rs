@@ -5,11 +5,15 @@
 use std::collections::HashMap;
 use std::hash::{BuildHasherDefault, Hasher};
 
-use super::result::{BugFate, BugTrack, LeaveRule};
-use super::{NONE, Xy, add, d2, passable, to_i, to_u};
+use super::cells::{Xy, add, d2, passable, to_i, to_u};
+use super::options::LeaveRule;
 use crate::budget::{STOP_CHECK_INTERVAL, Stop, StopReason};
 use crate::grid::CellXy;
 use crate::los::{LosCounter, PassableGrid};
+use crate::planned::{BugFate, BugTrack};
+
+/// No vertex (or slot): the end of a parent chain or of an out-edge list, a removed edge.
+pub(super) const NONE: u32 = u32::MAX;
 
 /// The cells of the m-line from `start` to `goal`: the digital straight segment between
 /// them, one cell per step along the longer axis, the other coordinate rounded to the
@@ -128,6 +132,20 @@ enum Mode {
         power: u32,
         lam: u32,
     },
+}
+
+impl BugTrack {
+    /// A bug's record at birth on `cell` (its track holds `cell` when `record`).
+    pub(super) fn born(parent: Option<usize>, cell: Xy, record: bool, fate: BugFate) -> Self {
+        Self {
+            parent,
+            cells: if record { vec![to_u(cell)] } else { Vec::new() },
+            hits: Vec::new(),
+            leaves: Vec::new(),
+            steps: 0,
+            fate,
+        }
+    }
 }
 
 #[derive(Clone, Debug)]

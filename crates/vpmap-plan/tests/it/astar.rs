@@ -11,7 +11,8 @@ use vpmap_plan::{
     Traversable, astar, path_length, validate_path,
 };
 
-use crate::{random_grid, rng};
+use crate::grids::random_grid;
+use crate::rng;
 
 /// An exact octile path cost `straight + diagonal * sqrt 2`, totally ordered.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]

@@ -8,7 +8,8 @@ use vpmap_plan::{
     PlanError, astar, dstar_lite, validate_path,
 };
 
-use crate::{random_grid, rng};
+use crate::grids::random_grid;
+use crate::rng;
 
 /// A random cell of `grid` passable under `unknown_passable`.
 fn passable_cell(

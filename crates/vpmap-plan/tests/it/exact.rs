@@ -12,8 +12,8 @@ use vpmap_plan::{
     optimal::visibility_graph_any_angle, theta_star,
 };
 
-use crate::any_angle::{KINDS, check_plan, generate, traversable_cells};
-use crate::rng;
+use crate::grids::{KINDS, generate, random_grid, traversable_cells};
+use crate::{check_plan, rng};
 
 /// Compare the two exact planners on `queries` random pairs of `grid`'s traversable cells
 /// (one [`ExactPlanner`] for all of them); the number of paths compared.
@@ -137,7 +137,7 @@ fn exact_equals_the_visibility_graph_on_random_grids_of_several_densities() {
         let occupied = [0.05, 0.15, 0.25, 0.35, 0.45][round % 5];
         let (w, h) = (rng.random_range(2..=24), rng.random_range(2..=24));
         let unknown = if round % 3 == 0 { 0.1 } else { 0.0 };
-        let grid = crate::random_grid(&mut rng, w, h, occupied, unknown);
+        let grid = random_grid(&mut rng, w, h, occupied, unknown);
         let unknown_passable = round % 2 == 0;
         compared += compare(
             &mut rng,
@@ -263,6 +263,51 @@ fn built_in_optimal_rebuilds_its_free_space_when_the_grid_changes() {
             .unwrap()
             .unwrap();
     assert!((crossing.length_cells - reference.length_cells).abs() < 1e-9);
+}
+
+/// Goals inside a dead end (the corridor) and outside it are reached as the visibility graph
+/// reaches them, from every free cell (moved here from the exact planner's unit test of its
+/// dead-end table).
+#[test]
+fn dead_ends_are_pruned_and_goals_inside_them_still_reached() {
+    // #.###
+    // #.###
+    // .....
+    // .....
+    let mut grid = OccupancyGrid::new(5, 4, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+    for (x, y) in [
+        (0, 0),
+        (2, 0),
+        (3, 0),
+        (4, 0),
+        (0, 1),
+        (2, 1),
+        (3, 1),
+        (4, 1),
+    ] {
+        grid.set(x, y, Occupancy::Occupied).unwrap();
+    }
+    let mut planner = ExactPlanner::new(&grid, false);
+    let opts = OptimalAnyAngleOptions::default();
+    let cells: Vec<(usize, usize)> = (0..4)
+        .flat_map(|y| (0..5).map(move |x| (x, y)))
+        .filter(|&(x, y)| grid.is_free(x, y))
+        .collect();
+    for &start in &cells {
+        for &goal in &cells {
+            let exact = planner
+                .plan(start, goal, &Budget::default())
+                .unwrap()
+                .unwrap();
+            let reference = visibility_graph_any_angle(&grid, start, goal, &opts)
+                .unwrap()
+                .unwrap();
+            assert!(
+                (exact.length_cells - reference.length_cells).abs() < 1e-9,
+                "{start:?} -> {goal:?}"
+            );
+        }
+    }
 }
 
 /// Every `(map path, scenario path)` pair of the shared Moving AI data, sorted.

@@ -3,7 +3,7 @@
 use proptest::prelude::*;
 use vpmap_plan::{Occupancy, OccupancyGrid};
 
-use crate::small_grid;
+use crate::grids::small_grid;
 
 /// Distance, metres, from a point to the square of cell `(x, y)`, in world coordinates.
 fn distance_to_cell_square(grid: &OccupancyGrid, p: [f64; 2], x: usize, y: usize) -> f64 {

@@ -12,7 +12,8 @@ use vpmap_plan::{
     line_of_sight_counted, validate_path,
 };
 
-use crate::{random_grid, rng, small_grid};
+use crate::grids::{random_grid, small_grid};
+use crate::rng;
 
 /// A map from cells to cells (a mirror or a transposition).
 type CellMap<'a> = dyn Fn(usize, usize) -> (usize, usize) + 'a;

@@ -9,6 +9,7 @@ mod astar;
 mod budget;
 mod dstar_lite;
 mod exact;
+mod grids;
 mod inflation;
 mod line_of_sight;
 mod mbpp;
@@ -20,63 +21,13 @@ mod ros_files;
 
 use std::path::PathBuf;
 
-use rand::{RngExt, SeedableRng};
+use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-
-use proptest::prelude::*;
-use vpmap_plan::{Occupancy, OccupancyGrid};
-
-/// Any cell state.
-pub(crate) fn any_cell() -> impl Strategy<Value = Occupancy> {
-    prop_oneof![
-        Just(Occupancy::Free),
-        Just(Occupancy::Occupied),
-        Just(Occupancy::Unknown)
-    ]
-}
-
-/// Small random grids with random frames.
-pub(crate) fn small_grid(max_side: usize) -> impl Strategy<Value = OccupancyGrid> {
-    (1..=max_side, 1..=max_side).prop_flat_map(|(w, h)| {
-        (
-            proptest::collection::vec(any_cell(), w * h),
-            0.001f64..10.0,
-            -100.0f64..100.0,
-            -100.0f64..100.0,
-        )
-            .prop_map(move |(cells, res, ox, oy)| {
-                OccupancyGrid::from_cells(w, h, res, [ox, oy], cells).unwrap()
-            })
-    })
-}
+use vpmap_plan::{CellXy, OccupancyGrid, path_length, validate_path};
 
 /// A seeded random generator.
 pub(crate) fn rng(seed: u64) -> ChaCha8Rng {
     ChaCha8Rng::seed_from_u64(seed)
-}
-
-/// A `width x height` grid, resolution 1, each cell occupied with probability `occupied`,
-/// else unknown with probability `unknown`, else free.
-pub(crate) fn random_grid(
-    rng: &mut ChaCha8Rng,
-    width: usize,
-    height: usize,
-    occupied: f64,
-    unknown: f64,
-) -> OccupancyGrid {
-    let cells = (0..width * height)
-        .map(|_| {
-            let r: f64 = rng.random();
-            if r < occupied {
-                Occupancy::Occupied
-            } else if r < occupied + unknown {
-                Occupancy::Unknown
-            } else {
-                Occupancy::Free
-            }
-        })
-        .collect();
-    OccupancyGrid::from_cells(width, height, 1.0, [0.0; 2], cells).unwrap()
 }
 
 /// The shared Moving AI benchmark folder (`../shared/data/movingai` beside the workspace).
@@ -91,4 +42,26 @@ pub(crate) fn movingai_dir() -> PathBuf {
         dir.display()
     );
     dir
+}
+
+/// Check a planner's path: it runs from `start` to `goal`, the independent validator accepts
+/// it on `grid`, and its length is its waypoints'.
+pub(crate) fn check_plan(
+    name: &str,
+    grid: &OccupancyGrid,
+    plan: &vpmap_plan::Plan,
+    start: impl Into<CellXy>,
+    goal: impl Into<CellXy>,
+    unknown_passable: bool,
+) {
+    let (start, goal): (CellXy, CellXy) = (start.into(), goal.into());
+    assert_eq!(plan.waypoints.first(), Some(&start), "{name}");
+    assert_eq!(plan.waypoints.last(), Some(&goal), "{name}");
+    if let Err(e) = validate_path(grid, &plan.waypoints, unknown_passable) {
+        panic!("{name} path {:?} invalid: {e}\n{grid:?}", plan.waypoints);
+    }
+    assert!(
+        (plan.length_cells - path_length(&plan.waypoints)).abs() < 1e-9,
+        "{name}"
+    );
 }

@@ -11,7 +11,8 @@ use vpmap_plan::{
     optimal_any_angle, path_length, validate_path,
 };
 
-use crate::{random_grid, rng};
+use crate::grids::random_grid;
+use crate::rng;
 
 fn opts(unknown_passable: bool, leave: LeaveRule, record_tracks: bool) -> MbppOptions {
     MbppOptions {

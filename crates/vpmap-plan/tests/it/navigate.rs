@@ -11,7 +11,8 @@ use vpmap_plan::{
     PlanError, astar, validate_path,
 };
 
-use crate::{random_grid, rng};
+use crate::grids::random_grid;
+use crate::rng;
 
 /// A random free cell of `grid`.
 fn free_cell(rng: &mut ChaCha8Rng, grid: &OccupancyGrid) -> Option<CellXy> {

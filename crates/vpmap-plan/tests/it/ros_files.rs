@@ -8,7 +8,7 @@ use vpmap_plan::{
     CellXy, Occupancy, OccupancyGrid, PlanError, encode_ros_map, read_ros_map, write_ros_map,
 };
 
-use crate::small_grid;
+use crate::grids::small_grid;
 
 const F: Occupancy = Occupancy::Free;
 const O: Occupancy = Occupancy::Occupied;

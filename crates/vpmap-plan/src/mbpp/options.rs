@@ -1,10 +1,10 @@
-//! What [`mbpp`](super::mbpp) takes and records: options, the bugs' records and the work
-//! counters (its result is a [`Planned`](crate::Planned)).
+//! What [`mbpp`](super::mbpp) takes: its options and limits, and the test of the limits a run
+//! looks at between its steps (its result, a [`Planned`](crate::Planned), and the records in
+//! it live in `planned.rs`).
 
-use super::Xy;
-use super::to_u;
-use crate::budget::{Stop, StopReason};
-use crate::grid::CellXy;
+use crate::budget::Stop;
+use crate::los::LosCounter;
+use crate::planned::MbppStats;
 
 /// Options of [`mbpp`](super::mbpp).
 #[derive(Clone, Debug, PartialEq)]
@@ -72,77 +72,15 @@ impl Default for MbppOptions {
     }
 }
 
-/// How a bug's travel ended.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum BugFate {
-    /// It reached the goal.
-    ReachedGoal,
-    /// It stood on an m-line cell another bug had walked greedily and waited there (C3);
-    /// its `v_list` is completed from that bug's.
-    Waiting,
-    /// Its wall walk repeated a state without meeting the m-line beyond its hit (C1(b)).
-    Looped,
-    /// It could not move at all (C1(a)).
-    Stuck,
-}
-
-/// One bug's life, for drawing and statistics.
-#[derive(Clone, Debug, PartialEq)]
-pub struct BugTrack {
-    /// The bug that gave birth to it (`None` for the first bug).
-    pub parent: Option<usize>,
-    /// The cells it walked, from its birth cell (empty unless
-    /// [`MbppOptions::record_tracks`] is set).
-    pub cells: Vec<CellXy>,
-    /// Where it hit obstacles (its `hit_list`).
-    pub hits: Vec<CellXy>,
-    /// Where it left walls for the m-line (its `leave_list`).
-    pub leaves: Vec<CellXy>,
-    /// Steps it took.
-    pub steps: usize,
-    /// How it ended.
-    pub fate: BugFate,
-}
-
-impl BugTrack {
-    /// A bug's record at birth on `cell` (its track holds `cell` when `record`).
-    pub(super) fn born(parent: Option<usize>, cell: Xy, record: bool, fate: BugFate) -> Self {
-        Self {
-            parent,
-            cells: if record { vec![to_u(cell)] } else { Vec::new() },
-            hits: Vec::new(),
-            leaves: Vec::new(),
-            steps: 0,
-            fate,
-        }
+/// Whether the run must stop: a budget is spent or the [`Stop`](crate::budget::Stop) says
+/// so (recorded in `stats`). Looked at between the walk, the selection's rounds and the
+/// alternatives' checks.
+pub(super) fn halted(opts: &MbppOptions, stats: &mut MbppStats, counter: &LosCounter) -> bool {
+    if counter.cells > opts.max_sight_cells {
+        stats.sight_budget_exhausted = true;
     }
-}
-
-/// Work counters of [`mbpp`](super::mbpp) (including nested re-planning runs).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
-#[non_exhaustive]
-pub struct MbppStats {
-    /// Bugs born, the first one included.
-    pub bugs: usize,
-    /// Steps taken by all bugs.
-    pub bug_steps: usize,
-    /// Obstacle hits.
-    pub hits: usize,
-    /// Bugs that waited (C3).
-    pub waits: usize,
-    /// Line-of-sight queries (during the walk, the final check and the smoothing).
-    pub los_checks: usize,
-    /// Cells looked up by those queries.
-    pub los_cells: usize,
-    /// Blocked segments re-planned.
-    pub replans: usize,
-    /// The walk stopped at [`MbppOptions::max_bug_steps`] (then [`mbpp`](super::mbpp)
-    /// returns an error instead of a result).
-    pub budget_exhausted: bool,
-    /// The run stopped at [`MbppOptions::max_sight_cells`] (then [`mbpp`](super::mbpp)
-    /// returns an error instead of a result).
-    pub sight_budget_exhausted: bool,
-    /// The walk was stopped by [`MbppOptions::stop`] (then [`mbpp`](super::mbpp) returns
-    /// an error instead of a result).
-    pub stopped: Option<StopReason>,
+    if stats.stopped.is_none() {
+        stats.stopped = opts.stop.reason();
+    }
+    stats.budget_exhausted || stats.sight_budget_exhausted || stats.stopped.is_some()
 }

@@ -1,68 +1,14 @@
-//! The thesis's `select_list`: the shortest `v_list` path, its line-of-sight check and the
-//! re-planning of blocked segments, and the other feasible paths (the alternatives).
+//! The feasible paths besides the selected one (MBPP's alternatives): each goal-reaching
+//! bug's `v_list`, and each waiting bug's completed by the shortest clear continuation.
 
+use super::cells::to_u;
 use super::graph::Graph;
-use super::result::MbppOptions;
-use super::walk::Join;
-use super::{MbppStats, NONE, Xy, halted, run, to_i, to_u};
+use super::options::{MbppOptions, halted};
+use super::walk::{Join, NONE};
 use crate::grid::CellXy;
 use crate::los::{LosCounter, PassableGrid};
 use crate::plan::path_length;
-
-/// The shortest `v_list` path whose segments are all clear: select, check, re-plan the
-/// first blocked segment, repeat.
-pub(super) fn select(
-    graph: &mut Graph,
-    grid: &PassableGrid,
-    goal: Xy,
-    opts: &MbppOptions,
-    depth: usize,
-    stats: &mut MbppStats,
-    counter: &mut LosCounter,
-) -> Option<Vec<CellXy>> {
-    loop {
-        if halted(opts, stats, counter) {
-            return None;
-        }
-        let path = graph.shortest(goal, false)?;
-        let mut blocked = None;
-        for pair in path.windows(2) {
-            let &[u, v] = pair else { continue };
-            let (a, b) = (graph.cell(u), graph.cell(v));
-            let Some(edge) = graph.edge_mut(u, v) else {
-                continue;
-            };
-            if edge.clear {
-                continue;
-            }
-            if grid.sight(a, b, counter) {
-                edge.clear = true;
-            } else {
-                blocked = Some((u, v));
-                break;
-            }
-        }
-        let Some((u, v)) = blocked else {
-            return Some(path.iter().map(|&v| to_u(graph.cell(v))).collect());
-        };
-        graph.remove_edge(u, v);
-        stats.replans += 1;
-        if depth < opts.max_replan_depth {
-            let (a, b) = (graph.cell(u), graph.cell(v));
-            let sub = run(grid, a, b, opts, depth + 1, stats, counter);
-            if let Some(way) = sub.best {
-                let mut from = u;
-                let inner = way.get(1..way.len().saturating_sub(1)).unwrap_or(&[]);
-                for &c in inner {
-                    let w = graph.add_vertex(to_i(c));
-                    graph.add_edge(from, w);
-                    from = w;
-                }
-                graph.add_edge(from, v);
-            }
-        }
-    }
-}
+use crate::planned::MbppStats;
 
 /// The feasible paths besides the selected one: each goal-reaching bug's `v_list`, and each
 /// waiting bug's `v_list` completed by the shortest clear continuation from its join.
