@@ -90,7 +90,7 @@ c1=$(cells_at 0.004)
 c2=$(cells_at 0.002)
 echo "Memory a grid cell takes: the office map.json rasterised, inflated and planned on at 0.004 m"
 echo "(about $c1 cells) and 0.002 m (about $c2 cells) a cell; vpmap_plan::grid::BYTES_PER_CELL is" \
-  "$(grep -o 'BYTES_PER_CELL: usize = [0-9]*' crates/vpmap-plan/src/grid.rs | awk '{print $4}')."
+  "$(grep -o 'BYTES_PER_CELL: usize = [0-9]*' crates/vpmap-plan/src/cell.rs | awk '{print $4}')."
 echo
 echo "| planner | peak at 0.004 m | peak at 0.002 m | bytes a cell |"
 echo "|---|---|---|---|"
