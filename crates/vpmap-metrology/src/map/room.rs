@@ -2,7 +2,7 @@
 //! photo's frame; the floor free where any photo sees free floor, hidden only where no photo
 //! sees it.
 
-use geo::{Area, BooleanOps, Centroid, MultiPolygon, Polygon};
+use geo::{Area, BooleanOps, Centroid, Contains, MultiPolygon, Polygon};
 use nalgebra::Vector2;
 
 use super::build::BuildOptions;
@@ -107,9 +107,13 @@ pub(super) fn build_room_map(scene: &Scene, options: &BuildOptions) -> Result<Fl
             continue;
         }
         let at = p.position * k;
+        let station = geo::Point::new(at.x, at.y);
         let shadows: Vec<Polygon<f64>> = footprints
             .iter()
             .zip(&objects)
+            // A camera standing over an object's footprint (on it, or the clicks say so)
+            // looks down on it: it hides only the floor under itself.
+            .filter(|(fp, _)| !polygon(fp).contains(&station))
             .filter_map(|(fp, o)| {
                 let local: Vec<Vector2<f64>> = fp.iter().map(|q| q - at).collect();
                 let s = occlusion_shadow(&local, o.height, p.height * k, reach + at.norm())?;
@@ -169,6 +173,18 @@ pub(super) fn build_room_map(scene: &Scene, options: &BuildOptions) -> Result<Fl
         .collect();
     let mut warnings = fitted.warnings.clone();
     warnings.extend(u.warnings.iter().cloned());
+    for (n, p) in fitted.photos.iter().enumerate() {
+        let station = geo::Point::new(p.position.x * k, p.position.y * k);
+        for (fp, o) in footprints.iter().zip(&objects) {
+            if polygon(fp).contains(&station) {
+                warnings.push(format!(
+                    "photo {} stands inside the footprint of object {:?}: check that the objects named the same in several photos are the same object",
+                    n + 1,
+                    o.name
+                ));
+            }
+        }
+    }
     for &(i, what, rel) in &u.relative_size_sd {
         if rel > WARN_RELATIVE_SD
             && let Some(o) = fitted.objects.get(i)
