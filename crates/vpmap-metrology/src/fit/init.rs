@@ -5,7 +5,7 @@
 use nalgebra::{DMatrix, DVector, Matrix3, Vector2, Vector3};
 
 use super::model::{BoxAxes, Camera, CornerClick, Part, VpEvidence, px};
-use super::solve::Problem;
+use super::solve::{Model, Problem};
 use crate::camera::rotation_map_from_camera;
 use crate::error::{MetrologyError, Result};
 use crate::scene::{ImageSize, ObjectShape, Scale, Scene};

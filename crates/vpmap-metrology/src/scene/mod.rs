@@ -1,4 +1,5 @@
-//! The scene file: what a user annotates on one photo (format version 1).
+//! The scene file: what a user annotates on one photo, or on each photo of a room (format
+//! version 1).
 //!
 //! Pixel coordinates, origin at the image's top-left corner, x right, y down.
 //! The format is documented for users in `docs/scene-format.md`; this module is its
@@ -6,12 +7,15 @@
 //! so every later stage can rely on finite numbers and well-formed objects.
 //!
 //! The types are in `scene/types.rs`, reading and validation in `scene/validate.rs`, the
-//! vanishing points' resolution in `scene/vanishing.rs`.
+//! vanishing points' resolution in `scene/vanishing.rs`, the room file of several photos in
+//! `scene/room.rs`.
 
+mod room;
 mod types;
 mod validate;
 mod vanishing;
 
+pub use room::MAX_PHOTOS;
 pub use types::{
     BoxBase, BoxCorner, BoxCorners, BoxPoint, BoxView, Dimension, FloorDistance, ImageSize,
     ObjectShape, ObjectSpec, Perspective, PixelPoint, Scale, ScaleSpec, Scene, ThesisBox, TopSpec,

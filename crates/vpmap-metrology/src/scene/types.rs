@@ -464,6 +464,11 @@ pub struct Scene {
     /// vanishing points decides; a value that disagrees with it is refused).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub perspective: Option<Perspective>,
+    /// The room's other photos: a room file (`{"version": 1, "photos": [SCENE, ...]}`) is
+    /// read into its first photo, this scene, with photos 2..n here, each a single-photo
+    /// scene. Empty for a single-photo scene file; not a field of the file.
+    #[serde(skip)]
+    pub other_photos: Vec<Scene>,
 }
 
 /// The kind of an object, after validation.

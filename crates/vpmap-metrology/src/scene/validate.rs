@@ -267,6 +267,31 @@ impl ObjectSpec {
 /// ```
 #[must_use]
 pub fn unknown_fields(value: &serde_json::Value) -> Vec<String> {
+    if super::room::is_room_value(value) {
+        let Some(top) = value.as_object() else {
+            return Vec::new();
+        };
+        let mut out: Vec<String> = top
+            .keys()
+            .filter(|k| !["version", "photos"].contains(&k.as_str()))
+            .map(|k| format!("{k:?}"))
+            .collect();
+        if let Some(photos) = top.get("photos").and_then(serde_json::Value::as_array) {
+            for (k, p) in photos.iter().enumerate() {
+                out.extend(
+                    photo_unknown_fields(p)
+                        .into_iter()
+                        .map(|f| format!("photos[{k}].{f}")),
+                );
+            }
+        }
+        return out;
+    }
+    photo_unknown_fields(value)
+}
+
+/// [`unknown_fields`] of one photo's scene.
+fn photo_unknown_fields(value: &serde_json::Value) -> Vec<String> {
     const TOP: [&str; 9] = [
         "version",
         "image",
@@ -382,25 +407,56 @@ impl Scene {
     /// # Errors
     /// [`MetrologyError::Json`] for malformed JSON or missing fields (with line and column),
     /// and any error of [`Scene::validate`].
+    ///
+    /// A room file (`{"version": 1, "photos": [SCENE, ...]}`, [`Scene::other_photos`]) is
+    /// read into its first photo with the others beside it; an error in one photo is
+    /// [`MetrologyError::InPhoto`].
     pub fn from_json_str(text: &str) -> Result<Self> {
-        let scene: Scene =
-            serde_json::from_str(text).map_err(|e| MetrologyError::Json(e.to_string()))?;
+        let json = |e: serde_json::Error| MetrologyError::Json(e.to_string());
+        let value: serde_json::Value = serde_json::from_str(text).map_err(json)?;
+        let scene = if super::room::is_room_value(&value) {
+            // Parsed again from the text, so that errors keep their line and column.
+            let room: super::room::RoomFile = serde_json::from_str(text).map_err(json)?;
+            room.into_scene()?
+        } else {
+            serde_json::from_str(text).map_err(json)?
+        };
         scene.validate()?;
         Ok(scene)
     }
 
-    /// The scene as pretty-printed JSON.
+    /// The scene as pretty-printed JSON: a room file when it has other photos.
     #[must_use]
     pub fn to_json_string(&self) -> String {
-        serde_json::to_string_pretty(self).unwrap_or_default()
+        if self.other_photos.is_empty() {
+            serde_json::to_string_pretty(self).unwrap_or_default()
+        } else {
+            serde_json::to_string_pretty(&self.room_file()).unwrap_or_default()
+        }
     }
 
     /// Check everything that does not need the camera: version, finiteness, object shapes,
-    /// unique names, the scale's form.
+    /// unique names, the scale's form; for a room, each photo (an error names it,
+    /// [`MetrologyError::InPhoto`]) and what ties the photos into one room.
     ///
     /// # Errors
     /// The first problem found, naming the field and the value.
     pub fn validate(&self) -> Result<()> {
+        if self.other_photos.is_empty() {
+            return self.validate_photo();
+        }
+        for (k, p) in self.photos().enumerate() {
+            p.validate_photo()
+                .map_err(|error| MetrologyError::InPhoto {
+                    photo: k,
+                    error: Box::new(error),
+                })?;
+        }
+        self.validate_room()
+    }
+
+    /// [`Scene::validate`] for one photo.
+    fn validate_photo(&self) -> Result<()> {
         if self.version != 1 {
             return Err(MetrologyError::UnsupportedVersion {
                 file: "scene",

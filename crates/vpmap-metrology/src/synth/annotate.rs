@@ -245,6 +245,7 @@ pub fn render_annotated(
         floor: floor_px,
         scale: None,
         perspective: None,
+        other_photos: Vec::new(),
     };
     let truth = Truth {
         camera: TruthCamera {
