@@ -141,7 +141,7 @@ function turned(r, deg) {
  * but canned: photo 1 is built as the map (objects, floor, pictures), every photo is built alone
  * for its own camera, and the cameras of photos 2, 3, ... are put at made-up places (1.2 m apart,
  * turned 35 degrees each): a stand-in to develop the page against, not a fit. Errors name the
- * photo as the real server's do: `photos[i].objects[1]...` and "photo N is not tied to photo 1".
+ * photo as the real server's do: "photos[i] (photo i+1): `objects[1]...`" and "photo N is not tied to photo 1".
  */
 async function buildRoom(room, settings) {
   const photos = room.photos;
@@ -161,7 +161,7 @@ async function buildRoom(room, settings) {
         return b;
       }));
     } catch (e) {
-      throw new HttpError(e.status || 400, `photo ${i + 1}: ${e.message.replace(/`((?:floor|objects|vanishing_points|scale)\b)/g, `\`photos[${i}].$1`)}`);
+      throw new HttpError(e.status || 400, `scene: photos[${i}] (photo ${i + 1}): ${e.message.replace(/^building \S+: /, '')}`);
     }
   }
   const first = built[0];

@@ -57,6 +57,18 @@ export function drawCameras(view, g, cameras, active, onCamera) {
     const n = Math.hypot(b[0] - a[0], b[1] - a[1]) || 1;
     return [a, [a[0] + ((b[0] - a[0]) / n) * view.u(px), a[1] + ((b[1] - a[1]) / n) * view.u(px)]];
   };
+  // The floor the active photo shows, under every camera, taking no clicks (a camera inside it
+  // must stay clickable).
+  const shown = cameras[active];
+  const ring = Array.isArray(shown?.view_on_floor) ? shown.view_on_floor.filter((p) => Array.isArray(p) && finite(p[0]) && finite(p[1])) : [];
+  if (ring.length >= 3) {
+    wrap.append(svgEl('polygon', {
+      class: 'vp-camera-view',
+      points: ring.map((p) => view.mapToSvg(p).map((v) => v.toFixed(2)).join(',')).join(' '),
+      fill: ACTIVE_CAMERA_COLOUR, 'fill-opacity': 0.07, stroke: ACTIVE_CAMERA_COLOUR, 'stroke-opacity': 0.6,
+      'stroke-width': view.u(1.2), 'stroke-dasharray': `${view.u(5)} ${view.u(4)}`, 'pointer-events': 'none',
+    }));
+  }
   // The active camera last, on top.
   const order = cameras.map((c, i) => i).sort((a, b) => (a === active) - (b === active));
   for (const i of order) {
@@ -66,18 +78,10 @@ export function drawCameras(view, g, cameras, active, onCamera) {
     const on = i === active;
     const colour = on ? ACTIVE_CAMERA_COLOUR : CAMERA_COLOUR;
     const c = svgEl('g', { class: `vp-camera${on ? ' active' : ''}`, 'data-photo': i, cursor: 'pointer' });
-    const ring = Array.isArray(cam.view_on_floor) ? cam.view_on_floor.filter((p) => Array.isArray(p) && finite(p[0]) && finite(p[1])) : [];
-    if (on && ring.length >= 3) {
-      c.append(svgEl('polygon', {
-        class: 'vp-camera-view',
-        points: ring.map((p) => view.mapToSvg(p).map((v) => v.toFixed(2)).join(',')).join(' '),
-        fill: colour, 'fill-opacity': 0.07, stroke: colour, 'stroke-opacity': 0.6, 'stroke-width': view.u(1.2), 'stroke-dasharray': `${view.u(5)} ${view.u(4)}`,
-      }));
-    }
     for (const dir of [f.left, f.right]) {
       if (!dir) continue;
       const [a, b] = ends(f.at, dir, 48);
-      c.append(svgEl('line', { class: 'vp-camera-fov', x1: a[0], y1: a[1], x2: b[0], y2: b[1], stroke: colour, 'stroke-width': view.u(1.4), 'stroke-dasharray': `${view.u(4)} ${view.u(3)}` }));
+      c.append(svgEl('line', { class: 'vp-camera-fov', x1: a[0], y1: a[1], x2: b[0], y2: b[1], stroke: colour, 'stroke-width': view.u(1.4), 'stroke-dasharray': `${view.u(4)} ${view.u(3)}`, 'pointer-events': 'none' }));
     }
     const [a, b] = ends(f.at, f.forward, 30);
     c.append(svgEl('line', { class: 'vp-camera-heading', x1: a[0], y1: a[1], x2: b[0], y2: b[1], stroke: colour, 'stroke-width': view.u(2.4), 'stroke-linecap': 'round' }));

@@ -79,6 +79,15 @@ test('a room message about a point is ringed on that photo', () => {
   const r = roomProblem('photo 2 is not tied to photo 1: no object is named in both', [a, b]);
   assert.deepEqual(r, { photo: 1, message: 'photo 2 is not tied to photo 1: no object is named in both' });
   assert.equal(roomProblem('the fit did not converge', [a, b]), null);
+  // As vpmap serve words them: the photo first, then the field in that photo's scene.
+  const s = roomProblem('scene: photos[1] (photo 2): `floor[2]` at (1500.000, 1000.000) is 413.000 px above the horizon; a point on the floor must lie below it', [a, b]);
+  assert.equal(s.photo, 1);
+  assert.deepEqual(s.p, [1500, 1000]);
+  const t = roomProblem('scene: photos[1] (photo 2): scene field `objects[0].base` is invalid: the corners of object "sofa" (base.near, base.right) do not fix its extent from `near` towards `left`: add `base.left` (or `top.left`)', [a, b]);
+  assert.deepEqual([t.photo, t.object, t.note], [1, 0, 'add base.left']);
+  const u = roomProblem('scene: scene field `photos[1]` is invalid: photo 2 is not tied to photo 1: no object is named the same in it and in photo 1 or photo 3; annotate an object that both show in both, under one name (e.g. "sofa")', [a, b, a]);
+  assert.equal(u.photo, 1);
+  assert.equal(u.p, undefined);
   // A single scene: its messages name no photo, and are about photo 0.
   assert.deepEqual(roomProblem('`objects[0]` needs a top', [a]).object, 0);
 });
