@@ -6,8 +6,8 @@
 //      photo 1 active, and builds the room: the floor plan draws every camera of `map.cameras`
 //      (a numbered disc each, photo 1's highlighted) and so does the 3D view;
 //   2. a photo opened for the active thumbnail (a grey PNG of its size) keeps its annotations;
-//      a click on photo 2's thumbnail (or its camera on the plan) makes it the active one: its
-//      scene, its camera in the camera bar;
+//      a click on photo 2's thumbnail (or its camera on the plan, or the keys [ and ]) makes it
+//      the active one: its scene, its camera in the camera bar;
 //   3. linking by name: photo 2's objects say which other photos show them; renamed so that it
 //      shares no object, the build error names photo 2, its thumbnail gets the badge and the
 //      same message shows beside the photo; one choice in "same as…" links it back and the
@@ -212,6 +212,12 @@ async function main() {
     check(!(await status()).start, 'the click on a camera set a path start');
     await page.click('#photo-thumbs .thumb[data-photo="1"] .thumb-pick');
     await page.waitForFunction(() => window.vpmap.status().active === 1);
+    // ] and [ step through the photos.
+    await page.focus('#photo-canvas');
+    await page.keyboard.press(']');
+    await page.waitForFunction(() => window.vpmap.status().active === 2, null, { timeout: 5000 }).catch(() => { throw new Error('] did not show photo 3'); });
+    await page.keyboard.press('[');
+    await page.waitForFunction(() => window.vpmap.status().active === 1, null, { timeout: 5000 }).catch(() => { throw new Error('[ did not show photo 2'); });
     noProblems();
   });
 

@@ -239,6 +239,13 @@ document.addEventListener('keydown', (e) => {
     $(tools[e.key.toLowerCase()]).click();
     return;
   }
+  // A room's photos: the previous and next one (not while placing: a half-made object is this photo's).
+  if (!mod && !e.altKey && (e.key === '[' || e.key === ']') && state.photos.length > 1 && app.tool === app.selectTool) {
+    e.preventDefault();
+    const n = state.photos.length;
+    app.switchPhoto((state.active + (e.key === ']' ? 1 : n - 1)) % n);
+    return;
+  }
   const onButton = e.target instanceof HTMLButtonElement || e.target instanceof HTMLAnchorElement || e.target?.getAttribute?.('role') === 'tab';
   const placing = app.tool !== app.selectTool;
   if (e.key === 'Escape') {
