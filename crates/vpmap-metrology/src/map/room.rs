@@ -10,7 +10,7 @@ use super::cameras::{camera_report, placed};
 use super::reconstruction::box_size;
 use super::regions::{occlusion_shadow, ring, to_polygons};
 use super::types::{FitReport, FloorMap, MapObject, Units};
-use super::warnings::{WARN_RELATIVE_SD, WARN_RESIDUAL_SIGMAS};
+use super::warnings::{WARN_RELATIVE_SD, WARN_RESIDUAL_SIGMAS, poorly_fixed_camera};
 use crate::error::{MetrologyError, Result};
 use crate::fit::FitOptions;
 use crate::reconstruct::{Method, ObjectKind};
@@ -173,6 +173,17 @@ pub(super) fn build_room_map(scene: &Scene, options: &BuildOptions) -> Result<Fl
         .collect();
     let mut warnings = fitted.warnings.clone();
     warnings.extend(u.warnings.iter().cloned());
+    for (n, ((p, pu), photo)) in fitted
+        .photos
+        .iter()
+        .zip(&u.photos)
+        .zip(scene.photos())
+        .enumerate()
+    {
+        for w in poorly_fixed_camera(photo.image, &p.calibration, &pu.camera, u.click_sigma_px) {
+            warnings.push(format!("photo {}: {w}", n + 1));
+        }
+    }
     for (n, p) in fitted.photos.iter().enumerate() {
         let station = geo::Point::new(p.position.x * k, p.position.y * k);
         for (fp, o) in footprints.iter().zip(&objects) {
