@@ -54,10 +54,10 @@ pub fn json_to_py<'py>(py: Python<'py>, value: &serde_json::Value) -> PyResult<B
     })
 }
 
-/// JSON text as a Python object (via the parsed value).
+/// JSON text as a Python object, by Python's `json.loads` (whose float parsing is exact, so
+/// every number is the one in the text).
 pub fn json_text_to_py<'py>(py: Python<'py>, text: &str) -> PyResult<Bound<'py, PyAny>> {
-    let value: serde_json::Value = serde_json::from_str(text).map_err(error)?;
-    json_to_py(py, &value)
+    py.import("json")?.getattr("loads")?.call1((text,))
 }
 
 /// A file path: a `str` or an `os.PathLike`, through `os.fspath`; `None` for anything else.

@@ -173,7 +173,7 @@ impl Grid {
                     cells,
                 )
             })
-            .map_err(|e| error(format!("a grid of {width} x {height} cells: {e}")))?;
+            .map_err(error)?;
         Ok(Self::of(PlanningMap {
             grid,
             in_cells: resolution.is_none(),

@@ -12,7 +12,7 @@ use vpmap_metrology::reconstruct::Method;
 use vpmap_pipeline::{MapOptions, ParsedScene, PipelineError, PlanningMap};
 use vpmap_plan::OccupancyGrid;
 
-use crate::convert::{as_path, error, json_to_py, shown};
+use crate::convert::{as_path, error, json_text_to_py, shown};
 use crate::grid::Grid;
 
 /// A pipeline error in the command line's words, option names as the Python keywords
@@ -99,8 +99,7 @@ pub fn build(
 ) -> PyResult<Map> {
     let method: Method = method.parse().map_err(error)?;
     let (text, source) = scene_text(scene)?;
-    let parsed = py.detach(|| parse(&text, source.as_deref()).map_err(|e| e.to_string()));
-    let parsed = parsed.map_err(error)?;
+    let parsed = py.detach(|| parse(&text, source.as_deref()))?;
     let options = MapOptions {
         method,
         click_sigma_px: click_sigma,
@@ -119,7 +118,6 @@ pub fn build(
             None => pipeline_error(e),
         })?;
     let json = built.map.to_json_string();
-    let value: serde_json::Value = serde_json::from_str(&json).map_err(error)?;
     let mut warnings = parsed.warnings;
     warnings.extend(built.map.warnings.iter().cloned());
     Ok(Map {
@@ -127,7 +125,6 @@ pub fn build(
         default_grid: built.grid,
         options,
         json,
-        value,
         warnings,
     })
 }
@@ -144,8 +141,6 @@ pub struct Map {
     options: MapOptions,
     /// `map.json`'s text.
     json: String,
-    /// `map.json` parsed.
-    value: serde_json::Value,
     /// The scene's unknown fields, then the map's warnings.
     warnings: Vec<String>,
 }
@@ -153,7 +148,9 @@ pub struct Map {
 impl Map {
     /// One top-level field of `map.json` as a Python object.
     fn field<'py>(&self, py: Python<'py>, key: &str) -> PyResult<Bound<'py, PyAny>> {
-        json_to_py(py, self.value.get(key).unwrap_or(&serde_json::Value::Null))
+        let dict = self.to_dict(py)?;
+        let found = dict.cast::<PyDict>()?.get_item(key)?;
+        Ok(found.unwrap_or_else(|| py.None().into_bound(py)))
     }
 }
 
@@ -221,7 +218,7 @@ impl Map {
 
     /// The map as a dict (``json.loads(map.to_json())``).
     fn to_dict<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
-        json_to_py(py, &self.value)
+        json_text_to_py(py, &self.json)
     }
 
     /// The occupancy grid ``vpmap build`` writes (``occupancy.yaml``): cells of
