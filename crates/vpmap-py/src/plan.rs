@@ -236,7 +236,7 @@ impl PyPlanner {
             let mut inner = self
                 .inner
                 .lock()
-                .map_err(|_| "a planner thread failed; make a new Planner".to_owned())?;
+                .map_err(|_| error("a planner thread failed; make a new Planner"))?;
             // The budget (and its deadline) is per query; the planner keeps its arrays.
             let fresh = self.kind.planner(self.unknown_passable);
             let mut built = std::mem::replace(&mut *inner, fresh).with_budget(limits.budget);
@@ -245,9 +245,8 @@ impl PyPlanner {
             }
             let result = built.plan(&self.map.grid, s, g);
             *inner = built;
-            result.map_err(|e| plan_error_text(&e))
-        });
-        let outcome = outcome.map_err(error)?;
+            result.map_err(|e| plan_error(&e))
+        })?;
         let seconds = began.elapsed().as_secs_f64();
         Path::of(py, &self.map, self.kind, &outcome, seconds)
     }
@@ -272,11 +271,6 @@ impl PyPlanner {
             self.map.grid.height()
         )
     }
-}
-
-/// [`plan_error`]'s text.
-fn plan_error_text(e: &PlanError) -> String {
-    Python::attach(|py| plan_error(e).value(py).to_string())
 }
 
 /// A planned path (``vpmap.plan``, ``Planner.plan``).
