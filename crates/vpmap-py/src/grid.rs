@@ -155,7 +155,7 @@ fn int8_cells(grid: &OccupancyGrid) -> Vec<i8> {
 #[pymethods]
 impl Grid {
     #[new]
-    #[pyo3(signature = (array, resolution=None, origin=(0.0, 0.0)))]
+    #[pyo3(signature = (array, resolution=None, origin=(0.0, 0.0)), text_signature = "(array, resolution=None, origin=(0.0, 0.0))")]
     fn new(
         py: Python<'_>,
         array: &Bound<'_, PyAny>,
