@@ -88,3 +88,23 @@ def test_the_example_is_planned_across():
     assert np.linalg.norm(path.waypoints[0] - [-1.5, 2.0]) < 0.05
     assert np.linalg.norm(path.waypoints[-1] - [2.0, 7.5]) < 0.05
     assert path.length >= np.hypot(3.5, 5.5) - 0.1
+
+
+ROOM = EXAMPLE.parents[1] / "crates" / "vpmap-metrology" / "tests" / "fixtures" / "room-mv00.json"
+
+
+def test_a_room_file_builds_one_map_with_every_camera():
+    """A room of two photos (an independent simulator's, exact clicks) against its truth."""
+    truth = json.loads(ROOM.with_name("room-mv00.truth.json").read_text())
+    m = vpmap.build(ROOM)
+    cameras = json.loads(m.to_json())["cameras"]
+    assert len(cameras) == 2
+    for got, want in zip(cameras, truth["cameras"]):
+        np.testing.assert_allclose(got["position"][:2], want["position"], atol=1e-9)
+        assert got["height"] == pytest.approx(want["height"], abs=1e-9)
+    names = {o["name"]: o for o in m.objects}
+    for want in truth["objects"]:
+        got = names[want["name"]]
+        assert got["height"] == pytest.approx(want["height"], abs=1e-9)
+    grid = m.occupancy(resolution=0.05, robot_radius=0.2)
+    assert (grid.array == 0).any()
