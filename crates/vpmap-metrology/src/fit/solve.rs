@@ -85,6 +85,13 @@ pub(crate) trait Model {
     /// `false` when a point falls behind a camera.
     fn part_residuals(&self, i: usize, c: &[f64], p: &[f64], out: &mut [f64]) -> bool;
 
+    /// Whether part `i`'s residuals may depend on camera-block parameter `c` (a room's object
+    /// does not depend on the cameras of photos that do not show it): the Jacobian's other
+    /// columns are zero and are not computed.
+    fn part_uses_camera(&self, _i: usize, _c: usize) -> bool {
+        true
+    }
+
     /// Total number of parameters.
     fn len(&self) -> usize {
         self.camera_len()
@@ -178,7 +185,7 @@ pub(crate) trait Model {
             }
             let (mut plus, mut minus) = (vec![0.0; m], vec![0.0; m]);
             let mut jc = DMatrix::zeros(m, nc);
-            for &c in &free {
+            for &c in free.iter().filter(|&&c| self.part_uses_camera(i, c)) {
                 let h = step_size(x[c]);
                 xs[c] = x[c] + h;
                 let ok_p = self.part_residuals(i, &xs, own, &mut plus);

@@ -213,31 +213,36 @@ impl RoomProblem {
 
     /// Every photo placed in the room, for camera block `c`.
     pub fn views(&self, c: &[f64]) -> Vec<View> {
-        let first = self.camera(c, 0);
-        self.photos
-            .iter()
-            .enumerate()
-            .map(|(k, b)| {
-                let cam = self.camera(c, k);
-                if !b.posed {
-                    return View {
-                        cam,
-                        position: Vector2::zeros(),
-                        height: 1.0,
-                        heading_rad: 0.0,
-                    };
-                }
-                let at = b.offset + b.camera_len;
-                View {
-                    cam,
-                    position: Vector2::new(c[at], c[at + 1]),
-                    height: c[at + 2],
-                    heading_rad: first.room_yaw_rad
-                        + f64::from(b.quarter) * std::f64::consts::FRAC_PI_2
-                        - cam.room_yaw_rad,
-                }
-            })
-            .collect()
+        (0..self.photos.len()).map(|k| self.view(c, k)).collect()
+    }
+
+    /// Photo `k` placed in the room, for camera block `c`.
+    pub fn view(&self, c: &[f64], k: usize) -> View {
+        let b = &self.photos[k];
+        let cam = self.camera(c, k);
+        if !b.posed {
+            return View {
+                cam,
+                position: Vector2::zeros(),
+                height: 1.0,
+                heading_rad: 0.0,
+            };
+        }
+        let at = b.offset + b.camera_len;
+        // The first photo's room yaw (its camera's fourth parameter).
+        let first_yaw = c[self.photos[0].offset + 3];
+        View {
+            cam,
+            position: Vector2::new(c[at], c[at + 1]),
+            height: c[at + 2],
+            heading_rad: first_yaw + f64::from(b.quarter) * std::f64::consts::FRAC_PI_2
+                - cam.room_yaw_rad,
+        }
+    }
+
+    /// The photo whose camera block holds parameter `c`.
+    fn photo_of(&self, c: usize) -> usize {
+        self.photos.iter().rposition(|b| b.offset <= c).unwrap_or(0)
     }
 
     /// Part `i`'s parameters in `x`.
@@ -287,12 +292,26 @@ impl Model for RoomProblem {
         vp_residuals(&self.camera(c, k), v, &self.photos[k].vps[v], out);
     }
 
+    fn part_uses_camera(&self, i: usize, c: usize) -> bool {
+        // The first photo's camera sets the room's directions (a box's axes, every heading).
+        let photo = self.photo_of(c);
+        photo == 0 || self.parts[i].sightings.iter().any(|s| s.photo == photo)
+    }
+
     fn part_residuals(&self, i: usize, c: &[f64], p: &[f64], out: &mut [f64]) -> bool {
-        let views = self.views(c);
         let part = &self.parts[i];
-        let room = views[0].cam;
+        let room = self.camera(c, 0);
+        let mut view: Option<(usize, View)> = None;
         for (n, s) in part.sightings.iter().enumerate() {
-            let Some(q) = views[s.photo].project(part.point(&room, p, s.place)) else {
+            let v = match view {
+                Some((k, v)) if k == s.photo => v,
+                _ => {
+                    let v = self.view(c, s.photo);
+                    view = Some((s.photo, v));
+                    v
+                }
+            };
+            let Some(q) = v.project(part.point(&room, p, s.place)) else {
                 return false;
             };
             out[2 * n] = q.x - s.pixel.x;
