@@ -31,6 +31,10 @@ pub(crate) fn click_sigma<M: Model>(
     if let Some(s) = options.click_sigma_px {
         return (s, "given");
     }
+    if problem.has_click_covariances() {
+        // The covariances are absolute: a weighted residual is in pixels of a 1 px click.
+        return (1.0, "covariances");
+    }
     let dof = problem.residual_count().saturating_sub(problem.len());
     if dof >= MIN_DOF_FOR_SIGMA {
         // Never below the rounding of a click to whole pixels (a uniform error of one pixel

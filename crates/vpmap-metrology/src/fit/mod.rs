@@ -34,6 +34,7 @@ use crate::reconstruct::{
 use crate::scene::{BoxCorner, BoxView, ObjectShape, PixelPoint, Scene};
 
 pub(crate) use fitted::click_sigma;
+pub(crate) use init::whitening;
 use model::{Camera, Part, px, vp_direction};
 pub(crate) use solve::Problem;
 use solve::{Model, Singular, minimise};

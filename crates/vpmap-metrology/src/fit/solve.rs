@@ -11,7 +11,7 @@
 //! Jacobians are central differences (relative step 1e-6): every residual depends on the
 //! camera and at most one object, so a column costs one object's residuals.
 
-use nalgebra::{DMatrix, DVector, Vector2};
+use nalgebra::{DMatrix, DVector, Matrix2, Vector2};
 
 use super::model::{Camera, Part, VpEvidence, vp_residual_count, vp_residuals};
 
@@ -31,6 +31,9 @@ pub(crate) struct Problem {
     pub offsets: Vec<usize>,
     /// Evidence per vanishing point, in scene order.
     pub vps: Vec<VpEvidence>,
+    /// Per part, per clicked point, the whitening of its covariance when the scene gives one
+    /// (empty when it gives none): the point's residual is `W r`.
+    pub weights: Vec<Vec<Option<Matrix2<f64>>>>,
 }
 
 /// The blocks of `J^T J` and `J^T r` at one point.
@@ -84,6 +87,12 @@ pub(crate) trait Model {
     /// Residuals of part `i` for camera block `c` and part parameters `p` into `out`;
     /// `false` when a point falls behind a camera.
     fn part_residuals(&self, i: usize, c: &[f64], p: &[f64], out: &mut [f64]) -> bool;
+
+    /// Whether some clicks carry their own covariance (then the click noise of the error
+    /// bars is 1 px unless given: the covariances are absolute).
+    fn has_click_covariances(&self) -> bool {
+        false
+    }
 
     /// Whether part `i`'s residuals may depend on camera-block parameter `c` (a room's object
     /// does not depend on the cameras of photos that do not show it): the Jacobian's other
@@ -269,7 +278,15 @@ impl Model for Problem {
     }
 
     fn part_residuals(&self, i: usize, c: &[f64], p: &[f64], out: &mut [f64]) -> bool {
-        self.parts[i].residuals(&self.camera(c), p, out)
+        let ok = self.parts[i].residuals(&self.camera(c), p, out);
+        if let Some(ws) = self.weights.get(i) {
+            whiten(ws, out);
+        }
+        ok
+    }
+
+    fn has_click_covariances(&self) -> bool {
+        self.weights.iter().flatten().any(Option::is_some)
     }
 }
 
@@ -277,6 +294,19 @@ impl Problem {
     /// The camera for parameter vector `x` (or its camera block).
     pub fn camera(&self, x: &[f64]) -> Camera {
         Camera::from_params(&x[..self.camera_len], self.fixed_pp)
+    }
+}
+
+/// Apply each clicked point's whitening (where it has one) to its two residuals.
+pub(crate) fn whiten(weights: &[Option<Matrix2<f64>>], out: &mut [f64]) {
+    for (n, w) in weights.iter().enumerate() {
+        if let Some(w) = w
+            && let Some(pair) = out.get_mut(2 * n..2 * n + 2)
+        {
+            let r = w * Vector2::new(pair[0], pair[1]);
+            pair[0] = r.x;
+            pair[1] = r.y;
+        }
     }
 }
 

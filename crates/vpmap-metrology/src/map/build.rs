@@ -131,6 +131,15 @@ pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
             degrees_of_freedom: f.degrees_of_freedom,
             iterations: f.iterations,
             principal_point_fitted: f.principal_point_fitted,
+            clicks_with_covariance: Some(
+                f.problem
+                    .weights
+                    .iter()
+                    .flatten()
+                    .filter(|w| w.is_some())
+                    .count(),
+            )
+            .filter(|n| *n > 0),
         });
     }
     Ok(FloorMap {

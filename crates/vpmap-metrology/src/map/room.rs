@@ -237,6 +237,16 @@ pub(super) fn build_room_map(scene: &Scene, options: &BuildOptions) -> Result<Fl
             degrees_of_freedom: fitted.degrees_of_freedom,
             iterations: fitted.iterations,
             principal_point_fitted: fitted.photos.iter().all(|p| p.principal_point_fitted),
+            clicks_with_covariance: Some(
+                fitted
+                    .problem
+                    .parts
+                    .iter()
+                    .flat_map(|p| p.sightings.iter())
+                    .filter(|s| s.weight.is_some())
+                    .count(),
+            )
+            .filter(|n| *n > 0),
         }),
     })
 }

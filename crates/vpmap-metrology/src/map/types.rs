@@ -122,6 +122,10 @@ pub struct FitReport {
     pub iterations: usize,
     /// Whether the principal point was fitted (else held at the given or central value).
     pub principal_point_fitted: bool,
+    /// How many clicks the fit weighted by their own covariance (the scene's
+    /// `click_covariances_px2`); absent when none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clicks_with_covariance: Option<usize>,
 }
 
 /// A polygon with holes.

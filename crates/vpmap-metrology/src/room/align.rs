@@ -32,6 +32,8 @@ pub(crate) struct PhotoObject {
     pub params: Vec<f64>,
     /// Index in its photo's scene.
     pub index: usize,
+    /// Per clicked point (in its part's residuals' order), its covariance's whitening.
+    pub weights: Vec<Option<nalgebra::Matrix2<f64>>>,
 }
 
 /// Quarter-turn indices of a box's two axes: room direction `k` is quarter `k`, its opposite
@@ -121,11 +123,13 @@ impl PhotoFit {
                     }
                 }
             }
+            let weights = fitted.problem.weights.get(k).cloned().unwrap_or_default();
             objects.push(PhotoObject {
                 name: o.name.clone(),
                 part,
                 params,
                 index,
+                weights,
             });
         }
         Self { fitted, objects }
@@ -485,18 +489,21 @@ pub(crate) fn sightings(
     placed: &Placed,
 ) -> Vec<Sighting> {
     let field = |name: &str| format!("photos[{photo}].objects[{}].{name}", o.index);
+    let weight = |n: usize| o.weights.get(n).copied().flatten();
     match (&o.part, placed.shape) {
         (Part::Box { axes, clicks, .. }, Shape::Box { axes: waxes, .. }) => {
             let turned = room_axes(*axes, quarter);
             clicks
                 .iter()
-                .map(|c| {
+                .enumerate()
+                .map(|(n, c)| {
                     let (i, j) = corner_in_room(turned, waxes, c.place.0, c.place.1);
                     Sighting {
                         photo,
                         place: Place::Corner(i, j, c.place.2),
                         pixel: c.pixel,
                         field: field(&c.name),
+                        weight: weight(n),
                     }
                 })
                 .collect()
@@ -516,6 +523,7 @@ pub(crate) fn sightings(
                     place: Place::Vertex(map[v]),
                     pixel: *px,
                     field: field(&format!("footprint[{v}]")),
+                    weight: weight(v),
                 })
                 .collect();
             if let Some((above, px)) = top {
@@ -524,6 +532,7 @@ pub(crate) fn sightings(
                     place: Place::Top(map[*above]),
                     pixel: *px,
                     field: field("top.point"),
+                    weight: weight(vertices.len()),
                 });
             }
             out

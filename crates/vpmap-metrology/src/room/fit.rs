@@ -230,6 +230,10 @@ fn build(scene: &Scene, fits: &[PhotoFit], placement: &Placement) -> Result<Buil
                         place: Place::Point,
                         pixel: px(q),
                         field: format!("photos[{k}].scale.floor_distance.{end}"),
+                        weight: p
+                            .click_covariances_px2
+                            .get(&format!("scale.floor_distance.{end}"))
+                            .and_then(|c| crate::fit::whitening(*c)),
                     }],
                 });
             }

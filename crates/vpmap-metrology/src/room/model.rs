@@ -11,7 +11,7 @@
 //! room direction is the first photo's turned by `quarter_p` quarter turns, which gives
 //! `theta_p = yaw_1 + quarter_p pi/2 - yaw_p` from the photos' room yaws.
 
-use nalgebra::{Vector2, Vector3};
+use nalgebra::{Matrix2, Vector2, Vector3};
 
 use crate::fit::model::{BoxAxes, Camera, Part, VpEvidence, vp_residual_count, vp_residuals};
 use crate::fit::solve::Model;
@@ -101,6 +101,8 @@ pub(crate) struct Sighting {
     pub pixel: Vector2<f64>,
     /// The scene field of the click, e.g. `photos[1].objects[0].base.near`.
     pub field: String,
+    /// The whitening of the click's covariance, when its photo gives one.
+    pub weight: Option<Matrix2<f64>>,
 }
 
 /// An object's shape in the room frame.
@@ -292,6 +294,12 @@ impl Model for RoomProblem {
         vp_residuals(&self.camera(c, k), v, &self.photos[k].vps[v], out);
     }
 
+    fn has_click_covariances(&self) -> bool {
+        self.parts
+            .iter()
+            .any(|p| p.sightings.iter().any(|s| s.weight.is_some()))
+    }
+
     fn part_uses_camera(&self, i: usize, c: usize) -> bool {
         // The first photo's camera sets the room's directions (a box's axes, every heading).
         let photo = self.photo_of(c);
@@ -314,8 +322,10 @@ impl Model for RoomProblem {
             let Some(q) = v.project(part.point(&room, p, s.place)) else {
                 return false;
             };
-            out[2 * n] = q.x - s.pixel.x;
-            out[2 * n + 1] = q.y - s.pixel.y;
+            let r = Vector2::new(q.x - s.pixel.x, q.y - s.pixel.y);
+            let r = s.weight.map_or(r, |w| w * r);
+            out[2 * n] = r.x;
+            out[2 * n + 1] = r.y;
         }
         true
     }

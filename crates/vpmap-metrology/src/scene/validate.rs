@@ -15,6 +15,8 @@ pub const MAX_POINT_PX: f64 = 1e7;
 pub const MAX_VANISHING_POINT_PX: f64 = 1e12;
 /// Largest known length in a `scale`, metres.
 pub const MAX_SCALE_M: f64 = 1e6;
+/// Largest variance of a click covariance, px^2 (a 1000 px standard deviation).
+pub const MAX_CLICK_VARIANCE_PX2: f64 = 1e6;
 
 fn check_coords(field: &str, p: &[f64], limit: f64) -> Result<()> {
     for (i, v) in p.iter().enumerate() {
@@ -292,7 +294,8 @@ pub fn unknown_fields(value: &serde_json::Value) -> Vec<String> {
 
 /// [`unknown_fields`] of one photo's scene.
 fn photo_unknown_fields(value: &serde_json::Value) -> Vec<String> {
-    const TOP: [&str; 9] = [
+    const TOP: [&str; 10] = [
+        "click_covariances_px2",
         "version",
         "image",
         "vanishing_points",
@@ -592,6 +595,96 @@ impl Scene {
             check_point(&format!("floor[{i}]"), *p)?;
         }
         self.scale()?;
+        self.check_click_covariances()?;
+        Ok(())
+    }
+
+    /// The field paths of every click a covariance may be given for.
+    fn click_fields(&self) -> std::collections::BTreeSet<String> {
+        let mut out = std::collections::BTreeSet::new();
+        for (i, o) in self.objects.iter().enumerate() {
+            if let Some(b) = &o.base {
+                for (c, _) in b.given() {
+                    out.insert(format!("objects[{i}].base.{}", c.name()));
+                }
+            }
+            if let Some(t) = &o.top {
+                for (c, _) in t.corners.given() {
+                    out.insert(format!("objects[{i}].top.{}", c.name()));
+                }
+                if t.point.is_some() {
+                    out.insert(format!("objects[{i}].top.point"));
+                }
+            }
+            if let Some(f) = &o.footprint {
+                for k in 0..f.len() {
+                    out.insert(format!("objects[{i}].footprint[{k}]"));
+                }
+            }
+        }
+        for k in 0..self.floor.len() {
+            out.insert(format!("floor[{k}]"));
+        }
+        if self
+            .scale
+            .as_ref()
+            .is_some_and(|s| s.floor_distance.is_some())
+        {
+            out.insert("scale.floor_distance.from".to_owned());
+            out.insert("scale.floor_distance.to".to_owned());
+        }
+        out
+    }
+
+    /// Each click covariance names a click of the scene and is a finite, symmetric, positive
+    /// definite matrix of at most [`MAX_CLICK_VARIANCE_PX2`] per coordinate.
+    fn check_click_covariances(&self) -> Result<()> {
+        if self.click_covariances_px2.is_empty() {
+            return Ok(());
+        }
+        let known = self.click_fields();
+        for (key, m) in &self.click_covariances_px2 {
+            let field = format!("click_covariances_px2.\"{key}\"");
+            if !known.contains(key) {
+                return Err(MetrologyError::InvalidField {
+                    field,
+                    reason: "names no click of this scene (expected a field path such as `objects[0].base.near` or `floor[2]`)".to_owned(),
+                });
+            }
+            for (r, row) in m.iter().enumerate() {
+                for (c, v) in row.iter().enumerate() {
+                    if !v.is_finite() {
+                        return Err(MetrologyError::NonFinite {
+                            field: format!("{field}[{r}][{c}]"),
+                            value: *v,
+                        });
+                    }
+                }
+            }
+            let [[a, b], [b2, d]] = *m;
+            let scale = a.abs().max(d.abs()).max(f64::MIN_POSITIVE);
+            if (b - b2).abs() > 1e-9 * scale {
+                return Err(MetrologyError::InvalidField {
+                    field,
+                    reason: format!("is not symmetric: [[{a}, {b}], [{b2}, {d}]]"),
+                });
+            }
+            if !(a > 0.0 && d > 0.0 && a * d - b * b > 1e-12 * a * d) {
+                return Err(MetrologyError::InvalidField {
+                    field,
+                    reason: format!("is not positive definite: [[{a}, {b}], [{b2}, {d}]] px^2"),
+                });
+            }
+            if a.max(d) > MAX_CLICK_VARIANCE_PX2 {
+                return Err(MetrologyError::InvalidField {
+                    field,
+                    reason: format!(
+                        "a variance of {:e} px^2 is beyond the supported {MAX_CLICK_VARIANCE_PX2:e} px^2 (a click that uncertain tells nothing)",
+                        a.max(d)
+                    ),
+                });
+            }
+        }
         Ok(())
     }
 

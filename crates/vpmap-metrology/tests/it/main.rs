@@ -3,6 +3,7 @@
 
 mod bad_input;
 mod camera_only;
+mod covariances;
 mod errata_cases;
 mod eval;
 mod fit;
