@@ -11,6 +11,13 @@
 //! ([`RoomTruth`]) is written in the first photo's plan frame, the frame of the room's map;
 //! headings in it turn counter-clockwise from `+y`, as the map's `cameras[].heading_deg`.
 //!
+//! # The room
+//! 4-7 m a side; boxes 0.3-1.2 m a side and 0.2-1.0 m high (furniture lower than every
+//! camera: tables, beds, cabinets), at least 0.3 m apart, inside the middle 60 % of the room
+//! on each axis. Cameras 0.3-0.9 m from two walls near a corner (the first at a random
+//! corner, the second at the opposite one, then the other two), looking at the room's centre
+//! turned by up to 12 degrees, at least 15 degrees off both room axes.
+//!
 //! # What each photo shows
 //! A box is listed in a photo when its four base corners lie inside the image (2 % margin) and
 //! its top is in front of the camera; it is clicked in the thesis's corner view (base near,
@@ -270,7 +277,7 @@ fn try_room(options: &RoomSynthOptions, rng: &mut ChaCha8Rng) -> Option<(Scene, 
             corner,
             edge_a: Vector2::new(a, 0.0),
             edge_b: Vector2::new(0.0, b),
-            height_m: rng.random_range(0.2..1.8),
+            height_m: rng.random_range(0.2..1.0),
         };
         let gap = 0.3;
         let apart = boxes.iter().all(|o| {
