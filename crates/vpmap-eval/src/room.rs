@@ -100,6 +100,8 @@ pub struct RoomRow {
     pub joint_covered: Vec<bool>,
     /// Floor known by the joint maps.
     pub joint_floor: Vec<f64>,
+    /// Floor in some photo's view of the joint maps.
+    pub joint_in_view: Vec<f64>,
     /// The same of the first photo alone.
     pub first_position_m: Vec<f64>,
     /// Size errors of the first photo alone.
@@ -108,6 +110,8 @@ pub struct RoomRow {
     pub first_covered: Vec<bool>,
     /// Floor known by the first photo alone.
     pub first_floor: Vec<f64>,
+    /// Floor in view of the first photo alone.
+    pub first_in_view: Vec<f64>,
     /// First photos alone refused.
     pub first_refused: usize,
     /// Per shared object: joint error below the best single-photo error.
@@ -120,6 +124,7 @@ fn add_map(
     size: &mut Vec<f64>,
     covered: &mut Vec<bool>,
     floor: &mut Vec<f64>,
+    in_view: &mut Vec<f64>,
 ) {
     for o in &m.objects {
         position.push(o.position_error_m);
@@ -127,6 +132,7 @@ fn add_map(
         covered.extend(o.in_ellipse_95);
     }
     floor.push(m.floor_known);
+    in_view.push(m.floor_in_view);
 }
 
 /// The rows of one number of photos' trials at one noise level.
@@ -153,6 +159,7 @@ pub fn room_row(trials: &[RoomTrial], sigma_px: f64) -> RoomRow {
             &mut r.joint_size_m,
             &mut r.joint_covered,
             &mut r.joint_floor,
+            &mut r.joint_in_view,
         );
         match &ev.first_photo {
             Ok(first) => add_map(
@@ -161,6 +168,7 @@ pub fn room_row(trials: &[RoomTrial], sigma_px: f64) -> RoomRow {
                 &mut r.first_size_m,
                 &mut r.first_covered,
                 &mut r.first_floor,
+                &mut r.first_in_view,
             ),
             Err(_) => r.first_refused += 1,
         }
@@ -203,13 +211,13 @@ pub fn room_report(options: &RoomEvalOptions, trials: &[Vec<RoomTrial>]) -> Stri
     );
     for &sigma in &options.sigmas_px {
         let _ = writeln!(md, "### sigma = {sigma} px\n");
-        md.push_str("| photos | rooms (refused) | position error | size error | truth in 95 % ellipse | floor known, median | rooms with >= 90 % known | shared objects better than their best photo alone |\n");
-        md.push_str("|---|---|---|---|---|---|---|---|\n");
+        md.push_str("| photos | rooms (refused) | position error | size error | truth in 95 % ellipse | floor in view, median | floor known, median | rooms with >= 90 % known | shared objects better than their best photo alone |\n");
+        md.push_str("|---|---|---|---|---|---|---|---|---|\n");
         for (&n, list) in options.photos.iter().zip(trials) {
             let r = room_row(list, sigma);
             let _ = writeln!(
                 md,
-                "| {n} | {} ({}) | {} \\| {} | {} \\| {} | {} \\| {} | {} \\| {} | {} \\| {} | {} of {} |",
+                "| {n} | {} ({}) | {} \\| {} | {} \\| {} | {} \\| {} | {} \\| {} | {} \\| {} | {} \\| {} | {} of {} |",
                 r.rooms,
                 r.refused,
                 metres(&r.joint_position_m),
@@ -218,6 +226,8 @@ pub fn room_report(options: &RoomEvalOptions, trials: &[Vec<RoomTrial>]) -> Stri
                 metres(&r.first_size_m),
                 pct(share(&r.joint_covered)),
                 pct(share(&r.first_covered)),
+                pct(quantile_of(&r.joint_in_view, 0.5)),
+                pct(quantile_of(&r.first_in_view, 0.5)),
                 pct(quantile_of(&r.joint_floor, 0.5)),
                 pct(quantile_of(&r.first_floor, 0.5)),
                 pct(at_least(&r.joint_floor, 0.9)),
@@ -228,8 +238,38 @@ pub fn room_report(options: &RoomEvalOptions, trials: &[Vec<RoomTrial>]) -> Stri
         }
         md.push('\n');
     }
+    md.push_str(&refusals(options, trials));
     md.push_str(&targets(options, trials));
     md
+}
+
+/// Every room the joint fit refused (or that could not be drawn), with the reason.
+fn refusals(options: &RoomEvalOptions, trials: &[Vec<RoomTrial>]) -> String {
+    let mut md = String::new();
+    for t in trials.iter().flatten() {
+        if let Some(f) = &t.draw {
+            let _ = writeln!(
+                md,
+                "- {} photos, trial {} (`vpmap synth --photos {} --seed {}`): not drawn: {}",
+                t.photos, t.trial, t.photos, t.scene_seed, f.message
+            );
+        }
+        for o in &t.outcomes {
+            if let Err(f) = &o.result {
+                let _ = writeln!(
+                    md,
+                    "- {} photos, trial {} (`vpmap synth --photos {} --seed {}`), sigma {} px: refused ({}): {}",
+                    t.photos, t.trial, t.photos, t.scene_seed, o.sigma_px, f.category, f.message
+                );
+            }
+        }
+    }
+    if md.is_empty() {
+        String::new()
+    } else {
+        let _ = options;
+        format!("### Rooms refused\n\n{md}\n")
+    }
 }
 
 /// The three targets against the measured figures.
@@ -292,7 +332,7 @@ fn targets(options: &RoomEvalOptions, trials: &[Vec<RoomTrial>]) -> String {
 #[must_use]
 pub fn room_csv(trials: &[Vec<RoomTrial>]) -> String {
     let mut csv = String::from(
-        "photos,trial,scene_seed,sigma_px,map,object,listed_by,position_error_m,length_error_m,breadth_error_m,height_error_m,in_ellipse_95,joint_better,floor_known\n",
+        "photos,trial,scene_seed,sigma_px,map,object,listed_by,position_error_m,length_error_m,breadth_error_m,height_error_m,in_ellipse_95,joint_better,floor_in_view,floor_known\n",
     );
     for t in trials.iter().flatten() {
         for o in &t.outcomes {
@@ -315,7 +355,7 @@ pub fn room_csv(trials: &[Vec<RoomTrial>]) -> String {
                     let flag = |b: Option<bool>| b.map_or(String::new(), |b| b.to_string());
                     let _ = writeln!(
                         csv,
-                        "{},{},{},{},{name},{},{},{},{},{},{},{},{},{}",
+                        "{},{},{},{},{name},{},{},{},{},{},{},{},{},{},{}",
                         t.photos,
                         t.trial,
                         t.scene_seed,
@@ -328,6 +368,7 @@ pub fn room_csv(trials: &[Vec<RoomTrial>]) -> String {
                         e.height_error_m,
                         flag(e.in_ellipse_95),
                         flag(better),
+                        m.floor_in_view,
                         m.floor_known
                     );
                 }

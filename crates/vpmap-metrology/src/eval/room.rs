@@ -88,7 +88,10 @@ pub struct RoomObjectErrors {
 pub struct RoomMapErrors {
     /// Every object the map shows.
     pub objects: Vec<RoomObjectErrors>,
-    /// Share of the true room's floor the map knows (free or occupied), 0 to 1.
+    /// Share of the true room's floor some photo of the map shows (its free space or a
+    /// footprint, hidden or not), 0 to 1.
+    pub floor_in_view: f64,
+    /// Share of the true room's floor the map knows (free or occupied, not hidden), 0 to 1.
     pub floor_known: f64,
 }
 
@@ -338,20 +341,29 @@ fn long_short(points: &[MapPoint]) -> Option<(f64, f64)> {
 /// its hidden regions.
 #[must_use]
 pub fn floor_known_share(map: &FloorMap, room: &[MapPoint]) -> f64 {
+    floor_shares(map, room).1
+}
+
+/// Shares of the true room's floor inside the map's free space or a footprint (the floor some
+/// photo shows), and of that outside the hidden regions (the floor known).
+fn floor_shares(map: &FloorMap, room: &[MapPoint]) -> (f64, f64) {
     let room = MultiPolygon::new(vec![polygon(room)]);
     let area = room.unsigned_area();
     if area <= 0.0 {
-        return 0.0;
+        return (0.0, 0.0);
     }
     let with_holes = |p: &crate::map::PolygonWithHoles| {
         Polygon::new(ring(&p.exterior), p.holes.iter().map(|h| ring(h)).collect())
     };
-    let mut known: Vec<Polygon<f64>> = map.free_space.iter().map(with_holes).collect();
-    known.extend(map.objects.iter().map(|o| polygon(&o.footprint)));
-    let known = geo::unary_union(&known);
+    let mut in_view: Vec<Polygon<f64>> = map.free_space.iter().map(with_holes).collect();
+    in_view.extend(map.objects.iter().map(|o| polygon(&o.footprint)));
+    let in_view = geo::unary_union(&in_view).intersection(&room);
     let hidden = MultiPolygon::new(map.hidden.iter().map(with_holes).collect());
-    let known = known.difference(&hidden).intersection(&room);
-    (known.unsigned_area() / area).clamp(0.0, 1.0)
+    let known = in_view.difference(&hidden);
+    (
+        (in_view.unsigned_area() / area).clamp(0.0, 1.0),
+        (known.unsigned_area() / area).clamp(0.0, 1.0),
+    )
 }
 
 /// A map's objects (those of `expected` it shows) against the truth, in the first photo's
@@ -392,9 +404,11 @@ fn map_errors(
             })
         })
         .collect();
+    let (floor_in_view, floor_known) = floor_shares(map, &truth.room);
     RoomMapErrors {
         objects,
-        floor_known: floor_known_share(map, &truth.room),
+        floor_in_view,
+        floor_known,
     }
 }
 

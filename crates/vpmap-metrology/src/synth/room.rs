@@ -12,7 +12,7 @@
 //! headings in it turn counter-clockwise from `+y`, as the map's `cameras[].heading_deg`.
 //!
 //! # The room
-//! 4-7 m a side; boxes 0.3-1.2 m a side and 0.2-1.0 m high (furniture lower than every
+//! 4-7 m a side (times `sqrt(boxes / 6)` for more than six boxes); boxes 0.3-1.2 m a side and 0.2-1.0 m high (furniture lower than every
 //! camera: tables, beds, cabinets), at least 0.3 m apart, inside the middle 60 % of the room
 //! on each axis. Cameras 0.3-0.9 m from two walls near a corner (the first at a random
 //! corner, the second at the opposite one, then the other two), looking at the room's centre
@@ -258,7 +258,12 @@ fn sides(footprint: &[[f64; 2]]) -> [f64; 2] {
 }
 
 fn try_room(options: &RoomSynthOptions, rng: &mut ChaCha8Rng) -> Option<(Scene, RoomTruth)> {
-    let room = Vector2::new(rng.random_range(4.0..7.0), rng.random_range(4.0..7.0));
+    // More than six boxes need a larger room: its sides grow with the square root of the count.
+    let grow = (options.boxes as f64 / 6.0).sqrt().max(1.0);
+    let room = Vector2::new(
+        rng.random_range(4.0..7.0) * grow,
+        rng.random_range(4.0..7.0) * grow,
+    );
     // Boxes along the walls' axes, apart from each other and from the walls.
     let mut boxes: Vec<SynthBox> = Vec::new();
     let mut tries = 0;

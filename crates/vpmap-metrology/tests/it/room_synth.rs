@@ -169,3 +169,32 @@ fn synthetic_rooms_are_pure_functions_of_their_options() {
     );
     assert!(synthesize_room(&RoomSynthOptions { photos: 0, ..opts }).is_err());
 }
+
+#[test]
+fn the_bundled_room_example_builds_and_matches_its_truth() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let scene =
+        Scene::from_json_str(&std::fs::read_to_string(dir.join("room.json")).unwrap()).unwrap();
+    let truth: RoomTruth =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("room.truth.json")).unwrap())
+            .unwrap();
+    assert_eq!(scene.photo_count(), 3);
+    let map = build_map(&scene, &BuildOptions::default()).unwrap();
+    // Its clicks are exact.
+    let e = room_error(&map, &truth);
+    assert!(e < 1e-9, "worst {e:e} m");
+    // It is what `vpmap synth --photos 3 --seed 4` draws.
+    let (_, drawn) = synthesize_room(&RoomSynthOptions {
+        seed: 4,
+        photos: 3,
+        ..RoomSynthOptions::default()
+    })
+    .unwrap();
+    assert_eq!(drawn.objects.len(), truth.objects.len());
+    for (a, b) in drawn.objects.iter().zip(&truth.objects) {
+        assert_eq!(a.name, b.name);
+        for (p, q) in a.footprint.iter().zip(&b.footprint) {
+            assert!((p[0] - q[0]).abs() < 1e-12 && (p[1] - q[1]).abs() < 1e-12);
+        }
+    }
+}
