@@ -13,6 +13,8 @@
 //! - [`detection`]: vanishing-point detection on labelled photos in the York Urban format:
 //!   angular error per vanishing point (the one York Urban scorer, [`detection::match_errors`]),
 //!   fractions within 1-10 degrees, area under the error curve, focal error and time.
+//! - [`room`]: rooms of several photos: the joint map against the map of the first photo
+//!   alone and each shared object against the photos that show it alone (issue 29's targets).
 //! - [`stats`]: every quantile, median, mean and box-plot figure the reports print (type 7
 //!   quantiles, Hyndman and Fan 1996).
 //! - [`publish`]: a report's section of a Markdown file such as `docs/results.md`, and the
@@ -39,6 +41,7 @@ pub mod navigate;
 pub mod output;
 pub mod progress;
 pub mod publish;
+pub mod room;
 pub mod stats;
 
 pub use error::{EvalError, Result};
