@@ -301,9 +301,11 @@ impl Model for RoomProblem {
     }
 
     fn part_uses_camera(&self, i: usize, c: usize) -> bool {
-        // The first photo's camera sets the room's directions (a box's axes, every heading).
         let photo = self.photo_of(c);
-        photo == 0 || self.parts[i].sightings.iter().any(|s| s.photo == photo)
+        let seen = |k: usize| self.parts[i].sightings.iter().any(|s| s.photo == k);
+        // The first photo's room yaw sets the room's directions (a box's axes, every
+        // heading); the rest of its camera only what the first photo shows.
+        seen(photo) || (photo == 0 && c == self.photos[0].offset + 3)
     }
 
     fn part_residuals(&self, i: usize, c: &[f64], p: &[f64], out: &mut [f64]) -> bool {
