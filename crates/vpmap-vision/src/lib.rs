@@ -58,6 +58,7 @@ pub mod manhattan;
 pub mod metrics;
 pub mod photo;
 mod prepare;
+pub mod proposals;
 pub mod scene;
 pub mod segments;
 pub mod snap;
