@@ -10,14 +10,17 @@
 //!    vanishing point its line runs to, within [`ProposalOptions::angle_tolerance_deg`];
 //! 2. every vertical segment is a candidate near edge: its lower end is the base near corner,
 //!    its upper end the top near corner;
-//! 3. at the base near corner two horizontal segments must start (an end within
-//!    [`ProposalOptions::join_px`]), one along each horizontal direction, each running
-//!    *towards* its vanishing point (a box's base edges recede from its near corner; a room's
-//!    far corner, whose floor lines come towards the camera, is no box); their far ends are
-//!    the base corners `right` and `left` (by image `x`); at the top near corner, horizontal
-//!    segments that start there give `top.right` and `top.left` the same way;
-//! 4. every corner is snapped ([`crate::snap::snap_click`]); a proposal needs its base near,
-//!    right and left corners and its top near corner, and is scored by the length of its
+//!    (collinear vertical pieces with gaps under 30 px are joined: LSD breaks an edge where the
+//!    background changes);
+//! 3. at the base near corner a horizontal segment along one or both horizontal directions
+//!    must start (an end within [`ProposalOptions::join_px`]), running *towards* its vanishing
+//!    point (a box's base edges recede from its near corner; a room's far corner, whose floor
+//!    lines come towards the camera, is no box); their far ends are the base corners `right`
+//!    and `left` (by image `x`); at the top near corner, horizontal segments that start there
+//!    give `top.right` and `top.left` the same way;
+//! 4. every corner is snapped ([`crate::snap::snap_click`]); a proposal needs its base corners
+//!    inside the photo, keeps the top corners that snap, needs three corners in all (with one
+//!    base edge, the top near corner among them), and is scored by the length of its
 //!    segments times the share of its corners that snapped; proposals sharing a base near
 //!    corner (within 4 px) keep the best.
 
@@ -62,6 +65,9 @@ pub struct BoxProposal {
     /// snapped.
     pub score: f64,
 }
+
+/// Largest gap between collinear vertical pieces taken as one edge, pixels.
+const MERGE_GAP_PX: f64 = 30.0;
 
 /// A segment with its direction index and ends.
 #[derive(Clone, Copy)]
@@ -198,45 +204,69 @@ pub fn propose_boxes(
     };
     let mut out: Vec<BoxProposal> = Vec::new();
     for v in edges.iter().filter(|e| e.dir == 2) {
-        let (bottom, top) = if v.a[1] >= v.b[1] {
+        let (mut bottom, mut top) = if v.a[1] >= v.b[1] {
             (v.a, v.b)
         } else {
             (v.b, v.a)
         };
-        let (Some((fa, la)), Some((fb, lb))) = (
-            edge_from(&edges, &vps, 0, bottom, opts.join_px, true),
-            edge_from(&edges, &vps, 1, bottom, opts.join_px, true),
-        ) else {
-            continue;
+        // Collinear vertical pieces with short gaps are one edge (LSD breaks edges where the
+        // background changes).
+        let (o, d) = (bottom, [top[0] - bottom[0], top[1] - bottom[1]]);
+        let n = (d[0] * d[0] + d[1] * d[1]).sqrt().max(1e-9);
+        let off = |p: [f64; 2]| ((p[0] - o[0]) * d[1] - (p[1] - o[1]) * d[0]).abs() / n;
+        for w in edges.iter().filter(|e| e.dir == 2) {
+            if off(w.a) > 2.0 || off(w.b) > 2.0 {
+                continue;
+            }
+            for p in [w.a, w.b] {
+                if p[1] > bottom[1] && dist(p, bottom) < MERGE_GAP_PX + w.len {
+                    bottom = p;
+                }
+                if p[1] < top[1] && dist(p, top) < MERGE_GAP_PX + w.len {
+                    top = p;
+                }
+            }
+        }
+        let base_a = edge_from(&edges, &vps, 0, bottom, opts.join_px, true);
+        let base_b = edge_from(&edges, &vps, 1, bottom, opts.join_px, true);
+        let (right, left, la, lb) = match (base_a, base_b) {
+            (Some((fa, la)), Some((fb, lb))) => {
+                if fa[0] >= fb[0] {
+                    (Some(fa), Some(fb), la, lb)
+                } else {
+                    (Some(fb), Some(fa), la, lb)
+                }
+            }
+            // One base edge: right or left by the side it runs to.
+            (Some((f, l)), None) | (None, Some((f, l))) => {
+                if f[0] >= bottom[0] {
+                    (Some(f), None, l, 0.0)
+                } else {
+                    (None, Some(f), l, 0.0)
+                }
+            }
+            (None, None) => continue,
         };
-        let (right, left) = if fa[0] >= fb[0] { (fa, fb) } else { (fb, fa) };
         let top_a = edge_from(&edges, &vps, 0, top, opts.join_px, false);
         let top_b = edge_from(&edges, &vps, 1, top, opts.join_px, false);
-        let mut corners = vec![
-            ("base.near", bottom),
-            ("base.right", right),
-            ("base.left", left),
-            ("top.near", top),
-        ];
+        let mut corners = vec![("base.near", bottom)];
+        corners.extend(right.map(|p| ("base.right", p)));
+        corners.extend(left.map(|p| ("base.left", p)));
         let mut length = v.len + la + lb;
+        let mut optional = vec![("top.near", top)];
         let tops: Vec<([f64; 2], f64)> = [top_a, top_b].into_iter().flatten().collect();
         if let [x, y] = tops.as_slice() {
             let (r, l) = if x.0[0] >= y.0[0] { (x, y) } else { (y, x) };
-            corners.push(("top.right", r.0));
-            corners.push(("top.left", l.0));
+            optional.push(("top.right", r.0));
+            optional.push(("top.left", l.0));
             length += r.1 + l.1;
         }
         let mut snapped = 0;
         let mut base = BoxCorners::default();
         let mut topc = BoxCorners::default();
         let mut ok = true;
-        for (name, p) in &corners {
-            let Some((q, moved)) = snap(*p) else {
-                ok = false;
-                break;
-            };
-            snapped += usize::from(moved);
-            let slot = match *name {
+        let mut place = |name: &str, q: [f64; 2]| {
+            let slot = match name {
                 "base.near" => &mut base.near,
                 "base.right" => &mut base.right,
                 "base.left" => &mut base.left,
@@ -245,8 +275,29 @@ pub fn propose_boxes(
                 _ => &mut topc.left,
             };
             *slot = Some(q);
+        };
+        for (name, p) in &corners {
+            let Some((q, moved)) = snap(*p) else {
+                ok = false;
+                break;
+            };
+            snapped += usize::from(moved);
+            place(name, q);
         }
         if !ok {
+            continue;
+        }
+        let needed = corners.len();
+        // Top corners only where they snap (a tall box's top may be outside the photo).
+        for (name, p) in &optional {
+            if let Some((q, true)) = snap(*p) {
+                snapped += 1;
+                place(name, q);
+                corners.push((name, q));
+            }
+        }
+        // A box needs three corners, and with one base edge its top near corner.
+        if corners.len() < 3 || (needed < 3 && topc.near.is_none()) {
             continue;
         }
         let score = length * snapped as f64 / corners.len() as f64;

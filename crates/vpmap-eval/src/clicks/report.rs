@@ -87,7 +87,7 @@ pub fn summary_markdown(config: &Config, results: &Results) -> String {
     // Fits.
     let _ = writeln!(
         s,
-        "\n### Boxes\n\nSize error: `|modelled - true| / true` of every box's length, breadth and height, at the true scale (the camera height). Coverage: the share of boxes whose true centroid lies in the fit's 95 % ellipse, and of sizes within `+-2 sd`. Raw fits are told the true click noise; snapped fits estimate one click sigma from their residuals.\n"
+        "\n### Boxes\n\nSize error: `|modelled - true| / true` of every box's length, breadth and height, at the true scale (the camera height). Coverage: the share of boxes whose true centroid lies in the fit's 95 % ellipse, and of sizes within `+-2 sd`. Raw fits are told the true click noise. The fit takes one sigma for every click: `snapped` estimates it from the residuals (too small for the clicks that stayed), `snapped, sigma given` is told the raw clicks' noise (too large for the snapped ones); a fit that weighs each click by its own covariance lies between.\n"
     );
     let _ = writeln!(
         s,
@@ -95,7 +95,7 @@ pub fn summary_markdown(config: &Config, results: &Results) -> String {
     );
     let _ = writeln!(s, "|---|---|---|---|---|---|---|");
     for &sigma in &config.sigmas_px {
-        for variant in ["raw", "snapped"] {
+        for variant in ["raw", "snapped", "snapped, sigma given"] {
             let fits: Vec<_> = trials
                 .iter()
                 .flat_map(|t| &t.fits)
@@ -166,4 +166,64 @@ pub fn published_section(
         elapsed,
         command,
     )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::clicks::{ClickRecord, FitRecord, ProposalRecord, TrialResult};
+
+    #[test]
+    fn the_tables_count_what_the_trials_hold() {
+        let click = |snapped: bool, error_px: f64| ClickRecord {
+            sigma_px: 2.0,
+            kind: CornerKind::BoxCorner,
+            visible: true,
+            snapped,
+            raw_error_px: 2.0,
+            error_px,
+            chi2: snapped.then_some(1.0),
+        };
+        let trial = TrialResult {
+            trial: 0,
+            detected: true,
+            clicks: vec![click(true, 0.1), click(true, 0.3), click(false, 2.0)],
+            fits: vec![FitRecord {
+                sigma_px: 2.0,
+                variant: "raw",
+                size_errors_pct: vec![1.0, 3.0],
+                ellipse_within: vec![true, false],
+                size_within: vec![true],
+                refused: None,
+            }],
+            proposals: ProposalRecord {
+                proposals: 4,
+                correct: 3,
+                visible_boxes: 2,
+                found: 1,
+            },
+            error: None,
+        };
+        let config = Config {
+            sigmas_px: vec![2.0],
+            ..Config::default()
+        };
+        let md = summary_markdown(
+            &config,
+            &Results {
+                trials: vec![trial],
+            },
+        );
+        assert!(
+            md.contains(
+                "| 2 px | box corner | 3 | 66.7 % | 0.200 px | 0.290 px | 2.00 px | 100.0 % |"
+            ),
+            "{md}"
+        );
+        assert!(
+            md.contains("| 2 px | raw | 0 of 1 | 2.00 % | 2.90 % | 50.0 % | 100.0 % |"),
+            "{md}"
+        );
+        assert!(md.contains("| 2 | 1 (50.0 %) | 4 | 3 (75.0 %) |"), "{md}");
+    }
 }

@@ -43,7 +43,8 @@ pub struct ClickRecord {
 pub struct FitRecord {
     /// The click noise, pixels.
     pub sigma_px: f64,
-    /// `raw` or `snapped`.
+    /// `raw`, `snapped` (one click sigma estimated from the residuals) or `snapped, sigma
+    /// given` (the raw clicks' sigma for every click: a bound from above).
     pub variant: &'static str,
     /// Per box: absolute errors of length, breadth and height, % of the true ones.
     pub size_errors_pct: Vec<f64>,
@@ -160,7 +161,7 @@ pub fn run_clicks_trial(config: &Config, trial: u64) -> TrialResult {
         _ => scene_vanishing_points(&scene).unwrap_or_default(),
     };
     if let Some(d) = &detection {
-        out.proposals = proposal_record(&image, d, &vps, &photo.corners);
+        out.proposals = proposal_record(&photo.image, &image, d, &vps, &photo.corners);
     }
     for &sigma in &config.sigmas_px {
         let mut noisy = scene.clone();
@@ -286,13 +287,21 @@ pub const PROPOSAL_MATCH_PX: f64 = 5.0;
 /// three of the box's clicked corners are among the proposal's corners of the same name and
 /// all of those lie within [`PROPOSAL_MATCH_PX`] of the truth.
 fn proposal_record(
+    photo: &image::DynamicImage,
     image: &SnapImage,
     detection: &vpmap_vision::Detection,
     vps: &[[f64; 3]],
     corners: &[TrueCorner],
 ) -> ProposalRecord {
-    let proposals = propose_boxes(image, &detection.segments, vps, &ProposalOptions::default())
-        .unwrap_or_default();
+    // The segments at the photo's full size (the detector works on a smaller copy).
+    let full = vpmap_vision::DetectOptions {
+        max_side_px: image.width().max(image.height()),
+        ..vpmap_vision::DetectOptions::default()
+    };
+    let segments = vpmap_vision::detect_segments(photo, &full).unwrap_or_default();
+    let _ = detection;
+    let proposals =
+        propose_boxes(image, &segments, vps, &ProposalOptions::default()).unwrap_or_default();
     let objects: Vec<usize> = {
         let mut o: Vec<usize> = corners
             .iter()

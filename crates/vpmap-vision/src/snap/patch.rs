@@ -3,23 +3,31 @@
 
 use image::DynamicImage;
 
-/// A photo ready for snapping: its grey levels (0 to 255, Rec. 601 luma), row-major.
+/// A photo ready for snapping: its 8-bit pixels (grey, or RGB whose grey level, Rec. 601
+/// luma on the 0 to 255 scale, is computed where a patch reads it), row-major. Making one
+/// copies the pixels once (no conversion of the whole photo).
 #[derive(Clone, Debug)]
 pub struct SnapImage {
     width: u32,
     height: u32,
-    grey: Vec<f32>,
+    channels: usize,
+    pixels: Vec<u8>,
 }
 
 impl SnapImage {
-    /// The grey levels of a photo (any colour type).
+    /// The pixels of a photo (8-bit grey or RGB as they are; other types converted to RGB).
     #[must_use]
     pub fn new(image: &DynamicImage) -> Self {
-        let luma = image.to_luma8();
+        let (channels, pixels) = match image {
+            DynamicImage::ImageLuma8(g) => (1, g.as_raw().clone()),
+            DynamicImage::ImageRgb8(c) => (3, c.as_raw().clone()),
+            other => (3, other.to_rgb8().into_raw()),
+        };
         Self {
-            width: luma.width(),
-            height: luma.height(),
-            grey: luma.as_raw().iter().map(|&v| f32::from(v)).collect(),
+            width: image.width(),
+            height: image.height(),
+            channels,
+            pixels,
         }
     }
 
@@ -35,13 +43,18 @@ impl SnapImage {
         self.height
     }
 
+    /// The grey level of a pixel (borders clamped).
     fn at(&self, x: i64, y: i64) -> f64 {
         let x = x.clamp(0, i64::from(self.width) - 1) as usize;
         let y = y.clamp(0, i64::from(self.height) - 1) as usize;
-        self.grey
-            .get(y * self.width as usize + x)
-            .copied()
-            .map_or(0.0, f64::from)
+        let k = (y * self.width as usize + x) * self.channels;
+        match self.pixels.get(k..k + self.channels) {
+            Some([g]) => f64::from(*g),
+            Some([r, g, b]) => {
+                0.299 * f64::from(*r) + 0.587 * f64::from(*g) + 0.114 * f64::from(*b)
+            }
+            _ => 0.0,
+        }
     }
 }
 
