@@ -158,10 +158,35 @@ fn unit_name(units: Units) -> &'static str {
 }
 
 fn print_summary(map: &FloorMap, grid_summary: &str) {
+    if map.cameras.is_empty() {
+        print_camera(map, &map.camera, "camera");
+    } else {
+        for (k, c) in map.cameras.iter().enumerate() {
+            print_camera(map, c, &format!("photo {}", k + 1));
+        }
+    }
+    print_objects_and_floor(map, grid_summary);
+}
+
+/// One camera's line and its error bars; a room's cameras also say where they stood.
+fn print_camera(map: &FloorMap, c: &vpmap_metrology::map::CameraReport, label: &str) {
     let u = unit_name(map.units);
-    let c = &map.camera;
+    let placed = c.heading_deg.map_or_else(String::new, |h| {
+        let sd = c
+            .uncertainty
+            .as_ref()
+            .and_then(|e| e.position_sd.zip(e.heading_deg_sd));
+        format!(
+            ", at ({:.3}, {:.3}) {u} heading {h:.1} deg{}",
+            c.position[0],
+            c.position[1],
+            sd.map_or_else(String::new, |([sx, sy], sh)| format!(
+                " (+- {sx:.3}, {sy:.3} {u}, {sh:.2} deg)"
+            ))
+        )
+    });
     println!(
-        "camera: {} perspective, focal {:.1} px, principal point ({:.1}, {:.1}), pitch {:.2} deg, roll {:.2} deg, height {:.3} {u}",
+        "{label}: {} perspective, focal {:.1} px, principal point ({:.1}, {:.1}), pitch {:.2} deg, roll {:.2} deg, height {:.3} {u}{placed}",
         c.perspective.words(),
         c.focal_px,
         c.principal_point[0],
@@ -190,6 +215,11 @@ fn print_summary(map: &FloorMap, grid_summary: &str) {
             f.rms_residual_px
         );
     }
+}
+
+/// The objects, the floor, the grid and the warnings.
+fn print_objects_and_floor(map: &FloorMap, grid_summary: &str) {
+    let u = unit_name(map.units);
     for o in &map.objects {
         let pm = |sd: Option<f64>| sd.map_or_else(String::new, |s| format!(" +- {s:.3}"));
         let (u_len, u_br, u_h) = o.uncertainty.as_ref().map_or((None, None, None), |e| {

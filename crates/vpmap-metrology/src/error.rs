@@ -36,6 +36,14 @@ pub enum MetrologyError {
         /// What is wrong with it, with the value.
         reason: String,
     },
+    /// A problem in one photo of a room file.
+    #[error("photos[{photo}] (photo {}): {error}", photo + 1)]
+    InPhoto {
+        /// The photo's index in the room file, from 0.
+        photo: usize,
+        /// What is wrong in it.
+        error: Box<MetrologyError>,
+    },
     /// Two or three vanishing points are required.
     #[error(
         "scene field `vanishing_points` has {0} entries; give 2 (two-point perspective) or 3 (three-point perspective)"

@@ -33,12 +33,14 @@
 //!    `calibration`, `scene`).
 //! 8. [`fit`]: the joint fit (uses `camera`, `uncertainty`, `reconstruct`, `calibration`,
 //!    `scene`, `linalg`). `model`, `solve`, `fitted`, then `init` and `uncertainty`.
-//! 9. [`synth`]: synthetic scenes from an independent pinhole camera (uses `scene` only).
-//!    `camera`, `truth`, `noise`, `annotate`, `vp_edges`, then `random_scene`.
-//! 10. [`map`]: the floor map (uses `fit`, `sideview`, `projective`, `reconstruct`,
+//! 9. [`room`]: the joint fit of a room's several photos (uses `fit`, `uncertainty`,
+//!    `reconstruct`, `calibration`, `scene`). `model`, `align`, `fit`, then `uncertainty`.
+//! 10. [`synth`]: synthetic scenes from an independent pinhole camera (uses `scene` only).
+//!     `camera`, `truth`, `noise`, `annotate`, `vp_edges`, then `random_scene`.
+//! 11. [`map`]: the floor map (uses `room`, `fit`, `sideview`, `projective`, `reconstruct`,
 //!     `uncertainty`, `camera`, `calibration`, `scene`; its tests also `synth`). `types`, then
 //!     `reconstruction`, `regions` and `warnings`, then `build`.
-//! 11. [`eval`]: map accuracy against a synthetic truth (uses `map`, `synth`, `reconstruct`,
+//! 12. [`eval`]: map accuracy against a synthetic truth (uses `map`, `synth`, `reconstruct`,
 //!     `calibration`, `scene`). `metrics`, `coverage`, `evaluate`, `setups`, then `trial`.
 //!
 //! # Example
@@ -65,6 +67,7 @@ pub mod linalg;
 pub mod map;
 pub mod projective;
 pub mod reconstruct;
+pub mod room;
 pub mod scene;
 pub mod sideview;
 pub mod synth;

@@ -63,4 +63,10 @@ pub struct CameraUncertainty {
     /// degrees.
     #[serde(default)]
     pub room_yaw_deg_sd: f64,
+    /// A room's photos after the first: the station point `[x, y]`, map units.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub position_sd: Option<[f64; 2]>,
+    /// A room's photos after the first: the heading, degrees.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub heading_deg_sd: Option<f64>,
 }

@@ -139,4 +139,31 @@ mod tests {
         .to_string();
         assert!(e.contains("only the fit method"), "{e}");
     }
+
+    #[test]
+    fn a_room_builds_one_map_with_every_camera_in_every_output() {
+        let text = include_str!("../../vpmap-metrology/tests/fixtures/room-mv00.json");
+        let parsed = crate::scene::parse_scene(text).unwrap_or_else(|e| panic!("{e}"));
+        assert!(parsed.warnings.is_empty(), "{:?}", parsed.warnings);
+        let built = build(&parsed.scene, &MapOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+        assert_eq!(built.map.cameras.len(), 2);
+        // The floor plan draws photo 2's camera; the model has a pyramid per camera.
+        assert!(built.svg.contains(r#"<g id="cameras">"#) && built.svg.contains("photo 2"));
+        let glb = String::from_utf8_lossy(&built.model_glb);
+        assert!(glb.contains("\"camera 2\"") && glb.contains("\"heading_deg\""));
+        // The grid covers both cameras' floor: more free cells than photo 1 alone.
+        let photo1 = crate::scene::parse_scene(
+            &serde_json::from_str::<serde_json::Value>(text).unwrap()["photos"][0].to_string(),
+        )
+        .unwrap_or_else(|e| panic!("{e}"));
+        let alone =
+            map_and_grid(&photo1.scene, &MapOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+        let free = |g: &OccupancyGrid| g.cells().iter().filter(|c| **c == Occupancy::Free).count();
+        assert!(
+            free(&built.grid) > free(&alone.grid),
+            "{} vs {}",
+            free(&built.grid),
+            free(&alone.grid)
+        );
+    }
 }

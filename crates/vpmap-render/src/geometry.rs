@@ -29,10 +29,14 @@ impl Bounds {
         }
     }
 
-    /// Bounds of the floor, the objects, the free space and the station point of a map,
-    /// skipping non-finite points. Like [`FloorMap::bounds`], but safe on broken maps.
+    /// Bounds of the floor, the objects, the free space and the station point of a map (and
+    /// a room's other cameras), skipping non-finite points. Like [`FloorMap::bounds`], but
+    /// safe on broken maps.
     pub fn of_map(map: &FloorMap) -> Self {
         let mut b = Self::origin();
+        for c in &map.cameras {
+            b.include([c.position[0], c.position[1]]);
+        }
         let free = map
             .free_space
             .iter()

@@ -33,7 +33,7 @@ use gltf_json::mesh::{Mode, Primitive, Semantic};
 use gltf_json::validation::{Checked::Valid, USize64};
 use gltf_json::{Accessor, Buffer, Index, Material, Mesh, Node, Root, Scene};
 use serde_json::json;
-use vpmap_metrology::map::{FloorMap, MapPoint, Units};
+use vpmap_metrology::map::{CameraReport, FloorMap, MapPoint, Units};
 use vpmap_metrology::reconstruct::ObjectKind;
 
 use crate::error::RenderError;
@@ -423,8 +423,10 @@ fn camera_axes(pitch_deg: f64, roll_deg: f64) -> ([f64; 3], [f64; 3], [f64; 3]) 
 /// The camera pyramid's apex and base corners (map frame): apex at the camera centre, base
 /// `depth` ahead along the viewing direction, spanning the horizontal field of view and the
 /// image's aspect; corners bottom-left, bottom-right, top-right, top-left in the image.
-fn camera_frustum(map: &FloorMap, height: f64, depth: f64) -> ([f64; 3], [[f64; 3]; 4]) {
-    let [left, right] = map.camera.horizontal_fov_deg.map(|a| {
+///
+/// A room's camera stands at its `position` and is turned by its `heading_deg`.
+fn camera_frustum(camera: &CameraReport, height: f64, depth: f64) -> ([f64; 3], [[f64; 3]; 4]) {
+    let [left, right] = camera.horizontal_fov_deg.map(|a| {
         if a.is_finite() {
             a.clamp(-MAX_HALF_FOV_DEG, MAX_HALF_FOV_DEG)
                 .to_radians()
@@ -438,15 +440,30 @@ fn camera_frustum(map: &FloorMap, height: f64, depth: f64) -> ([f64; 3], [[f64; 
     } else {
         (-0.577, 0.577)
     };
-    let image = map.camera.image;
+    let image = camera.image;
     let aspect = if image.width > 0 && image.height > 0 {
         f64::from(image.height) / f64::from(image.width)
     } else {
         0.75
     };
     let half_v = (right - left) / 2.0 * aspect;
-    let apex = [0.0, 0.0, height];
-    let (right_axis, up, forward) = camera_axes(map.camera.pitch_deg, map.camera.roll_deg);
+    let placed = camera.heading_deg.is_some();
+    let finite = |v: f64| if v.is_finite() { v } else { 0.0 };
+    let apex = if placed {
+        [
+            finite(camera.position[0]),
+            finite(camera.position[1]),
+            height,
+        ]
+    } else {
+        [0.0, 0.0, height]
+    };
+    let (s, c) = finite(camera.heading_deg.unwrap_or(0.0))
+        .to_radians()
+        .sin_cos();
+    let turn = |a: [f64; 3]| [c * a[0] - s * a[1], s * a[0] + c * a[1], a[2]];
+    let (right_axis, up, forward) = camera_axes(camera.pitch_deg, camera.roll_deg);
+    let (right_axis, up, forward) = (turn(right_axis), turn(up), turn(forward));
     let corner = |h: f64, v: f64| -> [f64; 3] {
         std::array::from_fn(|k| apex[k] + depth * (forward[k] + h * right_axis[k] + v * up[k]))
     };
@@ -460,8 +477,8 @@ fn camera_frustum(map: &FloorMap, height: f64, depth: f64) -> ([f64; 3], [[f64; 
 }
 
 /// The camera pyramid of [`camera_frustum`] as a closed mesh with outward faces.
-fn camera_pyramid(map: &FloorMap, height: f64, depth: f64) -> MeshData {
-    let (apex, base) = camera_frustum(map, height, depth);
+fn camera_pyramid(camera: &CameraReport, height: f64, depth: f64) -> MeshData {
+    let (apex, base) = camera_frustum(camera, height, depth);
     let inside = [
         (apex[0] + base.iter().map(|c| c[0]).sum::<f64>()) / 5.0,
         (apex[1] + base.iter().map(|c| c[1]).sum::<f64>()) / 5.0,
@@ -585,16 +602,38 @@ pub fn model_glb(map: &FloorMap) -> Result<Vec<u8>, RenderError> {
         } else {
             size
         };
-    let mesh = camera_pyramid(map, camera_height, depth);
     let material = w.material("camera", [0.84, 0.15, 0.16, 1.0]);
-    let extras = json!({
-        "pitch_deg": map.camera.pitch_deg,
-        "roll_deg": map.camera.roll_deg,
-        "height": camera_height,
-        "horizontal_fov_deg": map.camera.horizontal_fov_deg,
-        "units": units,
-    });
-    nodes.push(w.node("camera", "camera", &mesh, material, &extras));
+    // One photo's camera, or every camera of a room ("camera" is the first photo's).
+    let cameras = if map.cameras.is_empty() {
+        std::slice::from_ref(&map.camera)
+    } else {
+        map.cameras.as_slice()
+    };
+    for (k, camera) in cameras.iter().enumerate() {
+        let height = if k == 0 {
+            camera_height
+        } else {
+            check(|| format!("cameras[{k}].height"), camera.height)?
+        };
+        let mesh = camera_pyramid(camera, height, depth);
+        let mut extras = json!({
+            "pitch_deg": camera.pitch_deg,
+            "roll_deg": camera.roll_deg,
+            "height": height,
+            "horizontal_fov_deg": camera.horizontal_fov_deg,
+            "units": units,
+        });
+        if let Some(h) = camera.heading_deg {
+            extras["heading_deg"] = json!(h);
+            extras["photo"] = json!(k + 1);
+        }
+        let name = if k == 0 {
+            "camera".to_owned()
+        } else {
+            format!("camera {}", k + 1)
+        };
+        nodes.push(w.node(&name, &name, &mesh, material, &extras));
+    }
 
     let extras = json!({
         "units": units,
@@ -665,7 +704,7 @@ mod tests {
         let map =
             vpmap_metrology::map::build_map(&scene, &vpmap_metrology::map::BuildOptions::default())
                 .unwrap();
-        let m = camera_pyramid(&map, 1.5, 0.45);
+        let m = camera_pyramid(&map.camera, 1.5, 0.45);
         assert!(volume(&m) > 0.0);
         // glTF -Z is forward, +Y up: the base is ahead of and below the apex.
         let mean_z: f32 = m.positions.iter().map(|p| p[2]).sum::<f32>() / m.positions.len() as f32;
@@ -721,7 +760,7 @@ mod tests {
         let mut lifts = Vec::new();
         for roll_deg in [-20.0, 0.0, 20.0] {
             map.camera.roll_deg = roll_deg;
-            let (apex, base) = camera_frustum(&map, 1.5, 0.45);
+            let (apex, base) = camera_frustum(&map.camera, 1.5, 0.45);
             // The bottom edge of the image (corner 0 to 1) runs along the rolled right axis:
             // perpendicular to the viewing direction, at the roll angle from the image's
             // unrolled horizontal (map x) within the image plane.
@@ -739,7 +778,7 @@ mod tests {
                 assert_relative_eq!(dot(sub(c, apex), forward), 0.45, epsilon = 1e-12);
             }
             // The mesh (glTF +Y up, +X right): the right half is higher for a positive roll.
-            let m = camera_pyramid(&map, 1.5, 0.45);
+            let m = camera_pyramid(&map.camera, 1.5, 0.45);
             assert!(volume(&m) > 0.0);
             let mean_y = |right: bool| {
                 let ys: Vec<f32> = m

@@ -126,6 +126,62 @@ function buildSettings(q, body = {}) {
   };
 }
 
+/** Turn a map-from-camera rotation (rows) by `deg` about +z (counter-clockwise seen from above). */
+function turned(r, deg) {
+  const t = (deg * Math.PI) / 180, c = Math.cos(t), s = Math.sin(t);
+  return [
+    [0, 1, 2].map((k) => c * r[0][k] - s * r[1][k]),
+    [0, 1, 2].map((k) => s * r[0][k] + c * r[1][k]),
+    r[2].slice(),
+  ];
+}
+
+/**
+ * A room file (`{"version": 1, "photos": [...]}`), the way the real server's contract answers it,
+ * but canned: photo 1 is built as the map (objects, floor, pictures), every photo is built alone
+ * for its own camera, and the cameras of photos 2, 3, ... are put at made-up places (1.2 m apart,
+ * turned 35 degrees each): a stand-in to develop the page against, not a fit. Errors name the
+ * photo as the real server's do: "photos[i] (photo i+1): `objects[1]...`" and "photo N is not tied to photo 1".
+ */
+async function buildRoom(room, settings) {
+  const photos = room.photos;
+  if (!Array.isArray(photos) || photos.length === 0) throw new HttpError(400, 'the room file has no photos');
+  const names = (i) => new Set((photos[i].objects || []).map((o) => o.name));
+  for (let i = 1; i < photos.length; i++) {
+    const mine = names(i);
+    const tied = photos.slice(0, i).some((_, j) => [...names(j)].some((n) => mine.has(n)));
+    if (!tied) throw new HttpError(400, `photo ${i + 1} is not tied to photo 1: no object is named in both it and an earlier photo`);
+  }
+  const built = [];
+  for (const [i, scene] of photos.entries()) {
+    try {
+      built.push(await withTemp(async (dir) => {
+        const b = await buildIn(dir, scene, settings);
+        delete b._dir;
+        return b;
+      }));
+    } catch (e) {
+      throw new HttpError(e.status || 400, `scene: photos[${i}] (photo ${i + 1}): ${e.message.replace(/^building \S+: /, '')}`);
+    }
+  }
+  const first = built[0];
+  first.map.cameras = built.map((b, i) => {
+    const c = b.map.camera;
+    const heading = 35 * i;
+    const t = (heading * Math.PI) / 180;
+    const at = [1.2 * i, 0.3 * i];
+    const place = (p) => [at[0] + Math.cos(t) * p[0] - Math.sin(t) * p[1], at[1] + Math.sin(t) * p[0] + Math.cos(t) * p[1]];
+    return {
+      ...c,
+      position: [at[0], at[1], c.height],
+      heading_deg: heading,
+      view_on_floor: (c.view_on_floor || []).map(place),
+      rotation_map_from_camera: c.rotation_map_from_camera ? turned(c.rotation_map_from_camera, heading) : undefined,
+    };
+  });
+  return first;
+}
+
 let examplePhoto = null;
 
 async function example() {
@@ -177,7 +233,9 @@ function bugsFromSvg(svg) {
 }
 
 async function plan(body) {
-  const { scene, start, goal } = body;
+  const { start, goal } = body;
+  // A room: the mock plans on photo 1's map (buildRoom's map).
+  const scene = Array.isArray(body.scene?.photos) ? body.scene.photos[0] : body.scene;
   if (!scene) throw new HttpError(400, 'missing field `scene`');
   for (const [k, p] of [['start', start], ['goal', goal]]) {
     if (!Array.isArray(p) || p.length !== 2 || !p.every(Number.isFinite)) throw new HttpError(400, `\`${k}\` must be [x, y] in metres`);
@@ -259,7 +317,9 @@ const server = createServer(async (req, res) => {
     if (API && p.startsWith('/api/')) return await proxy(req, res, url);
     if (p === '/api/example' && req.method === 'GET') return send(200, await example());
     if (p === '/api/build' && req.method === 'POST') {
-      const built = await withTemp(async (dir) => buildIn(dir, jsonBody(await readBody(req)), buildSettings(url.searchParams)));
+      const body = jsonBody(await readBody(req));
+      if (Array.isArray(body.photos)) return send(200, await buildRoom(body, buildSettings(url.searchParams)));
+      const built = await withTemp(async (dir) => buildIn(dir, body, buildSettings(url.searchParams)));
       delete built._dir;
       return send(200, built);
     }

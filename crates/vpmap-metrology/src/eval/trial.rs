@@ -135,6 +135,7 @@ pub fn with_long_edges(
 #[must_use]
 pub fn failure_category(error: &MetrologyError) -> &'static str {
     match error {
+        MetrologyError::InPhoto { error, .. } => failure_category(error),
         MetrologyError::NotBelowHorizon { .. } => "point_not_below_horizon",
         MetrologyError::NoRealFocalLength(_) => "no_real_focal_length",
         MetrologyError::ParallelLines { .. } => "parallel_edges",

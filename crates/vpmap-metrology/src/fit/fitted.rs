@@ -2,7 +2,7 @@
 //! the error bars, and [`Fitted`], the fitted camera and objects with the problem kept for the
 //! error bars.
 
-use super::solve::Problem;
+use super::solve::{Model, Problem};
 use crate::calibration::Calibration;
 use crate::reconstruct::Reconstruction;
 
@@ -23,13 +23,17 @@ pub const MIN_CLICK_SIGMA_PX: f64 = 0.288_675_134_594_812_9;
 pub const MIN_DOF_FOR_SIGMA: usize = 20;
 
 /// The click noise for the error bars and where it comes from.
-pub(crate) fn click_sigma(
+pub(crate) fn click_sigma<M: Model>(
     options: &FitOptions,
     cost: f64,
-    problem: &Problem,
+    problem: &M,
 ) -> (f64, &'static str) {
     if let Some(s) = options.click_sigma_px {
         return (s, "given");
+    }
+    if problem.has_click_covariances() {
+        // The covariances are absolute: a weighted residual is in pixels of a 1 px click.
+        return (1.0, "covariances");
     }
     let dof = problem.residual_count().saturating_sub(problem.len());
     if dof >= MIN_DOF_FOR_SIGMA {

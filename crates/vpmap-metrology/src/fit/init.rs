@@ -2,10 +2,10 @@
 //! held (the projective form's calibration, in closed form), and each object by linear least
 //! squares on the rays of its clicks.
 
-use nalgebra::{DMatrix, DVector, Matrix3, Vector2, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix2, Matrix3, Vector2, Vector3};
 
 use super::model::{BoxAxes, Camera, CornerClick, Part, VpEvidence, px};
-use super::solve::Problem;
+use super::solve::{Model, Problem};
 use crate::camera::rotation_map_from_camera;
 use crate::error::{MetrologyError, Result};
 use crate::scene::{ImageSize, ObjectShape, Scale, Scene};
@@ -339,6 +339,58 @@ fn start_parts(scene: &Scene, cam: &Camera) -> Result<StartParts> {
     Ok((parts, params, object_parts, floor_distance_parts))
 }
 
+/// The whitening of a click with covariance `cov` (px^2): `W` with `W^T W = cov^-1`, so
+/// that `W r` has unit covariance; scaled by 1 px so that the weighted residual is in
+/// pixels of a 1 px click. `None` when the matrix has no Cholesky factor (validation refuses
+/// such a covariance).
+pub(crate) fn whitening(cov: [[f64; 2]; 2]) -> Option<Matrix2<f64>> {
+    let m = Matrix2::new(cov[0][0], cov[0][1], cov[1][0], cov[1][1]);
+    let l = m.cholesky()?.l();
+    l.try_inverse()
+}
+
+/// Per part, per clicked point (in its residuals' order), the whitening of the click's
+/// covariance when the scene gives one (`click_covariances_px2`).
+pub(crate) fn click_weights(
+    scene: &Scene,
+    parts: &[Part],
+    object_parts: &[usize],
+    floor_distance_parts: Option<[usize; 2]>,
+) -> Vec<Vec<Option<Matrix2<f64>>>> {
+    let covs = &scene.click_covariances_px2;
+    if covs.is_empty() {
+        return Vec::new();
+    }
+    let weight = |field: String| covs.get(&field).and_then(|c| whitening(*c));
+    let mut out: Vec<Vec<Option<Matrix2<f64>>>> = parts
+        .iter()
+        .map(|p| vec![None; p.residual_count() / 2])
+        .collect();
+    for (i, &k) in object_parts.iter().enumerate() {
+        match &parts[k] {
+            Part::Box { clicks, .. } => {
+                for (n, c) in clicks.iter().enumerate() {
+                    out[k][n] = weight(format!("objects[{i}].{}", c.name));
+                }
+            }
+            Part::Footprint { vertices, top } => {
+                for (n, slot) in out[k].iter_mut().take(vertices.len()).enumerate() {
+                    *slot = weight(format!("objects[{i}].footprint[{n}]"));
+                }
+                if top.is_some() {
+                    out[k][vertices.len()] = weight(format!("objects[{i}].top.point"));
+                }
+            }
+            Part::FloorPoint { .. } => {}
+        }
+    }
+    if let Some([a, b]) = floor_distance_parts {
+        out[a][0] = weight("scale.floor_distance.from".to_owned());
+        out[b][0] = weight("scale.floor_distance.to".to_owned());
+    }
+    out
+}
+
 /// Every clicked box corner of the scene, pixels.
 fn box_clicks(scene: &Scene) -> Vec<[f64; 2]> {
     let mut out = Vec::new();
@@ -536,6 +588,7 @@ pub(crate) fn build(scene: &Scene, fit_pp: bool, order: [usize; 3]) -> Result<Ve
                 parts: Vec::new(),
                 offsets: Vec::new(),
                 vps: vps.clone(),
+                weights: Vec::new(),
             };
             let mut c = c.to_vec();
             if free_pp {
@@ -562,6 +615,7 @@ pub(crate) fn build(scene: &Scene, fit_pp: bool, order: [usize; 3]) -> Result<Ve
                 offsets.push(at);
                 at += p.len();
             }
+            let weights = click_weights(scene, &parts, &object_parts, floor_distance_parts);
             let problem = Problem {
                 camera_len,
                 fixed_pp: fixed,
@@ -569,6 +623,7 @@ pub(crate) fn build(scene: &Scene, fit_pp: bool, order: [usize; 3]) -> Result<Ve
                 parts,
                 offsets,
                 vps: vps.clone(),
+                weights,
             };
             let mut x0 = c;
             x0.extend(params);

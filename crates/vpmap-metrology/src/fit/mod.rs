@@ -20,9 +20,9 @@
 
 mod fitted;
 mod init;
-mod model;
-mod solve;
-mod uncertainty;
+pub(crate) mod model;
+pub(crate) mod solve;
+pub(crate) mod uncertainty;
 
 use nalgebra::{Vector2, Vector3};
 
@@ -33,9 +33,11 @@ use crate::reconstruct::{
 };
 use crate::scene::{BoxCorner, BoxView, ObjectShape, PixelPoint, Scene};
 
+pub(crate) use fitted::click_sigma;
+pub(crate) use init::whitening;
 use model::{Camera, Part, px, vp_direction};
 pub(crate) use solve::Problem;
-use solve::{Singular, minimise};
+use solve::{Model, Singular, minimise};
 
 pub use fitted::{FitOptions, Fitted, MIN_CLICK_SIGMA_PX, MIN_DOF_FOR_SIGMA, PointResidual};
 pub use uncertainty::{CHI2_2DOF_95, FitUncertainty};
@@ -265,7 +267,7 @@ fn finite_vp(cam: &Camera, d: Vector3<f64>) -> Vector2<f64> {
     Vector2::new(v.x / w, v.y / w)
 }
 
-fn calibration_of(cam: &Camera, perspective: Perspective) -> Calibration {
+pub(crate) fn calibration_of(cam: &Camera, perspective: Perspective) -> Calibration {
     let o = cam.principal_point_px;
     // The horizon: through the vanishing point of the camera's forward horizontal direction,
     // along the image of the floor's line at infinity.

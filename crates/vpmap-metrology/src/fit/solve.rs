@@ -11,7 +11,7 @@
 //! Jacobians are central differences (relative step 1e-6): every residual depends on the
 //! camera and at most one object, so a column costs one object's residuals.
 
-use nalgebra::{DMatrix, DVector, Vector2};
+use nalgebra::{DMatrix, DVector, Matrix2, Vector2};
 
 use super::model::{Camera, Part, VpEvidence, vp_residual_count, vp_residuals};
 
@@ -31,6 +31,9 @@ pub(crate) struct Problem {
     pub offsets: Vec<usize>,
     /// Evidence per vanishing point, in scene order.
     pub vps: Vec<VpEvidence>,
+    /// Per part, per clicked point, the whitening of its covariance when the scene gives one
+    /// (empty when it gives none): the point's residual is `W r`.
+    pub weights: Vec<Vec<Option<Matrix2<f64>>>>,
 }
 
 /// The blocks of `J^T J` and `J^T r` at one point.
@@ -56,46 +59,82 @@ fn step_size(x: f64) -> f64 {
     1e-6 * x.abs().max(1.0)
 }
 
-impl Problem {
+/// A least-squares model in the fit's "arrowhead" shape: a camera block (every photo's camera
+/// parameters) that every residual may depend on, then parts (objects, floor points) whose
+/// residuals depend on the camera block and their own parameters only. [`minimise`], the
+/// normal equations and the error bars work on any such model: one photo's [`Problem`] and a
+/// room's several photos alike.
+pub(crate) trait Model {
+    /// Number of camera-block parameters.
+    fn camera_len(&self) -> usize;
+    /// Whether camera-block parameter `c` is held fixed.
+    fn camera_fixed(&self, c: usize) -> bool;
+    /// Number of parts.
+    fn part_count(&self) -> usize;
+    /// Start of part `i`'s parameters in the vector.
+    fn part_offset(&self, i: usize) -> usize;
+    /// Number of part `i`'s parameters.
+    fn part_len(&self, i: usize) -> usize;
+    /// Number of part `i`'s residuals.
+    fn part_residual_count(&self, i: usize) -> usize;
+    /// Number of groups of residuals that depend on the camera block only (one per vanishing
+    /// point).
+    fn camera_group_count(&self) -> usize;
+    /// Number of residuals of camera group `g`.
+    fn camera_group_len(&self, g: usize) -> usize;
+    /// Residuals of camera group `g` for camera block `c` into `out`.
+    fn camera_group_residuals(&self, g: usize, c: &[f64], out: &mut [f64]);
+    /// Residuals of part `i` for camera block `c` and part parameters `p` into `out`;
+    /// `false` when a point falls behind a camera.
+    fn part_residuals(&self, i: usize, c: &[f64], p: &[f64], out: &mut [f64]) -> bool;
+
+    /// Whether some clicks carry their own covariance (then the click noise of the error
+    /// bars is 1 px unless given: the covariances are absolute).
+    fn has_click_covariances(&self) -> bool {
+        false
+    }
+
+    /// Whether part `i`'s residuals may depend on camera-block parameter `c` (a room's object
+    /// does not depend on the cameras of photos that do not show it): the Jacobian's other
+    /// columns are zero and are not computed.
+    fn part_uses_camera(&self, _i: usize, _c: usize) -> bool {
+        true
+    }
+
     /// Total number of parameters.
-    pub fn len(&self) -> usize {
-        self.camera_len + self.parts.iter().map(Part::len).sum::<usize>()
+    fn len(&self) -> usize {
+        self.camera_len()
+            + (0..self.part_count())
+                .map(|i| self.part_len(i))
+                .sum::<usize>()
     }
 
     /// Total number of residuals.
-    pub fn residual_count(&self) -> usize {
-        self.vps.iter().map(vp_residual_count).sum::<usize>()
-            + self.parts.iter().map(Part::residual_count).sum::<usize>()
+    fn residual_count(&self) -> usize {
+        (0..self.camera_group_count())
+            .map(|g| self.camera_group_len(g))
+            .sum::<usize>()
+            + (0..self.part_count())
+                .map(|i| self.part_residual_count(i))
+                .sum::<usize>()
     }
 
-    /// The camera for parameter vector `x`.
-    pub fn camera(&self, x: &[f64]) -> Camera {
-        Camera::from_params(&x[..self.camera_len], self.fixed_pp)
-    }
-
-    /// Whether camera parameter `c` is held fixed.
-    pub fn camera_fixed(&self, c: usize) -> bool {
-        c == 1 && self.fixed_pitch
-    }
-
-    fn part_params<'a>(&self, x: &'a [f64], i: usize) -> &'a [f64] {
-        &x[self.offsets[i]..self.offsets[i] + self.parts[i].len()]
-    }
-
-    /// Every residual, vanishing points first; `None` when a point falls behind the camera or
-    /// a value is not finite.
-    pub fn residuals(&self, x: &[f64]) -> Option<Vec<f64>> {
-        let cam = self.camera(x);
+    /// Every residual, camera groups first; `None` when a point falls behind a camera or a
+    /// value is not finite.
+    fn residuals(&self, x: &[f64]) -> Option<Vec<f64>> {
+        let nc = self.camera_len();
         let mut out = vec![0.0; self.residual_count()];
         let mut at = 0;
-        for (k, e) in self.vps.iter().enumerate() {
-            let n = vp_residual_count(e);
-            vp_residuals(&cam, k, e, &mut out[at..at + n]);
+        for g in 0..self.camera_group_count() {
+            let n = self.camera_group_len(g);
+            self.camera_group_residuals(g, &x[..nc], &mut out[at..at + n]);
             at += n;
         }
-        for (i, part) in self.parts.iter().enumerate() {
-            let n = part.residual_count();
-            if !part.residuals(&cam, self.part_params(x, i), &mut out[at..at + n]) {
+        for i in 0..self.part_count() {
+            let n = self.part_residual_count(i);
+            let off = self.part_offset(i);
+            let p = &x[off..off + self.part_len(i)];
+            if !self.part_residuals(i, &x[..nc], p, &mut out[at..at + n]) {
                 return None;
             }
             at += n;
@@ -103,31 +142,32 @@ impl Problem {
         out.iter().all(|v| v.is_finite()).then_some(out)
     }
 
-    /// Sum of squared residuals, or infinity where [`Problem::residuals`] fails.
-    pub fn cost(&self, x: &[f64]) -> f64 {
+    /// Sum of squared residuals, or infinity where [`Model::residuals`] fails.
+    fn cost(&self, x: &[f64]) -> f64 {
         self.residuals(x)
             .map_or(f64::INFINITY, |r| r.iter().map(|v| v * v).sum())
     }
 
     /// The normal-equation blocks at `x` (`None` where the residuals fail).
-    pub fn normal(&self, x: &[f64]) -> Option<Normal> {
-        let nc = self.camera_len;
+    fn normal(&self, x: &[f64]) -> Option<Normal> {
+        let nc = self.camera_len();
         let mut u = DMatrix::zeros(nc, nc);
         let mut gc = DVector::zeros(nc);
-        let mut xs = x.to_vec();
-        // Vanishing points: camera only.
-        for (k, e) in self.vps.iter().enumerate() {
-            let m = vp_residual_count(e);
+        let mut xs = x[..nc].to_vec();
+        let free: Vec<usize> = (0..nc).filter(|&c| !self.camera_fixed(c)).collect();
+        // Camera groups (vanishing points): camera only.
+        for g in 0..self.camera_group_count() {
+            let m = self.camera_group_len(g);
             let mut r = vec![0.0; m];
-            vp_residuals(&self.camera(x), k, e, &mut r);
+            self.camera_group_residuals(g, &x[..nc], &mut r);
             let mut j = DMatrix::zeros(m, nc);
             let (mut plus, mut minus) = (vec![0.0; m], vec![0.0; m]);
-            for c in (0..nc).filter(|&c| !self.camera_fixed(c)) {
+            for &c in &free {
                 let h = step_size(x[c]);
                 xs[c] = x[c] + h;
-                vp_residuals(&self.camera(&xs), k, e, &mut plus);
+                self.camera_group_residuals(g, &xs, &mut plus);
                 xs[c] = x[c] - h;
-                vp_residuals(&self.camera(&xs), k, e, &mut minus);
+                self.camera_group_residuals(g, &xs, &mut minus);
                 xs[c] = x[c];
                 for row in 0..m {
                     j[(row, c)] = (plus[row] - minus[row]) / (2.0 * h);
@@ -137,24 +177,29 @@ impl Problem {
             u += j.transpose() * &j;
             gc += j.transpose() * r;
         }
-        let mut v = Vec::with_capacity(self.parts.len());
-        let mut w = Vec::with_capacity(self.parts.len());
-        let mut go = Vec::with_capacity(self.parts.len());
-        for (i, part) in self.parts.iter().enumerate() {
-            let (m, k, off) = (part.residual_count(), part.len(), self.offsets[i]);
-            let cam = self.camera(x);
+        let parts = self.part_count();
+        let mut v = Vec::with_capacity(parts);
+        let mut w = Vec::with_capacity(parts);
+        let mut go = Vec::with_capacity(parts);
+        for i in 0..parts {
+            let (m, k, off) = (
+                self.part_residual_count(i),
+                self.part_len(i),
+                self.part_offset(i),
+            );
+            let own = &x[off..off + k];
             let mut r = vec![0.0; m];
-            if !part.residuals(&cam, self.part_params(x, i), &mut r) {
+            if !self.part_residuals(i, &x[..nc], own, &mut r) {
                 return None;
             }
             let (mut plus, mut minus) = (vec![0.0; m], vec![0.0; m]);
             let mut jc = DMatrix::zeros(m, nc);
-            for c in (0..nc).filter(|&c| !self.camera_fixed(c)) {
+            for &c in free.iter().filter(|&&c| self.part_uses_camera(i, c)) {
                 let h = step_size(x[c]);
                 xs[c] = x[c] + h;
-                let ok_p = part.residuals(&self.camera(&xs), self.part_params(x, i), &mut plus);
+                let ok_p = self.part_residuals(i, &xs, own, &mut plus);
                 xs[c] = x[c] - h;
-                let ok_m = part.residuals(&self.camera(&xs), self.part_params(x, i), &mut minus);
+                let ok_m = self.part_residuals(i, &xs, own, &mut minus);
                 xs[c] = x[c];
                 if !(ok_p && ok_m) {
                     return None;
@@ -164,13 +209,13 @@ impl Problem {
                 }
             }
             let mut jo = DMatrix::zeros(m, k);
-            let mut p = self.part_params(x, i).to_vec();
+            let mut p = own.to_vec();
             for c in 0..k {
                 let h = step_size(p[c]);
                 p[c] = x[off + c] + h;
-                let ok_p = part.residuals(&cam, &p, &mut plus);
+                let ok_p = self.part_residuals(i, &x[..nc], &p, &mut plus);
                 p[c] = x[off + c] - h;
-                let ok_m = part.residuals(&cam, &p, &mut minus);
+                let ok_m = self.part_residuals(i, &x[..nc], &p, &mut minus);
                 p[c] = x[off + c];
                 if !(ok_p && ok_m) {
                     return None;
@@ -192,6 +237,76 @@ impl Problem {
             u[(c, c)] = 1.0;
         }
         Some(Normal { u, gc, v, w, go })
+    }
+}
+
+impl Model for Problem {
+    fn camera_len(&self) -> usize {
+        self.camera_len
+    }
+
+    fn camera_fixed(&self, c: usize) -> bool {
+        c == 1 && self.fixed_pitch
+    }
+
+    fn part_count(&self) -> usize {
+        self.parts.len()
+    }
+
+    fn part_offset(&self, i: usize) -> usize {
+        self.offsets[i]
+    }
+
+    fn part_len(&self, i: usize) -> usize {
+        self.parts[i].len()
+    }
+
+    fn part_residual_count(&self, i: usize) -> usize {
+        self.parts[i].residual_count()
+    }
+
+    fn camera_group_count(&self) -> usize {
+        self.vps.len()
+    }
+
+    fn camera_group_len(&self, g: usize) -> usize {
+        vp_residual_count(&self.vps[g])
+    }
+
+    fn camera_group_residuals(&self, g: usize, c: &[f64], out: &mut [f64]) {
+        vp_residuals(&self.camera(c), g, &self.vps[g], out);
+    }
+
+    fn part_residuals(&self, i: usize, c: &[f64], p: &[f64], out: &mut [f64]) -> bool {
+        let ok = self.parts[i].residuals(&self.camera(c), p, out);
+        if let Some(ws) = self.weights.get(i) {
+            whiten(ws, out);
+        }
+        ok
+    }
+
+    fn has_click_covariances(&self) -> bool {
+        self.weights.iter().flatten().any(Option::is_some)
+    }
+}
+
+impl Problem {
+    /// The camera for parameter vector `x` (or its camera block).
+    pub fn camera(&self, x: &[f64]) -> Camera {
+        Camera::from_params(&x[..self.camera_len], self.fixed_pp)
+    }
+}
+
+/// Apply each clicked point's whitening (where it has one) to its two residuals.
+pub(crate) fn whiten(weights: &[Option<Matrix2<f64>>], out: &mut [f64]) {
+    for (n, w) in weights.iter().enumerate() {
+        if let Some(w) = w
+            && let Some(pair) = out.get_mut(2 * n..2 * n + 2)
+        {
+            let r = w * Vector2::new(pair[0], pair[1]);
+            pair[0] = r.x;
+            pair[1] = r.y;
+        }
     }
 }
 
@@ -314,7 +429,7 @@ pub(crate) struct Solution {
 pub(crate) const MAX_ITERATIONS: usize = 200;
 
 /// Minimise the problem's cost from `x0`.
-pub(crate) fn minimise(problem: &Problem, x0: Vec<f64>) -> Option<Solution> {
+pub(crate) fn minimise<M: Model + ?Sized>(problem: &M, x0: Vec<f64>) -> Option<Solution> {
     let mut x = x0;
     let mut cost = problem.cost(&x);
     if !cost.is_finite() {
@@ -342,7 +457,7 @@ pub(crate) fn minimise(problem: &Problem, x0: Vec<f64>) -> Option<Solution> {
                 trial[i] += d;
             }
             for (p, d) in dob.iter().enumerate() {
-                let off = problem.offsets[p];
+                let off = problem.part_offset(p);
                 for (i, v) in d.iter().enumerate() {
                     trial[off + i] += v;
                 }

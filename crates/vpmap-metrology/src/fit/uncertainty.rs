@@ -9,8 +9,8 @@
 use nalgebra::{DVector, Matrix2, Vector2};
 
 use super::fitted::{FitOptions, Fitted, click_sigma};
-use super::model::Part;
-use super::solve::{Factored, Problem};
+use super::model::{Camera, Part};
+use super::solve::{Factored, Model, Problem};
 use crate::error::{MetrologyError, Result};
 use crate::scene::{Dimension, Scale, Scene};
 use crate::uncertainty::{CameraUncertainty, Ellipse, ObjectUncertainty};
@@ -104,9 +104,17 @@ impl Measure {
 /// An object's reported values in camera heights: centroid x, y, longer side, shorter side,
 /// height, yaw of the longer side (radians).
 fn object_values(problem: &Problem, x: &[f64], part: usize) -> [f64; 6] {
-    let cam = problem.camera(x);
-    let p = params(problem, x, part);
-    match &problem.parts[part] {
+    part_values(
+        &problem.camera(x),
+        &problem.parts[part],
+        params(problem, x, part),
+    )
+}
+
+/// [`object_values`] of a part with parameters `p`, for camera `cam` (whose room directions
+/// the part's axes follow).
+pub(crate) fn part_values(cam: &Camera, part: &Part, p: &[f64]) -> [f64; 6] {
+    match part {
         Part::Box {
             axes,
             has_top,
@@ -118,7 +126,7 @@ fn object_values(problem: &Problem, x: &[f64], part: usize) -> [f64; 6] {
             } else {
                 0.0
             };
-            let (e1, e2) = Part::box_axes(&cam, *axes, yaw);
+            let (e1, e2) = Part::box_axes(cam, *axes, yaw);
             let c = Vector2::new(p[0], p[1]) + e1 * (0.5 * p[2]) + e2 * (0.5 * p[3]);
             let (a, b) = (p[2].abs(), p[3].abs());
             let long_axis = if a >= b { e1 } else { e2 };
@@ -156,7 +164,7 @@ fn object_values(problem: &Problem, x: &[f64], part: usize) -> [f64; 6] {
 }
 
 /// Wrap an angle difference to `(-pi/2, pi/2]` (a box's yaw is defined modulo 180 degrees).
-fn wrap_half_turn(d: f64) -> f64 {
+pub(crate) fn wrap_half_turn(d: f64) -> f64 {
     let pi = std::f64::consts::PI;
     let mut d = d % pi;
     if d > pi / 2.0 {
@@ -169,22 +177,20 @@ fn wrap_half_turn(d: f64) -> f64 {
 
 /// Gradients of `f` (several outputs) over the camera and the listed parts, as the blocks
 /// [`Factored::solve`] takes.
-fn gradients<const N: usize>(
-    problem: &Problem,
+pub(crate) fn gradients<const N: usize, M: Model>(
+    problem: &M,
     x: &[f64],
     parts: &[usize],
     f: impl Fn(&[f64]) -> [f64; N],
     angular: [bool; N],
 ) -> Vec<(DVector<f64>, Vec<DVector<f64>>)> {
-    let nc = problem.camera_len;
+    let nc = problem.camera_len();
     let mut out: Vec<(DVector<f64>, Vec<DVector<f64>>)> = (0..N)
         .map(|_| {
             (
                 DVector::zeros(nc),
-                problem
-                    .parts
-                    .iter()
-                    .map(|p| DVector::zeros(p.len()))
+                (0..problem.part_count())
+                    .map(|p| DVector::zeros(problem.part_len(p)))
                     .collect(),
             )
         })
@@ -220,8 +226,8 @@ fn gradients<const N: usize>(
             continue;
         }
         seen.push(part);
-        for i in 0..problem.parts[part].len() {
-            let d = column(problem.offsets[part] + i);
+        for i in 0..problem.part_len(part) {
+            let d = column(problem.part_offset(part) + i);
             for k in 0..N {
                 out[k].1[part][i] = d[k];
             }
@@ -231,7 +237,7 @@ fn gradients<const N: usize>(
 }
 
 /// `g_a^T (J^T J)^-1 g_b`.
-fn quad(
+pub(crate) fn quad(
     f: &Factored,
     a: &(DVector<f64>, Vec<DVector<f64>>),
     b: &(DVector<f64>, Vec<DVector<f64>>),
@@ -489,6 +495,8 @@ impl Fitted {
                 height_sd: sd(&g[3]),
                 principal_point_px_sd: pp_fitted.then(|| [sd(&g[5]), sd(&g[6])]),
                 room_yaw_deg_sd: sd(&g[4]).to_degrees(),
+                position_sd: None,
+                heading_deg_sd: None,
             },
             click_sigma_px: sigma,
             click_sigma_source: source,

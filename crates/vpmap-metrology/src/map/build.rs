@@ -4,13 +4,14 @@
 use geo::{Area, BooleanOps, Centroid, Polygon};
 use nalgebra::Vector2;
 
+use super::cameras::camera_report;
 use super::reconstruction::{
     box_size, check_plausible, meters_per_camera_height, reconstruct_scene,
 };
-use super::regions::{free_space, occlusion_shadow, ring, to_polygons, view_on_floor};
-use super::types::{CameraReport, FitReport, FloorMap, MapObject, Units};
+use super::regions::{free_space, occlusion_shadow, ring, to_polygons};
+use super::types::{FitReport, FloorMap, MapObject, Units};
 use super::warnings::{crossing_warnings, fit_warnings};
-use crate::camera::{room_yaw_rad, rotation_map_from_camera};
+use crate::camera::room_yaw_rad;
 use crate::error::Result;
 use crate::fit::{FitOptions, fit_scene};
 use crate::reconstruct::{Method, ObjectKind};
@@ -43,6 +44,9 @@ pub struct BuildOptions {
 /// ```
 pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
     scene.validate()?;
+    if !scene.other_photos.is_empty() {
+        return super::room::build_room_map(scene, options);
+    }
     let fitted = if options.method == Method::Fit {
         Some(fit_scene(scene, &FitOptions::default())?)
     } else {
@@ -105,21 +109,7 @@ pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
         to_polygons(&free_mp.intersection(&geo::unary_union(&shadows)))
     };
     let free = to_polygons(&free_mp);
-    let corners = [
-        Vector2::new(0.0, 0.0),
-        Vector2::new(f64::from(scene.image.width), 0.0),
-        Vector2::new(0.0, f64::from(scene.image.height)),
-        Vector2::new(f64::from(scene.image.width), f64::from(scene.image.height)),
-    ];
-    let xs = corners.map(|c| cal.frame.coords(c).x);
-    let d0 = cal.top_view_distance_px();
-    let fov = [
-        xs.iter().copied().fold(f64::INFINITY, f64::min),
-        xs.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-    ]
-    .map(|x| x.atan2(d0).to_degrees());
-    let o = cal.principal_point_px();
-    let view = view_on_floor(&cal, scene.image, k, 0.75 * reach.max(3.0 * k));
+    let view_reach = 0.75 * reach.max(3.0 * k);
     let mut warnings = cal.warnings.clone();
     warnings.extend(crossing_warnings(scene, &rec));
     let mut camera_uncertainty = None;
@@ -141,36 +131,32 @@ pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
             degrees_of_freedom: f.degrees_of_freedom,
             iterations: f.iterations,
             principal_point_fitted: f.principal_point_fitted,
+            clicks_with_covariance: Some(
+                f.problem
+                    .weights
+                    .iter()
+                    .flatten()
+                    .filter(|w| w.is_some())
+                    .count(),
+            )
+            .filter(|n| *n > 0),
         });
     }
     Ok(FloorMap {
         version: 1,
         units,
         method: options.method,
-        camera: CameraReport {
-            perspective: cal.perspective,
-            focal_px: cal.focal_px,
-            principal_point: [o.x, o.y],
-            pitch_deg: cal.pitch_rad.to_degrees(),
-            roll_deg: cal.roll_rad.to_degrees(),
-            room_yaw_deg: fitted
+        camera: camera_report(
+            &cal,
+            scene.image,
+            fitted
                 .as_ref()
-                .map_or_else(|| room_yaw_rad(&cal), |f| f.room_yaw_rad)
-                .to_degrees(),
-            height: k,
-            k_matrix: [
-                [cal.focal_px, 0.0, o.x],
-                [0.0, cal.focal_px, o.y],
-                [0.0, 0.0, 1.0],
-            ],
-            rotation_map_from_camera: rotation_map_from_camera(cal.pitch_rad, cal.roll_rad),
-            position: [0.0, 0.0, k],
-            image: scene.image,
-            vanishing_points: cal.vanishing_points_px.iter().map(|v| [v.x, v.y]).collect(),
-            uncertainty: camera_uncertainty,
-            horizontal_fov_deg: fov,
-            view_on_floor: view,
-        },
+                .map_or_else(|| room_yaw_rad(&cal), |f| f.room_yaw_rad),
+            k,
+            view_reach,
+            camera_uncertainty,
+        ),
+        cameras: Vec::new(),
         objects,
         floor: floor.iter().map(|p| [p.x, p.y]).collect(),
         free_space: free,

@@ -5,12 +5,16 @@
 //! The format is documented for users in `docs/map-format.md`.
 //!
 //! The types are in `map/types.rs`; `map/build.rs` builds a map from the reconstruction and its
-//! scale (`map/reconstruction.rs`), the regions on the floor (`map/regions.rs`) and the warnings
-//! (`map/warnings.rs`).
+//! scale (`map/reconstruction.rs`), the regions on the floor (`map/regions.rs`), the warnings
+//! (`map/warnings.rs`) and the camera's report (`map/cameras.rs`); a room of several photos
+//! is built by `map/room.rs` in the first photo's frame. Files in that order: `types`, then
+//! `reconstruction`, `regions`, `warnings`, `cameras`, then `room`, then `build`.
 
 mod build;
+mod cameras;
 mod reconstruction;
 mod regions;
+mod room;
 mod types;
 mod warnings;
 

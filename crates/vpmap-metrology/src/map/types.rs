@@ -67,6 +67,11 @@ pub struct CameraReport {
     /// infinity). A convex polygon, counter-clockwise.
     #[serde(default)]
     pub view_on_floor: Vec<MapPoint>,
+    /// A room's cameras: the horizontal viewing direction, degrees counter-clockwise from the
+    /// map's `+y` (0 for the first photo's). Absent for a single photo, whose camera looks
+    /// along `+y`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub heading_deg: Option<f64>,
 }
 
 /// Footprint side lengths of a box.
@@ -117,6 +122,10 @@ pub struct FitReport {
     pub iterations: usize,
     /// Whether the principal point was fitted (else held at the given or central value).
     pub principal_point_fitted: bool,
+    /// How many clicks the fit weighted by their own covariance (the scene's
+    /// `click_covariances_px2`); absent when none.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub clicks_with_covariance: Option<usize>,
 }
 
 /// A polygon with holes.
@@ -137,8 +146,12 @@ pub struct FloorMap {
     pub units: Units,
     /// Reconstruction method used.
     pub method: Method,
-    /// The camera.
+    /// The camera (a room's first photo's, whose station point is the origin).
     pub camera: CameraReport,
+    /// A room's cameras, one per photo in order (the first is `camera`); absent for a
+    /// single photo.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub cameras: Vec<CameraReport>,
     /// The objects, in scene order.
     pub objects: Vec<MapObject>,
     /// The floor outline (may be empty).
@@ -146,8 +159,8 @@ pub struct FloorMap {
     /// The floor minus every footprint.
     pub free_space: Vec<PolygonWithHoles>,
     /// The parts of the free space the camera cannot see because objects stand in the way
-    /// (each object's occlusion shadow as seen from the camera, clipped to the free space).
-    /// The occupancy grid marks them unknown.
+    /// (each object's occlusion shadow as seen from the camera, clipped to the free space;
+    /// for a room, what no photo sees). The occupancy grid marks them unknown.
     #[serde(default)]
     pub hidden: Vec<PolygonWithHoles>,
     /// Notes for the user.

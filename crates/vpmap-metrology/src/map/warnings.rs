@@ -133,10 +133,25 @@ pub const WARN_FOCAL_SD_FRACTION: f64 = 0.05;
 /// with a large error bar, naming the vanishing point farthest from the image (the one whose
 /// direction a pixel of noise turns most).
 fn camera_warnings(scene: &Scene, fitted: &Fitted, u: &crate::fit::FitUncertainty) -> Vec<String> {
+    poorly_fixed_camera(
+        scene.image,
+        &fitted.calibration,
+        &u.camera,
+        u.click_sigma_px,
+    )
+}
+
+/// [`camera_warnings`] for one camera: its photo's size, its calibration, its error bars and
+/// the click noise they are for.
+pub(super) fn poorly_fixed_camera(
+    image: crate::scene::ImageSize,
+    calibration: &crate::calibration::Calibration,
+    camera: &crate::uncertainty::CameraUncertainty,
+    click_sigma_px: f64,
+) -> Vec<String> {
     let mut out = Vec::new();
-    let centre = scene.image.centre();
-    let far = fitted
-        .calibration
+    let centre = image.centre();
+    let far = calibration
         .vanishing_points_px
         .iter()
         .enumerate()
@@ -146,26 +161,26 @@ fn camera_warnings(scene: &Scene, fitted: &Fitted, u: &crate::fit::FitUncertaint
         format!(
             ": the {} vanishing point lies {d:.0} px ({:.0} image diagonals) from the image centre",
             if k == 2 { "vertical" } else { "horizontal" },
-            d / scene.image.diagonal()
+            d / image.diagonal()
         )
     });
-    let cam = &u.camera;
+    let cam = camera;
     if let Some([sx, sy]) = cam.principal_point_px_sd
-        && sx.hypot(sy) > WARN_PRINCIPAL_POINT_SD_DIAGONALS * scene.image.diagonal()
+        && sx.hypot(sy) > WARN_PRINCIPAL_POINT_SD_DIAGONALS * image.diagonal()
     {
-        let pp = fitted.calibration.principal_point_px();
+        let pp = calibration.principal_point_px();
         out.push(format!(
             "the principal point ({:.1}, {:.1}) is poorly fixed, +-({sx:.1}, {sy:.1}) px (1 sigma, for {:.2} px clicks){far_text}; give longer edges towards it, or the principal point if it is known",
-            pp.x, pp.y, u.click_sigma_px
+            pp.x, pp.y, click_sigma_px
         ));
     }
-    let f = fitted.calibration.focal_px;
+    let f = calibration.focal_px;
     if cam.focal_px_sd > WARN_FOCAL_SD_FRACTION * f {
         out.push(format!(
             "the focal length {f:.1} px is poorly fixed, +-{:.1} px ({:.0} %, 1 sigma, for {:.2} px clicks){far_text}; give longer edges towards it, or `focal_px` if it is known",
             cam.focal_px_sd,
             100.0 * cam.focal_px_sd / f,
-            u.click_sigma_px
+            click_sigma_px
         ));
     }
     out

@@ -1,4 +1,5 @@
-//! The scene file: what a user annotates on one photo (format version 1).
+//! The scene file: what a user annotates on one photo, or on each photo of a room (format
+//! version 1).
 //!
 //! Pixel coordinates, origin at the image's top-left corner, x right, y down.
 //! The format is documented for users in `docs/scene-format.md`; this module is its
@@ -6,18 +7,22 @@
 //! so every later stage can rely on finite numbers and well-formed objects.
 //!
 //! The types are in `scene/types.rs`, reading and validation in `scene/validate.rs`, the
-//! vanishing points' resolution in `scene/vanishing.rs`.
+//! vanishing points' resolution in `scene/vanishing.rs`, the room file of several photos in
+//! `scene/room.rs`.
 
+mod room;
 mod types;
 mod validate;
 mod vanishing;
 
+pub use room::MAX_PHOTOS;
 pub use types::{
     BoxBase, BoxCorner, BoxCorners, BoxPoint, BoxView, Dimension, FloorDistance, ImageSize,
     ObjectShape, ObjectSpec, Perspective, PixelPoint, Scale, ScaleSpec, Scene, ThesisBox, TopSpec,
     VanishingPointSpec,
 };
 pub use validate::{
-    MAX_OBJECTS, MAX_POINT_PX, MAX_POINTS, MAX_SCALE_M, MAX_VANISHING_POINT_PX, unknown_fields,
+    MAX_CLICK_VARIANCE_PX2, MAX_OBJECTS, MAX_POINT_PX, MAX_POINTS, MAX_SCALE_M,
+    MAX_VANISHING_POINT_PX, unknown_fields,
 };
 pub use vanishing::{SegmentFit, intersect_segments};

@@ -464,6 +464,17 @@ pub struct Scene {
     /// vanishing points decides; a value that disagrees with it is refused).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub perspective: Option<Perspective>,
+    /// Per click, its 2 x 2 covariance in px^2, keyed by the click's field path
+    /// (`objects[0].base.near`, `objects[i].top.<corner>`, `objects[i].footprint[k]`,
+    /// `objects[i].top.point`, `floor[k]`, `scale.floor_distance.from`/`.to`), as `vpmap snap`
+    /// writes it: the fit weights each such click by its own covariance.
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub click_covariances_px2: std::collections::BTreeMap<String, [[f64; 2]; 2]>,
+    /// The room's other photos: a room file (`{"version": 1, "photos": [SCENE, ...]}`) is
+    /// read into its first photo, this scene, with photos 2..n here, each a single-photo
+    /// scene. Empty for a single-photo scene file; not a field of the file.
+    #[serde(skip)]
+    pub other_photos: Vec<Scene>,
 }
 
 /// The kind of an object, after validation.

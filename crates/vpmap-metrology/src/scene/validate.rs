@@ -15,6 +15,8 @@ pub const MAX_POINT_PX: f64 = 1e7;
 pub const MAX_VANISHING_POINT_PX: f64 = 1e12;
 /// Largest known length in a `scale`, metres.
 pub const MAX_SCALE_M: f64 = 1e6;
+/// Largest variance of a click covariance, px^2 (a 1000 px standard deviation).
+pub const MAX_CLICK_VARIANCE_PX2: f64 = 1e6;
 
 fn check_coords(field: &str, p: &[f64], limit: f64) -> Result<()> {
     for (i, v) in p.iter().enumerate() {
@@ -267,7 +269,33 @@ impl ObjectSpec {
 /// ```
 #[must_use]
 pub fn unknown_fields(value: &serde_json::Value) -> Vec<String> {
-    const TOP: [&str; 9] = [
+    if super::room::is_room_value(value) {
+        let Some(top) = value.as_object() else {
+            return Vec::new();
+        };
+        let mut out: Vec<String> = top
+            .keys()
+            .filter(|k| !["version", "photos"].contains(&k.as_str()))
+            .map(|k| format!("{k:?}"))
+            .collect();
+        if let Some(photos) = top.get("photos").and_then(serde_json::Value::as_array) {
+            for (k, p) in photos.iter().enumerate() {
+                out.extend(
+                    photo_unknown_fields(p)
+                        .into_iter()
+                        .map(|f| format!("photos[{k}].{f}")),
+                );
+            }
+        }
+        return out;
+    }
+    photo_unknown_fields(value)
+}
+
+/// [`unknown_fields`] of one photo's scene.
+fn photo_unknown_fields(value: &serde_json::Value) -> Vec<String> {
+    const TOP: [&str; 10] = [
+        "click_covariances_px2",
         "version",
         "image",
         "vanishing_points",
@@ -382,25 +410,56 @@ impl Scene {
     /// # Errors
     /// [`MetrologyError::Json`] for malformed JSON or missing fields (with line and column),
     /// and any error of [`Scene::validate`].
+    ///
+    /// A room file (`{"version": 1, "photos": [SCENE, ...]}`, [`Scene::other_photos`]) is
+    /// read into its first photo with the others beside it; an error in one photo is
+    /// [`MetrologyError::InPhoto`].
     pub fn from_json_str(text: &str) -> Result<Self> {
-        let scene: Scene =
-            serde_json::from_str(text).map_err(|e| MetrologyError::Json(e.to_string()))?;
+        let json = |e: serde_json::Error| MetrologyError::Json(e.to_string());
+        let value: serde_json::Value = serde_json::from_str(text).map_err(json)?;
+        let scene = if super::room::is_room_value(&value) {
+            // Parsed again from the text, so that errors keep their line and column.
+            let room: super::room::RoomFile = serde_json::from_str(text).map_err(json)?;
+            room.into_scene()?
+        } else {
+            serde_json::from_str(text).map_err(json)?
+        };
         scene.validate()?;
         Ok(scene)
     }
 
-    /// The scene as pretty-printed JSON.
+    /// The scene as pretty-printed JSON: a room file when it has other photos.
     #[must_use]
     pub fn to_json_string(&self) -> String {
-        serde_json::to_string_pretty(self).unwrap_or_default()
+        if self.other_photos.is_empty() {
+            serde_json::to_string_pretty(self).unwrap_or_default()
+        } else {
+            serde_json::to_string_pretty(&self.room_file()).unwrap_or_default()
+        }
     }
 
     /// Check everything that does not need the camera: version, finiteness, object shapes,
-    /// unique names, the scale's form.
+    /// unique names, the scale's form; for a room, each photo (an error names it,
+    /// [`MetrologyError::InPhoto`]) and what ties the photos into one room.
     ///
     /// # Errors
     /// The first problem found, naming the field and the value.
     pub fn validate(&self) -> Result<()> {
+        if self.other_photos.is_empty() {
+            return self.validate_photo();
+        }
+        for (k, p) in self.photos().enumerate() {
+            p.validate_photo()
+                .map_err(|error| MetrologyError::InPhoto {
+                    photo: k,
+                    error: Box::new(error),
+                })?;
+        }
+        self.validate_room()
+    }
+
+    /// [`Scene::validate`] for one photo.
+    fn validate_photo(&self) -> Result<()> {
         if self.version != 1 {
             return Err(MetrologyError::UnsupportedVersion {
                 file: "scene",
@@ -536,6 +595,96 @@ impl Scene {
             check_point(&format!("floor[{i}]"), *p)?;
         }
         self.scale()?;
+        self.check_click_covariances()?;
+        Ok(())
+    }
+
+    /// The field paths of every click a covariance may be given for.
+    fn click_fields(&self) -> std::collections::BTreeSet<String> {
+        let mut out = std::collections::BTreeSet::new();
+        for (i, o) in self.objects.iter().enumerate() {
+            if let Some(b) = &o.base {
+                for (c, _) in b.given() {
+                    out.insert(format!("objects[{i}].base.{}", c.name()));
+                }
+            }
+            if let Some(t) = &o.top {
+                for (c, _) in t.corners.given() {
+                    out.insert(format!("objects[{i}].top.{}", c.name()));
+                }
+                if t.point.is_some() {
+                    out.insert(format!("objects[{i}].top.point"));
+                }
+            }
+            if let Some(f) = &o.footprint {
+                for k in 0..f.len() {
+                    out.insert(format!("objects[{i}].footprint[{k}]"));
+                }
+            }
+        }
+        for k in 0..self.floor.len() {
+            out.insert(format!("floor[{k}]"));
+        }
+        if self
+            .scale
+            .as_ref()
+            .is_some_and(|s| s.floor_distance.is_some())
+        {
+            out.insert("scale.floor_distance.from".to_owned());
+            out.insert("scale.floor_distance.to".to_owned());
+        }
+        out
+    }
+
+    /// Each click covariance names a click of the scene and is a finite, symmetric, positive
+    /// definite matrix of at most [`MAX_CLICK_VARIANCE_PX2`] per coordinate.
+    fn check_click_covariances(&self) -> Result<()> {
+        if self.click_covariances_px2.is_empty() {
+            return Ok(());
+        }
+        let known = self.click_fields();
+        for (key, m) in &self.click_covariances_px2 {
+            let field = format!("click_covariances_px2.\"{key}\"");
+            if !known.contains(key) {
+                return Err(MetrologyError::InvalidField {
+                    field,
+                    reason: "names no click of this scene (expected a field path such as `objects[0].base.near` or `floor[2]`)".to_owned(),
+                });
+            }
+            for (r, row) in m.iter().enumerate() {
+                for (c, v) in row.iter().enumerate() {
+                    if !v.is_finite() {
+                        return Err(MetrologyError::NonFinite {
+                            field: format!("{field}[{r}][{c}]"),
+                            value: *v,
+                        });
+                    }
+                }
+            }
+            let [[a, b], [b2, d]] = *m;
+            let scale = a.abs().max(d.abs()).max(f64::MIN_POSITIVE);
+            if (b - b2).abs() > 1e-9 * scale {
+                return Err(MetrologyError::InvalidField {
+                    field,
+                    reason: format!("is not symmetric: [[{a}, {b}], [{b2}, {d}]]"),
+                });
+            }
+            if !(a > 0.0 && d > 0.0 && a * d - b * b > 1e-12 * a * d) {
+                return Err(MetrologyError::InvalidField {
+                    field,
+                    reason: format!("is not positive definite: [[{a}, {b}], [{b2}, {d}]] px^2"),
+                });
+            }
+            if a.max(d) > MAX_CLICK_VARIANCE_PX2 {
+                return Err(MetrologyError::InvalidField {
+                    field,
+                    reason: format!(
+                        "a variance of {:e} px^2 is beyond the supported {MAX_CLICK_VARIANCE_PX2:e} px^2 (a click that uncertain tells nothing)",
+                        a.max(d)
+                    ),
+                });
+            }
+        }
         Ok(())
     }
 

@@ -245,6 +245,8 @@ pub fn render_annotated(
         floor: floor_px,
         scale: None,
         perspective: None,
+        click_covariances_px2: std::collections::BTreeMap::new(),
+        other_photos: Vec::new(),
     };
     let truth = Truth {
         camera: TruthCamera {

@@ -3,10 +3,12 @@
 
 mod bad_input;
 mod camera_only;
+mod covariances;
 mod errata_cases;
 mod eval;
 mod fit;
 mod random_scenes;
+mod rooms;
 mod shared_data;
 mod views;
 

@@ -295,6 +295,16 @@ pub(super) fn title(
             u.long
         )
     };
+    // A room: how many photos, and that the camera line is the first photo's.
+    let second = if map.cameras.len() > 1 {
+        format!(
+            "{} photos · {}",
+            map.cameras.len(),
+            second.replacen("camera:", "photo 1:", 1)
+        )
+    } else {
+        second
+    };
     let (second, second_px) = fit_text(&second, sub_px, text_room, false);
     let _ = writeln!(out, r#"<g id="title">"#);
     let _ = writeln!(

@@ -119,7 +119,37 @@ pub(super) fn field_of_view(
         .copied()
         .filter(|p| p[0].is_finite() && p[1].is_finite())
         .collect();
-    if style.show_field_of_view && view.len() >= 3 {
+    if style.show_field_of_view && map.cameras.len() > 1 {
+        // A room: every photo's floor in view.
+        let paths: Vec<String> = map
+            .cameras
+            .iter()
+            .filter_map(|c| ring_path(frame, &c.view_on_floor))
+            .collect();
+        if part == FovPart::Fill {
+            let _ = writeln!(out, r#"<g id="field-of-view">"#);
+            for d in &paths {
+                let _ = writeln!(
+                    out,
+                    r#"<path d="{d}" fill="{}" stroke="none"/>"#,
+                    colour::FOV_FILL
+                );
+            }
+        } else {
+            let _ = writeln!(out, r#"<g id="field-of-view-outline">"#);
+            for d in &paths {
+                let _ = writeln!(
+                    out,
+                    r#"<path d="{d}" fill="none" stroke="{}" stroke-width="{:.2}" stroke-dasharray="{:.1} {:.1}"/>"#,
+                    colour::FOV_RAY,
+                    1.2 * f,
+                    6.0 * f,
+                    4.0 * f
+                );
+            }
+        }
+        let _ = writeln!(out, "</g>");
+    } else if style.show_field_of_view && view.len() >= 3 {
         // The floor the photo shows: the image rectangle projected onto the floor.
         if let Some(d) = ring_path(frame, &view) {
             if part == FovPart::Fill {
@@ -358,10 +388,69 @@ pub(super) fn path_end_marker(x: f64, y: f64, start: bool, l: &Layout) -> String
     }
 }
 
+/// A room's cameras after the first: each a marker with an arrow along its heading and its
+/// photo's number.
+pub(super) fn other_cameras(out: &mut String, map: &FloorMap, l: &Layout) {
+    let (f, r, label_px) = (l.f, l.station_r, l.label_px);
+    if map.cameras.len() < 2 {
+        return;
+    }
+    let _ = writeln!(out, r#"<g id="cameras">"#);
+    for (k, c) in map.cameras.iter().enumerate().skip(1) {
+        let p = [c.position[0], c.position[1]];
+        if !(p[0].is_finite() && p[1].is_finite()) {
+            continue;
+        }
+        let (x, y) = l.frame.px(p);
+        // The heading turns +y (up the page) counter-clockwise: on the page, left of up.
+        let a = c.heading_deg.unwrap_or(0.0).to_radians();
+        let (s, co) = a.sin_cos();
+        let at = |along: f64, across: f64| {
+            // Page coordinates: up is -y; the arrow points (-sin a, -cos a).
+            (x - along * s + across * co, y - along * co - across * s)
+        };
+        let tip = at(2.4 * r, 0.0);
+        let left = at(1.3 * r, -0.6 * r);
+        let right = at(1.3 * r, 0.6 * r);
+        let _ = writeln!(
+            out,
+            r#"<path d="M{:.2} {:.2} L{:.2} {:.2} L{:.2} {:.2} Z" fill="{}" stroke="none"/>"#,
+            tip.0,
+            tip.1,
+            left.0,
+            left.1,
+            right.0,
+            right.1,
+            colour::CAMERA
+        );
+        let _ = writeln!(
+            out,
+            r#"<circle cx="{x:.2}" cy="{y:.2}" r="{r:.2}" fill="{}" stroke="{}" stroke-width="{:.2}"/>"#,
+            colour::CAMERA,
+            colour::PAPER,
+            1.5 * f
+        );
+        let _ = writeln!(
+            out,
+            r#"<text x="{:.2}" y="{:.2}" font-size="{label_px:.1}" stroke="{}" stroke-width="{:.2}" paint-order="stroke">photo {}</text>"#,
+            x + r + 5.0 * f,
+            y + 0.35 * label_px,
+            colour::PAPER,
+            3.0 * f,
+            k + 1
+        );
+    }
+    let _ = writeln!(out, "</g>");
+}
+
 /// The station point: marker with an arrow along +y, label to its right; closes the plot group.
-pub(super) fn station_point(out: &mut String, l: &Layout) {
+pub(super) fn station_point(out: &mut String, map: &FloorMap, l: &Layout) {
     let (f, station, r, label_px) = (l.f, l.station, l.station_r, l.label_px);
-    let station_label = "camera";
+    let station_label = if map.cameras.len() > 1 {
+        "photo 1"
+    } else {
+        "camera"
+    };
     let _ = writeln!(out, r#"<g id="station-point">"#);
     let _ = writeln!(
         out,

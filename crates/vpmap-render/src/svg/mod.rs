@@ -78,7 +78,8 @@ pub fn floor_plan_svg(map: &FloorMap, style: &FloorPlanStyle) -> String {
     if style.show_labels {
         labels::object_labels(&mut out, map, &l, &u);
     }
-    layers::station_point(&mut out, &l);
+    layers::other_cameras(&mut out, map, &l);
+    layers::station_point(&mut out, map, &l);
     layers::axes(&mut out, &l, &u);
     labels::title(&mut out, map, style, &l, &u);
     layers::scale_bar(&mut out, &l);

@@ -1,6 +1,8 @@
 // No lost work: the scene of each photo the user opens is kept in the browser (localStorage)
-// a moment after every change and comes back when the same photo is opened again; leaving the
-// page with changes that were not saved to a file asks first. A photo is known by its name,
+// a moment after every change and comes back when the same photo is opened again, alone or as
+// one photo of a room (each photo of the room is kept under its own key, so reopening the
+// room's photos brings the whole room back); leaving the page with changes to any photo that
+// were not saved to a file asks first. A photo is known by its name,
 // size in pixels and a hash of its bytes. The example is not kept (it comes back on its own).
 // The store functions take the storage as an argument, so the unit tests run them in Node.
 
@@ -70,19 +72,27 @@ export function installAutosave(app) {
     // Storage switched off: no autosave, the warning before leaving still works.
   }
   let timer = 0;
-  state.photoKey = null;
   state.dirty = false;
+  // The scene last written for each key, so that a flush writes only what changed.
+  const written = new Map();
 
+  /** Keep every photo of the room that has a key (the active one is the one edited). */
   function flush() {
     clearTimeout(timer);
     timer = 0;
-    if (storage && state.photoKey && state.scene) storeScene(storage, state.photoKey, state.scene, Date.now());
+    if (!storage) return;
+    for (const slot of state.photos) {
+      if (!slot.photoKey || !slot.scene) continue;
+      const text = JSON.stringify(slot.scene);
+      if (written.get(slot.photoKey) === text) continue;
+      if (storeScene(storage, slot.photoKey, slot.scene, Date.now())) written.set(slot.photoKey, text);
+    }
   }
 
   /** The scene was edited: remember it (soon) and warn before leaving. */
   function sceneChanged() {
     state.dirty = true;
-    if (!storage || !state.photoKey) return;
+    if (!storage || !state.photos.some((s) => s.photoKey)) return;
     clearTimeout(timer);
     timer = setTimeout(flush, DELAY_MS);
   }
@@ -91,7 +101,8 @@ export function installAutosave(app) {
   function photoOpened(name, width, height, bytes) {
     flush();
     state.photoKey = bytes ? photoKey(name, width, height, bytes) : null;
-    state.dirty = false;
+    // A photo of a room is one more photo: the room's other changes are still unsaved.
+    if (state.photos.length <= 1) state.dirty = false;
     const kept = storage && state.photoKey ? loadScene(storage, state.photoKey) : null;
     return kept && kept.scene.image?.width === width && kept.scene.image?.height === height ? kept : null;
   }
@@ -106,6 +117,7 @@ export function installAutosave(app) {
 
   Object.assign(app, {
     sceneChanged,
+    flushAutosave: flush,
     photoOpened,
     /** The scene was written to a file: nothing to lose on leaving. */
     sceneSaved: () => {

@@ -5,6 +5,8 @@
 //   panels.js    the step panel, the status line, the error banner and the tabs
 //   files.js     opening photos and scene files, the example, saving and downloads
 //   autosave.js  each photo's scene kept in the browser, and the warning before leaving
+//   room.js      the room of several photos: its file, per-photo messages, linked names
+//   photo-strip.js  the room's thumbnails: switch, remove, which photo a problem is about
 // and the views (photo-view.js, plan-view.js, model-view.js) and photo tools (select-tool.js;
 // placement-tool.js and the tools on it, box-tool.js, outline-tools.js, floor-distance-tool.js,
 // vp-line-tool.js; where points snap, snap.js; a box's corners by name, corner or face view, in
@@ -15,7 +17,7 @@
 
 import { $, isTyping } from './util.js';
 import { emptyScene, cloneScene } from './scene.js';
-import { createState, History, busyNames } from './state.js';
+import { createState, busyNames } from './state.js';
 import { PhotoView } from './photo-view.js';
 import { SelectTool, moveHandle } from './select-tool.js';
 import { BoxTool } from './box-tool.js';
@@ -27,24 +29,29 @@ import { installPanels } from './panels.js';
 import { installFiles } from './files.js';
 import { installRequests } from './requests.js';
 import { installAutosave } from './autosave.js';
+import { installPhotoStrip } from './photo-strip.js';
+import { roomBody } from './room.js';
+import { roomScenes } from './state.js';
 
 const state = createState();
-const history = new History();
 
 // ---- the app object the views, tools and modules talk to --------------------------------
 
 const app = {
   state,
-  history,
+  /** The active photo's undo history (each photo has its own: state.js). */
+  get history() {
+    return state.history;
+  },
   tool: null,
   edit,
   pushUndo,
   beginDrag() {
     pushUndo();
-    history.dragging = true;
+    app.history.dragging = true;
   },
   endDrag() {
-    history.dragging = false;
+    app.history.dragging = false;
     app.renderPanel();
   },
   select(sel) {
@@ -94,24 +101,25 @@ const app = {
 app.photoView = new PhotoView($('photo-canvas'), app);
 app.selectTool = new SelectTool(app);
 app.tool = app.selectTool;
-app.planView = new PlanView($('plan-host'), { onPick: (p) => app.pickPlanPoint(p) });
+app.planView = new PlanView($('plan-host'), { onPick: (p) => app.pickPlanPoint(p), onCamera: (i) => app.switchPhoto(i) });
 app.modelView = new ModelView($('model-host'));
 
 installPanels(app);
 installRequests(app);
+installPhotoStrip(app);
 installAutosave(app);
 installFiles(app);
 
 // ---- editing and undo -------------------------------------------------------------------
 
 function pushUndo() {
-  history.record(state.scene);
+  app.history?.record(state.scene);
 }
 
 /** Change the scene: `fn(scene)` mutates it. `live`: part of a drag (no panel refresh). */
 function edit(fn, { live = false, undo = true } = {}) {
   if (!state.scene) return;
-  if (undo && !history.dragging) pushUndo();
+  if (undo && !app.history.dragging) pushUndo();
   fn(state.scene);
   app.photoView.requestRender();
   if (!live) app.renderPanel();
@@ -135,12 +143,12 @@ function undo() {
     app.tool.undo();
     return;
   }
-  const scene = history.undo(state.scene);
+  const scene = app.history.undo(state.scene);
   if (scene) restore(scene);
 }
 
 function redo() {
-  const scene = history.redo(state.scene);
+  const scene = app.history.redo(state.scene);
   if (scene) restore(scene);
 }
 
@@ -231,6 +239,13 @@ document.addEventListener('keydown', (e) => {
     $(tools[e.key.toLowerCase()]).click();
     return;
   }
+  // A room's photos: the previous and next one (not while placing: a half-made object is this photo's).
+  if (!mod && !e.altKey && (e.key === '[' || e.key === ']') && state.photos.length > 1 && app.tool === app.selectTool) {
+    e.preventDefault();
+    const n = state.photos.length;
+    app.switchPhoto((state.active + (e.key === ']' ? 1 : n - 1)) % n);
+    return;
+  }
   const onButton = e.target instanceof HTMLButtonElement || e.target instanceof HTMLAnchorElement || e.target?.getAttribute?.('role') === 'tab';
   const placing = app.tool !== app.selectTool;
   if (e.key === 'Escape') {
@@ -298,8 +313,10 @@ window.vpmap = Object.freeze({
   planSvg: () => app.planView.serialize(),
   /** A copy of the last build's map (map.json), or null. */
   map: () => cloneScene(state.build?.map ?? null),
-  /** A copy of the scene being edited. */
+  /** A copy of the scene being edited (the active photo's). */
   scene: () => cloneScene(state.scene),
+  /** A copy of what Save writes and a build sends: the scene for one photo, else the room file. */
+  room: () => cloneScene(state.scene ? roomBody(roomScenes(state)) : null),
   /** The 3D view's framing (ModelView.framing), or null before its first model. */
   view3d: () => app.modelView.framing(),
   /** Counters and errors, to wait for the page to settle. */
@@ -309,6 +326,10 @@ window.vpmap = Object.freeze({
     ...state.counters,
     buildError: state.buildError,
     marked: state.marked?.path ?? null,
+    photos: state.photos.length,
+    active: state.active,
+    problemPhoto: state.problem?.photo ?? null,
+    problem: state.problem?.message ?? null,
     markedNote: state.marked?.note ?? null,
     unsaved: !!state.dirty,
     selection: state.selection,
@@ -325,4 +346,5 @@ window.vpmap = Object.freeze({
 app.renderPanel();
 app.renderCamera();
 app.renderDownloads();
+app.renderStrip();
 app.setStatus('Open a photo or load the example.');

@@ -5,6 +5,8 @@
 //
 // glTF is +Y up; vpmap stores map point (x, y, z) as (x, z, -y) (docs/map-format.md).
 
+import { cameraGroup } from './model-cameras.js';
+
 let three = null;
 
 async function loadThree() {
@@ -204,6 +206,37 @@ export class ModelView {
     }
     this.paths = g;
     this.scene.add(g);
+    this.render();
+  }
+
+  /**
+   * Draw the room's cameras (map.json `cameras`; none for a single photo, whose camera the
+   * model itself shows), the camera of photo `active` highlighted.
+   */
+  setCameras(cameras, active) {
+    this.cameraList = cameras;
+    this.activeCamera = active;
+    if (!this.renderer) return;
+    if (this.cameras) {
+      this.scene.remove(this.cameras);
+      // Not the sprites' geometry: three.js shares one among all sprites.
+      this.cameras.traverse((o) => {
+        if (!o.isSprite) o.geometry?.dispose?.();
+        o.material?.map?.dispose?.();
+        o.material?.dispose?.();
+      });
+      this.cameras = null;
+    }
+    if (!cameras.length) {
+      this.render();
+      return;
+    }
+    const { THREE } = this;
+    const size = this.model ? new THREE.Box3().setFromObject(this.model).getSize(new THREE.Vector3()) : null;
+    const depth = Math.max(0.15, 0.08 * (size ? Math.max(size.x, size.z) : 4));
+    this.cameras = cameraGroup(THREE, cameras, active, depth);
+    this.scene.add(this.cameras);
+    this.host.dataset.cameras = String(this.cameras.children.filter((o) => o.isLineSegments).length);
     this.render();
   }
 

@@ -8,14 +8,15 @@ import { OFF_LINE_PX, boxEdgeNames, describeBox, edgeChoice, guideOffsets, parse
 import { vpPoint } from './geometry.js';
 import { VpLineTool } from './vp-line-tool.js';
 import { BUG_COLOURS, PLANNER_STYLE } from './plan-view.js';
-import { busyNames } from './state.js';
+import { busyNames, roomScenes } from './state.js';
+import { linkCandidates, sharedWith, photoList } from './room.js';
 
 const IDLE_PROMPT = 'Drag a corner to move it · click an object or a line to select it (then drag the line\'s ends; Delete removes it) · scroll to zoom · drag to pan · ? for keys';
 const TABS = ['photo', 'plan', 'model'];
 
 /** Add the panel's functions to `app` and wire its inputs. */
 export function installPanels(app) {
-  const { state, history } = app;
+  const { state } = app;
 
   // ---- status and errors ----------------------------------------------------------------
 
@@ -89,8 +90,8 @@ export function installPanels(app) {
     for (const id of ['btn-add-box', 'btn-add-footprint', 'btn-floor', 'btn-floor-distance', 'btn-new-scene', 'btn-save-scene']) $(id).disabled = !has;
     $('btn-detect').disabled = !state.photoBlob;
     $('btn-clear-floor').disabled = !has || !(state.scene.floor || []).length;
-    $('btn-undo').disabled = !history.canUndo;
-    $('btn-redo').disabled = !history.canRedo;
+    $('btn-undo').disabled = !app.history?.canUndo;
+    $('btn-redo').disabled = !app.history?.canRedo;
     renderVpList();
     renderObjectList();
     renderScaleObjects();
@@ -200,12 +201,59 @@ export function installPanels(app) {
     return lines;
   }
 
-  function renderObjectList() {
+  /**
+   * The room's names for linking: the names the other photos use and this one does not (the
+   * name inputs' suggestions, `#room-names`), and for each name of this photo the other photos
+   * that use it too (shown as "also in photo 2").
+   */
+  function roomNames() {
+    const scenes = roomScenes(state);
+    const candidates = scenes.length > 1 ? linkCandidates(scenes, state.active) : [];
+    const list = $('room-names');
+    const key = candidates.map((c) => c.name).join('\n');
+    if (list.dataset.key !== key) {
+      list.dataset.key = key;
+      list.replaceChildren(...candidates.map((c) => h('option', { value: c.name, text: `in ${photoList(c.photos)}` })));
+    }
+    return { candidates, shared: scenes.length > 1 ? sharedWith(scenes, state.active) : new Map() };
+  }
+
+  /** The "also in photo 2" line of an object, or ''. */
+  const sharedText = (shared, name) => (shared.get(name)?.length ? `⇄ same object in ${photoList(shared.get(name))}` : '');
+
+  /** Offer `candidates` in an object's "same as…" select; hidden when there is none or the object is linked already. */
+  function fillLinkSelect(sel, candidates, linked) {
+    sel.hidden = !candidates.length || linked;
+    const key = candidates.map((c) => `${c.name}:${c.photos}`).join('\n');
+    if (sel.dataset.key === key) return;
+    sel.dataset.key = key;
+    sel.replaceChildren(
+      h('option', { value: '', text: 'same as…' }),
+      ...candidates.map((c) => h('option', { value: c.name, text: `${c.name} (${photoList(c.photos)})` })));
+  }
+
+  /** A select offering the other photos' names: one choice links the object to theirs. */
+  function linkSelect(i, candidates, linked) {
+    const sel = h('select', { class: 'obj-link small', 'aria-label': `Same object as one in another photo (object ${i + 1})`, title: 'The same object as one named in another photo: choose its name' });
+    fillLinkSelect(sel, candidates, linked);
+    sel.addEventListener('change', () => {
+      if (!sel.value) return;
+      renameObject(i, sel.value);
+      const others = sharedWith(roomScenes(state), state.active).get(sel.value) || [];
+      app.setStatus(`Linked: “${sel.value}” of photo ${state.active + 1} is the same object as in ${photoList(others)}.`);
+      renderObjectList(true);
+    });
+    return sel;
+  }
+
+  function renderObjectList(force = false) {
     const ul = $('object-list');
     const objs = state.scene?.objects || [];
-    const key = objs.map((o) => (o.footprint ? 'f' : 'b')).join('');
+    const { candidates, shared } = roomNames();
+    // Rebuilt when the photo or the objects' kinds change; else updated in place.
+    const key = `${state.active}|${objs.map((o) => (o.footprint ? 'f' : 'b')).join('')}`;
     const sel = state.selection?.type === 'object' ? state.selection.index : -1;
-    if (key === objectListKey && ul.children.length === objs.length) {
+    if (!force && key === objectListKey && ul.children.length === objs.length) {
       // Update in place, so that a name being typed keeps its focus.
       objs.forEach((o, i) => {
         const li = ul.children[i];
@@ -213,6 +261,10 @@ export function installPanels(app) {
         const input = li.querySelector('.obj-name');
         if (document.activeElement !== input && input.value !== o.name) input.value = o.name;
         li.querySelector('.obj-info').textContent = objectInfo(o).text;
+        li.querySelector('.obj-shared').textContent = sharedText(shared, o.name);
+        if (candidates.length) input.setAttribute('list', 'room-names');
+        else input.removeAttribute('list');
+        fillLinkSelect(li.querySelector('.obj-link'), candidates, !!shared.get(o.name)?.length);
       });
       return;
     }
@@ -220,7 +272,7 @@ export function installPanels(app) {
     ul.replaceChildren(
       ...objs.map((o, i) => {
         const info = objectInfo(o);
-        const input = h('input', { type: 'text', class: 'obj-name', value: o.name, 'aria-label': `Name of object ${i + 1}`, spellcheck: 'false' });
+        const input = h('input', { type: 'text', class: 'obj-name', value: o.name, 'aria-label': `Name of object ${i + 1}`, spellcheck: 'false', list: candidates.length ? 'room-names' : null });
         input.addEventListener('focus', () => {
           if (state.selection?.index !== i) app.select({ type: 'object', index: i });
         });
@@ -230,6 +282,8 @@ export function installPanels(app) {
         const li = h('li', { dataset: { index: i }, class: i === sel ? 'selected' : '' },
           input,
           h('span', {}, h('span', { class: 'obj-kind', text: info.kind }), ' ', del),
+          linkSelect(i, candidates, !!shared.get(o.name)?.length),
+          h('span', { class: 'obj-shared', text: sharedText(shared, o.name) }),
           h('span', { class: 'obj-info', text: info.text }));
         return li;
       }),
@@ -247,6 +301,7 @@ export function installPanels(app) {
       { live: true, undo: true },
     );
     renderScaleObjects();
+    renderObjectList(); // in place: the names offered and which objects are shared
   }
 
   // ---- scale, intrinsics and build settings ---------------------------------------------
@@ -413,7 +468,7 @@ export function installPanels(app) {
     set('cam-pp', c?.principal_point ? `${fmt(c.principal_point[0], 1)}, ${fmt(c.principal_point[1], 1)}` : '–');
     // The fit's error bars (1 sigma) after each value, and its report.
     const map = state.build?.map;
-    const cu = c ? map?.camera?.uncertainty : null;
+    const cu = c?.uncertainty ?? null;
     const sd = (id, v, d, suffix) => {
       const el = $(id);
       const ok = cu && Number.isFinite(v) && !(id === 'cam-height-sd' && v === 0);

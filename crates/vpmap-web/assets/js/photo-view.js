@@ -75,7 +75,11 @@ export class PhotoView {
     this.canvas.width = Math.round(this.cssW * dpr);
     this.canvas.height = Math.round(this.cssH * dpr);
     if (this.fitted) this.fit();
-    else this.requestRender();
+    // Setting the size cleared the canvas: draw now, not a frame later (no blank frame while
+    // the layout around the photo changes, e.g. a room's message above it).
+    if (this.frame) cancelAnimationFrame(this.frame);
+    this.frame = 0;
+    this.render();
   }
 
   fit() {

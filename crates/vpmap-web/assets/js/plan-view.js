@@ -11,6 +11,7 @@
 
 import { SVG_NS, svgEl, base64ToBytes, fmt } from './util.js';
 import { parseAffine, applyAffine, invertAffine, occupancyToSvg } from './geometry.js';
+import { drawCameras } from './plan-cameras.js';
 
 const ID_PREFIX = 'fp-';
 /** Bug track colours: none near a planner's (purple, orange, teal) or the alternatives' grey. */
@@ -158,11 +159,14 @@ function pgmToDataUrl(bytes) {
 export class PlanView {
   /**
    * @param {HTMLElement} host
-   * @param {{onPick: (p: number[]) => void}} handlers  `onPick` gets a click's map point.
+   * @param {{onPick: (p: number[]) => void, onCamera: (i: number) => void}} handlers  `onPick`
+   *   gets a click's map point, `onCamera` the photo whose camera (of a room) was clicked.
    */
-  constructor(host, { onPick }) {
+  constructor(host, { onPick, onCamera }) {
     this.host = host;
     this.onPick = onPick;
+    this.onCamera = onCamera;
+    this.activeCamera = 0;
     this.svg = null;
     this.tf = null;
     this.map = null;
@@ -184,8 +188,12 @@ export class PlanView {
     }).observe(host);
   }
 
-  /** Show a new plan picture for `map` (the map.json object); `occupancy` from the build. */
-  setBuild(svgText, map, occupancy) {
+  /**
+   * Show a new plan picture for `map` (the map.json object); `occupancy` from the build;
+   * `active` the photo shown (its camera highlighted when the map has the room's `cameras`).
+   */
+  setBuild(svgText, map, occupancy, active = 0) {
+    this.activeCamera = active;
     const doc = new DOMParser().parseFromString(svgText, 'image/svg+xml');
     let tf;
     try {
@@ -378,6 +386,12 @@ export class PlanView {
     return [r.x, r.y];
   }
 
+  /** Highlight the camera of photo `i` (a room's). */
+  setActiveCamera(i) {
+    this.activeCamera = i;
+    this.draw();
+  }
+
   setMarkers(start, goal) {
     this.start = start;
     this.goal = goal;
@@ -508,6 +522,7 @@ export class PlanView {
       });
     }
     if (this.drive) this.drawDrive(g, this.drive);
+    if (Array.isArray(this.map?.cameras) && this.map.cameras.length) drawCameras(this, g, this.map.cameras, this.activeCamera, this.onCamera);
     for (const [p, label, colour] of [[this.start, 'S', '#1b8a3a'], [this.goal, 'G', '#c62828']]) {
       if (!finite(p)) continue;
       const [x, y] = this.mapToSvg(p);

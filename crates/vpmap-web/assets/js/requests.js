@@ -5,7 +5,9 @@
 
 import * as api from './api.js';
 import { $, h, fmt, parsePair, formatPair, base64ToBytes } from './util.js';
-import { buildBlocker, messagePoint, segmentOwners } from './scene.js';
+import { segmentOwners } from './scene.js';
+import { roomBody, roomBlocker, roomProblem, cameraOf } from './room.js';
+import { roomScenes } from './state.js';
 import { PLANNER_STYLE } from './plan-view.js';
 import { latestRequest } from './latest.js';
 
@@ -36,16 +38,19 @@ export function planMessage(text) {
 /** Add build, plan and detect to `app` and wire their buttons and inputs. */
 export function installRequests(app) {
   const { state, planView, modelView } = app;
+  /** What is sent as the scene: the active photo's scene for one photo, else the room file (room.js). */
+  const body = () => roomBody(roomScenes(state));
+  const blocker = () => roomBlocker(roomScenes(state));
 
   // ---- build --------------------------------------------------------------------------------
 
   let buildStarted = 0;
   const build = latestRequest({
-    ready: () => !buildBlocker(state.scene),
+    ready: () => !blocker(),
     run(signal) {
       app.setStatus('Building…');
       buildStarted = performance.now();
-      return api.build(state.scene, state.settings, signal);
+      return api.build(body(), state.settings, signal);
     },
     busy(on) {
       state.busy.build = on;
@@ -59,27 +64,44 @@ export function installRequests(app) {
     fail(err) {
       state.buildError = err.message;
       markStale(true);
-      // The point the message is about, ringed on the photo (its object selected).
-      state.marked = messagePoint(err.message, state.scene);
-      if (state.marked?.path[0] === 'objects') app.select({ type: 'object', index: state.marked.path[1] });
+      // The photo and point the message is about: the point ringed on the photo (its object
+      // selected) when that photo is the one shown, the photo's thumbnail badged.
+      setProblem(roomProblem(err.message, roomScenes(state)) || { photo: null, message: err.message });
+      if (state.marked?.path?.[0] === 'objects') app.select({ type: 'object', index: state.marked.path[1] });
       app.photoView.requestRender();
-      app.showError(`Cannot build the map: ${err.message}${state.marked?.p ? ' (ringed in red on the photo)' : ''}`);
+      const other = state.problem.photo !== null && state.problem.photo !== state.active;
+      app.showError(`Cannot build the map: ${err.message}${state.marked?.p ? ' (ringed in red on the photo)' : other ? ` (photo ${state.problem.photo + 1}: click its thumbnail)` : ''}`);
       app.setStatus('Build failed: see the message at the bottom.');
     },
     wait: DEBOUNCE_MS,
     maxWait: DEBOUNCE_MAX_MS,
   });
 
+  /**
+   * What the last build error or the build blocker is about (room.js roomProblem: `{photo,
+   * message, ...}`, or null): kept in `state.problem`, its point in `state.marked` when it is on
+   * the active photo.
+   */
+  function setProblem(problem) {
+    state.problem = problem;
+    const here = problem && problem.photo === state.active && (problem.p || problem.object !== undefined);
+    state.marked = here ? problem : null;
+    app.renderProblems?.();
+  }
+
   function scheduleBuild() {
-    const blocker = buildBlocker(state.scene);
-    if (blocker) {
+    const why = blocker();
+    if (why) {
       build.cancel();
       state.busy.build = false;
       markStale(true);
-      $('status').textContent = state.scene ? `To build: ${blocker}.` : '';
+      if (state.problem?.message !== why.message) setProblem(state.scene ? why : null);
+      $('status').textContent = state.scene ? `To build: ${why.message}.` : '';
       app.refreshBusy();
       return;
     }
+    // A blocker that is gone is no problem any more (a build error stays until the next answer).
+    if (state.problem && !state.buildError) setProblem(null);
     build.schedule();
   }
 
@@ -103,7 +125,8 @@ export function installRequests(app) {
     app.refreshBusy();
     state.build = null;
     state.camera = null;
-    state.marked = null;
+    state.buildError = null;
+    setProblem(null);
     state.plan.result = null;
     planView.clear();
     clearDrive();
@@ -114,15 +137,15 @@ export function installRequests(app) {
   }
 
   function applyBuild(res) {
-    state.marked = null;
     state.build = res;
-    state.camera = res.camera || null;
+    state.camera = cameraOf(res, state.active);
     state.buildError = null;
+    setProblem(null);
     app.clearError();
     app.renderCamera();
     app.renderMethod();
     try {
-      planView.setBuild(res.svg, res.map, res.occupancy);
+      planView.setBuild(res.svg, res.map, res.occupancy, state.active);
       planView.setMarkers(state.plan.start, state.plan.goal);
       planView.setPlan(state.plan.result);
     } catch (err) {
@@ -135,7 +158,10 @@ export function installRequests(app) {
     if (res.glb_base64) {
       modelView
         .setModel(base64ToBytes(res.glb_base64), { content: (res.map?.objects || []).length + ((res.map?.floor || []).length ? 1 : 0) })
-        .then(() => update3dPaths())
+        .then(() => {
+          modelView.setCameras(res.map?.cameras || [], state.active);
+          update3dPaths();
+        })
         .catch((err) => {
           $('model-host').replaceChildren(h('p', { class: 'empty', text: `3D view: ${err.message}` }));
         });
@@ -147,14 +173,14 @@ export function installRequests(app) {
   // ---- path planning ------------------------------------------------------------------------
 
   const plan = latestRequest({
-    ready: () => !!(state.plan.start && state.plan.goal && !buildBlocker(state.scene)),
+    ready: () => !!(state.plan.start && state.plan.goal && !blocker()),
     run(signal) {
       const status = $('plan-status');
       status.classList.remove('error');
       status.textContent = 'Planning…';
       return api.plan(
         {
-          scene: state.scene,
+          scene: body(),
           // The method the map was built with (the server's default when none is chosen).
           method: state.settings.method ?? state.build?.map?.method ?? null,
           resolution: state.settings.resolution,
@@ -304,7 +330,7 @@ export function installRequests(app) {
     try {
       const res = await api.navigate(
         {
-          scene: state.scene,
+          scene: body(),
           method: state.settings.method ?? state.build?.map?.method ?? null,
           resolution: state.settings.resolution,
           robot_radius: state.settings.robot_radius,
@@ -368,7 +394,7 @@ export function installRequests(app) {
   let detectStarted = 0;
   const detect = latestRequest({
     run(signal, options) {
-      app.setStatus('Detecting edges and vanishing points…');
+      app.setStatus(state.photos.length > 1 ? `Photo ${state.active + 1}: detecting edges and vanishing points…` : 'Detecting edges and vanishing points…');
       detectStarted = performance.now();
       return api.detect(state.photoBlob, options, signal);
     },
@@ -423,10 +449,22 @@ export function installRequests(app) {
   });
   $('btn-fit').addEventListener('click', () => app.photoView.fit());
 
+  /** Another photo became the active one: its camera of the last build, its point of the problem, its camera highlighted. */
+  function cameraChanged() {
+    state.camera = cameraOf(state.build, state.active);
+    setProblem(state.problem);
+    planView.setActiveCamera(state.active);
+    modelView.setCameras(state.build?.map?.cameras || [], state.active);
+  }
+
   Object.assign(app, {
+    cameraChanged,
     scheduleBuild,
     buildNow,
     clearBuild,
+    setProblem,
+    /** Forget a detection on its way (another photo became the active one). */
+    cancelDetect: () => detect.cancel(),
     pickPlanPoint,
     /** A build or plan is scheduled and not started yet. */
     requestsPending: () => build.pending || plan.pending,

@@ -2,8 +2,6 @@
 //! pictures are built by `vpmap_pipeline`, as `vpmap build` builds them.
 
 use vpmap_metrology::reconstruct::Method;
-use vpmap_metrology::scene::Scene;
-use vpmap_pipeline::scene::unknown_field_warnings;
 use vpmap_pipeline::{MapOptions, ParsedScene, PipelineError};
 
 use crate::error::ApiError;
@@ -125,7 +123,8 @@ pub fn scene_from_text(text: &str) -> Result<ParsedScene, ApiError> {
     })
 }
 
-/// A scene from a JSON value (the `scene` field of `/api/plan`).
+/// A scene from a JSON value (the `scene` field of `/api/plan`): a single-photo scene or a
+/// room file.
 ///
 /// # Errors
 /// As [`scene_from_text`].
@@ -135,15 +134,8 @@ pub fn scene_from_value(value: &serde_json::Value) -> Result<ParsedScene, ApiErr
             "field `scene` must be a scene JSON object ({ ... }), see docs/scene-format.md",
         ));
     }
-    let scene: Scene = serde_json::from_value(value.clone())
-        .map_err(|e| ApiError::bad_request(format!("scene: {e}")))?;
-    scene
-        .validate()
-        .map_err(|e| ApiError::bad_request(format!("scene: {e}")))?;
-    Ok(ParsedScene {
-        scene,
-        warnings: unknown_field_warnings(value),
-    })
+    // Through the one scene reader, so that a room file is read as `/api/build` reads it.
+    scene_from_text(&value.to_string())
 }
 
 #[cfg(test)]

@@ -1,0 +1,609 @@
+//! The joint fit of a room's photos: every camera and every object at once, to every click
+//! and vanishing-point segment of every photo ([`fit_room`]).
+
+use nalgebra::Vector2;
+
+use super::align::{
+    PhotoFit, Placed, Pose, candidate_poses, in_photo, near_best, photo_block, place_objects,
+    placed_index, record_maps, room_axes, sightings,
+};
+use super::model::{Place, RoomPart, RoomProblem, Shape, Sighting};
+use crate::calibration::{Calibration, Perspective};
+use crate::error::{MetrologyError, Result};
+use crate::fit::model::{BoxAxes, Part, px};
+use crate::fit::solve::{Model, Singular, minimise};
+use crate::fit::{FitOptions, MAX_FOCAL_DIAGONALS, PointResidual, calibration_of, fit_scene};
+use crate::reconstruct::{ObjectKind, ReconstructedObject};
+use crate::scene::{Scale, Scene};
+
+/// One photo's camera after the room fit.
+#[derive(Debug, Clone)]
+pub struct FittedPhoto {
+    /// Its camera as a calibration in its own map frame (focal length, principal point,
+    /// pitch, roll, the vanishing points the fit predicts).
+    pub calibration: Calibration,
+    /// Its room directions' angle from its own `+x`, radians.
+    pub room_yaw_rad: f64,
+    /// Its station point in the room frame (the first photo's map frame), first camera
+    /// heights.
+    pub position: Vector2<f64>,
+    /// Its height above the floor, first camera heights.
+    pub height: f64,
+    /// The angle from the room frame's axes to its own map frame's (its horizontal viewing
+    /// direction, counter-clockwise from the room frame's `+y`), radians.
+    pub heading_rad: f64,
+    /// Whether its principal point was fitted.
+    pub principal_point_fitted: bool,
+}
+
+/// The result of [`fit_room`].
+#[derive(Debug, Clone)]
+pub struct RoomFitted {
+    /// Every photo's camera, in photo order.
+    pub photos: Vec<FittedPhoto>,
+    /// Every object once, in the order first seen (photo 1's objects in scene order, then
+    /// photo 2's new ones, ...), room frame, first camera heights.
+    pub objects: Vec<ReconstructedObject>,
+    /// Each photo's floor outline in the room frame.
+    pub floors: Vec<Vec<Vector2<f64>>>,
+    /// Root-mean-square reprojection error of every clicked point, pixels.
+    pub rms_residual_px: f64,
+    /// Residuals minus parameters.
+    pub degrees_of_freedom: usize,
+    /// Levenberg-Marquardt iterations of the chosen hypothesis.
+    pub iterations: usize,
+    /// Every clicked point's misfit.
+    pub point_residuals: Vec<PointResidual>,
+    /// Notes: the photos' own notes, and correspondences the data leave open.
+    pub warnings: Vec<String>,
+    pub(crate) problem: RoomProblem,
+    pub(crate) x: Vec<f64>,
+    /// For each photo, each scene object's room object index.
+    pub(crate) object_of: Vec<Vec<usize>>,
+    /// Each photo's floor-distance points' parts, when its scale is a floor distance.
+    pub(crate) floor_distance_parts: Vec<Option<[usize; 2]>>,
+    /// For each photo, each scene box's axes turned into the room frame.
+    pub(crate) photo_axes: Vec<Vec<Option<BoxAxes>>>,
+}
+
+/// Relative cost difference under which two hypotheses fit equally well, and the
+/// chi-square difference (in click variances) under which they fit about equally.
+const TIE_CHI2: f64 = 4.0;
+
+/// Most correspondence hypotheses the joint fit tries.
+const MAX_HYPOTHESES: usize = 32;
+
+/// The placement of every photo for given quarter turns (`None`: the best-scoring one).
+struct Placement {
+    poses: Vec<Option<Pose>>,
+    placed: Vec<Placed>,
+    /// Each photo's near-best quarter turns (photo 1: none).
+    options: Vec<Vec<u8>>,
+    /// Each placed photo's shared objects' names.
+    shared: Vec<Vec<String>>,
+}
+
+fn place_all(fits: &[PhotoFit], forced: &[Option<u8>]) -> Result<Placement> {
+    let n = fits.len();
+    let first_cam = fits[0].camera();
+    let mut poses: Vec<Option<Pose>> = vec![None; n];
+    let mut placed: Vec<Placed> = Vec::new();
+    let mut options = vec![Vec::new(); n];
+    let mut shared = vec![Vec::new(); n];
+    let mut done = vec![false; n];
+    place_objects(
+        &fits[0],
+        &Pose {
+            quarter: 0,
+            heading_rad: 0.0,
+            scale: 1.0,
+            position: Vector2::zeros(),
+        },
+        &mut placed,
+        0,
+    );
+    done[0] = true;
+    for _ in 1..n {
+        let Some(k) = (0..n).find(|&k| {
+            !done[k]
+                && fits[k]
+                    .objects
+                    .iter()
+                    .any(|o| placed.iter().any(|p| p.name == o.name))
+        }) else {
+            break;
+        };
+        let candidates = candidate_poses(&fits[k], first_cam.room_yaw_rad, &first_cam, &placed);
+        let Some(best) = candidates.first().map(|c| c.1) else {
+            return Err(MetrologyError::Degenerate {
+                field: format!("photos[{k}]"),
+                reason: format!(
+                    "photo {} cannot be placed in the room: the objects it shares with the others do not fix its scale (give them sizes in both photos)",
+                    k + 1
+                ),
+            });
+        };
+        options[k] = candidates
+            .iter()
+            .filter(|c| near_best(c.1, best))
+            .map(|c| c.0.quarter)
+            .collect();
+        let chosen = match forced[k] {
+            Some(q) => candidates.iter().find(|c| c.0.quarter == q),
+            None => candidates.first(),
+        }
+        .ok_or_else(|| MetrologyError::Degenerate {
+            field: format!("photos[{k}]"),
+            reason: "no placement for the requested quarter turn".to_owned(),
+        })?;
+        shared[k] = fits[k]
+            .objects
+            .iter()
+            .filter(|o| placed.iter().any(|p| p.name == o.name))
+            .map(|o| o.name.clone())
+            .collect();
+        record_maps(&mut placed, k, &chosen.2);
+        place_objects(&fits[k], &chosen.0, &mut placed, k);
+        poses[k] = Some(chosen.0);
+        done[k] = true;
+    }
+    Ok(Placement {
+        poses,
+        placed,
+        options,
+        shared,
+    })
+}
+
+/// The problem, its start and index maps for one placement.
+struct Built {
+    problem: RoomProblem,
+    x0: Vec<f64>,
+    object_of: Vec<Vec<usize>>,
+    floor_distance_parts: Vec<Option<[usize; 2]>>,
+    names: Vec<String>,
+    photo_axes: Vec<Vec<Option<BoxAxes>>>,
+}
+
+fn build(scene: &Scene, fits: &[PhotoFit], placement: &Placement) -> Result<Built> {
+    let photos: Vec<&Scene> = scene.photos().collect();
+    let mut blocks = Vec::new();
+    let mut x0 = Vec::new();
+    for (k, fit) in fits.iter().enumerate() {
+        let (b, x) = photo_block(fit, placement.poses[k].as_ref());
+        blocks.push(b);
+        x0.extend(x);
+    }
+    // Objects in the order first seen.
+    let mut names: Vec<String> = Vec::new();
+    for p in &photos {
+        for o in &p.objects {
+            if !names.contains(&o.name) {
+                names.push(o.name.clone());
+            }
+        }
+    }
+    let mut parts = Vec::new();
+    let mut params = Vec::new();
+    for name in &names {
+        let w = &placement.placed[placed_index(&placement.placed, name)?];
+        let mut seen: Vec<Sighting> = Vec::new();
+        for (k, fit) in fits.iter().enumerate() {
+            if let Some(o) = fit.objects.iter().find(|o| &o.name == name) {
+                let quarter = placement.poses[k].map_or(0, |p| p.quarter);
+                seen.extend(sightings(k, o, quarter, w));
+            }
+        }
+        parts.push(RoomPart {
+            shape: w.shape,
+            sightings: seen,
+        });
+        params.extend(w.params.iter().copied());
+    }
+    let object_of = photos
+        .iter()
+        .map(|p| {
+            p.objects
+                .iter()
+                .map(|o| names.iter().position(|n| n == &o.name).unwrap_or(0))
+                .collect()
+        })
+        .collect();
+    // Each photo's floor-distance points, started where its own camera puts them.
+    let mut floor_distance_parts = vec![None; photos.len()];
+    let problem0 = RoomProblem::new(blocks.clone(), Vec::new());
+    let views = problem0.views(&x0);
+    for (k, p) in photos.iter().enumerate() {
+        if let Some(Scale::FloorDistance(fd)) = p.scale()? {
+            let first = parts.len();
+            for (end, q) in [("from", fd.from), ("to", fd.to)] {
+                let own = views[k]
+                    .cam
+                    .floor_point(px(q))
+                    .unwrap_or_else(|| Vector2::new(0.0, 1.0));
+                let at = views[k].room_from_own(own);
+                params.extend([at.x, at.y]);
+                parts.push(RoomPart {
+                    shape: Shape::Point,
+                    sightings: vec![Sighting {
+                        photo: k,
+                        place: Place::Point,
+                        pixel: px(q),
+                        field: format!("photos[{k}].scale.floor_distance.{end}"),
+                        weight: p
+                            .click_covariances_px2
+                            .get(&format!("scale.floor_distance.{end}"))
+                            .and_then(|c| crate::fit::whitening(*c)),
+                    }],
+                });
+            }
+            floor_distance_parts[k] = Some([first, first + 1]);
+        }
+    }
+    let problem = RoomProblem::new(blocks, parts);
+    x0.extend(params);
+    let photo_axes = fits
+        .iter()
+        .enumerate()
+        .map(|(k, fit)| {
+            let quarter = placement.poses[k].map_or(0, |p| p.quarter);
+            fit.objects
+                .iter()
+                .map(|o| match &o.part {
+                    Part::Box { axes, .. } => Some(room_axes(*axes, quarter)),
+                    _ => None,
+                })
+                .collect()
+        })
+        .collect();
+    Ok(Built {
+        problem,
+        x0,
+        object_of,
+        floor_distance_parts,
+        names,
+        photo_axes,
+    })
+}
+
+/// A converged hypothesis.
+struct Solved {
+    built: Built,
+    x: Vec<f64>,
+    cost: f64,
+    iterations: usize,
+    quarters: Vec<u8>,
+}
+
+fn solve(scene: &Scene, fits: &[PhotoFit], forced: &[Option<u8>]) -> Result<(Solved, Placement)> {
+    let placement = place_all(fits, forced)?;
+    let built = build(scene, fits, &placement)?;
+    let sol = minimise(&built.problem, built.x0.clone()).ok_or_else(|| {
+        MetrologyError::Degenerate {
+            field: "photos".to_owned(),
+            reason: "the room fit's starting point puts a clicked point behind a camera: check that objects named the same in several photos are the same object".to_owned(),
+        }
+    })?;
+    if !sol.converged {
+        return Err(MetrologyError::Degenerate {
+            field: "photos".to_owned(),
+            reason: format!(
+                "the room fit did not converge in {} iterations (reprojection error {:.3} px RMS): check that objects named the same in several photos are the same object",
+                sol.iterations,
+                (sol.cost / built.problem.residual_count().max(1) as f64).sqrt()
+            ),
+        });
+    }
+    let quarters = placement
+        .poses
+        .iter()
+        .map(|p| p.map_or(0, |p| p.quarter))
+        .collect();
+    Ok((
+        Solved {
+            built,
+            x: sol.x,
+            cost: sol.cost,
+            iterations: sol.iterations,
+            quarters,
+        },
+        placement,
+    ))
+}
+
+/// Fit every photo of a room at once ([`crate::room`]).
+///
+/// # Errors
+/// A photo whose own fit fails ([`MetrologyError::InPhoto`]); a room whose photos cannot be
+/// placed or whose fit does not converge; an object the clicks of all photos together do
+/// not fix (naming it); a box with its top below its base.
+pub fn fit_room(scene: &Scene) -> Result<RoomFitted> {
+    scene.validate()?;
+    let photos: Vec<&Scene> = scene.photos().collect();
+    let mut fits = Vec::with_capacity(photos.len());
+    for (k, p) in photos.iter().enumerate() {
+        let fitted = fit_scene(p, &FitOptions::default()).map_err(|e| in_photo(k, e))?;
+        fits.push(PhotoFit::new(fitted, p));
+    }
+    let n = photos.len();
+    let (first, placement) = solve(scene, &fits, &vec![None; n])?;
+    // The other near-best quarter turns, one combination at a time (all of them while few).
+    let mut combos: Vec<Vec<Option<u8>>> = vec![vec![None; n]];
+    for k in 1..n {
+        let mut next = Vec::new();
+        for c in &combos {
+            for &q in &placement.options[k] {
+                let mut c = c.clone();
+                c[k] = Some(q);
+                next.push(c);
+            }
+        }
+        if !next.is_empty() && next.len() <= MAX_HYPOTHESES {
+            combos = next;
+        }
+    }
+    let mut results = vec![first];
+    for c in combos {
+        if c.iter()
+            .zip(&results[0].quarters)
+            .all(|(a, b)| a.is_none_or(|q| q == *b))
+        {
+            continue;
+        }
+        if let Ok((s, _)) = solve(scene, &fits, &c)
+            && !results.iter().any(|r| r.quarters == s.quarters)
+        {
+            results.push(s);
+        }
+    }
+    results.sort_by(|a, b| a.cost.total_cmp(&b.cost));
+    let mut warnings: Vec<String> = Vec::new();
+    for (k, f) in fits.iter().enumerate() {
+        for w in &f.fitted.calibration.warnings {
+            warnings.push(format!("photo {}: {w}", k + 1));
+        }
+    }
+    let best_cost = results[0].cost;
+    let dof = results[0]
+        .built
+        .problem
+        .residual_count()
+        .saturating_sub(results[0].built.problem.len())
+        .max(1);
+    let variance = (best_cost / dof as f64).max(crate::fit::MIN_CLICK_SIGMA_PX.powi(2));
+    if let Some(second) = results.get(1)
+        && (second.cost - best_cost) / variance < TIE_CHI2
+    {
+        let differ: Vec<usize> = (1..n)
+            .filter(|&k| second.quarters[k] != results[0].quarters[k])
+            .collect();
+        for k in differ {
+            let turn =
+                (4 + i32::from(second.quarters[k]) - i32::from(results[0].quarters[k])) % 4 * 90;
+            warnings.push(format!(
+                "photo {} is tied to the room only by {}, which fit{} about as well with photo {} turned by {turn} degrees (cost {:.3} against {:.3} px^2): the map uses the better one; to be sure, name one more object seen in photo {} and another photo",
+                k + 1,
+                quoted(&placement.shared[k]),
+                if placement.shared[k].len() == 1 { "s" } else { "" },
+                k + 1,
+                second.cost,
+                best_cost,
+                k + 1
+            ));
+        }
+    }
+    let best = results.swap_remove(0);
+    finish(scene, best, warnings)
+}
+
+fn quoted(names: &[String]) -> String {
+    let q: Vec<String> = names.iter().map(|n| format!("{n:?}")).collect();
+    match q.len() {
+        0 => "no object".to_owned(),
+        1 => format!("object {}", q[0]),
+        _ => format!("objects {}", q.join(", ")),
+    }
+}
+
+fn finish(scene: &Scene, solved: Solved, mut warnings: Vec<String>) -> Result<RoomFitted> {
+    let Solved {
+        built,
+        x,
+        cost: _,
+        iterations,
+        quarters: _,
+    } = solved;
+    let problem = &built.problem;
+    let photos: Vec<&Scene> = scene.photos().collect();
+    let nc = problem.camera_len;
+    let views = problem.views(&x[..nc]);
+    for (k, v) in views.iter().enumerate() {
+        let diagonal = photos[k].image.diagonal();
+        if v.cam.focal_px > MAX_FOCAL_DIAGONALS * diagonal || v.cam.focal_px <= 0.0 {
+            return Err(in_photo(
+                k,
+                MetrologyError::Degenerate {
+                    field: "vanishing_points".to_owned(),
+                    reason: format!(
+                        "the room fit runs off to a focal length of {:.0} px: the vanishing points' edges are too short or nearly parallel to fix the camera",
+                        v.cam.focal_px
+                    ),
+                },
+            ));
+        }
+        if !(v.height.is_finite() && v.height > 0.0) {
+            return Err(MetrologyError::Degenerate {
+                field: format!("photos[{k}]"),
+                reason: format!(
+                    "photo {} comes out with its camera {:.3} camera heights above the floor: check the objects it shares with the others",
+                    k + 1,
+                    v.height
+                ),
+            });
+        }
+    }
+    let normal = problem
+        .normal(&x)
+        .ok_or_else(|| MetrologyError::Degenerate {
+            field: "photos".to_owned(),
+            reason: "a clicked point lies behind its fitted camera".to_owned(),
+        })?;
+    if let Some(block) = normal.singular_block() {
+        return Err(match block {
+            Singular::Camera => MetrologyError::Degenerate {
+                field: "photos".to_owned(),
+                reason: "the photos' vanishing points and shared objects do not fix every camera (a singular covariance): give longer vanishing-point edges, or tie each photo by more corners of shared objects".to_owned(),
+            },
+            Singular::Part(p) => {
+                let what = built
+                    .names
+                    .get(p)
+                    .map_or_else(|| "a floor-distance point".to_owned(), |n| format!("object {n:?}"));
+                MetrologyError::Degenerate {
+                    field: "photos".to_owned(),
+                    reason: format!(
+                        "the clicks of {what} in all photos together do not determine its size or place (a singular covariance): click more of its corners"
+                    ),
+                }
+            }
+        });
+    }
+    let room_cam = views[0].cam;
+    let mut objects = Vec::with_capacity(built.names.len());
+    for (i, name) in built.names.iter().enumerate() {
+        let part = &problem.parts[i];
+        let p = problem.part_params(&x, i);
+        let corner = |a: u8, b: u8| {
+            let v = part.point(&room_cam, p, Place::Corner(a, b, 0));
+            Vector2::new(v.x, v.y)
+        };
+        let (kind, footprint, height) = match part.shape {
+            Shape::Box { has_top, .. } => {
+                let scale = p[0].hypot(p[1]).max(1.0);
+                if p[2].abs() <= 1e-9 * scale || p[3].abs() <= 1e-9 * scale {
+                    return Err(MetrologyError::Degenerate {
+                        field: "photos".to_owned(),
+                        reason: format!(
+                            "object {name:?} comes out with a side of no length ({:.3} x {:.3} camera heights): its corners in the photos cannot belong to one box",
+                            p[2], p[3]
+                        ),
+                    });
+                }
+                let h = has_top.then(|| p[4]);
+                (
+                    ObjectKind::Box,
+                    vec![corner(0, 0), corner(1, 0), corner(1, 1), corner(0, 1)],
+                    h,
+                )
+            }
+            Shape::Footprint { n, has_top } => (
+                ObjectKind::Footprint,
+                (0..n)
+                    .map(|v| Vector2::new(p[2 * v], p[2 * v + 1]))
+                    .collect(),
+                has_top.then(|| p[2 * n]),
+            ),
+            Shape::Point => continue,
+        };
+        if let Some(h) = height
+            && h <= 0.0
+        {
+            return Err(MetrologyError::Degenerate {
+                field: "photos".to_owned(),
+                reason: format!(
+                    "object {name:?} comes out with its top {:.3} camera heights below its base: check that its top corners are named like the base corners below them in every photo",
+                    -h
+                ),
+            });
+        }
+        objects.push(ReconstructedObject {
+            name: name.clone(),
+            kind,
+            footprint,
+            height,
+        });
+    }
+    let mut floors = Vec::with_capacity(photos.len());
+    for (k, p) in photos.iter().enumerate() {
+        let mut floor = Vec::with_capacity(p.floor.len());
+        for (i, q) in p.floor.iter().enumerate() {
+            let own = views[k].cam.floor_point(px(*q)).ok_or_else(|| {
+                in_photo(
+                    k,
+                    MetrologyError::NotBelowHorizon {
+                        field: format!("floor[{i}]"),
+                        x: q[0],
+                        y: q[1],
+                        distance_px: 0.0,
+                        side: "on or above",
+                    },
+                )
+            })?;
+            floor.push(views[k].room_from_own(own));
+        }
+        floors.push(floor);
+    }
+    let residuals = problem.residuals(&x).unwrap_or_default();
+    let mut point_residuals = Vec::new();
+    let mut at: usize = (0..problem.camera_group_count())
+        .map(|g| problem.camera_group_len(g))
+        .sum();
+    for (i, part) in problem.parts.iter().enumerate() {
+        for s in &part.sightings {
+            if let Some(name) = built.names.get(i) {
+                point_residuals.push(PointResidual {
+                    object: name.clone(),
+                    field: s.field.clone(),
+                    distance_px: residuals
+                        .get(at)
+                        .copied()
+                        .unwrap_or(0.0)
+                        .hypot(residuals.get(at + 1).copied().unwrap_or(0.0)),
+                });
+            }
+            at += 2;
+        }
+    }
+    let clicks = point_residuals.len().max(1);
+    let rms = (point_residuals
+        .iter()
+        .map(|r| r.distance_px * r.distance_px)
+        .fold(0.0, |a, b| a + b)
+        / clicks as f64)
+        .sqrt();
+    let fitted_photos = views
+        .iter()
+        .enumerate()
+        .map(|(k, v)| {
+            let perspective = if photos[k].vanishing_points.len() == 3 {
+                Perspective::ThreePoint
+            } else {
+                Perspective::TwoPoint
+            };
+            FittedPhoto {
+                calibration: calibration_of(&v.cam, perspective),
+                room_yaw_rad: v.cam.room_yaw_rad,
+                position: v.position,
+                height: v.height,
+                heading_rad: v.heading_rad,
+                principal_point_fitted: problem.photos[k].fixed_pp.is_none(),
+            }
+        })
+        .collect();
+    warnings.dedup();
+    Ok(RoomFitted {
+        photos: fitted_photos,
+        objects,
+        floors,
+        rms_residual_px: rms,
+        degrees_of_freedom: problem.residual_count().saturating_sub(problem.len()),
+        iterations,
+        point_residuals,
+        warnings,
+        problem: built.problem,
+        x,
+        object_of: built.object_of,
+        floor_distance_parts: built.floor_distance_parts,
+        photo_axes: built.photo_axes,
+    })
+}

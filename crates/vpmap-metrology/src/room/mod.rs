@@ -1,0 +1,27 @@
+//! The whole room from a few photos: one joint fit of every photo's camera and every
+//! object, with error bars across the photos.
+//!
+//! Model (`room/model.rs`): each photo's camera as in [`crate::fit`] (focal length, pitch,
+//! roll, room yaw, the principal point where its vanishing points fix it), and for photos
+//! after the first its station point and height on the floor of the first photo's map frame;
+//! the heading follows from the shared room directions and a quarter turn. Each object once,
+//! in that frame, fitted to its clicks in every photo that shows it. Objective: the sum of
+//! squared reprojection errors of every click and vanishing-point segment of every photo,
+//! the maximum-likelihood estimate under independent Gaussian click noise; minimised by the
+//! same sparse Levenberg-Marquardt (the cameras are one block, each object another).
+//!
+//! Start (`room/align.rs`): each photo fitted alone, then placed through the objects it
+//! shares with the photos already placed, for each quarter turn; the near-best turns are
+//! fitted jointly and the most likely wins, with a warning when another fits about as well.
+//! Error bars (`room/uncertainty.rs`): the covariance of the whole fit, propagated as for one
+//! photo.
+//!
+//! Files: `model`, then `align`, then `fit`, then `uncertainty`.
+
+mod align;
+mod fit;
+mod model;
+mod uncertainty;
+
+pub use fit::{FittedPhoto, RoomFitted, fit_room};
+pub use uncertainty::{PhotoUncertainty, RoomUncertainty};

@@ -1,0 +1,263 @@
+//! `vpmap.detect`: a photo (a file, or an H x W x 3 / H x W `uint8` array) to its vanishing
+//! points, camera and scene, by the vision crate's detector as `vpmap detect` runs it.
+
+use numpy::ndarray::Array2;
+use numpy::{PyArray2, PyArrayMethods};
+use pyo3::prelude::*;
+use pyo3::types::{PyDict, PyList};
+use vpmap_vision::photo::{PhotoLimits, decode_photo};
+use vpmap_vision::scene::{DetectedScene, VP_NAMES, detected_scene};
+use vpmap_vision::{DetectOptions, Detection};
+
+use crate::convert::{as_path, error, json_text_to_py, shown};
+
+/// The expected array forms, named in messages.
+const FORMS: &str = "a uint8 array of shape (height, width, 3) (RGB) or (height, width) (grey)";
+
+/// An image from a `uint8` array, any memory order.
+fn image_from_array(obj: &Bound<'_, PyAny>) -> PyResult<image::DynamicImage> {
+    let py = obj.py();
+    let array = py
+        .import("numpy")?
+        .getattr("asarray")?
+        .call1((obj,))
+        .map_err(|e| error(format!("{} is not an image: {e}; give {FORMS}", shown(obj))))?;
+    let shape: Vec<usize> = array.getattr("shape")?.extract()?;
+    let dtype = array.getattr("dtype")?.str()?.to_string();
+    let refuse = || {
+        error(format!(
+            "an image array of shape {shape:?} and dtype {dtype} is not an image; give {FORMS}"
+        ))
+    };
+    let too_large = |w: usize, h: usize| {
+        error(format!(
+            "an image of {w} x {h} pixels is too large (at most {} on a side)",
+            vpmap_vision::MAX_SIDE_PX
+        ))
+    };
+    match shape[..] {
+        [h, w, 3] => {
+            let typed = array
+                .cast::<numpy::PyArray3<u8>>()
+                .map_err(|_| refuse())?
+                .readonly();
+            let pixels: Vec<u8> = typed.as_array().iter().copied().collect();
+            let (w32, h32) = (
+                u32::try_from(w).map_err(|_| too_large(w, h))?,
+                u32::try_from(h).map_err(|_| too_large(w, h))?,
+            );
+            image::RgbImage::from_raw(w32, h32, pixels)
+                .map(image::DynamicImage::ImageRgb8)
+                .ok_or_else(refuse)
+        }
+        [h, w] => {
+            let typed = array
+                .cast::<PyArray2<u8>>()
+                .map_err(|_| refuse())?
+                .readonly();
+            let pixels: Vec<u8> = typed.as_array().iter().copied().collect();
+            let (w32, h32) = (
+                u32::try_from(w).map_err(|_| too_large(w, h))?,
+                u32::try_from(h).map_err(|_| too_large(w, h))?,
+            );
+            image::GrayImage::from_raw(w32, h32, pixels)
+                .map(image::DynamicImage::ImageLuma8)
+                .ok_or_else(refuse)
+        }
+        _ => Err(refuse()),
+    }
+}
+
+/// Find a photo's vanishing points and camera, as ``vpmap detect`` does.
+///
+/// ``image`` is a JPEG or PNG file's path, or a ``uint8`` array of shape (height, width, 3)
+/// (RGB) or (height, width) (grey). ``focal_px`` and ``principal_point`` give a known camera
+/// (default: estimated); ``max_side`` the working size, pixels; ``two_point_tolerance`` the
+/// angle, degrees, within which vertical edges make the photo two-point. Returns a
+/// ``Detection``; its ``scene()`` is the scene file ``vpmap detect`` writes. The GIL is
+/// released while it runs. Raises ``VpmapError`` with the message ``vpmap detect`` prints.
+#[pyfunction]
+#[pyo3(signature = (image, *, focal_px=None, principal_point=None, max_side=None, two_point_tolerance=None))]
+pub fn detect(
+    py: Python<'_>,
+    image: &Bound<'_, PyAny>,
+    focal_px: Option<f64>,
+    principal_point: Option<(f64, f64)>,
+    max_side: Option<u32>,
+    two_point_tolerance: Option<f64>,
+) -> PyResult<PyDetection> {
+    let defaults = DetectOptions::default();
+    let opts = DetectOptions {
+        focal_px,
+        principal_point_px: principal_point.map(|(x, y)| [x, y]),
+        max_side_px: max_side.unwrap_or(defaults.max_side_px),
+        two_point_tolerance_deg: two_point_tolerance.unwrap_or(defaults.two_point_tolerance_deg),
+        ..defaults
+    };
+    let is_text = image.is_instance_of::<pyo3::types::PyString>();
+    let (picture, name) = match as_path(image) {
+        Some(path) if is_text || !image.hasattr("__array_interface__")? => {
+            let bytes =
+                vpmap_files::read_bytes(&path, vpmap_files::Format::Photo).map_err(error)?;
+            let photo = py
+                .detach(|| decode_photo(&bytes, &PhotoLimits::default()))
+                .map_err(|e| error(format!("{}: {e}", path.display())))?;
+            (photo.image, path.display().to_string())
+        }
+        _ => (image_from_array(image)?, "the image".to_owned()),
+    };
+    let found = py.detach(|| {
+        let det = vpmap_vision::detect(&picture, &opts)
+            .map_err(|e| format!("no vanishing points found in {name}: {e}"))?;
+        let scene = detected_scene(&det)
+            .map_err(|e| format!("no usable vanishing points in {name}: {e}"))?;
+        Ok::<_, String>((det, scene))
+    });
+    let (det, scene) = found.map_err(error)?;
+    Ok(PyDetection { det, scene })
+}
+
+/// What ``vpmap.detect`` found in a photo: the segments, the vanishing points and the camera.
+#[pyclass(frozen, name = "Detection", module = "vpmap")]
+pub struct PyDetection {
+    det: Detection,
+    scene: DetectedScene,
+}
+
+#[pymethods]
+impl PyDetection {
+    /// The vanishing points, one dict each: ``point`` (pixels, or ``None`` at infinity),
+    /// ``direction`` (camera frame: x right, y down, z forward), ``vertical``, ``segments``
+    /// (indices into ``segments``), and ``role`` (the name the scene gives it, or ``None``).
+    #[getter]
+    fn vanishing_points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
+        let list = PyList::empty(py);
+        for (i, vp) in self.det.vanishing_points.iter().enumerate() {
+            let d = PyDict::new(py);
+            d.set_item("point", vp.point_px.map(|[x, y]| (x, y)))?;
+            d.set_item(
+                "direction",
+                (
+                    vp.direction_camera[0],
+                    vp.direction_camera[1],
+                    vp.direction_camera[2],
+                ),
+            )?;
+            d.set_item("vertical", vp.vertical)?;
+            d.set_item("segments", vp.segments.clone())?;
+            let role = self
+                .scene
+                .roles
+                .iter()
+                .zip(VP_NAMES)
+                .find(|(r, _)| **r == i)
+                .map(|(_, name)| name);
+            d.set_item("role", role)?;
+            list.append(d)?;
+        }
+        Ok(list)
+    }
+
+    /// Focal length, pixels.
+    #[getter]
+    fn focal_px(&self) -> f64 {
+        self.det.intrinsics.focal_px
+    }
+
+    /// Principal point ``(x, y)``, pixels.
+    #[getter]
+    fn principal_point(&self) -> (f64, f64) {
+        let [x, y] = self.det.intrinsics.principal_point_px;
+        (x, y)
+    }
+
+    /// Whether the focal length was estimated (not given).
+    #[getter]
+    fn focal_estimated(&self) -> bool {
+        self.det.focal_estimated
+    }
+
+    /// The camera's pitch, degrees (down is positive), as ``vpmap build`` recovers it from
+    /// the scene.
+    #[getter]
+    fn pitch_deg(&self) -> f64 {
+        self.scene.calibration.pitch_rad.to_degrees()
+    }
+
+    /// The camera's roll, degrees.
+    #[getter]
+    fn roll_deg(&self) -> f64 {
+        self.scene.calibration.roll_rad.to_degrees()
+    }
+
+    /// ``"two-point"`` or ``"three-point"`` perspective, as the scene is written.
+    #[getter]
+    fn perspective(&self) -> &'static str {
+        self.scene.perspective.words()
+    }
+
+    /// The photo's size ``(width, height)``, pixels.
+    #[getter]
+    fn image_size(&self) -> (u32, u32) {
+        let [w, h] = self.det.image_size_px;
+        (w, h)
+    }
+
+    /// The line segments as an N x 5 float64 array: ``x0, y0, x1, y1, strength`` (pixels).
+    #[getter]
+    fn segments<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyArray2<f64>>> {
+        let flat: Vec<f64> = self
+            .det
+            .segments
+            .iter()
+            .flat_map(|s| {
+                [
+                    s.start_px[0],
+                    s.start_px[1],
+                    s.end_px[0],
+                    s.end_px[1],
+                    s.strength,
+                ]
+            })
+            .collect();
+        let array = Array2::from_shape_vec((self.det.segments.len(), 5), flat).map_err(error)?;
+        Ok(PyArray2::from_owned_array(py, array))
+    }
+
+    /// Warnings ``vpmap detect`` prints: vanishing points resting on few segments, and the
+    /// calibration's.
+    #[getter]
+    fn warnings(&self) -> Vec<String> {
+        let mut out: Vec<String> = self
+            .scene
+            .thinly_supported(&self.det)
+            .into_iter()
+            .map(|(name, n)| format!("{name} rests on only {n} segments; check it"))
+            .collect();
+        out.extend(self.scene.calibration.warnings.iter().cloned());
+        out
+    }
+
+    /// The scene dict ``vpmap detect`` writes (docs/scene-format.md): the vanishing points
+    /// with their segments as evidence, empty ``objects`` and ``floor`` to fill in, then
+    /// ``vpmap.build(scene)``.
+    fn scene<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyAny>> {
+        json_text_to_py(py, &self.scene.json)
+    }
+
+    /// The scene file's text, as ``vpmap detect --out`` writes it.
+    fn scene_json(&self) -> &str {
+        &self.scene.json
+    }
+
+    fn __repr__(&self) -> String {
+        format!(
+            "Detection({} perspective, focal {:.1} px, pitch {:.2} deg, roll {:.2} deg, {} segments)",
+            self.scene.perspective.words(),
+            self.det.intrinsics.focal_px,
+            self.pitch_deg(),
+            self.roll_deg(),
+            self.det.segments.len()
+        )
+    }
+}

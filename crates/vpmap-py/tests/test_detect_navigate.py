@@ -1,0 +1,91 @@
+"""detect on a drawn Manhattan photo, and navigate as vpmap navigate drives."""
+
+import math
+
+import numpy as np
+import pytest
+
+import vpmap
+
+
+def rotation(pitch_deg):
+    p = math.radians(pitch_deg)
+    # Camera frame: x right, y down, z forward; pitched down by p about x.
+    return np.array([[1, 0, 0], [0, math.cos(p), -math.sin(p)], [0, math.sin(p), math.cos(p)]])
+
+
+def drawn_photo(width=480, height=360, focal=400.0, pitch_deg=20.0, seed=3):
+    """Dark lines on a light ground, each pointing at one of three orthogonal vanishing
+    points of a known camera (a Manhattan scene drawn as its edges)."""
+    rng = np.random.default_rng(seed)
+    k = np.array([[focal, 0, width / 2], [0, focal, height / 2], [0, 0, 1.0]])
+    r = rotation(pitch_deg)
+    image = np.full((height, width), 230.0)
+    yy, xx = np.mgrid[0:height, 0:width] + 0.5
+    for axis in range(3):
+        d = k @ r[:, axis]
+        for _ in range(14):
+            p = np.array([rng.uniform(40, width - 40), rng.uniform(40, height - 40)])
+            if abs(d[2]) > 1e-9:
+                vp = d[:2] / d[2]
+                u = vp - p
+            else:
+                u = d[:2]
+            u = u / np.linalg.norm(u)
+            a, b = p - 45 * u, p + 45 * u
+            ab = b - a
+            t = np.clip(((xx - a[0]) * ab[0] + (yy - a[1]) * ab[1]) / ab.dot(ab), 0, 1)
+            dist = np.hypot(xx - (a[0] + t * ab[0]), yy - (a[1] + t * ab[1]))
+            image = np.minimum(image, 30 + 200 * np.clip(dist - 1.0, 0, 1))
+    grey = image.astype(np.uint8)
+    return np.repeat(grey[:, :, None], 3, axis=2), focal, pitch_deg
+
+
+def test_detect_finds_the_drawn_camera():
+    rgb, focal, pitch = drawn_photo()
+    det = vpmap.detect(rgb)
+    assert det.image_size == (480, 360)
+    assert det.focal_px == pytest.approx(focal, rel=0.1)
+    assert abs(det.pitch_deg) == pytest.approx(pitch, abs=2.0)
+    assert len(det.vanishing_points) == 3
+    seg = det.segments
+    assert seg.ndim == 2 and seg.shape[1] == 5 and len(seg) >= 20
+    scene = det.scene()
+    assert scene["version"] == 1 and scene["objects"] == [] and "vanishing_points" in scene
+    # Grey and Fortran-ordered arrays are photos too.
+    grey = np.asfortranarray(rgb[:, :, 0])
+    assert vpmap.detect(grey).focal_px == pytest.approx(det.focal_px, rel=1e-9)
+
+
+def test_detect_reads_a_photo_file(tmp_path):
+    import struct
+    import zlib
+
+    rgb, _, _ = drawn_photo()
+    h, w, _ = rgb.shape
+    raw = b"".join(b"\x00" + rgb[y].tobytes() for y in range(h))
+
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
+    png = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 2, 0, 0, 0))
+    png += chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b"")
+    path = tmp_path / "drawn.png"
+    path.write_bytes(png)
+    assert vpmap.detect(path).focal_px == pytest.approx(vpmap.detect(rgb).focal_px, rel=1e-9)
+
+
+def test_navigate_drives_into_the_unknown():
+    truth = np.zeros((20, 20), np.int8)
+    truth[3:20, 10] = 1
+    report = vpmap.navigate(None, vpmap.Grid(truth), (2, 18), (17, 18))
+    assert report["reached"] and report["outcome"] == "reached"
+    assert report["units"] == "cells" and report["planner"] == "dstar-lite"
+    assert report["length"] >= report["optimum_any_angle"] - 1e-9
+    assert report["waypoints"][0] == [2.0, 18.0]
+    mbpp = vpmap.navigate(vpmap.Grid(np.zeros((20, 20), np.int8)), vpmap.Grid(truth), (2, 18), (17, 18), planner="mbpp")
+    assert mbpp["reached"] and mbpp["replans"] >= 1
+    with pytest.raises(vpmap.VpmapError, match="sensor_range 0.5 cells is not a sensor range"):
+        vpmap.navigate(None, vpmap.Grid(truth), (2, 18), (17, 18), sensor_range=0.5)
+    with pytest.raises(vpmap.VpmapError, match="goal on the true map"):
+        vpmap.navigate(None, vpmap.Grid(truth), (2, 18), (10, 18))
