@@ -1,6 +1,7 @@
 //! `vpmap snap PHOTO SCENE -o SCENE2`: every click of a scene (objects and floor) snapped to
 //! the photo's corner it means ([`vpmap_vision::snap`]), written with each snapped point's
-//! covariance in `click_covariances_px2`, every other field kept as it was; each move printed.
+//! covariance in `click_covariances_px2` (a click that stayed: `--click-sigma` squared), every
+//! other field kept as it was; each move printed.
 
 use std::path::{Path, PathBuf};
 
@@ -21,8 +22,8 @@ pub struct SnapArgs {
     /// The scene file to write, with the snapped points and their covariances.
     #[arg(long, short)]
     pub out: PathBuf,
-    /// How far off the clicks may be, pixels (1 sigma): the search radius is 3.5 times it,
-    /// 6 to 16 px.
+    /// How far off the clicks are, pixels (1 sigma): the search radius is 3.5 times it, 6 to
+    /// 16 px, and a click that stays is written with this sigma's covariance.
     #[arg(long, default_value_t = 2.0)]
     pub click_sigma: f64,
     /// The search radius, pixels: the farthest a click moves (overrides --click-sigma's).
@@ -59,7 +60,8 @@ pub fn run(args: &SnapArgs) -> Result<()> {
             args.photo.display()
         )
     })?;
-    write_snapped(&mut value, &snapped).map_err(|e| anyhow!("{}: {e}", args.scene.display()))?;
+    write_snapped(&mut value, &snapped, Some(args.click_sigma))
+        .map_err(|e| anyhow!("{}: {e}", args.scene.display()))?;
     let mut json = serde_json::to_string_pretty(&value)?;
     json.push('\n');
     write_file(&args.out, json).with_context(|| format!("writing {}", args.out.display()))?;

@@ -15,9 +15,11 @@
 //!   points written as the box edges through the snapped corners;
 //!
 //! and both are built with the joint fit and compared with the truth
-//! ([`vpmap_metrology::eval::evaluate_map`]). The raw fit is told the true click noise; the
-//! snapped fit estimates one click sigma from its residuals (the fit of the main branch this
-//! was measured on takes one sigma for all clicks; see [`Config::per_click_covariance`]).
+//! ([`vpmap_metrology::eval::evaluate_map`]). The raw fit is told the true click noise. The
+//! snapped clicks are fitted three ways: each click weighed by its own covariance
+//! (`click_covariances_px2`: a snapped point's, `sigma^2 I` for a click that stayed; the
+//! vanishing-point segments count as 1 px clicks), and with one sigma for every click,
+//! estimated from the residuals or told the raw clicks' noise.
 //!
 //! Measured: per kind of click ([`CornerKind`]) the share snapped and the snapped points'
 //! error against the true corner; per box the size errors (length, breadth and height, in %
@@ -44,8 +46,8 @@ pub struct Config {
     pub sigmas_px: Vec<f64>,
     /// Seed of the rooms, photos and noise.
     pub seed: u64,
-    /// Pass the snapped points' covariances to the fit (needs a fit that reads them; `false`
-    /// until the metrology crate does).
+    /// Also fit the snapped clicks with each click's own covariance
+    /// (`click_covariances_px2`: a snapped point's, `sigma^2 I` for a click that stayed).
     pub per_click_covariance: bool,
 }
 
@@ -55,7 +57,7 @@ impl Default for Config {
             trials: 60,
             sigmas_px: vec![1.0, 2.0, 3.0],
             seed: 1,
-            per_click_covariance: false,
+            per_click_covariance: true,
         }
     }
 }

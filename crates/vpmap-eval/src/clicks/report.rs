@@ -87,7 +87,7 @@ pub fn summary_markdown(config: &Config, results: &Results) -> String {
     // Fits.
     let _ = writeln!(
         s,
-        "\n### Boxes\n\nSize error: `|modelled - true| / true` of every box's length, breadth and height, at the true scale (the camera height). Coverage: the share of boxes whose true centroid lies in the fit's 95 % ellipse, and of sizes within `+-2 sd`. Raw fits are told the true click noise. The fit takes one sigma for every click: `snapped` estimates it from the residuals (too small for the clicks that stayed), `snapped, sigma given` is told the raw clicks' noise (too large for the snapped ones); a fit that weighs each click by its own covariance lies between.\n"
+        "\n### Boxes\n\nSize error: `|modelled - true| / true` of every box's length, breadth and height, at the true scale (the camera height). Coverage: the share of boxes whose true centroid lies in the fit's 95 % ellipse, and of sizes within `+-2 sd`. Raw fits are told the true click noise. `snapped, covariances` weighs each click by its own covariance (`click_covariances_px2`: a snapped point's, `sigma^2 I` for a click that stayed; the vanishing-point segments, through the snapped corners, as 1 px clicks). With one sigma for every click instead, `snapped` estimates it from the residuals (too small for the clicks that stayed) and `snapped, sigma given` is told the raw clicks' noise (too large for the snapped ones).\n"
     );
     let _ = writeln!(
         s,
@@ -95,7 +95,12 @@ pub fn summary_markdown(config: &Config, results: &Results) -> String {
     );
     let _ = writeln!(s, "|---|---|---|---|---|---|---|");
     for &sigma in &config.sigmas_px {
-        for variant in ["raw", "snapped", "snapped, sigma given"] {
+        for variant in [
+            "raw",
+            "snapped, covariances",
+            "snapped",
+            "snapped, sigma given",
+        ] {
             let fits: Vec<_> = trials
                 .iter()
                 .flat_map(|t| &t.fits)

@@ -43,8 +43,9 @@ pub struct ClickRecord {
 pub struct FitRecord {
     /// The click noise, pixels.
     pub sigma_px: f64,
-    /// `raw`, `snapped` (one click sigma estimated from the residuals) or `snapped, sigma
-    /// given` (the raw clicks' sigma for every click: a bound from above).
+    /// `raw`, `snapped, covariances` (each click weighed by its own covariance: a snapped
+    /// point's, the raw noise for a click that stayed), `snapped` (one click sigma estimated
+    /// from the residuals) or `snapped, sigma given` (the raw clicks' sigma for every click).
     pub variant: &'static str,
     /// Per box: absolute errors of length, breadth and height, % of the true ones.
     pub size_errors_pct: Vec<f64>,
@@ -170,6 +171,7 @@ pub fn run_clicks_trial(config: &Config, trial: u64) -> TrialResult {
         let mut snapped = noisy.clone();
         let clicks = vpmap_vision::clicks::scene_clicks(&noisy);
         let mut snapped_points: Vec<[f64; 2]> = Vec::new();
+        let mut covariances = std::collections::BTreeMap::new();
         let opts = SnapOptions::for_click_sigma(sigma);
         for (c, t) in clicks.iter().zip(&photo.corners) {
             let raw_error = dist(c.point_px, t.point_px);
@@ -186,6 +188,15 @@ pub fn run_clicks_trial(config: &Config, trial: u64) -> TrialResult {
             if snapped_here {
                 set_scene_click(&mut snapped, c.place, point);
                 snapped_points.push(point);
+            }
+            // The fit weighs object clicks only; a click that stayed carries the raw noise.
+            if !matches!(c.place, ClickPlace::Floor { .. }) {
+                let cov = snap
+                    .as_ref()
+                    .filter(|s| s.snapped())
+                    .and_then(|s| s.covariance_px2)
+                    .unwrap_or([[sigma * sigma, 0.0], [0.0, sigma * sigma]]);
+                covariances.insert(c.place.field(), cov);
             }
             out.clicks.push(ClickRecord {
                 sigma_px: sigma,
@@ -211,6 +222,17 @@ pub fn run_clicks_trial(config: &Config, trial: u64) -> TrialResult {
             "snapped, sigma given",
             Some(sigma),
         ));
+        if config.per_click_covariance {
+            let mut weighted = snapped.clone();
+            weighted.click_covariances_px2 = covariances;
+            out.fits.push(fit_record(
+                &weighted,
+                &truth,
+                sigma,
+                "snapped, covariances",
+                None,
+            ));
+        }
     }
     out
 }

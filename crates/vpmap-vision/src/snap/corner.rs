@@ -33,6 +33,10 @@ pub(crate) enum NoCorner {
     NoMeeting(Option<([f64; 2], f64)>),
 }
 
+/// The sine of the smallest angle between two edges that meet at a corner (6 degrees): a
+/// corner of nearly parallel edges is found, with a covariance that says how poorly.
+const MIN_SINE: f64 = 0.1;
+
 /// Intersection of two lines given by point and direction (`None` when nearly parallel).
 pub(crate) fn intersect(
     p1: [f64; 2],
@@ -41,8 +45,7 @@ pub(crate) fn intersect(
     d2: [f64; 2],
 ) -> Option<[f64; 2]> {
     let den = d1[0] * d2[1] - d1[1] * d2[0];
-    if den.abs() < 0.17 {
-        // Less than about 10 degrees apart.
+    if den.abs() < MIN_SINE {
         return None;
     }
     let a = ((p2[0] - p1[0]) * d2[1] - (p2[1] - p1[1]) * d2[0]) / den;

@@ -101,12 +101,12 @@ impl Default for SnapOptions {
             edge_length_px: 16.0,
             smoothing_sigma_px: 1.0,
             angle_tolerance_deg: 8.0,
-            min_contrast: 10.0,
+            min_contrast: 6.0,
             min_support_px: 5.0,
             corner_gap_px: 3.0,
             free_directions: true,
             covariance_scale: 2.0,
-            covariance_floor_px: 0.15,
+            covariance_floor_px: 0.4,
         }
     }
 }

@@ -5,7 +5,9 @@
 //! vanishing points. [`write_snapped`] puts the snapped points into the scene's JSON value,
 //! leaving every other field as it was, and records each snapped point's covariance in the
 //! scene's top-level `click_covariances_px2` table, keyed by the click's field path
-//! (`docs/scene-format.md`). A click that stays keeps its entry, if it had one.
+//! (`docs/scene-format.md`). A click that stays keeps its entry if it had one, else gets the
+//! click noise's (`sigma^2 I`, when given). Floor corners get no entry: the fit does not weigh
+//! them.
 
 use serde_json::{Map, Value, json};
 use vpmap_metrology::scene::Scene;
@@ -94,12 +96,19 @@ fn rounded(v: f64, digits: i32) -> f64 {
 }
 
 /// Write snapped clicks into a scene's JSON value: each snapped point replaces its click and
-/// its covariance goes into `click_covariances_px2`; every other field stays as it was.
+/// its covariance goes into `click_covariances_px2`; with `kept_sigma_px`, each click that
+/// stayed gets `kept_sigma_px^2 I` there unless it has an entry already (the fit takes a
+/// click without an entry for a 1 px click once the scene has any); every other field stays
+/// as it was (serde_json orders an object's keys alphabetically).
 ///
 /// # Errors
 /// [`VisionError::InvalidScene`] when the value is not a JSON object or lacks a click's
 /// field.
-pub fn write_snapped(scene: &mut Value, snapped: &[SnappedClick]) -> Result<()> {
+pub fn write_snapped(
+    scene: &mut Value,
+    snapped: &[SnappedClick],
+    kept_sigma_px: Option<f64>,
+) -> Result<()> {
     if !scene.is_object() {
         return Err(VisionError::InvalidScene {
             message: "the scene is not a JSON object".to_owned(),
@@ -110,10 +119,17 @@ pub fn write_snapped(scene: &mut Value, snapped: &[SnappedClick]) -> Result<()> 
         _ => Map::new(),
     };
     for s in snapped {
+        let field = s.place.field();
         let Some(cov) = s.snap.covariance_px2 else {
+            if let Some(sigma) = kept_sigma_px
+                && !table.contains_key(&field)
+                && !matches!(s.place, ClickPlace::Floor { .. })
+            {
+                let v = rounded(sigma * sigma, 6);
+                table.insert(field, json!([[v, 0.0], [0.0, v]]));
+            }
             continue;
         };
-        let field = s.place.field();
         let Some(slot) = s.place.point_in_json(scene) else {
             return Err(VisionError::InvalidScene {
                 message: format!("the scene has no `{field}`"),

@@ -105,14 +105,15 @@ fn visible_box_corners_snap_to_a_fraction_of_a_pixel() {
 #[test]
 fn the_covariance_is_roughly_calibrated() {
     // Squared Mahalanobis distances of the snapped errors: chi-squared with 2 degrees of
-    // freedom when calibrated (mean 2, 95 % below 5.99). A robust check: the median (1.39
-    // for chi-squared 2) and the share inside the 95 % ellipse.
+    // freedom when calibrated (median 1.39, 95 % below 5.99). The covariance floor (0.4 px)
+    // is set for the tail (a corner taken a pixel off on a neighbouring edge), so the core
+    // is wide: the median lies well below 1.39, the share inside the 95 % ellipse near 95 %.
     let results = box_corner_errors(10..14, 2.0);
     let mut m: Vec<f64> = results.iter().flatten().map(|s| s.1).collect();
     assert!(m.len() >= 30, "{} snapped", m.len());
     let median = quantile(&mut m, 0.5);
     let inside = m.iter().filter(|&&v| v <= 5.991).count() as f64 / m.len() as f64;
-    assert!((0.4..=3.0).contains(&median), "median chi2 {median}");
+    assert!((0.1..=2.0).contains(&median), "median chi2 {median}");
     assert!(
         (0.85..=0.995).contains(&inside),
         "inside 95 % ellipse: {inside}"
@@ -247,7 +248,7 @@ fn a_snapped_scene_keeps_its_other_fields_and_records_covariances() {
     let snapped = snap_scene(&image, &noisy, &SnapOptions::default()).unwrap();
     let mut value = serde_json::to_value(&noisy).unwrap();
     value["my_note"] = serde_json::json!("kept");
-    write_snapped(&mut value, &snapped).unwrap();
+    write_snapped(&mut value, &snapped, None).unwrap();
     assert_eq!(value["my_note"], "kept");
     let table = value["click_covariances_px2"].as_object().unwrap();
     let moved = snapped.iter().filter(|s| s.snap.snapped()).count();
@@ -257,7 +258,28 @@ fn a_snapped_scene_keeps_its_other_fields_and_records_covariances() {
         let cov = &table[&s.place.field()];
         assert!(cov[0][0].as_f64().unwrap() > 0.0 && cov[0][1] == cov[1][0]);
     }
-    // The scene still reads, with the snapped points.
+    // The scene still reads, with the snapped points and their covariances.
     let back: Scene = serde_json::from_value(value).unwrap();
     assert_eq!(back.objects.len(), scene.objects.len());
+    assert_eq!(back.click_covariances_px2.len(), moved);
+    back.validate().unwrap();
+    // With the click noise, every object click that stayed gets its covariance too.
+    let mut value = serde_json::to_value(&noisy).unwrap();
+    write_snapped(&mut value, &snapped, Some(1.5)).unwrap();
+    let table = value["click_covariances_px2"].as_object().unwrap();
+    let objects = snapped
+        .iter()
+        .filter(|s| !s.place.field().starts_with("floor"))
+        .count();
+    let floor_snapped = snapped
+        .iter()
+        .filter(|s| s.place.field().starts_with("floor") && s.snap.snapped())
+        .count();
+    assert_eq!(table.len(), objects + floor_snapped);
+    let kept = snapped
+        .iter()
+        .find(|s| !s.snap.snapped() && !s.place.field().starts_with("floor"));
+    if let Some(k) = kept {
+        assert_eq!(table[&k.place.field()][0][0].as_f64(), Some(2.25));
+    }
 }
