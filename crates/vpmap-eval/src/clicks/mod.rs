@@ -11,7 +11,7 @@
 //!   `sigma` px per coordinate ([`vpmap_metrology::eval::noise_seed`]), the vanishing points
 //!   written as the box edges through the noisy corners (as `vpmap eval` does);
 //! * **snapped clicks**: the same noisy clicks snapped ([`vpmap_vision::snap::snap_click`]
-//!   with [`SnapOptions::for_click_sigma`] and the detected vanishing points), the vanishing
+//!   with [`vpmap_vision::snap::SnapOptions::for_click_sigma`] and the detected vanishing points), the vanishing
 //!   points written as the box edges through the snapped corners;
 //!
 //! and both are built with the joint fit and compared with the truth
@@ -21,7 +21,7 @@
 //! vanishing-point segments count as 1 px clicks), and with one sigma for every click,
 //! estimated from the residuals or told the raw clicks' noise.
 //!
-//! Measured: per kind of click ([`CornerKind`]) the share snapped and the snapped points'
+//! Measured: per kind of click ([`vpmap_vision::synthetic::photo::CornerKind`]) the share snapped and the snapped points'
 //! error against the true corner; per box the size errors (length, breadth and height, in %
 //! of the true ones) and whether the truth lies in the fit's error bars (the centroid's 95 %
 //! ellipse, `+-2 sd` on the sizes); the box proposals' recall and precision against the boxes
