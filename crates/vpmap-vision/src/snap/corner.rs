@@ -70,6 +70,9 @@ pub(crate) struct CornerSearch {
 /// The score factor of a T junction against an L or Y junction.
 const T_JUNCTION_WEIGHT: f64 = 0.2;
 
+/// A rival corner farther than this from the chosen one makes the choice ambiguous, pixels.
+const AMBIGUITY_PX: f64 = 1.0;
+
 /// How far past a piece's end the corner may lie, pixels (the blur eats the last pixels).
 const END_SLACK_PX: f64 = 3.0;
 
@@ -108,6 +111,8 @@ pub(crate) fn find_corner(pieces: &[Piece], search: &CornerSearch) -> Result<Cor
     }
     let fits: Vec<Option<LineFit>> = pieces.iter().map(|p| fit_line(&p.points, 0.05)).collect();
     let mut best: Option<(f64, usize, usize, [f64; 2])> = None;
+    // Every candidate corner and its score, for the ambiguity term of the covariance.
+    let mut candidates: Vec<(f64, [f64; 2])> = Vec::new();
     let mut nearest: Option<([f64; 2], f64)> = None;
     let sigma_prior = search.radius / 2.5;
     for (i, (a, fa)) in pieces.iter().zip(&fits).enumerate() {
@@ -148,12 +153,13 @@ pub(crate) fn find_corner(pieces: &[Piece], search: &CornerSearch) -> Result<Cor
             let score = junction
                 * (support(a, a.t_of(x)) * support(b, b.t_of(x))).sqrt()
                 * (-0.5 * (d / sigma_prior).powi(2)).exp();
+            candidates.push((score, x));
             if best.is_none_or(|bst| score > bst.0) {
                 best = Some((score, i, j, x));
             }
         }
     }
-    let Some((_, i, j, mut x)) = best else {
+    let Some((best_score, i, j, mut x)) = best else {
         let kinds: Vec<EdgeDirection> = pieces.iter().map(|p| p.kind).collect();
         return Err(if kinds.iter().all(|k| *k == kinds[0]) {
             NoCorner::OneDirection(kinds[0])
@@ -182,10 +188,26 @@ pub(crate) fn find_corner(pieces: &[Piece], search: &CornerSearch) -> Result<Cor
         result = Some(corner);
     }
     match result {
-        Some(c)
+        Some(mut c)
             if (c.point[0] - search.click[0]).hypot(c.point[1] - search.click[1])
                 <= search.radius =>
         {
+            // Ambiguity: the strongest rival corner more than a pixel away, taken as the
+            // other component of a two-point mixture weighted by the scores, adds
+            // `p (x2 - x1)(x2 - x1)^T` with `p = s2 / (s1 + s2)`.
+            if let Some((s2, x2)) = candidates
+                .iter()
+                .filter(|(_, y)| (y[0] - c.point[0]).hypot(y[1] - c.point[1]) > AMBIGUITY_PX)
+                .max_by(|a, b| a.0.total_cmp(&b.0))
+            {
+                let p = s2 / (best_score + s2);
+                let d = [x2[0] - c.point[0], x2[1] - c.point[1]];
+                for (r, dr) in d.iter().enumerate() {
+                    for (k, dk) in d.iter().enumerate() {
+                        c.cov[r][k] += p * dr * dk;
+                    }
+                }
+            }
             Ok(c)
         }
         Some(c) => {

@@ -38,7 +38,9 @@
 //!    profile points share pixels through the smoothing and the blur, so they are not
 //!    independent), propagated to the intersection to first order (numerical Jacobian), plus
 //!    [`SnapOptions::covariance_floor_px`] squared on each axis (what no residual shows:
-//!    JPEG blocks, the renderer's anti-aliasing).
+//!    JPEG blocks, the renderer's anti-aliasing), plus an ambiguity term: the strongest rival
+//!    corner more than 1 px away, as the other component of a two-point mixture weighted by
+//!    the scores `s1`, `s2`, adds `p d d^T` (`d` the rival's offset, `p = s2 / (s1 + s2)`).
 //!
 //! The click stays where it is ([`SnapOutcome::Kept`]) when no edge is found, when the edges
 //! found all run one way (a click on a single edge), or when edges of two directions meet

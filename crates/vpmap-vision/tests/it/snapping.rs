@@ -107,17 +107,17 @@ fn the_covariance_is_roughly_calibrated() {
     // Squared Mahalanobis distances of the snapped errors: chi-squared with 2 degrees of
     // freedom when calibrated (median 1.39, 95 % below 5.99). The covariance floor (0.4 px)
     // is set for the tail (a corner taken a pixel off on a neighbouring edge), so the core
-    // is wide: the median lies well below 1.39, the share inside the 95 % ellipse near 95 %.
+    // is wide: the median lies well below 1.39, the share inside the 95 % ellipse at or above
+    // 95 % (on these 800 x 600 photos, all of them).
     let results = box_corner_errors(10..14, 2.0);
     let mut m: Vec<f64> = results.iter().flatten().map(|s| s.1).collect();
     assert!(m.len() >= 30, "{} snapped", m.len());
     let median = quantile(&mut m, 0.5);
     let inside = m.iter().filter(|&&v| v <= 5.991).count() as f64 / m.len() as f64;
     assert!((0.1..=2.0).contains(&median), "median chi2 {median}");
-    assert!(
-        (0.85..=0.995).contains(&inside),
-        "inside 95 % ellipse: {inside}"
-    );
+    // Too narrow: fewer than 90 % inside; too wide: the median below 0.1 (it bounds the
+    // width).
+    assert!(inside >= 0.9, "inside 95 % ellipse: {inside}");
 }
 
 #[test]
