@@ -119,6 +119,86 @@ pub struct EvalArgs {
     /// bars for the extra "fit, grown" map (0.5 to 0.9999; default 0.95; 0: no grown map).
     #[arg(long, allow_negative_numbers = true)]
     pub grow_confidence: Option<f64>,
+    /// Rooms of several photos instead (see docs/results.md, "Rooms of several photos"):
+    /// numbers of photos, comma separated, each 1 to 4 (e.g. 1,2,3,4). --trials rooms per
+    /// number, each at every --sigma, mapped jointly and from its first photo alone; writes
+    /// rooms.md and rooms.csv; --publish writes the `eval-rooms` section.
+    #[arg(long)]
+    pub photos: Option<String>,
+    /// With --photos: boxes drawn per room (default 6; those no photo shows are left out).
+    #[arg(long)]
+    pub boxes: Option<usize>,
+}
+
+/// `vpmap eval --photos N`.
+fn run_rooms(args: &EvalArgs, photos: &str) -> Result<()> {
+    use vpmap_eval::room::{ROOM_SECTION, RoomEvalOptions, room_csv, room_report, run_rooms};
+    if !(1..=MAX_TRIALS).contains(&args.trials) {
+        bail!(
+            "--trials must be a whole number from 1 to {MAX_TRIALS}, got {}",
+            args.trials
+        );
+    }
+    let mut counts = Vec::new();
+    for part in photos.split(',') {
+        match part.trim().parse::<usize>() {
+            Ok(n)
+                if (1..=vpmap_metrology::synth::MAX_ROOM_PHOTOS).contains(&n)
+                    && !counts.contains(&n) =>
+            {
+                counts.push(n);
+            }
+            _ => bail!(
+                "--photos {part:?} must be whole numbers of photos from 1 to 4, each once (e.g. 1,2,3,4)"
+            ),
+        }
+    }
+    let boxes = args.boxes.unwrap_or(RoomEvalOptions::default().boxes);
+    if !(2..=30).contains(&boxes) {
+        bail!("--boxes {boxes} must be from 2 to 30");
+    }
+    let options = RoomEvalOptions {
+        trials: args.trials,
+        seed: args.seed,
+        photos: counts,
+        sigmas_px: parse_sigmas(&args.sigma)?,
+        boxes,
+    };
+    check_writable_folder(&args.out)?;
+    if let Some(path) = &args.publish {
+        check_publish_target(path, ROOM_SECTION)?;
+    }
+    let started = Instant::now();
+    let bar = crate::progress::Bar::new(
+        "{elapsed_precise} [{bar}] {pos}/{len} rooms ({eta} left)",
+        "40",
+    );
+    let trials = run_rooms(&options, &bar);
+    let elapsed = started.elapsed();
+    let report = room_report(&options, &trials);
+    let command = crate::output::command_line();
+    let mut files = vpmap_eval::output::OutputSet::default();
+    files.add(
+        "rooms.md",
+        format!("{report}\nMeasured with `{command}`.\n"),
+    );
+    files.add("rooms.csv", room_csv(&trials));
+    files.write_all(&args.out)?;
+    if let Some(path) = &args.publish {
+        let section = vpmap_eval::publish::published(
+            "Rooms of several photos (`vpmap eval --photos`)",
+            &report,
+            elapsed,
+            &command,
+        );
+        vpmap_eval::publish::replace_section(path, ROOM_SECTION, &section)?;
+    }
+    print!("{report}");
+    println!("wrote rooms.md and rooms.csv in {}", args.out.display());
+    if let Some(path) = &args.publish {
+        println!("published the {ROOM_SECTION} section of {}", path.display());
+    }
+    Ok(())
 }
 
 /// The default growth confidence of `vpmap eval --navigate` (the fitted map is driven as
@@ -340,6 +420,15 @@ fn check_publish_target(path: &Path, name: &str) -> Result<()> {
 
 /// `vpmap eval`.
 pub fn run(args: &EvalArgs) -> Result<()> {
+    if let Some(photos) = &args.photos {
+        if args.navigate {
+            bail!("--photos and --navigate are separate evaluations; give one");
+        }
+        return run_rooms(args, photos);
+    }
+    if args.boxes.is_some() {
+        bail!("--boxes is for --photos (rooms of several photos)");
+    }
     if args.navigate {
         return run_navigate(args);
     }

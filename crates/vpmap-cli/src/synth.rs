@@ -1,9 +1,14 @@
-//! `vpmap synth`: a random synthetic scene and its truth.
+//! `vpmap synth`: a random synthetic scene and its truth; with `--photos N` (2 to 4) a room
+//! photographed N times, written as a room file with its truth in the first photo's plan frame
+//! ([`vpmap_metrology::synth::synthesize_room`]).
 
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
-use vpmap_metrology::synth::{Annotation, SynthOptions, VanishingPointForm, synthesize};
+use vpmap_metrology::synth::{
+    Annotation, MAX_ROOM_PHOTOS, RoomSynthOptions, SynthOptions, VanishingPointForm, synthesize,
+    synthesize_room,
+};
 
 use crate::output::write_file;
 use vpmap_pipeline::num;
@@ -26,12 +31,24 @@ pub struct SynthArgs {
     /// Focal length, pixels.
     #[arg(long, default_value_t = 1100.0, allow_negative_numbers = true)]
     focal_px: f64,
-    /// Number of boxes.
-    #[arg(long, default_value_t = 4)]
-    boxes: usize,
-    /// Number of pentagonal (chair-like) objects.
+    /// Number of boxes (default 4; 6 in a room of several photos).
+    #[arg(long)]
+    boxes: Option<usize>,
+    /// Number of pentagonal (chair-like) objects (default 1; a room of several photos holds
+    /// boxes only).
+    #[arg(long)]
+    prisms: Option<usize>,
+    /// Photos of the room, 1 to 4. One: the single-photo scene the other flags describe. More:
+    /// a rectangular room (4-7 m a side) with --boxes boxes along its walls, photographed from
+    /// near its corners looking in, each camera its own height (1.1-1.7 m), pitch (8-35 deg),
+    /// roll (up to 4 deg) and focal length (700-1300 px), drawn from --seed (--pitch, --roll,
+    /// --height, --focal-px and --annotation apply to one photo only); written as a room file,
+    /// the truth in the first photo's plan frame. Only the first photo carries the scale.
     #[arg(long, default_value_t = 1)]
-    prisms: usize,
+    photos: usize,
+    /// With --photos 2 or more: give every photo its camera height as scale, not only the first.
+    #[arg(long)]
+    scale_every_photo: bool,
     /// Gaussian noise on every annotated point, pixels.
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     noise: f64,
@@ -98,11 +115,16 @@ pub fn run(args: &SynthArgs) -> Result<()> {
             num(args.noise)
         );
     }
-    if args.boxes.saturating_add(args.prisms) > 100 {
+    if !(1..=MAX_ROOM_PHOTOS).contains(&args.photos) {
         bail!(
-            "--boxes ({}) + --prisms ({}) is more than 100 objects; at most 100 fit a synthetic room",
-            args.boxes,
-            args.prisms
+            "--photos {} must be from 1 to {MAX_ROOM_PHOTOS}",
+            args.photos
+        );
+    }
+    let (boxes, prisms) = (args.boxes.unwrap_or(4), args.prisms.unwrap_or(1));
+    if boxes.saturating_add(prisms) > 100 {
+        bail!(
+            "--boxes ({boxes}) + --prisms ({prisms}) is more than 100 objects; at most 100 fit a synthetic room"
         );
     }
     if !(100.0..=20_000.0).contains(&args.focal_px) {
@@ -123,14 +145,20 @@ pub fn run(args: &SynthArgs) -> Result<()> {
             args.out.display()
         );
     }
+    if args.photos > 1 {
+        return run_room(args);
+    }
+    if args.scale_every_photo {
+        bail!("--scale-every-photo is for a room of several photos (--photos 2 or more)");
+    }
     let (scene, truth) = synthesize(&SynthOptions {
         seed: args.seed,
         focal_px: args.focal_px,
         height_m: args.height,
         pitch_deg: args.pitch,
         roll_deg: args.roll,
-        boxes: args.boxes,
-        prisms: args.prisms,
+        boxes,
+        prisms,
         noise_px: args.noise,
         vanishing_points: if args.lines {
             VanishingPointForm::Lines
@@ -141,15 +169,44 @@ pub fn run(args: &SynthArgs) -> Result<()> {
         annotation: args.annotation,
         ..SynthOptions::default()
     })?;
+    write_pair(args, &scene.to_json_string(), &truth)
+}
+
+/// `vpmap synth --photos N` for N of 2 or more: a room file and its truth.
+fn run_room(args: &SynthArgs) -> Result<()> {
+    if args.prisms.is_some_and(|p| p > 0) {
+        bail!("--prisms: a room of several photos holds boxes only");
+    }
+    if args.annotation != Annotation::Thesis {
+        bail!("--annotation: a room of several photos is annotated in the thesis's corner view");
+    }
+    let (scene, truth) = synthesize_room(&RoomSynthOptions {
+        seed: args.seed,
+        photos: args.photos,
+        boxes: args.boxes.unwrap_or(RoomSynthOptions::default().boxes),
+        noise_px: args.noise,
+        vanishing_points: if args.lines {
+            VanishingPointForm::Lines
+        } else {
+            VanishingPointForm::Points
+        },
+        scale_every_photo: args.scale_every_photo,
+        ..RoomSynthOptions::default()
+    })?;
+    write_pair(args, &scene.to_json_string(), &truth)
+}
+
+/// Write the scene (or room) file and its truth: both or neither.
+fn write_pair(args: &SynthArgs, scene_json: &str, truth: &impl serde::Serialize) -> Result<()> {
     let truth_path = args.truth.clone().unwrap_or_else(|| {
         let stem = args.out.with_extension("");
         PathBuf::from(format!("{}.truth.json", stem.display()))
     });
     write_file(
         &truth_path,
-        serde_json::to_string_pretty(&truth).context("serialising the truth")?,
+        serde_json::to_string_pretty(truth).context("serialising the truth")?,
     )?;
-    if let Err(e) = write_file(&args.out, scene.to_json_string()) {
+    if let Err(e) = write_file(&args.out, scene_json.to_owned()) {
         // Both files or neither.
         let _ = std::fs::remove_file(&truth_path);
         return Err(e);

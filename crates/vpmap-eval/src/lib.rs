@@ -16,6 +16,8 @@
 //! - [`clicks`]: snapping clicks on rendered photos (`vpmap eval-clicks`): the snapped
 //!   corners' error and share per kind of click, box size errors and error-bar coverage with
 //!   snapped against raw clicks, and the box proposals' recall and precision.
+//! - [`room`]: rooms of several photos: the joint map against the map of the first photo
+//!   alone and each shared object against the photos that show it alone (issue 29's targets).
 //! - [`stats`]: every quantile, median, mean and box-plot figure the reports print (type 7
 //!   quantiles, Hyndman and Fan 1996).
 //! - [`publish`]: a report's section of a Markdown file such as `docs/results.md`, and the
@@ -43,6 +45,7 @@ pub mod navigate;
 pub mod output;
 pub mod progress;
 pub mod publish;
+pub mod room;
 pub mod stats;
 
 pub use error::{EvalError, Result};

@@ -7,6 +7,7 @@ mod eval;
 mod hostile;
 mod navigate;
 mod plan_mbpp;
+mod rooms;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};

@@ -91,11 +91,17 @@
 //! - The thesis, section 6.1 (eq. 6.1, the six metrics of 6.1.1) and figures 6.8-6.23.
 //! - `../shared/thesis/errata.md`, "Under noise".
 //!
+//! # Rooms of several photos
+//! [`run_room_trial`] measures a room's joint map against the map of its first photo alone
+//! and each shared object against the maps of the photos that show it alone (its module's
+//! documentation says how); `vpmap eval --photos N` runs it.
+//!
 //! The statistics of the results (quantiles, box-plot figures) are `vpmap_eval::stats`.
 
 mod coverage;
 mod evaluate;
 mod metrics;
+mod room;
 mod setups;
 mod trial;
 
@@ -104,6 +110,10 @@ pub use evaluate::{CameraErrors, MapEvaluation, ObjectEvaluation, SCENE_METRICS,
 pub use metrics::{
     OBJECT_METRICS, ObjectErrors, TRUE_SCALE_SUFFIX, object_errors, percent_error, rectangle_size,
     scale_factor,
+};
+pub use room::{
+    RoomEvaluation, RoomMapErrors, RoomObjectErrors, RoomOutcome, RoomTrial, RoomTrialOptions,
+    SharedObject, floor_known_share, room_scene_seed, run_room_trial,
 };
 pub use setups::{SETUPS, Setup, VIEW_SETUPS};
 pub use trial::{

@@ -371,29 +371,108 @@ pub fn fit_room(scene: &Scene) -> Result<RoomFitted> {
         .saturating_sub(results[0].built.problem.len())
         .max(1);
     let variance = (best_cost / dof as f64).max(crate::fit::MIN_CLICK_SIGMA_PX.powi(2));
-    if let Some(second) = results.get(1)
-        && (second.cost - best_cost) / variance < TIE_CHI2
-    {
+    // Hypotheses that fit about equally: the likelihood cannot choose, so the walls do (the
+    // one that keeps every camera and floor inside every photo's walls), and the build says so.
+    let tied = results
+        .iter()
+        .take_while(|r| (r.cost - best_cost) / variance < TIE_CHI2)
+        .count();
+    if tied > 1 {
+        let outside: Vec<usize> = results[..tied]
+            .iter()
+            .map(|r| outside_walls(scene, r))
+            .collect();
+        let pick = (0..tied).min_by_key(|&i| (outside[i], i)).unwrap_or(0);
+        // The runner-up: the most likely of the others.
+        let other = usize::from(pick == 0);
+        let decided = outside[pick] < outside[other];
+        results.swap(0, pick);
+        // After the swap the runner-up sits where the chosen one was, unless it was first.
+        let other = if other == 0 { pick } else { other };
+        let (chosen, second) = (&results[0], &results[other]);
         let differ: Vec<usize> = (1..n)
-            .filter(|&k| second.quarters[k] != results[0].quarters[k])
+            .filter(|&k| second.quarters[k] != chosen.quarters[k])
             .collect();
         for k in differ {
-            let turn =
-                (4 + i32::from(second.quarters[k]) - i32::from(results[0].quarters[k])) % 4 * 90;
+            let turn = (4 + i32::from(second.quarters[k]) - i32::from(chosen.quarters[k])) % 4 * 90;
             warnings.push(format!(
-                "photo {} is tied to the room only by {}, which fit{} about as well with photo {} turned by {turn} degrees (cost {:.3} against {:.3} px^2): the map uses the better one; to be sure, name one more object seen in photo {} and another photo",
+                "photo {} is tied to the room only by {}, which fit{} about as well with photo {} turned by {turn} degrees (cost {:.3} against {:.3} px^2): {}; to be sure, name one more object seen in photo {} and another photo",
                 k + 1,
                 quoted(&placement.shared[k]),
                 if placement.shared[k].len() == 1 { "s" } else { "" },
                 k + 1,
                 second.cost,
-                best_cost,
+                chosen.cost,
+                if decided {
+                    "the map takes the turn that keeps every camera and floor corner inside the walls the photos' floor outlines show"
+                } else {
+                    "the map uses the better one"
+                },
                 k + 1
             ));
         }
     }
     let best = results.swap_remove(0);
     finish(scene, best, warnings)
+}
+
+/// How many cameras and floor corners of a hypothesis lie outside another photo's walls: the
+/// lines through two consecutive floor-outline corners that are both inside its image (a wall
+/// meets the floor there; an edge to a corner on the image's border is where the photo ends).
+/// A room is taken as convex for this count (Manhattan rooms mostly are).
+fn outside_walls(scene: &Scene, solved: &Solved) -> usize {
+    let problem = &solved.built.problem;
+    let views = problem.views(&solved.x[..problem.camera_len]);
+    let photos: Vec<&Scene> = scene.photos().collect();
+    let mut floors: Vec<Vec<(Vector2<f64>, bool)>> = Vec::with_capacity(photos.len());
+    for (k, p) in photos.iter().enumerate() {
+        let (w, h) = (f64::from(p.image.width), f64::from(p.image.height));
+        let inside = |q: [f64; 2]| q[0] > 1.0 && q[0] < w - 1.0 && q[1] > 1.0 && q[1] < h - 1.0;
+        floors.push(
+            p.floor
+                .iter()
+                .filter_map(|q| {
+                    let own = views[k].cam.floor_point(px(*q))?;
+                    Some((views[k].room_from_own(own), inside(*q)))
+                })
+                .collect(),
+        );
+    }
+    let mut count = 0;
+    for (q, floor) in floors.iter().enumerate() {
+        let m = floor.len();
+        if m < 3 {
+            continue;
+        }
+        // The outline's orientation: the floor is on the left of a counter-clockwise ring.
+        let area: f64 = (0..m).map(|i| floor[i].0.perp(&floor[(i + 1) % m].0)).sum();
+        let sign = area.signum();
+        let size = floor
+            .iter()
+            .map(|(a, _)| a.norm())
+            .fold(0.0f64, f64::max)
+            .max(1.0);
+        for i in 0..m {
+            let ((a, wa), (b, wb)) = (floor[i], floor[(i + 1) % m]);
+            if !(wa && wb) || (b - a).norm() <= 1e-9 * size {
+                continue;
+            }
+            let side = |p: Vector2<f64>| sign * (b - a).perp(&(p - a)) / (b - a).norm();
+            for (k, other) in floors.iter().enumerate() {
+                if k == q {
+                    continue;
+                }
+                if side(views[k].position) < -0.05 * size {
+                    count += 1;
+                }
+                count += other
+                    .iter()
+                    .filter(|(p, _)| side(*p) < -0.05 * size)
+                    .count();
+            }
+        }
+    }
+    count
 }
 
 fn quoted(names: &[String]) -> String {

@@ -15,12 +15,13 @@
 //! The module's parts: [`PinholeCamera`] (the camera and its projections), the true objects
 //! and [`Truth`], [`render_annotated`] (what a synthetic user clicks), the vanishing points
 //! given as edges ([`vanishing_points_as_lines`], [`long_edges`]), [`add_noise`] and the
-//! random room ([`synthesize`]).
+//! random room ([`synthesize`]), and a room photographed several times ([`synthesize_room`]).
 
 mod annotate;
 mod camera;
 mod noise;
 mod random_scene;
+mod room;
 mod truth;
 mod vp_edges;
 
@@ -28,5 +29,8 @@ pub use annotate::{BoxAnnotation, BoxClicks, render_annotated, render_scene};
 pub use camera::PinholeCamera;
 pub use noise::add_noise;
 pub use random_scene::{Annotation, SynthOptions, VanishingPointForm, synthesize};
+pub use room::{
+    MAX_ROOM_PHOTOS, RoomSynthOptions, RoomTruth, RoomTruthCamera, RoomTruthObject, synthesize_room,
+};
 pub use truth::{SynthBox, SynthPrism, Truth, TruthCamera, TruthObject};
 pub use vp_edges::{LongEdgeOptions, long_edges, vanishing_points_as_lines};

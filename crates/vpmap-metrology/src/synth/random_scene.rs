@@ -403,7 +403,11 @@ fn clip_halfplane(
 /// Clip a convex floor polygon to the floor the camera's image shows, `inset` (a fraction of
 /// the image size) inside its borders: each border is a line on the floor (through the floor
 /// points of two of its pixels below the horizon).
-fn clip_to_view(camera: &PinholeCamera, poly: &[Vector2<f64>], inset: f64) -> Vec<Vector2<f64>> {
+pub(super) fn clip_to_view(
+    camera: &PinholeCamera,
+    poly: &[Vector2<f64>],
+    inset: f64,
+) -> Vec<Vector2<f64>> {
     let w = f64::from(camera.image.width);
     let h = f64::from(camera.image.height);
     let (x0, x1, y0, y1) = (inset * w, (1.0 - inset) * w, inset * h, (1.0 - inset) * h);

@@ -8,6 +8,7 @@ mod errata_cases;
 mod eval;
 mod fit;
 mod random_scenes;
+mod room_synth;
 mod rooms;
 mod shared_data;
 mod views;

@@ -95,7 +95,11 @@ pub(super) fn legend_entries(
                     stroke: colour::HIDDEN_STROKE,
                     dashed: false,
                 },
-                HIDDEN_LEGEND.to_owned(),
+                if map.cameras.len() > 1 {
+                    "hidden from every camera".to_owned()
+                } else {
+                    HIDDEN_LEGEND.to_owned()
+                },
             ));
         }
         if map.floor.len() >= 3 {
@@ -143,7 +147,14 @@ pub(super) fn legend_entries(
                 "centroid, 95 % confidence ellipse".to_owned(),
             ));
         }
-        legend.push((Swatch::Dot, "camera (station point)".to_owned()));
+        legend.push((
+            Swatch::Dot,
+            if map.cameras.len() > 1 {
+                "cameras (station points)".to_owned()
+            } else {
+                "camera (station point)".to_owned()
+            },
+        ));
         if style.path.len() >= 2 {
             legend.push((
                 Swatch::Line {
@@ -166,7 +177,9 @@ pub(super) fn legend_entries(
                     stroke: colour::FOV_RAY,
                     dashed: true,
                 },
-                if map.camera.view_on_floor.len() >= 3 {
+                if map.cameras.len() > 1 {
+                    "floor in view of each photo".to_owned()
+                } else if map.camera.view_on_floor.len() >= 3 {
                     format!(
                         "floor in view (field of view {:.0}°)",
                         fov_deg[1] - fov_deg[0]

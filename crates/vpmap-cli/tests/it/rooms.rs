@@ -1,0 +1,88 @@
+//! `vpmap synth --photos N`, `vpmap build` on the bundled room and `vpmap eval --photos N`.
+
+use crate::vpmap;
+
+#[test]
+fn synth_photos_writes_a_room_file_that_builds() {
+    let dir = tempfile::tempdir().unwrap();
+    let room = dir.path().join("room.json");
+    let o = vpmap(&[
+        "synth",
+        "--photos",
+        "3",
+        "--seed",
+        "4",
+        "--out",
+        room.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let text = std::fs::read_to_string(&room).unwrap();
+    let value: serde_json::Value = serde_json::from_str(&text).unwrap();
+    assert_eq!(value["photos"].as_array().unwrap().len(), 3);
+    // The bundled example is this room.
+    let bundled = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/room.json");
+    assert_eq!(text, std::fs::read_to_string(&bundled).unwrap());
+    let out = dir.path().join("out");
+    let o = vpmap(&[
+        "build",
+        bundled.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let map: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(out.join("map.json")).unwrap()).unwrap();
+    assert_eq!(map["cameras"].as_array().unwrap().len(), 3);
+    // --photos 1 is the single-photo scene of the same flags.
+    let one = dir.path().join("one.json");
+    let plain = dir.path().join("plain.json");
+    for (path, extra) in [(&one, vec!["--photos", "1"]), (&plain, vec![])] {
+        let mut args = vec!["synth", "--seed", "9", "--out", path.to_str().unwrap()];
+        args.extend(extra);
+        assert!(vpmap(&args).status.success());
+    }
+    assert_eq!(
+        std::fs::read_to_string(&one).unwrap(),
+        std::fs::read_to_string(&plain).unwrap()
+    );
+    for bad in [
+        &["synth", "--photos", "5"][..],
+        &["synth", "--photos", "2", "--prisms", "1"],
+    ] {
+        let mut args = bad.to_vec();
+        let p = dir.path().join("bad.json");
+        args.extend(["--out", p.to_str().unwrap()]);
+        assert!(!vpmap(&args).status.success(), "{bad:?}");
+    }
+}
+
+#[test]
+fn eval_photos_reports_rooms_against_their_first_photo() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("eval");
+    let o = vpmap(&[
+        "eval",
+        "--photos",
+        "1,3",
+        "--trials",
+        "2",
+        "--sigma",
+        "1",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let md = std::fs::read_to_string(out.join("rooms.md")).unwrap();
+    assert!(md.contains("| 3 | "), "{md}");
+    assert!(out.join("rooms.csv").exists());
+    assert!(
+        !vpmap(&["eval", "--photos", "0", "--out", out.to_str().unwrap()])
+            .status
+            .success()
+    );
+    assert!(
+        !vpmap(&["eval", "--boxes", "3", "--out", out.to_str().unwrap()])
+            .status
+            .success()
+    );
+}

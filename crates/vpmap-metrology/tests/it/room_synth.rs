@@ -1,0 +1,200 @@
+//! The room synthesizer ([`vpmap_metrology::synth::synthesize_room`]) against the joint fit:
+//! every room file validates, every photo alone builds and matches its own truth, and the
+//! joint fit of the room reproduces the truth from exact clicks (an independent check of the
+//! lead's fit: the synthesizer shares only the scene types with it).
+
+use vpmap_metrology::map::{BuildOptions, FloorMap, build_map};
+use vpmap_metrology::scene::{ScaleSpec, Scene};
+use vpmap_metrology::synth::{RoomSynthOptions, RoomTruth, synthesize_room};
+
+use crate::{assert_camera_matches, max_relative_error};
+
+/// Largest distance from a true corner to the nearest corner of the map's object, and the
+/// height error, metres (the map names a box's corners as the first photo that shows it).
+pub fn room_error(map: &FloorMap, truth: &RoomTruth) -> f64 {
+    assert_eq!(map.objects.len(), truth.objects.len());
+    let mut worst = 0.0f64;
+    for t in &truth.objects {
+        let m = map
+            .objects
+            .iter()
+            .find(|o| o.name == t.name)
+            .unwrap_or_else(|| panic!("object {} missing", t.name));
+        for c in &t.footprint {
+            let d = m
+                .footprint
+                .iter()
+                .map(|p| (p[0] - c[0]).hypot(p[1] - c[1]))
+                .fold(f64::INFINITY, f64::min);
+            worst = worst.max(d);
+        }
+        worst = worst.max((m.height.unwrap() - t.height).abs());
+    }
+    assert_eq!(map.cameras.len(), truth.cameras.len());
+    for (m, t) in map.cameras.iter().zip(&truth.cameras) {
+        worst = worst
+            .max((m.position[0] - t.position[0]).abs())
+            .max((m.position[1] - t.position[1]).abs())
+            .max((m.height - t.height).abs());
+        let turn = (m.heading_deg.unwrap() - t.heading_deg + 540.0).rem_euclid(360.0) - 180.0;
+        assert!(turn.abs() < 1e-7, "heading {turn} deg off");
+    }
+    worst
+}
+
+/// Photo `k` of a room as a single-photo scene, with its true camera height as its scale.
+fn photo_alone(scene: &Scene, truth: &RoomTruth, k: usize) -> Scene {
+    let mut p = scene.photos().nth(k).unwrap().clone();
+    p.other_photos.clear();
+    p.scale = Some(ScaleSpec {
+        camera_height_m: Some(truth.cameras[k].height),
+        ..ScaleSpec::default()
+    });
+    p
+}
+
+#[test]
+fn synthetic_rooms_from_exact_clicks_reproduce_the_truth_to_1e_9_m() {
+    for photos in 2..=4 {
+        for seed in 0..4 {
+            let context = format!("{photos} photos, seed {seed}");
+            let (scene, truth) = synthesize_room(&RoomSynthOptions {
+                seed,
+                photos,
+                ..RoomSynthOptions::default()
+            })
+            .unwrap();
+            // The room file validates and reads back as the same room.
+            let read = Scene::from_json_str(&scene.to_json_string())
+                .unwrap_or_else(|e| panic!("{context}: {e}"));
+            assert_eq!(read.photo_count(), photos, "{context}");
+            // (serde_json reads floats back to within an ulp, not always exactly.)
+            let names = |s: &Scene| -> Vec<Vec<String>> {
+                s.photos()
+                    .map(|p| p.objects.iter().map(|o| o.name.clone()).collect())
+                    .collect()
+            };
+            assert_eq!(names(&read), names(&scene), "{context}");
+            // Only the first photo carries the scale.
+            assert!(read.scale.is_some(), "{context}");
+            assert!(
+                read.other_photos.iter().all(|p| p.scale.is_none()),
+                "{context}"
+            );
+            // Each photo alone builds and matches its own truth.
+            for k in 0..photos {
+                let alone = photo_alone(&read, &truth, k);
+                let map = build_map(&alone, &BuildOptions::default())
+                    .unwrap_or_else(|e| panic!("{context}, photo {k} alone: {e}"));
+                let e = max_relative_error(&map, &truth.photos[k]);
+                assert!(e < 1e-9, "{context}, photo {k} alone: {e}");
+                assert_camera_matches(&map, &truth.photos[k], &context);
+            }
+            // The joint fit.
+            let map = build_map(&read, &BuildOptions::default())
+                .unwrap_or_else(|e| panic!("{context}: {e}"));
+            let e = room_error(&map, &truth);
+            assert!(
+                e < 1e-9,
+                "{context}: worst {e:e} m; warnings {:?}",
+                map.warnings
+            );
+        }
+    }
+}
+
+#[test]
+fn synthetic_rooms_tie_every_photo_to_the_ones_before() {
+    for photos in 1..=4 {
+        for seed in 0..8 {
+            let (scene, truth) = synthesize_room(&RoomSynthOptions {
+                seed,
+                photos,
+                ..RoomSynthOptions::default()
+            })
+            .unwrap();
+            let names: Vec<Vec<&str>> = scene
+                .photos()
+                .map(|p| p.objects.iter().map(|o| o.name.as_str()).collect())
+                .collect();
+            assert!(names[0].len() >= 2);
+            for k in 1..photos {
+                let shared = names[k]
+                    .iter()
+                    .filter(|n| names[..k].iter().any(|e| e.contains(n)))
+                    .count();
+                assert!(shared >= 2, "seed {seed}, photo {k}: {shared} shared");
+            }
+            for o in &truth.objects {
+                let listed: Vec<usize> = (0..photos)
+                    .filter(|&k| names[k].contains(&o.name.as_str()))
+                    .collect();
+                assert_eq!(listed, o.photos, "seed {seed}, {}", o.name);
+            }
+            // Every clicked base corner inside the image.
+            for p in scene.photos() {
+                for o in &p.objects {
+                    for (_, c) in o.base.as_ref().unwrap().given() {
+                        assert!((0.0..=1600.0).contains(&c[0]) && (0.0..=1200.0).contains(&c[1]));
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn synthetic_rooms_are_pure_functions_of_their_options() {
+    let opts = RoomSynthOptions {
+        seed: 7,
+        noise_px: 1.0,
+        ..RoomSynthOptions::default()
+    };
+    let a = synthesize_room(&opts).unwrap();
+    assert_eq!(a, synthesize_room(&opts).unwrap());
+    let exact = synthesize_room(&RoomSynthOptions {
+        noise_px: 0.0,
+        ..opts.clone()
+    })
+    .unwrap();
+    // Noise moves the clicks, not the room.
+    assert_eq!(a.1, exact.1);
+    assert_ne!(a.0, exact.0);
+    assert!(
+        synthesize_room(&RoomSynthOptions {
+            photos: 5,
+            ..opts.clone()
+        })
+        .is_err()
+    );
+    assert!(synthesize_room(&RoomSynthOptions { photos: 0, ..opts }).is_err());
+}
+
+#[test]
+fn the_bundled_room_example_builds_and_matches_its_truth() {
+    let dir = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples");
+    let scene =
+        Scene::from_json_str(&std::fs::read_to_string(dir.join("room.json")).unwrap()).unwrap();
+    let truth: RoomTruth =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("room.truth.json")).unwrap())
+            .unwrap();
+    assert_eq!(scene.photo_count(), 3);
+    let map = build_map(&scene, &BuildOptions::default()).unwrap();
+    // Its clicks are exact.
+    let e = room_error(&map, &truth);
+    assert!(e < 1e-9, "worst {e:e} m");
+    // It is what `vpmap synth --photos 3 --seed 4` draws.
+    let (_, drawn) = synthesize_room(&RoomSynthOptions {
+        seed: 4,
+        photos: 3,
+        ..RoomSynthOptions::default()
+    })
+    .unwrap();
+    assert_eq!(drawn.objects.len(), truth.objects.len());
+    for (a, b) in drawn.objects.iter().zip(&truth.objects) {
+        assert_eq!(a.name, b.name);
+        for (p, q) in a.footprint.iter().zip(&b.footprint) {
+            assert!((p[0] - q[0]).abs() < 1e-12 && (p[1] - q[1]).abs() < 1e-12);
+        }
+    }
+}
