@@ -21,6 +21,10 @@
 //! | 2PP / 3PP | [`detect`] | tilt of the vertical direction against the image plane vs [`DetectOptions::two_point_tolerance_deg`] (default 0: three-point whenever the vertical point is finite) | |
 //! | scene file | [`scene`] | the detected directions made orthogonal (never levelled: the horizon written is the measured one), written as a `docs/scene-format.md` scene that calibrates | |
 //! | test scenes | [`synthetic`] | ray-cast tiled floor and boxes, anti-aliased, from a known camera | |
+//! | test photos | [`synthetic::photo`] | a `vpmap_metrology::synth` room ray-cast with shaded, textured faces, blur, noise and a JPEG round trip, with every click's true corner | |
+//! | scene clicks | [`clicks`] | every clicked point of a scene by its field path | |
+//! | snapping | [`snap`] | a click to the corner of edges along the vanishing directions: gradient votes per pencil, sub-pixel edge points (parabola across the edge), weighted line fits, their intersection and its first-order covariance | Canny, IEEE PAMI 1986; Förstner and Gülch, 1987; Hartley and Zisserman, *Multiple View Geometry*, 5.2 |
+//! | box proposals | [`proposals`] | a vertical segment with base edges receding towards their vanishing points, corners snapped | |
 //! | accuracy figures | [`metrics`] | direction matching, angular errors, area under the accuracy curve | Lu et al. 2017 (AUC) |
 //!
 //! # Modules
@@ -28,7 +32,9 @@
 //! [`Segment`], [`Detection`], [`DetectOptions`], ...), `prepare` (sizes, options, the working
 //! image), [`photo`], [`segments`], [`manhattan`] (inside: `model`, `lm`, `problem`, `score`,
 //! `search`, `refine`, then its `mod.rs`), `detector` ([`detect`], [`detect_from_segments`]),
-//! [`scene`], [`metrics`], [`synthetic`]. This file only declares and re-exports them.
+//! [`scene`], [`metrics`], [`clicks`], [`snap`] (inside: `patch`, `edges`, `corner`, its
+//! `mod.rs`, then `scene`), [`proposals`], [`synthetic`] (then `synthetic::photo`). This file
+//! only declares and re-exports them.
 //!
 //! # Example
 //! ```
@@ -50,6 +56,7 @@
 //! ```
 #![deny(missing_docs)]
 
+pub mod clicks;
 mod detection;
 mod detector;
 pub mod error;
@@ -57,8 +64,10 @@ pub mod manhattan;
 pub mod metrics;
 pub mod photo;
 mod prepare;
+pub mod proposals;
 pub mod scene;
 pub mod segments;
+pub mod snap;
 pub mod synthetic;
 
 pub use detection::{DetectOptions, Detection, Intrinsics, Segment, VanishingPoint};
