@@ -5,19 +5,21 @@
 //! line as typed), `progress` (the bar), `memory` (the counting allocator), then one module
 //! per command: `synth`, `build` (and `demo`), `plan`, `navigate` (uses `plan`'s map loading
 //! and flag helpers), `eval`, `bench`, `detect` (inside: `options`, `eval` for
-//! `eval-detect`, then its `mod.rs`), `serve`; this file parses the command line and
+//! `eval-detect`, then its `mod.rs`), `serve`, `snap`, `eval_clicks`; this file parses the command line and
 //! dispatches.
 
 mod bench;
 mod build;
 mod detect;
 mod eval;
+mod eval_clicks;
 mod memory;
 mod navigate;
 mod output;
 mod plan;
 mod progress;
 mod serve;
+mod snap;
 mod synth;
 
 use std::path::PathBuf;
@@ -68,6 +70,10 @@ enum Command {
     EvalDetect(detect::EvalDetectArgs),
     /// Serve the local web page (annotate a photo, see its map, 3D model and path).
     Serve(serve::ServeArgs),
+    /// Measure snapping against raw clicks on rendered photos (and the box proposals).
+    EvalClicks(eval_clicks::EvalClicksArgs),
+    /// Snap a scene's clicks to the photo's corners; write the scene with their covariances.
+    Snap(snap::SnapArgs),
 }
 
 /// Parse the command line; usage errors become one line (`error: ...`) and exit code 2.
@@ -117,6 +123,8 @@ fn main() -> ExitCode {
         Command::Detect(args) => detect::run_detect(&args),
         Command::EvalDetect(args) => detect::run_eval_detect(&args),
         Command::Serve(args) => serve::run(&args),
+        Command::Snap(args) => snap::run(&args),
+        Command::EvalClicks(args) => eval_clicks::run(&args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

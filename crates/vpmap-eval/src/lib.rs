@@ -33,6 +33,7 @@
 
 pub mod accuracy;
 pub mod bench;
+pub mod clicks;
 pub mod detection;
 mod error;
 pub mod navigate;

@@ -88,4 +88,40 @@ pub enum VisionError {
         /// What it must satisfy.
         requirement: &'static str,
     },
+    /// A click (or a scene's point) outside the photo, or not a finite number.
+    #[error(
+        "`{field}` at ({x}, {y}) lies outside the {width} x {height} photo (0 <= x <= {width}, 0 <= y <= {height})"
+    )]
+    ClickOutsidePhoto {
+        /// The point's field path (`objects[0].base.near`), or `click`.
+        field: String,
+        /// Its x, pixels.
+        x: f64,
+        /// Its y, pixels.
+        y: f64,
+        /// The photo's width, pixels.
+        width: u32,
+        /// The photo's height, pixels.
+        height: u32,
+    },
+    /// A scene written for a photo of another size.
+    #[error(
+        "the scene's image is {scene_width} x {scene_height} pixels but the photo is {photo_width} x {photo_height}: is it the scene of this photo?"
+    )]
+    ImageSizeMismatch {
+        /// The scene's `image.width`.
+        scene_width: u32,
+        /// The scene's `image.height`.
+        scene_height: u32,
+        /// The photo's width.
+        photo_width: u32,
+        /// The photo's height.
+        photo_height: u32,
+    },
+    /// A scene that cannot be read or whose vanishing points cannot be resolved.
+    #[error("the scene: {message}")]
+    InvalidScene {
+        /// What is wrong, naming the field and value.
+        message: String,
+    },
 }

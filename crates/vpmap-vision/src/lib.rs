@@ -50,6 +50,7 @@
 //! ```
 #![deny(missing_docs)]
 
+pub mod clicks;
 mod detection;
 mod detector;
 pub mod error;
@@ -57,8 +58,10 @@ pub mod manhattan;
 pub mod metrics;
 pub mod photo;
 mod prepare;
+pub mod proposals;
 pub mod scene;
 pub mod segments;
+pub mod snap;
 pub mod synthetic;
 
 pub use detection::{DetectOptions, Detection, Intrinsics, Segment, VanishingPoint};

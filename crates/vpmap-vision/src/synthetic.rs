@@ -26,6 +26,8 @@
 //! face orientations different shades); the sky is a smooth gradient. Pixels where the
 //! surface changes are supersampled 4 x 4 (anti-aliasing); seeded Gaussian noise is added.
 
+pub mod photo;
+
 use image::{DynamicImage, GrayImage, Luma, Rgb, RgbImage};
 use nalgebra::Vector3;
 use rand::{RngExt, SeedableRng};

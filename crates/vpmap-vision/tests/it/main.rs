@@ -2,4 +2,5 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::float_cmp)]
 
 mod bad_input;
+mod snapping;
 mod synthetic_scenes;

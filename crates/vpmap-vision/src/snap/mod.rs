@@ -1,0 +1,402 @@
+//! Snapping a click to the image corner it means.
+//!
+//! A person clicks a box corner a few pixels off. [`snap_click`] looks at the photo around
+//! the click for the corner where straight edges meet, and returns it to a fraction of a
+//! pixel with its 2 x 2 covariance, or leaves the click where it is and says why.
+//!
+//! # Method
+//! 1. **Patch**: the grey levels ([`SnapImage`]) in a square of
+//!    `search_radius_px + edge_length_px` around the click, Gaussian-smoothed
+//!    ([`SnapOptions::smoothing_sigma_px`]); the gradient by central differences.
+//! 2. **Directions**: the lines through the click towards each vanishing point (a two-point
+//!    scene's vertical is perpendicular to the horizon), and with
+//!    [`SnapOptions::free_directions`] up to two more directions that dominate the gradient's
+//!    orientation histogram near the click but run to no vanishing point (a footprint
+//!    object's sides, a box turned by its own yaw).
+//! 3. **Candidate edges**: per direction, every pixel whose gradient is strong
+//!    ([`SnapOptions::min_contrast`]) and perpendicular to the direction (within
+//!    [`SnapOptions::angle_tolerance_deg`]) votes, with its gradient, for the line of the
+//!    direction's pencil through it (by its signed offset from the click, 0.5 px bins, the two
+//!    polarities apart); offsets within the search radius with the most votes are candidates.
+//! 4. **Sub-pixel lines**: along each candidate, every pixel a profile across the line finds
+//!    the gradient's maximum (of the candidate's polarity, still perpendicular) and places it
+//!    by a parabola through it and its neighbours (0.5 px samples); the points are fitted by
+//!    weighted least squares (weights: the squared gradient, Huber-reweighted), then sampled
+//!    again in a narrow profile around the fitted line and refitted. Runs of points without
+//!    gaps longer than 2 px, at least [`SnapOptions::min_support_px`] long, are edge pieces.
+//!    The fitted line's direction is free: the vanishing point only chooses the candidates,
+//!    so a vanishing point a little off does not pull the corner.
+//! 5. **Corner**: every pair of pieces along different directions whose lines meet within
+//!    the search radius, where at least one of them ends (not a crossing), scores the geometric mean of their gradients near the meeting point times a
+//!    Gaussian prior on the distance from the click (`sigma = radius / 2.5`), times 0.2 for a T
+//!    junction (one edge passes on: mostly an edge in front hiding one behind; but a box's top
+//!    corner on the horizon, its two top edges on one image line, is one too). The best pair is
+//!    refitted leaving out the points within [`SnapOptions::corner_gap_px`] of the corner
+//!    (the blur rounds a corner) and beyond [`SnapOptions::edge_length_px`], twice.
+//! 6. **Covariance**: each line fit's parameter covariance (`sigma^2 (A^T W A)^-1`, `sigma^2`
+//!    from the weighted residuals), times [`SnapOptions::covariance_scale`] (neighbouring
+//!    profile points share pixels through the smoothing and the blur, so they are not
+//!    independent), propagated to the intersection to first order (numerical Jacobian), plus
+//!    [`SnapOptions::covariance_floor_px`] squared on each axis (what no residual shows:
+//!    JPEG blocks, the renderer's anti-aliasing).
+//!
+//! The click stays where it is ([`SnapOutcome::Kept`]) when no edge is found, when the edges
+//! found all run one way (a click on a single edge), or when edges of two directions meet
+//! farther than the search radius from the click: a click on a flat wall never jumps to a far
+//! corner. A snapped point is never farther than [`SnapOptions::search_radius_px`] from the
+//! click.
+//!
+//! # References
+//! - Canny, "A computational approach to edge detection", IEEE PAMI 8(6), 1986 (gradient
+//!   maxima across an edge, sub-pixel by interpolation).
+//! - Förstner and Gülch, "A fast operator for detection and precise location of distinct
+//!   points, corners and centres of circular features", 1987 (corners as the intersection of
+//!   edge lines, with their covariance).
+//! - Hartley and Zisserman, *Multiple View Geometry*, 2nd ed., 5.2 (first-order propagation
+//!   of covariance).
+
+mod corner;
+mod edges;
+mod patch;
+pub mod scene;
+
+pub use edges::EdgeDirection;
+pub use patch::SnapImage;
+
+use corner::{CornerSearch, NoCorner, find_corner};
+use edges::{EdgeSearch, Pencil, free_pencils, pieces};
+use patch::Patch;
+
+use crate::error::{Result, VisionError};
+
+/// Options of [`snap_click`]. `Default` suits clicks about 2 px off on a photo's own scale.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SnapOptions {
+    /// The largest distance a click moves, pixels: the corner must lie this close.
+    pub search_radius_px: f64,
+    /// How far along each edge from the corner its points are fitted, pixels.
+    pub edge_length_px: f64,
+    /// Gaussian smoothing before the gradient, pixels.
+    pub smoothing_sigma_px: f64,
+    /// Largest angle between an edge and its direction, degrees.
+    pub angle_tolerance_deg: f64,
+    /// Smallest brightness step across an edge, grey levels (0 to 255).
+    pub min_contrast: f64,
+    /// Shortest edge piece, pixels.
+    pub min_support_px: f64,
+    /// Edge points this close to the corner are left out of the fit, pixels.
+    pub corner_gap_px: f64,
+    /// Also look for edges along directions that run to no vanishing point.
+    pub free_directions: bool,
+    /// Multiplier of the line fits' covariance (see the module doc, step 6).
+    pub covariance_scale: f64,
+    /// Standard deviation added on each axis of the snapped point's covariance, pixels.
+    pub covariance_floor_px: f64,
+}
+
+impl Default for SnapOptions {
+    fn default() -> Self {
+        Self {
+            search_radius_px: 8.0,
+            edge_length_px: 16.0,
+            smoothing_sigma_px: 1.0,
+            angle_tolerance_deg: 8.0,
+            min_contrast: 10.0,
+            min_support_px: 5.0,
+            corner_gap_px: 3.0,
+            free_directions: true,
+            covariance_scale: 2.0,
+            covariance_floor_px: 0.15,
+        }
+    }
+}
+
+impl SnapOptions {
+    /// The default options with the search radius for clicks of `sigma_px` pixels of noise
+    /// (1 sigma per coordinate): `3.5 sigma`, at least 6 and at most 16 pixels (a 2-D
+    /// Gaussian click lies within 3.5 sigma 99.8 % of the time).
+    #[must_use]
+    pub fn for_click_sigma(sigma_px: f64) -> Self {
+        Self {
+            search_radius_px: (3.5 * sigma_px).clamp(6.0, 16.0),
+            ..Self::default()
+        }
+    }
+
+    fn check(&self) -> Result<()> {
+        let checks: [(&'static str, f64, f64, f64); 8] = [
+            ("search_radius_px", self.search_radius_px, 0.5, 64.0),
+            ("edge_length_px", self.edge_length_px, 3.0, 128.0),
+            ("smoothing_sigma_px", self.smoothing_sigma_px, 0.0, 8.0),
+            ("angle_tolerance_deg", self.angle_tolerance_deg, 0.5, 30.0),
+            ("min_contrast", self.min_contrast, 0.0, 255.0),
+            ("min_support_px", self.min_support_px, 3.0, 128.0),
+            ("corner_gap_px", self.corner_gap_px, 0.0, 16.0),
+            ("covariance_scale", self.covariance_scale, 0.0, 1e6),
+        ];
+        for (field, value, lo, hi) in checks {
+            if !(value.is_finite() && value >= lo && value <= hi) {
+                return Err(VisionError::InvalidParameter {
+                    field,
+                    value,
+                    requirement: "is out of range (see SnapOptions)",
+                });
+            }
+        }
+        if !(self.covariance_floor_px.is_finite() && self.covariance_floor_px >= 0.0) {
+            return Err(VisionError::InvalidParameter {
+                field: "covariance_floor_px",
+                value: self.covariance_floor_px,
+                requirement: "must be a non-negative number",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// One edge that fixed a snapped corner.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SnapEdge {
+    /// Where its direction comes from.
+    pub direction: EdgeDirection,
+    /// The fitted line's point nearest the corner, pixels.
+    pub point_px: [f64; 2],
+    /// The fitted line's unit direction.
+    pub direction_px: [f64; 2],
+    /// Edge points used in the fit (one a pixel of its length).
+    pub support_px: f64,
+    /// Mean gradient across it, grey levels per pixel.
+    pub gradient: f64,
+    /// Root-mean-square distance of its points from the fitted line, pixels.
+    pub rms_px: f64,
+}
+
+/// Why a click stayed where it was.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum KeptReason {
+    /// No straight edge near the click (a flat wall, floor or face).
+    NoEdge,
+    /// Straight edges near the click, but all in one direction (a click on an edge, not a
+    /// corner).
+    OneDirection(EdgeDirection),
+    /// Edges of two directions that meet too far from the click, or not where one ends.
+    TooFar {
+        /// Where the nearest pair meets, pixels (if any pair meets).
+        corner_px: Option<[f64; 2]>,
+        /// Its distance from the click, pixels.
+        distance_px: Option<f64>,
+        /// The search radius, pixels.
+        radius_px: f64,
+    },
+}
+
+impl std::fmt::Display for KeptReason {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::NoEdge => write!(f, "no straight edge near the click"),
+            Self::OneDirection(d) => write!(
+                f,
+                "edges near the click run one way only ({d}): on an edge, not a corner"
+            ),
+            Self::TooFar {
+                corner_px: Some(c),
+                distance_px: Some(d),
+                radius_px,
+            } => write!(
+                f,
+                "the nearest edges meet at ({:.1}, {:.1}), {d:.1} px away, beyond the {radius_px} px search radius",
+                c[0], c[1]
+            ),
+            Self::TooFar { radius_px, .. } => write!(
+                f,
+                "no two edges meet within the {radius_px} px search radius"
+            ),
+        }
+    }
+}
+
+/// Whether a click moved.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum SnapOutcome {
+    /// Moved to the corner of two (or more) edges.
+    Snapped,
+    /// Left where it was, for this reason.
+    Kept(KeptReason),
+}
+
+/// The result of snapping one click.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Snap {
+    /// The click, pixels.
+    pub click_px: [f64; 2],
+    /// The snapped point (the click when kept), pixels.
+    pub point_px: [f64; 2],
+    /// The snapped point's covariance, pixels squared (`None` when kept).
+    pub covariance_px2: Option<[[f64; 2]; 2]>,
+    /// The edges that fixed it (empty when kept).
+    pub edges: Vec<SnapEdge>,
+    /// Moved, or kept and why.
+    pub outcome: SnapOutcome,
+}
+
+impl Snap {
+    /// How far the click moved, pixels.
+    #[must_use]
+    pub fn moved_px(&self) -> f64 {
+        (self.point_px[0] - self.click_px[0]).hypot(self.point_px[1] - self.click_px[1])
+    }
+
+    /// Whether it moved to a corner.
+    #[must_use]
+    pub fn snapped(&self) -> bool {
+        self.outcome == SnapOutcome::Snapped
+    }
+}
+
+/// The directions snapping looks along: one per vanishing point, plus a two-point scene's
+/// vertical (perpendicular to the line through its two vanishing points).
+fn pencils(vanishing_points: &[[f64; 3]]) -> Vec<Pencil> {
+    let mut out: Vec<Pencil> = vanishing_points
+        .iter()
+        .enumerate()
+        .filter_map(|(i, v)| Pencil::new(EdgeDirection::VanishingPoint(i), *v))
+        .collect();
+    if let [a, b] = vanishing_points {
+        // Horizon l = a x b; its normal (l0, l1) is the image direction of the vertical.
+        let l = [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ];
+        if l[0].hypot(l[1]) > 0.0
+            && let Some(p) = Pencil::new(EdgeDirection::VanishingPoint(2), [l[0], l[1], 0.0])
+        {
+            out.push(p);
+        }
+    }
+    out
+}
+
+/// Snap one click to the image corner it means (see the [module docs](self)).
+///
+/// `vanishing_points` are homogeneous pixel coordinates `(x, y, w)`: a point `(x, y, 1)`, a
+/// direction `(dx, dy, 0)` (as [`vpmap_metrology::scene::Scene::resolve_vanishing_points`]
+/// gives them); two (a level camera: the vertical is added) or three.
+///
+/// # Errors
+/// [`VisionError::ClickOutsidePhoto`] for a click outside the photo or not finite,
+/// [`VisionError::InvalidParameter`] for options out of range.
+///
+/// # Example
+/// ```
+/// use image::{DynamicImage, GrayImage, Luma};
+/// use vpmap_vision::snap::{snap_click, SnapImage, SnapOptions};
+/// // A dark square whose top-left corner is at (30, 20).
+/// let img = GrayImage::from_fn(100, 80, |x, y| {
+///     Luma([if x >= 30 && y >= 20 && x < 70 && y < 60 { 40 } else { 200 }])
+/// });
+/// let photo = SnapImage::new(&DynamicImage::ImageLuma8(img));
+/// // Vanishing points at infinity along x and y.
+/// let vps = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+/// let snap = snap_click(&photo, &vps, [32.0, 18.5], &SnapOptions::default())?;
+/// assert!(snap.snapped());
+/// assert!((snap.point_px[0] - 30.0).abs() < 0.2 && (snap.point_px[1] - 20.0).abs() < 0.2);
+/// # Ok::<(), vpmap_vision::VisionError>(())
+/// ```
+///
+/// # Complexity
+/// `O((search_radius_px + edge_length_px)^2)` per direction: the patch around the click only.
+pub fn snap_click(
+    image: &SnapImage,
+    vanishing_points: &[[f64; 3]],
+    click_px: [f64; 2],
+    opts: &SnapOptions,
+) -> Result<Snap> {
+    opts.check()?;
+    let (w, h) = (f64::from(image.width()), f64::from(image.height()));
+    if !(click_px.iter().all(|v| v.is_finite())
+        && (0.0..=w).contains(&click_px[0])
+        && (0.0..=h).contains(&click_px[1]))
+    {
+        return Err(VisionError::ClickOutsidePhoto {
+            field: "click".to_owned(),
+            x: click_px[0],
+            y: click_px[1],
+            width: image.width(),
+            height: image.height(),
+        });
+    }
+    let reach = opts.search_radius_px + opts.edge_length_px;
+    let half = (reach + 3.0).ceil() as usize;
+    let patch = Patch::new(image, click_px, half, opts.smoothing_sigma_px);
+    let sigma_total = opts.smoothing_sigma_px.hypot(0.8);
+    let min_gradient = opts.min_contrast / (sigma_total * (2.0 * std::f64::consts::PI).sqrt());
+    let min_points = opts.min_support_px.round().max(3.0) as usize;
+    let search = EdgeSearch {
+        click: click_px,
+        radius: opts.search_radius_px,
+        reach,
+        min_gradient,
+        tan_tolerance: opts.angle_tolerance_deg.to_radians().tan(),
+        min_points,
+        min_vote: 0.5 * opts.min_contrast * opts.min_support_px,
+    };
+    let mut all = pencils(vanishing_points);
+    // A vanishing point inside the patch: its pencil's direction changes too fast to vote.
+    all.retain(|p| p.distance_from(click_px) > 2.0 * reach);
+    if opts.free_directions {
+        let free = free_pencils(&patch, &search, &all);
+        all.extend(free);
+    }
+    let found: Vec<_> = all
+        .iter()
+        .flat_map(|p| pieces(&patch, &search, p))
+        .collect();
+    let corner = find_corner(
+        &found,
+        &CornerSearch {
+            click: click_px,
+            radius: opts.search_radius_px,
+            gap: opts.corner_gap_px,
+            length: opts.edge_length_px,
+            min_points,
+            covariance_scale: opts.covariance_scale,
+            covariance_floor: opts.covariance_floor_px,
+        },
+    );
+    Ok(match corner {
+        Ok(c) => Snap {
+            click_px,
+            point_px: c.point,
+            covariance_px2: Some(c.cov),
+            edges: c
+                .edges
+                .iter()
+                .map(|e| SnapEdge {
+                    direction: e.kind,
+                    point_px: e.point,
+                    direction_px: e.direction,
+                    support_px: e.support_px,
+                    gradient: e.strength,
+                    rms_px: e.rms_px,
+                })
+                .collect(),
+            outcome: SnapOutcome::Snapped,
+        },
+        Err(why) => Snap {
+            click_px,
+            point_px: click_px,
+            covariance_px2: None,
+            edges: Vec::new(),
+            outcome: SnapOutcome::Kept(match why {
+                NoCorner::NoEdge => KeptReason::NoEdge,
+                NoCorner::OneDirection(d) => KeptReason::OneDirection(d),
+                NoCorner::NoMeeting(m) => KeptReason::TooFar {
+                    corner_px: m.map(|m| m.0),
+                    distance_px: m.map(|m| m.1),
+                    radius_px: opts.search_radius_px,
+                },
+            }),
+        },
+    })
+}

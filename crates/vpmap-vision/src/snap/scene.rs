@@ -1,0 +1,140 @@
+//! Snapping every click of a scene: box corners, footprint vertices and tops, floor corners.
+//!
+//! [`snap_scene`] checks the whole scene against the photo first (its image size, every
+//! click inside the photo, its vanishing points), then snaps each click with the scene's
+//! vanishing points. [`write_snapped`] puts the snapped points into the scene's JSON value,
+//! leaving every other field as it was, and records each snapped point's covariance in the
+//! scene's top-level `click_covariances_px2` table, keyed by the click's field path
+//! (`docs/scene-format.md`). A click that stays keeps its entry, if it had one.
+
+use serde_json::{Map, Value, json};
+use vpmap_metrology::scene::Scene;
+
+use super::{Snap, SnapImage, SnapOptions, snap_click};
+use crate::clicks::{ClickPlace, scene_clicks};
+use crate::error::{Result, VisionError};
+
+/// The scene field holding each snapped click's covariance, pixels squared.
+pub const COVARIANCES_FIELD: &str = "click_covariances_px2";
+
+/// One click of a scene, snapped.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SnappedClick {
+    /// Where it sits in the scene.
+    pub place: ClickPlace,
+    /// The result.
+    pub snap: Snap,
+}
+
+/// The scene's vanishing points in homogeneous pixel coordinates.
+///
+/// # Errors
+/// [`VisionError::InvalidScene`] when they cannot be resolved (parallel segments, ...).
+pub fn scene_vanishing_points(scene: &Scene) -> Result<Vec<[f64; 3]>> {
+    scene
+        .resolve_vanishing_points()
+        .map(|v| v.iter().map(|p| [p.x, p.y, p.z]).collect())
+        .map_err(|e| VisionError::InvalidScene {
+            message: e.to_string(),
+        })
+}
+
+/// Snap every click of `scene` on its photo, with the scene's vanishing points.
+///
+/// # Errors
+/// [`VisionError::ImageSizeMismatch`] when the scene's image size is not the photo's,
+/// [`VisionError::ClickOutsidePhoto`] naming the first click outside the photo,
+/// [`VisionError::InvalidScene`] when the vanishing points cannot be resolved,
+/// [`VisionError::InvalidParameter`] for options out of range. All are checked before any
+/// click is snapped.
+pub fn snap_scene(
+    image: &SnapImage,
+    scene: &Scene,
+    opts: &SnapOptions,
+) -> Result<Vec<SnappedClick>> {
+    if scene.image.width != image.width() || scene.image.height != image.height() {
+        return Err(VisionError::ImageSizeMismatch {
+            scene_width: scene.image.width,
+            scene_height: scene.image.height,
+            photo_width: image.width(),
+            photo_height: image.height(),
+        });
+    }
+    let clicks = scene_clicks(scene);
+    let (w, h) = (f64::from(image.width()), f64::from(image.height()));
+    if let Some(c) = clicks.iter().find(|c| {
+        !(c.point_px.iter().all(|v| v.is_finite())
+            && (0.0..=w).contains(&c.point_px[0])
+            && (0.0..=h).contains(&c.point_px[1]))
+    }) {
+        return Err(VisionError::ClickOutsidePhoto {
+            field: c.field(),
+            x: c.point_px[0],
+            y: c.point_px[1],
+            width: image.width(),
+            height: image.height(),
+        });
+    }
+    let vps = scene_vanishing_points(scene)?;
+    clicks
+        .into_iter()
+        .map(|c| {
+            Ok(SnappedClick {
+                place: c.place,
+                snap: snap_click(image, &vps, c.point_px, opts)?,
+            })
+        })
+        .collect()
+}
+
+/// A number rounded to 1e-4 (pixels) or 1e-6 (pixels squared), for a readable file.
+fn rounded(v: f64, digits: i32) -> f64 {
+    let k = 10f64.powi(digits);
+    (v * k).round() / k
+}
+
+/// Write snapped clicks into a scene's JSON value: each snapped point replaces its click and
+/// its covariance goes into `click_covariances_px2`; every other field stays as it was.
+///
+/// # Errors
+/// [`VisionError::InvalidScene`] when the value is not a JSON object or lacks a click's
+/// field.
+pub fn write_snapped(scene: &mut Value, snapped: &[SnappedClick]) -> Result<()> {
+    if !scene.is_object() {
+        return Err(VisionError::InvalidScene {
+            message: "the scene is not a JSON object".to_owned(),
+        });
+    }
+    let mut table = match scene.get(COVARIANCES_FIELD) {
+        Some(Value::Object(m)) => m.clone(),
+        _ => Map::new(),
+    };
+    for s in snapped {
+        let Some(cov) = s.snap.covariance_px2 else {
+            continue;
+        };
+        let field = s.place.field();
+        let Some(slot) = s.place.point_in_json(scene) else {
+            return Err(VisionError::InvalidScene {
+                message: format!("the scene has no `{field}`"),
+            });
+        };
+        *slot = json!([
+            rounded(s.snap.point_px[0], 4),
+            rounded(s.snap.point_px[1], 4)
+        ]);
+        table.insert(
+            field,
+            json!([
+                [rounded(cov[0][0], 6), rounded(cov[0][1], 6)],
+                [rounded(cov[1][0], 6), rounded(cov[1][1], 6)]
+            ]),
+        );
+    }
+    if let Some(obj) = scene.as_object_mut()
+        && !table.is_empty()
+    {
+        obj.insert(COVARIANCES_FIELD.to_owned(), Value::Object(table));
+    }
+    Ok(())
+}
