@@ -334,8 +334,10 @@ window.vpmap = Object.freeze({
   room: () => cloneScene(state.scene ? roomBody(roomScenes(state)) : null),
   /** The 3D view's framing (ModelView.framing), or null before its first model. */
   view3d: () => app.modelView.framing(),
+  /** A copy of the active placement tool's points so far (a box tool's `{base, top}`), or null. */
+  toolPoints: () => cloneScene(app.tool.draft?.() ?? null),
   /** Snapping to the photo: requests on their way, answers so far, the toggle. */
-  snap: () => ({ pending: app.photoSnap.pending, answers: state.counters.snaps || 0, enabled: app.photoSnap.enabled }),
+  snap: () => ({ pending: app.photoSnap.pending, answers: state.counters.snaps || 0, enabled: app.photoSnap.enabled, last: cloneScene(app.photoSnap.last ?? null) }),
   /** Counters and errors, to wait for the page to settle. */
   status: () => ({
     busy: busyNames(state.busy),

@@ -94,6 +94,7 @@ export async function snapPlaced(app, raw, { get, set }) {
     const request = (id) => snapClick({ photo: id, click: raw, vanishing_points: knownVps(st.scene), click_sigma: st.settings.click_sigma ?? undefined });
     const ans = await withPhoto(app, slot, request);
     st.counters.snaps = (st.counters.snaps || 0) + 1;
+    snap.last = ans;
     if (st.photos[st.active] !== slot) return null;
     snap.flash = { click: raw, point: ans.point, edges: ans.edges || [], snapped: ans.snapped, until: performance.now() + FLASH_MS };
     app.requestRender();
