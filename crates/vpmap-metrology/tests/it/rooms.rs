@@ -272,3 +272,29 @@ fn the_reference_methods_refuse_a_room() {
     .to_string();
     assert!(e.contains("joint fit") && e.contains("sideview"), "{e}");
 }
+
+#[test]
+fn a_photo_tied_by_one_box_is_named_with_the_turn_that_fits_as_well() {
+    // Photo 2 shares only box2 with photo 1: a box with unequal sides fits the same turned by
+    // a half turn about its centre, so the data cannot say which way photo 2 faces.
+    let mut v = fixture();
+    for o in v["photos"][1]["objects"].as_array_mut().unwrap() {
+        if o["name"] == "box3" {
+            o["name"] = serde_json::Value::String("box3-seen-from-2".to_owned());
+        }
+    }
+    let map = build_value(&v).unwrap();
+    let w = map.warnings.join("\n");
+    assert!(
+        w.contains("photo 2 is tied to the room only by object \"box2\"")
+            && w.contains("turned by 180 degrees"),
+        "{w}"
+    );
+    // With both shared boxes the data decide, and nothing is said.
+    let map = build_value(&fixture()).unwrap();
+    assert!(
+        !map.warnings
+            .iter()
+            .any(|w| w.contains("tied to the room only"))
+    );
+}
