@@ -186,7 +186,7 @@ fn snap_options(req: &SnapRequest) -> Result<SnapOptions, ApiError> {
     }
     let mut opts = SnapOptions::for_click_sigma(sigma);
     if let Some(r) = req.radius {
-        if !(r >= 1.0 && r <= MAX_RADIUS_PX) {
+        if !(1.0..=MAX_RADIUS_PX).contains(&r) {
             return Err(ApiError::bad_request(format!(
                 "radius is {r}; give the search radius in pixels, from 1 to {MAX_RADIUS_PX}"
             )));
@@ -208,7 +208,7 @@ fn stored(state: &AppState, id: &str) -> Result<std::sync::Arc<StoredPhoto>, Api
     })
 }
 
-fn vision_error(e: VisionError) -> ApiError {
+fn vision_error(e: &VisionError) -> ApiError {
     ApiError::bad_request(e.to_string())
 }
 
@@ -249,7 +249,7 @@ pub(crate) fn snap_request(state: &AppState, body: &[u8]) -> Result<Bytes, ApiEr
     let vps = vanishing_points(&req.vanishing_points)?;
     let opts = snap_options(&req)?;
     let photo = stored(state, &req.photo)?;
-    let snap = snap_click(&photo.snap, &vps, req.click, &opts).map_err(vision_error)?;
+    let snap = snap_click(&photo.snap, &vps, req.click, &opts).map_err(|e| vision_error(&e))?;
     to_json(&snap_answer(&snap, started))
 }
 
@@ -287,7 +287,7 @@ pub(crate) fn propose_request(state: &AppState, body: &[u8]) -> Result<Bytes, Ap
         max_proposals: max,
         ..ProposalOptions::default()
     };
-    let found = propose_boxes(&photo.snap, segments, &vps, &opts).map_err(vision_error)?;
+    let found = propose_boxes(&photo.snap, segments, &vps, &opts).map_err(|e| vision_error(&e))?;
     let answer = ProposeAnswer {
         proposals: found
             .iter()
