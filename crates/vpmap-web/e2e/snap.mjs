@@ -170,6 +170,22 @@ async function main() {
     });
     await page.setInputFiles('#photo-input', { name: 'drawn.png', mimeType: 'image/png', buffer: Buffer.from(bytes) });
     await page.waitForFunction(() => window.vpmap.scene()?.image?.width === 400 && window.vpmap.scene().objects.length === 0, null, { timeout: 10_000 });
+    // Its vanishing points, as a person would give them: where the quadrilateral's opposite
+    // sides meet (the near-right side and the top side; the two near-vertical sides), and a
+    // second horizontal one orthogonal to both for a principal point at the image centre.
+    const scene = {
+      version: 1,
+      image: { width: 400, height: 300 },
+      vanishing_points: [
+        { point: [7666.6667, -1104.1667] },
+        { point: [-218.5723, -1113.8683] },
+        { point: [198.5, 1369.1667] },
+      ],
+      objects: [],
+    };
+    await page.setInputFiles('#scene-input', { name: 'drawn.json', mimeType: 'application/json', buffer: Buffer.from(JSON.stringify(scene)) });
+    await page.waitForFunction(() => window.vpmap.scene()?.vanishing_points?.length === 3, null, { timeout: 10_000 });
+    await settle('the drawn photo\'s vanishing points');
   });
   const corner = box.base.near;
   const off = [corner[0] + 2.0, corner[1] - 1.5];
