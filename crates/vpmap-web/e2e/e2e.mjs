@@ -175,6 +175,8 @@ async function main() {
   });
 
   await step('place the example\'s corners', async () => {
+    // The example's corners exactly as its scene gives them: not moved to the photo (snap.mjs tests that).
+    await page.uncheck('#snap-photo');
     const points = [];
     for (const [i, o] of example.objects.entries()) {
       if (o.base) {

@@ -52,6 +52,7 @@ pub mod example;
 mod limits;
 mod memory;
 mod params;
+mod photos;
 mod response;
 mod state;
 
@@ -313,6 +314,9 @@ fn router(state: AppState) -> Router {
         .route("/api/plan", post(api::plan))
         .route("/api/navigate", post(api::navigate))
         .route("/api/detect", post(api::detect))
+        .route("/api/photo", post(api::photo))
+        .route("/api/snap", post(api::snap))
+        .route("/api/propose", post(api::propose))
         .fallback(not_found)
         .method_not_allowed_fallback(method_not_allowed)
         .layer(middleware::from_fn_with_state(state.clone(), guard))

@@ -9,6 +9,7 @@ use axum::http::StatusCode;
 
 use crate::error::ApiError;
 use crate::limits::{ServerLimits, Slots};
+use crate::photos::PhotoStore;
 
 /// Where the server writes what its operator should know (internal errors); one line each.
 pub type Logger = Arc<dyn Fn(&str) + Send + Sync>;
@@ -26,6 +27,8 @@ pub(crate) struct Shared {
     pub(crate) plan_slots: Slots,
     /// Photos decoded and analysed at once (each may take hundreds of megabytes).
     pub(crate) detect_slots: Slots,
+    /// The photos clicks snap on (`/api/photo`).
+    pub(crate) photos: PhotoStore,
     /// `/api/example`'s answer, made on first use.
     pub(crate) example: OnceLock<Result<axum::body::Bytes, String>>,
 }
@@ -48,6 +51,7 @@ impl AppState {
             plan_slots: Slots::new("/api/plan", limits.plan_slots, wait),
             detect_slots: Slots::new("/api/detect", limits.detect_slots, wait),
             limits,
+            photos: PhotoStore::default(),
             example: OnceLock::new(),
         }))
     }

@@ -88,3 +88,18 @@ export function plan(request, signal) {
 export function navigate(request, signal) {
   return call('api/navigate', { method: 'POST', body: JSON.stringify(request), type: 'application/json', signal });
 }
+
+/** `POST /api/photo` with the photo's bytes -> `{id, width, height}`: kept for snapping. */
+export function uploadPhoto(photo, signal) {
+  return call('api/photo', { method: 'POST', body: photo, type: photo.type || 'application/octet-stream', signal });
+}
+
+/** `POST /api/snap` `{photo, click, vanishing_points, click_sigma?}` -> `{point, snapped, covariance_px2, edges, note}`. */
+export function snapClick(request, signal) {
+  return call('api/snap', { method: 'POST', body: JSON.stringify(request), type: 'application/json', signal });
+}
+
+/** `POST /api/propose` `{photo, vanishing_points}` -> `{proposals: [{corners: {base, top}, score}]}`. */
+export function proposeBoxes(request, signal) {
+  return call('api/propose', { method: 'POST', body: JSON.stringify(request), type: 'application/json', signal });
+}

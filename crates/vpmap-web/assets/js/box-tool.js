@@ -6,6 +6,8 @@ import { h } from './util.js';
 import { BOX_STEPS, BoxAnnotation, CORNER_HELP, boxEdges, boxPoints, cornerWords, guideLines, neighbourCorner, offLine } from './box.js';
 import { SNAP_PX, cornerSnap, drawSnap } from './snap.js';
 import { PlacementTool, band, clearRefusal, guide, refuseAboveHorizon } from './placement-tool.js';
+import { PendingCovariances } from './covariances.js';
+import { placedTarget, snapPlaced, snapWanted } from './photo-snap.js';
 
 /**
  * A box by the corners the user can see (box.js): choose the corner view (near, right, left,
@@ -18,6 +20,19 @@ export class BoxTool extends PlacementTool {
     super(app);
     this.kind = 'box';
     this.box = new BoxAnnotation(view);
+    this.covs = new PendingCovariances(); // corners snapped to the photo (photo-snap.js)
+    this.committed = null; // {prefix: ['objects', i], name} once added
+  }
+
+  /** The box as it stands (photo-snap.js placedTarget). */
+  draft() {
+    return this.box.partial;
+  }
+
+  /** Move the clicked corner at `rel` (`[part, corner]`) to `p`. */
+  draftSet([part, corner], p) {
+    const h = this.box.history.find((x) => x.part === part && x.corner === corner && x.p);
+    if (h) h.p = [p[0], p[1]];
   }
 
   /** Steps taken (clicked or skipped). */
@@ -84,7 +99,10 @@ export class BoxTool extends PlacementTool {
     if (this.box.current?.part === 'base' && refuseAboveHorizon(this.app, p)) return;
     clearRefusal(this.app);
     p = this.snapped(p, view, !!e?.altKey).p;
-    this.box.click(p);
+    const c = this.box.current;
+    if (!this.box.click(p)) return;
+    // The point is placed now; the photo may move it to its corner when the answer comes.
+    if (c && snapWanted(this.app, e)) snapPlaced(this.app, p, placedTarget(this.app, this, [c.part, c.corner]));
     if (this.box.done) this.finish();
     else this.app.promptChanged();
   }
@@ -101,8 +119,12 @@ export class BoxTool extends PlacementTool {
   }
 
   finish() {
-    if (!this.box.canFinish) return;
-    this.app.addObject(this.box.object(uniqueName(this.app.state.scene, 'box')));
+    if (!this.box.canFinish || this.committed) return;
+    const obj = this.box.object(uniqueName(this.app.state.scene, 'box'));
+    this.app.addObject(obj, (scene, i) => {
+      this.covs.commit(scene, ['objects', i], obj);
+      this.committed = { prefix: ['objects', i], name: obj.name };
+    });
   }
 
   draw(ctx, view) {

@@ -32,6 +32,9 @@ import { installAutosave } from './autosave.js';
 import { installPhotoStrip } from './photo-strip.js';
 import { roomBody } from './room.js';
 import { roomScenes } from './state.js';
+import { dropFloor, objectRemoved } from './covariances.js';
+import { drawSnapFlash, installPhotoSnap } from './photo-snap.js';
+import { drawProposals, installProposals } from './proposals.js';
 
 const state = createState();
 
@@ -59,8 +62,12 @@ const app = {
     app.renderObjectList();
     app.photoView.requestRender();
   },
-  addObject(obj) {
-    edit((scene) => scene.objects.push(obj));
+  /** Add `obj` in one undoable edit; `also(scene, index)` may add to the same edit (its covariances). */
+  addObject(obj, also = null) {
+    edit((scene) => {
+      scene.objects.push(obj);
+      also?.(scene, scene.objects.length - 1);
+    });
     const i = state.scene.objects.length - 1;
     endTool();
     app.select({ type: 'object', index: i });
@@ -104,7 +111,11 @@ app.tool = app.selectTool;
 app.planView = new PlanView($('plan-host'), { onPick: (p) => app.pickPlanPoint(p), onCamera: (i) => app.switchPhoto(i) });
 app.modelView = new ModelView($('model-host'));
 
+app.overlays = [(view) => drawProposals(view, app), (view) => drawSnapFlash(view, app)];
+
 installPanels(app);
+installPhotoSnap(app);
+installProposals(app);
 installRequests(app);
 installPhotoStrip(app);
 installAutosave(app);
@@ -191,7 +202,10 @@ $('btn-floor-distance').addEventListener('click', () => {
   $('scale-floor').checked = true;
   setTool(new FloorDistanceTool(app, m));
 });
-$('btn-clear-floor').addEventListener('click', () => edit((s) => { s.floor = []; }));
+$('btn-clear-floor').addEventListener('click', () => edit((s) => {
+  s.floor = [];
+  dropFloor(s);
+}));
 $('btn-new-scene').addEventListener('click', () => {
   if (!state.scene) return;
   pushUndo();
@@ -288,6 +302,7 @@ function removeObject(i) {
   const name = state.scene.objects[i]?.name;
   edit((s) => {
     s.objects.splice(i, 1);
+    objectRemoved(s, i);
     if (s.scale && s.scale.object === name) delete s.scale;
   });
   state.selection = null;
@@ -319,6 +334,10 @@ window.vpmap = Object.freeze({
   room: () => cloneScene(state.scene ? roomBody(roomScenes(state)) : null),
   /** The 3D view's framing (ModelView.framing), or null before its first model. */
   view3d: () => app.modelView.framing(),
+  /** A copy of the active placement tool's points so far (a box tool's `{base, top}`), or null. */
+  toolPoints: () => cloneScene(app.tool.draft?.() ?? null),
+  /** Snapping to the photo: requests on their way, answers so far, the toggle. */
+  snap: () => ({ pending: app.photoSnap.pending, answers: state.counters.snaps || 0, enabled: app.photoSnap.enabled, last: cloneScene(app.photoSnap.last ?? null) }),
   /** Counters and errors, to wait for the page to settle. */
   status: () => ({
     busy: busyNames(state.busy),

@@ -5,6 +5,8 @@ import { uniqueName } from './scene.js';
 import { h } from './util.js';
 import { HIT_PX, cornerSnap, drawSnap } from './snap.js';
 import { PlacementTool, band, clearRefusal, guide, refuseAboveHorizon } from './placement-tool.js';
+import { PendingCovariances, dropFloor } from './covariances.js';
+import { placedTarget, snapPlaced, snapWanted } from './photo-snap.js';
 
 export class FootprintTool extends PlacementTool {
   constructor(app) {
@@ -13,6 +15,16 @@ export class FootprintTool extends PlacementTool {
     this.pts = [];
     this.stage = 'polygon';
     this.above = 0;
+    this.covs = new PendingCovariances(); // vertices snapped to the photo (photo-snap.js)
+    this.committed = null;
+  }
+
+  draft() {
+    return { footprint: this.pts };
+  }
+
+  draftSet([, k], p) {
+    if (this.pts[k]) this.pts[k] = [p[0], p[1]];
   }
 
   prompt() {
@@ -56,9 +68,11 @@ export class FootprintTool extends PlacementTool {
       if (refuseAboveHorizon(this.app, p)) return;
       clearRefusal(this.app);
       this.pts.push(p);
+      if (snapWanted(this.app, e)) snapPlaced(this.app, p, placedTarget(this.app, this, ['footprint', this.pts.length - 1]));
       this.app.promptChanged();
     } else {
       this.commit(p);
+      if (snapWanted(this.app, e)) snapPlaced(this.app, p, placedTarget(this.app, this, ['top', 'point']));
     }
   }
 
@@ -80,7 +94,11 @@ export class FootprintTool extends PlacementTool {
   commit(top) {
     const obj = { name: uniqueName(this.app.state.scene, 'footprint'), footprint: this.pts };
     if (top) obj.top = { above: this.above, point: top };
-    this.app.addObject(obj);
+    if (this.committed) return;
+    this.app.addObject(obj, (scene, i) => {
+      this.covs.commit(scene, ['objects', i], obj);
+      this.committed = { prefix: ['objects', i], name: obj.name };
+    });
   }
 
   draw(ctx, view) {
@@ -107,6 +125,16 @@ export class FloorTool extends PlacementTool {
     super(app);
     this.kind = 'floor';
     this.pts = [];
+    this.covs = new PendingCovariances(); // corners snapped to the photo (photo-snap.js)
+    this.committed = null;
+  }
+
+  draft() {
+    return { floor: this.pts };
+  }
+
+  draftSet([, k], p) {
+    if (this.pts[k]) this.pts[k] = [p[0], p[1]];
   }
 
   prompt() {
@@ -131,6 +159,7 @@ export class FloorTool extends PlacementTool {
     if (refuseAboveHorizon(this.app, p)) return;
     clearRefusal(this.app);
     this.pts.push(p);
+    if (snapWanted(this.app, e)) snapPlaced(this.app, p, placedTarget(this.app, this, ['floor', this.pts.length - 1]));
     this.app.promptChanged();
   }
 
@@ -140,11 +169,14 @@ export class FloorTool extends PlacementTool {
   }
 
   finish() {
-    if (this.pts.length < 3) return;
+    if (this.pts.length < 3 || this.committed) return;
     const pts = this.pts;
     this.app.edit((scene) => {
       scene.floor = pts;
+      dropFloor(scene);
+      this.covs.commit(scene, [], { floor: pts });
     });
+    this.committed = { prefix: [] };
     this.app.endTool();
   }
 

@@ -89,6 +89,7 @@ export function installPanels(app) {
     if (app.tool === app.selectTool) renderPrompt();
     for (const id of ['btn-add-box', 'btn-add-footprint', 'btn-floor', 'btn-floor-distance', 'btn-new-scene', 'btn-save-scene']) $(id).disabled = !has;
     $('btn-detect').disabled = !state.photoBlob;
+    $('btn-propose').disabled = !has || !state.photoBlob;
     $('btn-clear-floor').disabled = !has || !(state.scene.floor || []).length;
     $('btn-undo').disabled = !app.history?.canUndo;
     $('btn-redo').disabled = !app.history?.canRedo;

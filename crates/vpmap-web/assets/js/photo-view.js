@@ -254,6 +254,7 @@ export class PhotoView {
     }
     this.drawMarked(st);
     this.app.tool.draw?.(ctx, this);
+    for (const draw of this.app.overlays || []) draw(this);
     if (this.app.tool.loupe && this.cursorScreen && !(this.gesture && this.gesture.kind === 'pan')) this.drawLoupe();
   }
 

@@ -7,6 +7,7 @@
 import { handles, objectHull, polygonArea, setAt } from './scene.js';
 import { distToSegment, pointInPolygon } from './geometry.js';
 import { HIT_PX, dragSnap, drawSnap } from './snap.js';
+import { dropCovariance, pathKey } from './covariances.js';
 
 /** A drag with Shift held moves the point this many times slower than the pointer (sub-pixel placement at any zoom). */
 export const FINE_DRAG = 10;
@@ -135,6 +136,8 @@ export function moveHandle(app, hd, p, live) {
         app.detachVpPoint(hd.path[1], scene);
       } else {
         setAt(scene, hd.path, [p[0], p[1]]);
+        // Moved by hand: a covariance from snapping no longer describes the point.
+        dropCovariance(scene, pathKey(hd.path));
       }
       hd.p = p;
     },

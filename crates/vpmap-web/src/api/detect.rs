@@ -114,7 +114,7 @@ impl DetectQuery {
 
 /// Check the declared media type: any image type, a generic binary type, or none (the
 /// bytes decide which format it is, and only JPEG and PNG are read).
-fn check_media_type(headers: &HeaderMap) -> Result<(), ApiError> {
+pub(super) fn check_media_type(headers: &HeaderMap) -> Result<(), ApiError> {
     match params::media_type(headers).as_deref() {
         None | Some("application/octet-stream") => Ok(()),
         Some(t) if t.starts_with("image/") => Ok(()),
@@ -126,7 +126,7 @@ fn check_media_type(headers: &HeaderMap) -> Result<(), ApiError> {
 
 /// Decode a JPEG or PNG, checking its size in the header first and limiting the decoder's
 /// memory.
-fn decode(bytes: &[u8]) -> Result<Photo, ApiError> {
+pub(super) fn decode(bytes: &[u8]) -> Result<Photo, ApiError> {
     let limits = PhotoLimits {
         max_side_px: MAX_PHOTO_SIDE_PX,
         max_pixels: u64::from(MAX_PHOTO_SIDE_PX) * u64::from(MAX_PHOTO_SIDE_PX),

@@ -9,6 +9,7 @@ pub mod fuzzing;
 mod navigate;
 mod plan;
 mod scene;
+mod snap;
 
 use axum::body::Bytes;
 use axum::extract::State;
@@ -23,6 +24,7 @@ pub use build::build;
 pub use detect::detect;
 pub use navigate::navigate_handler as navigate;
 pub use plan::plan;
+pub use snap::{photo, propose, snap};
 
 use crate::error::ApiError;
 use crate::example::{OFFICE_SCENE, OFFICE_TRUTH, office_photo_png};

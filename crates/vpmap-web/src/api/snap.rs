@@ -1,0 +1,487 @@
+//! Clicks that snap to the photo: `POST /api/photo` keeps a photo on the server
+//! (`crate::photos`), `POST /api/snap` moves one click to the image corner it means
+//! (`vpmap_vision::snap::snap_click`), `POST /api/propose` lists box candidates from the
+//! photo's segments (`vpmap_vision::proposals::propose_boxes`). The JSON shapes are in
+//! `docs/web-api.md`.
+
+use std::time::Instant;
+
+use axum::body::{Body, Bytes};
+use axum::extract::{RawQuery, State};
+use axum::http::{HeaderMap, StatusCode};
+use axum::response::Response;
+use serde::{Deserialize, Serialize};
+use vpmap_metrology::scene::BoxCorners;
+use vpmap_vision::proposals::{ProposalOptions, propose_boxes};
+use vpmap_vision::snap::{Snap, SnapOptions, SnapOutcome, snap_click};
+use vpmap_vision::{DetectOptions, MAX_SIDE_PX, VisionError, detect_segments};
+
+use super::answer::{elapsed_ms, respond, to_json};
+use super::detect::{check_media_type, decode};
+use super::plan::json_body;
+use crate::error::ApiError;
+use crate::params::{self, MAX_IMAGE_BODY_BYTES, Query};
+use crate::photos::StoredPhoto;
+use crate::state::{AppState, run_blocking};
+
+/// Largest search radius a request may ask for, pixels.
+const MAX_RADIUS_PX: f64 = 32.0;
+/// The click noise the search radius is made for when a request gives none, pixels.
+const DEFAULT_CLICK_SIGMA_PX: f64 = 2.0;
+/// Half the length of an edge drawn for the page, pixels (the part of it that was fitted).
+const EDGE_DRAW_PX: f64 = 16.0;
+
+#[derive(Serialize)]
+struct PhotoAnswer {
+    id: String,
+    width: u32,
+    height: u32,
+    time_ms: f64,
+}
+
+/// `POST /api/photo` with the photo's bytes: kept for `/api/snap` and `/api/propose`.
+pub async fn photo(
+    State(state): State<AppState>,
+    RawQuery(query): RawQuery,
+    headers: HeaderMap,
+    body: Body,
+) -> Response {
+    let result = async {
+        let body = params::read_body(
+            &headers,
+            body,
+            MAX_IMAGE_BODY_BYTES,
+            state.0.limits.body_read_timeout,
+        )
+        .await?;
+        Query::parse(query.as_deref(), &[])?;
+        check_media_type(&headers)?;
+        let slot = state.0.detect_slots.take().await?;
+        let worker = state.clone();
+        run_blocking(&state, "/api/photo", move || {
+            let _slot = slot;
+            let started = Instant::now();
+            let photo = decode(&body)?;
+            let (width, height) = (photo.image.width(), photo.image.height());
+            let id = worker.0.photos.insert(StoredPhoto::new(photo.image));
+            to_json(&PhotoAnswer {
+                id,
+                width,
+                height,
+                time_ms: elapsed_ms(started),
+            })
+        })
+        .await
+    }
+    .await;
+    respond(result)
+}
+
+/// A `/api/snap` request.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct SnapRequest {
+    photo: String,
+    click: [f64; 2],
+    #[serde(default)]
+    vanishing_points: Vec<Option<Vec<f64>>>,
+    click_sigma: Option<f64>,
+    radius: Option<f64>,
+}
+
+/// A `/api/propose` request.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct ProposeRequest {
+    photo: String,
+    vanishing_points: Vec<Option<Vec<f64>>>,
+    max_proposals: Option<usize>,
+}
+
+#[derive(Serialize)]
+struct SnapAnswer {
+    click: [f64; 2],
+    point: [f64; 2],
+    snapped: bool,
+    moved_px: f64,
+    covariance_px2: Option<[[f64; 2]; 2]>,
+    edges: Vec<[f64; 4]>,
+    edge_directions: Vec<String>,
+    note: Option<String>,
+    time_ms: f64,
+}
+
+#[derive(Serialize)]
+struct CornersOut<'a> {
+    base: &'a BoxCorners,
+    top: &'a BoxCorners,
+}
+
+#[derive(Serialize)]
+struct ProposalOut<'a> {
+    corners: CornersOut<'a>,
+    score: f64,
+}
+
+#[derive(Serialize)]
+struct ProposeAnswer<'a> {
+    proposals: Vec<ProposalOut<'a>>,
+    segments: usize,
+    time_ms: f64,
+}
+
+fn parse<T: serde::de::DeserializeOwned>(body: &[u8], what: &str) -> Result<T, ApiError> {
+    let text = params::json_text(body, what)?;
+    serde_json::from_str(&text)
+        .map_err(|e| ApiError::bad_request(format!("the body is not {what}: {e}")))
+}
+
+/// The vanishing points of a request as homogeneous pixels: `[x, y]` is a point, `[x, y, w]`
+/// homogeneous; `null` entries (unknown) are left out, so only trailing ones may be null.
+fn vanishing_points(given: &[Option<Vec<f64>>]) -> Result<Vec<[f64; 3]>, ApiError> {
+    let mut out = Vec::new();
+    let mut gap = None;
+    for (i, v) in given.iter().enumerate() {
+        let Some(v) = v else {
+            gap.get_or_insert(i);
+            continue;
+        };
+        if let Some(g) = gap {
+            return Err(ApiError::bad_request(format!(
+                "vanishing_points[{g}] is null but vanishing_points[{i}] is given; only the last ones may be unknown"
+            )));
+        }
+        let p = match v.as_slice() {
+            [x, y] => [*x, *y, 1.0],
+            [x, y, w] => [*x, *y, *w],
+            _ => {
+                return Err(ApiError::bad_request(format!(
+                    "vanishing_points[{i}] is {v:?}; give [x, y] pixels or [x, y, w] homogeneous"
+                )));
+            }
+        };
+        if !(p.iter().all(|c| c.is_finite()) && p.iter().any(|c| *c != 0.0)) {
+            return Err(ApiError::bad_request(format!(
+                "vanishing_points[{i}] is {v:?}; it must be finite and not all zero"
+            )));
+        }
+        out.push(p);
+    }
+    if out.len() > 3 {
+        return Err(ApiError::bad_request(format!(
+            "vanishing_points has {} entries; give at most three (two horizontal, then the vertical)",
+            out.len()
+        )));
+    }
+    Ok(out)
+}
+
+fn snap_options(req: &SnapRequest) -> Result<SnapOptions, ApiError> {
+    let sigma = req.click_sigma.unwrap_or(DEFAULT_CLICK_SIGMA_PX);
+    if !(sigma > 0.0 && sigma <= super::scene::MAX_CLICK_SIGMA_PX) {
+        return Err(ApiError::bad_request(format!(
+            "click_sigma is {sigma}; give the clicks' noise in pixels, more than 0 and at most {}",
+            super::scene::MAX_CLICK_SIGMA_PX
+        )));
+    }
+    let mut opts = SnapOptions::for_click_sigma(sigma);
+    if let Some(r) = req.radius {
+        if !(1.0..=MAX_RADIUS_PX).contains(&r) {
+            return Err(ApiError::bad_request(format!(
+                "radius is {r}; give the search radius in pixels, from 1 to {MAX_RADIUS_PX}"
+            )));
+        }
+        opts.search_radius_px = r;
+    }
+    Ok(opts)
+}
+
+/// The kept photo of `id`, or 404 naming it.
+fn stored(state: &AppState, id: &str) -> Result<std::sync::Arc<StoredPhoto>, ApiError> {
+    state.0.photos.get(id).ok_or_else(|| {
+        ApiError::new(
+            StatusCode::NOT_FOUND,
+            format!(
+                "photo {id:?} is not kept on the server (unknown, or evicted by newer photos); send it again to /api/photo"
+            ),
+        )
+    })
+}
+
+fn vision_error(e: &VisionError) -> ApiError {
+    ApiError::bad_request(e.to_string())
+}
+
+fn snap_answer(snap: &Snap, started: Instant) -> SnapAnswer {
+    let edges = snap
+        .edges
+        .iter()
+        .map(|e| {
+            let (p, d) = (e.point_px, e.direction_px);
+            [
+                p[0] - EDGE_DRAW_PX * d[0],
+                p[1] - EDGE_DRAW_PX * d[1],
+                p[0] + EDGE_DRAW_PX * d[0],
+                p[1] + EDGE_DRAW_PX * d[1],
+            ]
+        })
+        .collect();
+    SnapAnswer {
+        click: snap.click_px,
+        point: snap.point_px,
+        snapped: snap.snapped(),
+        moved_px: snap.moved_px(),
+        covariance_px2: snap.covariance_px2,
+        edges,
+        edge_directions: snap.edges.iter().map(|e| e.direction.to_string()).collect(),
+        note: match snap.outcome {
+            SnapOutcome::Snapped => None,
+            SnapOutcome::Kept(why) => Some(why.to_string()),
+        },
+        time_ms: elapsed_ms(started),
+    }
+}
+
+/// Snap one click of a `/api/snap` body on the kept photos.
+pub(crate) fn snap_request(state: &AppState, body: &[u8]) -> Result<Bytes, ApiError> {
+    let started = Instant::now();
+    let req: SnapRequest = parse(body, "a snap request {photo, click, vanishing_points}")?;
+    let vps = vanishing_points(&req.vanishing_points)?;
+    let opts = snap_options(&req)?;
+    let photo = stored(state, &req.photo)?;
+    let snap = snap_click(&photo.snap, &vps, req.click, &opts).map_err(|e| vision_error(&e))?;
+    to_json(&snap_answer(&snap, started))
+}
+
+/// The box proposals of a `/api/propose` body on the kept photos.
+pub(crate) fn propose_request(state: &AppState, body: &[u8]) -> Result<Bytes, ApiError> {
+    let started = Instant::now();
+    let req: ProposeRequest = parse(body, "a propose request {photo, vanishing_points}")?;
+    let vps = vanishing_points(&req.vanishing_points)?;
+    if vps.len() < 2 {
+        return Err(ApiError::bad_request(format!(
+            "vanishing_points gives {} known vanishing points; box proposals need the two horizontal ones",
+            vps.len()
+        )));
+    }
+    let max = req.max_proposals.unwrap_or(20);
+    if !(1..=100).contains(&max) {
+        return Err(ApiError::bad_request(format!(
+            "max_proposals is {max}; give 1 to 100"
+        )));
+    }
+    let photo = stored(state, &req.photo)?;
+    let segments = photo
+        .segments
+        .get_or_init(|| {
+            let side = photo.image.width().max(photo.image.height());
+            let opts = DetectOptions {
+                max_side_px: side.clamp(640, MAX_SIDE_PX),
+                ..DetectOptions::default()
+            };
+            detect_segments(&photo.image, &opts).map_err(|e| e.to_string())
+        })
+        .as_ref()
+        .map_err(|e| ApiError::bad_request(format!("no line segments found: {e}")))?;
+    let opts = ProposalOptions {
+        max_proposals: max,
+        ..ProposalOptions::default()
+    };
+    let found = propose_boxes(&photo.snap, segments, &vps, &opts).map_err(|e| vision_error(&e))?;
+    let answer = ProposeAnswer {
+        proposals: found
+            .iter()
+            .map(|p| ProposalOut {
+                corners: CornersOut {
+                    base: &p.base,
+                    top: &p.top,
+                },
+                score: p.score,
+            })
+            .collect(),
+        segments: segments.len(),
+        time_ms: elapsed_ms(started),
+    };
+    to_json(&answer)
+}
+
+/// `POST /api/snap` with `{photo, click, vanishing_points, click_sigma?, radius?}`.
+pub async fn snap(
+    State(state): State<AppState>,
+    RawQuery(query): RawQuery,
+    headers: HeaderMap,
+    body: Body,
+) -> Response {
+    let result = async {
+        let body = json_body(&state, query.as_deref(), &headers, body).await?;
+        let worker = state.clone();
+        run_blocking(&state, "/api/snap", move || snap_request(&worker, &body)).await
+    }
+    .await;
+    respond(result)
+}
+
+/// `POST /api/propose` with `{photo, vanishing_points, max_proposals?}`.
+pub async fn propose(
+    State(state): State<AppState>,
+    RawQuery(query): RawQuery,
+    headers: HeaderMap,
+    body: Body,
+) -> Response {
+    let result = async {
+        let body = json_body(&state, query.as_deref(), &headers, body).await?;
+        let slot = state.0.detect_slots.take().await?;
+        let worker = state.clone();
+        run_blocking(&state, "/api/propose", move || {
+            let _slot = slot;
+            propose_request(&worker, &body)
+        })
+        .await
+    }
+    .await;
+    respond(result)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::limits::ServerLimits;
+    use vpmap_metrology::scene::ImageSize;
+    use vpmap_metrology::synth::{SynthOptions, synthesize};
+    use vpmap_vision::snap::scene::scene_vanishing_points;
+    use vpmap_vision::synthetic::photo::{CornerKind, PhotoOptions, TrueCorner, render_photo};
+
+    /// A server state holding one rendered photo (id `p1`), its vanishing points and the
+    /// true corners of its clicks.
+    fn rendered() -> (AppState, Vec<[f64; 3]>, Vec<TrueCorner>) {
+        let (scene, truth) = synthesize(&SynthOptions {
+            image: ImageSize {
+                width: 800,
+                height: 600,
+            },
+            focal_px: 550.0,
+            ..SynthOptions::default()
+        })
+        .unwrap();
+        let photo = render_photo(&scene, &truth, &PhotoOptions::default()).unwrap();
+        let state = AppState::new(None, true, ServerLimits::default());
+        assert_eq!(state.0.photos.insert(StoredPhoto::new(photo.image)), "p1");
+        (
+            state,
+            scene_vanishing_points(&scene).unwrap(),
+            photo.corners,
+        )
+    }
+
+    fn ask(state: &AppState, body: &str) -> Result<serde_json::Value, ApiError> {
+        snap_request(state, body.as_bytes()).map(|b| serde_json::from_slice(&b).unwrap())
+    }
+
+    fn snap_body(click: [f64; 2], vps: &[[f64; 3]]) -> String {
+        serde_json::json!({"photo": "p1", "click": click, "vanishing_points": vps}).to_string()
+    }
+
+    #[test]
+    fn a_click_near_a_box_corner_snaps_onto_it_and_one_on_the_floor_stays() {
+        let (state, vps, corners) = rendered();
+        let boxes: Vec<&TrueCorner> = corners
+            .iter()
+            .filter(|c| c.visible && c.kind == CornerKind::BoxCorner)
+            .collect();
+        assert!(boxes.len() >= 4, "{} visible box corners", boxes.len());
+        let mut near = 0;
+        for c in &boxes {
+            let t = c.point_px;
+            let v = ask(&state, &snap_body([t[0] + 1.5, t[1] - 1.0], &vps)).unwrap();
+            if v["snapped"] == true {
+                let p = [
+                    v["point"][0].as_f64().unwrap(),
+                    v["point"][1].as_f64().unwrap(),
+                ];
+                let e = (p[0] - t[0]).hypot(p[1] - t[1]);
+                near += usize::from(e < 1.0);
+                assert!(v["covariance_px2"][0][0].as_f64().unwrap() > 0.0, "{v}");
+                assert_eq!(v["edges"].as_array().unwrap().len(), 2, "{v}");
+                assert!(v["note"].is_null());
+            }
+        }
+        // Most box corners snap to within a pixel of the truth (some are low-contrast).
+        assert!(
+            2 * near >= boxes.len(),
+            "{near} of {} within 1 px",
+            boxes.len()
+        );
+        // The floor at the bottom middle of the photo: no edges, the click stays.
+        let v = ask(&state, &snap_body([400.0, 595.0], &vps)).unwrap();
+        assert_eq!(v["snapped"], false, "{v}");
+        assert_eq!(v["point"], serde_json::json!([400.0, 595.0]));
+        assert!(v["covariance_px2"].is_null());
+        assert!(v["note"].as_str().is_some_and(|n| !n.is_empty()), "{v}");
+    }
+
+    #[test]
+    fn bad_requests_name_the_value() {
+        let (state, vps, _) = rendered();
+        let e = ask(&state, &snap_body([-3.0, 200.0], &vps)).unwrap_err();
+        assert_eq!(e.status, StatusCode::BAD_REQUEST);
+        assert!(
+            e.message.contains("(-3, 200)") && e.message.contains("800 x 600"),
+            "{}",
+            e.message
+        );
+        let e = ask(&state, r#"{"photo": "p7", "click": [10, 10]}"#).unwrap_err();
+        assert_eq!(e.status, StatusCode::NOT_FOUND);
+        assert!(e.message.contains("\"p7\""), "{}", e.message);
+        let e = ask(&state, r#"{"photo": "p1", "click": [10]}"#).unwrap_err();
+        assert!(
+            e.message.starts_with("the body is not a snap request"),
+            "{}",
+            e.message
+        );
+        let e = ask(
+            &state,
+            r#"{"photo": "p1", "click": [10, 10], "vanishing_points": [null, [1, 2]]}"#,
+        )
+        .unwrap_err();
+        assert!(
+            e.message.contains("vanishing_points[0] is null"),
+            "{}",
+            e.message
+        );
+        let e = ask(
+            &state,
+            r#"{"photo": "p1", "click": [10, 10], "radius": 500}"#,
+        )
+        .unwrap_err();
+        assert!(e.message.contains("radius is 500"), "{}", e.message);
+        let e = propose_request(&state, br#"{"photo": "p1", "vanishing_points": [[1, 2]]}"#)
+            .unwrap_err();
+        assert!(
+            e.message.contains("gives 1 known vanishing points"),
+            "{}",
+            e.message
+        );
+        // A photo that cannot be decoded: nothing kept.
+        assert!(decode(b"not a photo").is_err());
+        assert!(state.0.photos.get("p2").is_none());
+    }
+
+    #[test]
+    fn boxes_are_proposed_from_the_segments() {
+        let (state, vps, corners) = rendered();
+        let body = serde_json::json!({"photo": "p1", "vanishing_points": vps}).to_string();
+        let v: serde_json::Value =
+            serde_json::from_slice(&propose_request(&state, body.as_bytes()).unwrap()).unwrap();
+        let proposals = v["proposals"].as_array().unwrap();
+        assert!(!proposals.is_empty(), "{v}");
+        // The best one's base near corner is a true box corner.
+        let near = &proposals[0]["corners"]["base"]["near"];
+        let p = [near[0].as_f64().unwrap(), near[1].as_f64().unwrap()];
+        let best = corners
+            .iter()
+            .filter(|c| c.kind == CornerKind::BoxCorner)
+            .map(|c| (c.point_px[0] - p[0]).hypot(c.point_px[1] - p[1]))
+            .fold(f64::INFINITY, f64::min);
+        assert!(best < 2.0, "{best} px from a box corner: {v}");
+    }
+}
