@@ -210,6 +210,7 @@ fn print_camera(map: &FloorMap, c: &vpmap_metrology::map::CameraReport, label: &
             match f.click_sigma_source.as_str() {
                 "given" => "given",
                 "residuals" => "estimated from the residuals",
+                "covariances" => "the clicks without their own covariance; the others by it",
                 _ => "default",
             },
             f.rms_residual_px

@@ -1,8 +1,8 @@
 // Browser test of a room of several photos (issue 29), in headless Chromium against
 // `vpmap serve` (or the mock server with VPMAP_E2E_MOCK=1):
 //
-//   1. opening a room file (`../shared/data/multiview-scenes/mv01.json`, 3 photos; else a room
-//      made here of the bundled example's scene three times) shows one thumbnail per photo,
+//   1. opening a room file (the bundled `examples/room.json`, 3 photos of one room) shows one
+//      thumbnail per photo,
 //      photo 1 active, and builds the room: the floor plan draws every camera of `map.cameras`
 //      (a numbered disc each, photo 1's highlighted) and so does the 3D view;
 //   2. a photo opened for the active thumbnail (a grey PNG of its size) keeps its annotations;
@@ -21,7 +21,6 @@
 // VPMAP_E2E_MOCK, VPMAP_E2E_CHROMIUM, VPMAP_E2E_SCREENSHOT, VPMAP_E2E_HEADED); screenshots go
 // next to the requested one as `<screenshot>-room-<what>.png`. Prints `ROOM PASSED`.
 
-import { existsSync } from 'node:fs';
 import { mkdtemp, readFile, rm, writeFile } from 'node:fs/promises';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
@@ -29,7 +28,7 @@ import { REPO, greyPng, launchChromium, startServer } from './harness.mjs';
 
 const TOTAL_MS = 150_000;
 const SHOT = (what) => (process.env.VPMAP_E2E_SCREENSHOT || '/tmp/vpmap-e2e.png').replace(/(\.png)?$/, `-room-${what}.png`);
-const MV01 = join(REPO, '..', 'shared', 'data', 'multiview-scenes', 'mv01.json');
+const ROOM_EXAMPLE = join(REPO, 'examples', 'room.json');
 
 const started = Date.now();
 let server = null;
@@ -136,14 +135,10 @@ async function main() {
   });
   tmp = await mkdtemp(join(tmpdir(), 'vpmap-room-'));
 
-  // The room: mv01 (3 photos of one room, exact clicks) when the shared data are there.
-  let room;
-  if (existsSync(MV01)) room = JSON.parse(await readFile(MV01, 'utf8'));
-  else {
-    const ex = (await (await fetch(`${url}api/example`)).json()).scene;
-    room = { version: 1, photos: [ex, { ...ex, scale: undefined }, { ...ex, scale: undefined }] };
-  }
-  log(existsSync(MV01) ? `room: ${MV01}` : 'room: the example three times (no ../shared/data)');
+  // The room: the bundled example room (3 photos of one room, exact clicks, from `vpmap synth
+  // --photos 3`), in every checkout.
+  const room = JSON.parse(await readFile(ROOM_EXAMPLE, 'utf8'));
+  log(`room: ${ROOM_EXAMPLE}`);
   const roomFile = join(tmp, 'room.json');
   await writeFile(roomFile, JSON.stringify(room));
   const { width, height } = room.photos[0].image;
