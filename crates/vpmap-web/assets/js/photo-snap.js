@@ -42,9 +42,11 @@ export function installPhotoSnap(app) {
 
 /** The id of the active photo on the server (sent once; again after the server forgot it). */
 async function photoId(app, slot, again = false) {
-  if (again) slot.snapPhoto = null;
+  // A photo opened into the same slot replaces the one the server keeps for it.
+  if (again || slot.snapPhotoOf !== slot.photoBlob) slot.snapPhoto = null;
   if (!slot.snapPhoto) {
     if (!slot.photoBlob) throw new Error('the photo’s bytes are not open in this page (open the photo)');
+    slot.snapPhotoOf = slot.photoBlob;
     slot.snapPhoto = uploadPhoto(slot.photoBlob).then((a) => a.id);
     slot.snapPhoto.catch(() => {
       slot.snapPhoto = null;
