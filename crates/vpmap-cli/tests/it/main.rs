@@ -8,6 +8,7 @@ mod hostile;
 mod navigate;
 mod plan_mbpp;
 mod rooms;
+mod snap;
 
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
