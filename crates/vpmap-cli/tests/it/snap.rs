@@ -12,8 +12,11 @@ fn read_json(path: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
 }
 
+/// Each box click's exact corner and where the scene puts it.
+type Pushed = Vec<([f64; 2], [f64; 2])>;
+
 /// A rendered photo and its scene with every box click pushed `push` px off its corner.
-fn setup(dir: &Path, push: [f64; 2]) -> (serde_json::Value, Vec<([f64; 2], [f64; 2])>) {
+fn setup(dir: &Path, push: [f64; 2]) -> (serde_json::Value, Pushed) {
     let (scene, truth) = synthesize(&SynthOptions {
         seed: 3,
         ..SynthOptions::default()
