@@ -275,6 +275,71 @@ pub fn ellipse_95(centre: [f64; 2], cov: [[f64; 2]; 2]) -> Ellipse {
     }
 }
 
+/// A gradient block as [`Factored::solve`] takes it: camera part, then per part.
+pub(crate) type Gradient = (DVector<f64>, Vec<DVector<f64>>);
+
+/// One object's error bars, in map units: `values` gives its [`part_values`] (camera heights)
+/// at a parameter vector, `k_at` the metres per camera height there, `var` the covariance of
+/// two gradients; `parts` are the parts both depend on. Also the relative standard deviations
+/// of its sides and height, for the warnings. `None` when the centroid's covariance is not
+/// finite (a singular fit). Shared by one photo's fit and a room's.
+pub(crate) fn object_error_bars<M: Model>(
+    problem: &M,
+    x: &[f64],
+    parts: &[usize],
+    part: &Part,
+    values: impl Fn(&[f64]) -> [f64; 6],
+    k_at: impl Fn(&[f64]) -> f64,
+    var: impl Fn(&Gradient, &Gradient) -> f64,
+) -> Option<(ObjectUncertainty, Vec<(&'static str, f64)>)> {
+    let g = gradients(
+        problem,
+        x,
+        parts,
+        |xs| {
+            let v = values(xs);
+            let k = k_at(xs);
+            [v[0] * k, v[1] * k, v[2] * k, v[3] * k, v[4] * k, v[5]]
+        },
+        [false, false, false, false, false, true],
+    );
+    let sd = |g: &Gradient| var(g, g).max(0.0).sqrt();
+    let v = values(x);
+    let k = k_at(x);
+    let c01 = 0.5 * (var(&g[0], &g[1]) + var(&g[1], &g[0]));
+    let cov = [[var(&g[0], &g[0]), c01], [c01, var(&g[1], &g[1])]];
+    if !cov.iter().flatten().all(|v| v.is_finite()) {
+        return None;
+    }
+    let is_box = matches!(part, Part::Box { .. });
+    let has_height = match part {
+        Part::Box { has_top, .. } => *has_top,
+        Part::Footprint { top, .. } => top.is_some(),
+        Part::FloorPoint { .. } => false,
+    };
+    let (len_sd, br_sd, h_sd) = (sd(&g[2]), sd(&g[3]), sd(&g[4]));
+    let mut relative = Vec::new();
+    if is_box {
+        relative.push(("length", len_sd / (v[2] * k)));
+        relative.push(("breadth", br_sd / (v[3] * k)));
+    }
+    if has_height {
+        relative.push(("height", h_sd / (v[4] * k)));
+    }
+    Some((
+        ObjectUncertainty {
+            centroid_covariance: cov,
+            centroid_ellipse_95: ellipse_95([v[0] * k, v[1] * k], cov),
+            length_sd: is_box.then_some(len_sd),
+            breadth_sd: is_box.then_some(br_sd),
+            height_sd: has_height.then_some(h_sd),
+            yaw_deg: is_box.then(|| v[5].to_degrees().rem_euclid(180.0)),
+            yaw_sd_deg: is_box.then(|| sd(&g[5]).to_degrees()),
+        },
+        relative,
+    ))
+}
+
 impl Fitted {
     fn measure(&self, scene: &Scene) -> Result<Measure> {
         let Some(scale) = scene.scale()? else {
@@ -415,57 +480,24 @@ impl Fitted {
         };
         let sd = |g: &(DVector<f64>, Vec<DVector<f64>>)| var(g, g).max(0.0).sqrt();
         let k_at = |x: &[f64]| measure.factor(problem, x);
-        let k = k_at(x);
         let mut objects = Vec::with_capacity(scene.objects.len());
         let mut relative = Vec::new();
         for (i, _) in scene.objects.iter().enumerate() {
             let part = self.object_parts[i];
             let mut parts = vec![part];
             parts.extend(measure.parts());
-            let g = gradients(
+            let (u, rel) = object_error_bars(
                 problem,
                 x,
                 &parts,
-                |xs| {
-                    let v = object_values(problem, xs, part);
-                    let k = k_at(xs);
-                    [v[0] * k, v[1] * k, v[2] * k, v[3] * k, v[4] * k, v[5]]
-                },
-                [false, false, false, false, false, true],
-            );
-            let v = object_values(problem, x, part);
-            let cov = [
-                [var(&g[0], &g[0]), var(&g[0], &g[1])],
-                [var(&g[1], &g[0]), var(&g[1], &g[1])],
-            ];
-            let sym = 0.5 * (cov[0][1] + cov[1][0]);
-            let cov = [[cov[0][0], sym], [sym, cov[1][1]]];
-            if !cov.iter().flatten().all(|v| v.is_finite()) {
-                return Err(singular());
-            }
-            let is_box = matches!(problem.parts[part], Part::Box { .. });
-            let has_height = match &problem.parts[part] {
-                Part::Box { has_top, .. } => *has_top,
-                Part::Footprint { top, .. } => top.is_some(),
-                Part::FloorPoint { .. } => false,
-            };
-            let (len_sd, br_sd, h_sd) = (sd(&g[2]), sd(&g[3]), sd(&g[4]));
-            if is_box {
-                relative.push((i, "length", len_sd / (v[2] * k)));
-                relative.push((i, "breadth", br_sd / (v[3] * k)));
-            }
-            if has_height {
-                relative.push((i, "height", h_sd / (v[4] * k)));
-            }
-            objects.push(ObjectUncertainty {
-                centroid_covariance: cov,
-                centroid_ellipse_95: ellipse_95([v[0] * k, v[1] * k], cov),
-                length_sd: is_box.then_some(len_sd),
-                breadth_sd: is_box.then_some(br_sd),
-                height_sd: has_height.then_some(h_sd),
-                yaw_deg: is_box.then(|| v[5].to_degrees().rem_euclid(180.0)),
-                yaw_sd_deg: is_box.then(|| sd(&g[5]).to_degrees()),
-            });
+                &problem.parts[part],
+                |xs| object_values(problem, xs, part),
+                k_at,
+                var,
+            )
+            .ok_or_else(singular)?;
+            relative.extend(rel.into_iter().map(|(what, r)| (i, what, r)));
+            objects.push(u);
         }
         let pp_fitted = problem.fixed_pp.is_none();
         let g = gradients(

@@ -11,7 +11,7 @@ use super::model::{Place, RoomProblem, Shape};
 use crate::error::{MetrologyError, Result};
 use crate::fit::model::{Camera, Part};
 use crate::fit::solve::Model;
-use crate::fit::uncertainty::{ellipse_95, gradients, part_values, quad};
+use crate::fit::uncertainty::{gradients, object_error_bars, part_values, quad};
 use crate::fit::{FitOptions, click_sigma};
 use crate::scene::{BoxView, Dimension, Scale, Scene};
 use crate::uncertainty::{CameraUncertainty, ObjectUncertainty};
@@ -356,54 +356,19 @@ impl RoomFitted {
             let part = i;
             let mut parts = vec![part];
             parts.extend(scale_parts.iter().copied());
-            let values = |xs: &[f64]| -> [f64; 6] {
-                let room = problem.camera_at(xs, 0);
-                part_values(
-                    &room,
-                    &as_part(problem.parts[part].shape),
-                    params(problem, xs, part),
-                )
-            };
-            let g = gradients(
+            let shape = as_part(problem.parts[part].shape);
+            let (u, rel) = object_error_bars(
                 problem,
                 x,
                 &parts,
-                |xs| {
-                    let v = values(xs);
-                    let k = k_at(xs);
-                    [v[0] * k, v[1] * k, v[2] * k, v[3] * k, v[4] * k, v[5]]
-                },
-                [false, false, false, false, false, true],
-            );
-            let v = values(x);
-            let c01 = 0.5 * (var(&g[0], &g[1]) + var(&g[1], &g[0]));
-            let cov = [[var(&g[0], &g[0]), c01], [c01, var(&g[1], &g[1])]];
-            if !cov.iter().flatten().all(|v| v.is_finite()) {
-                return Err(singular());
-            }
-            let shape = problem.parts[part].shape;
-            let is_box = matches!(shape, Shape::Box { .. });
-            let has_height = matches!(
-                shape,
-                Shape::Box { has_top: true, .. } | Shape::Footprint { has_top: true, .. }
-            );
-            let (len_sd, br_sd, h_sd) = (sd(&g[2]), sd(&g[3]), sd(&g[4]));
-            if is_box {
-                relative.push((i, "length", len_sd / (v[2] * k)));
-                relative.push((i, "breadth", br_sd / (v[3] * k)));
-            }
-            if has_height {
-                relative.push((i, "height", h_sd / (v[4] * k)));
-            }
-            objects.push(ObjectUncertainty {
-                centroid_covariance: cov,
-                centroid_ellipse_95: ellipse_95([v[0] * k, v[1] * k], cov),
-                length_sd: is_box.then_some(len_sd),
-                breadth_sd: is_box.then_some(br_sd),
-                height_sd: has_height.then_some(h_sd),
-                yaw_deg: is_box.then(|| v[5].to_degrees().rem_euclid(180.0)),
-                yaw_sd_deg: is_box.then(|| sd(&g[5]).to_degrees()),
-            });
+                &shape,
+                |xs| part_values(&problem.camera_at(xs, 0), &shape, params(problem, xs, part)),
+                k_at,
+                var,
+            )
+            .ok_or_else(singular)?;
+            relative.extend(rel.into_iter().map(|(what, r)| (i, what, r)));
+            objects.push(u);
         }
         let mut photos = Vec::with_capacity(problem.photos.len());
         for (photo, block) in problem.photos.iter().enumerate() {
