@@ -11,9 +11,7 @@ use vpmap_pipeline::{
 };
 use vpmap_plan::budget::{Budget, Stop};
 use vpmap_plan::grid::{CellXy, Occupancy, OccupancyGrid};
-use vpmap_plan::navigate::{
-    MAX_SENSOR_RANGE_CELLS, NavigateOptions, OnlinePlanner, navigate, truth_optimum,
-};
+use vpmap_plan::navigate::{NavigateOptions, OnlinePlanner, navigate, truth_optimum};
 use vpmap_plan::raster::truth_grid;
 
 use crate::output::OutputSet;
@@ -148,22 +146,9 @@ pub fn run(args: &NavigateArgs) -> Result<()> {
         believed.grid.resolution_m()
     };
     let unit = if believed.in_cells { "cells" } else { "m" };
-    let range_cells = match args.sensor_range {
-        Some(r) => {
-            let cells = r / scale;
-            if !(r.is_finite() && (1.0..=MAX_SENSOR_RANGE_CELLS).contains(&cells)) {
-                bail!(
-                    "--sensor-range {} {unit} is not a sensor range; give at least one cell ({} {unit}) and at most {} cells ({} {unit})",
-                    num(r),
-                    num(scale),
-                    num(MAX_SENSOR_RANGE_CELLS),
-                    num(MAX_SENSOR_RANGE_CELLS * scale)
-                );
-            }
-            cells
-        }
-        None => 10.0,
-    };
+    let range_cells =
+        vpmap_pipeline::drive::sensor_range_cells(args.sensor_range, scale, unit, "--sensor-range")
+            .map_err(anyhow::Error::msg)?;
     let coordinates = believed.coordinates();
     let rules = EndpointRules {
         unknown_passable: false,

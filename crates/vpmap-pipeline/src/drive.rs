@@ -151,6 +151,37 @@ pub fn navigate_json(
     })
 }
 
+/// A sensor range in the map's units (`unit`, `scale` of them per cell) as cells: 10 cells
+/// when none is given; refused, naming `option` and the value, below one cell or beyond
+/// [`vpmap_plan::navigate::MAX_SENSOR_RANGE_CELLS`] (the command line's and the Python
+/// module's check).
+///
+/// # Errors
+/// The message for the user.
+pub fn sensor_range_cells(
+    range: Option<f64>,
+    scale: f64,
+    unit: &str,
+    option: &str,
+) -> Result<f64, String> {
+    use vpmap_plan::navigate::MAX_SENSOR_RANGE_CELLS;
+    let Some(r) = range else {
+        return Ok(10.0);
+    };
+    let cells = r / scale;
+    if !(r.is_finite() && (1.0..=MAX_SENSOR_RANGE_CELLS).contains(&cells)) {
+        let num = crate::num;
+        return Err(format!(
+            "{option} {} {unit} is not a sensor range; give at least one cell ({} {unit}) and at most {} cells ({} {unit})",
+            num(r),
+            num(scale),
+            num(MAX_SENSOR_RANGE_CELLS),
+            num(MAX_SENSOR_RANGE_CELLS * scale)
+        ));
+    }
+    Ok(cells)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

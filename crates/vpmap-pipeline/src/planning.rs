@@ -218,6 +218,23 @@ pub fn mbpp_stats(kind: PlannerKind, planned: &Planned) -> Option<MbppStats> {
     matches!(kind, PlannerKind::Mbpp | PlannerKind::MbppCloser).then_some(planned.mbpp_stats)
 }
 
+/// MBPP's counters by the names `vpmap plan --json` and the Python module report them
+/// (`expanded` is its bug steps, `generated` its bugs).
+#[must_use]
+pub fn mbpp_counters(s: &MbppStats) -> [(&'static str, usize); 9] {
+    [
+        ("expanded", s.bug_steps),
+        ("generated", s.bugs),
+        ("los_checks", s.los_checks),
+        ("los_cells", s.los_cells),
+        ("bugs", s.bugs),
+        ("bug_steps", s.bug_steps),
+        ("hits", s.hits),
+        ("waits", s.waits),
+        ("replans", s.replans),
+    ]
+}
+
 /// The answer of `vpmap plan --json`, one object: `found`, `length` and `waypoints` in the
 /// map's units, `planner`, MBPP's `alternatives`, and `stats` (the planner's counters, MBPP's
 /// own when it is MBPP, and `time_s`, the `seconds` the planner took).
@@ -240,17 +257,7 @@ pub fn plan_json(
     let mut stats = serde_json::Map::new();
     if let Some(s) = mbpp_stats(planner, outcome) {
         // MBPP's own counters are there even when no path was found.
-        for (key, value) in [
-            ("expanded", s.bug_steps),
-            ("generated", s.bugs),
-            ("los_checks", s.los_checks),
-            ("los_cells", s.los_cells),
-            ("bugs", s.bugs),
-            ("bug_steps", s.bug_steps),
-            ("hits", s.hits),
-            ("waits", s.waits),
-            ("replans", s.replans),
-        ] {
+        for (key, value) in mbpp_counters(&s) {
             stats.insert(key.to_owned(), value.into());
         }
     } else {

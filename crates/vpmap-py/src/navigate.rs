@@ -9,9 +9,7 @@ use vpmap_pipeline::{
 };
 use vpmap_plan::budget::{Budget, Stop};
 use vpmap_plan::grid::{CellXy, Occupancy, OccupancyGrid};
-use vpmap_plan::navigate::{
-    MAX_SENSOR_RANGE_CELLS, NavigateOptions, OnlinePlanner, navigate as drive, truth_optimum,
-};
+use vpmap_plan::navigate::{NavigateOptions, OnlinePlanner, navigate as drive, truth_optimum};
 use vpmap_plan::raster::truth_grid;
 
 use crate::convert::{as_path, error, json_to_py, point, shown};
@@ -144,23 +142,9 @@ pub fn navigate<'py>(
         .map_err(error)?;
     let scale = believed.scale();
     let unit = believed.unit();
-    let range_cells = match sensor_range {
-        Some(r) => {
-            let cells = r / scale;
-            if !(r.is_finite() && (1.0..=MAX_SENSOR_RANGE_CELLS).contains(&cells)) {
-                let num = vpmap_pipeline::num;
-                return Err(error(format!(
-                    "sensor_range {} {unit} is not a sensor range; give at least one cell ({} {unit}) and at most {} cells ({} {unit})",
-                    num(r),
-                    num(scale),
-                    num(MAX_SENSOR_RANGE_CELLS),
-                    num(MAX_SENSOR_RANGE_CELLS * scale)
-                )));
-            }
-            cells
-        }
-        None => 10.0,
-    };
+    let range_cells =
+        vpmap_pipeline::drive::sensor_range_cells(sensor_range, scale, unit, "sensor_range")
+            .map_err(error)?;
     let coordinates = believed.coordinates();
     let rules = EndpointRules {
         unknown_passable: false,

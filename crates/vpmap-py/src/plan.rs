@@ -339,17 +339,7 @@ impl Path {
         let (waypoints, cells) = path_arrays(py, map, best.map_or(&[], |p| &p.waypoints))?;
         let stats = PyDict::new(py);
         let expanded = if let Some(s) = mbpp_stats(kind, outcome) {
-            for (key, value) in [
-                ("expanded", s.bug_steps),
-                ("generated", s.bugs),
-                ("los_checks", s.los_checks),
-                ("los_cells", s.los_cells),
-                ("bugs", s.bugs),
-                ("bug_steps", s.bug_steps),
-                ("hits", s.hits),
-                ("waits", s.waits),
-                ("replans", s.replans),
-            ] {
+            for (key, value) in vpmap_pipeline::planning::mbpp_counters(&s) {
                 stats.set_item(key, value)?;
             }
             s.bug_steps
