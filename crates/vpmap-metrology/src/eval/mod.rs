@@ -102,6 +102,7 @@ mod coverage;
 mod evaluate;
 mod metrics;
 mod room;
+mod room_visibility;
 mod setups;
 mod trial;
 
@@ -115,6 +116,7 @@ pub use room::{
     RoomEvaluation, RoomMapErrors, RoomObjectErrors, RoomOutcome, RoomTrial, RoomTrialOptions,
     SharedObject, floor_known_share, room_scene_seed, run_room_trial,
 };
+pub use room_visibility::{VISIBILITY_STEP_M, visible_floor_share};
 pub use setups::{SETUPS, Setup, VIEW_SETUPS};
 pub use trial::{
     Failure, Trial, TrialOptions, TrialOutcome, VpEdges, failure_category, long_edge_seed,

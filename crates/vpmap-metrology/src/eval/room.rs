@@ -23,15 +23,23 @@
 //!   [`CHI2_2DOF_95`]; only with noise: exact clicks have no error bars);
 //! * the **share of the room's floor known**: the area of the true room rectangle inside the
 //!   map's free space or an object's footprint and outside its hidden regions, over the room's
-//!   area;
+//!   area, beside the share the true cameras see ([`visible_floor_share`], the ceiling);
 //! * per **shared object** (listed by two photos or more): whether its joint position error is
 //!   below the smaller of its position errors in the maps of the photos that list it, each
-//!   alone (photos whose map alone was refused are left out of that minimum).
+//!   alone (photos whose map alone was refused are left out of that minimum). The photos alone
+//!   know their true camera heights, which the joint map (the first photo's scale only) does
+//!   not; so the room is also mapped jointly **with the same information**, every photo
+//!   carrying its true camera height (which then holds each camera's height in the fit), and
+//!   that map's error is compared both ways: in the first photo's frame against the smaller
+//!   single-photo error, and in each listing photo's own frame (the joint map's object seen
+//!   from its fitted camera against the truth seen from the true one) against that photo's
+//!   map alone.
 
 use geo::{Area, BooleanOps, Centroid, Coord, LineString, MultiPolygon, Polygon};
 use serde::Serialize;
 
 use super::coverage::CHI2_2DOF_95;
+use super::room_visibility::visible_floor_share;
 use super::trial::{Failure, failure_category, noise_seed, noisy_scene};
 use crate::map::{BuildOptions, FloorMap, MapPoint, build_map};
 use crate::scene::{ScaleSpec, Scene};
@@ -104,6 +112,12 @@ pub struct SharedObject {
     pub joint_error_m: f64,
     /// Position error in each listing photo's map alone, metres (`None`: that map refused).
     pub single_errors_m: Vec<Option<f64>>,
+    /// Position error in the joint map given every photo's true camera height (the photos
+    /// alone have them), metres (`None`: that map refused).
+    pub equal_information_error_m: Option<f64>,
+    /// That map's position error in each listing photo's own frame, metres (in the order of
+    /// `single_errors_m`).
+    pub equal_information_in_frames_m: Vec<Option<f64>>,
 }
 
 impl SharedObject {
@@ -122,6 +136,22 @@ impl SharedObject {
     pub fn joint_better(&self) -> Option<bool> {
         self.best_single_m().map(|b| self.joint_error_m < b)
     }
+
+    /// Whether the joint error with the same information (every camera height) is below the
+    /// best single-photo error.
+    #[must_use]
+    pub fn equal_information_better(&self) -> Option<bool> {
+        Some(self.equal_information_error_m? < self.best_single_m()?)
+    }
+
+    /// Per listing photo whose map alone and the equal-information joint map both show the
+    /// object: whether the joint map's error in that photo's frame is below that photo's own.
+    pub fn better_in_frames(&self) -> impl Iterator<Item = bool> + '_ {
+        self.single_errors_m
+            .iter()
+            .zip(&self.equal_information_in_frames_m)
+            .filter_map(|(s, j)| Some(j.as_ref()? < s.as_ref()?))
+    }
 }
 
 /// One room at one noise level.
@@ -133,6 +163,11 @@ pub struct RoomEvaluation {
     pub first_photo: Result<RoomMapErrors, Failure>,
     /// Objects listed by two photos or more.
     pub shared: Vec<SharedObject>,
+    /// Share of the room's floor under a box or seen past every box by some true camera
+    /// ([`visible_floor_share`]): the most of the floor a map of these photos can know.
+    pub floor_visible: f64,
+    /// The same for the first camera alone.
+    pub first_floor_visible: f64,
 }
 
 /// One noise level of a room trial.
@@ -184,12 +219,18 @@ pub fn run_room_trial(seed: u64, trial: u64, options: &RoomTrialOptions) -> Room
             };
         }
     };
+    let images: Vec<_> = scene.photos().map(|p| p.image).collect();
+    let all: Vec<usize> = (0..images.len()).collect();
+    let visible = [
+        visible_floor_share(&truth, &images, &all),
+        visible_floor_share(&truth, &images, &[0]),
+    ];
     let outcomes = options
         .sigmas_px
         .iter()
         .map(|&sigma_px| RoomOutcome {
             sigma_px,
-            result: evaluate_noisy(&scene, &truth, sigma_px, scene_seed),
+            result: evaluate_noisy(&scene, &truth, sigma_px, scene_seed, visible),
         })
         .collect();
     RoomTrial {
@@ -214,6 +255,7 @@ fn evaluate_noisy(
     truth: &RoomTruth,
     sigma_px: f64,
     scene_seed: u64,
+    [floor_visible, first_floor_visible]: [f64; 2],
 ) -> Result<RoomEvaluation, Failure> {
     let photos: Vec<Scene> = scene
         .photos()
@@ -236,15 +278,25 @@ fn evaluate_noisy(
     room.other_photos = photos.iter().skip(1).cloned().collect();
     let joint_map = build_map(&room, &options).map_err(|e| failure(&e))?;
     let joint = map_errors(&joint_map, truth, &truth_objects(truth, None), sigma_px);
+    // The same clicks with every photo's true camera height: what the photos alone know.
+    let true_height = |k: usize| {
+        Some(ScaleSpec {
+            camera_height_m: truth.cameras.get(k).map(|c| c.height),
+            ..ScaleSpec::default()
+        })
+    };
+    let mut every_height = room.clone();
+    every_height.scale = true_height(0);
+    for (k, p) in every_height.other_photos.iter_mut().enumerate() {
+        p.scale = true_height(k + 1);
+    }
+    let equal_map = build_map(&every_height, &options).ok();
     // Each photo alone, with its true camera height.
     let mut singles: Vec<Option<FloorMap>> = Vec::with_capacity(photos.len());
     let mut first_photo = None;
     for (k, p) in photos.iter().enumerate() {
         let mut alone = p.clone();
-        alone.scale = Some(ScaleSpec {
-            camera_height_m: truth.cameras.get(k).map(|c| c.height),
-            ..ScaleSpec::default()
-        });
+        alone.scale = true_height(k);
         let built = build_map(&alone, &options);
         if k == 0 {
             first_photo = Some(
@@ -281,10 +333,30 @@ fn evaluate_noisy(
                     Some(distance(centroid(&m.footprint)?, centroid(&t.footprint)?))
                 })
                 .collect();
+            let equal_information_error_m = equal_map.as_ref().and_then(|m| {
+                let e = m.objects.iter().find(|e| e.name == o.name)?;
+                Some(distance(centroid(&e.footprint)?, centroid(&o.footprint)?))
+            });
+            let equal_information_in_frames_m = o
+                .photos
+                .iter()
+                .map(|&k| {
+                    let t = truth
+                        .photos
+                        .get(k)?
+                        .objects
+                        .iter()
+                        .find(|t| t.name == o.name)?;
+                    let seen = seen_from(equal_map.as_ref()?, k, &o.name)?;
+                    Some(distance(seen, centroid(&t.footprint)?))
+                })
+                .collect();
             Some(SharedObject {
                 name: o.name.clone(),
                 joint_error_m,
                 single_errors_m,
+                equal_information_error_m,
+                equal_information_in_frames_m,
             })
         })
         .collect();
@@ -297,7 +369,20 @@ fn evaluate_noisy(
             })
         }),
         shared,
+        floor_visible,
+        first_floor_visible,
     })
+}
+
+/// Object `name`'s footprint centroid in photo `k`'s own plan frame (origin under its camera,
+/// `+y` its viewing direction), from a room map's placed camera `k`.
+fn seen_from(map: &FloorMap, k: usize, name: &str) -> Option<[f64; 2]> {
+    let camera = map.cameras.get(k)?;
+    let (s, c) = camera.heading_deg.unwrap_or(0.0).to_radians().sin_cos();
+    let p = centroid(&map.objects.iter().find(|m| m.name == name)?.footprint)?;
+    let d = [p[0] - camera.position[0], p[1] - camera.position[1]];
+    // Rotate the room-frame offset by minus the heading (counter-clockwise from +y).
+    Some([c * d[0] + s * d[1], -s * d[0] + c * d[1]])
 }
 
 /// The room's true objects a map should show: every one, or those photo `k` lists.
@@ -439,6 +524,20 @@ mod tests {
         assert!(ev.joint.floor_known > first.floor_known, "{ev:?}");
         assert!(ev.joint.floor_known <= 1.0 && first.floor_known > 0.0);
         assert!(!ev.shared.is_empty());
+        // Every shared object seen from each listing camera of the map with every camera
+        // height, against the truth in that photo's own frame.
+        let mut in_frames = 0;
+        for o in &ev.shared {
+            assert!(
+                o.equal_information_error_m.is_some_and(|e| e < 1e-6),
+                "{o:?}"
+            );
+            for e in &o.equal_information_in_frames_m {
+                assert!(e.is_some_and(|e| e < 1e-6), "{o:?}");
+                in_frames += 1;
+            }
+        }
+        assert!(in_frames >= 2 * ev.shared.len());
     }
 
     #[test]

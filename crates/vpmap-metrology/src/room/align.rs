@@ -541,12 +541,21 @@ pub(crate) fn sightings(
     }
 }
 
-/// Photo `k`'s camera block from its own fit, and its start values.
-pub(crate) fn photo_block(fit: &PhotoFit, pose: Option<&Pose>) -> (PhotoBlock, Vec<f64>) {
+/// Photo `k`'s camera block from its own fit, and its start values; `fixed_height` holds a
+/// posed photo's height (first camera heights).
+pub(crate) fn photo_block(
+    fit: &PhotoFit,
+    pose: Option<&Pose>,
+    fixed_height: Option<f64>,
+) -> (PhotoBlock, Vec<f64>) {
     let problem = &fit.fitted.problem;
     let mut x = fit.fitted.x[..problem.camera_len].to_vec();
+    let fixed_height = pose.and(fixed_height);
     if let Some(p) = pose {
-        x.extend([p.position.x, p.position.y, p.scale]);
+        x.extend([p.position.x, p.position.y]);
+        if fixed_height.is_none() {
+            x.push(p.scale);
+        }
     }
     (
         PhotoBlock {
@@ -555,6 +564,7 @@ pub(crate) fn photo_block(fit: &PhotoFit, pose: Option<&Pose>) -> (PhotoBlock, V
             fixed_pp: problem.fixed_pp,
             fixed_pitch: problem.fixed_pitch,
             posed: pose.is_some(),
+            fixed_height,
             quarter: pose.map_or(0, |p| p.quarter),
             vps: problem.vps.clone(),
         },

@@ -165,12 +165,42 @@ struct Built {
     photo_axes: Vec<Vec<Option<BoxAxes>>>,
 }
 
-fn build(scene: &Scene, fits: &[PhotoFit], placement: &Placement) -> Result<Built> {
+/// Each photo's camera height in metres, where its scale gives one.
+fn known_camera_heights(photos: &[&Scene]) -> Result<Vec<Option<f64>>> {
+    photos
+        .iter()
+        .enumerate()
+        .map(|(k, p)| {
+            Ok(match p.scale().map_err(|e| in_photo(k, e))? {
+                Some(Scale::CameraHeight(h)) => Some(h),
+                _ => None,
+            })
+        })
+        .collect()
+}
+
+/// The problem for one placement; `hold` holds the known camera heights of photos after the
+/// first (when the first's is known too).
+fn build(scene: &Scene, fits: &[PhotoFit], placement: &Placement, hold: bool) -> Result<Built> {
     let photos: Vec<&Scene> = scene.photos().collect();
+    let heights = if hold {
+        known_camera_heights(&photos)?
+    } else {
+        Vec::new()
+    };
     let mut blocks = Vec::new();
     let mut x0 = Vec::new();
     for (k, fit) in fits.iter().enumerate() {
-        let (b, x) = photo_block(fit, placement.poses[k].as_ref());
+        // A photo's known camera height holds its height in the fit when the first photo's
+        // is known too (the frame's unit is the first camera's height).
+        let fixed = match (
+            heights.first().copied().flatten(),
+            heights.get(k).copied().flatten(),
+        ) {
+            (Some(first), Some(own)) => Some(own / first),
+            _ => None,
+        };
+        let (b, x) = photo_block(fit, placement.poses[k].as_ref(), fixed);
         blocks.push(b);
         x0.extend(x);
     }
@@ -275,9 +305,14 @@ struct Solved {
     quarters: Vec<u8>,
 }
 
-fn solve(scene: &Scene, fits: &[PhotoFit], forced: &[Option<u8>]) -> Result<(Solved, Placement)> {
+fn solve(
+    scene: &Scene,
+    fits: &[PhotoFit],
+    forced: &[Option<u8>],
+    hold: bool,
+) -> Result<(Solved, Placement)> {
     let placement = place_all(fits, forced)?;
-    let built = build(scene, fits, &placement)?;
+    let built = build(scene, fits, &placement, hold)?;
     let sol = minimise(&built.problem, built.x0.clone()).ok_or_else(|| {
         MetrologyError::Degenerate {
             field: "photos".to_owned(),
@@ -326,7 +361,7 @@ pub fn fit_room(scene: &Scene) -> Result<RoomFitted> {
         fits.push(PhotoFit::new(fitted, p));
     }
     let n = photos.len();
-    let (first, placement) = solve(scene, &fits, &vec![None; n])?;
+    let (first, placement) = solve(scene, &fits, &vec![None; n], false)?;
     // The other near-best quarter turns, one combination at a time (all of them while few).
     let mut combos: Vec<Vec<Option<u8>>> = vec![vec![None; n]];
     for k in 1..n {
@@ -350,7 +385,7 @@ pub fn fit_room(scene: &Scene) -> Result<RoomFitted> {
         {
             continue;
         }
-        if let Ok((s, _)) = solve(scene, &fits, &c)
+        if let Ok((s, _)) = solve(scene, &fits, &c, false)
             && !results.iter().any(|r| r.quarters == s.quarters)
         {
             results.push(s);
@@ -413,7 +448,45 @@ pub fn fit_room(scene: &Scene) -> Result<RoomFitted> {
         }
     }
     let best = results.swap_remove(0);
+    let best = hold_known_heights(scene, &fits, best, variance)?;
     finish(scene, best, warnings)
+}
+
+/// The upper 1 % point of the chi-square distribution with `m` degrees of freedom
+/// (Wilson-Hilferty; within 1 % of the exact value for every `m`).
+fn chi2_99(m: usize) -> f64 {
+    let m = m.max(1) as f64;
+    let z = 2.326_347_874_040_841;
+    let a = 2.0 / (9.0 * m);
+    m * (1.0 - a + z * a.sqrt()).powi(3)
+}
+
+/// The chosen hypothesis refitted with the known camera heights of photos after the first
+/// held (the ratio of each to the first's), when the clicks agree with them: the cost may
+/// grow by at most the chi-square 99 % point for as many constraints (a likelihood-ratio
+/// test, in the fit's click variance `variance`). Heights the clicks contradict are not
+/// held: the fit keeps them as scales, and the map names both in its scale warning.
+fn hold_known_heights(
+    scene: &Scene,
+    fits: &[PhotoFit],
+    free: Solved,
+    variance: f64,
+) -> Result<Solved> {
+    let photos: Vec<&Scene> = scene.photos().collect();
+    let heights = known_camera_heights(&photos)?;
+    let held = if heights.first().copied().flatten().is_some() {
+        heights.iter().skip(1).filter(|h| h.is_some()).count()
+    } else {
+        0
+    };
+    if held == 0 {
+        return Ok(free);
+    }
+    let forced: Vec<Option<u8>> = free.quarters.iter().map(|&q| Some(q)).collect();
+    match solve(scene, fits, &forced, true) {
+        Ok((s, _)) if (s.cost - free.cost) / variance <= chi2_99(held) => Ok(s),
+        _ => Ok(free),
+    }
 }
 
 /// How many cameras and floor corners of a hypothesis lie outside another photo's walls: the
@@ -685,4 +758,26 @@ fn finish(scene: &Scene, solved: Solved, mut warnings: Vec<String>) -> Result<Ro
         floor_distance_parts: built.floor_distance_parts,
         photo_axes: built.photo_axes,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::chi2_99;
+
+    #[test]
+    fn the_chi_square_99_percent_point_is_within_1_percent_of_the_tables() {
+        // Upper 1 % points of the chi-square distribution (standard tables).
+        let table = [
+            (1, 6.634_897),
+            (2, 9.210_340),
+            (3, 11.344_867),
+            (5, 15.086_272),
+            (10, 23.209_251),
+            (15, 30.577_914),
+        ];
+        for (m, exact) in table {
+            let got = chi2_99(m);
+            assert!((got - exact).abs() < 0.01 * exact, "{m}: {got} vs {exact}");
+        }
+    }
 }

@@ -5,7 +5,9 @@
 //!
 //! Frame: the first photo's map frame ([`crate::fit`]'s: station point at the origin, `+y`
 //! the first camera's horizontal viewing direction, `+z` up, unit the first camera's
-//! height). Photo `p` stands at `position_p` (its station point) with height `h_p`; its own
+//! height). Photo `p` stands at `position_p` (its station point) with height `h_p` (held at
+//! the ratio of the two when photo `p` and the first both give their camera height in metres);
+//! its own
 //! map frame is turned by its heading `theta_p` from the first's. The room's directions are
 //! one pair for all photos, so the heading is not a parameter of its own: photo `p`'s first
 //! room direction is the first photo's turned by `quarter_p` quarter turns, which gives
@@ -29,6 +31,9 @@ pub(crate) struct PhotoBlock {
     pub fixed_pitch: bool,
     /// Photos after the first: its station point `x, y` and height follow its camera.
     pub posed: bool,
+    /// A posed photo's height held at this many first camera heights (when both its photo and
+    /// the first give their camera height in metres), instead of fitted.
+    pub fixed_height: Option<f64>,
     /// Quarter turns from the first photo's first room direction to this photo's.
     pub quarter: u8,
     /// Its vanishing points' evidence, in its fit's order (horizontal, horizontal, up).
@@ -38,7 +43,12 @@ pub(crate) struct PhotoBlock {
 impl PhotoBlock {
     /// Number of parameters.
     pub fn len(&self) -> usize {
-        self.camera_len + if self.posed { 3 } else { 0 }
+        self.camera_len
+            + match (self.posed, self.fixed_height) {
+                (false, _) => 0,
+                (true, Some(_)) => 2,
+                (true, None) => 3,
+            }
     }
 }
 
@@ -236,7 +246,7 @@ impl RoomProblem {
         View {
             cam,
             position: Vector2::new(c[at], c[at + 1]),
-            height: c[at + 2],
+            height: b.fixed_height.unwrap_or_else(|| c[at + 2]),
             heading_rad: first_yaw + f64::from(b.quarter) * std::f64::consts::FRAC_PI_2
                 - cam.room_yaw_rad,
         }

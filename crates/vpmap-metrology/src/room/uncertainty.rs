@@ -330,8 +330,13 @@ impl RoomFitted {
             for b in a + 1..estimates.len() {
                 let ((ka, sa), (kb, sb)) = (estimates[a], estimates[b]);
                 if (ka - kb).abs() > 1.96 * (sa * sa + sb * sb).sqrt() {
+                    let used = match (sa == 0.0, sb == 0.0) {
+                        (true, false) => format!("the map uses {}", known[a].words),
+                        (false, true) => format!("the map uses {}", known[b].words),
+                        _ => "the map uses their weighted mean".to_owned(),
+                    };
                     warnings.push(format!(
-                        "the known lengths disagree by more than their error bars: {} gives {ka:.4} +- {sa:.4} m per camera height, {} gives {kb:.4} +- {sb:.4}; the map uses their weighted mean",
+                        "the known lengths disagree by more than their error bars: {} gives {ka:.4} +- {sa:.4} m per camera height, {} gives {kb:.4} +- {sb:.4}; {used}",
                         known[a].words, known[b].words
                     ));
                 }

@@ -30,7 +30,8 @@ pub use camera::PinholeCamera;
 pub use noise::add_noise;
 pub use random_scene::{Annotation, SynthOptions, VanishingPointForm, synthesize};
 pub use room::{
-    MAX_ROOM_PHOTOS, RoomSynthOptions, RoomTruth, RoomTruthCamera, RoomTruthObject, synthesize_room,
+    FLOOR_OUTLINE_INSET, MAX_ROOM_PHOTOS, RoomSynthOptions, RoomTruth, RoomTruthCamera,
+    RoomTruthObject, synthesize_room,
 };
 pub use truth::{SynthBox, SynthPrism, Truth, TruthCamera, TruthObject};
 pub use vp_edges::{LongEdgeOptions, long_edges, vanishing_points_as_lines};

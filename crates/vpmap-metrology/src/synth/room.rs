@@ -48,6 +48,10 @@ pub const MAX_ROOM_PHOTOS: usize = 4;
 /// Attempts at drawing a room before [`synthesize_room`] gives up.
 const ROOM_ATTEMPTS: usize = 500;
 
+/// How far inside the image's borders a photo's floor outline runs, as a fraction of the
+/// image's size (the floor outline is the room clipped to that part of the image).
+pub const FLOOR_OUTLINE_INSET: f64 = 0.02;
+
 /// Fewest boxes a later photo shares with the photos before it (and the first photo shows).
 const MIN_SHARED_BOXES: usize = 2;
 
@@ -377,7 +381,7 @@ fn try_room(options: &RoomSynthOptions, rng: &mut ChaCha8Rng) -> Option<(Scene, 
             .map(|(b, _)| p.box_to_plan(b))
             .collect();
         let rect_in_plan: Vec<Vector2<f64>> = rect.iter().map(|c| p.to_plan(*c)).collect();
-        let floor = clip_to_view(&p.camera, &rect_in_plan, 0.02);
+        let floor = clip_to_view(&p.camera, &rect_in_plan, FLOOR_OUTLINE_INSET);
         if floor.len() < 3 {
             return None;
         }

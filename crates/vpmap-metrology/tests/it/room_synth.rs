@@ -198,3 +198,55 @@ fn the_bundled_room_example_builds_and_matches_its_truth() {
         }
     }
 }
+
+#[test]
+fn known_camera_heights_are_held_when_the_clicks_agree_and_not_when_they_contradict() {
+    let options = BuildOptions {
+        click_sigma_px: Some(1.0),
+        ..BuildOptions::default()
+    };
+    let (mut held_true, mut held_wrong, mut rooms) = (0, 0, 0);
+    for seed in 0..12 {
+        let (scene, truth) = synthesize_room(&RoomSynthOptions {
+            photos: 3,
+            seed,
+            noise_px: 1.0,
+            scale_every_photo: true,
+            ..RoomSynthOptions::default()
+        })
+        .unwrap();
+        let Ok(map) = build_map(&scene, &options) else {
+            continue;
+        };
+        rooms += 1;
+        // Held: the camera stands exactly as high as its photo says, with no error bar.
+        let held = |m: &FloorMap, k: usize, h: f64| {
+            (m.cameras[k].height - h).abs() < 1e-9
+                && m.cameras[k].uncertainty.as_ref().unwrap().height_sd < 1e-9
+        };
+        held_true += usize::from((1..3).all(|k| held(&map, k, truth.cameras[k].height)));
+        // Photo 3 says its camera is 25 % higher than it is.
+        let mut wrong = scene.clone();
+        let h = truth.cameras[2].height * 1.25;
+        wrong.other_photos[1].scale = Some(ScaleSpec {
+            camera_height_m: Some(h),
+            ..ScaleSpec::default()
+        });
+        let map = build_map(&wrong, &options).unwrap();
+        held_wrong += usize::from(held(&map, 2, h));
+        assert!(
+            map.warnings
+                .iter()
+                .any(|w| w.contains("disagree") && w.contains("photo 3's camera height")),
+            "seed {seed}: {:?}",
+            map.warnings
+        );
+    }
+    assert!(rooms >= 10, "{rooms} rooms built");
+    // A likelihood-ratio test at 1 %: the true heights are held in (nearly) every room.
+    assert!(
+        held_true + 1 >= rooms,
+        "true heights held in {held_true} of {rooms}"
+    );
+    assert_eq!(held_wrong, 0, "a wrong height was held");
+}

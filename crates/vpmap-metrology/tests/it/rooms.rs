@@ -242,6 +242,50 @@ fn a_name_used_twice_in_one_photo_names_the_photo() {
 }
 
 #[test]
+fn a_second_known_camera_height_holds_that_camera_and_narrows_the_error_bars() {
+    let options = BuildOptions {
+        click_sigma_px: Some(1.0),
+        ..BuildOptions::default()
+    };
+    let truth: RoomTruth = serde_json::from_str(FIXTURE_TRUTH).unwrap();
+    let one = fixture();
+    let mut both = fixture();
+    both["photos"][1]["scale"] = serde_json::json!({"camera_height_m": truth.cameras[1].height});
+    let build = |v: &serde_json::Value| {
+        build_map(&Scene::from_json_str(&v.to_string()).unwrap(), &options).unwrap()
+    };
+    let (one, both) = (build(&one), build(&both));
+    // The independent truth, still to 1e-9 m.
+    let (metres, camera) = errors(&both, &truth);
+    assert!(metres < 1e-9 && camera < 1e-9, "{metres} m, {camera}");
+    // Photo 2's height is held at what it says, no longer fitted.
+    let sd = |m: &FloorMap| m.cameras[1].uncertainty.as_ref().unwrap().height_sd;
+    assert!(sd(&one) > 1e-4, "fitted: {}", sd(&one));
+    assert!(sd(&both) < 1e-12, "held: {}", sd(&both));
+    // Every object known at least as well, and some better.
+    let area = |m: &FloorMap, name: &str| {
+        let a = m
+            .objects
+            .iter()
+            .find(|o| o.name == name)
+            .unwrap()
+            .uncertainty
+            .as_ref()
+            .unwrap()
+            .centroid_ellipse_95
+            .semi_axes;
+        a[0] * a[1]
+    };
+    let mut narrower = 0;
+    for o in &one.objects {
+        let (a, b) = (area(&one, &o.name), area(&both, &o.name));
+        assert!(b <= a * (1.0 + 1e-9), "{}: {b} vs {a}", o.name);
+        narrower += usize::from(b < 0.9 * a);
+    }
+    assert!(narrower > 0, "a known height adds information");
+}
+
+#[test]
 fn scales_that_disagree_are_both_named() {
     let mut v = fixture();
     // Photo 2's camera is 1.3105 m high (the truth); say 1.6 m.
