@@ -4,18 +4,16 @@
 use std::path::PathBuf;
 
 use anyhow::{Context, Result, bail};
-use vpmap_metrology::synth::Truth;
 use vpmap_pipeline::{
-    DriveReport, Endpoint, EndpointRules, OptionNames, PipelineError, PlanningMap, endpoint_cell,
-    navigate_json,
+    DriveMap, DriveReport, Endpoint, EndpointRules, OptionNames, PipelineError, PlanningMap,
+    drive_maps, endpoint_cell, navigate_json,
 };
 use vpmap_plan::budget::{Budget, Stop};
-use vpmap_plan::grid::{CellXy, Occupancy, OccupancyGrid};
+use vpmap_plan::grid::{CellXy, OccupancyGrid};
 use vpmap_plan::navigate::{NavigateOptions, OnlinePlanner, navigate, truth_optimum};
-use vpmap_plan::raster::truth_grid;
 
 use crate::output::OutputSet;
-use crate::plan::{load_map, parse_point};
+use crate::plan::{check_robot_radius, parse_point};
 use vpmap_pipeline::num;
 
 /// Arguments of `vpmap navigate`.
@@ -78,61 +76,27 @@ fn parse_planner(s: &str) -> std::result::Result<OnlinePlanner, String> {
     s.parse::<OnlinePlanner>().map_err(|e| e.to_string())
 }
 
-/// The grid frame around a truth's floor at `resolution_m` (for `--unknown` with a truth).
-fn truth_frame(truth: &Truth, resolution_m: f64) -> Result<OccupancyGrid> {
-    vpmap_pipeline::truth_frame(truth, resolution_m).map_err(|e| match e {
-        PipelineError::OptionOutOfRange { value, .. } => anyhow::anyhow!(
-            "--resolution must be a positive number of metres, got {}",
-            num(value)
-        ),
-        other => other.into(),
-    })
-}
-
-/// The believed and true maps of a run (same grid), and the believed map's coordinates.
+/// The believed and true maps of a run (same grid).
 fn load_maps(args: &NavigateArgs) -> Result<(PlanningMap, OccupancyGrid)> {
     match (&args.map, args.unknown) {
         (Some(_), true) => bail!("give either a believed map or --unknown, not both"),
         (None, false) => bail!("give a believed map (map.json, .yaml or .map) or --unknown"),
         _ => {}
     }
-    if vpmap_pipeline::is_truth_file(&args.truth) {
-        let truth = vpmap_pipeline::read_truth(&args.truth)?;
-        let believed = match &args.map {
-            Some(path) => load_map(path, args.robot_radius, args.resolution)?,
-            None => PlanningMap {
-                grid: truth_frame(&truth, args.resolution)?,
-                in_cells: false,
-                robot_radius: args
-                    .robot_radius
-                    .unwrap_or(vpmap_pipeline::DEFAULT_ROBOT_RADIUS_M),
-            },
-        };
-        if believed.in_cells {
-            bail!(
-                "a synthetic truth is in metres; give a believed map.json or ROS map, not a Moving AI map"
-            );
-        }
-        let grid = truth_grid(&truth, &believed.grid, believed.robot_radius)?;
-        return Ok((believed, grid));
-    }
-    let truth = load_map(&args.truth, args.robot_radius, args.resolution)
-        .with_context(|| format!("reading the true map {}", args.truth.display()))?;
-    let believed = match &args.map {
-        Some(path) => load_map(path, args.robot_radius, args.resolution)?,
-        None => PlanningMap {
-            grid: OccupancyGrid::new(
-                truth.grid.width(),
-                truth.grid.height(),
-                truth.grid.resolution_m(),
-                truth.grid.origin_m(),
-                Occupancy::Unknown,
-            )?,
-            in_cells: truth.in_cells,
-            robot_radius: truth.robot_radius,
-        },
-    };
-    Ok((believed, truth.grid))
+    check_robot_radius(args.robot_radius)?;
+    drive_maps(
+        args.map.as_deref().map(DriveMap::File),
+        DriveMap::File(&args.truth),
+        args.robot_radius,
+        args.resolution,
+    )
+    .map_err(|e| match e {
+        PipelineError::OptionOutOfRange { value, .. } => anyhow::anyhow!(
+            "--resolution must be a positive number of metres, got {}",
+            num(value)
+        ),
+        other => other.into(),
+    })
 }
 
 /// `vpmap navigate`.

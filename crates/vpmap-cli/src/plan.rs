@@ -121,7 +121,13 @@ pub(crate) fn parse_point(what: &str, text: &str) -> Result<[f64; 2]> {
 /// Read any supported map and inflate its obstacles by `robot_radius`
 /// ([`vpmap_pipeline::read_planning_map`]), the radius checked first.
 pub fn load_map(path: &Path, robot_radius: Option<f64>, resolution: f64) -> Result<PlanningMap> {
-    // The same range as `vpmap build` and the page (in cells for a Moving AI map).
+    check_robot_radius(robot_radius)?;
+    Ok(read_planning_map(path, robot_radius, resolution)?)
+}
+
+/// `--robot-radius` in the same range as `vpmap build` and the page (in cells for a Moving AI
+/// map).
+pub fn check_robot_radius(robot_radius: Option<f64>) -> Result<()> {
     let range = &vpmap_pipeline::ROBOT_RADIUS_RANGE_M;
     if let Some(r) = robot_radius
         && !range.contains(&r)
@@ -132,7 +138,7 @@ pub fn load_map(path: &Path, robot_radius: Option<f64>, resolution: f64) -> Resu
             num(r)
         );
     }
-    Ok(read_planning_map(path, robot_radius, resolution)?)
+    Ok(())
 }
 
 /// A planner's budget error, ending with the command-line flag that raises the budget.

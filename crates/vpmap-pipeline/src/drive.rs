@@ -1,16 +1,111 @@
-//! What `vpmap navigate` needs besides the drive itself: a synthetic scene's truth read from
-//! its file ([`is_truth_file`], [`read_truth`]), an empty grid framing it ([`truth_frame`], for a drive that
-//! starts knowing nothing), and the drive's report file, `navigate.json` ([`navigate_json`];
-//! format in docs/navigation.md).
+//! What `vpmap navigate` needs besides the drive itself: the believed and true maps
+//! ([`drive_maps`], from files or maps in hand), a synthetic scene's truth read from its file
+//! ([`is_truth_file`], [`read_truth`]), an empty grid framing it ([`truth_frame`], for a drive
+//! that starts knowing nothing), and the drive's report file, `navigate.json`
+//! ([`navigate_json`]; format in docs/navigation.md).
 
 use std::path::Path;
 
 use vpmap_metrology::synth::Truth;
 use vpmap_plan::grid::{CellXy, Occupancy, OccupancyGrid};
 use vpmap_plan::navigate::{Navigation, OnlinePlanner, Outcome, TruthOptimum};
+use vpmap_plan::raster::truth_grid;
 
 use crate::error::PipelineError;
+use crate::options::DEFAULT_ROBOT_RADIUS_M;
+use crate::planning::{PlanningMap, read_planning_map};
 use crate::ranges::BuildOption;
+
+/// One map of a drive: a file (a `map.json`, ROS `.yaml` or Moving AI `.map`, read by
+/// [`read_planning_map`]; for the true map also a synthetic scene's `*.truth.json`) or a map
+/// in hand.
+#[derive(Debug, Clone)]
+pub enum DriveMap<'a> {
+    /// A map file.
+    File(&'a Path),
+    /// A map already read.
+    Given(PlanningMap),
+}
+
+impl DriveMap<'_> {
+    fn read(
+        self,
+        robot_radius: Option<f64>,
+        resolution_m: f64,
+    ) -> Result<PlanningMap, PipelineError> {
+        match self {
+            DriveMap::File(path) => read_planning_map(path, robot_radius, resolution_m),
+            DriveMap::Given(map) => Ok(map),
+        }
+    }
+}
+
+/// The believed map of a drive and the true grid on the same cells, as `vpmap navigate` reads
+/// them. A synthetic truth is rasterised on the believed map's grid (or, with no believed map,
+/// on an all-unknown grid of `resolution_m` framing it); any other true map is read as a map,
+/// and no believed map means an all-unknown grid of its size. `robot_radius` as
+/// [`read_planning_map`] (a truth's obstacles are grown by the believed map's radius).
+///
+/// # Errors
+/// What reading either map gives ([`read_planning_map`], [`read_truth`], [`truth_frame`]); the
+/// true map's wrapped in [`PipelineError::TrueMap`]; [`PipelineError::TruthWithCells`] for a
+/// synthetic truth with a believed map in cells; [`PipelineError::Grid`] when the truth
+/// cannot be rasterised.
+pub fn drive_maps(
+    believed: Option<DriveMap<'_>>,
+    truth: DriveMap<'_>,
+    robot_radius: Option<f64>,
+    resolution_m: f64,
+) -> Result<(PlanningMap, OccupancyGrid), PipelineError> {
+    if let DriveMap::File(path) = truth
+        && is_truth_file(path)
+    {
+        let truth = read_truth(path)?;
+        let believed = match believed {
+            Some(b) => b.read(robot_radius, resolution_m)?,
+            None => PlanningMap {
+                grid: truth_frame(&truth, resolution_m)?,
+                in_cells: false,
+                robot_radius: robot_radius.unwrap_or(DEFAULT_ROBOT_RADIUS_M),
+            },
+        };
+        if believed.in_cells {
+            return Err(PipelineError::TruthWithCells);
+        }
+        let grid = truth_grid(&truth, &believed.grid, believed.robot_radius)
+            .map_err(PipelineError::Grid)?;
+        return Ok((believed, grid));
+    }
+    let path = match &truth {
+        DriveMap::File(path) => Some(path.to_path_buf()),
+        DriveMap::Given(_) => None,
+    };
+    let truth = truth
+        .read(robot_radius, resolution_m)
+        .map_err(|error| match path {
+            Some(path) => PipelineError::TrueMap {
+                path,
+                error: Box::new(error),
+            },
+            None => error,
+        })?;
+    let believed = match believed {
+        Some(b) => b.read(robot_radius, resolution_m)?,
+        None => PlanningMap {
+            grid: OccupancyGrid::new(
+                truth.grid.width(),
+                truth.grid.height(),
+                truth.grid.resolution_m(),
+                truth.grid.origin_m(),
+                Occupancy::Unknown,
+            )
+            .map_err(PipelineError::Grid)?,
+            in_cells: truth.in_cells,
+            robot_radius: truth.robot_radius,
+        },
+    };
+    Ok((believed, truth.grid))
+}
 
 /// Whether `path` names a synthetic scene's truth: its file name ends in `.truth.json` (any
 /// case), as `vpmap synth` writes it.

@@ -119,6 +119,20 @@ pub enum PipelineError {
     /// A truth without a (finite) floor outline, which no grid can frame.
     #[error("the truth has no floor outline to make a grid of")]
     NoTruthFloor,
+    /// A drive on a synthetic truth (in metres) with a believed map in cells.
+    #[error(
+        "a synthetic truth is in metres; give a believed map.json, ROS map or grid with a resolution, not a map in cells (a Moving AI map)"
+    )]
+    TruthWithCells,
+    /// The true map of a drive could not be read.
+    #[error("reading the true map {}", path.display())]
+    TrueMap {
+        /// The file.
+        path: PathBuf,
+        /// Why not.
+        #[source]
+        error: Box<PipelineError>,
+    },
     /// A planner refused its input, ran out of its budget or was stopped.
     #[error(transparent)]
     Plan(PlanError),

@@ -49,7 +49,9 @@ mod text;
 
 pub use build::{Built, MapAndGrid, build, map_and_grid};
 pub use demo::{DemoPath, DemoRoute, TruthErrors, demo_path, errors_against_truth};
-pub use drive::{DriveReport, is_truth_file, navigate_json, read_truth, truth_frame};
+pub use drive::{
+    DriveMap, DriveReport, drive_maps, is_truth_file, navigate_json, read_truth, truth_frame,
+};
 pub use endpoint::{Coordinates, Endpoint, EndpointRules, OptionNames, endpoint_cell};
 pub use error::PipelineError;
 pub use grid::{grown_by_uncertainty, occupancy_grid, uncertainty_margin};

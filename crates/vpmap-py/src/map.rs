@@ -28,7 +28,7 @@ pub(crate) fn pipeline_error(e: PipelineError) -> PyErr {
         )),
         PipelineError::Model(e) => error(format!("building model.glb: {e}")),
         PipelineError::Grid(e) => error(format!("rasterising the occupancy grid: {e}")),
-        e => error(e),
+        e => error(crate::convert::with_causes(&e)),
     }
 }
 

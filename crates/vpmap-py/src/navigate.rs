@@ -5,12 +5,12 @@ use std::path::PathBuf;
 
 use pyo3::prelude::*;
 use vpmap_pipeline::{
-    DriveReport, Endpoint, EndpointRules, OptionNames, PlanningMap, endpoint_cell, navigate_json,
+    DriveMap, DriveReport, Endpoint, EndpointRules, OptionNames, PlanningMap, drive_maps,
+    endpoint_cell, navigate_json,
 };
 use vpmap_plan::budget::{Budget, Stop};
-use vpmap_plan::grid::{CellXy, Occupancy, OccupancyGrid};
+use vpmap_plan::grid::CellXy;
 use vpmap_plan::navigate::{NavigateOptions, OnlinePlanner, navigate as drive, truth_optimum};
-use vpmap_plan::raster::truth_grid;
 
 use crate::convert::{as_path, error, json_to_py, point, shown};
 use crate::grid::Grid;
@@ -22,6 +22,15 @@ enum Given {
     Grid(PlanningMap),
     /// A file.
     File(PathBuf),
+}
+
+impl Given {
+    fn drive_map(&self) -> DriveMap<'_> {
+        match self {
+            Given::Grid(map) => DriveMap::Given(map.clone()),
+            Given::File(path) => DriveMap::File(path),
+        }
+    }
 }
 
 fn given(what: &str, obj: &Bound<'_, PyAny>) -> PyResult<Given> {
@@ -36,61 +45,6 @@ fn given(what: &str, obj: &Bound<'_, PyAny>) -> PyResult<Given> {
     })
 }
 
-fn load(given: Given, robot_radius: Option<f64>, resolution: f64) -> PyResult<PlanningMap> {
-    match given {
-        Given::Grid(map) => Ok(map),
-        Given::File(path) => vpmap_pipeline::read_planning_map(&path, robot_radius, resolution)
-            .map_err(pipeline_error),
-    }
-}
-
-/// The believed and true maps of a drive (same grid), as `vpmap navigate` loads them.
-fn load_maps(
-    believed: Option<Given>,
-    truth: Given,
-    robot_radius: Option<f64>,
-    resolution: f64,
-) -> PyResult<(PlanningMap, OccupancyGrid)> {
-    if let Given::File(path) = &truth
-        && vpmap_pipeline::is_truth_file(path)
-    {
-        let truth = vpmap_pipeline::read_truth(path).map_err(pipeline_error)?;
-        let believed = match believed {
-            Some(b) => load(b, robot_radius, resolution)?,
-            None => PlanningMap {
-                grid: vpmap_pipeline::truth_frame(&truth, resolution).map_err(pipeline_error)?,
-                in_cells: false,
-                robot_radius: robot_radius.unwrap_or(vpmap_pipeline::DEFAULT_ROBOT_RADIUS_M),
-            },
-        };
-        if believed.in_cells {
-            return Err(error(
-                "a synthetic truth is in metres; give a believed map.json, ROS map or Grid with a resolution, not a map in cells",
-            ));
-        }
-        let grid = truth_grid(&truth, &believed.grid, believed.robot_radius).map_err(error)?;
-        return Ok((believed, grid));
-    }
-    let truth = load(truth, robot_radius, resolution)
-        .map_err(|e| error(format!("reading the true map: {e}")))?;
-    let believed = match believed {
-        Some(b) => load(b, robot_radius, resolution)?,
-        None => PlanningMap {
-            grid: OccupancyGrid::new(
-                truth.grid.width(),
-                truth.grid.height(),
-                truth.grid.resolution_m(),
-                truth.grid.origin_m(),
-                Occupancy::Unknown,
-            )
-            .map_err(error)?,
-            in_cells: truth.in_cells,
-            robot_radius: truth.robot_radius,
-        },
-    };
-    Ok((believed, truth.grid))
-}
-
 /// Drive a robot across a believed map while it senses the true one, as ``vpmap navigate``
 /// does (docs/navigation.md).
 ///
@@ -100,9 +54,11 @@ fn load_maps(
 /// ``vpmap.plan``. ``planner``: ``"astar"``, ``"astar-ps"``, ``"dstar-lite"`` or ``"mbpp"``;
 /// ``sensor_range`` in the map's units (default 10 cells); ``unknown_blocked`` believes
 /// unknown cells blocked. Returns ``navigate.json`` as a dict (outcome, moves, length,
-/// waypoints, re-plans, the true optimum). Raises ``VpmapError`` as ``vpmap navigate``.
+/// waypoints, re-plans, the true optimum); with ``svg=True`` the dict also holds ``"svg"``,
+/// the picture ``vpmap navigate`` writes as ``navigate.svg`` (SVG text: the true map, what
+/// the robot believed, its path and re-plans). Raises ``VpmapError`` as ``vpmap navigate``.
 #[pyfunction]
-#[pyo3(signature = (believed, truth, start, goal, *, planner="dstar-lite", sensor_range=None, unknown_blocked=false, robot_radius=None, resolution=0.05, max_moves=10_000_000, max_replans=1_000_000, max_expansions=None, timeout=None))]
+#[pyo3(signature = (believed, truth, start, goal, *, planner="dstar-lite", sensor_range=None, unknown_blocked=false, robot_radius=None, resolution=0.05, max_moves=10_000_000, max_replans=1_000_000, max_expansions=None, timeout=None, svg=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn navigate<'py>(
     py: Python<'py>,
@@ -119,6 +75,7 @@ pub fn navigate<'py>(
     max_replans: usize,
     max_expansions: Option<usize>,
     timeout: Option<f64>,
+    svg: bool,
 ) -> PyResult<Bound<'py, PyAny>> {
     let planner: OnlinePlanner = planner.parse().map_err(|e| error(&e))?;
     let from = point("start", start)?;
@@ -138,8 +95,15 @@ pub fn navigate<'py>(
         }
     };
     let (believed, truth) = py
-        .detach(|| load_maps(believed, truth, robot_radius, resolution).map_err(|e| e.to_string()))
-        .map_err(error)?;
+        .detach(|| {
+            drive_maps(
+                believed.as_ref().map(Given::drive_map),
+                truth.drive_map(),
+                robot_radius,
+                resolution,
+            )
+        })
+        .map_err(pipeline_error)?;
     let scale = believed.scale();
     let unit = believed.unit();
     let range_cells =
@@ -189,7 +153,19 @@ pub fn navigate<'py>(
                 scale,
                 unit,
             };
-            Ok::<_, vpmap_plan::PlanError>(navigate_json(&report, &coords))
+            let mut json = navigate_json(&report, &coords);
+            if svg && let Some(fields) = json.as_object_mut() {
+                let picture = vpmap_render::navigation_svg(
+                    &truth,
+                    &believed.grid,
+                    &run,
+                    start,
+                    goal,
+                    planner,
+                );
+                fields.insert("svg".to_owned(), serde_json::Value::String(picture));
+            }
+            Ok::<_, vpmap_plan::PlanError>(json)
         })
         .map_err(|e| crate::plan::plan_error(&e))?;
     json_to_py(py, &json)

@@ -12,6 +12,7 @@ REPO = pathlib.Path(__file__).resolve().parents[3]
 EXAMPLE = REPO / "examples" / "office.json"
 TRUTH = REPO / "examples" / "office.truth.json"
 MOVINGAI = REPO.parent / "shared" / "data" / "movingai" / "maps"
+YUD = REPO.parent / "shared" / "data" / "yud-train"
 
 
 def random_grid(seed, height, width, density):

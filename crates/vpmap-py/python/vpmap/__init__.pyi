@@ -207,5 +207,7 @@ def navigate(
     max_replans: int = 1_000_000,
     max_expansions: Optional[int] = None,
     timeout: Optional[float] = None,
+    svg: bool = False,
 ) -> Dict[str, Any]:
-    """Drive a robot across a believed map sensing the true one, as vpmap navigate."""
+    """Drive a robot across a believed map sensing the true one, as vpmap navigate; with
+    svg=True the dict's "svg" holds the picture vpmap navigate writes as navigate.svg."""
