@@ -25,6 +25,8 @@ pub(crate) struct Camera {
     pub room_yaw_rad: f64,
     /// Camera-from-map rotation (the transpose of [`rotation_map_from_camera`]).
     from_map: Matrix3<f64>,
+    /// `room_yaw_rad`'s sine and cosine.
+    room_yaw_sin_cos: (f64, f64),
 }
 
 impl Camera {
@@ -43,12 +45,13 @@ impl Camera {
             pitch_rad: x[1],
             room_yaw_rad: x[3],
             from_map: map_from_camera.transpose(),
+            room_yaw_sin_cos: x[3].sin_cos(),
         }
     }
 
     /// The room's horizontal direction `k` (0 or 1) in the map frame.
     pub fn room_axis(&self, k: usize) -> Vector2<f64> {
-        let (s, c) = self.room_yaw_rad.sin_cos();
+        let (s, c) = self.room_yaw_sin_cos;
         if k == 0 {
             Vector2::new(c, s)
         } else {
@@ -161,6 +164,10 @@ impl Part {
     pub fn box_axes(cam: &Camera, axes: BoxAxes, yaw: f64) -> (Vector2<f64>, Vector2<f64>) {
         let u1 = cam.room_axis(axes.first) * axes.sign1;
         let u2 = cam.room_axis(1 - axes.first) * axes.sign2;
+        if yaw == 0.0 {
+            // Along the room's directions (the rotation below by 0 gives the same bits).
+            return (u1, u2);
+        }
         let (s, c) = yaw.sin_cos();
         let rot = |u: Vector2<f64>| Vector2::new(c * u.x - s * u.y, s * u.x + c * u.y);
         (rot(u1), rot(u2))

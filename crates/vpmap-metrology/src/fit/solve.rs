@@ -84,9 +84,20 @@ pub(crate) trait Model {
     fn camera_group_len(&self, g: usize) -> usize;
     /// Residuals of camera group `g` for camera block `c` into `out`.
     fn camera_group_residuals(&self, g: usize, c: &[f64], out: &mut [f64]);
-    /// Residuals of part `i` for camera block `c` and part parameters `p` into `out`;
-    /// `false` when a point falls behind a camera.
-    fn part_residuals(&self, i: usize, c: &[f64], p: &[f64], out: &mut [f64]) -> bool;
+    /// What the parts' residuals need of a camera block (the cameras it makes), computed
+    /// once for every part that uses it.
+    type Cameras;
+    /// The cameras of camera block `c`.
+    fn cameras(&self, c: &[f64]) -> Self::Cameras;
+    /// Residuals of part `i` for `cameras` and part parameters `p` into `out`; `false` when a
+    /// point falls behind a camera.
+    fn part_residuals_with(
+        &self,
+        i: usize,
+        cameras: &Self::Cameras,
+        p: &[f64],
+        out: &mut [f64],
+    ) -> bool;
 
     /// Whether some clicks carry their own covariance (then the click noise of the error
     /// bars is 1 px unless given: the covariances are absolute).
@@ -130,11 +141,12 @@ pub(crate) trait Model {
             self.camera_group_residuals(g, &x[..nc], &mut out[at..at + n]);
             at += n;
         }
+        let cameras = self.cameras(&x[..nc]);
         for i in 0..self.part_count() {
             let n = self.part_residual_count(i);
             let off = self.part_offset(i);
             let p = &x[off..off + self.part_len(i)];
-            if !self.part_residuals(i, &x[..nc], p, &mut out[at..at + n]) {
+            if !self.part_residuals_with(i, &cameras, p, &mut out[at..at + n]) {
                 return None;
             }
             at += n;
@@ -177,10 +189,12 @@ pub(crate) trait Model {
             u += j.transpose() * &j;
             gc += j.transpose() * r;
         }
+        // Parts: residuals and own columns at the cameras of `x`; their camera columns below,
+        // each perturbed camera block's cameras made once for every part that uses it.
         let parts = self.part_count();
-        let mut v = Vec::with_capacity(parts);
-        let mut w = Vec::with_capacity(parts);
-        let mut go = Vec::with_capacity(parts);
+        let base = self.cameras(&x[..nc]);
+        let mut rs = Vec::with_capacity(parts);
+        let mut jos = Vec::with_capacity(parts);
         for i in 0..parts {
             let (m, k, off) = (
                 self.part_residual_count(i),
@@ -189,33 +203,18 @@ pub(crate) trait Model {
             );
             let own = &x[off..off + k];
             let mut r = vec![0.0; m];
-            if !self.part_residuals(i, &x[..nc], own, &mut r) {
+            if !self.part_residuals_with(i, &base, own, &mut r) {
                 return None;
             }
             let (mut plus, mut minus) = (vec![0.0; m], vec![0.0; m]);
-            let mut jc = DMatrix::zeros(m, nc);
-            for &c in free.iter().filter(|&&c| self.part_uses_camera(i, c)) {
-                let h = step_size(x[c]);
-                xs[c] = x[c] + h;
-                let ok_p = self.part_residuals(i, &xs, own, &mut plus);
-                xs[c] = x[c] - h;
-                let ok_m = self.part_residuals(i, &xs, own, &mut minus);
-                xs[c] = x[c];
-                if !(ok_p && ok_m) {
-                    return None;
-                }
-                for row in 0..m {
-                    jc[(row, c)] = (plus[row] - minus[row]) / (2.0 * h);
-                }
-            }
             let mut jo = DMatrix::zeros(m, k);
             let mut p = own.to_vec();
             for c in 0..k {
                 let h = step_size(p[c]);
                 p[c] = x[off + c] + h;
-                let ok_p = self.part_residuals(i, &x[..nc], &p, &mut plus);
+                let ok_p = self.part_residuals_with(i, &base, &p, &mut plus);
                 p[c] = x[off + c] - h;
-                let ok_m = self.part_residuals(i, &x[..nc], &p, &mut minus);
+                let ok_m = self.part_residuals_with(i, &base, &p, &mut minus);
                 p[c] = x[off + c];
                 if !(ok_p && ok_m) {
                     return None;
@@ -224,6 +223,51 @@ pub(crate) trait Model {
                     jo[(row, c)] = (plus[row] - minus[row]) / (2.0 * h);
                 }
             }
+            rs.push(r);
+            jos.push(jo);
+        }
+        let mut jcs: Vec<DMatrix<f64>> = (0..parts)
+            .map(|i| DMatrix::zeros(self.part_residual_count(i), nc))
+            .collect();
+        let longest = (0..parts)
+            .map(|i| self.part_residual_count(i))
+            .max()
+            .unwrap_or(0);
+        let (mut plus, mut minus) = (vec![0.0; longest], vec![0.0; longest]);
+        for &c in &free {
+            let users: Vec<usize> = (0..parts)
+                .filter(|&i| self.part_uses_camera(i, c))
+                .collect();
+            if users.is_empty() {
+                continue;
+            }
+            let h = step_size(x[c]);
+            xs[c] = x[c] + h;
+            let cams_p = self.cameras(&xs);
+            xs[c] = x[c] - h;
+            let cams_m = self.cameras(&xs);
+            xs[c] = x[c];
+            for i in users {
+                let (m, k, off) = (
+                    self.part_residual_count(i),
+                    self.part_len(i),
+                    self.part_offset(i),
+                );
+                let own = &x[off..off + k];
+                let ok_p = self.part_residuals_with(i, &cams_p, own, &mut plus[..m]);
+                let ok_m = self.part_residuals_with(i, &cams_m, own, &mut minus[..m]);
+                if !(ok_p && ok_m) {
+                    return None;
+                }
+                for row in 0..m {
+                    jcs[i][(row, c)] = (plus[row] - minus[row]) / (2.0 * h);
+                }
+            }
+        }
+        let mut v = Vec::with_capacity(parts);
+        let mut w = Vec::with_capacity(parts);
+        let mut go = Vec::with_capacity(parts);
+        for ((r, jo), jc) in rs.into_iter().zip(jos).zip(jcs) {
             let r = DVector::from_vec(r);
             u += jc.transpose() * &jc;
             gc += jc.transpose() * &r;
@@ -277,8 +321,14 @@ impl Model for Problem {
         vp_residuals(&self.camera(c), g, &self.vps[g], out);
     }
 
-    fn part_residuals(&self, i: usize, c: &[f64], p: &[f64], out: &mut [f64]) -> bool {
-        let ok = self.parts[i].residuals(&self.camera(c), p, out);
+    type Cameras = Camera;
+
+    fn cameras(&self, c: &[f64]) -> Camera {
+        self.camera(c)
+    }
+
+    fn part_residuals_with(&self, i: usize, camera: &Camera, p: &[f64], out: &mut [f64]) -> bool {
+        let ok = self.parts[i].residuals(camera, p, out);
         if let Some(ws) = self.weights.get(i) {
             whiten(ws, out);
         }

@@ -63,20 +63,32 @@ pub(crate) struct View {
     pub height: f64,
     /// Its heading: the angle from the room frame's axes to its own map frame's, radians.
     pub heading_rad: f64,
+    /// The heading's sine and cosine.
+    heading_sin_cos: (f64, f64),
 }
 
 impl View {
+    fn new(cam: Camera, position: Vector2<f64>, height: f64, heading_rad: f64) -> Self {
+        Self {
+            cam,
+            position,
+            height,
+            heading_rad,
+            heading_sin_cos: heading_rad.sin_cos(),
+        }
+    }
+
     /// A room-frame point in the photo's own map frame (unit: its own height).
     pub fn own_from_room(self, world: Vector3<f64>) -> Vector3<f64> {
         let d = Vector2::new(world.x, world.y) - self.position;
-        let (s, c) = self.heading_rad.sin_cos();
+        let (s, c) = self.heading_sin_cos;
         let local = Vector2::new(c * d.x + s * d.y, -s * d.x + c * d.y);
         Vector3::new(local.x, local.y, world.z) / self.height
     }
 
     /// An own-frame floor point of the photo in the room frame.
     pub fn room_from_own(self, own: Vector2<f64>) -> Vector2<f64> {
-        let (s, c) = self.heading_rad.sin_cos();
+        let (s, c) = self.heading_sin_cos;
         let p = own * self.height;
         self.position + Vector2::new(c * p.x - s * p.y, s * p.x + c * p.y)
     }
@@ -233,23 +245,17 @@ impl RoomProblem {
         let b = &self.photos[k];
         let cam = self.camera(c, k);
         if !b.posed {
-            return View {
-                cam,
-                position: Vector2::zeros(),
-                height: 1.0,
-                heading_rad: 0.0,
-            };
+            return View::new(cam, Vector2::zeros(), 1.0, 0.0);
         }
         let at = b.offset + b.camera_len;
         // The first photo's room yaw (its camera's fourth parameter).
         let first_yaw = c[self.photos[0].offset + 3];
-        View {
+        View::new(
             cam,
-            position: Vector2::new(c[at], c[at + 1]),
-            height: b.fixed_height.unwrap_or_else(|| c[at + 2]),
-            heading_rad: first_yaw + f64::from(b.quarter) * std::f64::consts::FRAC_PI_2
-                - cam.room_yaw_rad,
-        }
+            Vector2::new(c[at], c[at + 1]),
+            b.fixed_height.unwrap_or_else(|| c[at + 2]),
+            first_yaw + f64::from(b.quarter) * std::f64::consts::FRAC_PI_2 - cam.room_yaw_rad,
+        )
     }
 
     /// The photo whose camera block holds parameter `c`.
@@ -318,18 +324,20 @@ impl Model for RoomProblem {
         seen(photo) || (photo == 0 && c == self.photos[0].offset + 3)
     }
 
-    fn part_residuals(&self, i: usize, c: &[f64], p: &[f64], out: &mut [f64]) -> bool {
+    type Cameras = Vec<View>;
+
+    fn cameras(&self, c: &[f64]) -> Vec<View> {
+        self.views(c)
+    }
+
+    fn part_residuals_with(&self, i: usize, views: &Vec<View>, p: &[f64], out: &mut [f64]) -> bool {
         let part = &self.parts[i];
-        let room = self.camera(c, 0);
-        let mut view: Option<(usize, View)> = None;
+        let Some(room) = views.first().map(|v| v.cam) else {
+            return false;
+        };
         for (n, s) in part.sightings.iter().enumerate() {
-            let v = match view {
-                Some((k, v)) if k == s.photo => v,
-                _ => {
-                    let v = self.view(c, s.photo);
-                    view = Some((s.photo, v));
-                    v
-                }
+            let Some(v) = views.get(s.photo) else {
+                return false;
             };
             let Some(q) = v.project(part.point(&room, p, s.place)) else {
                 return false;
