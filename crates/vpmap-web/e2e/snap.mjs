@@ -9,7 +9,8 @@
 //      scene's click_covariances_px2; dragging one by hand drops its entry; undo brings it
 //      back; undo again takes the box and its entries away;
 //   4. Propose boxes lists at least one candidate (outlined on the photo: `-snap-proposals.png`);
-//      Accept adds a box with its corners; undo takes it back.
+//      Accept adds a box with its corners; undo takes it back; opening another photo forgets
+//      the candidates.
 //
 // No console error or warning is allowed. Environment as e2e.mjs (VPMAP_BIN, VPMAP_URL,
 // VPMAP_E2E_CHROMIUM, VPMAP_E2E_SCREENSHOT, VPMAP_E2E_HEADED). Prints `SNAP PASSED`.
@@ -145,6 +146,9 @@ async function main() {
     await page.click('#btn-undo');
     check((await sceneNow()).objects.length === before, 'undo did not take the accepted box back');
     await settle('undo');
+    // Listed again, for the next step: another photo forgets them.
+    await page.click('#btn-propose');
+    await page.waitForSelector('#proposal-list li[data-index]', { timeout: 60_000 });
     noProblems();
   });
 
@@ -173,6 +177,8 @@ async function main() {
     });
     await page.setInputFiles('#photo-input', { name: 'drawn.png', mimeType: 'image/png', buffer: Buffer.from(bytes) });
     await page.waitForFunction(() => window.vpmap.scene()?.image?.width === 400 && window.vpmap.scene().objects.length === 0, null, { timeout: 10_000 });
+    check((await page.locator('#proposal-list li[data-index]').count()) === 0, "the example photo's box candidates are still listed for the new photo");
+    check(await page.isHidden('#proposal-list'), 'the candidate list is still shown for the new photo');
     // Its vanishing points, as a person would give them: where the quadrilateral's opposite
     // sides meet (the near-right side and the top side; the two near-vertical sides), and a
     // second horizontal one orthogonal to both for a principal point at the image centre.

@@ -95,6 +95,7 @@ export function installPhotoStrip(app) {
     app.renderPanel();
     app.renderCamera();
     app.renderWarnings(state.build ? [...(state.build.warnings || []), ...(state.build.map?.warnings || [])] : []);
+    app.proposalsForPhoto?.();
     renderStrip();
   }
 

@@ -19,7 +19,8 @@ export function proposalObject(p) {
 
 export function installProposals(app) {
   const st = app.state;
-  const ui = { list: [], hover: -1, slot: null };
+  // The candidates, with the photo slot and picture they were found in.
+  const ui = { list: [], hover: -1, slot: null, photo: null };
   app.proposals = ui;
   const button = $('btn-propose');
   const host = $('proposal-list');
@@ -28,10 +29,16 @@ export function installProposals(app) {
     ui.list = [];
     ui.hover = -1;
     ui.slot = null;
+    ui.photo = null;
     render();
     app.requestRender();
   }
   app.clearProposals = clear;
+  // Called whenever a photo is shown: the candidates of another photo (or of the picture this
+  // slot showed before) are forgotten.
+  app.proposalsForPhoto = () => {
+    if (ui.list.length && (ui.slot !== st.photos[st.active] || ui.photo !== st.photo)) clear();
+  };
 
   function render() {
     host.replaceChildren();
@@ -75,10 +82,12 @@ export function installProposals(app) {
     app.setStatus('Looking for boxes in the photo’s segments…');
     try {
       const slot = st.photos[st.active];
+      const photo = st.photo;
       const list = await fetchProposals(app);
-      if (st.photos[st.active] !== slot) return;
+      if (st.photos[st.active] !== slot || st.photo !== photo) return;
       ui.list = list;
       ui.slot = slot;
+      ui.photo = photo;
       render();
       app.requestRender();
       app.setStatus(list.length ? `${list.length} box candidates: hover one to see it, Accept to add it.` : 'No box candidates found in the photo’s segments.');
@@ -94,7 +103,7 @@ export function installProposals(app) {
 /** The listed candidates on the photo: faint, the hovered one bright. */
 export function drawProposals(view, app) {
   const ui = app.proposals;
-  if (!ui?.list.length || ui.slot !== app.state.photos[app.state.active]) return;
+  if (!ui?.list.length || ui.slot !== app.state.photos[app.state.active] || ui.photo !== app.state.photo) return;
   ui.list.forEach((p, i) => {
     const o = proposalObject(p);
     const hot = i === ui.hover;
