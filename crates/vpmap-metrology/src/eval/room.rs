@@ -323,14 +323,11 @@ fn evaluate_noisy(
                 .iter()
                 .map(|&k| {
                     let map = singles.get(k)?.as_ref()?;
-                    let t = truth
-                        .photos
-                        .get(k)?
-                        .objects
-                        .iter()
-                        .find(|t| t.name == o.name)?;
                     let m = map.objects.iter().find(|m| m.name == o.name)?;
-                    Some(distance(centroid(&m.footprint)?, centroid(&t.footprint)?))
+                    Some(distance(
+                        centroid(&m.footprint)?,
+                        true_centroid_seen_from(truth, k, &o.name)?,
+                    ))
                 })
                 .collect();
             let equal_information_error_m = equal_map.as_ref().and_then(|m| {
@@ -341,14 +338,8 @@ fn evaluate_noisy(
                 .photos
                 .iter()
                 .map(|&k| {
-                    let t = truth
-                        .photos
-                        .get(k)?
-                        .objects
-                        .iter()
-                        .find(|t| t.name == o.name)?;
                     let seen = seen_from(equal_map.as_ref()?, k, &o.name)?;
-                    Some(distance(seen, centroid(&t.footprint)?))
+                    Some(distance(seen, true_centroid_seen_from(truth, k, &o.name)?))
                 })
                 .collect();
             Some(SharedObject {
@@ -372,6 +363,17 @@ fn evaluate_noisy(
         floor_visible,
         first_floor_visible,
     })
+}
+
+/// Object `name`'s true footprint centroid in photo `k`'s own plan frame.
+fn true_centroid_seen_from(truth: &RoomTruth, k: usize, name: &str) -> Option<[f64; 2]> {
+    let t = truth
+        .photos
+        .get(k)?
+        .objects
+        .iter()
+        .find(|t| t.name == name)?;
+    centroid(&t.footprint)
 }
 
 /// Object `name`'s footprint centroid in photo `k`'s own plan frame (origin under its camera,

@@ -161,6 +161,18 @@ fn a_room_file_of_one_photo_gives_that_photo_s_map() {
     assert!(a.cameras.is_empty());
 }
 
+/// The product of the semi-axes of object `name`'s 95 % centroid ellipse (its area over pi).
+fn ellipse_area(map: &FloorMap, name: &str) -> f64 {
+    let e = map.objects.iter().find(|o| o.name == name).unwrap();
+    let a = e
+        .uncertainty
+        .as_ref()
+        .unwrap()
+        .centroid_ellipse_95
+        .semi_axes;
+    a[0] * a[1]
+}
+
 #[test]
 fn an_object_seen_twice_is_placed_more_surely_than_from_one_photo() {
     // The same noise-free room with the click noise given as 1 px: the error bars of a box
@@ -177,16 +189,7 @@ fn an_object_seen_twice_is_placed_more_surely_than_from_one_photo() {
     )
     .unwrap();
     for name in ["box2", "box3"] {
-        let area = |m: &FloorMap| {
-            let e = &m.objects.iter().find(|o| o.name == name).unwrap();
-            let a = e
-                .uncertainty
-                .as_ref()
-                .unwrap()
-                .centroid_ellipse_95
-                .semi_axes;
-            a[0] * a[1]
-        };
+        let area = |m: &FloorMap| ellipse_area(m, name);
         assert!(
             area(&room) < area(&alone),
             "{name}: {} vs {}",
@@ -263,22 +266,9 @@ fn a_second_known_camera_height_holds_that_camera_and_narrows_the_error_bars() {
     assert!(sd(&one) > 1e-4, "fitted: {}", sd(&one));
     assert!(sd(&both) < 1e-12, "held: {}", sd(&both));
     // Every object known at least as well, and some better.
-    let area = |m: &FloorMap, name: &str| {
-        let a = m
-            .objects
-            .iter()
-            .find(|o| o.name == name)
-            .unwrap()
-            .uncertainty
-            .as_ref()
-            .unwrap()
-            .centroid_ellipse_95
-            .semi_axes;
-        a[0] * a[1]
-    };
     let mut narrower = 0;
     for o in &one.objects {
-        let (a, b) = (area(&one, &o.name), area(&both, &o.name));
+        let (a, b) = (ellipse_area(&one, &o.name), ellipse_area(&both, &o.name));
         assert!(b <= a * (1.0 + 1e-9), "{}: {b} vs {a}", o.name);
         narrower += usize::from(b < 0.9 * a);
     }
