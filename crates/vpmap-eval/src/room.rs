@@ -355,11 +355,12 @@ fn targets(options: &RoomEvalOptions, trials: &[Vec<RoomTrial>]) -> String {
 }
 
 /// One row per object, map and noise level:
-/// `photos,trial,scene_seed,sigma_px,map,object,listed_by,position_error_m,length_error_m,breadth_error_m,height_error_m,in_ellipse_95,joint_better`.
+/// `photos,trial,scene_seed,sigma_px,map,object,listed_by,position_error_m,length_error_m,breadth_error_m,height_error_m,in_ellipse_95,joint_better,joint_better_every_camera_height,floor_in_view,floor_known,floor_visible`
+/// (`floor_visible`: what the map's true cameras see, the ceiling of `floor_known`).
 #[must_use]
 pub fn room_csv(trials: &[Vec<RoomTrial>]) -> String {
     let mut csv = String::from(
-        "photos,trial,scene_seed,sigma_px,map,object,listed_by,position_error_m,length_error_m,breadth_error_m,height_error_m,in_ellipse_95,joint_better,floor_in_view,floor_known\n",
+        "photos,trial,scene_seed,sigma_px,map,object,listed_by,position_error_m,length_error_m,breadth_error_m,height_error_m,in_ellipse_95,joint_better,joint_better_every_camera_height,floor_in_view,floor_known,floor_visible\n",
     );
     for t in trials.iter().flatten() {
         for o in &t.outcomes {
@@ -371,18 +372,22 @@ pub fn room_csv(trials: &[Vec<RoomTrial>]) -> String {
             for (name, m) in maps {
                 let Some(m) = m else { continue };
                 for e in &m.objects {
-                    let better = if name == "joint" {
-                        ev.shared
-                            .iter()
-                            .find(|s| s.name == e.name)
-                            .and_then(SharedObject::joint_better)
+                    let shared = ev
+                        .shared
+                        .iter()
+                        .find(|s| s.name == e.name)
+                        .filter(|_| name == "joint");
+                    let better = shared.and_then(SharedObject::joint_better);
+                    let better_equal = shared.and_then(SharedObject::equal_information_better);
+                    let visible = if name == "joint" {
+                        ev.floor_visible
                     } else {
-                        None
+                        ev.first_floor_visible
                     };
                     let flag = |b: Option<bool>| b.map_or(String::new(), |b| b.to_string());
                     let _ = writeln!(
                         csv,
-                        "{},{},{},{},{name},{},{},{},{},{},{},{},{},{},{}",
+                        "{},{},{},{},{name},{},{},{},{},{},{},{},{},{},{},{},{}",
                         t.photos,
                         t.trial,
                         t.scene_seed,
@@ -395,8 +400,10 @@ pub fn room_csv(trials: &[Vec<RoomTrial>]) -> String {
                         e.height_error_m,
                         flag(e.in_ellipse_95),
                         flag(better),
+                        flag(better_equal),
                         m.floor_in_view,
-                        m.floor_known
+                        m.floor_known,
+                        visible
                     );
                 }
             }
@@ -430,5 +437,10 @@ mod tests {
         assert!(md.contains("### Targets"), "{md}");
         let csv = room_csv(&trials);
         assert!(csv.lines().count() > 1);
+        let columns = csv.lines().next().unwrap().split(',').count();
+        assert!(
+            csv.lines().all(|l| l.split(',').count() == columns),
+            "{csv}"
+        );
     }
 }
