@@ -494,3 +494,66 @@ pub fn astar(
 ) -> Result<Option<Plan>> {
     AstarSearch::new().search(grid, start, goal, opts)
 }
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use std::collections::BinaryHeap;
+
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    use super::{Entry, OpenList, octile_length};
+
+    /// The open list pops what one binary heap of the same entries pops, also when `f`
+    /// leaves the ring's window or decreases (neither happens in a search, both must stay
+    /// exact) and when many entries share `f`.
+    #[test]
+    fn open_list_pops_like_a_binary_heap() {
+        let mut rng = ChaCha8Rng::seed_from_u64(30);
+        let mut open = OpenList::default();
+        for round in 0..200 {
+            open.clear();
+            let mut reference = BinaryHeap::new();
+            // Priorities near a moving floor, as in a search; some far above or below it.
+            let mut floor = [rng.random_range(0..50u32), rng.random_range(0..50u32)];
+            for _ in 0..rng.random_range(1..400) {
+                if rng.random_bool(0.45) {
+                    let popped = open.pop(|_| false);
+                    assert_eq!(
+                        popped,
+                        reference.pop().map(|e: Entry| e.node),
+                        "round {round}"
+                    );
+                    continue;
+                }
+                let wild = rng.random_bool(0.03);
+                let steps = if wild {
+                    [rng.random_range(0..200), rng.random_range(0..200)]
+                } else {
+                    if rng.random_bool(0.1) {
+                        floor[rng.random_range(0..2)] += 1;
+                    }
+                    [
+                        floor[0] + rng.random_range(0..3),
+                        floor[1] + rng.random_range(0..2),
+                    ]
+                };
+                let f = octile_length(steps);
+                let g = octile_length([rng.random_range(0..4), rng.random_range(0..4)]);
+                let node = rng.random_range(0..64);
+                open.push(f, g, node);
+                reference.push(Entry {
+                    f_inv: !f.to_bits(),
+                    g: g.to_bits(),
+                    node,
+                });
+            }
+            while let Some(e) = reference.pop() {
+                assert_eq!(open.pop(|_| false), Some(e.node), "round {round}");
+            }
+            assert_eq!(open.pop(|_| false), None);
+        }
+    }
+}
