@@ -92,8 +92,8 @@ fn bucket_of(f: u64) -> u64 {
 struct OpenList {
     /// The entries by bucket number modulo [`RING`] (empty until the first search).
     ring: Vec<Vec<Entry>>,
-    /// Bit `i` set when `ring[i]` is not empty.
-    occupied: u128,
+    /// Bit `i % 64` of word `i / 64` set when `ring[i]` is not empty.
+    occupied: [u64; 2],
     /// The smallest bucket number with entries in the ring, when the ring has entries:
     /// every ring entry's bucket number is in `cursor..cursor + RING`.
     cursor: Option<u64>,
@@ -111,7 +111,7 @@ impl OpenList {
         for bucket in &mut self.ring {
             bucket.clear();
         }
-        self.occupied = 0;
+        self.occupied = [0; 2];
         self.cursor = None;
         self.sorted = false;
         self.overflow.clear();
@@ -148,7 +148,17 @@ impl OpenList {
         } else {
             entries.push(Entry { f_inv, g, node });
         }
-        self.occupied |= 1 << at;
+        self.mark(at, true);
+    }
+
+    /// Set or clear the `occupied` bit of ring slot `at`. Whole words are written: a
+    /// narrower store (what `u128 |= 1 << at` compiles to) would stall the next wide load.
+    #[inline(always)]
+    fn mark(&mut self, at: usize, occupied: bool) {
+        if let Some(word) = self.occupied.get_mut(at / 64) {
+            let bit = 1u64 << (at % 64);
+            *word = if occupied { *word | bit } else { *word & !bit };
+        }
     }
 
     /// The node of the largest entry, removed. `closed` tells the nodes already
@@ -161,7 +171,7 @@ impl OpenList {
                 let entries = self.ring.get_mut(at)?;
                 entries.pop();
                 if entries.is_empty() {
-                    self.occupied &= !(1 << at);
+                    self.mark(at, false);
                 }
                 Some(top.node)
             }
@@ -177,11 +187,12 @@ impl OpenList {
         loop {
             let cursor = self.cursor?;
             let mut at = (cursor % RING) as u32;
-            if self.occupied & (1 << at) == 0 {
-                if self.occupied == 0 {
+            if self.ring.get(at as usize).is_none_or(Vec::is_empty) {
+                let occupied = u128::from(self.occupied[1]) << 64 | u128::from(self.occupied[0]);
+                if occupied == 0 {
                     return None;
                 }
-                let skip = self.occupied.rotate_right(at).trailing_zeros();
+                let skip = occupied.rotate_right(at).trailing_zeros();
                 self.cursor = Some(cursor + u64::from(skip));
                 at = (at + skip) % RING as u32;
                 self.sorted = false;
@@ -190,7 +201,7 @@ impl OpenList {
             if !self.sorted {
                 entries.retain(|e| !closed(e.node));
                 if entries.is_empty() {
-                    self.occupied &= !(1 << at);
+                    self.mark(at as usize, false);
                     continue;
                 }
                 entries.sort_unstable();
