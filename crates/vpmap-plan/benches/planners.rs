@@ -19,8 +19,9 @@
 //! - `astar_per_expansion/<map>`: the cost of one A* node expansion, on the maps where the
 //!   Python wheel's bench finds A* slowest against scikit-image and `pathfinding`
 //!   (`maze512-32-0`, `random512-20-0`, a seeded 512 x 512 grid 20 % blocked) with far-apart
-//!   queries: our reused [`AstarSearch`], the free [`astar`] (its arrays allocated per call, as
-//!   `vpmap.plan` runs it) and `pathfinding`'s A*, throughput counted in our A*'s expansions
+//!   queries: our reused [`AstarSearch`], the free [`astar`] (on the thread's reused arrays,
+//!   as `vpmap.plan` runs it), a new [`AstarSearch`] per query (its arrays allocated and
+//!   zeroed per call) and `pathfinding`'s A*, throughput counted in our A*'s expansions
 //!   (criterion's `elem/s`; its inverse is the time per expansion).
 //!
 //! Maps come from `shared/data/movingai` next to the workspace; without it, a seeded
@@ -625,7 +626,8 @@ fn expansion_cases() -> Vec<Case> {
     cases
 }
 
-/// Time per A* node expansion: ours reused, ours allocating per call, `pathfinding`'s.
+/// Time per A* node expansion: ours reused, through the free function, allocating per call,
+/// and `pathfinding`'s.
 fn expansion_benches(c: &mut Criterion) {
     for case in expansion_cases() {
         check_agreement(&case);
@@ -657,10 +659,18 @@ fn expansion_benches(c: &mut Criterion) {
                 }
             });
         });
-        group.bench_function("vpmap_astar_fresh", |b| {
+        group.bench_function("vpmap_astar_free_fn", |b| {
             b.iter(|| {
                 for &(start, goal) in queries {
                     black_box(astar(grid, start, goal, &opts).unwrap());
+                }
+            });
+        });
+        group.bench_function("vpmap_astar_new_search", |b| {
+            b.iter(|| {
+                for &(start, goal) in queries {
+                    let mut search = AstarSearch::new();
+                    black_box(search.search(grid, start, goal, &opts).unwrap());
                 }
             });
         });

@@ -22,6 +22,7 @@
 //! compare equal (the tie-break then really prefers deeper nodes, which saves most
 //! expansions on open ground).
 
+use std::cell::RefCell;
 use std::collections::BinaryHeap;
 use std::f64::consts::SQRT_2;
 
@@ -242,6 +243,16 @@ fn priority(g: [u32; 2], h: [u32; 2]) -> f64 {
     octile_length([g[0] + h[0], g[1] + h[1]])
 }
 
+/// Most padded cells of a grid whose search arrays a thread keeps between calls (2 Mi
+/// cells, 18 MiB; a 1024 x 1024 Moving AI map has 1.05 Mi): a free [`astar`] call on a
+/// grid up to this size reuses them instead of allocating and zeroing megabytes.
+const THREAD_KEPT_CELLS: usize = 1 << 21;
+
+thread_local! {
+    /// The calling thread's reusable search (see [`AstarSearch::or_thread_search`]).
+    static THREAD_SEARCH: RefCell<AstarSearch> = RefCell::new(AstarSearch::new());
+}
+
 /// A reusable A* search: keeps its per-cell arrays and open list between calls, so that
 /// many queries on grids of one size allocate once (and need no clearing: a cell's step
 /// counts are only read when its flags say this search reached it).
@@ -277,6 +288,24 @@ impl AstarSearch {
     #[must_use]
     pub fn new() -> Self {
         Self::default()
+    }
+
+    /// Run `run` on this search, or, while it holds no arrays yet and `grid` has at most
+    /// [`THREAD_KEPT_CELLS`] padded cells, on the calling thread's reusable search (a
+    /// search reads nothing of an earlier one: the answer is the same either way).
+    pub(crate) fn or_thread_search<T>(
+        &mut self,
+        grid: &OccupancyGrid,
+        run: impl FnOnce(&mut Self) -> T,
+    ) -> T {
+        let cells = (grid.width() + 2) * (grid.height() + 2);
+        if !self.steps.is_empty() || cells > THREAD_KEPT_CELLS {
+            return run(self);
+        }
+        THREAD_SEARCH.with(|kept| match kept.try_borrow_mut() {
+            Ok(mut kept) => run(&mut kept),
+            Err(_) => run(self),
+        })
     }
 
     /// Fill [`Self::flags`] for `grid`, padded with a blocked border (the cells
@@ -465,8 +494,9 @@ impl AstarSearch {
 
 /// A shortest 8-connected grid path from `start` to `goal`, octile costs, no corner
 /// cutting (see the [module docs](self)). The waypoints are every cell of the path, start
-/// and goal included; `Ok(None)` when the goal cannot be reached. Allocates a fresh
-/// [`AstarSearch`]; keep one to run many queries.
+/// and goal included; `Ok(None)` when the goal cannot be reached. Runs on the calling
+/// thread's reusable [`AstarSearch`] (on a fresh one for grids of over 2 Mi cells: keep an
+/// [`AstarSearch`] to run many queries on those).
 ///
 /// # Errors
 /// [`PlanError::EndpointOutsideGrid`](crate::PlanError::EndpointOutsideGrid) when `start`
@@ -503,13 +533,14 @@ pub fn astar(
     goal: impl Into<CellXy>,
     opts: &AstarOptions,
 ) -> Result<Option<Plan>> {
-    AstarSearch::new().search(grid, start, goal, opts)
+    AstarSearch::new().or_thread_search(grid, |search| search.search(grid, start, goal, opts))
 }
 
 #[cfg(test)]
 mod tests {
     #![allow(clippy::unwrap_used)]
 
+    use std::cell::RefCell;
     use std::collections::BinaryHeap;
 
     use rand::{RngExt, SeedableRng};
