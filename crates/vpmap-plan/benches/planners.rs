@@ -16,6 +16,14 @@
 //!   ([`visit_swept_cells`](vpmap_plan::los::visit_swept_cells) through [`Traversable`]) on
 //!   the same segments: from each A* path's start to every fourth of its cells, clear or not.
 //!
+//! - `astar_per_expansion/<map>`: the cost of one A* node expansion, on the maps where the
+//!   Python wheel's bench finds A* slowest against scikit-image and `pathfinding`
+//!   (`maze512-32-0`, `random512-20-0`, a seeded 512 x 512 grid 20 % blocked) with far-apart
+//!   queries: our reused [`AstarSearch`], the free [`astar`] (on the thread's reused arrays,
+//!   as `vpmap.plan` runs it), a new [`AstarSearch`] per query (its arrays allocated and
+//!   zeroed per call) and `pathfinding`'s A*, throughput counted in our A*'s expansions
+//!   (criterion's `elem/s`; its inverse is the time per expansion).
+//!
 //! Maps come from `shared/data/movingai` next to the workspace; without it, a seeded
 //! 128 x 128 random-obstacle grid with seeded queries is used instead.
 #![allow(missing_docs)]
@@ -25,7 +33,7 @@ use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use criterion::{Criterion, criterion_group, criterion_main};
+use criterion::{Criterion, Throughput, criterion_group, criterion_main};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use vpmap_plan::{
@@ -537,5 +545,151 @@ fn sight_benches(c: &mut Criterion) {
     }
 }
 
-criterion_group!(planner_benches, benches, exact_benches, sight_benches);
+/// `(group name, map file, scenario file)` of `astar_per_expansion`.
+const EXPANSION_MAPS: [(&str, &str, &str); 2] = [
+    (
+        "maze512-32-0",
+        "maps/mazes/maze512-32-0.map",
+        "scen/mazes/maze512-32-0.map.scen",
+    ),
+    (
+        "random512-20-0",
+        "maps/random/random512-20-0.map",
+        "scen/random/random512-20-0.map.scen",
+    ),
+];
+
+/// A seeded `side` x `side` grid with `blocked` of its cells occupied, and `n` seeded
+/// queries between free cells at least 0.3 of the side apart that A* connects (as the
+/// Python bench picks them).
+fn random_case(side: usize, blocked: f64, n: usize) -> Case {
+    let mut rng = ChaCha8Rng::seed_from_u64(512);
+    let cells = (0..side * side)
+        .map(|_| {
+            if rng.random_bool(blocked) {
+                Occupancy::Occupied
+            } else {
+                Occupancy::Free
+            }
+        })
+        .collect();
+    let grid = OccupancyGrid::from_cells(side, side, 1.0, [0.0; 2], cells).unwrap();
+    let mut search = AstarSearch::new();
+    let opts = AstarOptions::default();
+    let mut queries = Vec::new();
+    while queries.len() < n {
+        let mut free_cell = || loop {
+            let c = CellXy::new(rng.random_range(0..side), rng.random_range(0..side));
+            if grid.is_free(c.x, c.y) {
+                break c;
+            }
+        };
+        let (s, g) = (free_cell(), free_cell());
+        let apart = (s.x.abs_diff(g.x).pow(2) + s.y.abs_diff(g.y).pow(2)) as f64;
+        if apart.sqrt() >= 0.3 * side as f64 && search.search(&grid, s, g, &opts).unwrap().is_some()
+        {
+            queries.push((s, g));
+        }
+    }
+    Case {
+        name: format!("random{side}-seeded"),
+        grid,
+        queries,
+    }
+}
+
+/// The queries of [`EXPANSION_MAPS`] from the scenario files' last buckets (the longest
+/// paths), and the seeded random grid.
+fn expansion_cases() -> Vec<Case> {
+    let dir = data_dir();
+    let mut cases: Vec<Case> = EXPANSION_MAPS
+        .iter()
+        .filter(|(_, map, _)| dir.join(map).is_file())
+        .map(|&(name, map, scen)| {
+            let grid = read_movingai_map(dir.join(map)).unwrap();
+            let mut scen = read_scen(dir.join(scen)).unwrap();
+            scen.sort_by_key(|s| std::cmp::Reverse(s.bucket));
+            let queries = scen
+                .iter()
+                .step_by(7)
+                .take(QUERIES_PER_MAP)
+                .map(|s| (s.start, s.goal))
+                .collect();
+            Case {
+                name: name.to_owned(),
+                grid,
+                queries,
+            }
+        })
+        .collect();
+    cases.push(random_case(512, 0.2, QUERIES_PER_MAP));
+    cases
+}
+
+/// Time per A* node expansion: ours reused, through the free function, allocating per call,
+/// and `pathfinding`'s.
+fn expansion_benches(c: &mut Criterion) {
+    for case in expansion_cases() {
+        check_agreement(&case);
+        let grid = &case.grid;
+        let queries = &case.queries;
+        let mut search = AstarSearch::new();
+        let opts = AstarOptions::default();
+        let expanded: usize = queries
+            .iter()
+            .map(|&(s, g)| {
+                let plan = search.search(grid, s, g, &opts).unwrap();
+                plan.map_or(0, |p| p.stats.expanded)
+            })
+            .sum();
+        println!(
+            "astar_per_expansion/{}: {} queries, {expanded} expansions",
+            case.name,
+            queries.len()
+        );
+        let mut group = c.benchmark_group(format!("astar_per_expansion/{}", case.name));
+        group.sample_size(10);
+        group.measurement_time(Duration::from_secs(3));
+        group.warm_up_time(Duration::from_secs(1));
+        group.throughput(Throughput::Elements(expanded as u64));
+        group.bench_function("vpmap_astar_search", |b| {
+            b.iter(|| {
+                for &(start, goal) in queries {
+                    black_box(search.search(grid, start, goal, &opts).unwrap());
+                }
+            });
+        });
+        group.bench_function("vpmap_astar_free_fn", |b| {
+            b.iter(|| {
+                for &(start, goal) in queries {
+                    black_box(astar(grid, start, goal, &opts).unwrap());
+                }
+            });
+        });
+        group.bench_function("vpmap_astar_new_search", |b| {
+            b.iter(|| {
+                for &(start, goal) in queries {
+                    let mut search = AstarSearch::new();
+                    black_box(search.search(grid, start, goal, &opts).unwrap());
+                }
+            });
+        });
+        group.bench_function("pathfinding_astar", |b| {
+            b.iter(|| {
+                for &(start, goal) in queries {
+                    black_box(reference_astar(grid, start, goal));
+                }
+            });
+        });
+        group.finish();
+    }
+}
+
+criterion_group!(
+    planner_benches,
+    expansion_benches,
+    benches,
+    exact_benches,
+    sight_benches
+);
 criterion_main!(planner_benches);

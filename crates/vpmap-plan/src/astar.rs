@@ -12,17 +12,21 @@
 //!
 //! The search uses the octile distance heuristic (consistent, so each cell is expanded at
 //! most once and the first goal expansion is optimal), an open list ordered by `f = g + h`
-//! with ties broken towards larger `g` (deeper nodes) and then larger cell index (grouped
-//! by exact `f`, so that pushes keeping `f` are O(1)), and flat arrays indexed by cell of
-//! a copy of the grid with a blocked border (no bounds tests on neighbours). Path costs
+//! with ties broken towards larger `g` (deeper nodes) and then larger cell index (a bucket
+//! queue over `f`: pushes are O(1) and only the bucket of the smallest `f` is sorted), and
+//! flat arrays indexed by cell of a copy of the grid with a blocked border (no bounds tests
+//! on neighbours): one byte of flags (traversable, reached, expanded, the move that reached
+//! the cell, which names its parent) and eight of step counts per cell. Path costs
 //! and heuristic values are kept as exact counts of straight and diagonal steps, so the
 //! reported length is `straight + diagonal * sqrt 2` to the last bit and equal priorities
 //! compare equal (the tie-break then really prefers deeper nodes, which saves most
 //! expansions on open ground).
 
+use std::cell::RefCell;
+use std::collections::BinaryHeap;
 use std::f64::consts::SQRT_2;
 
-use crate::budget::Budget;
+use crate::budget::{Budget, STOP_CHECK_INTERVAL};
 use crate::error::Result;
 use crate::grid::{CellXy, OccupancyGrid};
 use crate::los::fill_padded;
@@ -39,27 +43,17 @@ pub struct AstarOptions {
 
 /// Flag of a traversable cell.
 const PASSABLE: u8 = 1;
+/// Flag of a cell reached by the current search: its step counts and parent move are set.
+const REACHED: u8 = 2;
 /// Flag of a cell expanded by the current search.
-const CLOSED: u8 = 2;
+const CLOSED: u8 = 4;
+/// The flags' bits above this shift hold the move (0 to 7, see `search`) that reached the
+/// cell, which names its parent.
+const MOVE_SHIFT: u32 = 3;
 
-/// No parent: the start cell.
-const NO_PARENT: u32 = u32::MAX;
-
-/// Per-cell search state, valid when `mark` belongs to the current search.
-#[derive(Clone, Copy, Debug, Default)]
-struct NodeState {
-    /// Straight and diagonal steps of the best path found to this cell.
-    steps: [u32; 2],
-    /// Padded index of the previous cell on that path, or [`NO_PARENT`].
-    parent: u32,
-    /// `2 * generation` when open, `2 * generation + 1` when closed, anything else when
-    /// untouched by the current search.
-    mark: u32,
-}
-
-/// An open-list entry. The heap pops the largest entry: the smallest `f` (stored with
-/// its bits inverted), then the largest `g` (both non-negative, so their IEEE bit
-/// patterns order like the values), then the largest cell index (padded indices order
+/// An open-list entry, ordered so that the largest is popped first: the smallest `f`
+/// (stored with its bits inverted), then the largest `g` (both non-negative, so their IEEE
+/// bit patterns order like the values), then the largest cell index (padded indices order
 /// like grid indices).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 struct Entry {
@@ -68,114 +62,164 @@ struct Entry {
     node: u32,
 }
 
-impl Entry {
-    #[inline]
-    fn new(f: f64, g: f64, node: u32) -> Self {
-        Self {
-            f_inv: !f.to_bits(),
-            g: g.to_bits(),
-            node,
-        }
-    }
+/// Buckets of the open list per unit of `f` (a power of two, so that scaling by it is
+/// exact).
+const BUCKETS_PER_CELL: f64 = 32.0;
+/// Buckets in the open list's ring: a window of 4 units of `f`, more than the `2 sqrt 2`
+/// that open entries span (see [`OpenList`]).
+const RING: u64 = 128;
+
+/// The bucket number of `f` bits: `floor(32 f)`.
+#[inline]
+fn bucket_of(f: u64) -> u64 {
+    // Non-negative and far below 2^64: the cast is an exact floor.
+    (f64::from_bits(f) * BUCKETS_PER_CELL) as u64
 }
 
-/// The open list: pops [`Entry`]s largest first (smallest `f`, then largest `g`, then
-/// largest node), exactly like one binary heap would. Entries are grouped by their exact
-/// `f` (an open list holds few distinct values); the group of the smallest `f` (the
-/// current level) is kept as `(g, node)` pairs in a vector sorted ascending. With a
-/// consistent heuristic `f` never decreases along the search, and a node pushed into the
-/// current level comes from expanding the level's largest entry with a larger `g`, so it
-/// sorts at (or a few siblings from) the end: most pushes and pops are O(1).
+/// The open list: pops the largest [`Entry`] (smallest `f`, then largest `g`, then largest
+/// node) first, exactly like one binary heap would.
+///
+/// It is a bucket queue over `f`, buckets `1/32` wide, in a ring. With the consistent
+/// octile heuristic, `f` never decreases along the search, and a node reached from an
+/// expanded node of priority `F` gets at most `F + 2 sqrt 2` (the step's cost plus the
+/// heuristic's change, each at most `sqrt 2`); so every open entry has `f` within
+/// `2 sqrt 2` of the smallest, and a ring of 128 buckets (4 units) holds them all. Entries
+/// go unsorted into their bucket; the bucket of the smallest `f` (the cursor's) is sorted
+/// when the cursor reaches it, and later pushes into it are inserted in order (most keep
+/// `f` and have a larger `g`, so they land at or near its end). An entry outside the
+/// ring's window (not expected with this heuristic, but kept exact) waits in an overflow
+/// heap that every pop also looks at.
 #[derive(Clone, Debug, Default)]
 struct OpenList {
-    /// `f` bits of the current level, when there is one: every entry of `level` has this
-    /// `f`, and every group in `groups` a larger one.
-    current: Option<u64>,
-    /// `(g bits, node)` of the current level, sorted ascending.
-    level: Vec<(u64, u32)>,
-    /// Later levels: `(f bits, unsorted (g bits, node) pairs)`, `f` strictly decreasing.
-    groups: Vec<(u64, Vec<(u64, u32)>)>,
-    /// Emptied group vectors kept for reuse.
-    pool: Vec<Vec<(u64, u32)>>,
+    /// The entries by bucket number modulo [`RING`] (empty until the first search).
+    ring: Vec<Vec<Entry>>,
+    /// Bit `i % 64` of word `i / 64` set when `ring[i]` is not empty.
+    occupied: [u64; 2],
+    /// The smallest bucket number with entries in the ring, when the ring has entries:
+    /// every ring entry's bucket number is in `cursor..cursor + RING`.
+    cursor: Option<u64>,
+    /// Whether the cursor's bucket is sorted ascending.
+    sorted: bool,
+    /// Entries outside the ring's window.
+    overflow: BinaryHeap<Entry>,
 }
 
 impl OpenList {
     fn clear(&mut self) {
-        self.current = None;
-        self.level.clear();
-        for (_, mut group) in self.groups.drain(..) {
-            group.clear();
-            self.pool.push(group);
+        if self.ring.len() != RING as usize {
+            self.ring = vec![Vec::new(); RING as usize];
         }
+        for bucket in &mut self.ring {
+            bucket.clear();
+        }
+        self.occupied = [0; 2];
+        self.cursor = None;
+        self.sorted = false;
+        self.overflow.clear();
     }
 
-    /// Add `item` to the group of `f` bits `key`, creating it if needed.
-    #[inline]
-    fn group_push(&mut self, key: u64, item: (u64, u32)) {
-        // Descending keys: most pushes land in one of the last few groups.
-        let n = self.groups.len();
-        let tail = n.saturating_sub(4);
-        let found = match self.groups.get(tail..).and_then(|t| t.first()) {
-            Some(&(f, _)) if key <= f => self
-                .groups
-                .get(tail..)
-                .map_or(Err(n), |t| t.binary_search_by(|&(f, _)| key.cmp(&f)))
-                .map(|at| at + tail)
-                .map_err(|at| at + tail),
-            _ => self.groups.binary_search_by(|&(f, _)| key.cmp(&f)),
+    // Inlined into the search's neighbour loop: a call there costs ~4 % on a maze.
+    #[allow(clippy::inline_always)]
+    #[inline(always)]
+    fn push(&mut self, f: f64, g: f64, node: u32) {
+        let (f_inv, g) = (!f.to_bits(), g.to_bits());
+        let bucket = bucket_of(f.to_bits());
+        let cursor = *self.cursor.get_or_insert(bucket);
+        if bucket < cursor || bucket - cursor >= RING {
+            self.overflow.push(Entry { f_inv, g, node });
+            return;
+        }
+        let at = (bucket % RING) as usize;
+        let Some(entries) = self.ring.get_mut(at) else {
+            return;
         };
-        match found {
-            Ok(at) => {
-                if let Some((_, group)) = self.groups.get_mut(at) {
-                    group.push(item);
-                }
+        if entries.len() == entries.capacity() {
+            grow(entries);
+        }
+        // Built where it is stored (a copy through the stack would stall the store).
+        if bucket == cursor && self.sorted {
+            let entry = Entry { f_inv, g, node };
+            let mut i = entries.len();
+            while i > 0 && entries.get(i - 1).is_some_and(|&e| e > entry) {
+                i -= 1;
             }
-            Err(at) => {
-                let mut group = self.pool.pop().unwrap_or_default();
-                group.push(item);
-                self.groups.insert(at, (key, group));
+            if i == entries.len() {
+                entries.push(Entry { f_inv, g, node });
+            } else {
+                entries.insert(i, Entry { f_inv, g, node });
             }
+        } else {
+            entries.push(Entry { f_inv, g, node });
+        }
+        self.mark(at, true);
+    }
+
+    /// Set or clear the `occupied` bit of ring slot `at`. Whole words are written: a
+    /// narrower store (what `u128 |= 1 << at` compiles to) would stall the next wide load.
+    #[inline]
+    fn mark(&mut self, at: usize, occupied: bool) {
+        if let Some(word) = self.occupied.get_mut(at / 64) {
+            let bit = 1u64 << (at % 64);
+            *word = if occupied { *word | bit } else { *word & !bit };
         }
     }
 
+    /// The node of the largest entry, removed. `closed` tells the nodes already
+    /// expanded: their entries are stale and may be dropped unseen.
     #[inline]
-    fn push(&mut self, entry: Entry) {
-        let key = !entry.f_inv;
-        let item = (entry.g, entry.node);
-        match self.current {
-            Some(f) if f == key => {
-                let mut at = self.level.len();
-                while at > 0 && self.level.get(at - 1).is_some_and(|&e| e > item) {
-                    at -= 1;
+    fn pop(&mut self, closed: impl Fn(u32) -> bool) -> Option<u32> {
+        let from_ring = self.ring_top(closed);
+        match (from_ring, self.overflow.peek()) {
+            (Some((at, top)), other) if other.is_none_or(|o| top > *o) => {
+                let entries = self.ring.get_mut(at)?;
+                entries.pop();
+                if entries.is_empty() {
+                    self.mark(at, false);
                 }
-                self.level.insert(at, item);
+                Some(top.node)
             }
-            Some(f) if key < f => {
-                // A smaller f than the current level (not expected with a consistent
-                // heuristic, but kept exact): the level becomes the smallest group again.
-                let level = std::mem::take(&mut self.level);
-                self.level = self.pool.pop().unwrap_or_default();
-                self.groups.push((f, level));
-                self.current = None;
-                self.group_push(key, item);
-            }
-            _ => self.group_push(key, item),
+            _ => self.overflow.pop().map(|e| e.node),
         }
     }
 
-    /// The node of the largest entry, removed.
+    /// The ring slot of the cursor's bucket and its largest entry, moving the cursor to
+    /// the first non-empty bucket and sorting it (without the entries of `closed` nodes);
+    /// `None` when the ring is empty.
     #[inline]
-    fn pop(&mut self) -> Option<u32> {
-        if let Some((_, node)) = self.level.pop() {
-            return Some(node);
+    fn ring_top(&mut self, closed: impl Fn(u32) -> bool) -> Option<(usize, Entry)> {
+        loop {
+            let cursor = self.cursor?;
+            let mut at = (cursor % RING) as u32;
+            if self.ring.get(at as usize).is_none_or(Vec::is_empty) {
+                let occupied = u128::from(self.occupied[1]) << 64 | u128::from(self.occupied[0]);
+                if occupied == 0 {
+                    return None;
+                }
+                let skip = occupied.rotate_right(at).trailing_zeros();
+                self.cursor = Some(cursor + u64::from(skip));
+                at = (at + skip) % RING as u32;
+                self.sorted = false;
+            }
+            let entries = self.ring.get_mut(at as usize)?;
+            if !self.sorted {
+                entries.retain(|e| !closed(e.node));
+                if entries.is_empty() {
+                    self.mark(at as usize, false);
+                    continue;
+                }
+                entries.sort_unstable();
+                self.sorted = true;
+            }
+            return entries.last().map(|&e| (at as usize, e));
         }
-        let (key, mut group) = self.groups.pop()?;
-        group.sort_unstable();
-        let old = std::mem::replace(&mut self.level, group);
-        self.pool.push(old);
-        self.current = Some(key);
-        self.level.pop().map(|(_, node)| node)
     }
+}
+
+/// Make room for one more entry (out of the hot path).
+#[cold]
+#[inline(never)]
+fn grow(entries: &mut Vec<Entry>) {
+    entries.reserve(entries.len().max(64));
 }
 
 /// Length of a path of `steps[0]` straight and `steps[1]` diagonal steps, cells.
@@ -201,13 +245,23 @@ fn priority(g: [u32; 2], h: [u32; 2]) -> f64 {
     octile_length([g[0] + h[0], g[1] + h[1]])
 }
 
+/// Most padded cells of a grid whose search arrays a thread keeps between calls (2 Mi
+/// cells, 18 MiB; a 1024 x 1024 Moving AI map has 1.05 Mi): a free [`astar`] call on a
+/// grid up to this size reuses them instead of allocating and zeroing megabytes.
+const THREAD_KEPT_CELLS: usize = 1 << 21;
+
+thread_local! {
+    /// The calling thread's reusable search (see [`AstarSearch::or_thread_search`]).
+    static THREAD_SEARCH: RefCell<AstarSearch> = RefCell::new(AstarSearch::new());
+}
+
 /// A reusable A* search: keeps its per-cell arrays and open list between calls, so that
-/// many queries on grids of one size allocate once (no clearing either: each search
-/// stamps the cells it touches with its own generation number).
+/// many queries on grids of one size allocate once (and need no clearing: a cell's step
+/// counts are only read when its flags say this search reached it).
 ///
-/// Internally the grid is copied into a passability map with a one-cell blocked border
-/// (rebuilt by every search, so grid edits between searches are always seen), which lets
-/// the neighbour checks go without bounds tests.
+/// Internally the grid is copied into a flag map with a one-cell blocked border (rebuilt
+/// by every search, so grid edits between searches are always seen, and the search's own
+/// flags start cleared), which lets the neighbour checks go without bounds tests.
 ///
 /// # Example
 /// ```
@@ -221,12 +275,14 @@ fn priority(g: [u32; 2], h: [u32; 2]) -> f64 {
 /// ```
 #[derive(Clone, Debug, Default)]
 pub struct AstarSearch {
-    nodes: Vec<NodeState>,
-    generation: u32,
-    open: OpenList,
     /// Flags of the padded grid (`width + 2` by `height + 2`, border blocked):
-    /// [`PASSABLE`] and, during a search, [`CLOSED`].
-    passable: Vec<u8>,
+    /// [`PASSABLE`], and during a search [`REACHED`], [`CLOSED`] and the move that reached
+    /// the cell (above [`MOVE_SHIFT`]).
+    flags: Vec<u8>,
+    /// Straight and diagonal steps of the best path found to each padded cell, valid
+    /// where its flags have [`REACHED`]. At least as long as `flags`.
+    steps: Vec<[u32; 2]>,
+    open: OpenList,
 }
 
 impl AstarSearch {
@@ -236,23 +292,35 @@ impl AstarSearch {
         Self::default()
     }
 
-    /// Size the arrays for `cells` (padded) cells and start a new generation; returns
-    /// the `(open, closed)` marks of this search.
-    fn begin(&mut self, cells: usize) -> (u32, u32) {
-        if self.nodes.len() != cells || self.generation >= u32::MAX / 2 - 1 {
-            self.nodes.clear();
-            self.nodes.resize(cells, NodeState::default());
-            self.generation = 0;
+    /// Run `run` on this search, or, while it holds no arrays yet and `grid` has at most
+    /// [`THREAD_KEPT_CELLS`] padded cells, on the calling thread's reusable search (a
+    /// search reads nothing of an earlier one: the answer is the same either way).
+    pub(crate) fn or_thread_search<T>(
+        &mut self,
+        grid: &OccupancyGrid,
+        run: impl FnOnce(&mut Self) -> T,
+    ) -> T {
+        let cells = (grid.width() + 2) * (grid.height() + 2);
+        if !self.steps.is_empty() || cells > THREAD_KEPT_CELLS {
+            return run(self);
         }
-        self.generation += 1;
-        self.open.clear();
-        (2 * self.generation, 2 * self.generation + 1)
+        THREAD_SEARCH.with(|kept| match kept.try_borrow_mut() {
+            Ok(mut kept) => run(&mut kept),
+            Err(_) => run(self),
+        })
     }
 
-    /// Fill [`Self::passable`] for `grid`, padded with a blocked border (the cells
-    /// [`cell_passable`](crate::los::cell_passable) lets a robot enter).
-    fn fill_passable(&mut self, grid: &OccupancyGrid, unknown_passable: bool) {
-        fill_padded(grid, unknown_passable, &mut self.passable, 0, PASSABLE);
+    /// Fill [`Self::flags`] for `grid`, padded with a blocked border (the cells
+    /// [`cell_passable`](crate::los::cell_passable) lets a robot enter), and size the
+    /// step counts for as many cells.
+    fn begin(&mut self, grid: &OccupancyGrid, unknown_passable: bool) {
+        fill_padded(grid, unknown_passable, &mut self.flags, 0, PASSABLE);
+        if self.steps.len() < self.flags.len() {
+            // Zeroed memory comes from the allocator untouched: only the pages this
+            // search writes are ever faulted in.
+            self.steps = vec![[0; 2]; self.flags.len()];
+        }
+        self.open.clear();
     }
 
     /// Find a shortest 8-connected path from `start` to `goal` (see [`astar`]).
@@ -270,67 +338,71 @@ impl AstarSearch {
         check_endpoint(grid, "start", start, opts.unknown_passable)?;
         check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
         opts.budget.stop.check("A*")?;
+        self.begin(grid, opts.unknown_passable);
         // Padded coordinates: cell (x, y) is (x + 1, y + 1) in a grid one cell larger on
         // every side. Cell counts are below MAX_CELLS, so padded indices fit in u32.
         let pw = grid.width() + 2;
-        let (open_mark, closed_mark) = self.begin(pw * (grid.height() + 2));
-        self.fill_passable(grid, opts.unknown_passable);
         let mut stats = PlanStats::default();
         let pw32 = pw as u32;
         let start_p = ((start.0 + 1) as u32, (start.1 + 1) as u32);
         let goal_p = ((goal.0 + 1) as u32, (goal.1 + 1) as u32);
         let start_index = start_p.1 * pw32 + start_p.0;
         let goal_index = goal_p.1 * pw32 + goal_p.0;
-        if let Some(node) = self.nodes.get_mut(start_index as usize) {
-            *node = NodeState {
-                steps: [0, 0],
-                parent: NO_PARENT,
-                mark: open_mark,
-            };
+        let flags = self.flags.as_mut_slice();
+        let all_steps = self.steps.as_mut_slice();
+        if let (Some(f), Some(s)) = (
+            flags.get_mut(start_index as usize),
+            all_steps.get_mut(start_index as usize),
+        ) {
+            *f |= REACHED;
+            *s = [0, 0];
         }
-        self.open.push(Entry::new(
+        let open = &mut self.open;
+        open.push(
             octile_length(octile_steps(start_p, goal_p)),
             0.0,
             start_index,
-        ));
+        );
         stats.generated += 1;
-        let nodes = self.nodes.as_mut_slice();
-        let passable = self.passable.as_mut_slice();
-        let open = &mut self.open;
         // Index deltas of the 8 moves, in padded cells: E, S, W, N, SE, SW, NW, NE.
         let pwi = pw as isize;
         let deltas: [isize; 8] = [1, pwi, -1, -pwi, pwi + 1, pwi - 1, -pwi - 1, 1 - pwi];
         let move_dx: [i32; 8] = [1, 0, -1, 0, 1, -1, -1, 1];
         let move_dy: [i32; 8] = [0, 1, 0, -1, 1, 1, -1, -1];
-        while let Some(node) = open.pop() {
+        let max_expansions = opts.budget.max_expansions;
+        while let Some(node) = open.pop(|n| {
+            flags
+                .get(n as usize)
+                .is_some_and(|&flag| flag & CLOSED != 0)
+        }) {
             let index = node as usize;
-            let Some(flags) = passable.get_mut(index) else {
+            let Some(flag) = flags.get_mut(index) else {
                 continue;
             };
-            if *flags & CLOSED != 0 {
+            if *flag & CLOSED != 0 {
                 continue; // a stale entry: the cell was expanded with a smaller cost
             }
-            *flags |= CLOSED;
-            let Some(state) = nodes.get_mut(index) else {
-                continue;
-            };
-            state.mark = closed_mark;
-            let steps = state.steps;
+            *flag |= CLOSED;
+            let steps = all_steps.get(index).copied().unwrap_or_default();
             stats.expanded += 1;
-            opts.budget.check("A*", stats.expanded, 0, stats.expanded)?;
+            if stats.expanded > max_expansions || stats.expanded.is_multiple_of(STOP_CHECK_INTERVAL)
+            {
+                opts.budget.check("A*", stats.expanded, 0, stats.expanded)?;
+            }
             if node == goal_index {
-                return Ok(Some(self.plan(pw, goal_index as usize, steps, stats)));
+                let plan = Self::plan(flags, &deltas, pw, (start_index, goal_index), steps);
+                return Ok(Some(Plan { stats, ..plan }));
             }
             let (x, y) = (node % pw32, node / pw32);
             // Expanded cells are traversable grid cells, so every neighbour index lies
             // inside the padded grid; the border cells are blocked.
             let flag = |k: usize| {
-                passable
+                flags
                     .get(index.wrapping_add_signed(deltas[k]))
                     .copied()
                     .unwrap_or(0)
             };
-            let flags = [
+            let around = [
                 flag(0),
                 flag(1),
                 flag(2),
@@ -340,7 +412,7 @@ impl AstarSearch {
                 flag(6),
                 flag(7),
             ];
-            let pass = |k: usize| flags[k] & PASSABLE != 0;
+            let pass = |k: usize| around[k] & PASSABLE != 0;
             let straight = [pass(0), pass(1), pass(2), pass(3)];
             let allowed = [
                 straight[0],
@@ -357,67 +429,76 @@ impl AstarSearch {
             let g_straight = octile_length(straight_steps);
             let g_diagonal = octile_length(diagonal_steps);
             for k in 0..8 {
-                if !allowed[k] || flags[k] & CLOSED != 0 {
+                if !allowed[k] || around[k] & CLOSED != 0 {
                     continue;
                 }
                 let next_index = index.wrapping_add_signed(deltas[k]);
-                let Some(next) = nodes.get_mut(next_index) else {
+                let (Some(next_flag), Some(next_steps_slot)) =
+                    (flags.get_mut(next_index), all_steps.get_mut(next_index))
+                else {
                     continue;
                 };
-                if next.mark == closed_mark {
-                    continue;
-                }
                 let (next_steps, g) = if k >= 4 {
                     (diagonal_steps, g_diagonal)
                 } else {
                     (straight_steps, g_straight)
                 };
-                if next.mark == open_mark && octile_length(next.steps) <= g {
+                if around[k] & REACHED != 0 && octile_length(*next_steps_slot) <= g {
                     continue;
                 }
-                *next = NodeState {
-                    steps: next_steps,
-                    parent: node,
-                    mark: open_mark,
-                };
+                *next_steps_slot = next_steps;
+                *next_flag = PASSABLE | REACHED | ((k as u8) << MOVE_SHIFT);
                 let next_p = (
                     x.wrapping_add_signed(move_dx[k]),
                     y.wrapping_add_signed(move_dy[k]),
                 );
                 let h = octile_steps(next_p, goal_p);
-                open.push(Entry::new(priority(next_steps, h), g, next_index as u32));
+                open.push(priority(next_steps, h), g, next_index as u32);
                 stats.generated += 1;
             }
         }
         Ok(None)
     }
 
-    /// The plan ending at padded index `goal_index`, following parents back to the start;
-    /// `pw` is the padded width.
-    fn plan(&self, pw: usize, goal_index: usize, steps: [u32; 2], stats: PlanStats) -> Plan {
+    /// The plan from padded index `ends.0` to `ends.1`, following the moves recorded in
+    /// `flags` (with the padded index `deltas` of the moves, the padded width `pw`) back
+    /// from the goal; `steps` are the goal's step counts. Its stats are left empty.
+    fn plan(
+        flags: &[u8],
+        deltas: &[isize; 8],
+        pw: usize,
+        ends: (u32, u32),
+        steps: [u32; 2],
+    ) -> Plan {
+        let (start_index, goal_index) = (ends.0 as usize, ends.1 as usize);
         let mut waypoints = Vec::with_capacity((steps[0] + steps[1]) as usize + 1);
         let mut index = goal_index;
         // A parent chain is at most as long as the number of cells.
-        for _ in 0..=self.nodes.len() {
+        for _ in 0..flags.len() {
             waypoints.push((index % pw - 1, index / pw - 1));
-            match self.nodes.get(index) {
-                Some(state) if state.parent != NO_PARENT => index = state.parent as usize,
-                _ => break,
+            if index == start_index {
+                break;
             }
+            let Some(&flag) = flags.get(index) else {
+                break;
+            };
+            let k = usize::from(flag >> MOVE_SHIFT) & 7;
+            index = index.wrapping_add_signed(-deltas[k]);
         }
         waypoints.reverse();
         Plan {
             waypoints: cells_of(waypoints),
             length_cells: octile_length(steps),
-            stats,
+            stats: PlanStats::default(),
         }
     }
 }
 
 /// A shortest 8-connected grid path from `start` to `goal`, octile costs, no corner
 /// cutting (see the [module docs](self)). The waypoints are every cell of the path, start
-/// and goal included; `Ok(None)` when the goal cannot be reached. Allocates a fresh
-/// [`AstarSearch`]; keep one to run many queries.
+/// and goal included; `Ok(None)` when the goal cannot be reached. Runs on the calling
+/// thread's reusable [`AstarSearch`] (on a fresh one for grids of over 2 Mi cells: keep an
+/// [`AstarSearch`] to run many queries on those).
 ///
 /// # Errors
 /// [`PlanError::EndpointOutsideGrid`](crate::PlanError::EndpointOutsideGrid) when `start`
@@ -426,7 +507,7 @@ impl AstarSearch {
 /// traversable.
 ///
 /// # Complexity
-/// `O(n log n)` time for `n` reachable cells plus `O(cells)` to copy the grid, 17 bytes
+/// `O(n log n)` time for `n` reachable cells plus `O(cells)` to copy the grid, 9 bytes
 /// per grid cell.
 ///
 /// # References
@@ -454,5 +535,68 @@ pub fn astar(
     goal: impl Into<CellXy>,
     opts: &AstarOptions,
 ) -> Result<Option<Plan>> {
-    AstarSearch::new().search(grid, start, goal, opts)
+    AstarSearch::new().or_thread_search(grid, |search| search.search(grid, start, goal, opts))
+}
+
+#[cfg(test)]
+mod tests {
+    #![allow(clippy::unwrap_used)]
+
+    use std::collections::BinaryHeap;
+
+    use rand::{RngExt, SeedableRng};
+    use rand_chacha::ChaCha8Rng;
+
+    use super::{Entry, OpenList, octile_length};
+
+    /// The open list pops what one binary heap of the same entries pops, also when `f`
+    /// leaves the ring's window or decreases (neither happens in a search, both must stay
+    /// exact) and when many entries share `f`.
+    #[test]
+    fn open_list_pops_like_a_binary_heap() {
+        let mut rng = ChaCha8Rng::seed_from_u64(30);
+        let mut open = OpenList::default();
+        for round in 0..200 {
+            open.clear();
+            let mut reference = BinaryHeap::new();
+            // Priorities near a moving floor, as in a search; some far above or below it.
+            let mut floor = [rng.random_range(0..50u32), rng.random_range(0..50u32)];
+            for _ in 0..rng.random_range(1..400) {
+                if rng.random_bool(0.45) {
+                    let popped = open.pop(|_| false);
+                    assert_eq!(
+                        popped,
+                        reference.pop().map(|e: Entry| e.node),
+                        "round {round}"
+                    );
+                    continue;
+                }
+                let wild = rng.random_bool(0.03);
+                let steps = if wild {
+                    [rng.random_range(0..200), rng.random_range(0..200)]
+                } else {
+                    if rng.random_bool(0.1) {
+                        floor[rng.random_range(0..2)] += 1;
+                    }
+                    [
+                        floor[0] + rng.random_range(0..3),
+                        floor[1] + rng.random_range(0..2),
+                    ]
+                };
+                let f = octile_length(steps);
+                let g = octile_length([rng.random_range(0..4), rng.random_range(0..4)]);
+                let node = rng.random_range(0..64);
+                open.push(f, g, node);
+                reference.push(Entry {
+                    f_inv: !f.to_bits(),
+                    g: g.to_bits(),
+                    node,
+                });
+            }
+            while let Some(e) = reference.pop() {
+                assert_eq!(open.pop(|_| false), Some(e.node), "round {round}");
+            }
+            assert_eq!(open.pop(|_| false), None);
+        }
+    }
 }

@@ -124,8 +124,9 @@ impl FromStr for PlannerKind {
     }
 }
 
-/// A built-in planner (see [`PlannerKind::planner`]). A* keeps its search arrays between
-/// queries; the exact planner keeps its [`ExactPlanner`] (the grid's free space) while the
+/// A built-in planner (see [`PlannerKind::planner`]). A* reuses its search arrays between
+/// queries (the calling thread's on grids of up to 2 Mi cells, so that a planner made for
+/// one query allocates none, its own on larger ones); the exact planner keeps its [`ExactPlanner`] (the grid's free space) while the
 /// grid and `unknown_passable` stay the same (compared cell by cell at each query).
 #[derive(Clone, Debug)]
 pub struct BuiltIn {
@@ -229,7 +230,10 @@ impl Planner for BuiltIn {
                     unknown_passable,
                     budget: self.budget.clone(),
                 };
-                self.search.search(grid, start, goal, &opts)?
+                // A planner made for one query (as `vpmap.plan` makes it) borrows the
+                // thread's A* arrays instead of allocating its own.
+                self.search
+                    .or_thread_search(grid, |search| search.search(grid, start, goal, &opts))?
             }
             PlannerKind::Optimal => {
                 let exact = match &mut self.exact {
