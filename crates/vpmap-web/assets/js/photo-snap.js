@@ -26,9 +26,10 @@ export function knownVps(scene) {
   return out;
 }
 
-/** Install the toggle and `app.photoSnap` (enabled, flash, pending). */
+/** Install the toggle and `app.photoSnap` (enabled, flash, pending, and whether a build
+ * waits for the pending answers). */
 export function installPhotoSnap(app) {
-  const snap = { enabled: true, flash: null, pending: 0, noteTimer: 0 };
+  const snap = { enabled: true, flash: null, pending: 0, noteTimer: 0, buildWaiting: false };
   app.photoSnap = snap;
   const toggle = $('snap-photo');
   if (toggle) {
@@ -117,6 +118,11 @@ export async function snapPlaced(app, raw, { get, set }) {
     return null;
   } finally {
     snap.pending--;
+    // The build put off while clicks were snapping (requests.js).
+    if (!snap.pending && snap.buildWaiting) {
+      snap.buildWaiting = false;
+      app.scheduleBuild();
+    }
   }
 }
 

@@ -102,6 +102,16 @@ export function installRequests(app) {
     }
     // A blocker that is gone is no problem any more (a build error stays until the next answer).
     if (state.problem && !state.buildError) setProblem(null);
+    // Clicks still snapping to the photo are about to move: build once they have (the last
+    // answer schedules it; photo-snap.js).
+    const snap = app.photoSnap;
+    if (snap?.pending) {
+      build.cancel();
+      state.busy.build = false;
+      snap.buildWaiting = true;
+      markStale(true);
+      return;
+    }
     build.schedule();
   }
 
@@ -467,6 +477,6 @@ export function installRequests(app) {
     cancelDetect: () => detect.cancel(),
     pickPlanPoint,
     /** A build or plan is scheduled and not started yet. */
-    requestsPending: () => build.pending || plan.pending,
+    requestsPending: () => build.pending || plan.pending || !!app.photoSnap?.buildWaiting,
   });
 }
