@@ -85,8 +85,8 @@ fn load_maps(args: &NavigateArgs) -> Result<(PlanningMap, OccupancyGrid)> {
     }
     check_robot_radius(args.robot_radius)?;
     drive_maps(
-        args.map.as_deref().map(DriveMap::File),
-        DriveMap::File(&args.truth),
+        args.map.clone().map(DriveMap::File),
+        DriveMap::File(args.truth.clone()),
         args.robot_radius,
         args.resolution,
     )

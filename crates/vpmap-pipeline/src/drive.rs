@@ -4,7 +4,7 @@
 //! that starts knowing nothing), and the drive's report file, `navigate.json`
 //! ([`navigate_json`]; format in docs/navigation.md).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
 use vpmap_metrology::synth::Truth;
 use vpmap_plan::grid::{CellXy, Occupancy, OccupancyGrid};
@@ -20,21 +20,21 @@ use crate::ranges::BuildOption;
 /// [`read_planning_map`]; for the true map also a synthetic scene's `*.truth.json`) or a map
 /// in hand.
 #[derive(Debug, Clone)]
-pub enum DriveMap<'a> {
+pub enum DriveMap {
     /// A map file.
-    File(&'a Path),
+    File(PathBuf),
     /// A map already read.
     Given(PlanningMap),
 }
 
-impl DriveMap<'_> {
+impl DriveMap {
     fn read(
         self,
         robot_radius: Option<f64>,
         resolution_m: f64,
     ) -> Result<PlanningMap, PipelineError> {
         match self {
-            DriveMap::File(path) => read_planning_map(path, robot_radius, resolution_m),
+            DriveMap::File(path) => read_planning_map(&path, robot_radius, resolution_m),
             DriveMap::Given(map) => Ok(map),
         }
     }
@@ -52,12 +52,12 @@ impl DriveMap<'_> {
 /// synthetic truth with a believed map in cells; [`PipelineError::Grid`] when the truth
 /// cannot be rasterised.
 pub fn drive_maps(
-    believed: Option<DriveMap<'_>>,
-    truth: DriveMap<'_>,
+    believed: Option<DriveMap>,
+    truth: DriveMap,
     robot_radius: Option<f64>,
     resolution_m: f64,
 ) -> Result<(PlanningMap, OccupancyGrid), PipelineError> {
-    if let DriveMap::File(path) = truth
+    if let DriveMap::File(path) = &truth
         && is_truth_file(path)
     {
         let truth = read_truth(path)?;
@@ -77,7 +77,7 @@ pub fn drive_maps(
         return Ok((believed, grid));
     }
     let path = match &truth {
-        DriveMap::File(path) => Some(path.to_path_buf()),
+        DriveMap::File(path) => Some(path.clone()),
         DriveMap::Given(_) => None,
     };
     let truth = truth

@@ -1,12 +1,10 @@
 //! `vpmap.navigate`: a robot drives a believed map, senses the true one and re-plans, as
 //! `vpmap navigate` runs it; the answer is `navigate.json` as a dict.
 
-use std::path::PathBuf;
-
 use pyo3::prelude::*;
 use vpmap_pipeline::{
-    DriveMap, DriveReport, Endpoint, EndpointRules, OptionNames, PlanningMap, drive_maps,
-    endpoint_cell, navigate_json,
+    DriveMap, DriveReport, Endpoint, EndpointRules, OptionNames, drive_maps, endpoint_cell,
+    navigate_json,
 };
 use vpmap_plan::budget::{Budget, Stop};
 use vpmap_plan::grid::CellXy;
@@ -17,27 +15,11 @@ use crate::grid::Grid;
 use crate::map::pipeline_error;
 
 /// A map given as a `Grid` or a file (read as `vpmap navigate` reads it).
-enum Given {
-    /// A grid object's map.
-    Grid(PlanningMap),
-    /// A file.
-    File(PathBuf),
-}
-
-impl Given {
-    fn drive_map(&self) -> DriveMap<'_> {
-        match self {
-            Given::Grid(map) => DriveMap::Given(map.clone()),
-            Given::File(path) => DriveMap::File(path),
-        }
-    }
-}
-
-fn given(what: &str, obj: &Bound<'_, PyAny>) -> PyResult<Given> {
+fn given(what: &str, obj: &Bound<'_, PyAny>) -> PyResult<DriveMap> {
     if let Ok(g) = obj.cast::<Grid>() {
-        return Ok(Given::Grid(g.get().map.clone()));
+        return Ok(DriveMap::Given(g.get().map.clone()));
     }
-    as_path(obj).map(Given::File).ok_or_else(|| {
+    as_path(obj).map(DriveMap::File).ok_or_else(|| {
         error(format!(
             "{what} {} is neither a Grid nor a file path",
             shown(obj)
@@ -95,14 +77,7 @@ pub fn navigate<'py>(
         }
     };
     let (believed, truth) = py
-        .detach(|| {
-            drive_maps(
-                believed.as_ref().map(Given::drive_map),
-                truth.drive_map(),
-                robot_radius,
-                resolution,
-            )
-        })
+        .detach(|| drive_maps(believed, truth, robot_radius, resolution))
         .map_err(pipeline_error)?;
     let scale = believed.scale();
     let unit = believed.unit();

@@ -431,6 +431,11 @@ pub fn floor_known_share(map: &FloorMap, room: &[MapPoint]) -> f64 {
     floor_shares(map, room).1
 }
 
+/// A map region as a polygon with its holes.
+fn with_holes(p: &crate::map::PolygonWithHoles) -> Polygon<f64> {
+    Polygon::new(ring(&p.exterior), p.holes.iter().map(|h| ring(h)).collect())
+}
+
 /// Shares of the true room's floor inside the map's free space or a footprint (the floor some
 /// photo shows), and of that outside the hidden regions (the floor known).
 fn floor_shares(map: &FloorMap, room: &[MapPoint]) -> (f64, f64) {
@@ -439,9 +444,6 @@ fn floor_shares(map: &FloorMap, room: &[MapPoint]) -> (f64, f64) {
     if area <= 0.0 {
         return (0.0, 0.0);
     }
-    let with_holes = |p: &crate::map::PolygonWithHoles| {
-        Polygon::new(ring(&p.exterior), p.holes.iter().map(|h| ring(h)).collect())
-    };
     let mut in_view: Vec<Polygon<f64>> = map.free_space.iter().map(with_holes).collect();
     in_view.extend(map.objects.iter().map(|o| polygon(&o.footprint)));
     let in_view = geo::unary_union(&in_view).intersection(&room);
@@ -554,24 +556,13 @@ mod tests {
         let share = floor_known_share(&map, &truth.room);
         // Independently: the free area inside the room, plus footprints, over the room.
         let room = polygon(&truth.room);
-        let free: f64 = map
-            .free_space
-            .iter()
-            .map(|p| {
-                Polygon::new(ring(&p.exterior), p.holes.iter().map(|h| ring(h)).collect())
-                    .intersection(&room)
-                    .unsigned_area()
-            })
-            .sum();
-        let hidden: f64 = map
-            .hidden
-            .iter()
-            .map(|p| {
-                Polygon::new(ring(&p.exterior), p.holes.iter().map(|h| ring(h)).collect())
-                    .intersection(&room)
-                    .unsigned_area()
-            })
-            .sum();
+        let area_in_room = |regions: &[crate::map::PolygonWithHoles]| -> f64 {
+            regions
+                .iter()
+                .map(|p| with_holes(p).intersection(&room).unsigned_area())
+                .sum()
+        };
+        let (free, hidden) = (area_in_room(&map.free_space), area_in_room(&map.hidden));
         assert!(hidden > 0.0, "a box's shadow hides some floor");
         let feet: f64 = map
             .objects
