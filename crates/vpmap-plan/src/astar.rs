@@ -12,15 +12,15 @@
 //!
 //! The search uses the octile distance heuristic (consistent, so each cell is expanded at
 //! most once and the first goal expansion is optimal), an open list ordered by `f = g + h`
-//! with ties broken towards larger `g` (deeper nodes) and then larger cell index (a bucket
-//! queue over `f`: pushes are O(1) and only the bucket of the smallest `f` is sorted), and
-//! flat arrays indexed by cell of a copy of the grid with a blocked border (no bounds tests
-//! on neighbours): one byte of flags (traversable, reached, expanded, the move that reached
-//! the cell, which names its parent) and eight of step counts per cell. Path costs
-//! and heuristic values are kept as exact counts of straight and diagonal steps, so the
-//! reported length is `straight + diagonal * sqrt 2` to the last bit and equal priorities
-//! compare equal (the tie-break then really prefers deeper nodes, which saves most
-//! expansions on open ground).
+//! with ties broken towards larger `g` (deeper nodes; `g` rounded to `f32` for this) and
+//! then larger cell index (a bucket queue over `f`: pushes are O(1) and only the bucket of
+//! the smallest `f` is sorted), and flat arrays indexed by cell of a copy of the grid with
+//! a blocked border (no bounds tests on neighbours): one byte of flags (traversable,
+//! reached, expanded, the move that reached the cell, which names its parent) and eight of
+//! step counts per cell. Path costs and heuristic values are kept as exact counts of
+//! straight and diagonal steps, so the reported length is `straight + diagonal * sqrt 2` to
+//! the last bit and equal priorities compare equal (the tie-break then really prefers
+//! deeper nodes, which saves most expansions on open ground).
 
 use std::cell::RefCell;
 use std::collections::BinaryHeap;
@@ -52,13 +52,16 @@ const CLOSED: u8 = 4;
 const MOVE_SHIFT: u32 = 3;
 
 /// An open-list entry, ordered so that the largest is popped first: the smallest `f`
-/// (stored with its bits inverted), then the largest `g` (both non-negative, so their IEEE
-/// bit patterns order like the values), then the largest cell index (padded indices order
-/// like grid indices).
+/// (stored with its bits inverted), then the largest `g` rounded to `f32` (both
+/// non-negative, so their IEEE bit patterns order like the values), then the largest cell
+/// index (padded indices order like grid indices). 16 bytes: `g` only breaks ties between
+/// equal `f`, and two different path costs that round to one `f32` (which needs paths of
+/// thousands of steps differing by under `1e-4` cells) are then told apart by the cell
+/// index instead, which changes which of two equally good cells goes first, never a cost.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 struct Entry {
     f_inv: u64,
-    g: u64,
+    g: u32,
     node: u32,
 }
 
@@ -69,11 +72,18 @@ const BUCKETS_PER_CELL: f64 = 32.0;
 /// that open entries span (see [`OpenList`]).
 const RING: u64 = 128;
 
-/// The bucket number of `f` bits: `floor(32 f)`.
+/// `2^52` as an `f64`: adding it to a value in `[0, 2^51)` rounds that value to an integer
+/// held in the sum's low mantissa bits.
+const ROUNDING_BIAS: f64 = 4_503_599_627_370_496.0;
+
+/// The bucket number of `f` bits: `32 f` rounded to the nearest integer (ties to even),
+/// read from the mantissa of `32 f + 2^52`, which costs an addition where a saturating
+/// float-to-integer cast costs a chain of compares. Non-decreasing in `f`, which is all
+/// the open list needs of it. Exact for `32 f < 2^51`: path costs stay below the grid's
+/// cell count times `sqrt 2`, far less.
 #[inline]
 fn bucket_of(f: u64) -> u64 {
-    // Non-negative and far below 2^64: the cast is an exact floor.
-    (f64::from_bits(f) * BUCKETS_PER_CELL) as u64
+    (f64::from_bits(f) * BUCKETS_PER_CELL + ROUNDING_BIAS).to_bits() - ROUNDING_BIAS.to_bits()
 }
 
 /// The open list: pops the largest [`Entry`] (smallest `f`, then largest `g`, then largest
@@ -122,7 +132,7 @@ impl OpenList {
     #[allow(clippy::inline_always)]
     #[inline(always)]
     fn push(&mut self, f: f64, g: f64, node: u32) {
-        let (f_inv, g) = (!f.to_bits(), g.to_bits());
+        let (f_inv, g) = (!f.to_bits(), (g as f32).to_bits());
         let bucket = bucket_of(f.to_bits());
         let cursor = *self.cursor.get_or_insert(bucket);
         if bucket < cursor || bucket - cursor >= RING {
@@ -202,12 +212,17 @@ impl OpenList {
             }
             let entries = self.ring.get_mut(at as usize)?;
             if !self.sorted {
-                entries.retain(|e| !closed(e.node));
+                // A bucket of one (most of them on a maze) needs no sort.
+                if entries.len() > 1 {
+                    entries.retain(|e| !closed(e.node));
+                    entries.sort_unstable();
+                } else if entries.last().is_some_and(|e| closed(e.node)) {
+                    entries.pop();
+                }
                 if entries.is_empty() {
                     self.mark(at as usize, false);
                     continue;
                 }
-                entries.sort_unstable();
                 self.sorted = true;
             }
             return entries.last().map(|&e| (at as usize, e));
@@ -589,7 +604,7 @@ mod tests {
                 open.push(f, g, node);
                 reference.push(Entry {
                     f_inv: !f.to_bits(),
-                    g: g.to_bits(),
+                    g: (g as f32).to_bits(),
                     node,
                 });
             }
