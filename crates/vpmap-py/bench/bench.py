@@ -1,6 +1,7 @@
 """vpmap's planners from Python against other Python path finders, side by side in one run.
 
     python crates/vpmap-py/bench/bench.py [--maps ../shared/data/movingai/maps] [--queries 20]
+        [--pathfinding-queries 20] [--repeats 3]
 
 needs the release wheel (`pip install ./crates/vpmap-py`) and the comparison packages
 `pip install scikit-image pathfinding extremitypathfinder shapely` (not installed by CI).
@@ -9,7 +10,10 @@ Prints a Markdown table of ratios (docs/python.md):
 - `vpmap.plan(grid, s, g, "astar")` against scikit-image's `graph.route_through_array`
   (geometric costs, fully connected; it may cut corners, which vpmap's grid model forbids, so
   its paths can be a little shorter) and the `pathfinding` package's A* (diagonal moves only
-  between free cells, as vpmap), on Moving AI maps and a seeded 512 x 512 random grid;
+  between free cells, as vpmap), on Moving AI maps and a seeded 512 x 512 random grid: each
+  package's queries in a loop of its own, every query timed `--repeats` times (the median),
+  and vpmap's A* also timed once right after each scikit-image query ("after another
+  package": its arrays and the grid then come cold from memory);
 - `vpmap.Planner(grid, "optimal").plan` (the exact any-angle path, precomputation kept)
   against `extremitypathfinder` (exact shortest paths among polygons, on the same
   configuration space: each blocked cell's 2 x 2 square of cell centres), per query, its
@@ -89,7 +93,22 @@ def timed(fn, *args, **kwargs):
     return time.perf_counter() - began, result
 
 
-def bench_astar(name, grid, qs, pathfinding_queries):
+def timed_median(repeats, fn, *args, fresh=None, **kwargs):
+    """The median wall time of `repeats` calls and the last call's result; `fresh()`, when
+    given, makes the arguments of each call (outside the timing)."""
+    times = []
+    for _ in range(repeats):
+        call_args = fresh() if fresh else args
+        dt, result = timed(fn, *call_args, **kwargs)
+        times.append(dt)
+    return statistics.median(times), result
+
+
+def bench_astar(name, grid, qs, pathfinding_queries, repeats):
+    """Each package's queries in a loop of its own (as a user's loop of queries runs them),
+    every query timed `repeats` times (the median), and the median over the queries; vpmap
+    is also timed once right after each scikit-image query (its arrays and the grid then
+    come cold from memory), reported apart."""
     from pathfinding.core.diagonal_movement import DiagonalMovement
     from pathfinding.core.grid import Grid as PfGrid
     from pathfinding.finder.a_star import AStarFinder
@@ -97,34 +116,47 @@ def bench_astar(name, grid, qs, pathfinding_queries):
 
     blocked = grid.array != 0
     costs = np.where(blocked, np.inf, 1.0)
-    t_vp, t_sk, t_pf = [], [], []
-    worse_than_sk = worse_than_pf = sk_cuts = 0
-    for k, (s, g) in enumerate(qs):
-        dt, path = timed(vpmap.plan, grid, s, g, "astar")
+    t_vp, t_sk, t_pf, t_cold = [], [], [], []
+    paths = []
+    for s, g in qs:
+        dt, path = timed_median(repeats, vpmap.plan, grid, s, g, "astar")
         t_vp.append(dt)
-        dt, (cells, _) = timed(
-            route_through_array, costs, (s[1], s[0]), (g[1], g[0]), fully_connected=True, geometric=True
+        paths.append(path)
+    worse_than_sk = worse_than_pf = sk_cuts = 0
+    for (s, g), path in zip(qs, paths):
+        dt, (cells, _) = timed_median(
+            repeats, route_through_array, costs, (s[1], s[0]), (g[1], g[0]), fully_connected=True, geometric=True
         )
         t_sk.append(dt)
         if cuts_a_corner(blocked, cells):
             sk_cuts += 1
         elif path.length > octile_length(cells) + 1e-6:
             worse_than_sk += 1
-        if k < pathfinding_queries:
-            matrix = (~blocked).astype(int).tolist()
-            pf_grid = PfGrid(matrix=matrix)
-            finder = AStarFinder(diagonal_movement=DiagonalMovement.only_when_no_obstacle)
-            dt, (pf_path, _) = timed(finder.find_path, pf_grid.node(*s), pf_grid.node(*g), pf_grid)
-            t_pf.append(dt)
-            if path.length > octile_length([(n.x, n.y) for n in pf_path]) + 1e-6:
-                worse_than_pf += 1
+        dt, _ = timed(vpmap.plan, grid, s, g, "astar")
+        t_cold.append(dt)
+    matrix = (~blocked).astype(int).tolist()
+    finder = AStarFinder(diagonal_movement=DiagonalMovement.only_when_no_obstacle)
+
+    def fresh_pathfinding(s, g):
+        # pathfinding marks its nodes while searching: a new grid for every call.
+        pf_grid = PfGrid(matrix=matrix)
+        return pf_grid.node(*s), pf_grid.node(*g), pf_grid
+
+    for (s, g), path in list(zip(qs, paths))[:pathfinding_queries]:
+        dt, (pf_path, _) = timed_median(repeats, finder.find_path, fresh=lambda: fresh_pathfinding(s, g))
+        t_pf.append(dt)
+        if path.length > octile_length([(n.x, n.y) for n in pf_path]) + 1e-6:
+            worse_than_pf += 1
     vp = statistics.median(t_vp)
     return {
         "map": name,
         "queries": len(qs),
         "vpmap_ms": 1e3 * vp,
+        "vpmap_cold_ms": 1e3 * statistics.median(t_cold),
         "skimage_x": statistics.median(t_sk) / vp,
+        "skimage_cold_x": statistics.median(t_sk) / statistics.median(t_cold),
         "pathfinding_x": statistics.median(t_pf) / statistics.median(t_vp[: len(t_pf)]) if t_pf else math.nan,
+        "pathfinding_cold_x": statistics.median(t_pf) / statistics.median(t_cold[: len(t_pf)]) if t_pf else math.nan,
         "pathfinding_queries": len(t_pf),
         "longer_than_skimage": worse_than_sk,
         "skimage_cuts": sk_cuts,
@@ -244,7 +276,8 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--maps", type=pathlib.Path, default=DEFAULT_MAPS)
     ap.add_argument("--queries", type=int, default=20)
-    ap.add_argument("--pathfinding-queries", type=int, default=3)
+    ap.add_argument("--pathfinding-queries", type=int, default=20)
+    ap.add_argument("--repeats", type=int, default=3, help="timings of every A* query (the median)")
     args = ap.parse_args()
 
     rows = []
@@ -254,15 +287,16 @@ def main():
         path = args.maps / rel
         if path.exists():
             grids.append((path.name, vpmap.Grid.load(path)))
-    print("| map | queries | vpmap A* (ms) | scikit-image / vpmap | pathfinding / vpmap (queries) | scikit-image paths that cut a corner | vpmap longer than scikit-image (other paths) / pathfinding |")
-    print("|---|---|---|---|---|---|---|")
+    print("| map | queries | vpmap A* (ms) | scikit-image / vpmap | pathfinding / vpmap (queries) | vpmap after another package (ms) | scikit-image / that | pathfinding / that | scikit-image paths that cut a corner | vpmap longer than scikit-image (other paths) / pathfinding |")
+    print("|---|---|---|---|---|---|---|---|---|---|")
     for name, grid in grids:
         qs = queries(grid, 1, args.queries)
-        r = bench_astar(name, grid, qs, args.pathfinding_queries)
+        r = bench_astar(name, grid, qs, args.pathfinding_queries, args.repeats)
         rows.append(r)
         print(
             f"| {r['map']} | {r['queries']} | {r['vpmap_ms']:.2f} | {r['skimage_x']:.0f}x | "
-            f"{r['pathfinding_x']:.0f}x ({r['pathfinding_queries']}) | {r['skimage_cuts']} | "
+            f"{r['pathfinding_x']:.0f}x ({r['pathfinding_queries']}) | {r['vpmap_cold_ms']:.2f} | "
+            f"{r['skimage_cold_x']:.0f}x | {r['pathfinding_cold_x']:.0f}x | {r['skimage_cuts']} | "
             f"{r['longer_than_skimage']} / {r['longer_than_pathfinding']} |",
             flush=True,
         )
