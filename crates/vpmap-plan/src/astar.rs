@@ -275,9 +275,11 @@ thread_local! {
 /// many queries on grids of one size allocate once (and need no clearing: a cell's step
 /// counts are only read when its flags say this search reached it).
 ///
-/// Internally the grid is copied into a flag map with a one-cell blocked border (rebuilt
-/// by every search, so grid edits between searches are always seen, and the search's own
-/// flags start cleared), which lets the neighbour checks go without bounds tests.
+/// Internally the grid is copied into a flag map with a one-cell blocked border, which
+/// lets the neighbour checks go without bounds tests. The copy is kept for the next search
+/// while the grid's [revision](OccupancyGrid::revision) and `unknown_passable` stay the
+/// same (then only the cells the last search reached are cleared), and made again
+/// otherwise, so grid edits between searches are always seen.
 ///
 /// # Example
 /// ```
@@ -299,6 +301,11 @@ pub struct AstarSearch {
     /// where its flags have [`REACHED`]. At least as long as `flags`.
     steps: Vec<[u32; 2]>,
     open: OpenList,
+    /// The grid revision and `unknown_passable` that `flags` were filled for.
+    padded_for: Option<(u64, bool)>,
+    /// The padded cells the last search reached (all traversable), whose flags the next
+    /// search on the same grid clears.
+    reached: Vec<u32>,
 }
 
 impl AstarSearch {
@@ -330,7 +337,23 @@ impl AstarSearch {
     /// [`cell_passable`](crate::los::cell_passable) lets a robot enter), and size the
     /// step counts for as many cells.
     fn begin(&mut self, grid: &OccupancyGrid, unknown_passable: bool) {
-        fill_padded(grid, unknown_passable, &mut self.flags, 0, PASSABLE);
+        let key = Some((grid.revision(), unknown_passable));
+        let padded_cells = (grid.width() + 2) * (grid.height() + 2);
+        // Clearing a cell costs about as much as copying 32 (a scattered write against a
+        // sequential one): past that, copying the grid again is cheaper.
+        let few_reached = self.reached.len().saturating_mul(32) < padded_cells;
+        if self.padded_for == key && self.flags.len() == padded_cells && few_reached {
+            // The same cells as the last search's: clear what it marked, not the grid.
+            for &cell in &self.reached {
+                if let Some(flag) = self.flags.get_mut(cell as usize) {
+                    *flag = PASSABLE;
+                }
+            }
+        } else {
+            fill_padded(grid, unknown_passable, &mut self.flags, 0, PASSABLE);
+            self.padded_for = key;
+        }
+        self.reached.clear();
         if self.steps.len() < self.flags.len() {
             // Zeroed memory comes from the allocator untouched: only the pages this
             // search writes are ever faulted in.
@@ -366,12 +389,14 @@ impl AstarSearch {
         let goal_index = goal_p.1 * pw32 + goal_p.0;
         let flags = self.flags.as_mut_slice();
         let all_steps = self.steps.as_mut_slice();
+        let reached = &mut self.reached;
         if let (Some(f), Some(s)) = (
             flags.get_mut(start_index as usize),
             all_steps.get_mut(start_index as usize),
         ) {
             *f |= REACHED;
             *s = [0, 0];
+            reached.push(start_index);
         }
         let open = &mut self.open;
         open.push(octile_length(octile_steps(start_p, goal_p)), start_index);
@@ -455,8 +480,12 @@ impl AstarSearch {
                 } else {
                     (straight_steps, g_straight)
                 };
-                if around[k] & REACHED != 0 && octile_length(*next_steps_slot) <= g {
-                    continue;
+                if around[k] & REACHED != 0 {
+                    if octile_length(*next_steps_slot) <= g {
+                        continue;
+                    }
+                } else {
+                    reached.push(next_index as u32);
                 }
                 *next_steps_slot = next_steps;
                 *next_flag = PASSABLE | REACHED | ((k as u8) << MOVE_SHIFT);
@@ -519,8 +548,10 @@ impl AstarSearch {
 /// traversable.
 ///
 /// # Complexity
-/// `O(n log n)` time for `n` reachable cells plus `O(cells)` to copy the grid, 9 bytes
-/// per grid cell.
+/// `O(n log n)` time for `n` reachable cells plus `O(cells)` to copy the grid (only the
+/// cells the thread's last search reached, when it searched this grid at the same
+/// [revision](OccupancyGrid::revision) and reached few), 9 bytes per grid cell plus 4 per
+/// reached cell.
 ///
 /// # References
 /// P. E. Hart, N. J. Nilsson, B. Raphael, "A Formal Basis for the Heuristic Determination

@@ -12,6 +12,8 @@
 //! - Lengths are metres when the floor map is metric; for an unscaled map they are in camera
 //!   heights (the names keep `_m`).
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 pub use crate::cell::{BYTES_PER_CELL, CellXy, Occupancy};
 use crate::error::{PlanError, Result};
 
@@ -39,13 +41,37 @@ pub(crate) const MOVES: [(isize, isize); 8] = [
 pub(crate) const DIAGONAL_SIDES: [(usize, usize); 4] = [(0, 1), (2, 1), (2, 3), (0, 3)];
 
 /// A 2D occupancy grid with a metric frame (see the [module docs](self) for the conventions).
-#[derive(Clone, PartialEq, Debug)]
+///
+/// Two grids are equal when their sizes, cells and frames are (their revisions, which
+/// only name a content, are not compared).
+#[derive(Clone, Debug)]
 pub struct OccupancyGrid {
     width: usize,
     height: usize,
     cells: Vec<Occupancy>,
     resolution_m: f64,
     origin_m: [f64; 2],
+    /// A number no other grid content of this process has had: new for every grid made
+    /// and at every change of its cells, kept by a clone (whose cells are the same). A
+    /// planner that keeps a copy of the cells recognises the grid by it without comparing
+    /// them ([`OccupancyGrid::revision`]).
+    revision: u64,
+}
+
+impl PartialEq for OccupancyGrid {
+    fn eq(&self, other: &Self) -> bool {
+        self.width == other.width
+            && self.height == other.height
+            && self.cells == other.cells
+            && self.resolution_m == other.resolution_m
+            && self.origin_m == other.origin_m
+    }
+}
+
+/// A revision no grid has had yet (see [`OccupancyGrid::revision`]).
+fn new_revision() -> u64 {
+    static NEXT: AtomicU64 = AtomicU64::new(1);
+    NEXT.fetch_add(1, Ordering::Relaxed)
 }
 
 /// Number of cells of a `width x height` grid, or the error that refuses it.
@@ -176,6 +202,7 @@ impl OccupancyGrid {
             cells: vec![fill; n],
             resolution_m,
             origin_m,
+            revision: new_revision(),
         })
     }
 
@@ -216,6 +243,7 @@ impl OccupancyGrid {
             cells,
             resolution_m,
             origin_m,
+            revision: new_revision(),
         })
     }
 
@@ -249,10 +277,36 @@ impl OccupancyGrid {
         &self.cells
     }
 
-    /// Every cell, mutable, row-major, row 0 at the top.
+    /// Every cell, mutable, row-major, row 0 at the top (the grid takes a new
+    /// [revision](OccupancyGrid::revision)).
     #[must_use]
     pub fn cells_mut(&mut self) -> &mut [Occupancy] {
+        self.revision = new_revision();
         &mut self.cells
+    }
+
+    /// A number that names this grid's content within the process: two grids with the
+    /// same revision have the same size and cells (one is a clone of the other, neither
+    /// changed since). Every grid made gets a new one, and so does a grid at every
+    /// [`set`](OccupancyGrid::set) and [`cells_mut`](OccupancyGrid::cells_mut). Searches
+    /// that keep a padded copy of the cells ([`AstarSearch`](crate::AstarSearch)) reuse it
+    /// while the revision is the one they copied.
+    ///
+    /// # Example
+    /// ```
+    /// use vpmap_plan::{Occupancy, OccupancyGrid};
+    /// let mut grid = OccupancyGrid::new(2, 2, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+    /// let copy = grid.clone();
+    /// assert_eq!(copy.revision(), grid.revision());
+    /// grid.set(0, 0, Occupancy::Occupied).unwrap();
+    /// assert_ne!(copy.revision(), grid.revision());
+    /// let other = OccupancyGrid::new(2, 2, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+    /// assert_eq!(other, copy); // same content: equal,
+    /// assert_ne!(other.revision(), copy.revision()); // but made apart
+    /// ```
+    #[must_use]
+    pub fn revision(&self) -> u64 {
+        self.revision
     }
 
     /// Index of cell `(x, y)` in [`OccupancyGrid::cells`], or `None` outside the grid.
@@ -323,6 +377,7 @@ impl OccupancyGrid {
             },
         )?;
         *slot = cell;
+        self.revision = new_revision();
         Ok(())
     }
 

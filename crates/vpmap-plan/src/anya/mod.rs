@@ -159,7 +159,10 @@ impl ExactPlanner {
     /// cache it across queries).
     #[must_use]
     pub fn is_for(&self, grid: &OccupancyGrid, unknown_passable: bool) -> bool {
-        self.unknown_passable == unknown_passable && self.grid == *grid
+        // The same revision is the same cells (a clone neither changed since): no need to
+        // compare them.
+        self.unknown_passable == unknown_passable
+            && (self.grid.revision() == grid.revision() || self.grid == *grid)
     }
 
     /// The exact shortest any-angle path from `start` to goal under the rule of

@@ -215,6 +215,93 @@ fn reused_search_matches_fresh_searches_across_grid_sizes() {
     }
 }
 
+/// A kept search reuses its padded copy of the grid while the grid's revision stays the
+/// same, clearing only what the last search reached: it must answer every query as a new
+/// search does, through cell edits (`set`, `cells_mut`), clones, other grids, a change of
+/// `unknown_passable`, and searches stopped by their budget midway.
+#[test]
+fn kept_search_sees_every_change_of_the_grid() {
+    let mut rng = rng(27);
+    let mut kept = AstarSearch::new();
+    let mut grids: Vec<OccupancyGrid> = (0..3)
+        .map(|_| {
+            let (w, h) = (rng.random_range(20..=60), rng.random_range(20..=60));
+            random_grid(&mut rng, w, h, 0.2, 0.05)
+        })
+        .collect();
+    let (mut compared, mut short, mut stopped) = (0, 0, 0);
+    for step in 0..3000 {
+        let i = rng.random_range(0..grids.len());
+        match rng.random_range(0..10) {
+            0 => {
+                let (w, h) = (grids[i].width(), grids[i].height());
+                let (x, y) = (rng.random_range(0..w), rng.random_range(0..h));
+                let cell = [Occupancy::Free, Occupancy::Occupied, Occupancy::Unknown]
+                    [rng.random_range(0..3)];
+                grids[i].set(x, y, cell).unwrap();
+            }
+            1 => {
+                let cells = grids[i].cells_mut();
+                let at = rng.random_range(0..cells.len());
+                cells[at] = if cells[at] == Occupancy::Free {
+                    Occupancy::Occupied
+                } else {
+                    Occupancy::Free
+                };
+            }
+            2 if grids.len() < 6 => grids.push(grids[i].clone()),
+            _ => {
+                let grid = &grids[i];
+                let unknown_passable = rng.random_bool(0.3);
+                let map = Traversable::new(grid, unknown_passable);
+                let (w, h) = (grid.width(), grid.height());
+                let Some(start) = random_free_cell(&mut rng, &map, w, h) else {
+                    continue;
+                };
+                // Half the goals near the start: searches that reach few cells, whose
+                // marks the next search clears one by one.
+                let goal = if rng.random_bool(0.5) {
+                    let near = (
+                        (start.0 + rng.random_range(0..4)).min(w - 1),
+                        (start.1 + rng.random_range(0..4)).min(h - 1),
+                    );
+                    if map.passable(near.0 as i64, near.1 as i64) {
+                        short += 1;
+                        near
+                    } else {
+                        continue;
+                    }
+                } else {
+                    let Some(goal) = random_free_cell(&mut rng, &map, w, h) else {
+                        continue;
+                    };
+                    goal
+                };
+                let mut opts = AstarOptions {
+                    unknown_passable,
+                    ..AstarOptions::default()
+                };
+                if rng.random_bool(0.2) {
+                    opts.budget.max_expansions = rng.random_range(1..50);
+                }
+                let answer = kept
+                    .search(grid, start, goal, &opts)
+                    .map_err(|e| e.to_string());
+                let fresh = AstarSearch::new()
+                    .search(grid, start, goal, &opts)
+                    .map_err(|e| e.to_string());
+                assert_eq!(answer, fresh, "step {step}: {start:?} -> {goal:?}");
+                stopped += usize::from(answer.is_err());
+                compared += 1;
+            }
+        }
+    }
+    assert!(
+        compared > 1500 && short > 300 && stopped > 50,
+        "{compared} compared, {short} short, {stopped} stopped by the budget"
+    );
+}
+
 #[test]
 fn start_equal_to_goal_is_a_one_cell_plan() {
     let grid = OccupancyGrid::new(3, 3, 1.0, [0.0; 2], Occupancy::Free).unwrap();
