@@ -19,7 +19,7 @@
 //   VPMAP_E2E_HEADED=1    show the browser window
 
 import { readFile } from 'node:fs/promises';
-import { launchChromium, startServer } from './harness.mjs';
+import { launchChromium, startServer, testRun } from './harness.mjs';
 
 const TOTAL_MS = 120_000;
 const SCREENSHOT = process.env.VPMAP_E2E_SCREENSHOT || '/tmp/vpmap-e2e.png';
@@ -30,56 +30,15 @@ const PITCH_TOLERANCE_DEG = 0.5;
 const PLAN_START = [1.1, 1.7];
 const PLAN_GOAL = [0.2, 5.0];
 
-const started = Date.now();
 let server = null;
 let browser = null;
 let page = null;
-let currentStep = 'start-up';
-
-function log(msg) {
-  console.log(`[${((Date.now() - started) / 1000).toFixed(1).padStart(5)} s] ${msg}`);
-}
-
-async function cleanup() {
-  try {
-    await browser?.close();
-  } catch {
-    // Closing a dead browser.
-  }
-  if (server && server.exitCode === null) server.kill('SIGTERM');
-}
-
-async function fail(msg) {
-  console.error(`\nE2E FAILED in step "${currentStep}": ${msg}`);
-  if (page) {
-    const shot = SCREENSHOT.replace(/(\.png)?$/, '-failed.png');
-    try {
-      await page.screenshot({ path: shot, timeout: 5000 });
-      console.error(`screenshot of the failure: ${shot}`);
-    } catch {
-      // No screenshot: the browser is gone.
-    }
-  }
-  await cleanup();
-  process.exit(1);
-}
-
-const watchdog = setTimeout(() => fail(`did not finish within ${TOTAL_MS / 1000} s`), TOTAL_MS);
-
-function check(cond, msg) {
-  if (!cond) throw new Error(msg);
-}
-
-async function step(name, fn) {
-  currentStep = name;
-  log(name);
-  try {
-    return await fn();
-  } catch (err) {
-    await fail(err && err.message ? err.message : String(err));
-  }
-}
-
+const { log, check, step, fail, pass } = testRun({
+  label: 'E2E',
+  totalMs: TOTAL_MS,
+  failureShot: SCREENSHOT.replace(/(\.png)?$/, '-failed.png'),
+  resources: () => ({ server, browser, page }),
+});
 
 async function main() {
   const url = await step('start the server', async () => {
@@ -495,10 +454,5 @@ async function main() {
 }
 
 main()
-  .then(async () => {
-    clearTimeout(watchdog);
-    await cleanup();
-    log('E2E PASSED');
-    process.exit(0);
-  })
+  .then(pass)
   .catch((err) => fail(err.stack || String(err)));

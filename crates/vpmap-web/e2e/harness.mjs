@@ -1,8 +1,10 @@
-// What the browser tests (e2e.mjs, usability.mjs) share: starting the server under test and
-// launching Debian's Chromium through playwright-core.
+// What the browser tests (e2e.mjs, usability.mjs, room.mjs, snap.mjs) share: starting the
+// server under test, launching Debian's Chromium through playwright-core, and the run around
+// their steps (log, failure with a screenshot, watchdog, cleanup).
 
 import { spawn } from 'node:child_process';
 import { existsSync } from 'node:fs';
+import { rm } from 'node:fs/promises';
 import { dirname, join } from 'node:path';
 import { fileURLToPath } from 'node:url';
 import { deflateSync } from 'node:zlib';
@@ -105,4 +107,66 @@ export function greyPng(w, h) {
     chunk('IDAT', deflateSync(raw)),
     chunk('IEND', Buffer.alloc(0)),
   ]);
+}
+
+/**
+ * The run around a browser test's steps: `log` (seconds since the start), `check`, `step`
+ * (runs one named step; any error fails the run naming the step), `fail` (prints
+ * `<label> FAILED in step "...": message`, takes a screenshot of the page to `failureShot`,
+ * cleans up and exits 1), `pass` (cleans up, prints `<label> PASSED` and exits 0) and a
+ * watchdog that fails the run after `totalMs`. `resources()` returns what the script has made
+ * so far, `{server, browser, page, tmp}` (any may be null): the cleanup closes the browser,
+ * stops the server and removes the temporary folder, and the failure screenshot is of the
+ * page. With `only` (step numbers as strings), steps named `N. ...` run only when N is listed.
+ */
+export function testRun({ label, totalMs, failureShot, resources, only = [] }) {
+  const started = Date.now();
+  let currentStep = 'start-up';
+  const log = (msg) => console.log(`[${((Date.now() - started) / 1000).toFixed(1).padStart(5)} s] ${msg}`);
+  const check = (cond, msg) => {
+    if (!cond) throw new Error(msg);
+  };
+  async function cleanup() {
+    const { server, browser, tmp } = resources();
+    try {
+      await browser?.close();
+    } catch {
+      // Closing a dead browser.
+    }
+    if (server && server.exitCode === null) server.kill('SIGTERM');
+    if (tmp) await rm(tmp, { recursive: true, force: true });
+  }
+  async function fail(msg) {
+    console.error(`\n${label} FAILED in step "${currentStep}": ${msg}`);
+    const { page } = resources();
+    if (page) {
+      try {
+        await page.screenshot({ path: failureShot, timeout: 5000 });
+        console.error(`screenshot of the failure: ${failureShot}`);
+      } catch {
+        // No screenshot: the browser is gone.
+      }
+    }
+    await cleanup();
+    process.exit(1);
+  }
+  const watchdog = setTimeout(() => fail(`did not finish within ${totalMs / 1000} s`), totalMs);
+  async function step(name, fn) {
+    const num = /^(\d+)\./.exec(name)?.[1];
+    if (num && only.length && !only.includes(num)) return undefined;
+    currentStep = name;
+    log(name);
+    try {
+      return await fn();
+    } catch (err) {
+      return fail(err && err.message ? err.message : String(err));
+    }
+  }
+  async function pass() {
+    clearTimeout(watchdog);
+    await cleanup();
+    log(`${label} PASSED`);
+    process.exit(0);
+  }
+  return { log, check, step, fail, pass };
 }

@@ -21,64 +21,26 @@
 // VPMAP_E2E_MOCK, VPMAP_E2E_CHROMIUM, VPMAP_E2E_SCREENSHOT, VPMAP_E2E_HEADED); screenshots go
 // next to the requested one as `<screenshot>-room-<what>.png`. Prints `ROOM PASSED`.
 
-import { mkdtemp, readFile, rm, writeFile } from 'node:fs/promises';
+import { mkdtemp, readFile, writeFile } from 'node:fs/promises';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { REPO, greyPng, launchChromium, startServer } from './harness.mjs';
+import { REPO, greyPng, launchChromium, startServer, testRun } from './harness.mjs';
 
 const TOTAL_MS = 150_000;
 const SHOT = (what) => (process.env.VPMAP_E2E_SCREENSHOT || '/tmp/vpmap-e2e.png').replace(/(\.png)?$/, `-room-${what}.png`);
 const ROOM_EXAMPLE = join(REPO, 'examples', 'room.json');
 
-const started = Date.now();
 let server = null;
 let browser = null;
 let page = null;
 let tmp = null;
-let currentStep = 'start-up';
 const problems = [];
-
-const log = (msg) => console.log(`[${((Date.now() - started) / 1000).toFixed(1).padStart(5)} s] ${msg}`);
-
-async function cleanup() {
-  try {
-    await browser?.close();
-  } catch {
-    // Closing a dead browser.
-  }
-  if (server && server.exitCode === null) server.kill('SIGTERM');
-  if (tmp) await rm(tmp, { recursive: true, force: true });
-}
-
-async function fail(msg) {
-  console.error(`\nROOM FAILED in step "${currentStep}": ${msg}`);
-  if (page) {
-    try {
-      await page.screenshot({ path: SHOT('failed'), timeout: 5000 });
-      console.error(`screenshot of the failure: ${SHOT('failed')}`);
-    } catch {
-      // No screenshot: the browser is gone.
-    }
-  }
-  await cleanup();
-  process.exit(1);
-}
-
-const watchdog = setTimeout(() => fail(`did not finish within ${TOTAL_MS / 1000} s`), TOTAL_MS);
-
-function check(cond, msg) {
-  if (!cond) throw new Error(msg);
-}
-
-async function step(name, fn) {
-  currentStep = name;
-  log(name);
-  try {
-    return await fn();
-  } catch (err) {
-    return fail(err && err.message ? err.message : String(err));
-  }
-}
+const { log, check, step, fail, pass } = testRun({
+  label: 'ROOM',
+  totalMs: TOTAL_MS,
+  failureShot: SHOT('failed'),
+  resources: () => ({ server, browser, page, tmp }),
+});
 
 const noProblems = () => check(problems.length === 0, problems.join('\n'));
 /** Take the browser's log lines of the refused builds (the step expects them) out of the problems. */
@@ -316,9 +278,8 @@ async function main() {
     noProblems();
   });
 
-  clearTimeout(watchdog);
-  await cleanup();
-  console.log(`\nROOM PASSED in ${((Date.now() - started) / 1000).toFixed(1)} s`);
 }
 
-main().catch((err) => fail(err && err.stack ? err.stack : String(err)));
+main()
+  .then(pass)
+  .catch((err) => fail(err && err.stack ? err.stack : String(err)));

@@ -15,55 +15,21 @@
 // No console error or warning is allowed. Environment as e2e.mjs (VPMAP_BIN, VPMAP_URL,
 // VPMAP_E2E_CHROMIUM, VPMAP_E2E_SCREENSHOT, VPMAP_E2E_HEADED). Prints `SNAP PASSED`.
 
-import { launchChromium, startServer } from './harness.mjs';
+import { launchChromium, startServer, testRun } from './harness.mjs';
 
 const TOTAL_MS = 150_000;
 const SHOT = (what) => (process.env.VPMAP_E2E_SCREENSHOT || '/tmp/vpmap-e2e.png').replace(/(\.png)?$/, `-snap-${what}.png`);
 
-const started = Date.now();
 let server = null;
 let browser = null;
 let page = null;
-let currentStep = 'start-up';
 const problems = [];
-const log = (msg) => console.log(`[${((Date.now() - started) / 1000).toFixed(1).padStart(5)} s] ${msg}`);
-
-async function cleanup() {
-  try {
-    await browser?.close();
-  } catch {
-    // Closing a dead browser.
-  }
-  if (server && server.exitCode === null) server.kill('SIGTERM');
-}
-
-async function fail(msg) {
-  console.error(`\nSNAP FAILED in step "${currentStep}": ${msg}`);
-  try {
-    await page?.screenshot({ path: SHOT('failed'), timeout: 5000 });
-    console.error(`screenshot of the failure: ${SHOT('failed')}`);
-  } catch {
-    // No screenshot: the browser is gone.
-  }
-  await cleanup();
-  process.exit(1);
-}
-
-const watchdog = setTimeout(() => fail(`did not finish within ${TOTAL_MS / 1000} s`), TOTAL_MS);
-
-function check(cond, msg) {
-  if (!cond) throw new Error(msg);
-}
-
-async function step(name, fn) {
-  currentStep = name;
-  log(name);
-  try {
-    return await fn();
-  } catch (err) {
-    return fail(err && err.message ? err.message : String(err));
-  }
-}
+const { log, check, step, fail, pass } = testRun({
+  label: 'SNAP',
+  totalMs: TOTAL_MS,
+  failureShot: SHOT('failed'),
+  resources: () => ({ server, browser, page }),
+});
 
 const noProblems = () => check(problems.length === 0, problems.join('\n'));
 const dist = (a, b) => Math.hypot(a[0] - b[0], a[1] - b[1]);
@@ -266,9 +232,8 @@ async function main() {
     noProblems();
   });
 
-  clearTimeout(watchdog);
-  await cleanup();
-  console.log('SNAP PASSED');
 }
 
-main().catch((err) => fail(err?.message || String(err)));
+main()
+  .then(pass)
+  .catch((err) => fail(err?.message || String(err)));

@@ -22,10 +22,10 @@
 // VPMAP_URL, VPMAP_E2E_CHROMIUM, VPMAP_E2E_SCREENSHOT, VPMAP_E2E_HEADED); exits 0 with
 // `USABILITY PASSED`, or 1 naming the failed step.
 
-import { mkdtemp, readFile, rm, writeFile } from 'node:fs/promises';
+import { mkdtemp, readFile, writeFile } from 'node:fs/promises';
 import { tmpdir } from 'node:os';
 import { join } from 'node:path';
-import { greyPng, launchChromium, startServer } from './harness.mjs';
+import { greyPng, launchChromium, startServer, testRun } from './harness.mjs';
 import { segmentCorners } from '../assets/js/geometry.js';
 
 const TOTAL_MS = 150_000;
@@ -33,63 +33,19 @@ const SCREENSHOT = (process.env.VPMAP_E2E_SCREENSHOT || '/tmp/vpmap-e2e.png').re
 // Free floor of the example (map metres), as in e2e.mjs.
 const PLAN_GOAL = [0.2, 5.0];
 
-const started = Date.now();
 let server = null;
 let browser = null;
 let page = null;
 let tmp = null;
-let currentStep = 'start-up';
-
-function log(msg) {
-  console.log(`[${((Date.now() - started) / 1000).toFixed(1).padStart(5)} s] ${msg}`);
-}
-
-async function cleanup() {
-  try {
-    await browser?.close();
-  } catch {
-    // Closing a dead browser.
-  }
-  if (server && server.exitCode === null) server.kill('SIGTERM');
-  if (tmp) await rm(tmp, { recursive: true, force: true });
-}
-
-async function fail(msg) {
-  console.error(`\nUSABILITY FAILED in step "${currentStep}": ${msg}`);
-  if (page) {
-    const shot = SCREENSHOT.replace(/(\.png)?$/, '-failed.png');
-    try {
-      await page.screenshot({ path: shot, timeout: 5000 });
-      console.error(`screenshot of the failure: ${shot}`);
-    } catch {
-      // No screenshot: the browser is gone.
-    }
-  }
-  await cleanup();
-  process.exit(1);
-}
-
-const watchdog = setTimeout(() => fail(`did not finish within ${TOTAL_MS / 1000} s`), TOTAL_MS);
-
-function check(cond, msg) {
-  if (!cond) throw new Error(msg);
-}
-
 // USABILITY_ONLY=2,3: run only the numbered steps given (for working on one bug).
 const ONLY = (process.env.USABILITY_ONLY || '').split(',').filter(Boolean);
-
-async function step(name, fn) {
-  const num = /^(\d+)\./.exec(name)?.[1];
-  if (num && ONLY.length && !ONLY.includes(num)) return undefined;
-  currentStep = name;
-  log(name);
-  try {
-    return await fn();
-  } catch (err) {
-    await fail(err && err.message ? err.message : String(err));
-  }
-}
-
+const { log, check, step, fail, pass } = testRun({
+  label: 'USABILITY',
+  totalMs: TOTAL_MS,
+  failureShot: SCREENSHOT.replace(/(\.png)?$/, '-failed.png'),
+  resources: () => ({ server, browser, page, tmp }),
+  only: ONLY,
+});
 
 let url;
 let problems = [];
@@ -863,10 +819,5 @@ async function main() {
 }
 
 main()
-  .then(async () => {
-    clearTimeout(watchdog);
-    await cleanup();
-    log('USABILITY PASSED');
-    process.exit(0);
-  })
+  .then(pass)
   .catch((err) => fail(err.stack || String(err)));
