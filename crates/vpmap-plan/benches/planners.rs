@@ -33,7 +33,8 @@ use std::hint::black_box;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
-use criterion::{Criterion, Throughput, criterion_group, criterion_main};
+use criterion::measurement::WallTime;
+use criterion::{BenchmarkGroup, Criterion, Throughput, criterion_group, criterion_main};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use vpmap_plan::{
@@ -223,6 +224,22 @@ fn generated_case() -> Case {
 const STRAIGHT: u64 = 10_000;
 const DIAGONAL: u64 = 14_142;
 
+/// Benchmark `name` in `group`: one iteration runs `plan` on every query of `queries`.
+fn bench_queries<R>(
+    group: &mut BenchmarkGroup<'_, WallTime>,
+    name: &str,
+    queries: &[(CellXy, CellXy)],
+    mut plan: impl FnMut(CellXy, CellXy) -> R,
+) {
+    group.bench_function(name, |b| {
+        b.iter(|| {
+            for &(start, goal) in queries {
+                black_box(plan(start, goal));
+            }
+        });
+    });
+}
+
 /// The reference: `pathfinding`'s A* with 8-connected, no-corner-cutting successors.
 fn reference_astar(grid: &OccupancyGrid, start: CellXy, goal: CellXy) -> Option<Vec<CellXy>> {
     let (w, h) = (grid.width() as i64, grid.height() as i64);
@@ -334,19 +351,11 @@ fn benches(c: &mut Criterion) {
         group.warm_up_time(Duration::from_secs(1));
         let mut search = AstarSearch::new();
         let opts = AstarOptions::default();
-        group.bench_function("vpmap_astar_search", |b| {
-            b.iter(|| {
-                for &(start, goal) in queries {
-                    black_box(search.search(grid, start, goal, &opts).unwrap());
-                }
-            });
+        bench_queries(&mut group, "vpmap_astar_search", queries, |s, g| {
+            search.search(grid, s, g, &opts).unwrap()
         });
-        group.bench_function("pathfinding_astar", |b| {
-            b.iter(|| {
-                for &(start, goal) in queries {
-                    black_box(reference_astar(grid, start, goal));
-                }
-            });
+        bench_queries(&mut group, "pathfinding_astar", queries, |s, g| {
+            reference_astar(grid, s, g)
         });
         group.finish();
 
@@ -355,56 +364,32 @@ fn benches(c: &mut Criterion) {
         group.sample_size(10);
         group.measurement_time(Duration::from_secs(3));
         group.warm_up_time(Duration::from_secs(1));
-        group.bench_function("astar", |b| {
-            b.iter(|| {
-                for &(start, goal) in queries {
-                    black_box(astar(grid, start, goal, &opts).unwrap());
-                }
-            });
+        bench_queries(&mut group, "astar", queries, |s, g| {
+            astar(grid, s, g, &opts).unwrap()
         });
         let ps_opts = AstarPsOptions::default();
-        group.bench_function("astar_ps", |b| {
-            b.iter(|| {
-                for &(start, goal) in queries {
-                    black_box(astar_ps(grid, start, goal, &ps_opts).unwrap());
-                }
-            });
+        bench_queries(&mut group, "astar_ps", queries, |s, g| {
+            astar_ps(grid, s, g, &ps_opts).unwrap()
         });
         let mbpp_opts = MbppOptions::default();
-        group.bench_function("mbpp", |b| {
-            b.iter(|| {
-                for &(start, goal) in queries {
-                    black_box(mbpp(grid, start, goal, &mbpp_opts).unwrap());
-                }
-            });
+        bench_queries(&mut group, "mbpp", queries, |s, g| {
+            mbpp(grid, s, g, &mbpp_opts).unwrap()
         });
         let closer_opts = MbppOptions {
             leave: LeaveRule::Closer,
             ..MbppOptions::default()
         };
-        group.bench_function("mbpp_closer", |b| {
-            b.iter(|| {
-                for &(start, goal) in queries {
-                    black_box(mbpp(grid, start, goal, &closer_opts).unwrap());
-                }
-            });
+        bench_queries(&mut group, "mbpp_closer", queries, |s, g| {
+            mbpp(grid, s, g, &closer_opts).unwrap()
         });
         let theta_opts = ThetaStarOptions::default();
-        group.bench_function("theta_star", |b| {
-            b.iter(|| {
-                for &(start, goal) in queries {
-                    black_box(theta_star(grid, start, goal, &theta_opts).unwrap());
-                }
-            });
+        bench_queries(&mut group, "theta_star", queries, |s, g| {
+            theta_star(grid, s, g, &theta_opts).unwrap()
         });
         if run_optimal {
             let optimal_opts = OptimalAnyAngleOptions::default();
-            group.bench_function("optimal_any_angle", |b| {
-                b.iter(|| {
-                    for &(start, goal) in queries {
-                        black_box(optimal_any_angle(grid, start, goal, &optimal_opts).unwrap());
-                    }
-                });
+            bench_queries(&mut group, "optimal_any_angle", queries, |s, g| {
+                optimal_any_angle(grid, s, g, &optimal_opts).unwrap()
             });
         }
         group.finish();
@@ -459,20 +444,12 @@ fn exact_benches(c: &mut Criterion) {
         group.warm_up_time(Duration::from_secs(1));
         let mut search = AstarSearch::new();
         let opts = AstarOptions::default();
-        group.bench_function("astar", |b| {
-            b.iter(|| {
-                for &(start, goal) in queries {
-                    black_box(search.search(grid, start, goal, &opts).unwrap());
-                }
-            });
+        bench_queries(&mut group, "astar", queries, |s, g| {
+            search.search(grid, s, g, &opts).unwrap()
         });
         let budget = Budget::default();
-        group.bench_function("exact", |b| {
-            b.iter(|| {
-                for &(start, goal) in queries {
-                    black_box(exact.plan(start, goal, &budget).unwrap());
-                }
-            });
+        bench_queries(&mut group, "exact", queries, |s, g| {
+            exact.plan(s, g, &budget).unwrap()
         });
         group.bench_function("exact_build", |b| {
             b.iter(|| black_box(ExactPlanner::new(grid, false)));
@@ -652,34 +629,17 @@ fn expansion_benches(c: &mut Criterion) {
         group.measurement_time(Duration::from_secs(3));
         group.warm_up_time(Duration::from_secs(1));
         group.throughput(Throughput::Elements(expanded as u64));
-        group.bench_function("vpmap_astar_search", |b| {
-            b.iter(|| {
-                for &(start, goal) in queries {
-                    black_box(search.search(grid, start, goal, &opts).unwrap());
-                }
-            });
+        bench_queries(&mut group, "vpmap_astar_search", queries, |s, g| {
+            search.search(grid, s, g, &opts).unwrap()
         });
-        group.bench_function("vpmap_astar_free_fn", |b| {
-            b.iter(|| {
-                for &(start, goal) in queries {
-                    black_box(astar(grid, start, goal, &opts).unwrap());
-                }
-            });
+        bench_queries(&mut group, "vpmap_astar_free_fn", queries, |s, g| {
+            astar(grid, s, g, &opts).unwrap()
         });
-        group.bench_function("vpmap_astar_new_search", |b| {
-            b.iter(|| {
-                for &(start, goal) in queries {
-                    let mut search = AstarSearch::new();
-                    black_box(search.search(grid, start, goal, &opts).unwrap());
-                }
-            });
+        bench_queries(&mut group, "vpmap_astar_new_search", queries, |s, g| {
+            AstarSearch::new().search(grid, s, g, &opts).unwrap()
         });
-        group.bench_function("pathfinding_astar", |b| {
-            b.iter(|| {
-                for &(start, goal) in queries {
-                    black_box(reference_astar(grid, start, goal));
-                }
-            });
+        bench_queries(&mut group, "pathfinding_astar", queries, |s, g| {
+            reference_astar(grid, s, g)
         });
         group.finish();
     }
