@@ -271,6 +271,14 @@ thread_local! {
     static THREAD_SEARCH: RefCell<AstarSearch> = RefCell::new(AstarSearch::new());
 }
 
+/// Most expanded cells a search lists for the next search on the same grid to clear
+/// (each with its eight neighbours), of a grid of `padded_cells`: clearing one listed cell's
+/// block costs about as much as copying 64 cells of the grid (three scattered short rows
+/// against a sequential copy), so past this the grid is copied again.
+fn reached_limit(padded_cells: usize) -> usize {
+    padded_cells / 64
+}
+
 /// A reusable A* search: keeps its per-cell arrays and open list between calls, so that
 /// many queries on grids of one size allocate once (and need no clearing: a cell's step
 /// counts are only read when its flags say this search reached it).
@@ -278,7 +286,8 @@ thread_local! {
 /// Internally the grid is copied into a flag map with a one-cell blocked border, which
 /// lets the neighbour checks go without bounds tests. The copy is kept for the next search
 /// while the grid's [revision](OccupancyGrid::revision) and `unknown_passable` stay the
-/// same (then only the cells the last search reached are cleared), and made again
+/// same (then only the cells around those the last search expanded are cleared, when it
+/// expanded few), and made again
 /// otherwise, so grid edits between searches are always seen.
 ///
 /// # Example
@@ -303,8 +312,10 @@ pub struct AstarSearch {
     open: OpenList,
     /// The grid revision and `unknown_passable` that `flags` were filled for.
     padded_for: Option<(u64, bool)>,
-    /// The padded cells the last search reached (all traversable), whose flags the next
-    /// search on the same grid clears.
+    /// The padded cells the last search expanded: they and their neighbours are every cell
+    /// it marked, whose flags the next search on the same grid clears. Complete only when
+    /// shorter than [`reached_limit`] (a search that expands more stops listing them, and
+    /// the next copies the grid).
     reached: Vec<u32>,
 }
 
@@ -339,14 +350,21 @@ impl AstarSearch {
     fn begin(&mut self, grid: &OccupancyGrid, unknown_passable: bool) {
         let key = Some((grid.revision(), unknown_passable));
         let padded_cells = (grid.width() + 2) * (grid.height() + 2);
-        // Clearing a cell costs about as much as copying 32 (a scattered write against a
-        // sequential one): past that, copying the grid again is cheaper.
-        let few_reached = self.reached.len().saturating_mul(32) < padded_cells;
+        // The last search's list is complete when shorter than the limit (see `search`).
+        let few_reached = self.reached.len() < reached_limit(padded_cells);
         if self.padded_for == key && self.flags.len() == padded_cells && few_reached {
             // The same cells as the last search's: clear what it marked, not the grid.
+            // Every cell it reached is an expanded cell or a neighbour of one; a cell's
+            // flags keep its traversability bit, so masking restores them.
+            let pw = grid.width() + 2;
             for &cell in &self.reached {
-                if let Some(flag) = self.flags.get_mut(cell as usize) {
-                    *flag = PASSABLE;
+                let cell = cell as usize;
+                for row in [cell - pw, cell, cell + pw] {
+                    if let Some(flags) = self.flags.get_mut(row - 1..=row + 1) {
+                        for flag in flags {
+                            *flag &= PASSABLE;
+                        }
+                    }
                 }
             }
         } else {
@@ -387,6 +405,7 @@ impl AstarSearch {
         let goal_p = ((goal.0 + 1) as u32, (goal.1 + 1) as u32);
         let start_index = start_p.1 * pw32 + start_p.0;
         let goal_index = goal_p.1 * pw32 + goal_p.0;
+        let listed = reached_limit(self.flags.len());
         let flags = self.flags.as_mut_slice();
         let all_steps = self.steps.as_mut_slice();
         let reached = &mut self.reached;
@@ -396,7 +415,6 @@ impl AstarSearch {
         ) {
             *f |= REACHED;
             *s = [0, 0];
-            reached.push(start_index);
         }
         let open = &mut self.open;
         open.push(octile_length(octile_steps(start_p, goal_p)), start_index);
@@ -420,6 +438,9 @@ impl AstarSearch {
                 continue; // a stale entry: the cell was expanded with a smaller cost
             }
             *flag |= CLOSED;
+            if reached.len() < listed {
+                reached.push(node);
+            }
             let steps = all_steps.get(index).copied().unwrap_or_default();
             stats.expanded += 1;
             if stats.expanded > max_expansions || stats.expanded.is_multiple_of(STOP_CHECK_INTERVAL)
@@ -480,12 +501,8 @@ impl AstarSearch {
                 } else {
                     (straight_steps, g_straight)
                 };
-                if around[k] & REACHED != 0 {
-                    if octile_length(*next_steps_slot) <= g {
-                        continue;
-                    }
-                } else {
-                    reached.push(next_index as u32);
+                if around[k] & REACHED != 0 && octile_length(*next_steps_slot) <= g {
+                    continue;
                 }
                 *next_steps_slot = next_steps;
                 *next_flag = PASSABLE | REACHED | ((k as u8) << MOVE_SHIFT);
