@@ -87,6 +87,11 @@ def cuts_a_corner(blocked, cells):
     return False
 
 
+def ratio(x):
+    """A ratio as the table prints it: one decimal below 100 (so 9.6 is not printed 10)."""
+    return f"{x:.1f}x" if x < 100 else f"{x:.0f}x"
+
+
 def timed(fn, *args, **kwargs):
     began = time.perf_counter()
     result = fn(*args, **kwargs)
@@ -294,9 +299,9 @@ def main():
         r = bench_astar(name, grid, qs, args.pathfinding_queries, args.repeats)
         rows.append(r)
         print(
-            f"| {r['map']} | {r['queries']} | {r['vpmap_ms']:.2f} | {r['skimage_x']:.0f}x | "
-            f"{r['pathfinding_x']:.0f}x ({r['pathfinding_queries']}) | {r['vpmap_cold_ms']:.2f} | "
-            f"{r['skimage_cold_x']:.0f}x | {r['pathfinding_cold_x']:.0f}x | {r['skimage_cuts']} | "
+            f"| {r['map']} | {r['queries']} | {r['vpmap_ms']:.2f} | {ratio(r['skimage_x'])} | "
+            f"{ratio(r['pathfinding_x'])} ({r['pathfinding_queries']}) | {r['vpmap_cold_ms']:.2f} | "
+            f"{ratio(r['skimage_cold_x'])} | {ratio(r['pathfinding_cold_x'])} | {r['skimage_cuts']} | "
             f"{r['longer_than_skimage']} / {r['longer_than_pathfinding']} |",
             flush=True,
         )
@@ -316,7 +321,7 @@ def main():
             continue
         print(
             f"| {r['map']} | {r['queries']} | {r['vpmap_ms']:.3f} | {r['vpmap_first_ms']:.1f} | "
-            f"{r['extremity_x']:.1f}x | {r['extremity_prepare_s']:.1f} | {r['longer']} | {r['invalid']} / {r['failed']} |",
+            f"{ratio(r['extremity_x'])} | {r['extremity_prepare_s']:.1f} | {r['longer']} | {r['invalid']} / {r['failed']} |",
             flush=True,
         )
     print()
