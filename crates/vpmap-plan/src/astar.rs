@@ -275,7 +275,7 @@ thread_local! {
 /// (each with its eight neighbours), of a grid of `padded_cells`: clearing one listed cell's
 /// block costs about as much as copying 64 cells of the grid (three scattered short rows
 /// against a sequential copy), so past this the grid is copied again.
-fn reached_limit(padded_cells: usize) -> usize {
+fn listed_limit(padded_cells: usize) -> usize {
     padded_cells / 64
 }
 
@@ -287,8 +287,8 @@ fn reached_limit(padded_cells: usize) -> usize {
 /// lets the neighbour checks go without bounds tests. The copy is kept for the next search
 /// while the grid's [revision](OccupancyGrid::revision) and `unknown_passable` stay the
 /// same (then only the cells around those the last search expanded are cleared, when it
-/// expanded few), and made again
-/// otherwise, so grid edits between searches are always seen.
+/// expanded few), and made again otherwise, so grid edits between searches are always
+/// seen.
 ///
 /// # Example
 /// ```
@@ -314,9 +314,9 @@ pub struct AstarSearch {
     padded_for: Option<(u64, bool)>,
     /// The padded cells the last search expanded: they and their neighbours are every cell
     /// it marked, whose flags the next search on the same grid clears. Complete only when
-    /// shorter than [`reached_limit`] (a search that expands more stops listing them, and
+    /// shorter than [`listed_limit`] (a search that expands more stops listing them, and
     /// the next copies the grid).
-    reached: Vec<u32>,
+    expanded_cells: Vec<u32>,
 }
 
 impl AstarSearch {
@@ -351,13 +351,13 @@ impl AstarSearch {
         let key = Some((grid.revision(), unknown_passable));
         let padded_cells = (grid.width() + 2) * (grid.height() + 2);
         // The last search's list is complete when shorter than the limit (see `search`).
-        let few_reached = self.reached.len() < reached_limit(padded_cells);
-        if self.padded_for == key && self.flags.len() == padded_cells && few_reached {
+        let listed_all = self.expanded_cells.len() < listed_limit(padded_cells);
+        if self.padded_for == key && self.flags.len() == padded_cells && listed_all {
             // The same cells as the last search's: clear what it marked, not the grid.
             // Every cell it reached is an expanded cell or a neighbour of one; a cell's
             // flags keep its traversability bit, so masking restores them.
             let pw = grid.width() + 2;
-            for &cell in &self.reached {
+            for &cell in &self.expanded_cells {
                 let cell = cell as usize;
                 for row in [cell - pw, cell, cell + pw] {
                     if let Some(flags) = self.flags.get_mut(row - 1..=row + 1) {
@@ -371,7 +371,7 @@ impl AstarSearch {
             fill_padded(grid, unknown_passable, &mut self.flags, 0, PASSABLE);
             self.padded_for = key;
         }
-        self.reached.clear();
+        self.expanded_cells.clear();
         if self.steps.len() < self.flags.len() {
             // Zeroed memory comes from the allocator untouched: only the pages this
             // search writes are ever faulted in.
@@ -405,10 +405,10 @@ impl AstarSearch {
         let goal_p = ((goal.0 + 1) as u32, (goal.1 + 1) as u32);
         let start_index = start_p.1 * pw32 + start_p.0;
         let goal_index = goal_p.1 * pw32 + goal_p.0;
-        let listed = reached_limit(self.flags.len());
+        let listed = listed_limit(self.flags.len());
         let flags = self.flags.as_mut_slice();
         let all_steps = self.steps.as_mut_slice();
-        let reached = &mut self.reached;
+        let expanded_cells = &mut self.expanded_cells;
         if let (Some(f), Some(s)) = (
             flags.get_mut(start_index as usize),
             all_steps.get_mut(start_index as usize),
@@ -438,8 +438,8 @@ impl AstarSearch {
                 continue; // a stale entry: the cell was expanded with a smaller cost
             }
             *flag |= CLOSED;
-            if reached.len() < listed {
-                reached.push(node);
+            if expanded_cells.len() < listed {
+                expanded_cells.push(node);
             }
             let steps = all_steps.get(index).copied().unwrap_or_default();
             stats.expanded += 1;
@@ -566,9 +566,9 @@ impl AstarSearch {
 ///
 /// # Complexity
 /// `O(n log n)` time for `n` reachable cells plus `O(cells)` to copy the grid (only the
-/// cells the thread's last search reached, when it searched this grid at the same
-/// [revision](OccupancyGrid::revision) and reached few), 9 bytes per grid cell plus 4 per
-/// reached cell.
+/// blocks around the cells the thread's last search expanded, when it searched this grid
+/// at the same [revision](OccupancyGrid::revision) and expanded under 1/64 of it), 9 bytes
+/// per grid cell plus 4 per expanded cell listed.
 ///
 /// # References
 /// P. E. Hart, N. J. Nilsson, B. Raphael, "A Formal Basis for the Heuristic Determination
