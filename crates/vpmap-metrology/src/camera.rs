@@ -20,7 +20,16 @@ pub type MapPoint = [f64; 2];
 /// As [`Scene::resolve_vanishing_points`] and [`Calibration::from_vanishing_points`].
 pub fn calibrate(scene: &Scene) -> Result<Calibration> {
     let vps = scene.resolve_vanishing_points()?;
-    let pp = scene.principal_point.map(|p| Vector2::new(p[0], p[1]));
+    // A principal point with a standard deviation is a prior, which the closed forms (they
+    // have no priors) use only where they need a principal point: three finite vanishing
+    // points fix it themselves (their orthocentre).
+    let prior_only = scene.principal_point_sd_px.is_some()
+        && vps.len() == 3
+        && vps.iter().all(|v| v.z.abs() > 1e-12 * v.x.hypot(v.y));
+    let pp = scene
+        .principal_point
+        .filter(|_| !prior_only)
+        .map(|p| Vector2::new(p[0], p[1]));
     let mut cal =
         Calibration::from_listed(&vps, pp, scene.image, scene.vanishing_points_labelled())?;
     if let Some(f) = scene.focal_px

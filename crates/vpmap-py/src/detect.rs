@@ -87,7 +87,7 @@ pub fn detect(
     two_point_tolerance: Option<f64>,
 ) -> PyResult<PyDetection> {
     let defaults = DetectOptions::default();
-    let opts = DetectOptions {
+    let mut opts = DetectOptions {
         focal_px,
         principal_point_px: principal_point.map(|(x, y)| [x, y]),
         max_side_px: max_side.unwrap_or(defaults.max_side_px),
@@ -102,6 +102,11 @@ pub fn detect(
             let photo = py
                 .detach(|| decode_photo(&bytes, &PhotoLimits::default()))
                 .map_err(|e| error(format!("{}: {e}", path.display())))?;
+            // The EXIF focal length as a prior, as `vpmap detect` uses it (an unusable one is
+            // left out here; the command line says why).
+            if focal_px.is_none() {
+                opts.focal_prior = photo.exif_focal_prior().ok().flatten();
+            }
             (photo.image, path.display().to_string())
         }
         _ => (image_from_array(image)?, "the image".to_owned()),
@@ -128,7 +133,11 @@ pub struct PyDetection {
 impl PyDetection {
     /// The vanishing points, one dict each: ``point`` (pixels, or ``None`` at infinity),
     /// ``direction`` (camera frame: x right, y down, z forward), ``vertical``, ``segments``
-    /// (indices into ``segments``), and ``role`` (the name the scene gives it, or ``None``).
+    /// (indices into ``segments``), ``role`` (the name the scene gives it, or ``None``), and,
+    /// for a point the scene writes, ``covariance_deg2`` (its 2 x 2 covariance, degrees squared,
+    /// across and radial in the scene's chart, as the scene file holds it), ``sd_deg`` (the
+    /// ellipse's largest standard deviation, degrees) and ``edges`` (independent edges behind
+    /// it); ``None`` for one not written.
     #[getter]
     fn vanishing_points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let list = PyList::empty(py);
@@ -153,6 +162,21 @@ impl PyDetection {
                 .find(|(r, _)| **r == i)
                 .map(|(_, name)| name);
             d.set_item("role", role)?;
+            let cov = self
+                .scene
+                .roles
+                .iter()
+                .position(|r| *r == i)
+                .and_then(|k| self.scene.covariances[k]);
+            d.set_item(
+                "covariance_deg2",
+                cov.map(|c| {
+                    let m = c.covariance_deg2;
+                    ((m[0][0], m[0][1]), (m[1][0], m[1][1]))
+                }),
+            )?;
+            d.set_item("sd_deg", cov.map(|c| c.major_sd_deg()))?;
+            d.set_item("edges", cov.map(|c| c.edges))?;
             list.append(d)?;
         }
         Ok(list)
@@ -169,6 +193,30 @@ impl PyDetection {
     fn principal_point(&self) -> (f64, f64) {
         let [x, y] = self.det.intrinsics.principal_point_px;
         (x, y)
+    }
+
+    /// The camera the scene gives before any click, with standard deviations (the joint fit
+    /// of its vanishing points and the principal point's prior): a dict of ``focal_px``,
+    /// ``focal_sd_px``, ``principal_point``, ``pitch_deg``, ``pitch_sd_deg``, ``roll_deg``,
+    /// ``roll_sd_deg`` and ``horizon_sd_px``; ``None`` when that fit fails.
+    #[getter]
+    fn camera_estimate<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(c) = self.scene.camera_estimate() else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        d.set_item("focal_px", c.focal_px)?;
+        d.set_item("focal_sd_px", c.focal_sd_px)?;
+        d.set_item(
+            "principal_point",
+            (c.principal_point_px[0], c.principal_point_px[1]),
+        )?;
+        d.set_item("pitch_deg", c.pitch_deg)?;
+        d.set_item("pitch_sd_deg", c.pitch_sd_deg)?;
+        d.set_item("roll_deg", c.roll_deg)?;
+        d.set_item("roll_sd_deg", c.roll_sd_deg)?;
+        d.set_item("horizon_sd_px", c.horizon_sd_px)?;
+        Ok(Some(d))
     }
 
     /// Whether the focal length was estimated (not given).

@@ -137,3 +137,25 @@ def test_navigate_reads_maps_as_the_command_line(tmp_path):
     report = vpmap.navigate(None, truth, (1.5, 3.0), (-1.5, 6.0))
     assert report["units"] == "m" and report["reached"]
     assert report["length"] >= report["optimum_any_angle"] - 1e-9
+
+
+def test_detect_reports_how_sure_it_is():
+    # The drawn camera is known exactly, so the honest error bars must hold it: each written
+    # vanishing point's ellipse holds the drawn direction, and the focal length lies inside
+    # the scene's 95 % interval; the scene file carries the same covariances.
+    rgb, focal, pitch = drawn_photo()
+    det = vpmap.detect(rgb)
+    written = [vp for vp in det.vanishing_points if vp["covariance_deg2"] is not None]
+    assert len(written) == 3
+    for vp in written:
+        (a, b), (c, d) = vp["covariance_deg2"]
+        assert a > 0 and d > 0 and a * d - b * c > 0 and b == c
+        assert vp["sd_deg"] >= 1.0  # never below the measured floor
+        assert vp["edges"] >= 3
+    scene = det.scene()
+    assert all("covariance_deg2" in v for v in scene["vanishing_points"])
+    assert scene["principal_point_sd_px"] > 0
+    cam = det.camera_estimate
+    assert cam is not None and cam["focal_sd_px"] > 0
+    assert abs(cam["focal_px"] - focal) <= 1.96 * cam["focal_sd_px"]
+    assert abs(abs(cam["pitch_deg"]) - pitch) <= 1.96 * cam["pitch_sd_deg"]

@@ -57,6 +57,12 @@ pub struct Detection {
     pub focal_estimated: bool,
     /// Whether the principal point was estimated (not given).
     pub principal_point_estimated: bool,
+    /// Whether the principal point was given ([`DetectOptions::principal_point_px`]); when
+    /// neither given nor estimated it is the image centre.
+    pub principal_point_given: bool,
+    /// The focal length's prior the detection used ([`DetectOptions::focal_prior`]), when the
+    /// focal length was estimated.
+    pub focal_prior: Option<(f64, f64)>,
     /// Two- or three-point perspective, from the vertical direction's tilt:
     /// [`Perspective::TwoPoint`] when it is tilted from the image plane by less than
     /// [`DetectOptions::two_point_tolerance_deg`] (its vanishing point far towards infinity, and
@@ -90,6 +96,10 @@ pub struct DetectOptions {
     pub two_point_tolerance_deg: f64,
     /// Seed of the random sampling, for reproducible results (default 0).
     pub seed: u64,
+    /// A prior on the focal length when it is estimated: `(focal_px, relative sd)`, e.g. from
+    /// the photo's EXIF ([`crate::photo::Photo::exif_focal_prior`]). Default: the weak
+    /// log-normal prior at the image's longer side. Ignored when [`Self::focal_px`] is given.
+    pub focal_prior: Option<(f64, f64)>,
 }
 
 impl Default for DetectOptions {
@@ -100,6 +110,7 @@ impl Default for DetectOptions {
             max_side_px: 640,
             two_point_tolerance_deg: 0.0,
             seed: 0,
+            focal_prior: None,
         }
     }
 }

@@ -65,6 +65,7 @@ pub fn detect_from_segments(
         scale,
         opts.focal_px,
         opts.principal_point_px,
+        opts.focal_prior,
         opts.seed,
     )?;
     let k = estimate.intrinsics;
@@ -93,6 +94,8 @@ pub fn detect_from_segments(
         intrinsics: k,
         focal_estimated: opts.focal_px.is_none(),
         principal_point_estimated: estimate.principal_point_estimated,
+        principal_point_given: opts.principal_point_px.is_some(),
+        focal_prior: opts.focal_prior.filter(|_| opts.focal_px.is_none()),
         perspective: if tilt_deg < opts.two_point_tolerance_deg {
             Perspective::TwoPoint
         } else {

@@ -19,6 +19,7 @@
 //! | Manhattan triplet | [`manhattan`] | 2-line search: the other two directions on the great circle orthogonal to the first, by a histogram vote, over a focal-length grid when the camera is unknown | Lu, Yao, Li, Chen, Li, "2-Line Exhaustive Searching for Real-Time Vanishing Point Estimation in Manhattan World", WACV 2017 |
 //! | refinement | [`manhattan`] | joint Levenberg-Marquardt of the rotation (orthogonality built in), focal length and principal point on the segment-to-vanishing-point distances, Cauchy-reweighted | Triggs et al., "Bundle adjustment — a modern synthesis", 2000 (robust LM); Hartley and Zisserman, *Multiple View Geometry*, 2nd ed., 8.8 (calibration from vanishing points) |
 //! | 2PP / 3PP | [`detect`] | tilt of the vertical direction against the image plane vs [`DetectOptions::two_point_tolerance_deg`] (default 0: three-point whenever the vertical point is finite) | |
+//! | vanishing-point uncertainty | [`uncertainty`] | each point's covariance from its segments (robust noise estimate, 3-sigma re-selection, pieces of one edge counted once) plus a model-error floor measured on York Urban | Hartley and Zisserman, *Multiple View Geometry*, 2nd ed., 5.2 |
 //! | scene file | [`scene`] | the detected directions made orthogonal (never levelled: the horizon written is the measured one), written as a `docs/scene-format.md` scene that calibrates | |
 //! | test scenes | [`synthetic`] | ray-cast tiled floor and boxes, anti-aliased, from a known camera | |
 //! | test photos | [`synthetic::photo`] | a `vpmap_metrology::synth` room ray-cast with shaded, textured faces, blur, noise and a JPEG round trip, with every click's true corner | |
@@ -69,6 +70,7 @@ pub mod scene;
 pub mod segments;
 pub mod snap;
 pub mod synthetic;
+pub mod uncertainty;
 
 pub use detection::{DetectOptions, Detection, Intrinsics, Segment, VanishingPoint};
 pub use detector::{detect, detect_from_segments};

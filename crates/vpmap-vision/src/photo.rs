@@ -38,6 +38,109 @@ pub struct Photo {
     pub image: DynamicImage,
     /// Whether the EXIF orientation turned or flipped it.
     pub reoriented: bool,
+    /// What the EXIF says of the lens (empty without EXIF).
+    pub exif: ExifLens,
+}
+
+/// The lens fields of a photo's EXIF, as read (not yet checked: see
+/// [`Photo::exif_focal_prior`]).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct ExifLens {
+    /// `FocalLengthIn35mmFilm`, millimetres.
+    pub focal_35mm: Option<f64>,
+    /// `FocalLength`, millimetres (of the real lens, which without the sensor's size gives no
+    /// focal length in pixels).
+    pub focal_mm: Option<f64>,
+    /// Why the EXIF could not be read, when it could not (the photo is still read).
+    pub unreadable: Option<String>,
+}
+
+/// The relative standard deviation of a focal length from EXIF's 35 mm equivalent: makers round
+/// it to a whole millimetre and compute it from their crop factor, and the conversion by the
+/// diagonal is exact only for a sensor of the 36 x 24 mm film's shape (a 4:3 sensor's
+/// equivalent by width differs from it by diagonal about 3 %).
+pub const EXIF_FOCAL_SD: f64 = 0.04;
+
+/// The range of 35 mm equivalent focal lengths believed, millimetres: from fisheye phone lenses
+/// to long telephotos.
+pub const EXIF_FOCAL_35MM_RANGE: (f64, f64) = (8.0, 1200.0);
+
+/// The diagonal of 35 mm film (36 x 24 mm), millimetres.
+const FILM_DIAGONAL_MM: f64 = 43.266_615_305_567_87;
+
+/// Most bytes of EXIF read.
+const MAX_EXIF_BYTES: usize = 1 << 20;
+
+impl Photo {
+    /// The focal length the EXIF gives, as a prior `(focal_px, relative sd)` for a photo of
+    /// this size: the 35 mm equivalent times the image diagonal over the film's (as COLMAP
+    /// converts it), with [`EXIF_FOCAL_SD`]; or why none is used (`Err`, a message naming the
+    /// value): no EXIF focal length, a 35 mm value missing (only the real lens's, which needs the
+    /// sensor's size) or outside [`EXIF_FOCAL_35MM_RANGE`], or EXIF that could not be read.
+    /// `Ok(None)` when the photo has no EXIF lens fields at all.
+    ///
+    /// # Errors
+    /// The message for a focal length that is present but not used.
+    pub fn exif_focal_prior(&self) -> std::result::Result<Option<(f64, f64)>, String> {
+        if let Some(why) = &self.exif.unreadable {
+            return Err(format!(
+                "its EXIF could not be read ({why}), so it gives no focal length"
+            ));
+        }
+        match (self.exif.focal_35mm, self.exif.focal_mm) {
+            (None, None) => Ok(None),
+            (None, Some(mm)) => Err(format!(
+                "its EXIF gives the lens's focal length ({mm} mm) but no 35 mm equivalent, which needs the sensor's size: not used"
+            )),
+            (Some(f35), _) => {
+                let (lo, hi) = EXIF_FOCAL_35MM_RANGE;
+                if !(f35.is_finite() && (lo..=hi).contains(&f35)) {
+                    return Err(format!(
+                        "its EXIF 35 mm equivalent focal length of {f35} mm is outside {lo}-{hi} mm: not used"
+                    ));
+                }
+                let diagonal = f64::from(self.image.width()).hypot(f64::from(self.image.height()));
+                Ok(Some((f35 * diagonal / FILM_DIAGONAL_MM, EXIF_FOCAL_SD)))
+            }
+        }
+    }
+}
+
+/// The lens fields of raw EXIF data (a TIFF structure, with or without JPEG's `Exif\0\0`).
+fn read_exif(raw: &[u8]) -> ExifLens {
+    if raw.len() > MAX_EXIF_BYTES {
+        return ExifLens {
+            unreadable: Some(format!(
+                "{} bytes of EXIF, more than the {MAX_EXIF_BYTES} read",
+                raw.len()
+            )),
+            ..ExifLens::default()
+        };
+    }
+    let tiff = raw.strip_prefix(b"Exif\0\0").unwrap_or(raw);
+    let exif = match exif::Reader::new().read_raw(tiff.to_vec()) {
+        Ok(e) => e,
+        Err(e) => {
+            return ExifLens {
+                unreadable: Some(e.to_string()),
+                ..ExifLens::default()
+            };
+        }
+    };
+    let number = |tag: exif::Tag| {
+        exif.get_field(tag, exif::In::PRIMARY)
+            .and_then(|f| match &f.value {
+                exif::Value::Rational(v) => v.first().map(exif::Rational::to_f64),
+                exif::Value::SRational(v) => v.first().map(exif::SRational::to_f64),
+                other => other.get_uint(0).map(f64::from),
+            })
+    };
+    ExifLens {
+        // A 35 mm value of 0 means "unknown" (EXIF 2.3).
+        focal_35mm: number(exif::Tag::FocalLengthIn35mmFilm).filter(|v| *v != 0.0),
+        focal_mm: number(exif::Tag::FocalLength),
+        unreadable: None,
+    }
 }
 
 /// Decode the bytes of a JPEG or PNG photo (see the [module docs](self)).
@@ -119,11 +222,20 @@ pub fn decode_photo(bytes: &[u8], limits: &PhotoLimits) -> Result<Photo> {
     let orientation = decoder
         .orientation()
         .unwrap_or(image::metadata::Orientation::NoTransforms);
+    let exif = match decoder.exif_metadata() {
+        Ok(Some(raw)) => read_exif(&raw),
+        Ok(None) => ExifLens::default(),
+        Err(e) => ExifLens {
+            unreadable: Some(e.to_string()),
+            ..ExifLens::default()
+        },
+    };
     let mut image = DynamicImage::from_decoder(decoder).map_err(decode_error)?;
     image.apply_orientation(orientation);
     Ok(Photo {
         image,
         reoriented: orientation != image::metadata::Orientation::NoTransforms,
+        exif,
     })
 }
 
@@ -149,6 +261,82 @@ mod tests {
         let image = DynamicImage::new_luma8(width, height);
         let _ = image.write_to(&mut Cursor::new(&mut out), ImageFormat::Png);
         out
+    }
+
+    /// A 64 x 48 JPEG whose EXIF holds the given lens fields (or `raw` bytes as its EXIF).
+    fn jpeg_with_exif(
+        focal_35mm: Option<u16>,
+        focal_mm: Option<(u32, u32)>,
+        raw: Option<&[u8]>,
+    ) -> Vec<u8> {
+        use image::ImageEncoder as _;
+        let exif = raw.map_or_else(
+            || {
+                let f35 = focal_35mm.map(|v| exif::Field {
+                    tag: exif::Tag::FocalLengthIn35mmFilm,
+                    ifd_num: exif::In::PRIMARY,
+                    value: exif::Value::Short(vec![v]),
+                });
+                let fmm = focal_mm.map(|(n, d)| exif::Field {
+                    tag: exif::Tag::FocalLength,
+                    ifd_num: exif::In::PRIMARY,
+                    value: exif::Value::Rational(vec![exif::Rational { num: n, denom: d }]),
+                });
+                let mut w = exif::experimental::Writer::new();
+                for f in f35.iter().chain(fmm.iter()) {
+                    w.push_field(f);
+                }
+                let mut out = Cursor::new(Vec::new());
+                w.write(&mut out, true).unwrap_or_else(|e| panic!("{e}"));
+                out.into_inner()
+            },
+            <[u8]>::to_vec,
+        );
+        let mut out = Vec::new();
+        let mut enc = image::codecs::jpeg::JpegEncoder::new(&mut out);
+        enc.set_exif_metadata(exif)
+            .unwrap_or_else(|e| panic!("{e}"));
+        let pixels = vec![128u8; 64 * 48];
+        enc.write_image(&pixels, 64, 48, image::ExtendedColorType::L8)
+            .unwrap_or_else(|e| panic!("{e}"));
+        out
+    }
+
+    #[test]
+    fn exif_focal_length_becomes_a_prior_or_says_why_not() {
+        let limits = PhotoLimits::default();
+        let read = |bytes: Vec<u8>| decode_photo(&bytes, &limits).unwrap_or_else(|e| panic!("{e}"));
+        // 28 mm equivalent on a 64 x 48 photo: 28 x 80 / 43.27 = 51.8 px, 4 %.
+        let p = read(jpeg_with_exif(Some(28), Some((42, 10)), None));
+        assert_eq!(p.exif.focal_35mm, Some(28.0));
+        assert_eq!(p.exif.focal_mm, Some(4.2));
+        let (f, sd) = p
+            .exif_focal_prior()
+            .unwrap_or_else(|e| panic!("{e}"))
+            .unwrap_or_default();
+        assert!((f - 28.0 * 80.0 / 36f64.hypot(24.0)).abs() < 1e-9, "{f}");
+        assert!((sd - EXIF_FOCAL_SD).abs() < 1e-12);
+        // Only the real lens's focal length: said, not used.
+        let p = read(jpeg_with_exif(None, Some((42, 10)), None));
+        let e = p.exif_focal_prior().err().unwrap_or_default();
+        assert!(e.contains("4.2 mm") && e.contains("35 mm"), "{e}");
+        // 0 means unknown in EXIF; 10,000 mm is absurd.
+        let p = read(jpeg_with_exif(Some(0), None, None));
+        assert_eq!(p.exif_focal_prior(), Ok(None));
+        let p = read(jpeg_with_exif(Some(10_000), None, None));
+        let e = p.exif_focal_prior().err().unwrap_or_default();
+        assert!(e.contains("10000 mm") && e.contains("outside"), "{e}");
+        // A broken IFD: the photo is read, its EXIF said to be unreadable.
+        let p = read(jpeg_with_exif(
+            None,
+            None,
+            Some(b"II*\0\xff\xff\xff\x7f garbage"),
+        ));
+        let e = p.exif_focal_prior().err().unwrap_or_default();
+        assert!(e.contains("could not be read"), "{e}");
+        // No EXIF at all.
+        let p = read(png(40, 30));
+        assert_eq!(p.exif_focal_prior(), Ok(None));
     }
 
     #[test]

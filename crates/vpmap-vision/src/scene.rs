@@ -22,15 +22,26 @@
 //! * each vanishing point is written as `point` with up to
 //!   [`MAX_LINES_PER_VANISHING_POINT`] of its longest supporting segments as `lines`; the
 //!   vertical one only in three-point perspective;
+//! * each written vanishing point carries its covariance (`covariance_deg2`,
+//!   [`crate::uncertainty`]): its segments' spread plus the measured floor, in the chart of the
+//!   scene's `focal_px` and `principal_point`;
+//! * the principal point is written as a prior, not a fact: the image centre with
+//!   `principal_point_sd_px` = [`PRINCIPAL_POINT_PRIOR_SD`] of the image diagonal (the fit refines
+//!   it with the vanishing points and the clicks), unless the detection was given one
+//!   ([`crate::DetectOptions::principal_point_px`]: a calibration), which is written as known;
+//!   `focal_px` is the detector's estimate, a starting value the fit refines (its information
+//!   is in the vanishing points already, so no prior is written for it, which would count it
+//!   twice), or the given one with `focal_sd_px` [`GIVEN_FOCAL_SD`] of it;
 //! * the scene written must calibrate ([`vpmap_metrology::map::calibrate`]).
 
 use std::f64::consts::FRAC_1_SQRT_2;
 
-use crate::detection::Detection;
-use nalgebra::Vector3;
+use crate::detection::{Detection, Segment};
+use crate::uncertainty::{VpCovariance, vp_covariance};
+use nalgebra::{Vector2, Vector3};
 use vpmap_metrology::calibration::{Calibration, Perspective};
 use vpmap_metrology::map::calibrate;
-use vpmap_metrology::scene::Scene;
+use vpmap_metrology::scene::{Scene, VpChart};
 
 /// Farthest a written vanishing point may lie from the principal point, pixels.
 pub const MAX_VANISHING_POINT_OFFSET_PX: f64 = 1e7;
@@ -41,10 +52,42 @@ const MIN_LINE_LENGTH_PX: f64 = 2.0;
 /// A vanishing point resting on fewer segments than this is worth a warning
 /// ([`DetectedScene::thinly_supported`]).
 pub const FEW_SEGMENTS: usize = 6;
+/// The standard deviation of the principal point's prior around the image centre, as a fraction
+/// of the image diagonal (each coordinate): calibrated cameras' principal points lie within
+/// about 1.4 % of the diagonal from the centre (York Urban 1.4 %, SUN RGB-D 0, ScanNet under
+/// 0.2 %), so 1.5 % holds them inside 1 sd.
+pub const PRINCIPAL_POINT_PRIOR_SD: f64 = 0.015;
+
+/// The standard deviation of a focal length given to the detector (a calibration), as a
+/// fraction of it.
+pub const GIVEN_FOCAL_SD: f64 = 1e-3;
+
 /// The vanishing points' names in messages, in role order ([`DetectedScene::roles`]).
 pub const VP_NAMES: [&str; 3] = ["horizontal VP1", "horizontal VP2", "vertical VP3"];
 
 type Vec3 = Vector3<f64>;
+
+/// The camera a detected scene gives before any click, with its standard deviations
+/// ([`DetectedScene::camera_estimate`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraEstimate {
+    /// Focal length, pixels.
+    pub focal_px: f64,
+    /// Its standard deviation, pixels.
+    pub focal_sd_px: f64,
+    /// Principal point, pixels.
+    pub principal_point_px: [f64; 2],
+    /// Pitch (positive looking down), degrees.
+    pub pitch_deg: f64,
+    /// Its standard deviation, degrees.
+    pub pitch_sd_deg: f64,
+    /// Roll, degrees.
+    pub roll_deg: f64,
+    /// Its standard deviation, degrees.
+    pub roll_sd_deg: f64,
+    /// The standard deviation of the horizon's offset from the principal point, pixels.
+    pub horizon_sd_px: f64,
+}
 
 /// The scene written for a detection, and what it took.
 #[derive(Debug, Clone)]
@@ -64,11 +107,47 @@ pub struct DetectedScene {
     pub points_px: [Option<[f64; 2]>; 3],
     /// Segments written as `lines`, per role (0 for the vertical in 2PP).
     pub lines_written: [usize; 3],
+    /// Each written vanishing point's covariance, in role order (`None` for a vanishing point
+    /// not written).
+    pub covariances: [Option<VpCovariance>; 3],
+    /// The principal point written and its standard deviation (`None`: held as known).
+    pub principal_point_px: ([f64; 2], Option<f64>),
+    /// The chart the covariances are stated in (the written focal length and principal point).
+    pub chart: VpChart,
     /// The largest angle any vanishing direction was turned by, degrees.
     pub adjusted_deg: f64,
 }
 
 impl DetectedScene {
+    /// The camera the written scene alone gives (its vanishing points with their covariances
+    /// and the principal point's prior, no objects) and its standard deviations: the joint
+    /// fit's camera before any click. `None` when that fit fails.
+    #[must_use]
+    pub fn camera_estimate(&self) -> Option<CameraEstimate> {
+        let scene = Scene::from_json_str(&self.json).ok()?;
+        let options = vpmap_metrology::fit::FitOptions::default();
+        let fitted = vpmap_metrology::fit::fit_scene(&scene, &options).ok()?;
+        let u = fitted.uncertainty(&scene, &options).ok()?;
+        let cal = &fitted.calibration;
+        // The horizon's offset from the principal point is f tan(pitch): its sd by the chain
+        // rule, focal and pitch taken as independent (their correlation is small next to the
+        // pitch's own share).
+        let pitch = cal.pitch_rad;
+        let sd_pitch = u.camera.pitch_deg_sd.to_radians();
+        let horizon_sd_px = (cal.focal_px / pitch.cos().powi(2) * sd_pitch)
+            .hypot(pitch.tan() * u.camera.focal_px_sd);
+        Some(CameraEstimate {
+            focal_px: cal.focal_px,
+            focal_sd_px: u.camera.focal_px_sd,
+            principal_point_px: [cal.frame.origin_px.x, cal.frame.origin_px.y],
+            pitch_deg: pitch.to_degrees(),
+            pitch_sd_deg: u.camera.pitch_deg_sd,
+            roll_deg: cal.roll_rad.to_degrees(),
+            roll_sd_deg: u.camera.roll_deg_sd,
+            horizon_sd_px,
+        })
+    }
+
     /// The written vanishing points resting on fewer than [`FEW_SEGMENTS`] segments of `det`,
     /// in role order: each one's name ([`VP_NAMES`]) and its number of segments.
     #[must_use]
@@ -126,6 +205,15 @@ fn pixel_of_direction(d: Vec3, f: f64, c: [f64; 2]) -> Option<[f64; 2]> {
     (d.z.abs() > 0.0)
         .then(|| [c[0] + f * d.x / d.z, c[1] + f * d.y / d.z])
         .filter(|p| p[0].is_finite() && p[1].is_finite())
+}
+
+/// `v` to `digits` significant digits.
+fn round_sig(v: f64, digits: i32) -> f64 {
+    if v == 0.0 || !v.is_finite() {
+        return v;
+    }
+    let magnitude = v.abs().log10().floor() as i32;
+    round_to(v, digits - 1 - magnitude)
 }
 
 fn round_to(v: f64, decimals: i32) -> f64 {
@@ -241,39 +329,54 @@ fn numbers(values: &[f64]) -> String {
     format!("[{}]", parts.join(", "))
 }
 
+/// A vanishing point as written: its point, covariance (degrees squared) and segments.
+type WrittenVp = ([f64; 2], [[f64; 2]; 2], Vec<[f64; 4]>);
+
 /// The scene file's text: one point or segment per line, fields in reading order.
 fn scene_json(
     image_size_px: [u32; 2],
     perspective: Perspective,
-    vanishing_points: &[([f64; 2], Vec<[f64; 4]>)],
-    principal_point: [f64; 2],
-    focal_px: f64,
+    vanishing_points: &[WrittenVp],
+    principal_point: ([f64; 2], Option<f64>),
+    focal_px: (f64, Option<f64>),
 ) -> String {
     let vps: Vec<String> = vanishing_points
         .iter()
-        .map(|(point, lines)| {
+        .map(|(point, cov, lines)| {
+            let cov = format!("[{}, {}]", numbers(&cov[0]), numbers(&cov[1]));
             if lines.is_empty() {
-                return format!("    {{\"point\": {}}}", numbers(point));
+                return format!(
+                    "    {{\"point\": {}, \"covariance_deg2\": {cov}}}",
+                    numbers(point)
+                );
             }
             let lines: Vec<String> = lines
                 .iter()
                 .map(|l| format!("       {}", numbers(l)))
                 .collect();
             format!(
-                "    {{\"point\": {},\n     \"lines\": [\n{}\n     ]}}",
+                "    {{\"point\": {}, \"covariance_deg2\": {cov},\n     \"lines\": [\n{}\n     ]}}",
                 numbers(point),
                 lines.join(",\n")
             )
         })
         .collect();
+    let pp_sd = principal_point
+        .1
+        .map(|sd| format!("\n  \"principal_point_sd_px\": {},", number(sd)))
+        .unwrap_or_default();
+    let focal_sd = focal_px
+        .1
+        .map(|sd| format!("\n  \"focal_sd_px\": {},", number(sd)))
+        .unwrap_or_default();
     format!(
-        "{{\n  \"version\": 1,\n  \"image\": {{\"width\": {}, \"height\": {}}},\n  \"perspective\": \"{}\",\n  \"vanishing_points\": [\n{}\n  ],\n  \"principal_point\": {},\n  \"focal_px\": {},\n  \"objects\": [],\n  \"floor\": []\n}}\n",
+        "{{\n  \"version\": 1,\n  \"image\": {{\"width\": {}, \"height\": {}}},\n  \"perspective\": \"{}\",\n  \"vanishing_points\": [\n{}\n  ],\n  \"principal_point\": {},{pp_sd}\n  \"focal_px\": {},{focal_sd}\n  \"objects\": [],\n  \"floor\": []\n}}\n",
         image_size_px[0],
         image_size_px[1],
         perspective.name(),
         vps.join(",\n"),
-        numbers(&principal_point),
-        number(focal_px)
+        numbers(&principal_point.0),
+        number(focal_px.0)
     )
 }
 
@@ -316,22 +419,59 @@ pub fn detected_scene(det: &Detection) -> Result<DetectedScene, SceneError> {
     } else {
         3
     };
+    // The principal point as written: a prior at the image centre, or the given one as known.
+    let [w, h] = det.image_size_px;
+    let written_pp = if det.principal_point_given {
+        ([round_to(c[0], 3), round_to(c[1], 3)], None)
+    } else {
+        let diagonal = f64::from(w).hypot(f64::from(h));
+        (
+            [0.5 * f64::from(w), 0.5 * f64::from(h)],
+            Some(round_to(PRINCIPAL_POINT_PRIOR_SD * diagonal, 3)),
+        )
+    };
+    // The focal length: given (a calibration, held), or from EXIF (an independent prior the
+    // fit weighs), else the detector's estimate as a starting value only.
+    let written_focal = match det.focal_prior {
+        _ if !det.focal_estimated => (round_to(f, 3), Some(round_to(GIVEN_FOCAL_SD * f, 6))),
+        Some((prior, sd)) => (round_to(prior, 3), Some(round_to(sd * prior, 3))),
+        None => (round_to(f, 3), None),
+    };
+    let chart = VpChart {
+        focal_px: written_focal.0,
+        centre_px: Vector2::new(written_pp.0[0], written_pp.0[1]),
+    };
     let mut points_px = [None; 3];
     let mut lines_written = [0; 3];
+    let mut covariances = [None; 3];
     let mut specs = Vec::with_capacity(3);
     for k in 0..count {
         let p = written_point(frame[k], f, c);
+        let p = [round_to(p[0], 6), round_to(p[1], 6)];
         points_px[k] = Some(p);
+        let support: Vec<&Segment> = det
+            .vanishing_points
+            .get(roles[k])
+            .map(|v| {
+                v.segments
+                    .iter()
+                    .filter_map(|&i| det.segments.get(i))
+                    .collect()
+            })
+            .unwrap_or_default();
+        let cov = vp_covariance(&chart, Vector3::new(p[0], p[1], 1.0), &support);
+        let written_cov = cov.covariance_deg2.map(|row| row.map(|v| round_sig(v, 6)));
+        covariances[k] = Some(cov);
         let lines = evidence(det, roles[k]);
         lines_written[k] = lines.len();
-        specs.push(([round_to(p[0], 6), round_to(p[1], 6)], lines));
+        specs.push((p, written_cov, lines));
     }
     let json = scene_json(
         det.image_size_px,
         perspective,
         &specs,
-        [round_to(c[0], 3), round_to(c[1], 3)],
-        round_to(f, 3),
+        written_pp,
+        written_focal,
     );
     let scene = Scene::from_json_str(&json)
         .map_err(|e| SceneError(format!("the detected scene is not valid: {e}")))?;
@@ -345,6 +485,9 @@ pub fn detected_scene(det: &Detection) -> Result<DetectedScene, SceneError> {
         directions: frame.map(Into::into),
         points_px,
         lines_written,
+        covariances,
+        principal_point_px: written_pp,
+        chart,
         adjusted_deg,
     })
 }
@@ -377,6 +520,8 @@ mod tests {
             },
             focal_estimated: true,
             principal_point_estimated: true,
+            principal_point_given: false,
+            focal_prior: None,
             perspective,
             vertical_tilt_deg: 0.0,
         }

@@ -34,6 +34,10 @@ pub struct EvalDetectArgs {
     /// docs/results.md), with the command line, date and machine.
     #[arg(long)]
     pub publish: Option<PathBuf>,
+    /// In the run with the intrinsics estimated, take each photo's EXIF focal length (its 35 mm
+    /// equivalent) as a prior, as `vpmap detect` does.
+    #[arg(long)]
+    pub exif: bool,
 }
 
 /// `vpmap eval-detect` (photos read with the limits of `vpmap detect`, the vision crate's
@@ -67,6 +71,7 @@ pub fn run_eval_detect(args: &EvalDetectArgs) -> Result<()> {
             ..default_options()
         },
         photo_limits: PhotoLimits::default(),
+        exif: args.exif,
     };
     let bar = crate::progress::Bar::new("{elapsed_precise} [{bar}] {pos}/{len} photos {msg}", "30");
     let results = evaluate(&pairs, &opts, &bar)?;
@@ -74,6 +79,7 @@ pub fn run_eval_detect(args: &EvalDetectArgs) -> Result<()> {
         dir: args.dir.display().to_string(),
         available,
         max_side: args.max_side,
+        exif: args.exif,
     };
     let report = vpmap_eval::detection::report(context, &results)?;
     println!("{}", report.table());

@@ -188,8 +188,22 @@ pub fn run_detect(args: &DetectArgs) -> Result<()> {
     let photo = read_photo(&args.photo)?;
     let (width, height) = (photo.image.width(), photo.image.height());
     check_intrinsics(args, principal_point, width, height)?;
+    // The EXIF focal length is a prior when the focal length is not given; one present but
+    // unusable (absurd, no 35 mm value, broken EXIF) is said, never silently used or dropped.
+    let exif_prior = if args.focal_px.is_none() {
+        match photo.exif_focal_prior() {
+            Ok(prior) => prior,
+            Err(why) => {
+                eprintln!("warning: {}: {why}", args.photo.display());
+                None
+            }
+        }
+    } else {
+        None
+    };
     let opts = DetectOptions {
         focal_px: args.focal_px,
+        focal_prior: exif_prior,
         principal_point_px: principal_point,
         max_side_px: args.max_side,
         two_point_tolerance_deg: args.two_point_tolerance,
@@ -254,10 +268,17 @@ fn summary(
     elapsed: Duration,
 ) -> String {
     let cal = &scene.calibration;
-    let focal_source = if det.focal_estimated {
-        "estimated"
-    } else {
-        "given"
+    let exif_source;
+    let focal_source = match det.focal_prior {
+        _ if !det.focal_estimated => "given",
+        Some((f, sd)) => {
+            exif_source = format!(
+                "estimated with the EXIF's 35 mm equivalent as a prior, {f:.1} px +- {:.0} %, which the scene carries for vpmap build",
+                100.0 * sd
+            );
+            exif_source.as_str()
+        }
+        None => "estimated",
     };
     let principal_point_source = if args.principal_point.is_some() {
         "given"
@@ -329,8 +350,17 @@ fn summary(
         } else {
             String::new()
         };
+        let within = scene.covariances[role]
+            .map(|c| {
+                format!(
+                    " +-{:.2} deg at 95 % ({} independent edges)",
+                    c.major_sd_deg() * CHI2_2DOF_95.sqrt(),
+                    c.edges
+                )
+            })
+            .unwrap_or_default();
         parts.push(format!(
-            "{} {point} from {n} segments ({colour}{written})",
+            "{} {point}{within} from {n} segments ({colour}{written})",
             VP_NAMES[role]
         ));
     }
@@ -341,6 +371,22 @@ fn summary(
         det.segments.len(),
         det.segments.len().saturating_sub(assigned)
     );
+    if let Some(c) = scene.camera_estimate() {
+        let _ = write!(
+            text,
+            " Before any click the scene gives focal {:.1} +- {:.1} px, pitch {:.2} +- {:.2} deg, roll {:.2} +- {:.2} deg, the horizon within +-{:.1} px (95 %){}.",
+            c.focal_px,
+            Z_95 * c.focal_sd_px,
+            c.pitch_deg,
+            Z_95 * c.pitch_sd_deg,
+            c.roll_deg,
+            Z_95 * c.roll_sd_deg,
+            Z_95 * c.horizon_sd_px,
+            scene.principal_point_px.1.map_or_else(String::new, |sd| format!(
+                "; the principal point is written as a prior, the image centre +- {sd:.1} px (1 sd), which vpmap build refines"
+            ))
+        );
+    }
     if scene.adjusted_deg >= 0.01 {
         let _ = write!(
             text,
@@ -363,6 +409,11 @@ fn summary(
 }
 
 /// `text` broken into lines of at most `width` characters at spaces (longer words stay whole).
+/// The chi-square quantile with 2 degrees of freedom at 95 %.
+const CHI2_2DOF_95: f64 = 5.991_464_547_107_979;
+/// The normal quantile at 97.5 % (a two-sided 95 % interval).
+const Z_95: f64 = 1.959_963_984_540_054;
+
 fn wrap(text: &str, width: usize) -> String {
     let mut out = String::new();
     let mut line_len = 0;

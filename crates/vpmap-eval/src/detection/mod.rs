@@ -21,6 +21,7 @@
 
 use std::path::{Path, PathBuf};
 
+pub mod coverage;
 pub mod geom;
 pub mod horizon;
 pub mod report;
@@ -30,7 +31,7 @@ use std::time::Instant;
 
 use image::DynamicImage;
 use serde::Deserialize;
-use vpmap_vision::photo::{PhotoLimits, decode_photo};
+use vpmap_vision::photo::{Photo, PhotoLimits, decode_photo};
 use vpmap_vision::scene::detected_scene;
 use vpmap_vision::{DetectOptions, Detection, detect};
 
@@ -49,6 +50,9 @@ pub struct DetectionOptions {
     pub detect: DetectOptions,
     /// The photos accepted.
     pub photo_limits: PhotoLimits,
+    /// Whether the run with the intrinsics estimated takes each photo's EXIF focal length as
+    /// a prior, as `vpmap detect` does ([`vpmap_vision::photo::Photo::exif_focal_prior`]).
+    pub exif: bool,
 }
 
 /// A labelled photo.
@@ -274,33 +278,48 @@ pub fn scene_horizon_error(det: &Detection, label: &Label) -> Option<[f64; 2]> {
 }
 
 /// Read a JPEG or PNG photo as `vpmap detect` does: one line naming the file and the problem.
-fn read_photo(path: &Path, limits: &PhotoLimits) -> std::result::Result<DynamicImage, String> {
+fn read_photo(path: &Path, limits: &PhotoLimits) -> std::result::Result<Photo, String> {
     let bytes =
         std::fs::read(path).map_err(|e| format!("cannot read photo {}: {e}", path.display()))?;
-    decode_photo(&bytes, limits)
-        .map(|photo| photo.image)
-        .map_err(|e| format!("{}: {e}", path.display()))
+    decode_photo(&bytes, limits).map_err(|e| format!("{}: {e}", path.display()))
 }
 
 /// Detect one photo with given or estimated intrinsics.
-fn run_one(image: &DynamicImage, label: &Label, which: Intrinsics, opts: &DetectOptions) -> Run {
+fn run_one(
+    image: &DynamicImage,
+    label: &Label,
+    which: Intrinsics,
+    opts: &DetectOptions,
+    focal_prior: Option<(f64, f64)>,
+) -> Run {
     let opts = DetectOptions {
         focal_px: (which == Intrinsics::Given).then_some(label.focal_px),
+        focal_prior: focal_prior.filter(|_| which == Intrinsics::Estimated),
         principal_point_px: (which == Intrinsics::Given).then_some(label.principal_point_px),
         ..*opts
     };
     let started = Instant::now();
     let result = detect(image, &opts);
     let elapsed = started.elapsed();
-    let outcome = result.map(|det| RunOk {
-        errors_deg: match_errors(&det, label),
-        focal_px: det.intrinsics.focal_px,
-        focal_error: (which == Intrinsics::Estimated)
-            .then(|| (det.intrinsics.focal_px - label.focal_px).abs() / label.focal_px),
-        principal_point_px: det.intrinsics.principal_point_px,
-        perspective: det.perspective.name(),
-        segments: det.segments.len(),
-        horizon_error: scene_horizon_error(&det, label),
+    let outcome = result.map(|det| {
+        let scene = detected_scene(&det).ok();
+        RunOk {
+            errors_deg: match_errors(&det, label),
+            ellipse_d2: scene
+                .as_ref()
+                .map_or([None; 3], |s| coverage::direction_distances(s, label)),
+            focal_z: scene
+                .as_ref()
+                .filter(|_| which == Intrinsics::Estimated)
+                .and_then(|s| coverage::focal_z(s, label)),
+            focal_px: det.intrinsics.focal_px,
+            focal_error: (which == Intrinsics::Estimated)
+                .then(|| (det.intrinsics.focal_px - label.focal_px).abs() / label.focal_px),
+            principal_point_px: det.intrinsics.principal_point_px,
+            perspective: det.perspective.name(),
+            segments: det.segments.len(),
+            horizon_error: scene_horizon_error(&det, label),
+        }
     });
     Run {
         time_ms: Some(elapsed.as_secs_f64() * 1e3),
@@ -330,12 +349,21 @@ pub fn evaluate(
     for (pair, label) in pairs.iter().zip(&labels) {
         progress.message(&pair.name);
         let result = match read_photo(&pair.image, &opts.photo_limits) {
-            Ok(image) => ImageResult {
-                name: pair.name.clone(),
-                size_px: Some([image.width(), image.height()]),
-                vertical: label.vertical,
-                runs: Intrinsics::BOTH.map(|which| run_one(&image, label, which, &opts.detect)),
-            },
+            Ok(photo) => {
+                let prior = if opts.exif {
+                    photo.exif_focal_prior().ok().flatten()
+                } else {
+                    None
+                };
+                let image = &photo.image;
+                ImageResult {
+                    name: pair.name.clone(),
+                    size_px: Some([image.width(), image.height()]),
+                    vertical: label.vertical,
+                    runs: Intrinsics::BOTH
+                        .map(|which| run_one(image, label, which, &opts.detect, prior)),
+                }
+            }
             Err(e) => {
                 let failed = Run {
                     time_ms: None,

@@ -37,6 +37,8 @@ pub struct Context {
     pub available: usize,
     /// The detector's `--max-side`.
     pub max_side: u32,
+    /// Whether the estimated run took each photo's EXIF focal length as a prior (`--exif`).
+    pub exif: bool,
 }
 
 /// The summary of one kind of run over every photo.
@@ -70,6 +72,12 @@ pub struct Summary {
     pub horizon_auc_of_horizontals: f64,
     /// Time per call, median and p90, milliseconds.
     pub time_ms: Option<(f64, f64)>,
+    /// Of the labelled directions the written scenes give a point for, the share inside that
+    /// point's 95 % ellipse, and how many there were.
+    pub ellipse_coverage: (f64, usize),
+    /// Of the photos whose scene gives a camera, the share whose labelled focal length lies
+    /// inside its 95 % interval, and how many there were (estimated runs only).
+    pub focal_coverage: Option<(f64, usize)>,
 }
 
 /// Summarise one kind of run.
@@ -84,7 +92,13 @@ pub fn summarise(results: &[ImageResult], which: Intrinsics) -> Summary {
     let mut horizon_of_horizontals = Vec::new();
     let mut times = Vec::new();
     let mut failed = 0;
+    let mut d2s = Vec::new();
+    let mut zs = Vec::new();
     for r in results {
+        if let Ok(ok) = &r.runs[slot].outcome {
+            d2s.extend(ok.ellipse_d2.iter().flatten().copied());
+            zs.extend(ok.focal_z);
+        }
         let run = &r.runs[slot];
         if let Some(t) = run.time_ms {
             times.push(t);
@@ -137,6 +151,12 @@ pub fn summarise(results: &[ImageResult], which: Intrinsics) -> Summary {
         horizon_auc: crate::stats::auc(&horizon, HORIZON_AUC_LIMIT),
         horizon_auc_of_horizontals: crate::stats::auc(&horizon_of_horizontals, HORIZON_AUC_LIMIT),
         time_ms: quantile_of(&times, 0.5).zip(quantile_of(&times, 0.9)),
+        ellipse_coverage: (
+            fraction_at_most(&d2s, super::coverage::CHI2_2DOF_95),
+            d2s.len(),
+        ),
+        focal_coverage: (which == Intrinsics::Estimated && !zs.is_empty())
+            .then(|| (fraction_at_most(&zs, super::coverage::Z_95), zs.len())),
     }
 }
 
@@ -227,6 +247,21 @@ fn rows(summaries: &[Summary; 2]) -> Vec<(String, [String; 2], String)> {
         String::new(),
     ));
     rows.push((
+        "labelled direction inside the 95 % ellipse".to_owned(),
+        cells(&|s| format!("{} of {}", pct(s.ellipse_coverage.0), s.ellipse_coverage.1)),
+        "target 90-98 %".to_owned(),
+    ));
+    rows.push((
+        "true focal inside the 95 % interval".to_owned(),
+        cells(&|s| {
+            s.focal_coverage.map_or_else(
+                || "(given)".to_owned(),
+                |(c, n)| format!("{} of {n}", pct(c)),
+            )
+        }),
+        "target 90-98 %".to_owned(),
+    ));
+    rows.push((
         format!("horizon AUC@{HORIZON_AUC_LIMIT}, labelled horizontal VPs"),
         cells(&|s| pct(s.horizon_auc_of_horizontals)),
         String::new(),
@@ -295,7 +330,7 @@ pub fn table(ctx: &Context, summaries: &[Summary; 2]) -> String {
         .unwrap_or(0)
         .max(HEADERS[2].len());
     let mut out = format!(
-        "vanishing points on {} labelled photos in {}{} (3 each), detector at --max-side {}, one photo at a time\n",
+        "vanishing points on {} labelled photos in {}{} (3 each), detector at --max-side {}{}, one photo at a time\n",
         summaries[0].images,
         ctx.dir,
         if summaries[0].images < ctx.available {
@@ -303,7 +338,12 @@ pub fn table(ctx: &Context, summaries: &[Summary; 2]) -> String {
         } else {
             String::new()
         },
-        ctx.max_side
+        ctx.max_side,
+        if ctx.exif {
+            ", the EXIF focal length as a prior when estimated"
+        } else {
+            ""
+        }
     );
     let _ = writeln!(
         out,
@@ -327,7 +367,7 @@ pub fn markdown(ctx: &Context, results: &[ImageResult], summaries: &[Summary; 2]
     let mut out = String::from("# Vanishing-point detection (`vpmap eval-detect`)\n\n");
     let _ = writeln!(
         out,
-        "{} labelled photos from `{}`{}, 3 vanishing points each; detector at `--max-side {}`, one photo at a time on one core, each detected twice: with the true intrinsics given and with them estimated.\n",
+        "{} labelled photos from `{}`{}, 3 vanishing points each; detector at `--max-side {}`, one photo at a time on one core, each detected twice: with the true intrinsics given and with them estimated{}.\n",
         summaries[0].images,
         ctx.dir,
         if summaries[0].images < ctx.available {
@@ -335,7 +375,12 @@ pub fn markdown(ctx: &Context, results: &[ImageResult], summaries: &[Summary; 2]
         } else {
             String::new()
         },
-        ctx.max_side
+        ctx.max_side,
+        if ctx.exif {
+            " (with each photo's EXIF focal length as a prior, `--exif`)"
+        } else {
+            ""
+        }
     );
     let _ = writeln!(
         out,
@@ -444,6 +489,7 @@ pub fn json(ctx: &Context, results: &[ImageResult], summaries: &[Summary; 2]) ->
         "dataset": ctx.dir,
         "labelled_photos": ctx.available,
         "max_side_px": ctx.max_side,
+        "exif_focal_prior": ctx.exif,
         "error": "angle between detected and labelled (vp_dirs_camera_yup) vanishing directions, degrees, sign-free; null: missed",
         "horizon_error": "largest vertical distance over the image width between the written scene's horizon and K^-T v (v the labelled vertical), image heights; null: missed",
         "reference": REFERENCE,
@@ -460,11 +506,27 @@ mod tests {
     use super::*;
     use crate::detection::{Run, RunOk};
 
+    #[test]
+    fn coverage_counts_what_the_ellipses_and_intervals_hold() {
+        // Per photo one direction inside 5.991, one outside, one not written; focal z of
+        // 10 x the focal error: 0.1 -> 1.0 (inside 1.96), 0.3 -> 3.0 (outside).
+        let results = [
+            result([Some(1.0), Some(1.0), Some(1.0)], 0.1),
+            result([Some(1.0), Some(1.0), Some(1.0)], 0.3),
+        ];
+        let s = summarise(&results, Intrinsics::Estimated);
+        assert_eq!(s.ellipse_coverage, (0.5, 4));
+        assert_eq!(s.focal_coverage, Some((0.5, 2)));
+        assert_eq!(summarise(&results, Intrinsics::Given).focal_coverage, None);
+    }
+
     fn result(errors: [Option<f64>; 3], focal_error: f64) -> ImageResult {
         let ok = |which| Run {
             time_ms: Some(10.0),
             outcome: Ok(RunOk {
                 errors_deg: errors,
+                ellipse_d2: [Some(1.0), Some(7.0), None],
+                focal_z: (which == Intrinsics::Estimated).then_some(10.0 * focal_error),
                 focal_px: 500.0,
                 focal_error: (which == Intrinsics::Estimated).then_some(focal_error),
                 principal_point_px: [1.0, 2.0],

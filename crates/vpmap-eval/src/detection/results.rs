@@ -38,6 +38,13 @@ pub struct Run {
 pub struct RunOk {
     /// Error of each labelled vanishing point (label order), degrees; `None`: not detected.
     pub errors_deg: [Option<f64>; 3],
+    /// Each labelled direction's Mahalanobis distance squared from the written scene's
+    /// vanishing point, under its covariance (label order; `None`: not written)
+    /// ([`super::coverage`]).
+    pub ellipse_d2: [Option<f64>; 3],
+    /// The labelled focal length's distance from the written scene's estimate, in its
+    /// standard deviations (estimated runs only; [`super::coverage::focal_z`]).
+    pub focal_z: Option<f64>,
     /// Focal length used, pixels.
     pub focal_px: f64,
     /// Relative focal error `|f - f_true| / f_true` (only when estimated).

@@ -113,6 +113,9 @@ fn run(
         time_ms: Some(time_ms),
         outcome: Ok(RunOk {
             errors_deg,
+            // Distances squared that some ellipses hold (5.991 at 95 %) and some do not.
+            ellipse_d2: errors_deg.map(|e| e.map(|e| 4.0 * e * e)),
+            focal_z: focal_error.map(|e| 40.0 * e),
             focal_px: 700.0,
             focal_error,
             principal_point_px: [320.0, 240.0],
@@ -171,6 +174,7 @@ fn detection_summary() {
         dir: "yud-test".to_owned(),
         available: 4,
         max_side: 640,
+        exif: false,
     };
     let report = vpmap_eval::detection::report(context, &results).unwrap();
     insta::assert_snapshot!("detect_table", report.table());

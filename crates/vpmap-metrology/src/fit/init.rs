@@ -8,7 +8,7 @@ use super::model::{BoxAxes, Camera, CornerClick, Part, VpEvidence, px};
 use super::solve::{Model, Problem};
 use crate::camera::rotation_map_from_camera;
 use crate::error::{MetrologyError, Result};
-use crate::scene::{ImageSize, ObjectShape, Scale, Scene};
+use crate::scene::{ImageSize, ObjectShape, Scale, Scene, VpChart};
 
 /// The problem and where to start it.
 pub(crate) struct Built {
@@ -412,6 +412,24 @@ fn evidence(scene: &Scene) -> Result<(Vec<VpEvidence>, Vec<Vector3<f64>>)> {
         .vanishing_points
         .iter()
         .map(|v| match (v.point, v.direction) {
+            (Some([x, y]), None) | (None, Some([x, y])) if v.covariance_deg2.is_some() => {
+                let w = if v.point.is_some() { 1.0 } else { 0.0 };
+                let cov = v.covariance_deg2.unwrap_or_default();
+                let rad2 = cov.map(|row| row.map(|c| c.to_radians().to_radians()));
+                match whitening(rad2) {
+                    Some(whitening) => VpEvidence::Measured {
+                        at: Vector3::new(x, y, w),
+                        chart: VpChart::of_scene(scene),
+                        whitening,
+                        scale_px: 1.0,
+                    },
+                    // Validation refuses a covariance without a Cholesky factor.
+                    None => VpEvidence::Point {
+                        at: Vector3::new(x, y, w),
+                        scale_px: scene.image.diagonal(),
+                    },
+                }
+            }
             _ if v.lines.len() >= 2 => VpEvidence::Lines(v.lines.clone()),
             (_, Some(d)) => VpEvidence::Point {
                 at: Vector3::new(d[0], d[1], 0.0),
@@ -434,7 +452,11 @@ fn evidence(scene: &Scene) -> Result<(Vec<VpEvidence>, Vec<Vector3<f64>>)> {
                     reason: "the segments' coordinates are too large for their intersection to be computed: give them in pixels of the image".to_owned(),
                 })
             }
-            VpEvidence::Point { at, .. } => Ok(*at),
+            VpEvidence::Point { at, .. } | VpEvidence::Measured { at, .. } => Ok(*at),
+            VpEvidence::Intrinsics { .. } => Err(MetrologyError::Degenerate {
+                field: format!("vanishing_points[{i}]"),
+                reason: "is not a vanishing point".to_owned(),
+            }),
         })
         .collect::<Result<Vec<Vector3<f64>>>>()?;
     Ok((all, points))
@@ -474,12 +496,19 @@ pub(crate) fn vanishing_point_orders(scene: &Scene) -> Result<Vec<[usize; 3]>> {
 /// `fit_pp`: whether the principal point is a parameter when the scene allows it (three
 /// finite vanishing points and no given principal point); else it is held at the given
 /// value or the image centre. `order`: which vanishing points are horizontal and which is
-/// vertical ([`vanishing_point_orders`]).
+/// vertical ([`vanishing_point_orders`]). `evidence_sigma_px`: the click noise that evidence
+/// with its own uncertainty (measured vanishing points, intrinsics' priors) is expressed in,
+/// when known (else 1 px until the fit estimates it).
 ///
 /// # Errors
 /// When an object's clicks fit no box in front of any starting camera, or the scene's
 /// shapes or scale are invalid.
-pub(crate) fn build(scene: &Scene, fit_pp: bool, order: [usize; 3]) -> Result<Vec<Built>> {
+pub(crate) fn build(
+    scene: &Scene,
+    fit_pp: bool,
+    order: [usize; 3],
+    evidence_sigma_px: Option<f64>,
+) -> Result<Vec<Built>> {
     let (mut all, mut points) = evidence(scene)?;
     // The documented order: the horizontal vanishing points as given, the vertical one last.
     let mut warnings = Vec::new();
@@ -508,7 +537,7 @@ pub(crate) fn build(scene: &Scene, fit_pp: bool, order: [usize; 3]) -> Result<Ve
                     .filter(|s| !(is_click(s[0], s[1]) && is_click(s[2], s[3])))
                     .collect(),
             ),
-            point @ VpEvidence::Point { .. } => point,
+            other => other,
         })
         .collect();
     // The principal point: given, or fitted from three finite vanishing points (starting at
@@ -522,12 +551,28 @@ pub(crate) fn build(scene: &Scene, fit_pp: bool, order: [usize; 3]) -> Result<Ve
     // which fix the principal point poorly (and first-order error bars badly).
     let vertical_measured = vps.get(2).is_some_and(|e| match e {
         VpEvidence::Lines(l) => !l.is_empty(),
-        VpEvidence::Point { .. } => true,
+        VpEvidence::Point { .. } | VpEvidence::Measured { .. } => true,
+        VpEvidence::Intrinsics { .. } => false,
     });
-    let free_pp =
-        fit_pp && scene.principal_point.is_none() && finite.len() == 3 && vertical_measured;
+    // A principal point with a standard deviation is a prior the fit refines (at the given
+    // point, else the image centre).
+    let pp_prior = scene.principal_point_sd_px.map(|sd| {
+        (
+            scene
+                .principal_point
+                .map_or_else(|| scene.image.centre(), px),
+            sd,
+        )
+    });
+    let free_pp = fit_pp
+        && (pp_prior.is_some()
+            || (scene.principal_point.is_none() && finite.len() == 3 && vertical_measured));
     let mut pp_starts = Vec::new();
-    if free_pp && let Some(o) = crate::calibration::orthocentre(finite[0], finite[1], finite[2]) {
+    if free_pp
+        && finite.len() == 3
+        && let Some(o) = crate::calibration::orthocentre(finite[0], finite[1], finite[2])
+        && pp_prior.is_none_or(|(p, sd)| (o - p).norm() <= 3.0 * sd)
+    {
         pp_starts.push(o);
     }
     pp_starts.push(
@@ -551,13 +596,27 @@ pub(crate) fn build(scene: &Scene, fit_pp: bool, order: [usize; 3]) -> Result<Ve
                 .find_map(|&(i, j)| focal_from_pair(points[i], points[j], pp_starts[0]))
         })
         .unwrap_or_else(|| scene.image.diagonal());
-    let vps: Vec<VpEvidence> = vps
+    let mut vps: Vec<VpEvidence> = vps
         .into_iter()
         .map(|e| match e {
             VpEvidence::Point { at, .. } => VpEvidence::Point { at, scale_px },
-            lines @ VpEvidence::Lines(_) => lines,
+            other => other,
         })
         .collect();
+    let focal_prior = scene.focal_px.zip(scene.focal_sd_px);
+    let pp_prior = pp_prior.filter(|_| free_pp);
+    if focal_prior.is_some() || pp_prior.is_some() {
+        vps.push(VpEvidence::Intrinsics {
+            focal_px: focal_prior,
+            principal_point_px: pp_prior,
+            scale_px: 1.0,
+        });
+    }
+    if let Some(sigma) = evidence_sigma_px {
+        for e in &mut vps {
+            e.set_scale(sigma);
+        }
+    }
     let mut candidates: Vec<(f64, Built)> = Vec::new();
     let mut first_error = None;
     for &pp in &pp_starts {

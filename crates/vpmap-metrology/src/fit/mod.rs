@@ -57,13 +57,12 @@ pub const MAX_FOCAL_DIAGONALS: f64 = 40.0;
 ///   camera can be found.
 pub fn fit_scene(scene: &Scene, options: &FitOptions) -> Result<Fitted> {
     check_below_given_horizon(scene)?;
-    let _ = options;
     // Each reading of which vanishing point is vertical; the best fit wins, the first on a
     // tie (init::vanishing_point_orders).
     let mut best: Option<(f64, Fitted)> = None;
     let mut first_error = None;
     for order in init::vanishing_point_orders(scene)? {
-        match fit_order(scene, order) {
+        match fit_order(scene, order, options) {
             Ok(fitted) => {
                 let cost = fitted.problem.cost(&fitted.x);
                 if best
@@ -93,14 +92,14 @@ const TIE_COST_PX2: f64 = 1e-9;
 
 /// The fit for one reading of the vanishing points: the principal point fitted where the
 /// scene allows it, else (or when that fails) held at the image centre, with a warning.
-fn fit_order(scene: &Scene, order: [usize; 3]) -> Result<Fitted> {
-    match fit_with(scene, true, order) {
+fn fit_order(scene: &Scene, order: [usize; 3], options: &FitOptions) -> Result<Fitted> {
+    match fit_with(scene, true, order, options) {
         Ok(fitted) => Ok(fitted),
         Err((e, false)) => Err(e),
         // The vanishing points did not fix the principal point after all (nearly parallel
         // edges meeting far outside the image): hold it at the image centre and say so.
         Err((free_error, true)) => {
-            let mut fitted = fit_with(scene, false, order).map_err(|(e, _)| e)?;
+            let mut fitted = fit_with(scene, false, order, options).map_err(|(e, _)| e)?;
             fitted.calibration.warnings.push(format!(
                 "the three vanishing points do not fix the principal point ({free_error}); it was held at the image centre ({:.1}, {:.1})",
                 scene.image.centre().x,
@@ -117,8 +116,15 @@ fn fit_with(
     scene: &Scene,
     fit_pp: bool,
     order: [usize; 3],
+    options: &FitOptions,
 ) -> std::result::Result<Fitted, (MetrologyError, bool)> {
-    let starts = init::build(scene, fit_pp, order).map_err(|e| (e, false))?;
+    // Evidence with its own uncertainty weighs against the clicks in their noise: given, 1 px
+    // for clicks with covariances (absolute), else estimated below.
+    let has_covariances = !scene.click_covariances_px2.is_empty();
+    let known_sigma = options
+        .click_sigma_px
+        .or_else(|| has_covariances.then_some(1.0));
+    let starts = init::build(scene, fit_pp, order, known_sigma).map_err(|e| (e, false))?;
     let pp_free = starts.first().is_some_and(|s| s.problem.fixed_pp.is_none());
     // From the best start; the others only when it fails or ends with residuals far above
     // a pixel (a local minimum, or a camera running off to infinite focal length).
@@ -153,6 +159,11 @@ fn fit_with(
         return Err((e, pp_free));
     };
     let built = &starts[k];
+    let best = if known_sigma.is_none() {
+        rescale_evidence(best)
+    } else {
+        best
+    };
     let mut fitted = finish(
         scene,
         best,
@@ -164,7 +175,116 @@ fn fit_with(
         .calibration
         .warnings
         .extend(built.warnings.iter().cloned());
+    fitted
+        .calibration
+        .warnings
+        .extend(evidence_warnings(&fitted, order));
     Ok(fitted)
+}
+
+/// Most rounds of re-estimating the click noise that weighed evidence is expressed in.
+const MAX_SIGMA_ROUNDS: usize = 4;
+
+/// With evidence of its own uncertainty (measured vanishing points, intrinsics' priors) and
+/// the click noise estimated from the residuals: the noise at which the clicks' residuals
+/// and that evidence agree, and the fit again at it. The cost is `sum r_click^2 + sigma^2
+/// chi2_evidence`; its estimate of `sigma^2` is `sum r_click^2 / (dof - chi2_evidence)`,
+/// whose fixed point makes the error bars' `cost / dof` equal `sigma^2` (never below
+/// [`MIN_CLICK_SIGMA_PX`], as there). Too few redundant observations: 1 px, as the error
+/// bars' default.
+fn rescale_evidence(mut solved: Solved) -> Solved {
+    if !solved.problem.vps.iter().any(|e| e.scale().is_some()) {
+        return solved;
+    }
+    for _ in 0..MAX_SIGMA_ROUNDS {
+        let problem = &solved.problem;
+        let dof = problem.residual_count().saturating_sub(problem.len());
+        let Some(r) = problem.residuals(&solved.x) else {
+            return solved;
+        };
+        let mut at = 0;
+        let mut evidence_chi2 = 0.0;
+        for e in &problem.vps {
+            let n = model::vp_residual_count(e);
+            if let Some(scale) = e.scale() {
+                evidence_chi2 += r[at..at + n]
+                    .iter()
+                    .map(|v| (v / scale) * (v / scale))
+                    .sum::<f64>();
+            }
+            at += n;
+        }
+        let clicks: f64 = r[at..].iter().map(|v| v * v).sum();
+        let current = problem
+            .vps
+            .iter()
+            .find_map(model::VpEvidence::scale)
+            .unwrap_or(1.0);
+        let sigma = if dof < MIN_DOF_FOR_SIGMA {
+            1.0
+        } else {
+            let free = (dof as f64 - evidence_chi2).max(0.25 * dof as f64);
+            (clicks / free).sqrt().max(MIN_CLICK_SIGMA_PX)
+        };
+        if (sigma / current - 1.0).abs() < 0.01 {
+            return solved;
+        }
+        let mut problem = problem.clone();
+        for e in &mut problem.vps {
+            e.set_scale(sigma);
+        }
+        match minimise(&problem, solved.x.clone()) {
+            Some(sol) if sol.converged && sol.x.iter().all(|v| v.is_finite()) => {
+                solved = Solved {
+                    problem,
+                    x: sol.x,
+                    cost: sol.cost,
+                    iterations: solved.iterations + sol.iterations,
+                };
+            }
+            _ => return solved,
+        }
+    }
+    solved
+}
+
+/// The chi-square quantile with 2 degrees of freedom at 99 %: `-2 ln 0.01`.
+const CHI2_2DOF_99: f64 = 9.210_340_371_976_184;
+
+/// A warning for each measured vanishing point the fitted camera puts outside its 99 %
+/// ellipse: the clicks (and the other evidence) disagree with it beyond its error bars.
+fn evidence_warnings(fitted: &Fitted, order: [usize; 3]) -> Vec<String> {
+    let problem = &fitted.problem;
+    let cam = problem.camera(&fitted.x);
+    let mut out = Vec::new();
+    for (g, e) in problem.vps.iter().enumerate() {
+        let model::VpEvidence::Measured {
+            at,
+            chart,
+            whitening,
+            ..
+        } = e
+        else {
+            continue;
+        };
+        let v = cam.vanishing_point(vp_direction(&cam, g));
+        let Some(o) = chart.offset_rad(*at, v) else {
+            continue;
+        };
+        let o = Vector2::new(o[0], o[1]);
+        let chi2 = (whitening * o).norm_squared();
+        if chi2 > CHI2_2DOF_99 {
+            let index = order.get(g).copied().unwrap_or(g);
+            let what = if g == 2 { "vertical" } else { "horizontal" };
+            out.push(format!(
+                "vanishing point {} ({what}) lies {:.2} degrees ({:.1} sigma) from where the clicks put it: the clicked corners and the detected vanishing point disagree beyond its error bars; check its edges, or the clicks of the boxes along it",
+                index + 1,
+                o.norm().to_degrees(),
+                chi2.sqrt()
+            ));
+        }
+    }
+    out
 }
 
 /// Mean squared residual (pixels squared) under which a fit from the first start is taken
@@ -178,7 +298,7 @@ fn check_below_given_horizon(scene: &Scene) -> Result<()> {
     let exact = scene
         .vanishing_points
         .iter()
-        .all(|v| v.point.is_some() && v.lines.len() < 2);
+        .all(|v| v.point.is_some() && v.lines.len() < 2 && v.covariance_deg2.is_none());
     let cal = match crate::camera::calibrate(scene) {
         Ok(cal) => cal,
         // Vanishing points given as points are facts: if they calibrate no camera, no fit

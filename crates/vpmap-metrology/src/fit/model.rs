@@ -6,10 +6,10 @@
 //! camera's horizontal viewing direction, `+z` up, unit the camera height), so the camera
 //! centre is `(0, 0, 1)`.
 
-use nalgebra::{Matrix3, Vector2, Vector3};
+use nalgebra::{Matrix2, Matrix3, Vector2, Vector3};
 
 use crate::camera::rotation_map_from_camera;
-use crate::scene::{BoxView, PixelPoint};
+use crate::scene::{BoxView, PixelPoint, VpChart};
 
 /// The camera as the model sees it.
 #[derive(Debug, Clone, Copy)]
@@ -244,7 +244,8 @@ impl Part {
     }
 }
 
-/// Evidence for one vanishing point, pixels.
+/// Evidence for one vanishing point, pixels, or the priors on the camera's intrinsics (the
+/// camera-only residuals of the fit).
 #[derive(Debug, Clone)]
 pub(crate) enum VpEvidence {
     /// Segments whose lines run to it.
@@ -258,6 +259,50 @@ pub(crate) enum VpEvidence {
         /// spans, yet cannot shrink by shrinking the fitted focal length.
         scale_px: f64,
     },
+    /// The point with its covariance (a scene's `covariance_deg2`, as `vpmap detect` writes
+    /// it): its residual is the offset of the predicted point in the scene's [`VpChart`],
+    /// whitened, times the click noise `scale_px`, so that it weighs against the clicks as
+    /// its covariance says.
+    Measured {
+        /// Homogeneous pixel coordinates (`w = 0` for a direction at infinity).
+        at: Vector3<f64>,
+        /// The chart of the covariance.
+        chart: VpChart,
+        /// `W` with `W^T W` the inverse covariance, per radian.
+        whitening: Matrix2<f64>,
+        /// The click noise the residual is expressed in, pixels.
+        scale_px: f64,
+    },
+    /// Priors on the focal length and principal point (the scene's `focal_sd_px` and
+    /// `principal_point_sd_px`): `(value - prior) / sd`, times the click noise `scale_px`.
+    Intrinsics {
+        /// The focal length's prior and standard deviation, pixels.
+        focal_px: Option<(f64, f64)>,
+        /// The principal point's prior and standard deviation (each coordinate), pixels.
+        principal_point_px: Option<(Vector2<f64>, f64)>,
+        /// The click noise the residual is expressed in, pixels.
+        scale_px: f64,
+    },
+}
+
+impl VpEvidence {
+    /// Express weighed evidence (with its own uncertainty) in click noise `sigma_px`.
+    pub fn set_scale(&mut self, sigma_px: f64) {
+        match self {
+            Self::Measured { scale_px, .. } | Self::Intrinsics { scale_px, .. } => {
+                *scale_px = sigma_px;
+            }
+            Self::Lines(_) | Self::Point { .. } => {}
+        }
+    }
+
+    /// The click noise weighed evidence is expressed in (`None` for evidence in pixels).
+    pub fn scale(&self) -> Option<f64> {
+        match self {
+            Self::Measured { scale_px, .. } | Self::Intrinsics { scale_px, .. } => Some(*scale_px),
+            Self::Lines(_) | Self::Point { .. } => None,
+        }
+    }
 }
 
 /// The map direction of vanishing point `k`: the room's horizontal directions, then up.
@@ -274,20 +319,57 @@ pub(crate) fn vp_direction(cam: &Camera, k: usize) -> Vector3<f64> {
 pub(crate) fn vp_residual_count(e: &VpEvidence) -> usize {
     match e {
         VpEvidence::Lines(l) => l.len(),
-        VpEvidence::Point { .. } => 2,
+        VpEvidence::Point { .. } | VpEvidence::Measured { .. } => 2,
+        VpEvidence::Intrinsics {
+            focal_px,
+            principal_point_px,
+            ..
+        } => usize::from(focal_px.is_some()) + 2 * usize::from(principal_point_px.is_some()),
     }
 }
 
-/// Residuals of vanishing point `k`'s evidence into `out`.
+/// Residuals of vanishing point `k`'s evidence into `out` (of the intrinsics' priors, for
+/// that evidence, whatever `k`).
 ///
 /// A segment's residual is the distance of its first end from the line through its midpoint
 /// and the predicted vanishing point, times `sqrt(2)`: under independent noise of `sigma` on
 /// each coordinate of both ends it has standard deviation `sigma`. A given point's residuals
 /// are the angle between the predicted and the given vanishing directions, times a fixed focal
-/// length (pixels near the image centre), in two orthogonal components.
+/// length (pixels near the image centre), in two orthogonal components. A measured point's
+/// are its whitened offset in its chart ([`VpChart::offset_rad`]) times the click noise.
 pub(crate) fn vp_residuals(cam: &Camera, k: usize, evidence: &VpEvidence, out: &mut [f64]) {
+    if let VpEvidence::Intrinsics {
+        focal_px,
+        principal_point_px,
+        scale_px,
+    } = evidence
+    {
+        let mut at = 0;
+        if let Some((f, sd)) = focal_px {
+            out[at] = scale_px * (cam.focal_px - f) / sd;
+            at += 1;
+        }
+        if let Some((p, sd)) = principal_point_px {
+            out[at] = scale_px * (cam.principal_point_px.x - p.x) / sd;
+            out[at + 1] = scale_px * (cam.principal_point_px.y - p.y) / sd;
+        }
+        return;
+    }
     let v = cam.vanishing_point(vp_direction(cam, k));
     match evidence {
+        VpEvidence::Intrinsics { .. } => {}
+        VpEvidence::Measured {
+            at,
+            chart,
+            whitening,
+            scale_px,
+        } => {
+            let r = chart
+                .offset_rad(*at, v)
+                .map_or_else(Vector2::zeros, |o| whitening * Vector2::new(o[0], o[1]));
+            out[0] = scale_px * r.x;
+            out[1] = scale_px * r.y;
+        }
         VpEvidence::Lines(lines) => {
             for (r, l) in out.iter_mut().zip(lines) {
                 let m = Vector3::new(0.5 * (l[0] + l[2]), 0.5 * (l[1] + l[3]), 1.0);

@@ -48,7 +48,13 @@ pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
         return super::room::build_room_map(scene, options);
     }
     let fitted = if options.method == Method::Fit {
-        Some(fit_scene(scene, &FitOptions::default())?)
+        // The given click noise also weighs the evidence that has its own uncertainty.
+        Some(fit_scene(
+            scene,
+            &FitOptions {
+                click_sigma_px: options.click_sigma_px,
+            },
+        )?)
     } else {
         None
     };

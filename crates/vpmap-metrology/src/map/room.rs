@@ -180,7 +180,7 @@ pub(super) fn build_room_map(scene: &Scene, options: &BuildOptions) -> Result<Fl
         .zip(scene.photos())
         .enumerate()
     {
-        for w in poorly_fixed_camera(photo.image, &p.calibration, &pu.camera, u.click_sigma_px) {
+        for w in poorly_fixed_camera(photo, &p.calibration, &pu.camera, u.click_sigma_px) {
             warnings.push(format!("photo {}: {w}", n + 1));
         }
     }

@@ -133,24 +133,24 @@ pub const WARN_FOCAL_SD_FRACTION: f64 = 0.05;
 /// with a large error bar, naming the vanishing point farthest from the image (the one whose
 /// direction a pixel of noise turns most).
 fn camera_warnings(scene: &Scene, fitted: &Fitted, u: &crate::fit::FitUncertainty) -> Vec<String> {
-    poorly_fixed_camera(
-        scene.image,
-        &fitted.calibration,
-        &u.camera,
-        u.click_sigma_px,
-    )
+    poorly_fixed_camera(scene, &fitted.calibration, &u.camera, u.click_sigma_px)
 }
 
-/// [`camera_warnings`] for one camera: its photo's size, its calibration, its error bars and
-/// the click noise they are for.
+/// [`camera_warnings`] for one camera: its photo, its calibration, its error bars and the click
+/// noise they are for. A principal point with a prior (`principal_point_sd_px`) is poorly fixed
+/// only when it is less sure than its prior alone makes it.
 pub(super) fn poorly_fixed_camera(
-    image: crate::scene::ImageSize,
+    photo: &Scene,
     calibration: &crate::calibration::Calibration,
     camera: &crate::uncertainty::CameraUncertainty,
     click_sigma_px: f64,
 ) -> Vec<String> {
     let mut out = Vec::new();
+    let image = photo.image;
     let centre = image.centre();
+    let prior_sd = photo
+        .principal_point_sd_px
+        .map_or(0.0, |sd| 1.01 * std::f64::consts::SQRT_2 * sd);
     let far = calibration
         .vanishing_points_px
         .iter()
@@ -166,7 +166,7 @@ pub(super) fn poorly_fixed_camera(
     });
     let cam = camera;
     if let Some([sx, sy]) = cam.principal_point_px_sd
-        && sx.hypot(sy) > WARN_PRINCIPAL_POINT_SD_DIAGONALS * image.diagonal()
+        && sx.hypot(sy) > (WARN_PRINCIPAL_POINT_SD_DIAGONALS * image.diagonal()).max(prior_sd)
     {
         let pp = calibration.principal_point_px();
         out.push(format!(

@@ -23,6 +23,6 @@ pub use types::{
 };
 pub use validate::{
     MAX_CLICK_VARIANCE_PX2, MAX_OBJECTS, MAX_POINT_PX, MAX_POINTS, MAX_SCALE_M,
-    MAX_VANISHING_POINT_PX, unknown_fields,
+    MAX_VANISHING_POINT_PX, MAX_VP_SD_DEG, MIN_VP_SD_DEG, unknown_fields,
 };
-pub use vanishing::{SegmentFit, intersect_segments};
+pub use vanishing::{SegmentFit, VpChart, intersect_segments};

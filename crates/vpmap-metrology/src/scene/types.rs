@@ -50,6 +50,15 @@ pub struct VanishingPointSpec {
     /// Segments `[x1, y1, x2, y2]` whose lines meet at the vanishing point (least squares).
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub lines: Vec<[f64; 4]>,
+    /// The uncertainty of `point` or `direction`, degrees squared: a 2 x 2 covariance of the
+    /// vanishing direction seen from the scene's reference camera (its `focal_px`, else the
+    /// image diagonal, and its `principal_point`, else the image centre), in the basis
+    /// *across* (perpendicular to the line from the principal point to the vanishing point)
+    /// and *radial* (along it) ([`crate::scene::VpChart`]). With it the fit weighs the point
+    /// by this covariance (and not its `lines`, which stay as evidence a person can check);
+    /// `vpmap detect` writes it.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub covariance_deg2: Option<[[f64; 2]; 2]>,
 }
 
 /// One corner of a box, named by its place as the camera sees it.
@@ -451,6 +460,17 @@ pub struct Scene {
     /// vanishing points, which win.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub focal_px: Option<f64>,
+    /// The standard deviation of `focal_px`, pixels: with it `focal_px` is a prior the joint
+    /// fit weighs with the rest of the evidence (a focal length from EXIF, say), not only a
+    /// starting value.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub focal_sd_px: Option<f64>,
+    /// The standard deviation of `principal_point` (each coordinate), pixels: with it the
+    /// principal point is a prior the joint fit refines (`vpmap detect` writes the image
+    /// centre with the spread of real cameras' principal points); without it a given
+    /// principal point is held as known.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub principal_point_sd_px: Option<f64>,
     /// Objects standing on the floor.
     #[serde(default)]
     pub objects: Vec<ObjectSpec>,

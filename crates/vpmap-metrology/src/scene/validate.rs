@@ -292,10 +292,62 @@ pub fn unknown_fields(value: &serde_json::Value) -> Vec<String> {
     photo_unknown_fields(value)
 }
 
+/// Smallest standard deviation a vanishing point's covariance may give, degrees.
+pub const MIN_VP_SD_DEG: f64 = 1e-6;
+
+/// Largest standard deviation a vanishing point's covariance may give, degrees.
+pub const MAX_VP_SD_DEG: f64 = 90.0;
+
+/// A vanishing point's covariance: finite, symmetric, positive definite, each standard
+/// deviation (of the principal axes) within [`MIN_VP_SD_DEG`]..[`MAX_VP_SD_DEG`].
+fn check_covariance_deg2(field: &str, m: [[f64; 2]; 2]) -> Result<()> {
+    for (r, row) in m.iter().enumerate() {
+        for (c, v) in row.iter().enumerate() {
+            if !v.is_finite() {
+                return Err(MetrologyError::NonFinite {
+                    field: format!("{field}[{r}][{c}]"),
+                    value: *v,
+                });
+            }
+        }
+    }
+    let [[a, b], [b2, d]] = m;
+    let shown = format!("[[{a:.4e}, {b:.4e}], [{b2:.4e}, {d:.4e}]] deg^2");
+    if (b - b2).abs() > 1e-9 * a.abs().max(d.abs()).max(f64::MIN_POSITIVE) {
+        return Err(MetrologyError::InvalidField {
+            field: field.to_owned(),
+            reason: format!("is not symmetric: {shown}"),
+        });
+    }
+    // Principal variances of the symmetric matrix.
+    let large = 0.5 * (a + d) + (0.25 * (a - d) * (a - d) + b * b).sqrt();
+    // The smaller one from the determinant: `mean - spread` cancels to 0 for very unequal ones.
+    let small = (a * d - b * b) / large;
+    if !(small > 0.0 && a > 0.0 && d > 0.0) {
+        return Err(MetrologyError::InvalidField {
+            field: field.to_owned(),
+            reason: format!("is not positive definite: {shown}"),
+        });
+    }
+    if small.sqrt() < MIN_VP_SD_DEG || large.sqrt() > MAX_VP_SD_DEG {
+        return Err(MetrologyError::InvalidField {
+            field: field.to_owned(),
+            reason: format!(
+                "gives standard deviations of {:.4e} to {:.4e} degrees; they must lie within {MIN_VP_SD_DEG:e} to {MAX_VP_SD_DEG} degrees",
+                small.sqrt(),
+                large.sqrt()
+            ),
+        });
+    }
+    Ok(())
+}
+
 /// [`unknown_fields`] of one photo's scene.
 fn photo_unknown_fields(value: &serde_json::Value) -> Vec<String> {
-    const TOP: [&str; 10] = [
+    const TOP: [&str; 12] = [
         "click_covariances_px2",
+        "focal_sd_px",
+        "principal_point_sd_px",
         "version",
         "image",
         "vanishing_points",
@@ -548,6 +600,7 @@ impl Scene {
         if let Some(f) = self.focal_px {
             check_positive("focal_px", f)?;
         }
+        self.check_camera_uncertainty()?;
         let mut names = std::collections::BTreeSet::new();
         for (i, obj) in self.objects.iter().enumerate() {
             if obj.name.trim().is_empty() {
@@ -634,6 +687,58 @@ impl Scene {
             out.insert("scale.floor_distance.to".to_owned());
         }
         out
+    }
+
+    /// The vanishing points' covariances and the intrinsics' standard deviations: finite,
+    /// positive (definite) and in the range [`MIN_VP_SD_DEG`]..[`MAX_VP_SD_DEG`] (vanishing
+    /// points), at most the image diagonal (principal point) or the focal length itself
+    /// (focal length); a vanishing point's covariance needs its `point` or `direction`, and
+    /// `focal_sd_px` needs `focal_px`.
+    fn check_camera_uncertainty(&self) -> Result<()> {
+        for (i, vp) in self.vanishing_points.iter().enumerate() {
+            let Some(m) = vp.covariance_deg2 else {
+                continue;
+            };
+            let field = format!("vanishing_points[{i}].covariance_deg2");
+            if vp.point.is_none() && vp.direction.is_none() {
+                return Err(MetrologyError::InvalidField {
+                    field,
+                    reason: "belongs to a `point` or `direction`; this vanishing point gives only `lines` (their own spread is their uncertainty)".to_owned(),
+                });
+            }
+            check_covariance_deg2(&field, m)?;
+        }
+        let diagonal = self.image.diagonal();
+        if let Some(sd) = self.principal_point_sd_px {
+            check_positive("principal_point_sd_px", sd)?;
+            if sd > diagonal {
+                return Err(MetrologyError::InvalidField {
+                    field: "principal_point_sd_px".to_owned(),
+                    reason: format!(
+                        "{sd:.4e} px is more than the image diagonal ({diagonal:.1} px): leave it out to let the vanishing points alone place the principal point"
+                    ),
+                });
+            }
+        }
+        if let Some(sd) = self.focal_sd_px {
+            check_positive("focal_sd_px", sd)?;
+            let Some(f) = self.focal_px else {
+                return Err(MetrologyError::InvalidField {
+                    field: "focal_sd_px".to_owned(),
+                    reason: "is the uncertainty of `focal_px`, which the scene does not give"
+                        .to_owned(),
+                });
+            };
+            if sd > f {
+                return Err(MetrologyError::InvalidField {
+                    field: "focal_sd_px".to_owned(),
+                    reason: format!(
+                        "{sd:.4e} px is more than the focal length itself ({f} px): leave it out for a focal length the fit finds alone"
+                    ),
+                });
+            }
+        }
+        Ok(())
     }
 
     /// Each click covariance names a click of the scene and is a finite, symmetric, positive

@@ -122,3 +122,120 @@ pub enum SegmentFit {
     /// The lines' coordinates are so large that their intersection overflows.
     Overflow,
 }
+
+/// The fixed chart in which a vanishing point's uncertainty is stated
+/// ([`VanishingPointSpec::covariance_deg2`](super::VanishingPointSpec::covariance_deg2)): a
+/// homogeneous pixel point `(x, y, w)` is seen as the unit direction
+/// `((x - c_x w) / f, (y - c_y w) / f, w)` from a reference camera of focal length `f` and
+/// principal point `c`, and a small change of it is measured in radians along two axes: *across*
+/// (`z x d`, perpendicular to the line from the principal point to the vanishing point) and
+/// *radial* (`across x d`, along that line, away from the principal point). The chart is a
+/// way of writing the point, fixed by the scene (its `focal_px`, else the image diagonal, and
+/// its `principal_point`, else the image centre), not the fitted camera: a point far off the
+/// image, or at infinity, has a finite covariance in it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct VpChart {
+    /// Reference focal length, pixels.
+    pub focal_px: f64,
+    /// Reference principal point, pixels.
+    pub centre_px: Vector2<f64>,
+}
+
+impl VpChart {
+    /// The chart a scene states its vanishing points' covariances in.
+    #[must_use]
+    pub fn of_scene(scene: &Scene) -> Self {
+        Self {
+            focal_px: scene
+                .focal_px
+                .filter(|f| f.is_finite() && *f > 0.0)
+                .unwrap_or_else(|| scene.image.diagonal()),
+            centre_px: scene
+                .principal_point
+                .map_or_else(|| scene.image.centre(), |p| Vector2::new(p[0], p[1])),
+        }
+    }
+
+    /// The unit direction of homogeneous pixel point `v` (sign as given; `None` for a zero or
+    /// non-finite vector).
+    #[must_use]
+    pub fn direction(&self, v: Vector3<f64>) -> Option<Vector3<f64>> {
+        let d = Vector3::new(
+            (v.x - self.centre_px.x * v.z) / self.focal_px,
+            (v.y - self.centre_px.y * v.z) / self.focal_px,
+            v.z,
+        );
+        let n = d.norm();
+        (n.is_finite() && n > 0.0).then(|| d / n)
+    }
+
+    /// The *across* and *radial* unit axes at unit direction `d`.
+    #[must_use]
+    pub fn axes(d: Vector3<f64>) -> (Vector3<f64>, Vector3<f64>) {
+        let a = Vector3::z().cross(&d);
+        let across = if a.norm() > 1e-9 {
+            a.normalize()
+        } else {
+            // On the optical axis: image x.
+            let x = Vector3::x();
+            (x - d * d.dot(&x)).normalize()
+        };
+        (across, across.cross(&d))
+    }
+
+    /// The offset of homogeneous pixel point `predicted` from `given`, radians, along the
+    /// *across* and *radial* axes at `given` (the sign of `predicted` chosen to face `given`:
+    /// a vanishing point is a line through the camera, not a ray). `None` when either point
+    /// has no direction.
+    #[must_use]
+    pub fn offset_rad(&self, given: Vector3<f64>, predicted: Vector3<f64>) -> Option<[f64; 2]> {
+        let g = self.direction(given)?;
+        let mut p = self.direction(predicted)?;
+        if p.dot(&g) < 0.0 {
+            p = -p;
+        }
+        let (across, radial) = Self::axes(g);
+        // The tangent-plane coordinates of `p` seen from `g` (gnomonic, exact in angle along
+        // each axis for small offsets and monotone for large ones).
+        let along = p.dot(&g).max(1e-12);
+        Some([
+            (p.dot(&across) / along).atan(),
+            (p.dot(&radial) / along).atan(),
+        ])
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn chart_offsets_are_angles_about_the_principal_point() {
+        let chart = VpChart {
+            focal_px: 500.0,
+            centre_px: Vector2::new(320.0, 240.0),
+        };
+        // A point 500 px right of the centre is 45 degrees out; moving it 1 degree further
+        // out is radial, moving it about the optical axis is across.
+        let given = Vector3::new(820.0, 240.0, 1.0);
+        let out = Vector3::new(320.0 + 500.0 * 46f64.to_radians().tan(), 240.0, 1.0);
+        let r = chart.offset_rad(given, out).unwrap_or_default();
+        assert!(r[0].abs() < 1e-12, "{r:?}");
+        assert!((r[1] - 1f64.to_radians()).abs() < 1e-12, "{r:?}");
+        // Turned 1 degree about the optical axis: across, by asin(sin 45 deg sin 1 deg).
+        let t = 1f64.to_radians();
+        let turned = Vector3::new(320.0 + 500.0 * t.cos(), 240.0 + 500.0 * t.sin(), 1.0);
+        let r = chart.offset_rad(given, turned).unwrap_or_default();
+        assert!(r[1].abs() < 1e-4, "{r:?}");
+        let expected = (45f64.to_radians().sin() * t.sin()).asin();
+        assert!((r[0] - expected).abs() < 1e-6, "{r:?} vs {expected}");
+        // A point at infinity and a far point along the same image direction agree.
+        let inf = Vector3::new(0.0, 1.0, 0.0);
+        let far = Vector3::new(320.0, 240.0 + 1e12, 1.0);
+        let r = chart.offset_rad(inf, far).unwrap_or_default();
+        assert!(r[0].abs() < 1e-9 && r[1].abs() < 1e-9, "{r:?}");
+        // Opposite signs of one homogeneous point are the same vanishing point.
+        let r = chart.offset_rad(given, -given).unwrap_or_default();
+        assert!(r[0].abs() < 1e-12 && r[1].abs() < 1e-12, "{r:?}");
+    }
+}

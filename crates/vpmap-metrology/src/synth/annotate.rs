@@ -221,11 +221,13 @@ pub fn render_annotated(
             point: Some(arr(camera.vanishing_point(room_axes[0])?)),
             lines: Vec::new(),
             direction: None,
+            covariance_deg2: None,
         },
         VanishingPointSpec {
             point: Some(arr(camera.vanishing_point(room_axes[1])?)),
             lines: Vec::new(),
             direction: None,
+            covariance_deg2: None,
         },
     ];
     if camera.pitch_rad.abs() > 1e-12 {
@@ -233,6 +235,7 @@ pub fn render_annotated(
             point: Some(arr(camera.vanishing_point(Vector3::new(0.0, 0.0, 1.0))?)),
             lines: Vec::new(),
             direction: None,
+            covariance_deg2: None,
         });
     }
     let scene = Scene {
@@ -241,6 +244,8 @@ pub fn render_annotated(
         vanishing_points: vps,
         principal_point: None,
         focal_px: None,
+        focal_sd_px: None,
+        principal_point_sd_px: None,
         objects,
         floor: floor_px,
         scale: None,

@@ -31,12 +31,12 @@ use rand_chacha::ChaCha8Rng;
 use crate::detection::{Intrinsics, Segment};
 use crate::error::{Result, VisionError};
 use model::{Frame, Normaliser, Seg, vertical_index};
-use problem::Problem;
 pub use problem::{
     CAUCHY_SCALE_PX, FOCAL_PRIOR, FOCAL_PRIOR_SIGMA_REFINE, FOCAL_PRIOR_SIGMA_SEARCH,
     INLIER_ANGLE_DEG, INLIER_DISTANCE_PX, MAX_SEGMENTS, MIN_SEGMENT_LENGTH_PX, MIN_SEGMENTS,
     PRINCIPAL_POINT_MIN_TILT_DEG, PRINCIPAL_POINT_PRIOR_SIGMA, SCORE_TOLERANCE_DEG,
 };
+use problem::{FOCAL_STEP, FocalPrior, Problem};
 use refine::best_support;
 
 /// What the estimation found, in input pixels.
@@ -60,6 +60,7 @@ pub(crate) fn estimate(
     working_scale: f64,
     focal_px: Option<f64>,
     principal_point_px: Option<[f64; 2]>,
+    focal_prior: Option<(f64, f64)>,
     seed: u64,
 ) -> Result<Estimate> {
     let norm = Normaliser::new(size, working_scale);
@@ -82,6 +83,21 @@ pub(crate) fn estimate(
         norm,
         known_focal: focal_px.map(|f| f / norm.unit_px),
         known_pp: principal_point_px.map(|p| norm.norm_from_px(p)),
+        focal_prior: focal_prior
+            .filter(|(f, sd)| f.is_finite() && *f > 0.0 && sd.is_finite() && *sd > 0.0)
+            .map_or(
+                FocalPrior {
+                    centre: FOCAL_PRIOR,
+                    sigma_search: FOCAL_PRIOR_SIGMA_SEARCH,
+                    sigma_refine: FOCAL_PRIOR_SIGMA_REFINE,
+                },
+                |(f, sd)| FocalPrior {
+                    centre: f / norm.unit_px,
+                    // The search's grid steps 6 %: a narrower prior would fall between steps.
+                    sigma_search: sd.max(FOCAL_STEP - 1.0),
+                    sigma_refine: sd,
+                },
+            ),
         all: segments,
     };
     let mut rng = ChaCha8Rng::seed_from_u64(seed);

@@ -49,6 +49,17 @@ pub(super) const REFINE_ROUNDS: usize = 4;
 /// Levenberg-Marquardt iterations per round.
 pub(super) const LM_ITERATIONS: usize = 10;
 
+/// A log-normal prior on the focal length (normalised units).
+#[derive(Clone, Copy, Debug)]
+pub(super) struct FocalPrior {
+    /// Its centre.
+    pub(super) centre: f64,
+    /// Its sd in `ln f` for the search's score.
+    pub(super) sigma_search: f64,
+    /// Its sd in `ln f` for the refinement.
+    pub(super) sigma_refine: f64,
+}
+
 /// The inputs of the estimation that do not change during it.
 pub(super) struct Problem<'a> {
     /// The usable segments, longest first, normalised.
@@ -59,6 +70,8 @@ pub(super) struct Problem<'a> {
     pub(super) known_focal: Option<f64>,
     /// The known principal point, normalised.
     pub(super) known_pp: Option<[f64; 2]>,
+    /// The focal length's log-normal prior when it is estimated.
+    pub(super) focal_prior: FocalPrior,
     /// Every segment, input pixels.
     pub(super) all: &'a [Segment],
 }

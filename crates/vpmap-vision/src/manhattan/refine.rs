@@ -22,9 +22,8 @@ use nalgebra::{Rotation3, Vector3};
 use super::lm::levenberg_marquardt;
 use super::model::{Frame, Seg, vertical_index};
 use super::problem::{
-    CAUCHY_SCALE_PX, FOCAL_PRIOR, FOCAL_PRIOR_SIGMA_REFINE, INLIER_ANGLE_DEG, INLIER_DISTANCE_PX,
-    LM_ITERATIONS, PRINCIPAL_POINT_MIN_TILT_DEG, PRINCIPAL_POINT_PRIOR_SIGMA, Problem,
-    REFINE_ROUNDS,
+    CAUCHY_SCALE_PX, INLIER_ANGLE_DEG, INLIER_DISTANCE_PX, LM_ITERATIONS,
+    PRINCIPAL_POINT_MIN_TILT_DEG, PRINCIPAL_POINT_PRIOR_SIGMA, Problem, REFINE_ROUNDS,
 };
 
 impl Problem<'_> {
@@ -47,7 +46,7 @@ impl Problem<'_> {
         let mut frame = start;
         let mut pp_free = false;
         let focal_free = self.known_focal.is_none();
-        let focal_prior_centre = FOCAL_PRIOR.ln();
+        let focal_prior_centre = self.focal_prior.centre.ln();
         for round in 0..REFINE_ROUNDS {
             if round >= 1 {
                 pp_free = self.principal_point_free(&frame);
@@ -103,7 +102,9 @@ impl Problem<'_> {
                     }
                 }
                 if focal_free {
-                    out.push((f.cam.focal.ln() - focal_prior_centre) / FOCAL_PRIOR_SIGMA_REFINE);
+                    out.push(
+                        (f.cam.focal.ln() - focal_prior_centre) / self.focal_prior.sigma_refine,
+                    );
                 }
                 if pp_free {
                     out.push((f.cam.pp[0] - pp_centre[0]) / PRINCIPAL_POINT_PRIOR_SIGMA);

@@ -4,7 +4,7 @@
 use nalgebra::Vector3;
 
 use super::model::Frame;
-use super::problem::{FOCAL_PRIOR, FOCAL_PRIOR_SIGMA_SEARCH, Problem, SCORE_TOLERANCE_DEG};
+use super::problem::{Problem, SCORE_TOLERANCE_DEG};
 
 impl Problem<'_> {
     pub(super) fn sin2_tau() -> f64 {
@@ -48,13 +48,19 @@ impl Problem<'_> {
         if self.known_focal.is_some() {
             score
         } else {
-            score * focal_prior(frame.cam.focal, FOCAL_PRIOR_SIGMA_SEARCH)
+            score
+                * focal_prior(
+                    frame.cam.focal,
+                    self.focal_prior.centre,
+                    self.focal_prior.sigma_search,
+                )
         }
     }
 }
 
-/// The log-normal focal-length prior, 1 at [`FOCAL_PRIOR`].
-fn focal_prior(focal: f64, sigma: f64) -> f64 {
-    let z = (focal / FOCAL_PRIOR).ln() / sigma;
+/// The log-normal focal-length prior, 1 at `centre` (by default
+/// [`super::problem::FOCAL_PRIOR`]).
+fn focal_prior(focal: f64, centre: f64, sigma: f64) -> f64 {
+    let z = (focal / centre).ln() / sigma;
     (-0.5 * z * z).exp()
 }

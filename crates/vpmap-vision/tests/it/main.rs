@@ -2,5 +2,6 @@
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::float_cmp)]
 
 mod bad_input;
+mod real_photos;
 mod snapping;
 mod synthetic_scenes;

@@ -85,6 +85,12 @@ const app = {
       state.savedVpPoints[k] = vp.point;
       delete vp.point;
     }
+    // A covariance belongs to the point: lines alone carry their own spread.
+    if (vp && vp.covariance_deg2) {
+      state.savedVpCovariances = state.savedVpCovariances || [null, null, null];
+      state.savedVpCovariances[k] = vp.covariance_deg2;
+      delete vp.covariance_deg2;
+    }
   },
   setTool,
   endTool,

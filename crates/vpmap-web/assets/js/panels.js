@@ -11,6 +11,16 @@ import { BUG_COLOURS, PLANNER_STYLE } from './plan-view.js';
 import { busyNames, roomScenes } from './state.js';
 import { linkCandidates, sharedWith, photoList } from './room.js';
 
+/** ` · ±X° (95 %)`, the 95 % ellipse's major semi-axis of a vanishing point's covariance (degrees²), or ''. */
+function vpSpread(vp) {
+  const c = vp.covariance_deg2;
+  if (!Array.isArray(c) || c.length !== 2) return '';
+  const [[a, b], [, d]] = c;
+  const major = (a + d) / 2 + Math.sqrt(((a - d) / 2) ** 2 + b * b);
+  if (!(major > 0)) return '';
+  return ` · ±${Math.sqrt(5.991 * major).toFixed(1)}° (95 %)`;
+}
+
 const IDLE_PROMPT = 'Drag a corner to move it · click an object or a line to select it (then drag the line\'s ends; Delete removes it) · scroll to zoom · drag to pan · ? for keys';
 const TABS = ['photo', 'plan', 'model'];
 
@@ -125,7 +135,7 @@ export function installPanels(app) {
         const lines = vp.lines || [];
         const p = vpPoint(vp);
         let info;
-        if (Array.isArray(vp.point)) info = `point ${formatPair(vp.point, 0)}${lines.length ? ` · ${lines.length} lines as evidence` : ''}`;
+        if (Array.isArray(vp.point)) info = `point ${formatPair(vp.point, 0)}${vpSpread(vp)}${lines.length ? ` · ${lines.length} lines as evidence` : ''}`;
         else if (p) info = `from ${lines.length} lines: ${formatPair(p, 0)}`;
         else info = lines.length >= 2 ? `${lines.length} lines (parallel: no point)` : `draw ${2 - lines.length} more line${lines.length === 1 ? '' : 's'}`;
         li.append(h('div', { class: 'vp-info', text: info }));
@@ -145,7 +155,11 @@ export function installPanels(app) {
         }
         if (!vp.point && state.savedVpPoints[k]) {
           const restore = h('button', { type: 'button', class: 'small', text: 'Use detected point', title: 'Use the point found by detection instead of the lines' });
-          restore.addEventListener('click', () => app.edit((s) => { s.vanishing_points[k].point = state.savedVpPoints[k]; }));
+          restore.addEventListener('click', () => app.edit((s) => {
+            s.vanishing_points[k].point = state.savedVpPoints[k];
+            const cov = state.savedVpCovariances?.[k];
+            if (cov) s.vanishing_points[k].covariance_deg2 = cov;
+          }));
           actions.append(restore);
         }
         if (k === 2) {

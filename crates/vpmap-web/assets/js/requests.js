@@ -418,7 +418,7 @@ export function installRequests(app) {
         if (d.image) s.image = d.image;
         s.vanishing_points = d.vanishing_points || [];
         while (s.vanishing_points.length < 2) s.vanishing_points.push({ lines: [] });
-        for (const k of ['principal_point', 'focal_px', 'perspective']) {
+        for (const k of ['principal_point', 'principal_point_sd_px', 'focal_px', 'focal_sd_px', 'perspective']) {
           if (d[k] !== undefined && d[k] !== null) s[k] = d[k];
           else delete s[k];
         }

@@ -187,8 +187,18 @@ fn detect_answer(bytes: &[u8], query: &DetectQuery) -> Result<Bytes, ApiError> {
     let started = Instant::now();
     let photo = decode(bytes)?;
     query.check_against(photo.image.width(), photo.image.height())?;
+    // The EXIF focal length as a prior, as `vpmap detect` uses it; one present but unusable is
+    // said among the warnings.
+    let (focal_prior, exif_warning) = match query.focal_px {
+        Some(_) => (None, None),
+        None => match photo.exif_focal_prior() {
+            Ok(prior) => (prior, None),
+            Err(why) => (None, Some(format!("the photo: {why}"))),
+        },
+    };
     let opts = DetectOptions {
         focal_px: query.focal_px,
+        focal_prior,
         principal_point_px: query.principal_point,
         max_side_px: query.max_side_px,
         two_point_tolerance_deg: query.two_point_tolerance_deg,
@@ -233,7 +243,10 @@ fn detect_answer(bytes: &[u8], query: &DetectQuery) -> Result<Bytes, ApiError> {
         vertical_tilt_deg: det.vertical_tilt_deg,
         adjusted_deg: scene.adjusted_deg,
         reoriented: photo.reoriented,
-        warnings: warnings(&det, &scene),
+        warnings: exif_warning
+            .into_iter()
+            .chain(warnings(&det, &scene))
+            .collect(),
         time_ms: elapsed_ms(started),
     };
     to_json(&answer)

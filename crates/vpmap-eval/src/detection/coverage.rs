@@ -1,0 +1,74 @@
+//! Whether the detected scene's error bars hold the labelled truth: each labelled vanishing
+//! direction against its written point's 95 % ellipse, and the labelled focal length against
+//! the detected scene's 95 % interval.
+//!
+//! A labelled direction `d` is the pixel point `K d` of the labelled `K`; its offset from the
+//! written point is measured in the scene's chart ([`vpmap_metrology::scene::VpChart`]) and
+//! weighed by the written covariance: Mahalanobis distance squared `o^T C^-1 o`, inside the
+//! 95 % ellipse when at most 5.991. The vertical is matched to the labelled vertical, the
+//! horizontals by the assignment with the smaller total distance. The focal length's interval
+//! is the camera fit of the scene alone ([`DetectedScene::camera_estimate`]), `f +- 1.96 sd`.
+
+use nalgebra::{Matrix2, Vector2, Vector3};
+use vpmap_vision::scene::DetectedScene;
+
+use super::Label;
+
+/// The chi-square quantile with 2 degrees of freedom at 95 %.
+pub const CHI2_2DOF_95: f64 = 5.991_464_547_107_979;
+
+/// The normal quantile at 97.5 % (a two-sided 95 % interval).
+pub const Z_95: f64 = 1.959_963_984_540_054;
+
+/// Mahalanobis distance squared of the labelled direction `d` (camera frame, y down) from
+/// written point `role` of `scene`.
+fn distance2(scene: &DetectedScene, role: usize, label: &Label, d: [f64; 3]) -> Option<f64> {
+    let p = scene.points_px.get(role).copied().flatten()?;
+    let c = scene
+        .covariances
+        .get(role)
+        .copied()
+        .flatten()?
+        .covariance_deg2;
+    let truth = Vector3::new(
+        label.focal_px * d[0] + label.principal_point_px[0] * d[2],
+        label.focal_px * d[1] + label.principal_point_px[1] * d[2],
+        d[2],
+    );
+    let o = scene
+        .chart
+        .offset_rad(Vector3::new(p[0], p[1], 1.0), truth)?;
+    let o = Vector2::new(o[0].to_degrees(), o[1].to_degrees());
+    let inv = Matrix2::new(c[0][0], c[0][1], c[1][0], c[1][1]).try_inverse()?;
+    Some((o.transpose() * inv * o)[(0, 0)])
+}
+
+/// Each labelled vanishing direction's Mahalanobis distance squared from its written point
+/// (label order; `None` when the scene writes no point for it, e.g. the vertical of a
+/// two-point scene).
+#[must_use]
+pub fn direction_distances(scene: &DetectedScene, label: &Label) -> [Option<f64>; 3] {
+    let mut out = [None; 3];
+    out[label.vertical] = distance2(scene, 2, label, label.directions[label.vertical]);
+    let labelled: Vec<usize> = (0..3).filter(|&i| i != label.vertical).collect();
+    let d = |role: usize, l: usize| distance2(scene, role, label, label.directions[l]);
+    let straight = [d(0, labelled[0]), d(1, labelled[1])];
+    let crossed = [d(0, labelled[1]), d(1, labelled[0])];
+    let total = |p: [Option<f64>; 2]| p.iter().map(|v| v.unwrap_or(f64::INFINITY)).sum::<f64>();
+    let [a, b] = if total(straight) <= total(crossed) {
+        straight
+    } else {
+        [crossed[1], crossed[0]]
+    };
+    out[labelled[0]] = a;
+    out[labelled[1]] = b;
+    out
+}
+
+/// The labelled focal length's distance from the detected scene's estimate, in its standard
+/// deviations (`None` when the scene's camera fit fails).
+#[must_use]
+pub fn focal_z(scene: &DetectedScene, label: &Label) -> Option<f64> {
+    let c = scene.camera_estimate()?;
+    (c.focal_sd_px > 0.0).then(|| (c.focal_px - label.focal_px).abs() / c.focal_sd_px)
+}

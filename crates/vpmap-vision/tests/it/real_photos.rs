@@ -1,0 +1,99 @@
+//! Real photos with metric truth (`../shared/data/sunrgbd-dev`, three SUN RGB-D photos): the
+//! README's flow with the vanishing points `detect` finds and the truth's box corners clicked
+//! exactly. The error bars must hold the truth (issue 37): the truth inside the 95 % ellipse
+//! for at least 80 % of the objects, none beyond a Mahalanobis distance squared of 20, the
+//! median error at most 3 % of the distance. The truth is loose by a few centimetres, and photo
+//! 000002's roll by about 2 degrees (its README), which is why the bounds are not tighter.
+
+use std::path::PathBuf;
+
+use vpmap_metrology::fit::{CHI2_2DOF_95, FitOptions, fit_scene};
+use vpmap_metrology::scene::Scene;
+use vpmap_vision::photo::{PhotoLimits, decode_photo};
+use vpmap_vision::scene::detected_scene;
+use vpmap_vision::{DetectOptions, detect};
+
+fn sunrgbd() -> Option<PathBuf> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/sunrgbd-dev");
+    if dir.is_dir() {
+        Some(dir)
+    } else {
+        eprintln!(
+            "SKIPPED: {} is absent, so the SUN RGB-D photos were not checked",
+            dir.display()
+        );
+        None
+    }
+}
+
+/// Per object: (photo, name, error m, Mahalanobis distance squared, distance from the camera m).
+fn measure(dir: &std::path::Path) -> Vec<(String, String, f64, f64, f64)> {
+    let mut out = Vec::new();
+    for id in ["000002", "000003", "000004"] {
+        let folder = dir.join(id);
+        let bytes = std::fs::read(folder.join(format!("{id}.jpg"))).unwrap();
+        let photo = decode_photo(&bytes, &PhotoLimits::default()).unwrap();
+        let det = detect(&photo.image, &DetectOptions::default()).unwrap();
+        let detected = detected_scene(&det).unwrap();
+        let mut scene: serde_json::Value = serde_json::from_str(&detected.json).unwrap();
+        let clicked: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(folder.join("scene.json")).unwrap())
+                .unwrap();
+        for key in ["objects", "floor", "scale"] {
+            if let Some(v) = clicked.get(key) {
+                scene[key] = v.clone();
+            }
+        }
+        let scene = Scene::from_json_str(&scene.to_string()).unwrap();
+        let options = FitOptions::default();
+        let fitted = fit_scene(&scene, &options).unwrap();
+        let k = fitted.meters_per_camera_height(&scene).unwrap().unwrap();
+        let u = fitted.uncertainty(&scene, &options).unwrap();
+        let truth: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(folder.join("truth.json")).unwrap())
+                .unwrap();
+        for t in truth["objects"].as_array().unwrap() {
+            let name = t["name"].as_str().unwrap();
+            let i = scene.objects.iter().position(|o| o.name == name).unwrap();
+            let fp = &fitted.reconstruction.objects[i].footprint;
+            let c = fp.iter().sum::<nalgebra::Vector2<f64>>() * (k / fp.len() as f64);
+            let tc = nalgebra::Vector2::new(
+                t["centroid"][0].as_f64().unwrap(),
+                t["centroid"][1].as_f64().unwrap(),
+            );
+            let e = c - tc;
+            let m = u.objects[i].centroid_covariance;
+            let cov = nalgebra::Matrix2::new(m[0][0], m[0][1], m[1][0], m[1][1]);
+            let d2 = (e.transpose() * cov.try_inverse().unwrap() * e)[(0, 0)];
+            out.push((id.to_owned(), name.to_owned(), e.norm(), d2, tc.norm()));
+        }
+    }
+    out
+}
+
+#[test]
+#[ignore = "needs ../shared/data (run with -- --ignored shared_data)"]
+fn shared_data_sunrgbd_detected_vanishing_points_error_bars_hold_the_truth() {
+    let Some(dir) = sunrgbd() else { return };
+    let rows = measure(&dir);
+    for (id, name, e, d2, dist) in &rows {
+        eprintln!(
+            "{id} {name:15} error {:5.1} cm ({:.1} % of {dist:.2} m), Mahalanobis^2 {d2:.2}",
+            100.0 * e,
+            100.0 * e / dist
+        );
+    }
+    assert_eq!(rows.len(), 8);
+    let inside = rows.iter().filter(|r| r.3 <= CHI2_2DOF_95).count();
+    assert!(
+        inside * 10 >= rows.len() * 8,
+        "{inside} of {} inside",
+        rows.len()
+    );
+    let worst = rows.iter().map(|r| r.3).fold(0.0, f64::max);
+    assert!(worst <= 20.0, "Mahalanobis distance squared up to {worst}");
+    let mut relative: Vec<f64> = rows.iter().map(|r| r.2 / r.4).collect();
+    relative.sort_by(f64::total_cmp);
+    let median = 0.5 * (relative[3] + relative[4]);
+    assert!(median <= 0.03, "median error {:.1} %", 100.0 * median);
+}
