@@ -35,8 +35,16 @@ pub struct ServerLimits {
     /// stops, and the request is answered with 400 naming it.
     pub planner_timeout: Duration,
     /// Time allowed to one `/api/plan` request from when it takes its slot: building its
-    /// grid, then its planners (a planner starting late gets only what is left).
+    /// grid, then its planners (a planner starting late gets only what is left). A room's fit
+    /// (a scene of several photos) counts in it too.
     pub plan_timeout: Duration,
+    /// Time allowed to the fit of a room (a scene of several photos) in one `/api/build`
+    /// request, from when it takes its slot; beyond it the request is answered with 400.
+    pub build_timeout: Duration,
+    /// Time allowed to the search for box proposals of one `/api/propose` request, from when
+    /// it takes its slot (finding the photo's segments, on first use, counts in it but is
+    /// not interrupted); beyond it the request is answered with 400.
+    pub propose_timeout: Duration,
 }
 
 impl Default for ServerLimits {
@@ -51,6 +59,8 @@ impl Default for ServerLimits {
             slot_wait: Duration::from_secs(2),
             planner_timeout: Duration::from_secs(3),
             plan_timeout: Duration::from_secs(6),
+            build_timeout: Duration::from_secs(6),
+            propose_timeout: Duration::from_secs(3),
         }
     }
 }

@@ -9,6 +9,7 @@ mod fuzz_regressions;
 mod limits;
 mod load;
 mod page;
+mod photos;
 mod plan;
 
 use std::fmt::Write as _;
