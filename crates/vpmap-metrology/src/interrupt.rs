@@ -47,7 +47,7 @@ impl std::fmt::Display for Interruption {
             Self::TimeLimit { allowed_s } => {
                 write!(
                     f,
-                    "it did not finish within its time limit of {allowed_s:.3} s"
+                    "it did not finish within its time limit of {allowed_s:.1} s"
                 )
             }
             Self::Cancelled => write!(f, "the request was cancelled"),
@@ -127,6 +127,6 @@ mod tests {
         // The earlier deadline holds.
         assert!(later.with_timeout(Duration::ZERO).check().is_some());
         let text = Interruption::TimeLimit { allowed_s: 6.0 }.to_string();
-        assert_eq!(text, "it did not finish within its time limit of 6.000 s");
+        assert_eq!(text, "it did not finish within its time limit of 6.0 s");
     }
 }

@@ -3,6 +3,7 @@
 //! validation as its endpoint, in the same order, and stops before the expensive work
 //! (planning, pictures, the 3D model); not part of the supported API.
 
+use vpmap_metrology::interrupt::Interrupt;
 use vpmap_pipeline::MapOptions;
 
 use super::detect::DetectQuery;
@@ -42,7 +43,7 @@ pub fn build_request(
 /// # Errors
 /// The 400 answer `/api/plan` would give before planning.
 pub fn plan_request(body: &[u8], max_grid_cells: f64) -> Result<(), ApiError> {
-    checked_plan_request(body, max_grid_cells).map(|_| ())
+    checked_plan_request(body, max_grid_cells, &Interrupt::default()).map(|_| ())
 }
 
 /// `POST /api/navigate` with `body`: the request's own fields (`truth`, `planner`,
@@ -52,7 +53,7 @@ pub fn plan_request(body: &[u8], max_grid_cells: f64) -> Result<(), ApiError> {
 /// # Errors
 /// The 400 answer `/api/navigate` would give before driving.
 pub fn navigate_request(body: &[u8], max_grid_cells: f64) -> Result<(), ApiError> {
-    checked_navigate_request(body, max_grid_cells).map(|_| ())
+    checked_navigate_request(body, max_grid_cells, &Interrupt::default()).map(|_| ())
 }
 
 /// `POST /api/detect?{query}` for a photo of `width` x `height` pixels: the query's options,

@@ -11,6 +11,7 @@ mod load;
 mod page;
 mod photos;
 mod plan;
+mod rooms;
 
 use std::fmt::Write as _;
 use std::io::{Read, Write};
