@@ -71,7 +71,9 @@ pub async fn photo(
             let started = Instant::now();
             let photo = decode(&body)?;
             let (width, height) = (photo.image.width(), photo.image.height());
-            let id = worker.0.photos.insert(StoredPhoto::new(photo.image));
+            let stored = StoredPhoto::new(&photo.image);
+            drop(photo);
+            let id = worker.0.photos.insert(stored);
             to_json(&PhotoAnswer {
                 id,
                 width,
@@ -384,7 +386,7 @@ mod tests {
         .unwrap();
         let photo = render_photo(&scene, &truth, &PhotoOptions::default()).unwrap();
         let state = AppState::new(None, true, ServerLimits::default());
-        assert_eq!(state.0.photos.insert(StoredPhoto::new(photo.image)), "p1");
+        assert_eq!(state.0.photos.insert(StoredPhoto::new(&photo.image)), "p1");
         (
             state,
             scene_vanishing_points(&scene).unwrap(),

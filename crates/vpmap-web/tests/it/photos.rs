@@ -11,6 +11,7 @@ use image::{DynamicImage, ImageFormat};
 use vpmap_web::ServerLimits;
 
 use crate::limits::start_server;
+use crate::load::{PeakRss, ServerProcess, rss_kib};
 use crate::request_to;
 
 /// A `side` x `side` black and white checkerboard of `square`-pixel squares, as PNG: a few
@@ -192,4 +193,74 @@ fn a_propose_whose_client_has_gone_stops_and_frees_the_detect_slot() {
         );
         std::thread::sleep(Duration::from_millis(100));
     }
+}
+
+/// A `side` x `side` 16-bit RGBA PNG of a checkerboard of 500-pixel squares (small: it
+/// compresses well).
+fn rgba16_png(side: u32) -> Vec<u8> {
+    let image = image::ImageBuffer::from_fn(side, side, |x, y| {
+        let v = if (x / 500 + y / 500) % 2 == 0 {
+            9_000
+        } else {
+            50_000
+        };
+        image::Rgba([v, v / 2, 65_535 - v, 65_535])
+    });
+    png(&DynamicImage::ImageRgba16(image))
+}
+
+#[test]
+fn four_16_bit_photos_keep_the_server_within_the_photo_store_cap() {
+    // Four 4000 x 4000 16-bit RGBA photos: each was kept at 11 bytes a pixel (176 MB) and
+    // counted at 6, so the store held 706 MB under its 400 MB cap.
+    let photo = rgba16_png(4000);
+    let mut server = ServerProcess::start();
+    let addr = server.addr;
+    upload(addr, &checkerboard_png(64, 8));
+    let baseline = rss_kib(server.pid());
+    for _ in 0..4 {
+        upload(addr, &photo);
+    }
+    std::thread::sleep(Duration::from_millis(300));
+    let kept = rss_kib(server.pid()).saturating_sub(baseline);
+    eprintln!(
+        "photos: four 4000 x 4000 16-bit photos kept: {} MiB more",
+        kept / 1024
+    );
+    assert!(server.running());
+    assert!(
+        kept < 400 * 1024,
+        "the server holds {} MiB more after keeping four photos",
+        kept / 1024
+    );
+}
+
+#[test]
+fn a_propose_on_an_8000_px_photo_peaks_under_500_mb() {
+    // The photo's segments were found at full size: 1.75 GB at the peak.
+    let photo = scattered_squares_png(8000, 400);
+    let mut server = ServerProcess::start();
+    let addr = server.addr;
+    let id = upload(addr, &photo);
+    std::thread::sleep(Duration::from_millis(300));
+    let baseline = rss_kib(server.pid());
+    let peak = PeakRss::start(server.pid());
+    let reply = propose(addr, &id);
+    let peak = peak.finish();
+    eprintln!(
+        "photos: propose on 8000 x 8000: peak {} MiB over {} MiB",
+        peak.saturating_sub(baseline) / 1024,
+        baseline / 1024
+    );
+    assert!(server.running());
+    assert!(
+        reply.status == 200 || reply.status == 400,
+        "{}",
+        String::from_utf8_lossy(&reply.body)
+    );
+    assert!(
+        peak.saturating_sub(baseline) < 500 * 1024,
+        "the propose took {} MiB at its peak",
+        peak.saturating_sub(baseline) / 1024
+    );
 }
