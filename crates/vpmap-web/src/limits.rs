@@ -68,20 +68,22 @@ impl Default for ServerLimits {
 /// `Retry-After` of a busy answer, seconds.
 const RETRY_AFTER_S: u64 = 1;
 
-/// At most `count` requests of one endpoint at work; the others wait a bounded time.
+/// At most `count` requests of a group of endpoints at work; the others wait a bounded time.
 pub(crate) struct Slots {
     semaphore: Arc<Semaphore>,
     count: usize,
-    endpoint: &'static str,
+    /// The endpoints sharing the slots, for messages (`/api/detect, /api/photo and
+    /// /api/propose`).
+    endpoints: &'static str,
     wait: Duration,
 }
 
 impl Slots {
-    pub(crate) fn new(endpoint: &'static str, count: usize, wait: Duration) -> Self {
+    pub(crate) fn new(endpoints: &'static str, count: usize, wait: Duration) -> Self {
         Self {
             semaphore: Arc::new(Semaphore::new(count)),
             count,
-            endpoint,
+            endpoints,
             wait,
         }
     }
@@ -89,9 +91,14 @@ impl Slots {
     /// A slot, held until the permit is dropped: move it into the blocking work, so that
     /// the slot stays taken while the work runs even if the client has gone.
     ///
+    /// `endpoint` is the one asking, named in the busy answer.
+    ///
     /// # Errors
     /// 503 with `Retry-After` when no slot frees within the wait, or when the server stops.
-    pub(crate) async fn take(&self) -> Result<OwnedSemaphorePermit, ApiError> {
+    pub(crate) async fn take(
+        &self,
+        endpoint: &'static str,
+    ) -> Result<OwnedSemaphorePermit, ApiError> {
         let acquire = Arc::clone(&self.semaphore).acquire_owned();
         match tokio::time::timeout(self.wait, acquire).await {
             Ok(Ok(permit)) => Ok(permit),
@@ -101,12 +108,20 @@ impl Slots {
             )),
             Err(_elapsed) => Err(ApiError::new(
                 StatusCode::SERVICE_UNAVAILABLE,
-                format!(
-                    "the server is busy: {} {} requests are being worked on (the most it takes at once) and none finished within {} s; try again in a moment",
-                    self.count,
-                    self.endpoint,
-                    self.wait.as_secs_f64()
-                ),
+                if self.endpoints == endpoint {
+                    format!(
+                        "the server is busy: {} {endpoint} requests are being worked on (the most it takes at once) and none finished within {} s; try again in a moment",
+                        self.count,
+                        self.wait.as_secs_f64()
+                    )
+                } else {
+                    format!(
+                        "the server is busy with {endpoint}: {} requests of {} (which share their slots) are being worked on (the most it takes at once) and none finished within {} s; try again in a moment",
+                        self.count,
+                        self.endpoints,
+                        self.wait.as_secs_f64()
+                    )
+                },
             )
             .retry_after(RETRY_AFTER_S)),
         }

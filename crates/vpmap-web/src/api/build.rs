@@ -154,7 +154,7 @@ pub async fn build(
         .await?;
         let options = map_options_from_query(query.as_deref())?;
         params::expect_json(&headers)?;
-        let slot = state.0.build_slots.take().await?;
+        let slot = state.0.build_slots.take("/api/build").await?;
         let interrupt = Interrupt::default()
             .with_flag(Arc::clone(&cancelled.0))
             .with_timeout(limits.build_timeout);

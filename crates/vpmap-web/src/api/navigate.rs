@@ -335,7 +335,7 @@ pub async fn navigate_handler(
     let cancelled = CancelOnDrop(Arc::new(AtomicBool::new(false)));
     let result = async {
         let body = json_body(&state, query.as_deref(), &headers, body).await?;
-        let slot = state.0.plan_slots.take().await?;
+        let slot = state.0.plan_slots.take("/api/navigate").await?;
         let timeout = state.0.limits.plan_timeout;
         let stop = Stop::new()
             .with_flag(Arc::clone(&cancelled.0))

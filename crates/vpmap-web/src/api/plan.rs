@@ -550,7 +550,7 @@ pub async fn plan(
     let result = async {
         let limits = &state.0.limits;
         let body = json_body(&state, query.as_deref(), &headers, body).await?;
-        let slot = state.0.plan_slots.take().await?;
+        let slot = state.0.plan_slots.take("/api/plan").await?;
         let stop = PlanStop {
             cancelled: Arc::clone(&cancelled.0),
             all_by: Instant::now() + limits.plan_timeout,

@@ -64,7 +64,7 @@ pub async fn photo(
         .await?;
         Query::parse(query.as_deref(), &[])?;
         check_media_type(&headers)?;
-        let slot = state.0.detect_slots.take().await?;
+        let slot = state.0.detect_slots.take("/api/photo").await?;
         let worker = state.clone();
         run_blocking(&state, "/api/photo", move || {
             let _slot = slot;
@@ -348,7 +348,7 @@ pub async fn propose(
     let cancelled = CancelOnDrop(Arc::new(AtomicBool::new(false)));
     let result = async {
         let body = json_body(&state, query.as_deref(), &headers, body).await?;
-        let slot = state.0.detect_slots.take().await?;
+        let slot = state.0.detect_slots.take("/api/propose").await?;
         let interrupt = Interrupt::default()
             .with_flag(Arc::clone(&cancelled.0))
             .with_timeout(state.0.limits.propose_timeout);
