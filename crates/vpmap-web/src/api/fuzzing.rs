@@ -184,7 +184,7 @@ mod tests {
 
     #[test]
     fn snap_and_propose_bodies_run_on_the_kept_photo() {
-        let vps = r#"[[1600, 100], [-900, 120], [160, -4000]]"#;
+        let vps = "[[1600, 100], [-900, 120], [160, -4000]]";
         let snap = format!(r#"{{"photo": "p1", "click": [160, 200], "vanishing_points": {vps}}}"#);
         assert!(snap_body(snap.as_bytes()).is_ok());
         let e = snap_body(br#"{"photo": "p2", "click": [1, 1]}"#).err();

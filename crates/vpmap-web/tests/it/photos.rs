@@ -18,7 +18,7 @@ use crate::request_to;
 /// kilobytes that give LSD thousands of segments.
 pub(crate) fn checkerboard_png(side: u32, square: u32) -> Vec<u8> {
     let image = image::GrayImage::from_fn(side, side, |x, y| {
-        image::Luma([if (x / square + y / square) % 2 == 0 {
+        image::Luma([if (x / square + y / square).is_multiple_of(2) {
             30
         } else {
             220
@@ -203,7 +203,7 @@ fn a_propose_whose_client_has_gone_stops_and_frees_the_detect_slot() {
 /// compresses well).
 fn rgba16_png(side: u32) -> Vec<u8> {
     let image = image::ImageBuffer::from_fn(side, side, |x, y| {
-        let v = if (x / 500 + y / 500) % 2 == 0 {
+        let v = if (x / 500 + y / 500).is_multiple_of(2) {
             9_000
         } else {
             50_000
