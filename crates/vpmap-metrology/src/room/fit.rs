@@ -831,7 +831,74 @@ fn finish(scene: &Scene, solved: Solved, mut warnings: Vec<String>) -> Result<Ro
 
 #[cfg(test)]
 mod tests {
-    use super::chi2_99;
+    use std::time::Duration;
+
+    use super::*;
+    use crate::interrupt::Interruption;
+    use crate::synth::{RoomSynthOptions, synthesize_room};
+
+    fn room(boxes: usize) -> Scene {
+        synthesize_room(&RoomSynthOptions {
+            seed: 6,
+            photos: 4,
+            boxes,
+            ..RoomSynthOptions::default()
+        })
+        .map(|(scene, _)| scene)
+        .unwrap_or_else(|e| panic!("{e}"))
+    }
+
+    #[test]
+    fn an_interrupted_room_fit_stops_naming_the_room_and_an_uninterrupted_one_fits() {
+        let scene = room(8);
+        let e = fit_room_until(&scene, &Interrupt::default().with_timeout(Duration::ZERO))
+            .err()
+            .unwrap_or_else(|| panic!("not interrupted"));
+        assert!(
+            matches!(
+                &e,
+                MetrologyError::Interrupted {
+                    work,
+                    reason: Interruption::TimeLimit { .. },
+                } if work.starts_with("the room fit of 4 photos and ")
+            ),
+            "{e}"
+        );
+        let far = Interrupt::default().with_timeout(Duration::from_secs(3600));
+        assert!(fit_room_until(&scene, &far).is_ok());
+    }
+
+    #[test]
+    fn a_room_of_more_than_1000_objects_in_all_its_photos_is_refused_before_fitting() {
+        let mut scene = room(100);
+        // The photo of the most objects again and again, until the room holds more than the
+        // limit.
+        let most = scene
+            .photos()
+            .max_by_key(|p| p.objects.len())
+            .map(|p| Scene {
+                other_photos: Vec::new(),
+                ..p.clone()
+            })
+            .unwrap_or_else(|| panic!("no photo"));
+        let total = |s: &Scene| s.photos().map(|p| p.objects.len()).sum::<usize>();
+        while total(&scene) <= MAX_ROOM_SIGHTINGS {
+            scene.other_photos.push(most.clone());
+        }
+        assert!(scene.photo_count() <= crate::scene::MAX_PHOTOS);
+        let e = fit_room(&scene)
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default();
+        assert!(
+            e.contains(&format!(
+                "the room's {} photos hold {} objects in all",
+                scene.photo_count(),
+                total(&scene)
+            )) && e.contains("more than the 1000"),
+            "{e}"
+        );
+    }
 
     #[test]
     fn the_chi_square_99_percent_point_is_within_1_percent_of_the_tables() {
