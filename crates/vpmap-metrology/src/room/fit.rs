@@ -844,8 +844,7 @@ mod tests {
             boxes,
             ..RoomSynthOptions::default()
         })
-        .map(|(scene, _)| scene)
-        .unwrap_or_else(|e| panic!("{e}"))
+        .map_or_else(|e| panic!("{e}"), |(scene, _)| scene)
     }
 
     #[test]
@@ -873,14 +872,13 @@ mod tests {
         let mut scene = room(100);
         // The photo of the most objects again and again, until the room holds more than the
         // limit.
-        let most = scene
-            .photos()
-            .max_by_key(|p| p.objects.len())
-            .map(|p| Scene {
+        let most = scene.photos().max_by_key(|p| p.objects.len()).map_or_else(
+            || panic!("no photo"),
+            |p| Scene {
                 other_photos: Vec::new(),
                 ..p.clone()
-            })
-            .unwrap_or_else(|| panic!("no photo"));
+            },
+        );
         let total = |s: &Scene| s.photos().map(|p| p.objects.len()).sum::<usize>();
         while total(&scene) <= MAX_ROOM_SIGHTINGS {
             scene.other_photos.push(most.clone());
