@@ -100,6 +100,15 @@ pub enum MetrologyError {
         /// The names that exist, comma separated.
         known: String,
     },
+    /// Long work stopped early by its [`crate::interrupt::Interrupt`] (a time limit, or a
+    /// request whose client has gone).
+    #[error("{work} stopped: {reason}")]
+    Interrupted {
+        /// What was stopped, with its size (`the room fit of 4 photos and 2000 objects`).
+        work: String,
+        /// Why.
+        reason: crate::interrupt::Interruption,
+    },
     /// A geometric construction has no solution for the given input.
     #[error("degenerate geometry at `{field}`: {reason}")]
     Degenerate {

@@ -19,8 +19,9 @@
 //! directory module the files do the same, in the order given; its `mod.rs` declares and
 //! re-exports them (`fit/mod.rs` also drives the fit), and no file imports from its `mod.rs`.
 //!
-//! 1. [`error`] (the error type, which every later module may use) and [`linalg`]
-//!    (decompositions that cannot panic): they import nothing from the crate.
+//! 1. [`error`] (the error type, which every later module may use), [`linalg`]
+//!    (decompositions that cannot panic) and [`interrupt`] (stopping long work early): they
+//!    import nothing from the crate but `interrupt`'s reasons, which `error` names.
 //! 2. [`scene`]: the scene file (uses `linalg`). `types`, then `validate` and `vanishing`.
 //! 3. [`calibration`]: the camera from the vanishing points (uses `scene`).
 //! 4. `camera` (private; re-exported from [`map`]): the map frame's point, the rotation from
@@ -63,6 +64,7 @@ mod camera;
 pub mod error;
 pub mod eval;
 pub mod fit;
+pub mod interrupt;
 pub mod linalg;
 pub mod map;
 pub mod projective;

@@ -1,7 +1,8 @@
 //! The pipeline: a scene to its floor map and occupancy grid ([`map_and_grid`]), and to
 //! everything `vpmap build` writes ([`build`]).
 
-use vpmap_metrology::map::{BuildOptions, FloorMap, build_map};
+use vpmap_metrology::interrupt::Interrupt;
+use vpmap_metrology::map::{BuildOptions, FloorMap, build_map_until};
 use vpmap_metrology::scene::Scene;
 use vpmap_plan::OccupancyGrid;
 use vpmap_plan::ros::encode_ros_map;
@@ -44,8 +45,23 @@ pub struct Built {
 /// scale), a grid larger than [`MapOptions::max_grid_cells`], or a map that cannot be
 /// rasterised.
 pub fn map_and_grid(scene: &Scene, options: &MapOptions) -> Result<MapAndGrid, PipelineError> {
+    map_and_grid_until(scene, options, &Interrupt::default())
+}
+
+/// [`map_and_grid`], stopping early when `interrupt` fires while a room is fitted
+/// (`vpmap_metrology::map::build_map_until`): the page's time limit and its clients that go
+/// away.
+///
+/// # Errors
+/// As [`map_and_grid`], and `PipelineError::Map(MetrologyError::Interrupted)` when
+/// `interrupt` fires.
+pub fn map_and_grid_until(
+    scene: &Scene,
+    options: &MapOptions,
+    interrupt: &Interrupt,
+) -> Result<MapAndGrid, PipelineError> {
     options.validate()?;
-    let map = floor_map(scene, options)?;
+    let map = floor_map(scene, options, interrupt)?;
     let grid = occupancy_grid(&map, options)?;
     Ok(MapAndGrid { map, grid })
 }
@@ -56,8 +72,22 @@ pub fn map_and_grid(scene: &Scene, options: &MapOptions) -> Result<MapAndGrid, P
 /// # Errors
 /// As [`map_and_grid`], and a map the 3D model cannot be made of.
 pub fn build(scene: &Scene, options: &MapOptions) -> Result<Built, PipelineError> {
+    build_until(scene, options, &Interrupt::default())
+}
+
+/// [`build`], stopping early when `interrupt` fires while a room is fitted (as
+/// [`map_and_grid_until`]).
+///
+/// # Errors
+/// As [`build`], and `PipelineError::Map(MetrologyError::Interrupted)` when `interrupt`
+/// fires.
+pub fn build_until(
+    scene: &Scene,
+    options: &MapOptions,
+    interrupt: &Interrupt,
+) -> Result<Built, PipelineError> {
     options.validate()?;
-    let map = floor_map(scene, options)?;
+    let map = floor_map(scene, options, interrupt)?;
     let model_glb = model_glb(&map).map_err(PipelineError::Model)?;
     let grid = occupancy_grid(&map, options)?;
     let (occupancy_yaml, occupancy_pgm) = encode_ros_map(&grid, "occupancy.pgm");
@@ -72,13 +102,18 @@ pub fn build(scene: &Scene, options: &MapOptions) -> Result<Built, PipelineError
     })
 }
 
-fn floor_map(scene: &Scene, options: &MapOptions) -> Result<FloorMap, PipelineError> {
-    build_map(
+fn floor_map(
+    scene: &Scene,
+    options: &MapOptions,
+    interrupt: &Interrupt,
+) -> Result<FloorMap, PipelineError> {
+    build_map_until(
         scene,
         &BuildOptions {
             method: options.method,
             click_sigma_px: options.click_sigma_px,
         },
+        interrupt,
     )
     .map_err(PipelineError::Map)
 }

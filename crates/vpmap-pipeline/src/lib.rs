@@ -47,7 +47,7 @@ mod ranges;
 pub mod scene;
 mod text;
 
-pub use build::{Built, MapAndGrid, build, map_and_grid};
+pub use build::{Built, MapAndGrid, build, build_until, map_and_grid, map_and_grid_until};
 pub use demo::{DemoPath, DemoRoute, TruthErrors, demo_path, errors_against_truth};
 pub use drive::{
     DriveMap, DriveReport, drive_maps, is_truth_file, navigate_json, read_truth, truth_frame,

@@ -88,6 +88,15 @@ pub enum VisionError {
         /// What it must satisfy.
         requirement: &'static str,
     },
+    /// Long work stopped early by its interrupt (a time limit, or a request whose client has
+    /// gone).
+    #[error("{work} stopped: {reason}")]
+    Interrupted {
+        /// What was stopped (`box proposals`), with how far it got.
+        work: String,
+        /// Why.
+        reason: vpmap_metrology::interrupt::Interruption,
+    },
     /// A click (or a scene's point) outside the photo, or not a finite number.
     #[error(
         "`{field}` at ({x}, {y}) lies outside the {width} x {height} photo (0 <= x <= {width}, 0 <= y <= {height})"

@@ -24,8 +24,8 @@
 //! [`ServerLimits`]: a header read timeout (slow or idle connections are closed), a body
 //! deadline (408), a declared `Content-Length` over the route's limit refused with 413 before
 //! the body is read, a few slots per heavy endpoint (503 with `Retry-After` after a short
-//! wait), and time limits and budgets for the planners, which also stop when the client goes
-//! away. [`serve_until_ctrl_c`] makes the allocator give freed memory back
+//! wait), time limits and budgets for the planners, and time limits for a room's fit and the
+//! search for box proposals; all of these also stop when the client goes away. [`serve_until_ctrl_c`] makes the allocator give freed memory back
 //! ([`return_freed_memory_promptly`]).
 //!
 //! # Modules

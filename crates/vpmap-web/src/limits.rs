@@ -35,8 +35,16 @@ pub struct ServerLimits {
     /// stops, and the request is answered with 400 naming it.
     pub planner_timeout: Duration,
     /// Time allowed to one `/api/plan` request from when it takes its slot: building its
-    /// grid, then its planners (a planner starting late gets only what is left).
+    /// grid, then its planners (a planner starting late gets only what is left). A room's fit
+    /// (a scene of several photos) counts in it too.
     pub plan_timeout: Duration,
+    /// Time allowed to the fit of a room (a scene of several photos) in one `/api/build`
+    /// request, from when it takes its slot; beyond it the request is answered with 400.
+    pub build_timeout: Duration,
+    /// Time allowed to the search for box proposals of one `/api/propose` request, from when
+    /// it takes its slot (finding the photo's segments, on first use, counts in it but is
+    /// not interrupted); beyond it the request is answered with 400.
+    pub propose_timeout: Duration,
 }
 
 impl Default for ServerLimits {
@@ -51,6 +59,8 @@ impl Default for ServerLimits {
             slot_wait: Duration::from_secs(2),
             planner_timeout: Duration::from_secs(3),
             plan_timeout: Duration::from_secs(6),
+            build_timeout: Duration::from_secs(6),
+            propose_timeout: Duration::from_secs(3),
         }
     }
 }
@@ -58,20 +68,22 @@ impl Default for ServerLimits {
 /// `Retry-After` of a busy answer, seconds.
 const RETRY_AFTER_S: u64 = 1;
 
-/// At most `count` requests of one endpoint at work; the others wait a bounded time.
+/// At most `count` requests of a group of endpoints at work; the others wait a bounded time.
 pub(crate) struct Slots {
     semaphore: Arc<Semaphore>,
     count: usize,
-    endpoint: &'static str,
+    /// The endpoints sharing the slots, for messages (`/api/detect, /api/photo and
+    /// /api/propose`).
+    endpoints: &'static str,
     wait: Duration,
 }
 
 impl Slots {
-    pub(crate) fn new(endpoint: &'static str, count: usize, wait: Duration) -> Self {
+    pub(crate) fn new(endpoints: &'static str, count: usize, wait: Duration) -> Self {
         Self {
             semaphore: Arc::new(Semaphore::new(count)),
             count,
-            endpoint,
+            endpoints,
             wait,
         }
     }
@@ -79,9 +91,14 @@ impl Slots {
     /// A slot, held until the permit is dropped: move it into the blocking work, so that
     /// the slot stays taken while the work runs even if the client has gone.
     ///
+    /// `endpoint` is the one asking, named in the busy answer.
+    ///
     /// # Errors
     /// 503 with `Retry-After` when no slot frees within the wait, or when the server stops.
-    pub(crate) async fn take(&self) -> Result<OwnedSemaphorePermit, ApiError> {
+    pub(crate) async fn take(
+        &self,
+        endpoint: &'static str,
+    ) -> Result<OwnedSemaphorePermit, ApiError> {
         let acquire = Arc::clone(&self.semaphore).acquire_owned();
         match tokio::time::timeout(self.wait, acquire).await {
             Ok(Ok(permit)) => Ok(permit),
@@ -91,12 +108,20 @@ impl Slots {
             )),
             Err(_elapsed) => Err(ApiError::new(
                 StatusCode::SERVICE_UNAVAILABLE,
-                format!(
-                    "the server is busy: {} {} requests are being worked on (the most it takes at once) and none finished within {} s; try again in a moment",
-                    self.count,
-                    self.endpoint,
-                    self.wait.as_secs_f64()
-                ),
+                if self.endpoints == endpoint {
+                    format!(
+                        "the server is busy: {} {endpoint} requests are being worked on (the most it takes at once) and none finished within {} s; try again in a moment",
+                        self.count,
+                        self.wait.as_secs_f64()
+                    )
+                } else {
+                    format!(
+                        "the server is busy with {endpoint}: {} requests of {} (which share their slots) are being worked on (the most it takes at once) and none finished within {} s; try again in a moment",
+                        self.count,
+                        self.endpoints,
+                        self.wait.as_secs_f64()
+                    )
+                },
             )
             .retry_after(RETRY_AFTER_S)),
         }

@@ -33,10 +33,16 @@ impl Query {
             .unwrap_or_default();
         for (i, (key, _)) in pairs.iter().enumerate() {
             if !known.contains(&key.as_str()) {
-                return Err(ApiError::bad_request(format!(
-                    "unknown query parameter {key:?}; known: {}",
-                    known.join(", ")
-                )));
+                return Err(ApiError::bad_request(if known.is_empty() {
+                    format!(
+                        "unknown query parameter {key:?}; this endpoint takes no query parameters (its options are fields of the JSON body, or it has none)"
+                    )
+                } else {
+                    format!(
+                        "unknown query parameter {key:?}; known: {}",
+                        known.join(", ")
+                    )
+                }));
             }
             if pairs[..i].iter().any(|(k, _)| k == key) {
                 return Err(ApiError::bad_request(format!(
@@ -256,6 +262,14 @@ mod tests {
         let e = Query::parse(Some("resolutoin=0.1"), &known).err();
         assert!(e.is_some_and(|e| e.message.contains("\"resolutoin\"")));
         assert!(Query::parse(Some("method=a&method=b"), &known).is_err());
+        // Where none is known, the message does not end in an empty list (issue 40).
+        let e = Query::parse(Some("x=1"), &[]).err().map(|e| e.message);
+        assert_eq!(
+            e.as_deref(),
+            Some(
+                "unknown query parameter \"x\"; this endpoint takes no query parameters (its options are fields of the JSON body, or it has none)"
+            )
+        );
         let q = Query::parse(Some("resolution=nan"), &known);
         assert!(q.is_ok_and(|q| q.number("resolution", 0.05).is_err()));
     }

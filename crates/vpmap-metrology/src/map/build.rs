@@ -14,6 +14,7 @@ use super::warnings::{crossing_warnings, fit_warnings};
 use crate::camera::room_yaw_rad;
 use crate::error::Result;
 use crate::fit::{FitOptions, fit_scene};
+use crate::interrupt::Interrupt;
 use crate::reconstruct::{Method, ObjectKind};
 use crate::scene::Scene;
 
@@ -43,9 +44,23 @@ pub struct BuildOptions {
 /// assert!((map.objects[0].footprint[0][1] - truth.objects[0].footprint[0][1]).abs() < 1e-9);
 /// ```
 pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
+    build_map_until(scene, options, &Interrupt::default())
+}
+
+/// [`build_map`], stopping early when `interrupt` fires while a room is fitted
+/// ([`crate::room::fit_room_until`]; a scene of one photo is not interrupted: its fit is
+/// bounded by the scene's size limits).
+///
+/// # Errors
+/// As [`build_map`], and [`crate::MetrologyError::Interrupted`] when `interrupt` fires.
+pub fn build_map_until(
+    scene: &Scene,
+    options: &BuildOptions,
+    interrupt: &Interrupt,
+) -> Result<FloorMap> {
     scene.validate()?;
     if !scene.other_photos.is_empty() {
-        return super::room::build_room_map(scene, options);
+        return super::room::build_room_map(scene, options, interrupt);
     }
     let fitted = if options.method == Method::Fit {
         // The given click noise also weighs the evidence that has its own uncertainty.

@@ -20,7 +20,7 @@ mod warnings;
 
 pub use crate::camera::{MapPoint, calibrate, room_yaw_rad, rotation_map_from_camera};
 pub use crate::uncertainty::{CameraUncertainty, Ellipse, ObjectUncertainty};
-pub use build::{BuildOptions, build_map};
+pub use build::{BuildOptions, build_map, build_map_until};
 pub use reconstruction::{MAX_RANGE_CAMERA_HEIGHTS, meters_per_camera_height, reconstruct_scene};
 pub use regions::{free_space, occlusion_shadow, to_polygons};
 pub use types::{BoxSize, CameraReport, FitReport, FloorMap, MapObject, PolygonWithHoles, Units};

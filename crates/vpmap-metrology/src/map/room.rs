@@ -13,8 +13,9 @@ use super::types::{FitReport, FloorMap, MapObject, Units};
 use super::warnings::{WARN_RELATIVE_SD, WARN_RESIDUAL_SIGMAS, poorly_fixed_camera};
 use crate::error::{MetrologyError, Result};
 use crate::fit::FitOptions;
+use crate::interrupt::Interrupt;
 use crate::reconstruct::{Method, ObjectKind};
-use crate::room::fit_room;
+use crate::room::fit_room_until;
 use crate::scene::Scene;
 
 fn polygon(points: &[Vector2<f64>]) -> Polygon<f64> {
@@ -30,7 +31,11 @@ fn union(polygons: &[Polygon<f64>]) -> MultiPolygon<f64> {
 }
 
 /// The map of a room file ([`super::build_map`] for a scene with other photos).
-pub(super) fn build_room_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
+pub(super) fn build_room_map(
+    scene: &Scene,
+    options: &BuildOptions,
+    interrupt: &Interrupt,
+) -> Result<FloorMap> {
     if options.method != Method::Fit {
         return Err(MetrologyError::InvalidField {
             field: "photos".to_owned(),
@@ -41,7 +46,13 @@ pub(super) fn build_room_map(scene: &Scene, options: &BuildOptions) -> Result<Fl
             ),
         });
     }
-    let fitted = fit_room(scene)?;
+    let fitted = fit_room_until(scene, interrupt)?;
+    if let Some(reason) = interrupt.check() {
+        return Err(MetrologyError::Interrupted {
+            work: format!("the room map of {} photos", scene.photo_count()),
+            reason,
+        });
+    }
     let u = fitted.uncertainty(
         scene,
         &FitOptions {

@@ -13,6 +13,7 @@ use crate::error::{MetrologyError, Result};
 use crate::fit::model::{BoxAxes, Part, px};
 use crate::fit::solve::{Model, Singular, minimise};
 use crate::fit::{FitOptions, MAX_FOCAL_DIAGONALS, PointResidual, calibration_of, fit_scene};
+use crate::interrupt::Interrupt;
 use crate::reconstruct::{ObjectKind, ReconstructedObject};
 use crate::scene::{Scale, Scene};
 
@@ -310,10 +311,17 @@ fn solve(
     fits: &[PhotoFit],
     forced: &[Option<u8>],
     hold: bool,
+    interrupt: &Interrupt,
 ) -> Result<(Solved, Placement)> {
+    stop_if_interrupted(scene, interrupt)?;
     let placement = place_all(fits, forced)?;
-    let built = build(scene, fits, &placement, hold)?;
-    let sol = minimise(&built.problem, built.x0.clone()).ok_or_else(|| {
+    let mut built = build(scene, fits, &placement, hold)?;
+    built.problem.interrupt = interrupt.clone();
+    let sol = minimise(&built.problem, built.x0.clone());
+    // An interrupted minimiser returns where it was: not a result.
+    stop_if_interrupted(scene, interrupt)?;
+    built.problem.interrupt = Interrupt::default();
+    let sol = sol.ok_or_else(|| {
         MetrologyError::Degenerate {
             field: "photos".to_owned(),
             reason: "the room fit's starting point puts a clicked point behind a camera: check that objects named the same in several photos are the same object".to_owned(),
@@ -346,22 +354,81 @@ fn solve(
     ))
 }
 
-/// Fit every photo of a room at once ([`crate::room`]).
+/// Most objects in all of a room's photos together (an object shown in three photos counts
+/// three times): the room fit's work grows with them (its placement hypotheses, each a joint
+/// fit of every photo's objects). [`fit_room`] refuses a larger room before fitting anything
+/// (issue 40 found 4 photos of 500 objects taking 20 s, 16 of 100 taking 50 s).
+pub const MAX_ROOM_SIGHTINGS: usize = 1000;
+
+/// What a room fit is, for messages: `the room fit of 4 photos and 2000 objects`.
+fn room_work(scene: &Scene) -> String {
+    let sightings: usize = scene.photos().map(|p| p.objects.len()).sum();
+    format!(
+        "the room fit of {} photos and {sightings} objects",
+        scene.photo_count()
+    )
+}
+
+fn stop_if_interrupted(scene: &Scene, interrupt: &Interrupt) -> Result<()> {
+    match interrupt.check() {
+        Some(reason) => Err(MetrologyError::Interrupted {
+            work: room_work(scene),
+            reason,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// Refuse a room with more than [`MAX_ROOM_SIGHTINGS`] objects in all its photos, naming each
+/// photo's count.
+fn check_room_size(scene: &Scene) -> Result<()> {
+    let counts: Vec<usize> = scene.photos().map(|p| p.objects.len()).collect();
+    let total: usize = counts.iter().sum();
+    if total <= MAX_ROOM_SIGHTINGS {
+        return Ok(());
+    }
+    let each: Vec<String> = counts.iter().map(usize::to_string).collect();
+    Err(MetrologyError::InvalidField {
+        field: "photos".to_owned(),
+        reason: format!(
+            "the room's {} photos hold {total} objects in all ({}), more than the {MAX_ROOM_SIGHTINGS} a room fit takes (an object counts once in each photo that shows it); split the room or annotate fewer objects",
+            counts.len(),
+            each.join(" + ")
+        ),
+    })
+}
+
+/// Fit every photo of a room at once ([`crate::room`]); never interrupted (see
+/// [`fit_room_until`]).
 ///
 /// # Errors
-/// A photo whose own fit fails ([`MetrologyError::InPhoto`]); a room whose photos cannot be
-/// placed or whose fit does not converge; an object the clicks of all photos together do
-/// not fix (naming it); a box with its top below its base.
+/// As [`fit_room_until`], never [`MetrologyError::Interrupted`].
 pub fn fit_room(scene: &Scene) -> Result<RoomFitted> {
+    fit_room_until(scene, &Interrupt::default())
+}
+
+/// Fit every photo of a room at once ([`crate::room`]), stopping early when `interrupt` fires:
+/// it is looked at before each photo's own fit, before each placement hypothesis and at every
+/// evaluation of the joint fit.
+///
+/// # Errors
+/// A room with more than [`MAX_ROOM_SIGHTINGS`] objects in all its photos
+/// ([`MetrologyError::InvalidField`], before any fit); a photo whose own fit fails
+/// ([`MetrologyError::InPhoto`]); a room whose photos cannot be placed or whose fit does not
+/// converge; an object the clicks of all photos together do not fix (naming it); a box with
+/// its top below its base; [`MetrologyError::Interrupted`] when `interrupt` fires.
+pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted> {
     scene.validate()?;
+    check_room_size(scene)?;
     let photos: Vec<&Scene> = scene.photos().collect();
     let mut fits = Vec::with_capacity(photos.len());
     for (k, p) in photos.iter().enumerate() {
+        stop_if_interrupted(scene, interrupt)?;
         let fitted = fit_scene(p, &FitOptions::default()).map_err(|e| in_photo(k, e))?;
         fits.push(PhotoFit::new(fitted, p));
     }
     let n = photos.len();
-    let (first, placement) = solve(scene, &fits, &vec![None; n], false)?;
+    let (first, placement) = solve(scene, &fits, &vec![None; n], false, interrupt)?;
     // The other near-best quarter turns, one combination at a time (all of them while few).
     let mut combos: Vec<Vec<Option<u8>>> = vec![vec![None; n]];
     for k in 1..n {
@@ -385,10 +452,10 @@ pub fn fit_room(scene: &Scene) -> Result<RoomFitted> {
         {
             continue;
         }
-        if let Ok((s, _)) = solve(scene, &fits, &c, false)
-            && !results.iter().any(|r| r.quarters == s.quarters)
-        {
-            results.push(s);
+        match solve(scene, &fits, &c, false, interrupt) {
+            Ok((s, _)) if !results.iter().any(|r| r.quarters == s.quarters) => results.push(s),
+            Err(e @ MetrologyError::Interrupted { .. }) => return Err(e),
+            _ => {}
         }
     }
     results.sort_by(|a, b| a.cost.total_cmp(&b.cost));
@@ -448,7 +515,7 @@ pub fn fit_room(scene: &Scene) -> Result<RoomFitted> {
         }
     }
     let best = results.swap_remove(0);
-    let best = hold_known_heights(scene, &fits, best, variance)?;
+    let best = hold_known_heights(scene, &fits, best, variance, interrupt)?;
     finish(scene, best, warnings)
 }
 
@@ -471,6 +538,7 @@ fn hold_known_heights(
     fits: &[PhotoFit],
     free: Solved,
     variance: f64,
+    interrupt: &Interrupt,
 ) -> Result<Solved> {
     let photos: Vec<&Scene> = scene.photos().collect();
     let heights = known_camera_heights(&photos)?;
@@ -483,8 +551,9 @@ fn hold_known_heights(
         return Ok(free);
     }
     let forced: Vec<Option<u8>> = free.quarters.iter().map(|&q| Some(q)).collect();
-    match solve(scene, fits, &forced, true) {
+    match solve(scene, fits, &forced, true, interrupt) {
         Ok((s, _)) if (s.cost - free.cost) / variance <= chi2_99(held) => Ok(s),
+        Err(e @ MetrologyError::Interrupted { .. }) => Err(e),
         _ => Ok(free),
     }
 }
@@ -762,7 +831,72 @@ fn finish(scene: &Scene, solved: Solved, mut warnings: Vec<String>) -> Result<Ro
 
 #[cfg(test)]
 mod tests {
-    use super::chi2_99;
+    use std::time::Duration;
+
+    use super::*;
+    use crate::interrupt::Interruption;
+    use crate::synth::{RoomSynthOptions, synthesize_room};
+
+    fn room(boxes: usize) -> Scene {
+        synthesize_room(&RoomSynthOptions {
+            seed: 6,
+            photos: 4,
+            boxes,
+            ..RoomSynthOptions::default()
+        })
+        .map_or_else(|e| panic!("{e}"), |(scene, _)| scene)
+    }
+
+    #[test]
+    fn an_interrupted_room_fit_stops_naming_the_room_and_an_uninterrupted_one_fits() {
+        let scene = room(8);
+        let e = fit_room_until(&scene, &Interrupt::default().with_timeout(Duration::ZERO))
+            .err()
+            .unwrap_or_else(|| panic!("not interrupted"));
+        assert!(
+            matches!(
+                &e,
+                MetrologyError::Interrupted {
+                    work,
+                    reason: Interruption::TimeLimit { .. },
+                } if work.starts_with("the room fit of 4 photos and ")
+            ),
+            "{e}"
+        );
+        let far = Interrupt::default().with_timeout(Duration::from_secs(3600));
+        assert!(fit_room_until(&scene, &far).is_ok());
+    }
+
+    #[test]
+    fn a_room_of_more_than_1000_objects_in_all_its_photos_is_refused_before_fitting() {
+        let mut scene = room(100);
+        // The photo of the most objects again and again, until the room holds more than the
+        // limit.
+        let most = scene.photos().max_by_key(|p| p.objects.len()).map_or_else(
+            || panic!("no photo"),
+            |p| Scene {
+                other_photos: Vec::new(),
+                ..p.clone()
+            },
+        );
+        let total = |s: &Scene| s.photos().map(|p| p.objects.len()).sum::<usize>();
+        while total(&scene) <= MAX_ROOM_SIGHTINGS {
+            scene.other_photos.push(most.clone());
+        }
+        assert!(scene.photo_count() <= crate::scene::MAX_PHOTOS);
+        let e = fit_room(&scene)
+            .err()
+            .map(|e| e.to_string())
+            .unwrap_or_default();
+        assert!(
+            e.contains(&format!(
+                "the room's {} photos hold {} objects in all",
+                scene.photo_count(),
+                total(&scene)
+            )) && e.contains("more than the 1000"),
+            "{e}"
+        );
+    }
 
     #[test]
     fn the_chi_square_99_percent_point_is_within_1_percent_of_the_tables() {

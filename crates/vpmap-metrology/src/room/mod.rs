@@ -23,5 +23,5 @@ mod fit;
 mod model;
 mod uncertainty;
 
-pub use fit::{FittedPhoto, RoomFitted, fit_room};
+pub use fit::{FittedPhoto, MAX_ROOM_SIGHTINGS, RoomFitted, fit_room, fit_room_until};
 pub use uncertainty::{PhotoUncertainty, RoomUncertainty};

@@ -17,6 +17,7 @@ use nalgebra::{Matrix2, Vector2, Vector3};
 
 use crate::fit::model::{BoxAxes, Camera, Part, VpEvidence, vp_residual_count, vp_residuals};
 use crate::fit::solve::Model;
+use crate::interrupt::Interrupt;
 
 /// One photo's camera parameters in the camera block.
 #[derive(Debug, Clone)]
@@ -199,6 +200,9 @@ pub(crate) struct RoomProblem {
     pub offsets: Vec<usize>,
     /// Camera groups: `(photo, vanishing point)`.
     pub groups: Vec<(usize, usize)>,
+    /// Stops the fit: once it fires, every evaluation fails (no cameras), so that
+    /// the minimiser (`fit::solve::minimise`) returns at its next step.
+    pub interrupt: Interrupt,
 }
 
 impl RoomProblem {
@@ -226,6 +230,7 @@ impl RoomProblem {
             parts,
             offsets,
             groups,
+            interrupt: Interrupt::default(),
         }
     }
 
@@ -327,6 +332,10 @@ impl Model for RoomProblem {
     type Cameras = Vec<View>;
 
     fn cameras(&self, c: &[f64]) -> Vec<View> {
+        // No cameras: every part's residuals fail, and the minimiser stops.
+        if self.interrupt.check().is_some() {
+            return Vec::new();
+        }
         self.views(c)
     }
 

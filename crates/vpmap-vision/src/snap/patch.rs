@@ -31,6 +31,12 @@ impl SnapImage {
         }
     }
 
+    /// Bytes its pixels take (1 a pixel for grey, 3 for RGB).
+    #[must_use]
+    pub fn pixel_bytes(&self) -> usize {
+        self.pixels.len()
+    }
+
     /// Width, pixels.
     #[must_use]
     pub fn width(&self) -> u32 {

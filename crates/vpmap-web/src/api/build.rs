@@ -1,6 +1,8 @@
 //! `POST /api/build`: a scene in; the map, its floor plan, 3D model, occupancy grid and the
 //! camera out.
 
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use axum::body::{Body, Bytes};
@@ -10,10 +12,12 @@ use axum::response::Response;
 use base64::Engine as _;
 use base64::engine::general_purpose::STANDARD as BASE64;
 use serde::Serialize;
+use vpmap_metrology::interrupt::Interrupt;
 use vpmap_metrology::map::{CameraReport, FloorMap};
 use vpmap_pipeline::{MapOptions, units_name};
 
 use super::answer::{elapsed_ms, respond, to_json};
+use super::plan::CancelOnDrop;
 use super::scene::{map_options_from_query, pipeline_error, scene_from_text};
 use crate::error::ApiError;
 use crate::params::{self, MAX_JSON_BODY_BYTES};
@@ -92,11 +96,16 @@ fn camera_summary(camera: &CameraReport) -> CameraSummary {
 }
 
 /// Everything `/api/build` answers, serialised.
-fn build_answer(body: &[u8], options: &MapOptions) -> Result<Bytes, ApiError> {
+fn build_answer(
+    body: &[u8],
+    options: &MapOptions,
+    interrupt: &Interrupt,
+) -> Result<Bytes, ApiError> {
     let started = Instant::now();
     let text = params::json_text(body, "a scene (docs/scene-format.md)")?;
     let parsed = scene_from_text(&text)?;
-    let built = vpmap_pipeline::build(&parsed.scene, options).map_err(pipeline_error)?;
+    let built =
+        vpmap_pipeline::build_until(&parsed.scene, options, interrupt).map_err(pipeline_error)?;
     let (map, grid) = (&built.map, &built.grid);
     let (free, occupied, unknown) = grid.counts();
     let mut warnings = parsed.warnings;
@@ -132,6 +141,8 @@ pub async fn build(
     headers: HeaderMap,
     body: Body,
 ) -> Response {
+    // Dropped with this future when the client goes away: a room's fit then stops.
+    let cancelled = CancelOnDrop(Arc::new(AtomicBool::new(false)));
     let result = async {
         let limits = &state.0.limits;
         let body = params::read_body(
@@ -143,10 +154,13 @@ pub async fn build(
         .await?;
         let options = map_options_from_query(query.as_deref())?;
         params::expect_json(&headers)?;
-        let slot = state.0.build_slots.take().await?;
+        let slot = state.0.build_slots.take("/api/build").await?;
+        let interrupt = Interrupt::default()
+            .with_flag(Arc::clone(&cancelled.0))
+            .with_timeout(limits.build_timeout);
         run_blocking(&state, "/api/build", move || {
             let _slot = slot;
-            build_answer(&body, &options)
+            build_answer(&body, &options, &interrupt)
         })
         .await
     }

@@ -275,7 +275,7 @@ pub async fn detect(
                 "the body is empty; send the photo's bytes (JPEG or PNG)",
             ));
         }
-        let slot = state.0.detect_slots.take().await?;
+        let slot = state.0.detect_slots.take("/api/detect").await?;
         run_blocking(&state, "/api/detect", move || {
             let _slot = slot;
             detect_answer(&body, &query)

@@ -11,6 +11,7 @@ use axum::extract::{RawQuery, State};
 use axum::http::HeaderMap;
 use axum::response::Response;
 use serde::Serialize;
+use vpmap_metrology::interrupt::Interrupt;
 use vpmap_metrology::synth::Truth;
 use vpmap_plan::navigate::{
     MAX_SENSOR_RANGE_CELLS, NavigateOptions, OnlinePlanner, navigate, truth_optimum,
@@ -194,9 +195,10 @@ pub(crate) struct CheckedNavigate {
 pub(crate) fn checked_navigate_request(
     body: &[u8],
     max_grid_cells: f64,
+    interrupt: &Interrupt,
 ) -> Result<CheckedNavigate, ApiError> {
     let (drive, plan_body) = drive_fields(body)?;
-    let plan = checked_plan_request(&plan_body, max_grid_cells).map_err(|mut e| {
+    let plan = checked_plan_request(&plan_body, max_grid_cells, interrupt).map_err(|mut e| {
         e.message = e
             .message
             .replace("a plan request", "a navigate request")
@@ -242,7 +244,7 @@ pub(crate) fn checked_navigate_request(
 }
 
 /// Check the request, drive, and write the answer.
-fn navigate_answer(body: &[u8], stop: Stop) -> Result<Bytes, ApiError> {
+fn navigate_answer(body: &[u8], stop: Stop, interrupt: &Interrupt) -> Result<Bytes, ApiError> {
     let started = Instant::now();
     let CheckedNavigate {
         drive,
@@ -259,7 +261,7 @@ fn navigate_answer(body: &[u8], stop: Stop) -> Result<Bytes, ApiError> {
             },
         truth,
         true_grid,
-    } = checked_navigate_request(body, MAX_GRID_CELLS)?;
+    } = checked_navigate_request(body, MAX_GRID_CELLS, interrupt)?;
     let resolution = grid.resolution_m();
     let budget = Budget {
         max_expansions: PAGE_MAX_EXPANSIONS,
@@ -333,13 +335,17 @@ pub async fn navigate_handler(
     let cancelled = CancelOnDrop(Arc::new(AtomicBool::new(false)));
     let result = async {
         let body = json_body(&state, query.as_deref(), &headers, body).await?;
-        let slot = state.0.plan_slots.take().await?;
+        let slot = state.0.plan_slots.take("/api/navigate").await?;
+        let timeout = state.0.limits.plan_timeout;
         let stop = Stop::new()
             .with_flag(Arc::clone(&cancelled.0))
-            .with_timeout(state.0.limits.plan_timeout);
+            .with_timeout(timeout);
+        let interrupt = Interrupt::default()
+            .with_flag(Arc::clone(&cancelled.0))
+            .with_timeout(timeout);
         run_blocking(&state, "/api/navigate", move || {
             let _slot = slot;
-            navigate_answer(&body, stop)
+            navigate_answer(&body, stop, &interrupt)
         })
         .await
     }
@@ -368,6 +374,7 @@ mod tests {
                     planner.name()
                 )),
                 Stop::new(),
+                &Interrupt::default(),
             )
             .unwrap();
             let v: serde_json::Value = serde_json::from_slice(&answer).unwrap();
@@ -392,7 +399,7 @@ mod tests {
     #[test]
     fn bad_requests_name_the_field() {
         let e = |extra: &str| {
-            navigate_answer(&body(extra), Stop::new())
+            navigate_answer(&body(extra), Stop::new(), &Interrupt::default())
                 .err()
                 .unwrap()
                 .message

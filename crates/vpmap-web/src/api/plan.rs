@@ -10,6 +10,7 @@ use axum::extract::{RawQuery, State};
 use axum::http::HeaderMap;
 use axum::response::Response;
 use serde::Serialize;
+use vpmap_metrology::interrupt::Interrupt;
 use vpmap_pipeline::{
     Coordinates, Endpoint, EndpointRules, OptionNames, endpoint_cell, units_name,
 };
@@ -301,6 +302,15 @@ impl PlanStop {
     }
 }
 
+impl PlanStop {
+    /// The [`Interrupt`] of the request's map (a room's fit): its flag and its deadline.
+    pub(super) fn for_map(&self) -> Interrupt {
+        Interrupt::default()
+            .with_flag(Arc::clone(&self.cancelled))
+            .with_deadline(self.all_by)
+    }
+}
+
 /// Sets its flag when dropped: the handler's future is dropped when the client goes away.
 pub(super) struct CancelOnDrop(pub(super) Arc<AtomicBool>);
 
@@ -412,13 +422,14 @@ pub(crate) struct CheckedPlan {
 
 /// Parse and check a `/api/plan` body, in the endpoint's order: the request's fields, the map
 /// options (with at most `max_grid_cells` grid cells), the planners, the scene, its map and
-/// grid, then the start and goal.
+/// grid (a room's fit stopping when `interrupt` fires), then the start and goal.
 ///
 /// # Errors
 /// The 400 answer `/api/plan` gives before planning.
 pub(crate) fn checked_plan_request(
     body: &[u8],
     max_grid_cells: f64,
+    interrupt: &Interrupt,
 ) -> Result<CheckedPlan, ApiError> {
     let text = params::json_text(body, "a plan request")?;
     let request = PlanRequest::from_text(&text)?;
@@ -434,7 +445,8 @@ pub(crate) fn checked_plan_request(
     let unknown_passable = request.unknown_passable.unwrap_or(false);
     let parsed = scene_from_value(&request.scene)?;
     let vpmap_pipeline::MapAndGrid { map, grid } =
-        vpmap_pipeline::map_and_grid(&parsed.scene, &options).map_err(pipeline_error)?;
+        vpmap_pipeline::map_and_grid_until(&parsed.scene, &options, interrupt)
+            .map_err(pipeline_error)?;
     let units = units_name(map.units);
     let coordinates = Coordinates::Map {
         units: if units == "m" { "m" } else { "camera heights" },
@@ -473,7 +485,7 @@ fn plan_answer(body: &[u8], stop: &PlanStop) -> Result<Bytes, ApiError> {
         start,
         goal,
         ..
-    } = checked_plan_request(body, MAX_GRID_CELLS)?;
+    } = checked_plan_request(body, MAX_GRID_CELLS, &stop.for_map())?;
     let mut budget = MAX_TRACK_POINTS;
     let results = kinds
         .into_iter()
@@ -538,7 +550,7 @@ pub async fn plan(
     let result = async {
         let limits = &state.0.limits;
         let body = json_body(&state, query.as_deref(), &headers, body).await?;
-        let slot = state.0.plan_slots.take().await?;
+        let slot = state.0.plan_slots.take("/api/plan").await?;
         let stop = PlanStop {
             cancelled: Arc::clone(&cancelled.0),
             all_by: Instant::now() + limits.plan_timeout,

@@ -4,6 +4,8 @@
 //! photo's segments (`vpmap_vision::proposals::propose_boxes`). The JSON shapes are in
 //! `docs/web-api.md`.
 
+use std::sync::Arc;
+use std::sync::atomic::AtomicBool;
 use std::time::Instant;
 
 use axum::body::{Body, Bytes};
@@ -11,14 +13,15 @@ use axum::extract::{RawQuery, State};
 use axum::http::{HeaderMap, StatusCode};
 use axum::response::Response;
 use serde::{Deserialize, Serialize};
+use vpmap_metrology::interrupt::Interrupt;
 use vpmap_metrology::scene::BoxCorners;
 use vpmap_vision::proposals::{ProposalOptions, propose_boxes};
 use vpmap_vision::snap::{Snap, SnapOptions, SnapOutcome, snap_click};
-use vpmap_vision::{DetectOptions, MAX_SIDE_PX, VisionError, detect_segments};
+use vpmap_vision::{DetectOptions, VisionError, detect_segments};
 
 use super::answer::{elapsed_ms, respond, to_json};
 use super::detect::{check_media_type, decode};
-use super::plan::json_body;
+use super::plan::{CancelOnDrop, json_body};
 use crate::error::ApiError;
 use crate::params::{self, MAX_IMAGE_BODY_BYTES, Query};
 use crate::photos::StoredPhoto;
@@ -30,6 +33,11 @@ const MAX_RADIUS_PX: f64 = 32.0;
 const DEFAULT_CLICK_SIGMA_PX: f64 = 2.0;
 /// Half the length of an edge drawn for the page, pixels (the part of it that was fitted).
 const EDGE_DRAW_PX: f64 = 16.0;
+/// The longer side of the image box proposals find their segments on, pixels: a larger photo
+/// is analysed downscaled (its segments mapped back to full size, its corners snapped at full
+/// size), so that finding them takes a bounded time and memory (an 8000 x 8000 photo at full
+/// size took 1.75 GB).
+pub const PROPOSAL_SIDE_PX: u32 = 2000;
 
 #[derive(Serialize)]
 struct PhotoAnswer {
@@ -56,14 +64,16 @@ pub async fn photo(
         .await?;
         Query::parse(query.as_deref(), &[])?;
         check_media_type(&headers)?;
-        let slot = state.0.detect_slots.take().await?;
+        let slot = state.0.detect_slots.take("/api/photo").await?;
         let worker = state.clone();
         run_blocking(&state, "/api/photo", move || {
             let _slot = slot;
             let started = Instant::now();
             let photo = decode(&body)?;
             let (width, height) = (photo.image.width(), photo.image.height());
-            let id = worker.0.photos.insert(StoredPhoto::new(photo.image));
+            let stored = StoredPhoto::new(&photo.image);
+            drop(photo);
+            let id = worker.0.photos.insert(stored);
             to_json(&PhotoAnswer {
                 id,
                 width,
@@ -253,8 +263,13 @@ pub(crate) fn snap_request(state: &AppState, body: &[u8]) -> Result<Bytes, ApiEr
     to_json(&snap_answer(&snap, started))
 }
 
-/// The box proposals of a `/api/propose` body on the kept photos.
-pub(crate) fn propose_request(state: &AppState, body: &[u8]) -> Result<Bytes, ApiError> {
+/// The box proposals of a `/api/propose` body on the kept photos, stopping when `interrupt`
+/// fires.
+pub(crate) fn propose_request(
+    state: &AppState,
+    body: &[u8],
+    interrupt: &Interrupt,
+) -> Result<Bytes, ApiError> {
     let started = Instant::now();
     let req: ProposeRequest = parse(body, "a propose request {photo, vanishing_points}")?;
     let vps = vanishing_points(&req.vanishing_points)?;
@@ -276,7 +291,7 @@ pub(crate) fn propose_request(state: &AppState, body: &[u8]) -> Result<Bytes, Ap
         .get_or_init(|| {
             let side = photo.image.width().max(photo.image.height());
             let opts = DetectOptions {
-                max_side_px: side.clamp(640, MAX_SIDE_PX),
+                max_side_px: side.clamp(640, PROPOSAL_SIDE_PX),
                 ..DetectOptions::default()
             };
             detect_segments(&photo.image, &opts).map_err(|e| e.to_string())
@@ -285,6 +300,7 @@ pub(crate) fn propose_request(state: &AppState, body: &[u8]) -> Result<Bytes, Ap
         .map_err(|e| ApiError::bad_request(format!("no line segments found: {e}")))?;
     let opts = ProposalOptions {
         max_proposals: max,
+        interrupt: interrupt.clone(),
         ..ProposalOptions::default()
     };
     let found = propose_boxes(&photo.snap, segments, &vps, &opts).map_err(|e| vision_error(&e))?;
@@ -328,13 +344,18 @@ pub async fn propose(
     headers: HeaderMap,
     body: Body,
 ) -> Response {
+    // Dropped with this future when the client goes away: the search then stops.
+    let cancelled = CancelOnDrop(Arc::new(AtomicBool::new(false)));
     let result = async {
         let body = json_body(&state, query.as_deref(), &headers, body).await?;
-        let slot = state.0.detect_slots.take().await?;
+        let slot = state.0.detect_slots.take("/api/propose").await?;
+        let interrupt = Interrupt::default()
+            .with_flag(Arc::clone(&cancelled.0))
+            .with_timeout(state.0.limits.propose_timeout);
         let worker = state.clone();
         run_blocking(&state, "/api/propose", move || {
             let _slot = slot;
-            propose_request(&worker, &body)
+            propose_request(&worker, &body, &interrupt)
         })
         .await
     }
@@ -365,7 +386,7 @@ mod tests {
         .unwrap();
         let photo = render_photo(&scene, &truth, &PhotoOptions::default()).unwrap();
         let state = AppState::new(None, true, ServerLimits::default());
-        assert_eq!(state.0.photos.insert(StoredPhoto::new(photo.image)), "p1");
+        assert_eq!(state.0.photos.insert(StoredPhoto::new(&photo.image)), "p1");
         (
             state,
             scene_vanishing_points(&scene).unwrap(),
@@ -454,8 +475,12 @@ mod tests {
         )
         .unwrap_err();
         assert!(e.message.contains("radius is 500"), "{}", e.message);
-        let e = propose_request(&state, br#"{"photo": "p1", "vanishing_points": [[1, 2]]}"#)
-            .unwrap_err();
+        let e = propose_request(
+            &state,
+            br#"{"photo": "p1", "vanishing_points": [[1, 2]]}"#,
+            &Interrupt::default(),
+        )
+        .unwrap_err();
         assert!(
             e.message.contains("gives 1 known vanishing points"),
             "{}",
@@ -470,8 +495,10 @@ mod tests {
     fn boxes_are_proposed_from_the_segments() {
         let (state, vps, corners) = rendered();
         let body = serde_json::json!({"photo": "p1", "vanishing_points": vps}).to_string();
-        let v: serde_json::Value =
-            serde_json::from_slice(&propose_request(&state, body.as_bytes()).unwrap()).unwrap();
+        let v: serde_json::Value = serde_json::from_slice(
+            &propose_request(&state, body.as_bytes(), &Interrupt::default()).unwrap(),
+        )
+        .unwrap();
         let proposals = v["proposals"].as_array().unwrap();
         assert!(!proposals.is_empty(), "{v}");
         // The best one's base near corner is a true box corner.

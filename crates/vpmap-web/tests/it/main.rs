@@ -9,7 +9,9 @@ mod fuzz_regressions;
 mod limits;
 mod load;
 mod page;
+mod photos;
 mod plan;
+mod rooms;
 
 use std::fmt::Write as _;
 use std::io::{Read, Write};
