@@ -84,14 +84,15 @@ impl Format {
 #[non_exhaustive]
 pub enum FileError {
     /// The operating system refused (missing file, no permission, ...).
-    #[error("cannot read {what} {}: {source}", path.display())]
+    #[error("cannot read {what} {}: {error}", path.display())]
     Io {
         /// What the file was to hold.
         what: &'static str,
         /// The file.
         path: PathBuf,
-        /// The operating system's error.
-        source: std::io::Error,
+        /// The operating system's error, in the message (not also passed on as the cause, so
+        /// that a chain of causes does not say it twice).
+        error: std::io::Error,
     },
     /// The path is not a regular file.
     #[error("{what} {} is a {kind}, not a regular file; give a file", path.display())]
@@ -166,10 +167,10 @@ pub fn read_bytes_limited(
     what: &'static str,
     limit: u64,
 ) -> Result<Vec<u8>, FileError> {
-    let io = |source| FileError::Io {
+    let io = |error| FileError::Io {
         what,
         path: path.to_path_buf(),
-        source,
+        error,
     };
     // Follows symbolic links: a link to a regular file is a regular file.
     let meta = std::fs::metadata(path).map_err(io)?;
