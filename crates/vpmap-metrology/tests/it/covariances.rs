@@ -303,3 +303,46 @@ fn residuals_with_covariances_are_reported_in_pixels_and_sigmas() {
         "{warning}"
     );
 }
+
+/// The same for a room: the room fit's residuals are whitened where a photo's clicks have
+/// covariances; the report gives them in pixels (near the plain room fit's) and the
+/// normalised RMS in sigmas.
+#[test]
+fn a_rooms_residuals_with_covariances_are_reported_in_pixels_and_sigmas() {
+    use vpmap_metrology::synth::{RoomSynthOptions, synthesize_room};
+    let (mut room, _) = synthesize_room(&RoomSynthOptions {
+        seed: 5,
+        photos: 2,
+        noise_px: 0.5,
+        ..RoomSynthOptions::default()
+    })
+    .unwrap();
+    let plain = build(&room, Some(0.1));
+    let sd_px = 0.1;
+    let cov = [[sd_px * sd_px, 0.0], [0.0, sd_px * sd_px]];
+    for (f, _) in box_fields(&room) {
+        room.click_covariances_px2.insert(f, cov);
+    }
+    for photo in &mut room.other_photos {
+        for (f, _) in box_fields(photo) {
+            photo.click_covariances_px2.insert(f, cov);
+        }
+    }
+    let weighted = build(&room, None);
+    let (pf, wf) = (plain.fit.as_ref().unwrap(), weighted.fit.as_ref().unwrap());
+    assert_eq!(wf.click_sigma_source, "covariances");
+    assert!(wf.clicks_with_covariance.unwrap() > 10);
+    let ratio = wf.rms_residual_px / pf.rms_residual_px;
+    assert!(
+        (0.5..2.0).contains(&ratio),
+        "{} px with covariances, {} px without",
+        wf.rms_residual_px,
+        pf.rms_residual_px
+    );
+    let normalised = wf.rms_normalised.unwrap();
+    assert!(
+        (normalised - wf.rms_residual_px / sd_px).abs() < 1e-6 * normalised,
+        "{normalised} sigma, {} px",
+        wf.rms_residual_px
+    );
+}
