@@ -84,8 +84,9 @@ pub fn run(args: &SnapArgs) -> Result<()> {
             args.photos.len()
         );
     }
-    // Every photo's bytes and header size first: a mismatch is refused before decoding.
-    let mut photos = Vec::with_capacity(count);
+    // Every photo's header size first: a mismatch is refused before any photo is decoded.
+    // The bytes are read again for decoding, so that a room's photos are never all held at
+    // once (16 photos of up to 64 MB).
     for (k, (path, photo_scene)) in args.photos.iter().zip(scene.photos()).enumerate() {
         let bytes = vpmap_files::read_bytes(path, vpmap_files::Format::Photo)?;
         let (width, height) =
@@ -104,17 +105,11 @@ pub fn run(args: &SnapArgs) -> Result<()> {
                 path.display()
             );
         }
-        photos.push(bytes);
     }
     let mut printed = String::new();
     let mut all: Vec<SnappedClick> = Vec::new();
-    for (k, ((path, bytes), photo_scene)) in args
-        .photos
-        .iter()
-        .zip(photos)
-        .zip(scene.photos())
-        .enumerate()
-    {
+    for (k, (path, photo_scene)) in args.photos.iter().zip(scene.photos()).enumerate() {
+        let bytes = vpmap_files::read_bytes(path, vpmap_files::Format::Photo)?;
         let photo = decode_photo(&bytes, &PhotoLimits::default())
             .map_err(|e| anyhow!("{}: {e}", path.display()))?;
         drop(bytes);
