@@ -6,8 +6,9 @@
 #   bash scripts/limits-table.sh            # builds the release binary first
 #   VPMAP=path/to/vpmap bash scripts/limits-table.sh
 #
-# Needs GNU time (`/usr/bin/time`, Debian package `time`) for peak memory. Writes only to a
-# temporary folder, removed at the end.
+# Needs GNU time (`/usr/bin/time`, Debian package `time`) for peak memory, and python3 for the
+# photos and covariances of issue 40's cases. Writes only to a temporary folder, removed at the
+# end.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [[ -z "${VPMAP:-}" ]]; then
@@ -73,6 +74,49 @@ row "YAML \`image: /dev/zero\`" "$VPMAP" plan "$tmp/zero.yaml" --from 1,1 --to 2
 row "\`zero.map\`, a link to \`/dev/zero\`" "$VPMAP" plan "$tmp/zero.map" --from 1,1 --to 2,2
 row "\`fifo.map\`, a FIFO" "$VPMAP" plan "$tmp/fifo.map" --from 1,1 --to 2,2
 row "office map.json \`--resolution 0.0007\`" "$VPMAP" plan "$map" --resolution 0.0007 --from=1.1,1.7 --to=0.2,5
+echo
+
+# Issue 40: outputs, snapping and click covariances.
+# PNGs written by a few lines of Python (zlib, streamed): a grey 8000 x 8000 photo, and a 16-bit
+# RGBA 12000 x 12000 one with an EXIF quarter turn (orientation 6), about 1.1 MB each.
+write_png() {
+  python3 - "$@" <<'PY'
+import struct, sys, zlib
+path, side, depth, orientation = sys.argv[1], int(sys.argv[2]), int(sys.argv[3]), int(sys.argv[4])
+colour = 0 if depth == 8 else 6
+row = b"\0" + bytes(side * (1 if depth == 8 else 8))
+def chunk(kind, data):
+    return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+z = zlib.compressobj(9)
+idat = b"".join(z.compress(row) for _ in range(side)) + z.flush()
+out = b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", side, side, depth, colour, 0, 0, 0))
+if orientation:
+    out += chunk(b"eXIf", b"MM\0*\0\0\0\x08\0\x01\x01\x12\0\x03\0\0\0\x01" + struct.pack(">H", orientation) + bytes(6))
+open(path, "wb").write(out + chunk(b"IDAT", idat) + chunk(b"IEND", b""))
+PY
+}
+"$VPMAP" synth --seed 3 -o "$tmp/synth.json" > /dev/null
+sed 's/"width": [0-9]*/"width": 12000/; s/"height": [0-9]*/"height": 12000/' "$tmp/synth.json" > "$tmp/synth12000.json"
+write_png "$tmp/grey8000.png" 8000 8 0
+write_png "$tmp/turned12000.png" 12000 16 6
+printf '{"version": 1, "photos": [%s, %s]}' "$(cat "$tmp/synth.json")" "$(cat "$tmp/synth.json")" > "$tmp/room.json"
+covariances() {
+  python3 -c 'import json,sys; s=json.load(open(sys.argv[1])); s["click_covariances_px2"]={"objects[0].base.near": [[float(sys.argv[2]), 0], [0, float(sys.argv[2])]]}; print(json.dumps(s))' "$tmp/synth.json" "$1"
+}
+covariances 1e-150 > "$tmp/cov-tiny.json"
+covariances 1e300 > "$tmp/cov-huge.json"
+mkfifo "$tmp/out.fifo"
+row "\`snap\` on an 8000 x 8000 photo of another size (was 1.9 s, 434 MB)" "$VPMAP" snap "$tmp/grey8000.png" "$tmp/synth.json" -o "$tmp/snapped.json"
+row "\`snap\` on a 16-bit 12000 x 12000 PNG with an EXIF quarter turn (was 2.2 GB)" "$VPMAP" snap "$tmp/turned12000.png" "$tmp/synth12000.json" -o "$tmp/snapped.json"
+sed 's/"width": [0-9]*/"width": 8000/; s/"height": [0-9]*/"height": 8000/' "$tmp/synth.json" > "$tmp/synth8000.json"
+row "\`snap\` on a grey 8000 x 8000 photo of its size (within the limits: decoded, nothing snaps)" "$VPMAP" snap "$tmp/grey8000.png" "$tmp/synth8000.json" -o "$tmp/snapped.json"
+row "\`snap\` on a room of 2 photos given 1 photo" "$VPMAP" snap "$tmp/grey8000.png" "$tmp/room.json" -o "$tmp/snapped.json"
+row "\`synth -o\` a FIFO (became a regular file)" "$VPMAP" synth -o "$tmp/out.fifo"
+row "\`synth --truth /dev/null\` (as root: the device replaced)" "$VPMAP" synth -o "$tmp/s.json" --truth /dev/null
+row "\`synth --truth X -o X\` (the truth lost)" "$VPMAP" synth -o "$tmp/s.json" --truth "$tmp/s.json"
+row "\`synth --noise 1e308\` (exit 0, nulls written)" "$VPMAP" synth --noise 1e308 -o "$tmp/s.json"
+row "\`build\`, a click variance of 1e-150 px^2 (was \"RMS 7.6e61 px\")" "$VPMAP" build "$tmp/cov-tiny.json" --out "$tmp/cov-out"
+row "\`build\`, a click variance of 1e300 px^2 (300-digit numbers)" "$VPMAP" build "$tmp/cov-huge.json" --out "$tmp/cov-out"
 echo
 
 # Memory a cell takes: the office map.json planned on at two resolutions by each planner; the

@@ -200,7 +200,7 @@ fn print_camera(map: &FloorMap, c: &vpmap_metrology::map::CameraReport, label: &
             .principal_point_px_sd
             .map(|[x, y]| format!(", principal point ({x:.1}, {y:.1}) px"));
         println!(
-            "  +- (1 sigma): focal {:.1} px{}, pitch {:.2} deg, roll {:.2} deg, height {:.3} {u}; for {:.2} px clicks ({}), reprojection RMS {:.2} px",
+            "  +- (1 sigma): focal {:.1} px{}, pitch {:.2} deg, roll {:.2} deg, height {:.3} {u}; for {:.2} px clicks ({}), reprojection RMS {:.2} px{}",
             e.focal_px_sd,
             pp.unwrap_or_default(),
             e.pitch_deg_sd,
@@ -213,7 +213,10 @@ fn print_camera(map: &FloorMap, c: &vpmap_metrology::map::CameraReport, label: &
                 "covariances" => "the clicks without their own covariance; the others by it",
                 _ => "default",
             },
-            f.rms_residual_px
+            f.rms_residual_px,
+            f.rms_normalised
+                .map(|n| format!(" ({n:.2} sigma normalised by each click's covariance)"))
+                .unwrap_or_default()
         );
     }
 }

@@ -2,7 +2,7 @@
 //! photographed N times, written as a room file with its truth in the first photo's plan frame
 //! ([`vpmap_metrology::synth::synthesize_room`]).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
 use vpmap_metrology::synth::{
@@ -12,6 +12,10 @@ use vpmap_metrology::synth::{
 
 use crate::output::write_file;
 use vpmap_pipeline::num;
+
+/// Largest `--noise`, pixels: beyond it the clicks say nothing of the scene, and far beyond
+/// it (1e308) they overflow to infinities that JSON cannot hold.
+const MAX_NOISE_PX: f64 = 100.0;
 
 /// Arguments of `vpmap synth`.
 #[derive(clap::Args)]
@@ -49,7 +53,7 @@ pub struct SynthArgs {
     /// With --photos 2 or more: give every photo its camera height as scale, not only the first.
     #[arg(long)]
     scale_every_photo: bool,
-    /// Gaussian noise on every annotated point, pixels.
+    /// Gaussian noise on every annotated point, pixels (0 to 100).
     #[arg(long, default_value_t = 0.0, allow_negative_numbers = true)]
     noise: f64,
     /// Give vanishing points as the clicked box edges instead of points.
@@ -112,6 +116,12 @@ pub fn run(args: &SynthArgs) -> Result<()> {
             "--height ({}) and --focal-px ({}) must be positive and --noise ({}) non-negative",
             num(args.height),
             num(args.focal_px),
+            num(args.noise)
+        );
+    }
+    if args.noise > MAX_NOISE_PX {
+        bail!(
+            "--noise {} is outside the supported range 0..={MAX_NOISE_PX} px (a click that far off is no annotation)",
             num(args.noise)
         );
     }
@@ -202,6 +212,17 @@ fn write_pair(args: &SynthArgs, scene_json: &str, truth: &impl serde::Serialize)
         let stem = args.out.with_extension("");
         PathBuf::from(format!("{}.truth.json", stem.display()))
     });
+    if same_file(&truth_path, &args.out) {
+        bail!(
+            "--truth {} is the scene file --out {}: the scene would overwrite its truth; give two paths",
+            truth_path.display(),
+            args.out.display()
+        );
+    }
+    // Both paths checked before either is written (a FIFO, a device, a folder is refused).
+    for path in [&truth_path, &args.out] {
+        vpmap_files::check_output_path(path)?;
+    }
     write_file(
         &truth_path,
         serde_json::to_string_pretty(truth).context("serialising the truth")?,
@@ -213,4 +234,26 @@ fn write_pair(args: &SynthArgs, scene_json: &str, truth: &impl serde::Serialize)
     }
     println!("wrote {} and {}", args.out.display(), truth_path.display());
     Ok(())
+}
+
+/// Whether two output paths name the same file: the same folder (after resolving links and
+/// `..`) and the same name, or one existing file reached through symbolic links.
+fn same_file(a: &Path, b: &Path) -> bool {
+    let resolved = |p: &Path| {
+        let dir = match p.parent() {
+            Some(d) if !d.as_os_str().is_empty() => d,
+            _ => Path::new("."),
+        };
+        std::fs::canonicalize(dir)
+            .ok()
+            .zip(p.file_name())
+            .map(|(d, n)| d.join(n))
+    };
+    if let (Ok(a), Ok(b)) = (std::fs::canonicalize(a), std::fs::canonicalize(b)) {
+        return a == b;
+    }
+    match (resolved(a), resolved(b)) {
+        (Some(a), Some(b)) => a == b,
+        _ => a == b,
+    }
 }

@@ -1,5 +1,6 @@
 //! Bounded reading of the files vpmap is given: every reader of a scene, a map, a grid or a photo
 //! goes through [`read_bytes`] or [`read_text`], so no input path can make it read without end.
+//! And the one rule for the paths it writes: [`check_output_path`].
 //!
 //! * Only **regular files** are read: a FIFO, a character or block device (`/dev/zero`,
 //!   `/dev/urandom`), a socket or a directory is refused by name before anything is read (a FIFO
@@ -7,6 +8,10 @@
 //! * Each format has a **size limit** ([`Format::max_bytes`]); a larger file is refused with its
 //!   size and the limit before it is read, and the read itself stops one byte past the limit, in
 //!   case the file grows meanwhile (or reports no size, as files under `/proc` do).
+//! * Outputs go only to **regular files or new paths** ([`check_output_path`]): a FIFO, a
+//!   device (`-o /dev/null`), a socket or a directory is refused by name and left as it is
+//!   (outputs are written to a temporary file renamed over the path, which would replace a
+//!   device node or a FIFO with a regular file).
 //!
 //! A small crate of its own because every other crate reads files (the plan crate its grids, the
 //! command line scenes, maps and photos) and none of them is the natural home of the others'
@@ -79,14 +84,15 @@ impl Format {
 #[non_exhaustive]
 pub enum FileError {
     /// The operating system refused (missing file, no permission, ...).
-    #[error("cannot read {what} {}: {source}", path.display())]
+    #[error("cannot read {what} {}: {error}", path.display())]
     Io {
         /// What the file was to hold.
         what: &'static str,
         /// The file.
         path: PathBuf,
-        /// The operating system's error.
-        source: std::io::Error,
+        /// The operating system's error, in the message (not also passed on as the cause, so
+        /// that a chain of causes does not say it twice).
+        error: std::io::Error,
     },
     /// The path is not a regular file.
     #[error("{what} {} is a {kind}, not a regular file; give a file", path.display())]
@@ -109,6 +115,14 @@ pub enum FileError {
         size: u64,
         /// The limit, bytes.
         limit: u64,
+    },
+    /// An output path names something other than a regular file.
+    #[error("cannot write {}: it is a {kind}, not a regular file; give a file name (outputs replace only regular files)", path.display())]
+    NotRegularOutput {
+        /// The path.
+        path: PathBuf,
+        /// "folder", "FIFO", "character device", "block device" or "socket".
+        kind: &'static str,
     },
     /// A text file is not UTF-8.
     #[error("{what} {} is not UTF-8 text", path.display())]
@@ -153,10 +167,10 @@ pub fn read_bytes_limited(
     what: &'static str,
     limit: u64,
 ) -> Result<Vec<u8>, FileError> {
-    let io = |source| FileError::Io {
+    let io = |error| FileError::Io {
         what,
         path: path.to_path_buf(),
-        source,
+        error,
     };
     // Follows symbolic links: a link to a regular file is a regular file.
     let meta = std::fs::metadata(path).map_err(io)?;
@@ -186,6 +200,38 @@ pub fn read_bytes_limited(
         return Err(too_large(read));
     }
     Ok(bytes)
+}
+
+/// Check that `path` may be replaced by an output: it names nothing yet (a dangling symbolic
+/// link counts as nothing: the rename replaces the link) or a regular file (following
+/// symbolic links). Call it before writing the temporary file that is renamed over `path`.
+///
+/// # Errors
+/// [`FileError::NotRegularOutput`] for a directory, FIFO, device or socket.
+///
+/// # Example
+/// ```
+/// use vpmap_files::check_output_path;
+/// let e = check_output_path(std::path::Path::new("/dev/null")).unwrap_err();
+/// assert!(e.to_string().contains("/dev/null: it is a character device"));
+/// let dir = tempfile::tempdir().unwrap();
+/// assert!(check_output_path(&dir.path().join("new.json")).is_ok());
+/// ```
+pub fn check_output_path(path: &Path) -> Result<(), FileError> {
+    match std::fs::metadata(path) {
+        Ok(meta) if meta.file_type().is_file() => Ok(()),
+        Ok(meta) => Err(FileError::NotRegularOutput {
+            path: path.to_path_buf(),
+            // The command line's word for a directory.
+            kind: match kind_of(meta.file_type()) {
+                "directory" => "folder",
+                kind => kind,
+            },
+        }),
+        // Nothing there (or nothing this process may examine: the write itself then fails
+        // and says why).
+        Err(_) => Ok(()),
+    }
 }
 
 /// Read a regular file of `format`, within its size limit ([`Format::max_bytes`]).
@@ -287,6 +333,31 @@ mod tests {
         }
         let e = read_text(&fifo, Format::Scene).unwrap_err().to_string();
         assert!(e.contains("FIFO") && e.contains("scene file"), "{e}");
+    }
+
+    #[test]
+    fn outputs_refuse_devices_and_directories_and_accept_files_and_new_paths() {
+        let dir = tempfile::tempdir().unwrap();
+        for (path, kind) in [
+            (Path::new("/dev/null"), "character device"),
+            (dir.path(), "folder"),
+        ] {
+            let e = check_output_path(path).unwrap_err().to_string();
+            assert!(
+                e.contains(kind) && e.contains(&path.display().to_string()),
+                "{e}"
+            );
+        }
+        let file = dir.path().join("old.json");
+        std::fs::write(&file, "{}").unwrap();
+        assert!(check_output_path(&file).is_ok());
+        assert!(check_output_path(&dir.path().join("new.json")).is_ok());
+        #[cfg(unix)]
+        {
+            let link = dir.path().join("dangling");
+            std::os::unix::fs::symlink(dir.path().join("nowhere"), &link).unwrap();
+            assert!(check_output_path(&link).is_ok());
+        }
     }
 
     #[test]

@@ -157,28 +157,7 @@ fn read_exif(raw: &[u8]) -> ExifLens {
 /// assert!(decode_photo(b"hello", &PhotoLimits::default()).is_err());
 /// ```
 pub fn decode_photo(bytes: &[u8], limits: &PhotoLimits) -> Result<Photo> {
-    if bytes.is_empty() {
-        return Err(VisionError::EmptyPhoto);
-    }
-    let format = match image::guess_format(bytes) {
-        Ok(f @ (ImageFormat::Jpeg | ImageFormat::Png)) => f,
-        Ok(other) => {
-            return Err(VisionError::UnsupportedFormat {
-                format: other
-                    .extensions_str()
-                    .first()
-                    .copied()
-                    .unwrap_or("?")
-                    .to_owned(),
-            });
-        }
-        Err(_) => return Err(VisionError::NotAPhoto { bytes: bytes.len() }),
-    };
-    let kind = if format == ImageFormat::Jpeg {
-        "JPEG"
-    } else {
-        "PNG"
-    };
+    let (format, kind) = sniff(bytes)?;
     let decode_error = |e: image::ImageError| VisionError::Decode {
         format: kind,
         message: vpmap_files::decoder_message(&e.to_string()),
@@ -230,6 +209,25 @@ pub fn decode_photo(bytes: &[u8], limits: &PhotoLimits) -> Result<Photo> {
             ..ExifLens::default()
         },
     };
+    // Turning a photo a quarter turn copies its pixels: the peak is twice the decoded size,
+    // and the decoder's limit covers only the first copy.
+    let pixels_bytes = decoder.total_bytes();
+    let copies = if turns_quarter(orientation) { 2 } else { 1 };
+    if pixels_bytes.saturating_mul(copies) > limits.max_decode_bytes {
+        return Err(VisionError::Decode {
+            format: kind,
+            message: format!(
+                "its {width} x {height} pixels take {} MB decoded{}, more than the {} MB limit",
+                pixels_bytes.saturating_mul(copies) / 1_000_000,
+                if copies == 2 {
+                    " and twice that to turn them upright as the EXIF orientation says"
+                } else {
+                    ""
+                },
+                limits.max_decode_bytes / 1_000_000
+            ),
+        });
+    }
     let mut image = DynamicImage::from_decoder(decoder).map_err(decode_error)?;
     image.apply_orientation(orientation);
     Ok(Photo {
@@ -237,6 +235,79 @@ pub fn decode_photo(bytes: &[u8], limits: &PhotoLimits) -> Result<Photo> {
         reoriented: orientation != image::metadata::Orientation::NoTransforms,
         exif,
     })
+}
+
+/// Whether an EXIF orientation swaps the width and the height (a quarter turn, so the
+/// image is copied rather than turned in place).
+fn turns_quarter(orientation: image::metadata::Orientation) -> bool {
+    use image::metadata::Orientation as O;
+    matches!(
+        orientation,
+        O::Rotate90 | O::Rotate270 | O::Rotate90FlipH | O::Rotate270FlipH
+    )
+}
+
+/// A photo's size as it is shown (width and height swapped when its EXIF orientation turns
+/// it a quarter turn), read from its header without decoding the pixels: to compare it with a
+/// scene's before spending the time and memory of decoding.
+///
+/// # Errors
+/// As [`decode_photo`] for bytes that are no JPEG or PNG, or whose header is corrupt.
+///
+/// # Example
+/// ```
+/// use vpmap_vision::photo::photo_dimensions;
+/// let mut png = Vec::new();
+/// image::DynamicImage::new_luma8(40, 30)
+///     .write_to(&mut std::io::Cursor::new(&mut png), image::ImageFormat::Png)
+///     .unwrap();
+/// assert_eq!(photo_dimensions(&png).unwrap(), (40, 30));
+/// ```
+pub fn photo_dimensions(bytes: &[u8]) -> Result<(u32, u32)> {
+    let (format, kind) = sniff(bytes)?;
+    let decode_error = |e: image::ImageError| VisionError::Decode {
+        format: kind,
+        message: vpmap_files::decoder_message(&e.to_string()),
+    };
+    let mut decoder = ImageReader::with_format(Cursor::new(bytes), format)
+        .into_decoder()
+        .map_err(decode_error)?;
+    let (width, height) = decoder.dimensions();
+    let orientation = decoder
+        .orientation()
+        .unwrap_or(image::metadata::Orientation::NoTransforms);
+    Ok(if turns_quarter(orientation) {
+        (height, width)
+    } else {
+        (width, height)
+    })
+}
+
+/// The format of a photo's bytes (JPEG or PNG) and its name in messages.
+fn sniff(bytes: &[u8]) -> Result<(ImageFormat, &'static str)> {
+    if bytes.is_empty() {
+        return Err(VisionError::EmptyPhoto);
+    }
+    let format = match image::guess_format(bytes) {
+        Ok(f @ (ImageFormat::Jpeg | ImageFormat::Png)) => f,
+        Ok(other) => {
+            return Err(VisionError::UnsupportedFormat {
+                format: other
+                    .extensions_str()
+                    .first()
+                    .copied()
+                    .unwrap_or("?")
+                    .to_owned(),
+            });
+        }
+        Err(_) => return Err(VisionError::NotAPhoto { bytes: bytes.len() }),
+    };
+    let kind = if format == ImageFormat::Jpeg {
+        "JPEG"
+    } else {
+        "PNG"
+    };
+    Ok((format, kind))
 }
 
 /// Whether a JPEG's data end with the end-of-image marker (`FF D9`) after its last
@@ -424,5 +495,68 @@ mod tests {
                 "{keep}: {message}"
             );
         }
+    }
+
+    /// The PNG of `png(width, height)` with an `eXIf` chunk saying EXIF orientation
+    /// `orientation` (6: turn a quarter clockwise), inserted after `IHDR`.
+    fn png_with_orientation(width: u32, height: u32, orientation: u16) -> Vec<u8> {
+        fn crc32(bytes: &[u8]) -> u32 {
+            let mut crc = 0xFFFF_FFFFu32;
+            for &b in bytes {
+                crc ^= u32::from(b);
+                for _ in 0..8 {
+                    crc = if crc & 1 == 1 {
+                        (crc >> 1) ^ 0xEDB8_8320
+                    } else {
+                        crc >> 1
+                    };
+                }
+            }
+            !crc
+        }
+        let plain = png(width, height);
+        // Big-endian TIFF: one IFD entry, tag 0x0112 (orientation), SHORT, count 1.
+        let mut exif =
+            b"MM\x00\x2a\x00\x00\x00\x08\x00\x01\x01\x12\x00\x03\x00\x00\x00\x01".to_vec();
+        exif.extend(orientation.to_be_bytes());
+        exif.extend([0, 0, 0, 0, 0, 0]);
+        let mut chunk = b"eXIf".to_vec();
+        chunk.extend(&exif);
+        let mut out = plain[..33].to_vec(); // signature (8) + IHDR (4 + 4 + 13 + 4)
+        out.extend(u32::try_from(exif.len()).unwrap_or(0).to_be_bytes());
+        out.extend(&chunk);
+        out.extend(crc32(&chunk).to_be_bytes());
+        out.extend(&plain[33..]);
+        out
+    }
+
+    /// Regression: a large photo with an EXIF quarter turn peaked at twice the decoder's
+    /// memory limit (the turn copies the pixels); its header's size is the turned one.
+    #[test]
+    fn a_quarter_turn_counts_twice_against_the_decoder_limit() {
+        let turned = png_with_orientation(1000, 600, 6);
+        assert_eq!(photo_dimensions(&turned).ok(), Some((600, 1000)));
+        assert_eq!(photo_dimensions(&png(1000, 600)).ok(), Some((1000, 600)));
+        // 600,000 bytes of grey pixels: one copy fits in 800,000 bytes, two do not.
+        let limits = PhotoLimits {
+            max_decode_bytes: 800_000,
+            ..PhotoLimits::default()
+        };
+        let upright = decode_photo(&png(1000, 600), &limits).map(|p| p.image.width());
+        assert_eq!(upright.ok(), Some(1000));
+        let message = decode_photo(&turned, &limits)
+            .map(|_| ())
+            .unwrap_err()
+            .to_string();
+        assert!(
+            message.contains("EXIF orientation") && message.contains("limit"),
+            "{message}"
+        );
+        let roomy = PhotoLimits {
+            max_decode_bytes: 1_300_000,
+            ..PhotoLimits::default()
+        };
+        let photo = decode_photo(&turned, &roomy).map(|p| (p.image.width(), p.reoriented));
+        assert_eq!(photo.ok(), Some((600, true)));
     }
 }

@@ -254,7 +254,7 @@ fn detect_with_known_intrinsics_keeps_them() {
 
 /// A PNG whose header claims `width` x `height` pixels, with an empty data chunk (the shape
 /// of a decompression bomb, without the bomb).
-fn png_claiming(width: u32, height: u32) -> Vec<u8> {
+pub(super) fn png_claiming(width: u32, height: u32) -> Vec<u8> {
     let mut ihdr = width.to_be_bytes().to_vec();
     ihdr.extend(height.to_be_bytes());
     ihdr.extend([8, 0, 0, 0, 0]); // 8-bit grey

@@ -412,3 +412,22 @@ fn planner_budgets_name_their_flags() {
     ]);
     assert!(e.contains("at most 1000, got 1e300"), "{e}");
 }
+
+/// Regression: a missing input said "No such file or directory" twice (the reading error's
+/// message held the system's reason and passed it on as its cause too).
+#[test]
+fn a_missing_file_is_named_once_with_its_reason_once() {
+    let dir = tempfile::tempdir().unwrap();
+    let missing = dir.path().join("missing.json");
+    let m = missing.to_str().unwrap();
+    let out = dir.path().join("out");
+    for args in [
+        vec!["build", m, "--out", out.to_str().unwrap()],
+        vec!["plan", m, "--from", "0,0", "--to", "1,1"],
+        vec!["snap", m, m, "-o", out.to_str().unwrap()],
+    ] {
+        let e = stderr_of(&args);
+        assert_eq!(e.matches("No such file or directory").count(), 1, "{e}");
+        assert!(e.contains("missing.json"), "{e}");
+    }
+}

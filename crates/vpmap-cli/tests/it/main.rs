@@ -6,6 +6,7 @@ mod detect;
 mod eval;
 mod hostile;
 mod navigate;
+mod outputs;
 mod plan_mbpp;
 mod rooms;
 mod snap;

@@ -154,3 +154,125 @@ fn a_click_outside_the_photo_a_size_mismatch_and_a_broken_photo_are_refused() {
         "broken.png",
     );
 }
+
+/// Regression: `vpmap snap` decoded the whole photo before comparing its size with the
+/// scene's (1.9 s and 434 MB for a mismatched 8000 x 8000 photo). A PNG whose header claims
+/// 12000 x 12000 pixels and holds none is refused for its size, from the header: decoding it
+/// would have failed on the missing pixels instead.
+#[test]
+fn a_size_mismatch_is_refused_from_the_header_before_decoding() {
+    let dir = tempfile::tempdir().unwrap();
+    let _ = setup(dir.path(), [0.0, 0.0]);
+    let claiming = dir.path().join("claiming.png");
+    std::fs::write(&claiming, super::detect::png_claiming(12_000, 12_000)).unwrap();
+    refused(
+        dir.path(),
+        &claiming,
+        &dir.path().join("scene.json"),
+        "but the photo is 12000 x 12000",
+    );
+}
+
+/// Every box click of a scene's JSON, in the order `setup` pushed them.
+fn box_clicks(v: &serde_json::Value) -> Vec<[f64; 2]> {
+    let mut out = Vec::new();
+    for o in v["objects"].as_array().unwrap() {
+        for level in ["base", "top"] {
+            if let Some(c) = o.get(level).and_then(|c| c.as_object()) {
+                for p in c.values().filter_map(|p| p.as_array()) {
+                    if p.len() == 2 {
+                        out.push([p[0].as_f64().unwrap(), p[1].as_f64().unwrap()]);
+                    }
+                }
+            }
+        }
+    }
+    out
+}
+
+/// `vpmap snap` on a room of the same scene twice (both photos the rendered one): returns
+/// the output as JSON with stdout and stderr.
+fn snap_room(dir: &Path, photo: &Path, room: &serde_json::Value) -> (serde_json::Value, String) {
+    let room_path = dir.join("room.json");
+    std::fs::write(&room_path, room.to_string()).unwrap();
+    let out = dir.join("snapped-room.json");
+    let o = vpmap(&[
+        "snap",
+        photo.to_str().unwrap(),
+        photo.to_str().unwrap(),
+        room_path.to_str().unwrap(),
+        "-o",
+        out.to_str().unwrap(),
+    ]);
+    let stdout = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    (read_json(&out), stdout)
+}
+
+/// Regression: on a room file `vpmap snap` wrote `click_covariances_px2` at the room's top
+/// level when nothing snapped (build then ignored it as an unknown field), and failed with
+/// "the scene has no `objects[0].base.near`" when something did. Every photo is snapped on its
+/// own photo and its covariances go inside it.
+#[test]
+fn a_room_is_snapped_photo_by_photo_with_covariances_inside_each_photo() {
+    let dir = tempfile::tempdir().unwrap();
+    let (v, pairs) = setup(dir.path(), [1.5, -1.0]);
+    let room = serde_json::json!({"version": 1, "photos": [v, v]});
+    // Something snaps.
+    let (snapped, stdout) = snap_room(dir.path(), &dir.path().join("photo.png"), &room);
+    assert!(snapped.get("click_covariances_px2").is_none(), "{snapped}");
+    assert!(stdout.contains("photo 2"), "{stdout}");
+    for k in 0..2 {
+        let photo = &snapped["photos"][k];
+        let covs = photo["click_covariances_px2"].as_object().unwrap();
+        assert!(covs.contains_key("objects[0].base.near"), "{covs:?}");
+        // The pushed clicks (1.8 px off) came back towards their corners, in the median.
+        let mut errors: Vec<f64> = pairs
+            .iter()
+            .zip(box_clicks(photo))
+            .map(|((exact, _), got)| (got[0] - exact[0]).hypot(got[1] - exact[1]))
+            .collect();
+        errors.sort_by(f64::total_cmp);
+        assert!(errors[errors.len() / 2] < 0.9, "photo {k}: {errors:?}");
+    }
+    // Nothing snaps: on a blank photo every click stays, with the click noise's covariance,
+    // written inside each photo.
+    let blank = dir.path().join("blank.png");
+    let size = (
+        v["image"]["width"].as_u64().unwrap() as u32,
+        v["image"]["height"].as_u64().unwrap() as u32,
+    );
+    image::DynamicImage::new_luma8(size.0, size.1)
+        .save(&blank)
+        .unwrap();
+    let (kept, _) = snap_room(dir.path(), &blank, &room);
+    assert!(kept.get("click_covariances_px2").is_none(), "{kept}");
+    for k in 0..2 {
+        let covs = kept["photos"][k]["click_covariances_px2"]
+            .as_object()
+            .unwrap();
+        assert_eq!(
+            covs["objects[0].base.near"],
+            serde_json::json!([[4.0, 0.0], [0.0, 4.0]])
+        );
+        assert_eq!(kept["photos"][k]["objects"], v["objects"]);
+    }
+    // The room's covariances are read by build: no unknown-field warning.
+    let kept_path = dir.path().join("snapped-room.json");
+    let o = vpmap(&[
+        "build",
+        kept_path.to_str().unwrap(),
+        "--out",
+        dir.path().join("built").to_str().unwrap(),
+    ]);
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(!stderr.contains("unknown field"), "{stderr}");
+    // One photo for a room of two is refused, naming both counts.
+    let room_path = dir.path().join("room.json");
+    refused(
+        dir.path(),
+        &dir.path().join("photo.png"),
+        &room_path,
+        "room of 2 photos but 1 photo file was given",
+    );
+}

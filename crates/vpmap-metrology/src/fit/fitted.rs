@@ -78,6 +78,11 @@ pub struct Fitted {
     pub principal_point_fitted: bool,
     /// Every clicked point's misfit, in scene order.
     pub point_residuals: Vec<PointResidual>,
+    /// Every clicked point's misfit as the fit weighs it, in the order of `point_residuals`:
+    /// with a covariance (`click_covariances_px2`), the whitened residual's length (in
+    /// standard deviations of that click); without, its length in pixels (a 1 px click).
+    /// Equal to the `distance_px` when the scene gives no covariances.
+    pub weighted_residuals: Vec<f64>,
     /// The fitted room directions' angle from `+x`, radians (the scene's first vanishing
     /// point).
     pub room_yaw_rad: f64,

@@ -595,8 +595,20 @@ fn finish(
                 })
         })
         .collect::<Result<Vec<_>>>()?;
+    // The residuals as the fit weighs them, and in pixels (without the clicks' whitening).
     let residuals = problem.residuals(&x).unwrap_or_default();
-    let point_residuals = point_residuals(scene, &problem, &object_parts, &residuals);
+    let pixel_residuals = if problem.has_click_covariances() {
+        let mut unweighted = problem.clone();
+        unweighted.weights.clear();
+        unweighted.residuals(&x).unwrap_or_default()
+    } else {
+        residuals.clone()
+    };
+    let weighted_residuals = point_residuals(scene, &problem, &object_parts, &residuals)
+        .into_iter()
+        .map(|r| r.distance_px)
+        .collect();
+    let point_residuals = point_residuals(scene, &problem, &object_parts, &pixel_residuals);
     let clicks = point_residuals.len().max(1);
     // Folded from +0: an empty sum of f64 is -0, which would print as "-0.00 px".
     let rms = (point_residuals
@@ -619,6 +631,7 @@ fn finish(
         iterations,
         principal_point_fitted,
         point_residuals,
+        weighted_residuals,
         room_yaw_rad: cam.room_yaw_rad,
         problem,
         x,

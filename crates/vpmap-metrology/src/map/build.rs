@@ -149,6 +149,13 @@ pub fn build_map_until(
             click_sigma_px: u.click_sigma_px,
             click_sigma_source: u.click_sigma_source.to_owned(),
             rms_residual_px: f.rms_residual_px,
+            rms_normalised: f
+                .problem
+                .weights
+                .iter()
+                .flatten()
+                .any(Option::is_some)
+                .then(|| crate::map::warnings::rms(&f.weighted_residuals) / u.click_sigma_px),
             degrees_of_freedom: f.degrees_of_freedom,
             iterations: f.iterations,
             principal_point_fitted: f.principal_point_fitted,

@@ -116,6 +116,12 @@ pub struct FitReport {
     pub click_sigma_source: String,
     /// Root-mean-square reprojection error of the clicked points, pixels.
     pub rms_residual_px: f64,
+    /// With clicks of their own covariance: the root-mean-square of the normalised
+    /// residuals, in standard deviations (each click's residual whitened by its covariance,
+    /// or divided by `click_sigma_px` without one); about 1 when the covariances are right.
+    /// Absent when no click has a covariance.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub rms_normalised: Option<f64>,
     /// Residuals minus parameters.
     pub degrees_of_freedom: usize,
     /// Levenberg-Marquardt iterations.

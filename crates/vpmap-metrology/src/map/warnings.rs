@@ -107,19 +107,28 @@ pub(super) fn fit_warnings(
     }
     out.extend(camera_warnings(scene, fitted, u));
     if u.click_sigma_px > 0.0 {
-        for r in &fitted.point_residuals {
-            if r.distance_px > WARN_RESIDUAL_SIGMAS * u.click_sigma_px {
+        for (r, weighted) in fitted
+            .point_residuals
+            .iter()
+            .zip(&fitted.weighted_residuals)
+        {
+            // Pixels as pixels; sigmas of the click's own covariance when it has one.
+            let sigmas = weighted / u.click_sigma_px;
+            if sigmas > WARN_RESIDUAL_SIGMAS {
                 out.push(format!(
                     "`{}` of object {:?} lies {:.1} px ({:.1} sigma) from the fitted box: a misplaced click?",
-                    r.field,
-                    r.object,
-                    r.distance_px,
-                    r.distance_px / u.click_sigma_px
+                    r.field, r.object, r.distance_px, sigmas
                 ));
             }
         }
     }
     out
+}
+
+/// Root mean square of `values` (0 for none).
+pub(super) fn rms(values: &[f64]) -> f64 {
+    // Folded from +0: an empty sum of f64 is -0.
+    (values.iter().map(|v| v * v).fold(0.0, |a, b| a + b) / values.len().max(1) as f64).sqrt()
 }
 
 /// Largest standard deviation of a fitted principal point, as a fraction of the image

@@ -22,7 +22,8 @@ pub use types::{
     VanishingPointSpec,
 };
 pub use validate::{
-    MAX_CLICK_VARIANCE_PX2, MAX_OBJECTS, MAX_POINT_PX, MAX_POINTS, MAX_SCALE_M,
-    MAX_VANISHING_POINT_PX, MAX_VP_SD_DEG, MIN_VP_SD_DEG, unknown_fields,
+    MAX_CLICK_COVARIANCE_CONDITION, MAX_CLICK_VARIANCE_PX2, MAX_OBJECTS, MAX_POINT_PX, MAX_POINTS,
+    MAX_SCALE_M, MAX_VANISHING_POINT_PX, MAX_VP_SD_DEG, MIN_CLICK_VARIANCE_PX2, MIN_IMAGE_SIDE_PX,
+    MIN_VP_SD_DEG, unknown_fields,
 };
 pub use vanishing::{SegmentFit, VpChart, intersect_segments};

@@ -13,10 +13,30 @@ pub const MAX_POINT_PX: f64 = 1e7;
 /// Largest magnitude of a vanishing point's coordinate, pixels (nearly parallel edges put it
 /// far away; beyond this it is at infinity for any real camera).
 pub const MAX_VANISHING_POINT_PX: f64 = 1e12;
+/// Smallest side of a scene's `image`, pixels (as `vpmap detect` reads photos): a smaller
+/// one is no photo's size, and the fit would measure every click against it.
+pub const MIN_IMAGE_SIDE_PX: u32 = 16;
 /// Largest known length in a `scale`, metres.
 pub const MAX_SCALE_M: f64 = 1e6;
 /// Largest variance of a click covariance, px^2 (a 1000 px standard deviation).
 pub const MAX_CLICK_VARIANCE_PX2: f64 = 1e6;
+/// Smallest variance of a click covariance, px^2 (a 1e-6 px standard deviation: no click is
+/// surer; a smaller one would outweigh every other click of the fit).
+pub const MIN_CLICK_VARIANCE_PX2: f64 = 1e-12;
+/// Largest condition number of a click covariance (its larger eigenvalue over its smaller):
+/// beyond it the click is sure along one line only and its weight matrix is numerically
+/// singular.
+pub const MAX_CLICK_COVARIANCE_CONDITION: f64 = 1e12;
+
+/// A number in a message: plain when it reads well, else in four significant digits of
+/// exponent form (`1.000e300`, not 301 digits).
+fn compact(v: f64) -> String {
+    if v == 0.0 || !v.is_finite() || (1e-4..1e7).contains(&v.abs()) {
+        format!("{v}")
+    } else {
+        format!("{v:.3e}")
+    }
+}
 
 fn check_coords(field: &str, p: &[f64], limit: f64) -> Result<()> {
     for (i, v) in p.iter().enumerate() {
@@ -527,6 +547,15 @@ impl Scene {
                 ),
             });
         }
+        if self.image.width.min(self.image.height) < MIN_IMAGE_SIDE_PX {
+            return Err(MetrologyError::InvalidField {
+                field: "image".to_owned(),
+                reason: format!(
+                    "is {} x {} pixels; a photo is at least {MIN_IMAGE_SIDE_PX} pixels a side: give the photo's width and height",
+                    self.image.width, self.image.height
+                ),
+            });
+        }
         let n = self.vanishing_points.len();
         if !(2..=3).contains(&n) {
             return Err(MetrologyError::VanishingPointCount(n));
@@ -562,6 +591,15 @@ impl Scene {
                         reason: "give `point` or `direction`, not both".to_owned(),
                     });
                 }
+                if !vp.lines.is_empty() {
+                    return Err(MetrologyError::InvalidField {
+                        field,
+                        reason: format!(
+                            "give `direction` or `lines`, not both (the fit would follow the {} lines and ignore the direction)",
+                            vp.lines.len()
+                        ),
+                    });
+                }
                 if n != 3 || directions > 1 {
                     return Err(MetrologyError::InvalidField {
                         field: format!("{field}.direction"),
@@ -592,6 +630,16 @@ impl Scene {
                         ),
                     });
                 }
+            }
+            if vp.point.is_none()
+                && vp.direction.is_none()
+                && super::vanishing::intersect_segments(&vp.lines, self.image)
+                    == Err(super::vanishing::SegmentFit::Collinear)
+            {
+                return Err(MetrologyError::InvalidField {
+                    field: format!("{field}.lines"),
+                    reason: "the segments lie on one line, so they do not fix a point: click edges on different lines that run to the vanishing point".to_owned(),
+                });
             }
         }
         if let Some(p) = self.principal_point {
@@ -742,7 +790,9 @@ impl Scene {
     }
 
     /// Each click covariance names a click of the scene and is a finite, symmetric, positive
-    /// definite matrix of at most [`MAX_CLICK_VARIANCE_PX2`] per coordinate.
+    /// definite matrix with variances from [`MIN_CLICK_VARIANCE_PX2`] to
+    /// [`MAX_CLICK_VARIANCE_PX2`] and a condition number of at most
+    /// [`MAX_CLICK_COVARIANCE_CONDITION`].
     fn check_click_covariances(&self) -> Result<()> {
         if self.click_covariances_px2.is_empty() {
             return Ok(());
@@ -767,25 +817,76 @@ impl Scene {
                 }
             }
             let [[a, b], [b2, d]] = *m;
-            let scale = a.abs().max(d.abs()).max(f64::MIN_POSITIVE);
-            if (b - b2).abs() > 1e-9 * scale {
+            let matrix = || {
+                format!(
+                    "[[{}, {}], [{}, {}]] px^2",
+                    compact(a),
+                    compact(b),
+                    compact(b2),
+                    compact(d)
+                )
+            };
+            for (axis, v) in [("x", a), ("y", d)] {
+                if v > MAX_CLICK_VARIANCE_PX2 {
+                    return Err(MetrologyError::InvalidField {
+                        field,
+                        reason: format!(
+                            "its {axis} variance {} px^2 is beyond the supported {} px^2 (a {} px standard deviation; a click that uncertain tells nothing)",
+                            compact(v),
+                            compact(MAX_CLICK_VARIANCE_PX2),
+                            compact(MAX_CLICK_VARIANCE_PX2.sqrt())
+                        ),
+                    });
+                }
+                if v < MIN_CLICK_VARIANCE_PX2 {
+                    return Err(MetrologyError::InvalidField {
+                        field,
+                        reason: if v > 0.0 {
+                            format!(
+                                "its {axis} variance {} px^2 is below the supported {} px^2 (a {} px standard deviation; no click is that sure)",
+                                compact(v),
+                                compact(MIN_CLICK_VARIANCE_PX2),
+                                compact(MIN_CLICK_VARIANCE_PX2.sqrt())
+                            )
+                        } else {
+                            format!(
+                                "its {axis} variance {} px^2 is not positive: {}",
+                                compact(v),
+                                matrix()
+                            )
+                        },
+                    });
+                }
+            }
+            // Both variances lie in [1e-12, 1e6]: nothing below over- or underflows.
+            if (b - b2).abs() > 1e-9 * a.max(d) {
                 return Err(MetrologyError::InvalidField {
                     field,
-                    reason: format!("is not symmetric: [[{a}, {b}], [{b2}, {d}]]"),
+                    reason: format!("is not symmetric: {}", matrix()),
                 });
             }
-            if !(a > 0.0 && d > 0.0 && a * d - b * b > 1e-12 * a * d) {
-                return Err(MetrologyError::InvalidField {
-                    field,
-                    reason: format!("is not positive definite: [[{a}, {b}], [{b2}, {d}]] px^2"),
-                });
-            }
-            if a.max(d) > MAX_CLICK_VARIANCE_PX2 {
+            // The eigenvalues of the symmetric matrix: the larger directly, the smaller as the
+            // determinant over it (no cancellation).
+            let largest = 0.5 * (a + d) + (0.5 * (a - d)).hypot(b);
+            let determinant = a * d - b * b;
+            let smallest = determinant / largest;
+            if determinant <= 0.0 || smallest <= 0.0 {
                 return Err(MetrologyError::InvalidField {
                     field,
                     reason: format!(
-                        "a variance of {:e} px^2 is beyond the supported {MAX_CLICK_VARIANCE_PX2:e} px^2 (a click that uncertain tells nothing)",
-                        a.max(d)
+                        "is not positive definite: {} (the covariance |sxy| must be below sqrt(sxx syy))",
+                        matrix()
+                    ),
+                });
+            }
+            if largest > MAX_CLICK_COVARIANCE_CONDITION * smallest {
+                return Err(MetrologyError::InvalidField {
+                    field,
+                    reason: format!(
+                        "is nearly singular: {} has condition number {} (at most {}): the click would be sure along one line only",
+                        matrix(),
+                        compact(largest / smallest),
+                        compact(MAX_CLICK_COVARIANCE_CONDITION)
                     ),
                 });
             }

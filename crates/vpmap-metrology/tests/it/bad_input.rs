@@ -428,3 +428,62 @@ fn a_floor_clicked_out_of_order_is_warned_about_by_every_method() {
         map.warnings
     );
 }
+
+/// Regression: collinear vanishing-point segments were refused by the thesis's method only;
+/// the default method (the joint fit) built a map from them, though docs/scene-format.md
+/// lists them as refused.
+#[test]
+fn collinear_segments_are_refused_by_the_default_method_too() {
+    let mut v = base_scene();
+    v["vanishing_points"][0] = serde_json::json!({"lines": [[0, 0, 10, 1], [20, 2, 30, 3]]});
+    let e = build_with(&v, Method::Fit)
+        .expect_err("collinear")
+        .to_string();
+    assert!(
+        e.contains("vanishing_points[0].lines") && e.contains("one line"),
+        "{e}"
+    );
+}
+
+/// Regression: `direction` with `lines` silently ignored the direction (the fit followed the
+/// lines), while `point` with `direction` was refused.
+#[test]
+fn a_direction_with_lines_is_refused() {
+    let mut v = base_scene();
+    v["vanishing_points"]
+        .as_array_mut()
+        .unwrap()
+        .push(serde_json::json!({
+            "direction": [0.0, 1.0],
+            "lines": [[700, 300, 705, 800], [900, 300, 898, 800]]
+        }));
+    let e = Scene::from_json_str(&v.to_string())
+        .expect_err("direction with lines")
+        .to_string();
+    assert!(
+        e.contains("vanishing_points[2]") && e.contains("`direction` or `lines`, not both"),
+        "{e}"
+    );
+}
+
+/// Regression: a 1 x 1 `image` (in a room's photo, or alone) was taken, and the fit then
+/// blamed the vanishing points ("the fit runs off to a focal length of 1802 px (1274 image
+/// diagonals)").
+#[test]
+fn a_one_pixel_image_is_refused_by_name() {
+    let mut small = base_scene();
+    small["image"] = serde_json::json!({"width": 1, "height": 1});
+    for (v, field) in [
+        (small.clone(), "`image`"),
+        (
+            serde_json::json!({"version": 1, "photos": [base_scene(), small]}),
+            "photos[1] (photo 2)",
+        ),
+    ] {
+        let e = build_with(&v, Method::Fit).expect_err("1 x 1").to_string();
+        assert!(
+            e.contains(field) && e.contains("1 x 1 pixels") && !e.contains("focal length"),
+            "{e}"
+        );
+    }
+}

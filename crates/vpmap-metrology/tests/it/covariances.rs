@@ -83,6 +83,68 @@ fn covariances_are_checked_by_name_and_value() {
     assert!(back.to_json_string().contains("click_covariances_px2"));
 }
 
+/// A digit run longer than 20 characters: a number printed in full instead of readably.
+fn has_long_number(text: &str) -> bool {
+    text.split(|c: char| !c.is_ascii_digit())
+        .any(|run| run.len() > 20)
+}
+
+/// Regression: covariances of 1e300 and 1e-300 px^2 were called "not positive definite" with
+/// 300-digit numbers, and a 1e-20 px^2 variance was accepted (the fit then blamed the
+/// vanishing points' edges). Each is refused for its range, naming the field and the value in
+/// a few digits.
+#[test]
+fn covariances_out_of_range_are_refused_with_compact_values() {
+    let s = scene();
+    for (text, needles) in [
+        (
+            r#"{"objects[0].base.near": [[1e300, 0], [0, 1e300]]}"#,
+            &[
+                "x variance 1.000e300 px^2",
+                "beyond the supported 1000000 px^2",
+            ][..],
+        ),
+        (
+            r#"{"objects[0].base.near": [[1e-300, 0], [0, 1e-300]]}"#,
+            &[
+                "x variance 1.000e-300 px^2",
+                "below the supported 1.000e-12 px^2",
+            ],
+        ),
+        (
+            r#"{"objects[0].base.near": [[1, 0], [0, 1e-20]]}"#,
+            &["y variance 1.000e-20 px^2", "below the supported"],
+        ),
+        (
+            r#"{"objects[0].base.near": [[1e5, 0], [0, 1e-9]]}"#,
+            &["nearly singular", "condition number 1.000e14"],
+        ),
+        (
+            r#"{"objects[0].base.near": [[0, 0], [0, 1]]}"#,
+            &["x variance 0 px^2 is not positive"],
+        ),
+    ] {
+        let e = error_of(&s, text);
+        assert!(
+            e.contains("click_covariances_px2.\"objects[0].base.near\""),
+            "{e}"
+        );
+        for needle in needles {
+            assert!(e.contains(needle), "{needle:?} in {e}");
+        }
+        assert!(!has_long_number(&e) && e.len() < 300, "{e}");
+    }
+    // The ends of the range are accepted.
+    for text in [
+        r#"{"objects[0].base.near": [[1e6, 0], [0, 1e6]]}"#,
+        r#"{"objects[0].base.near": [[1e-12, 0], [0, 1e-12]]}"#,
+    ] {
+        let mut v: serde_json::Value = serde_json::from_str(&s.to_json_string()).unwrap();
+        v["click_covariances_px2"] = serde_json::from_str(text).unwrap();
+        assert!(Scene::from_json_str(&v.to_string()).is_ok(), "{text}");
+    }
+}
+
 #[test]
 fn unit_covariances_give_the_fit_of_1_px_clicks_and_larger_ones_larger_error_bars() {
     // Every clicked point at covariance I px^2 is the fit of 1 px clicks: the same map and
@@ -170,5 +232,117 @@ fn a_click_uncertain_along_one_direction_is_not_believed_along_it() {
     assert!(
         e_weighted < 0.05 * e_plain,
         "weighted {e_weighted} m vs plain {e_plain} m"
+    );
+}
+
+/// Regression: with `click_covariances_px2` the summary's "reprojection RMS ... px" and a
+/// misplaced click's "lies X px (X sigma)" were both in standard deviations of each click
+/// (covariances of 1e-150 px^2 gave "RMS 7.6e61 px"). With every click at 0.1 px (0.01 I
+/// px^2), a click's sigmas are its pixels over 0.1 px, and the pixel RMS is near that of
+/// the fit of plain clicks (not ten times it: the weights move the fit a little, as the
+/// vanishing points are not weighted by the clicks' covariances).
+#[test]
+fn residuals_with_covariances_are_reported_in_pixels_and_sigmas() {
+    let mut s = scene();
+    // One box corner 6 px off, to be warned about.
+    let (i, corner) = s
+        .objects
+        .iter()
+        .enumerate()
+        .find_map(|(i, o)| {
+            o.base
+                .as_ref()
+                .and_then(|b| b.given().next().map(|(c, _)| (i, c)))
+        })
+        .unwrap();
+    let field = format!("objects[{i}].base.{}", corner.name());
+    let mut v: serde_json::Value = serde_json::from_str(&s.to_json_string()).unwrap();
+    let p = &mut v["objects"][i]["base"][corner.name()];
+    p[0] = serde_json::json!(p[0].as_f64().unwrap() + 6.0);
+    s = Scene::from_json_str(&v.to_string()).unwrap();
+    let plain = build(&s, Some(0.1));
+    let sd_px = 0.1;
+    for (f, _) in box_fields(&s) {
+        s.click_covariances_px2
+            .insert(f, [[sd_px * sd_px, 0.0], [0.0, sd_px * sd_px]]);
+    }
+    let weighted = build(&s, None);
+    let (pf, wf) = (plain.fit.as_ref().unwrap(), weighted.fit.as_ref().unwrap());
+    assert_eq!(wf.click_sigma_source, "covariances");
+    assert_eq!(pf.rms_normalised, None);
+    let ratio = wf.rms_residual_px / pf.rms_residual_px;
+    assert!(
+        (0.5..2.0).contains(&ratio),
+        "{} px with covariances, {} px without",
+        wf.rms_residual_px,
+        pf.rms_residual_px
+    );
+    let normalised = wf.rms_normalised.unwrap();
+    assert!(
+        (normalised - wf.rms_residual_px / sd_px).abs() < 1e-9 * normalised,
+        "{normalised} sigma, {} px",
+        wf.rms_residual_px
+    );
+    // "`FIELD` of object "NAME" lies X px (Y sigma) ...": Y is X over 0.1 px, to the
+    // printed digits.
+    let warning = weighted
+        .warnings
+        .iter()
+        .find(|w| w.contains(&format!("`{field}`")) && w.contains(" lies "))
+        .unwrap_or_else(|| panic!("{:?}", weighted.warnings));
+    let numbers: Vec<f64> = warning
+        .split(['(', ' '])
+        .filter_map(|t| t.parse().ok())
+        .collect();
+    let [px, sigmas] = numbers[..] else {
+        panic!("{warning}")
+    };
+    assert!(px > 2.0 && px < 8.0, "{warning}");
+    assert!(
+        (sigmas - px / sd_px).abs() <= 0.05 / sd_px + 0.05,
+        "{warning}"
+    );
+}
+
+/// The same for a room: the room fit's residuals are whitened where a photo's clicks have
+/// covariances; the report gives them in pixels (near the plain room fit's) and the
+/// normalised RMS in sigmas.
+#[test]
+fn a_rooms_residuals_with_covariances_are_reported_in_pixels_and_sigmas() {
+    use vpmap_metrology::synth::{RoomSynthOptions, synthesize_room};
+    let (mut room, _) = synthesize_room(&RoomSynthOptions {
+        seed: 5,
+        photos: 2,
+        noise_px: 0.5,
+        ..RoomSynthOptions::default()
+    })
+    .unwrap();
+    let plain = build(&room, Some(0.1));
+    let sd_px = 0.1;
+    let cov = [[sd_px * sd_px, 0.0], [0.0, sd_px * sd_px]];
+    for (f, _) in box_fields(&room) {
+        room.click_covariances_px2.insert(f, cov);
+    }
+    for photo in &mut room.other_photos {
+        for (f, _) in box_fields(photo) {
+            photo.click_covariances_px2.insert(f, cov);
+        }
+    }
+    let weighted = build(&room, None);
+    let (pf, wf) = (plain.fit.as_ref().unwrap(), weighted.fit.as_ref().unwrap());
+    assert_eq!(wf.click_sigma_source, "covariances");
+    assert!(wf.clicks_with_covariance.unwrap() > 10);
+    let ratio = wf.rms_residual_px / pf.rms_residual_px;
+    assert!(
+        (0.5..2.0).contains(&ratio),
+        "{} px with covariances, {} px without",
+        wf.rms_residual_px,
+        pf.rms_residual_px
+    );
+    let normalised = wf.rms_normalised.unwrap();
+    assert!(
+        (normalised - wf.rms_residual_px / sd_px).abs() < 1e-6 * normalised,
+        "{normalised} sigma, {} px",
+        wf.rms_residual_px
     );
 }
