@@ -419,7 +419,14 @@ async function main() {
 
   await step('scale from a named box edge', async () => {
     // The first box's vertical edge above its near corner, as long as the map measures it:
-    // the camera height must come out as before.
+    // the camera height must come out as before. "Before" is the map of this scene: the last
+    // step's undo rebuilds without its extra box, and the clicks refine the camera (the
+    // detected vanishing points carry their uncertainty), so wait for that build.
+    await page.waitForFunction(() => {
+      const st = window.vpmap.status();
+      const m = window.vpmap.map();
+      return !st.pending && st.busy.length === 0 && m && m.objects.length === window.vpmap.scene().objects.length;
+    }, null, { timeout: 30_000 });
     const before = (await status()).builds;
     const map = await page.evaluate(() => window.vpmap.map());
     const i = example.objects.findIndex((o) => o.base && o.top?.near);
