@@ -8,10 +8,10 @@ use nalgebra::{Vector2, Vector3};
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
-use vpmap_metrology::map::{BuildOptions, FloorMap, build_map};
+use vpmap_metrology::map::{BuildOptions, FloorMap, MapObject, build_map};
 use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::scene::{ScaleSpec, Scene, VpChart};
-use vpmap_metrology::synth::{SynthBox, Truth, add_noise, render_scene};
+use vpmap_metrology::synth::{SynthBox, Truth, TruthObject, add_noise, render_scene};
 
 use crate::errata_cases::camera;
 
@@ -82,28 +82,35 @@ fn fit(scene: &Scene, sigma: Option<f64>) -> FloorMap {
     .unwrap_or_else(|e| panic!("{e}"))
 }
 
+/// An object's centroid error, metres, and its Mahalanobis distance squared under the map's
+/// covariance.
+fn centroid_error(o: &MapObject, t: &TruthObject) -> (f64, f64) {
+    let c = t
+        .footprint
+        .iter()
+        .map(|p| Vector2::new(p[0], p[1]))
+        .sum::<Vector2<f64>>()
+        / 4.0;
+    let d = Vector2::new(o.centroid[0] - c.x, o.centroid[1] - c.y);
+    let u = o.uncertainty.as_ref().unwrap();
+    let s = nalgebra::Matrix2::new(
+        u.centroid_covariance[0][0],
+        u.centroid_covariance[0][1],
+        u.centroid_covariance[1][0],
+        u.centroid_covariance[1][1],
+    );
+    (d.norm(), d.dot(&(s.try_inverse().unwrap() * d)))
+}
+
 /// Largest centroid error, metres, and the largest Mahalanobis distance squared.
 fn centroid_errors(map: &FloorMap, truth: &Truth) -> (f64, f64) {
-    let (mut worst, mut worst_d2) = (0.0f64, 0.0f64);
-    for (o, t) in map.objects.iter().zip(&truth.objects) {
-        let c = t
-            .footprint
-            .iter()
-            .map(|p| Vector2::new(p[0], p[1]))
-            .sum::<Vector2<f64>>()
-            / 4.0;
-        let d = Vector2::new(o.centroid[0] - c.x, o.centroid[1] - c.y);
-        let u = o.uncertainty.as_ref().unwrap();
-        let s = nalgebra::Matrix2::new(
-            u.centroid_covariance[0][0],
-            u.centroid_covariance[0][1],
-            u.centroid_covariance[1][0],
-            u.centroid_covariance[1][1],
-        );
-        worst = worst.max(d.norm());
-        worst_d2 = worst_d2.max(d.dot(&(s.try_inverse().unwrap() * d)));
-    }
-    (worst, worst_d2)
+    map.objects
+        .iter()
+        .zip(&truth.objects)
+        .map(|(o, t)| centroid_error(o, t))
+        .fold((0.0, 0.0), |(a, b), (e, d2)| {
+            (f64::max(a, e), f64::max(b, d2))
+        })
 }
 
 #[test]
@@ -187,21 +194,7 @@ fn error_bars_hold_the_truth_when_vanishing_points_err_as_their_covariance_says(
         with_uncertainty(&mut scene, 1.0, 1e-3);
         let map = fit(&scene, None);
         for (o, t) in map.objects.iter().zip(&truth.objects) {
-            let c = t
-                .footprint
-                .iter()
-                .map(|p| Vector2::new(p[0], p[1]))
-                .sum::<Vector2<f64>>()
-                / 4.0;
-            let d = Vector2::new(o.centroid[0] - c.x, o.centroid[1] - c.y);
-            let u = o.uncertainty.as_ref().unwrap();
-            let s = nalgebra::Matrix2::new(
-                u.centroid_covariance[0][0],
-                u.centroid_covariance[0][1],
-                u.centroid_covariance[1][0],
-                u.centroid_covariance[1][1],
-            );
-            inside += u32::from(d.dot(&(s.try_inverse().unwrap() * d)) <= 5.991);
+            inside += u32::from(centroid_error(o, t).1 <= 5.991);
             n += 1;
         }
     }
