@@ -11,12 +11,13 @@ use std::time::Duration;
 use vpmap_metrology::fit::{FitOptions, fit_scene};
 use vpmap_metrology::map::{BuildOptions, build_map, reconstruct_scene};
 use vpmap_metrology::reconstruct::Method;
+use vpmap_metrology::scene::Scene;
 use vpmap_metrology::synth::{SynthOptions, VanishingPointForm, synthesize};
 
 /// The click noise of the scene and of the fit's error bars, pixels.
 const SIGMA_PX: f64 = 1.0;
 
-fn scene_20() -> vpmap_metrology::scene::Scene {
+fn scene_20() -> Scene {
     synthesize(&SynthOptions {
         seed: 20,
         boxes: 19,
@@ -29,6 +30,20 @@ fn scene_20() -> vpmap_metrology::scene::Scene {
     })
     .unwrap()
     .0
+}
+
+/// `scene` with its vanishing points as points with a 1-degree covariance each, and a
+/// principal point prior of 1.5 % of the image diagonal at the image centre.
+fn measured_vanishing_points(scene: &Scene) -> Scene {
+    let points = scene.resolve_vanishing_points().unwrap();
+    let mut out = scene.clone();
+    for (v, p) in out.vanishing_points.iter_mut().zip(points) {
+        v.point = Some([p.x / p.z, p.y / p.z]);
+        v.lines.clear();
+        v.covariance_deg2 = Some([[1.0, 0.0], [0.0, 1.0]]);
+    }
+    out.principal_point_sd_px = Some(0.015 * scene.image.diagonal());
+    out
 }
 
 fn bench_build(c: &mut Criterion) {
@@ -73,6 +88,21 @@ fn bench_build(c: &mut Criterion) {
         b.iter(|| {
             fit_scene(black_box(&scene), &options)
                 .and_then(|f| f.uncertainty(black_box(&scene), &options))
+        });
+    });
+    // As `vpmap detect` writes them: each vanishing point a point with a 1-degree covariance,
+    // the principal point a prior, the click noise estimated (the fit's rounds to the noise at
+    // which clicks and vanishing points agree included).
+    let measured = measured_vanishing_points(&scene);
+    let estimated = FitOptions::default();
+    fit_scene(&measured, &estimated).unwrap();
+    g.bench_function("fit_scene_measured_vanishing_points", |b| {
+        b.iter(|| fit_scene(black_box(&measured), &estimated));
+    });
+    g.bench_function("fit_scene_measured_vanishing_points_and_uncertainty", |b| {
+        b.iter(|| {
+            fit_scene(black_box(&measured), &estimated)
+                .and_then(|f| f.uncertainty(black_box(&measured), &estimated))
         });
     });
     g.finish();
