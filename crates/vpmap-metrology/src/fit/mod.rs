@@ -40,7 +40,7 @@ pub(crate) use solve::Problem;
 use solve::{Model, Singular, minimise};
 
 pub use fitted::{FitOptions, Fitted, MIN_CLICK_SIGMA_PX, MIN_DOF_FOR_SIGMA, PointResidual};
-pub use uncertainty::{CHI2_2DOF_95, FitUncertainty};
+pub use uncertainty::{CHI2_2DOF_95, FitUncertainty, ellipse_95};
 
 /// Largest focal length the fit accepts, in image diagonals (a 1.5 degree field of view).
 pub const MAX_FOCAL_DIAGONALS: f64 = 40.0;

@@ -59,9 +59,29 @@ pub fn build_map_until(
     interrupt: &Interrupt,
 ) -> Result<FloorMap> {
     scene.validate()?;
+    let pinhole = scene.undistorted();
     if !scene.other_photos.is_empty() {
-        return super::room::build_room_map(scene, options, interrupt);
+        let mut map = super::room::build_room_map(&pinhole, options, interrupt)?;
+        for (report, photo) in map.cameras.iter_mut().zip(scene.photos()) {
+            report.lens_distortion = photo.lens_distortion;
+        }
+        if scene.photos().any(|p| {
+            p.lens_distortion
+                .is_some_and(|l| l.k_sd.is_some_and(|sd| sd > 0.0))
+        }) {
+            map.warnings.push("a room's error bars leave out the lens distortion's k_sd (a single photo's include it)".to_owned());
+        }
+        return Ok(map);
     }
+    let mut map = build_photo(&pinhole, options, true)?;
+    map.camera.lens_distortion = scene.lens_distortion;
+    super::lens::add_lens_spread(scene, &mut map, |s| build_photo(s, options, false));
+    Ok(map)
+}
+
+/// [`build_map`] of one photo as a pinhole camera saw it (clicks undistorted), with the fit's
+/// error bars when `uncertainty` (method `fit`).
+fn build_photo(scene: &Scene, options: &BuildOptions, uncertainty: bool) -> Result<FloorMap> {
     let fitted = if options.method == Method::Fit {
         // The given click noise also weighs the evidence that has its own uncertainty.
         Some(fit_scene(
@@ -135,7 +155,7 @@ pub fn build_map_until(
     warnings.extend(crossing_warnings(scene, &rec));
     let mut camera_uncertainty = None;
     let mut fit_report = None;
-    if let Some(f) = &fitted {
+    if let Some(f) = fitted.as_ref().filter(|_| uncertainty) {
         let fit_options = FitOptions {
             click_sigma_px: options.click_sigma_px,
         };

@@ -56,6 +56,7 @@ pub(super) fn camera_report(
         horizontal_fov_deg: fov,
         view_on_floor: view_on_floor(cal, image, height, view_reach),
         heading_deg: None,
+        lens_distortion: None,
     }
 }
 

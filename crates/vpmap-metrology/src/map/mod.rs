@@ -6,12 +6,14 @@
 //!
 //! The types are in `map/types.rs`; `map/build.rs` builds a map from the reconstruction and its
 //! scale (`map/reconstruction.rs`), the regions on the floor (`map/regions.rs`), the warnings
-//! (`map/warnings.rs`) and the camera's report (`map/cameras.rs`); a room of several photos
+//! (`map/warnings.rs`), the camera's report (`map/cameras.rs`) and what the lens distortion's
+//! uncertainty adds (`map/lens.rs`); a room of several photos
 //! is built by `map/room.rs` in the first photo's frame. Files in that order: `types`, then
 //! `reconstruction`, `regions`, `warnings`, `cameras`, then `room`, then `build`.
 
 mod build;
 mod cameras;
+mod lens;
 mod reconstruction;
 mod regions;
 mod room;

@@ -72,6 +72,11 @@ pub struct CameraReport {
     /// along `+y`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub heading_deg: Option<f64>,
+    /// The lens distortion the photo's clicks were undistorted by (the scene's
+    /// `lens_distortion`: the division model's `k` and its sd, whose spread the error bars
+    /// include). Absent for a photo taken as a pinhole camera's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lens_distortion: Option<crate::scene::LensDistortion>,
 }
 
 /// Footprint side lengths of a box.

@@ -8,13 +8,15 @@
 //!
 //! The types are in `scene/types.rs`, reading and validation in `scene/validate.rs`, the
 //! vanishing points' resolution in `scene/vanishing.rs`, the room file of several photos in
-//! `scene/room.rs`.
+//! `scene/room.rs`, lens distortion in `scene/lens.rs`.
 
+mod lens;
 mod room;
 mod types;
 mod validate;
 mod vanishing;
 
+pub use lens::{DivisionModel, LensDistortion, MAX_DIVISION_K, MAX_DIVISION_STRETCH};
 pub use room::MAX_PHOTOS;
 pub use types::{
     BoxBase, BoxCorner, BoxCorners, BoxPoint, BoxView, Dimension, FloorDistance, ImageSize,

@@ -471,6 +471,11 @@ pub struct Scene {
     /// principal point is held as known.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub principal_point_sd_px: Option<f64>,
+    /// The lens's distortion (the division model, [`super::LensDistortion`]): with it every
+    /// click and vanishing-point segment is in the photo's pixels and is undistorted before
+    /// the fit; without it the photo is taken as a pinhole camera's.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub lens_distortion: Option<super::LensDistortion>,
     /// Objects standing on the floor.
     #[serde(default)]
     pub objects: Vec<ObjectSpec>,

@@ -364,8 +364,9 @@ fn check_covariance_deg2(field: &str, m: [[f64; 2]; 2]) -> Result<()> {
 
 /// [`unknown_fields`] of one photo's scene.
 fn photo_unknown_fields(value: &serde_json::Value) -> Vec<String> {
-    const TOP: [&str; 12] = [
+    const TOP: [&str; 13] = [
         "click_covariances_px2",
+        "lens_distortion",
         "focal_sd_px",
         "principal_point_sd_px",
         "version",
@@ -697,6 +698,7 @@ impl Scene {
         }
         self.scale()?;
         self.check_click_covariances()?;
+        self.check_lens_distortion()?;
         Ok(())
     }
 

@@ -246,6 +246,7 @@ pub fn render_annotated(
         focal_px: None,
         focal_sd_px: None,
         principal_point_sd_px: None,
+        lens_distortion: None,
         objects,
         floor: floor_px,
         scale: None,

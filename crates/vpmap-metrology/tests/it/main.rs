@@ -7,6 +7,7 @@ mod covariances;
 mod errata_cases;
 mod eval;
 mod fit;
+mod lens;
 mod measured_vps;
 mod random_scenes;
 mod room_synth;

@@ -1,0 +1,154 @@
+//! What the lens distortion's uncertainty adds to a map's error bars.
+//!
+//! A scene's `lens_distortion` gives the division model's `k` with a standard deviation
+//! `k_sd`. The fit undistorts the clicks with `k` and treats them as exact there, so the
+//! error bars it computes leave out what `k` itself may be off by. `k` is a *consider*
+//! parameter here: the map is rebuilt with `k + k_sd` and `k - k_sd`, and half the change of
+//! every reported value (an object's centroid, sides, height and yaw; the camera's focal
+//! length, pitch, roll, height and the room's yaw) is added in quadrature to its error bar,
+//! the centroid's as a rank-one covariance. Central differences of a full refit: exact for a
+//! value linear in `k` over one sd, and they carry every correlation the refit sees.
+
+use super::types::FloorMap;
+use crate::error::Result;
+use crate::fit::ellipse_95;
+use crate::scene::{LensDistortion, MAX_DIVISION_STRETCH, Scene};
+
+/// The yaw of a box footprint's longer side, degrees in `[0, 180)`.
+fn longer_side_yaw_deg(footprint: &[[f64; 2]]) -> Option<f64> {
+    let [a, b, c, ..] = footprint else {
+        return None;
+    };
+    let side = |p: &[f64; 2], q: &[f64; 2]| [q[0] - p[0], q[1] - p[1]];
+    let (u, v) = (side(a, b), side(b, c));
+    let longer = if u[0].hypot(u[1]) >= v[0].hypot(v[1]) {
+        u
+    } else {
+        v
+    };
+    Some(longer[1].atan2(longer[0]).to_degrees().rem_euclid(180.0))
+}
+
+/// The difference of two angles in degrees modulo `period`, in `(-period/2, period/2]`.
+fn angle_difference_deg(a: f64, b: f64, period: f64) -> f64 {
+    let d = (a - b).rem_euclid(period);
+    if d > 0.5 * period { d - period } else { d }
+}
+
+/// `sd` and `extra` added in quadrature.
+fn quadrature(sd: f64, extra: f64) -> f64 {
+    sd.hypot(extra)
+}
+
+/// Adds the spread of `scene`'s `k_sd` to `map`'s error bars, rebuilding the map with
+/// `build` at `k +- k_sd` (a side whose model would fold the image is left out; with
+/// neither, the error bars stay and a warning says so). Nothing to do without a `k_sd` or
+/// without error bars.
+///
+/// # Errors
+/// None of its own; a rebuild's error is not one (the side is left out).
+pub(super) fn add_lens_spread(
+    scene: &Scene,
+    map: &mut FloorMap,
+    build: impl Fn(&Scene) -> Result<FloorMap>,
+) {
+    let Some(LensDistortion { k, k_sd: Some(sd) }) = scene.lens_distortion else {
+        return;
+    };
+    if sd <= 0.0 || map.objects.iter().all(|o| o.uncertainty.is_none()) {
+        return;
+    }
+    let shifted = |dk: f64| -> Option<FloorMap> {
+        let mut s = scene.clone();
+        s.lens_distortion = Some(LensDistortion {
+            k: k + dk,
+            k_sd: None,
+        });
+        let model = s.division_model()?;
+        if model.stretch(s.image) > MAX_DIVISION_STRETCH {
+            return None;
+        }
+        let pinhole = s.undistorted();
+        build(&pinhole)
+            .ok()
+            .filter(|m| m.objects.len() == map.objects.len() && m.units == map.units)
+    };
+    // Half the central difference, or the whole one-sided one when a side is out of reach.
+    let (plus, minus) = (shifted(sd), shifted(-sd));
+    let (hi, lo, scale) = match (&plus, &minus) {
+        (Some(p), Some(m)) => (p, m, 0.5),
+        (Some(p), None) => (p, &*map, 1.0),
+        (None, Some(m)) => (&*map, m, 1.0),
+        (None, None) => {
+            map.warnings.push(format!(
+                "the lens distortion's sd ({sd}) is not in the error bars: the map could not be rebuilt with k = {} or {}",
+                k + sd,
+                k - sd
+            ));
+            return;
+        }
+    };
+    let hi = hi.clone();
+    let lo = lo.clone();
+    for (i, o) in map.objects.iter_mut().enumerate() {
+        let (Some(a), Some(b)) = (hi.objects.get(i), lo.objects.get(i)) else {
+            continue;
+        };
+        let Some(u) = o.uncertainty.as_mut() else {
+            continue;
+        };
+        let dc = [
+            scale * (a.centroid[0] - b.centroid[0]),
+            scale * (a.centroid[1] - b.centroid[1]),
+        ];
+        let c = &mut u.centroid_covariance;
+        c[0][0] += dc[0] * dc[0];
+        c[0][1] += dc[0] * dc[1];
+        c[1][0] += dc[1] * dc[0];
+        c[1][1] += dc[1] * dc[1];
+        u.centroid_ellipse_95 = ellipse_95(o.centroid, *c);
+        if let (Some(sd), Some(sa), Some(sb)) = (u.length_sd.as_mut(), a.size, b.size) {
+            *sd = quadrature(*sd, scale * (sa.length - sb.length));
+        }
+        if let (Some(sd), Some(sa), Some(sb)) = (u.breadth_sd.as_mut(), a.size, b.size) {
+            *sd = quadrature(*sd, scale * (sa.breadth - sb.breadth));
+        }
+        if let (Some(sd), Some(ha), Some(hb)) = (u.height_sd.as_mut(), a.height, b.height) {
+            *sd = quadrature(*sd, scale * (ha - hb));
+        }
+        if let (Some(sd), Some(ya), Some(yb)) = (
+            u.yaw_sd_deg.as_mut(),
+            longer_side_yaw_deg(&a.footprint),
+            longer_side_yaw_deg(&b.footprint),
+        ) {
+            *sd = quadrature(*sd, scale * angle_difference_deg(ya, yb, 180.0));
+        }
+    }
+    if let Some(u) = map.camera.uncertainty.as_mut() {
+        let (a, b) = (&hi.camera, &lo.camera);
+        u.focal_px_sd = quadrature(u.focal_px_sd, scale * (a.focal_px - b.focal_px));
+        u.pitch_deg_sd = quadrature(u.pitch_deg_sd, scale * (a.pitch_deg - b.pitch_deg));
+        u.roll_deg_sd = quadrature(u.roll_deg_sd, scale * (a.roll_deg - b.roll_deg));
+        u.room_yaw_deg_sd = quadrature(
+            u.room_yaw_deg_sd,
+            scale * angle_difference_deg(a.room_yaw_deg, b.room_yaw_deg, 90.0),
+        );
+        if u.height_sd > 0.0 {
+            u.height_sd = quadrature(u.height_sd, scale * (a.height - b.height));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn yaw_of_the_longer_side_folds_into_half_a_turn() {
+        let fp = [[0.0, 0.0], [-2.0, 0.0], [-2.0, 1.0], [0.0, 1.0]];
+        assert!((longer_side_yaw_deg(&fp).unwrap() - 0.0).abs() < 1e-12);
+        let fp = [[0.0, 0.0], [0.0, 1.0], [-3.0, 1.0], [-3.0, 0.0]];
+        assert!((longer_side_yaw_deg(&fp).unwrap() - 0.0).abs() < 1e-12);
+        assert!((angle_difference_deg(179.5, 0.5, 180.0) + 1.0).abs() < 1e-12);
+    }
+}
