@@ -3,6 +3,8 @@
 
 use vpmap_metrology::calibration::Perspective;
 
+use crate::distortion::LensEstimate;
+
 /// A line segment in the image, pixels: origin at the top-left corner of the top-left pixel
 /// (pixel centres at `i + 0.5`), `x` right, `y` down, as in `docs/scene-format.md`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -73,6 +75,25 @@ pub struct Detection {
     /// Angle between the vertical direction and the image plane, degrees: the absolute
     /// camera pitch (whatever the roll).
     pub vertical_tilt_deg: f64,
+    /// The lens distortion the vanishing points and the camera were found through
+    /// ([`DetectOptions::lens`]): `None` for a photo taken as a pinhole camera's. The
+    /// [`segments`](Self::segments) stay in the photo's pixels; the vanishing points and the
+    /// intrinsics are the pinhole camera's (segments undistorted by the model).
+    pub lens: Option<LensEstimate>,
+}
+
+/// How [`detect`](crate::detect) treats lens distortion.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub enum LensOption {
+    /// Estimate the division model's `k` from the segments ([`crate::distortion`]), with its
+    /// standard deviation.
+    #[default]
+    Estimate,
+    /// Take the photo as a pinhole camera's (already undistorted, or a lens known to be
+    /// straight).
+    Pinhole,
+    /// A known `k` (from a calibration), held.
+    Known(f64),
 }
 
 /// Options of [`detect`](crate::detect).
@@ -100,6 +121,8 @@ pub struct DetectOptions {
     /// the photo's EXIF ([`crate::photo::Photo::exif_focal_prior`]). Default: the weak
     /// log-normal prior at the image's longer side. Ignored when [`Self::focal_px`] is given.
     pub focal_prior: Option<(f64, f64)>,
+    /// Lens distortion: estimated (default), none, or known.
+    pub lens: LensOption,
 }
 
 impl Default for DetectOptions {
@@ -111,6 +134,19 @@ impl Default for DetectOptions {
             two_point_tolerance_deg: 0.0,
             seed: 0,
             focal_prior: None,
+            lens: LensOption::Estimate,
+        }
+    }
+}
+
+impl Detection {
+    /// The segments the vanishing points were found from: [`Self::segments`] undistorted by
+    /// [`Self::lens`] (the same, in order, without a lens).
+    #[must_use]
+    pub fn pinhole_segments(&self) -> Vec<Segment> {
+        match &self.lens {
+            Some(lens) => self.segments.iter().map(|s| lens.undistort(s)).collect(),
+            None => self.segments.clone(),
         }
     }
 }

@@ -18,6 +18,7 @@
 //! | first vanishing point | [`manhattan`] | length-weighted random segment pairs, angular consistency score, algebraic least squares | Tardif, "Non-iterative approach for fast and accurate vanishing point detection", ICCV 2009 (consistency measure) |
 //! | Manhattan triplet | [`manhattan`] | 2-line search: the other two directions on the great circle orthogonal to the first, by a histogram vote, over a focal-length grid when the camera is unknown | Lu, Yao, Li, Chen, Li, "2-Line Exhaustive Searching for Real-Time Vanishing Point Estimation in Manhattan World", WACV 2017 |
 //! | refinement | [`manhattan`] | joint Levenberg-Marquardt of the rotation (orthogonality built in), focal length and principal point on the segment-to-vanishing-point distances, Cauchy-reweighted | Triggs et al., "Bundle adjustment — a modern synthesis", 2000 (robust LM); Hartley and Zisserman, *Multiple View Geometry*, 2nd ed., 8.8 (calibration from vanishing points) |
+//! | lens distortion | [`distortion`] | the division model's `k` minimising the segments' robust distance to their refitted vanishing points, its sd from the cost's curvature, with a prior of real lenses; the vanishing points and camera found again from the undistorted segments | Fitzgibbon, CVPR 2001 (division model); Antunes et al., CVPR 2017 |
 //! | 2PP / 3PP | [`detect`] | tilt of the vertical direction against the image plane vs [`DetectOptions::two_point_tolerance_deg`] (default 0: three-point whenever the vertical point is finite) | |
 //! | vanishing-point uncertainty | [`uncertainty`] | each point's covariance from its segments (robust noise estimate, 3-sigma re-selection, pieces of one edge counted once) plus a model-error floor measured on York Urban | Hartley and Zisserman, *Multiple View Geometry*, 2nd ed., 5.2 |
 //! | scene file | [`scene`] | the detected directions made orthogonal (never levelled: the horizon written is the measured one), written as a `docs/scene-format.md` scene that calibrates | |
@@ -32,7 +33,7 @@
 //! Bottom-up, each using only those before it: `error`, `detection` (the types:
 //! [`Segment`], [`Detection`], [`DetectOptions`], ...), `prepare` (sizes, options, the working
 //! image), [`photo`], [`segments`], [`manhattan`] (inside: `model`, `lm`, `problem`, `score`,
-//! `search`, `refine`, then its `mod.rs`), `detector` ([`detect`], [`detect_from_segments`]),
+//! `search`, `refine`, then its `mod.rs`), [`distortion`], `detector` ([`detect`], [`detect_from_segments`]),
 //! [`scene`], [`metrics`], [`clicks`], [`snap`] (inside: `patch`, `edges`, `corner`, its
 //! `mod.rs`, then `scene`), [`proposals`], [`synthetic`] (then `synthetic::photo`). This file
 //! only declares and re-exports them.
@@ -60,6 +61,7 @@
 pub mod clicks;
 mod detection;
 mod detector;
+pub mod distortion;
 pub mod error;
 pub mod manhattan;
 pub mod metrics;
@@ -72,7 +74,7 @@ pub mod snap;
 pub mod synthetic;
 pub mod uncertainty;
 
-pub use detection::{DetectOptions, Detection, Intrinsics, Segment, VanishingPoint};
+pub use detection::{DetectOptions, Detection, Intrinsics, LensOption, Segment, VanishingPoint};
 pub use detector::{detect, detect_from_segments};
 pub use error::{Result, VisionError};
 pub use prepare::{MAX_SIDE_PX, MIN_SIDE_PX};

@@ -72,6 +72,15 @@ pub(crate) fn check_options(opts: &DetectOptions) -> Result<()> {
             }
         }
     }
+    if let crate::detection::LensOption::Known(k) = opts.lens
+        && !(k.is_finite() && k.abs() <= vpmap_metrology::scene::MAX_DIVISION_K)
+    {
+        return Err(VisionError::InvalidParameter {
+            field: "lens",
+            value: k,
+            requirement: "a known division-model k must lie within -1 to 1",
+        });
+    }
     if !(MIN_WORKING_SIDE_PX..=MAX_SIDE_PX).contains(&opts.max_side_px) {
         return Err(VisionError::InvalidParameter {
             field: "max_side_px",

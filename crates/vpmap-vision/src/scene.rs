@@ -339,6 +339,7 @@ fn scene_json(
     vanishing_points: &[WrittenVp],
     principal_point: ([f64; 2], Option<f64>),
     focal_px: (f64, Option<f64>),
+    lens: Option<(f64, f64)>,
 ) -> String {
     let vps: Vec<String> = vanishing_points
         .iter()
@@ -369,8 +370,18 @@ fn scene_json(
         .1
         .map(|sd| format!("\n  \"focal_sd_px\": {},", number(sd)))
         .unwrap_or_default();
+    let lens = lens
+        .map(|(k, sd)| {
+            let sd = if sd > 0.0 {
+                format!(", \"k_sd\": {}", number(sd))
+            } else {
+                String::new()
+            };
+            format!("\n  \"lens_distortion\": {{\"k\": {}{sd}}},", number(k))
+        })
+        .unwrap_or_default();
     format!(
-        "{{\n  \"version\": 1,\n  \"image\": {{\"width\": {}, \"height\": {}}},\n  \"perspective\": \"{}\",\n  \"vanishing_points\": [\n{}\n  ],\n  \"principal_point\": {},{pp_sd}\n  \"focal_px\": {},{focal_sd}\n  \"objects\": [],\n  \"floor\": []\n}}\n",
+        "{{\n  \"version\": 1,\n  \"image\": {{\"width\": {}, \"height\": {}}},\n  \"perspective\": \"{}\",\n  \"vanishing_points\": [\n{}\n  ],\n  \"principal_point\": {},{pp_sd}\n  \"focal_px\": {},{focal_sd}{lens}\n  \"objects\": [],\n  \"floor\": []\n}}\n",
         image_size_px[0],
         image_size_px[1],
         perspective.name(),
@@ -441,6 +452,7 @@ pub fn detected_scene(det: &Detection) -> Result<DetectedScene, SceneError> {
         focal_px: written_focal.0,
         centre_px: Vector2::new(written_pp.0[0], written_pp.0[1]),
     };
+    let pinhole_segments = det.pinhole_segments();
     let mut points_px = [None; 3];
     let mut lines_written = [0; 3];
     let mut covariances = [None; 3];
@@ -455,7 +467,7 @@ pub fn detected_scene(det: &Detection) -> Result<DetectedScene, SceneError> {
             .map(|v| {
                 v.segments
                     .iter()
-                    .filter_map(|&i| det.segments.get(i))
+                    .filter_map(|&i| pinhole_segments.get(i))
                     .collect()
             })
             .unwrap_or_default();
@@ -472,6 +484,7 @@ pub fn detected_scene(det: &Detection) -> Result<DetectedScene, SceneError> {
         &specs,
         written_pp,
         written_focal,
+        det.lens.map(|l| (round_to(l.k(), 6), round_sig(l.k_sd, 4))),
     );
     let scene = Scene::from_json_str(&json)
         .map_err(|e| SceneError(format!("the detected scene is not valid: {e}")))?;
@@ -524,6 +537,7 @@ mod tests {
             focal_prior: None,
             perspective,
             vertical_tilt_deg: 0.0,
+            lens: None,
         }
     }
 

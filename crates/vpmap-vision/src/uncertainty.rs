@@ -89,7 +89,7 @@ impl VpCovariance {
 
 /// The point of `chart` direction `g` moved by angles `delta` along its axes, homogeneous
 /// pixels.
-fn moved(chart: &VpChart, g: Vector3<f64>, delta: Vector2<f64>) -> Vector3<f64> {
+pub(crate) fn moved(chart: &VpChart, g: Vector3<f64>, delta: Vector2<f64>) -> Vector3<f64> {
     let (across, radial) = VpChart::axes(g);
     let d = (g + across * delta.x.tan() + radial * delta.y.tan()).normalize();
     Vector3::new(
@@ -100,7 +100,7 @@ fn moved(chart: &VpChart, g: Vector3<f64>, delta: Vector2<f64>) -> Vector3<f64> 
 }
 
 /// Segment `s`'s residual for homogeneous point `v`, pixels (see the module docs).
-fn residual(s: &Segment, v: Vector3<f64>) -> f64 {
+pub(crate) fn residual(s: &Segment, v: Vector3<f64>) -> f64 {
     let m = Vector3::new(
         0.5 * (s.start_px[0] + s.end_px[0]),
         0.5 * (s.start_px[1] + s.end_px[1]),
@@ -146,7 +146,20 @@ fn root(parent: &mut [usize], mut i: usize) -> usize {
 }
 
 /// Each segment's weight: one over the number of segments on its edge.
-fn edge_weights(segments: &[&Segment]) -> (Vec<f64>, usize) {
+pub(crate) fn edge_weights(segments: &[&Segment]) -> (Vec<f64>, usize) {
+    let roots = edge_clusters(segments);
+    let n = roots.len();
+    let mut size = vec![0usize; n];
+    for &r in &roots {
+        size[r] += 1;
+    }
+    let edges = size.iter().filter(|&&s| s > 0).count();
+    (roots.iter().map(|&r| 1.0 / size[r] as f64).collect(), edges)
+}
+
+/// Each segment's edge: the index of one segment of the same physical edge (pieces within
+/// [`SAME_EDGE_DEG`] and [`SAME_EDGE_PX`] of each other's line, joined transitively).
+fn edge_clusters(segments: &[&Segment]) -> Vec<usize> {
     let n = segments.len();
     let mut parent: Vec<usize> = (0..n).collect();
     let lines: Vec<(Vector3<f64>, Vector2<f64>)> = segments
@@ -178,13 +191,7 @@ fn edge_weights(segments: &[&Segment]) -> (Vec<f64>, usize) {
             }
         }
     }
-    let roots: Vec<usize> = (0..n).map(|i| root(&mut parent, i)).collect();
-    let mut size = vec![0usize; n];
-    for &r in &roots {
-        size[r] += 1;
-    }
-    let edges = size.iter().filter(|&&s| s > 0).count();
-    (roots.iter().map(|&r| 1.0 / size[r] as f64).collect(), edges)
+    (0..n).map(|i| root(&mut parent, i)).collect()
 }
 
 /// The median of `values` (0 for none).

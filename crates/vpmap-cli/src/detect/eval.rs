@@ -38,6 +38,9 @@ pub struct EvalDetectArgs {
     /// equivalent) as a prior, as `vpmap detect` does.
     #[arg(long)]
     pub exif: bool,
+    /// Lens distortion, as `vpmap detect --lens`: `estimate` (default), `none` or a known k.
+    #[arg(long, default_value = "estimate", allow_hyphen_values = true)]
+    pub lens: String,
 }
 
 /// `vpmap eval-detect` (photos read with the limits of `vpmap detect`, the vision crate's
@@ -68,6 +71,7 @@ pub fn run_eval_detect(args: &EvalDetectArgs) -> Result<()> {
         detect: DetectOptions {
             max_side_px: args.max_side,
             two_point_tolerance_deg: args.two_point_tolerance,
+            lens: super::options::parse_lens(&args.lens)?,
             ..default_options()
         },
         photo_limits: PhotoLimits::default(),

@@ -21,7 +21,7 @@ use vpmap_vision::{DetectOptions, Detection, detect};
 pub use eval::{EvalDetectArgs, run_eval_detect};
 
 use crate::output::write_file;
-use options::{check_max_side, check_two_point_tolerance, default_options};
+use options::{check_max_side, check_two_point_tolerance, default_options, parse_lens};
 use vpmap_pipeline::num;
 use vpmap_render::overlay::{VP_COLOUR_NAMES, detection_overlay_png};
 use vpmap_vision::photo::{PhotoLimits, decode_photo};
@@ -60,6 +60,11 @@ pub struct DetectArgs {
     /// (results are in the photo's pixels).
     #[arg(long, default_value_t = default_options().max_side_px)]
     pub max_side: u32,
+    /// Lens distortion: `estimate` the one-parameter division model's k from the straight
+    /// edges (default), `none` (a pinhole photo, e.g. already undistorted), or a known k
+    /// (barrel distortion is negative; docs/scene-format.md).
+    #[arg(long, default_value = "estimate", allow_hyphen_values = true)]
+    pub lens: String,
 }
 
 pub use vpmap_vision::photo::Photo;
@@ -207,6 +212,7 @@ pub fn run_detect(args: &DetectArgs) -> Result<()> {
         principal_point_px: principal_point,
         max_side_px: args.max_side,
         two_point_tolerance_deg: args.two_point_tolerance,
+        lens: parse_lens(&args.lens)?,
         ..default_options()
     };
     let started = Instant::now();
@@ -371,6 +377,27 @@ fn summary(
         det.segments.len(),
         det.segments.len().saturating_sub(assigned)
     );
+    if let Some(lens) = &det.lens {
+        let _ = if lens.k_sd > 0.0 {
+            write!(
+                text,
+                " Lens distortion (division model) k = {:.4} +- {:.4} (95 %), estimated from the edges' bowing{}; the clicks and segments are undistorted by it before the fit.",
+                lens.k(),
+                Z_95 * lens.k_sd,
+                if lens.segments_k_sd.is_none() {
+                    " (they do not fix it: the prior of real lenses alone)"
+                } else {
+                    ""
+                }
+            )
+        } else {
+            write!(
+                text,
+                " Lens distortion (division model) k = {} as given.",
+                lens.k()
+            )
+        };
+    }
     if let Some(c) = scene.camera_estimate() {
         let _ = write!(
             text,

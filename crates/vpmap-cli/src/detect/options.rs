@@ -39,3 +39,23 @@ pub fn check_max_side(max_side: u32) -> Result<()> {
     }
     Ok(())
 }
+
+/// `--lens`: `estimate`, `none` or a known division-model `k`.
+///
+/// # Errors
+/// Anything else, or a `k` outside -1..1, named.
+pub fn parse_lens(text: &str) -> Result<vpmap_vision::LensOption> {
+    use vpmap_vision::LensOption;
+    match text.trim() {
+        "estimate" => Ok(LensOption::Estimate),
+        "none" => Ok(LensOption::Pinhole),
+        other => match other.parse::<f64>() {
+            Ok(k) if k.is_finite() && k.abs() <= vpmap_metrology::scene::MAX_DIVISION_K => {
+                Ok(LensOption::Known(k + 0.0))
+            }
+            _ => bail!(
+                "--lens {text:?} is not `estimate`, `none` or a division-model k within -1 to 1 (barrel lenses about -0.15 to 0)"
+            ),
+        },
+    }
+}
