@@ -7,7 +7,7 @@ use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use vpmap_vision::photo::{PhotoLimits, decode_photo};
 use vpmap_vision::scene::{DetectedScene, VP_NAMES, detected_scene};
-use vpmap_vision::{DetectOptions, Detection};
+use vpmap_vision::{DetectOptions, Detection, LensOption};
 
 use crate::convert::{as_path, error, json_text_to_py, shown};
 
@@ -73,11 +73,13 @@ fn image_from_array(obj: &Bound<'_, PyAny>) -> PyResult<image::DynamicImage> {
 /// ``image`` is a JPEG or PNG file's path, or a ``uint8`` array of shape (height, width, 3)
 /// (RGB) or (height, width) (grey). ``focal_px`` and ``principal_point`` give a known camera
 /// (default: estimated); ``max_side`` the working size, pixels; ``two_point_tolerance`` the
-/// angle, degrees, within which vertical edges make the photo two-point. Returns a
+/// angle, degrees, within which vertical edges make the photo two-point; ``lens`` is
+/// ``"estimate"`` (default: the division model's k from the edges), ``"none"`` (a pinhole
+/// photo) or a known k. Returns a
 /// ``Detection``; its ``scene()`` is the scene file ``vpmap detect`` writes. The GIL is
 /// released while it runs. Raises ``VpmapError`` with the message ``vpmap detect`` prints.
 #[pyfunction]
-#[pyo3(signature = (image, *, focal_px=None, principal_point=None, max_side=None, two_point_tolerance=None))]
+#[pyo3(signature = (image, *, focal_px=None, principal_point=None, max_side=None, two_point_tolerance=None, lens=None))]
 pub fn detect(
     py: Python<'_>,
     image: &Bound<'_, PyAny>,
@@ -85,13 +87,37 @@ pub fn detect(
     principal_point: Option<(f64, f64)>,
     max_side: Option<u32>,
     two_point_tolerance: Option<f64>,
+    lens: Option<&Bound<'_, PyAny>>,
 ) -> PyResult<PyDetection> {
     let defaults = DetectOptions::default();
+    let lens = match lens {
+        None => LensOption::Estimate,
+        Some(v) if v.is_none() => LensOption::Estimate,
+        Some(v) => {
+            if let Ok(text) = v.extract::<String>() {
+                match text.as_str() {
+                    "estimate" => LensOption::Estimate,
+                    "none" => LensOption::Pinhole,
+                    other => {
+                        return Err(error(format!(
+                            "lens {other:?} is not \"estimate\", \"none\" or a division-model k (a number within -1 to 1)"
+                        )));
+                    }
+                }
+            } else {
+                let k: f64 = v.extract().map_err(|_| {
+                    error("lens must be \"estimate\", \"none\" or a division-model k (a number within -1 to 1)")
+                })?;
+                LensOption::Known(k)
+            }
+        }
+    };
     let mut opts = DetectOptions {
         focal_px,
         principal_point_px: principal_point.map(|(x, y)| [x, y]),
         max_side_px: max_side.unwrap_or(defaults.max_side_px),
         two_point_tolerance_deg: two_point_tolerance.unwrap_or(defaults.two_point_tolerance_deg),
+        lens,
         ..defaults
     };
     let is_text = image.is_instance_of::<pyo3::types::PyString>();
@@ -216,6 +242,22 @@ impl PyDetection {
         d.set_item("roll_deg", c.roll_deg)?;
         d.set_item("roll_sd_deg", c.roll_sd_deg)?;
         d.set_item("horizon_sd_px", c.horizon_sd_px)?;
+        Ok(Some(d))
+    }
+
+    /// The lens distortion the vanishing points were found through: a dict of ``k`` (the
+    /// one-parameter division model's, barrel negative; docs/scene-format.md), ``k_sd`` (0
+    /// when given) and ``segments_k_sd`` (the segments' part alone, or ``None``); ``None``
+    /// with ``lens="none"``.
+    #[getter]
+    fn lens<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
+        let Some(l) = &self.det.lens else {
+            return Ok(None);
+        };
+        let d = PyDict::new(py);
+        d.set_item("k", l.k())?;
+        d.set_item("k_sd", l.k_sd)?;
+        d.set_item("segments_k_sd", l.segments_k_sd)?;
         Ok(Some(d))
     }
 

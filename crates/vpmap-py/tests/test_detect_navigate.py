@@ -155,7 +155,28 @@ def test_detect_reports_how_sure_it_is():
     scene = det.scene()
     assert all("covariance_deg2" in v for v in scene["vanishing_points"])
     assert scene["principal_point_sd_px"] > 0
+    # The render is a pinhole camera's: the lens estimate is consistent with no distortion.
+    lens = det.lens
+    assert lens is not None and lens["k_sd"] > 0
+    assert abs(lens["k"]) <= 1.96 * lens["k_sd"]
+    assert scene["lens_distortion"]["k"] == pytest.approx(lens["k"], abs=1e-6)
     cam = det.camera_estimate
     assert cam is not None and cam["focal_sd_px"] > 0
     assert abs(cam["focal_px"] - focal) <= 1.96 * cam["focal_sd_px"]
     assert abs(abs(cam["pitch_deg"]) - pitch) <= 1.96 * cam["pitch_sd_deg"]
+
+
+def test_detect_takes_the_lens_as_told():
+    rgb, _, _ = drawn_photo()
+    # A pinhole photo: no lens in the detection or the scene.
+    plain = vpmap.detect(rgb, lens="none")
+    assert plain.lens is None and "lens_distortion" not in plain.scene()
+    # A known k is held (no sd) and written.
+    known = vpmap.detect(rgb, lens=-0.05)
+    assert known.lens["k"] == -0.05 and known.lens["k_sd"] == 0
+    assert known.scene()["lens_distortion"] == {"k": -0.05}
+    # Anything else is refused by name.
+    with pytest.raises(vpmap.VpmapError, match="bogus"):
+        vpmap.detect(rgb, lens="bogus")
+    with pytest.raises(vpmap.VpmapError, match="lens"):
+        vpmap.detect(rgb, lens=5.0)

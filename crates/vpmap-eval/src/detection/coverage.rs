@@ -8,6 +8,10 @@
 //! 95 % ellipse when at most 5.991. The vertical is matched to the labelled vertical, the
 //! horizontals by the assignment with the smaller total distance. The focal length's interval
 //! is the camera fit of the scene alone ([`DetectedScene::camera_estimate`]), `f +- 1.96 sd`.
+//!
+//! The lens has no label, but York Urban's photos were all taken by one camera at one zoom
+//! (one `K`), so they share one `k`: each photo's `k` is checked against the
+//! precision-weighted mean of the others' ([`lens_consistency`]).
 
 use nalgebra::{Matrix2, Vector2, Vector3};
 use vpmap_vision::scene::DetectedScene;
@@ -71,4 +75,71 @@ pub fn direction_distances(scene: &DetectedScene, label: &Label) -> [Option<f64>
 pub fn focal_z(scene: &DetectedScene, label: &Label) -> Option<f64> {
     let c = scene.camera_estimate()?;
     (c.focal_sd_px > 0.0).then(|| (c.focal_px - label.focal_px).abs() / c.focal_sd_px)
+}
+
+/// The lens's consistency over photos of one camera: each photo's `k` against the
+/// precision-weighted mean `m` of all the others (leave one out), `z = (k - m) / sqrt(sd^2 +
+/// var(m))`. Returns the share with `|z| <= 1.96`, the root mean square of `z` (1 when the sds
+/// are right), the mean of all and how many photos; `None` for fewer than three.
+#[must_use]
+pub fn lens_consistency(lenses: &[[f64; 2]]) -> Option<LensConsistency> {
+    let usable: Vec<[f64; 2]> = lenses
+        .iter()
+        .copied()
+        .filter(|[k, sd]| k.is_finite() && sd.is_finite() && *sd > 0.0)
+        .collect();
+    if usable.len() < 3 {
+        return None;
+    }
+    let weight = |sd: f64| 1.0 / (sd * sd);
+    let total_w: f64 = usable.iter().map(|l| weight(l[1])).sum();
+    let total_wk: f64 = usable.iter().map(|l| weight(l[1]) * l[0]).sum();
+    let mut inside = 0usize;
+    let mut squares = 0.0;
+    for &[k, sd] in &usable {
+        let w = total_w - weight(sd);
+        let m = (total_wk - weight(sd) * k) / w;
+        let z = (k - m) / (sd * sd + 1.0 / w).sqrt();
+        squares += z * z;
+        if z.abs() <= Z_95 {
+            inside += 1;
+        }
+    }
+    let n = usable.len();
+    Some(LensConsistency {
+        inside: inside as f64 / n as f64,
+        rms_z: (squares / n as f64).sqrt(),
+        mean_k: total_wk / total_w,
+        photos: n,
+    })
+}
+
+/// What [`lens_consistency`] found.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LensConsistency {
+    /// Share of photos whose `k` lies within 1.96 sd of the others' mean.
+    pub inside: f64,
+    /// Root mean square of the normalised differences (1 for honest sds).
+    pub rms_z: f64,
+    /// The precision-weighted mean `k` of all photos.
+    pub mean_k: f64,
+    /// Photos with a lens estimate.
+    pub photos: usize,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lens_consistency_weighs_the_others() {
+        // Three photos of sd 1: k = 0, 0, 3. The third against the mean 0 of the others
+        // (variance 1/2): z = 3 / sqrt(1.5) = 2.45, outside; the first against 1.5: z = 1.22.
+        let c = lens_consistency(&[[0.0, 1.0], [0.0, 1.0], [3.0, 1.0]]).unwrap();
+        assert!((c.inside - 2.0 / 3.0).abs() < 1e-12);
+        let expected = ((2.0 * 1.5 * 1.5 / 1.5 + 9.0 / 1.5) / 3.0f64).sqrt();
+        assert!((c.rms_z - expected).abs() < 1e-12, "{}", c.rms_z);
+        assert!((c.mean_k - 1.0).abs() < 1e-12);
+        assert!(lens_consistency(&[[0.0, 1.0], [1.0, 1.0]]).is_none());
+    }
 }

@@ -319,6 +319,7 @@ fn run_one(
             perspective: det.perspective.name(),
             segments: det.segments.len(),
             horizon_error: scene_horizon_error(&det, label),
+            lens: det.lens.map(|l| [l.k(), l.k_sd]),
         }
     });
     Run {

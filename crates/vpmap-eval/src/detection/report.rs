@@ -78,6 +78,9 @@ pub struct Summary {
     /// Of the photos whose scene gives a camera, the share whose labelled focal length lies
     /// inside its 95 % interval, and how many there were (estimated runs only).
     pub focal_coverage: Option<(f64, usize)>,
+    /// The lens estimates' consistency over the photos (one camera, one `k`;
+    /// [`super::coverage::lens_consistency`]), and their median `k`.
+    pub lens: Option<(super::coverage::LensConsistency, f64)>,
 }
 
 /// Summarise one kind of run.
@@ -94,10 +97,12 @@ pub fn summarise(results: &[ImageResult], which: Intrinsics) -> Summary {
     let mut failed = 0;
     let mut d2s = Vec::new();
     let mut zs = Vec::new();
+    let mut lenses = Vec::new();
     for r in results {
         if let Ok(ok) = &r.runs[slot].outcome {
             d2s.extend(ok.ellipse_d2.iter().flatten().copied());
             zs.extend(ok.focal_z);
+            lenses.extend(ok.lens);
         }
         let run = &r.runs[slot];
         if let Some(t) = run.time_ms {
@@ -157,6 +162,10 @@ pub fn summarise(results: &[ImageResult], which: Intrinsics) -> Summary {
         ),
         focal_coverage: (which == Intrinsics::Estimated && !zs.is_empty())
             .then(|| (fraction_at_most(&zs, super::coverage::Z_95), zs.len())),
+        lens: super::coverage::lens_consistency(&lenses).map(|c| {
+            let ks: Vec<f64> = lenses.iter().map(|l| l[0]).collect();
+            (c, quantile_of(&ks, 0.5).unwrap_or(f64::NAN))
+        }),
     }
 }
 
@@ -260,6 +269,24 @@ fn rows(summaries: &[Summary; 2]) -> Vec<(String, [String; 2], String)> {
             )
         }),
         "target 90-98 %".to_owned(),
+    ));
+    rows.push((
+        "lens k (division model), median".to_owned(),
+        cells(&|s| {
+            s.lens
+                .map_or_else(|| "-".to_owned(), |(_, k)| format!("{k:.4}"))
+        }),
+        String::new(),
+    ));
+    rows.push((
+        "k inside its 95 % interval of the others' mean".to_owned(),
+        cells(&|s| {
+            s.lens.map_or_else(
+                || "-".to_owned(),
+                |(c, _)| format!("{} of {} (rms z {:.2})", pct(c.inside), c.photos, c.rms_z),
+            )
+        }),
+        "one camera: target 90-98 %".to_owned(),
     ));
     rows.push((
         format!("horizon AUC@{HORIZON_AUC_LIMIT}, labelled horizontal VPs"),
@@ -446,6 +473,13 @@ fn summary_json(s: &Summary) -> serde_json::Value {
             "auc_against_labelled_horizontal_vps": s.horizon_auc_of_horizontals,
         }),
         "time_ms": s.time_ms.map(|(m, p)| json!({"median": m, "p90": p})),
+        "lens": s.lens.map(|(c, median)| json!({
+            "median_k": median,
+            "mean_k": c.mean_k,
+            "photos": c.photos,
+            "inside_95_of_the_others_mean": c.inside,
+            "rms_z": c.rms_z,
+        })),
     })
 }
 
@@ -474,6 +508,8 @@ pub fn json(ctx: &Context, results: &[ImageResult], summaries: &[Summary; 2]) ->
                         "segments": ok.segments,
                         "horizon_error": ok.horizon_error.map(|e| e[0]).filter(|e| e.is_finite()),
                         "horizon_error_against_labelled_horizontal_vps": ok.horizon_error.map(|e| e[1]).filter(|e| e.is_finite()),
+                        "lens_k": ok.lens.map(|l| l[0]),
+                        "lens_k_sd": ok.lens.map(|l| l[1]),
                     }),
                     Err(e) => json!({"time_ms": run.time_ms, "refused": e}),
                 };
@@ -533,6 +569,7 @@ mod tests {
                 perspective: "3pp",
                 segments: 9,
                 horizon_error: Some([0.05, 0.3]),
+                lens: None,
             }),
         };
         ImageResult {

@@ -60,6 +60,9 @@ pub struct RunOk {
     /// [`Label::horizon`](super::Label::horizon) and against
     /// [`Label::horizon_of_horizontals`](super::Label::horizon_of_horizontals); `None` when the detection gives no scene.
     pub horizon_error: Option<[f64; 2]>,
+    /// The lens distortion found: the division model's `k` and its sd (`None` with the lens
+    /// taken as a pinhole's).
+    pub lens: Option<[f64; 2]>,
 }
 
 /// One photo's two runs.

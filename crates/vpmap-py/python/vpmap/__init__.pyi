@@ -141,6 +141,12 @@ class Detection:
     @property
     def principal_point(self) -> Tuple[float, float]: ...
     @property
+    def camera_estimate(self) -> Optional[Dict[str, Any]]:
+        """focal_px, focal_sd_px, principal_point, pitch_deg, pitch_sd_deg, roll_deg, roll_sd_deg, horizon_sd_px."""
+    @property
+    def lens(self) -> Optional[Dict[str, Any]]:
+        """k (division model, barrel negative), k_sd, segments_k_sd; None with lens="none"."""
+    @property
     def focal_estimated(self) -> bool: ...
     @property
     def pitch_deg(self) -> float: ...
@@ -189,6 +195,7 @@ def detect(
     principal_point: Optional[Tuple[float, float]] = None,
     max_side: Optional[int] = None,
     two_point_tolerance: Optional[float] = None,
+    lens: Union[Literal["estimate", "none"], float, None] = None,
 ) -> Detection:
     """Vanishing points and camera of a photo (path or uint8 array), as vpmap detect."""
 

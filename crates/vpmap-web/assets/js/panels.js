@@ -481,6 +481,9 @@ export function installPanels(app) {
     set('cam-focal', c ? `${fmt(c.focal_px, 1)} px` : '–', c?.focal_px);
     set('cam-height', c && Number.isFinite(c.height) ? `${fmt(c.height, 3)} ${units}` : '–', c?.height);
     set('cam-pp', c?.principal_point ? `${fmt(c.principal_point[0], 1)}, ${fmt(c.principal_point[1], 1)}` : '–');
+    const lens = c?.lens_distortion;
+    const lensText = lens ? `${fmt(lens.k, 3)}${Number.isFinite(lens.k_sd) ? ` ± ${fmtSd(lens.k_sd, 3)}` : ''}` : 'none';
+    set('cam-lens', c ? lensText : '–', lens?.k);
     // The fit's error bars (1 sigma) after each value, and its report.
     const map = state.build?.map;
     const cu = c?.uncertainty ?? null;

@@ -418,7 +418,7 @@ export function installRequests(app) {
         if (d.image) s.image = d.image;
         s.vanishing_points = d.vanishing_points || [];
         while (s.vanishing_points.length < 2) s.vanishing_points.push({ lines: [] });
-        for (const k of ['principal_point', 'principal_point_sd_px', 'focal_px', 'focal_sd_px', 'perspective']) {
+        for (const k of ['principal_point', 'principal_point_sd_px', 'focal_px', 'focal_sd_px', 'lens_distortion', 'perspective']) {
           if (d[k] !== undefined && d[k] !== null) s[k] = d[k];
           else delete s[k];
         }
@@ -429,7 +429,8 @@ export function installRequests(app) {
       state.counters.detects++;
       const n = state.scene.vanishing_points.length;
       const f = res.focal_px ?? d.focal_px;
-      app.setStatus(`Detected ${n} vanishing points (${res.perspective || d.perspective || `${n}pp`}), ${(res.segments || []).length} segments, focal ${fmt(f, 0)} px, in ${Math.round(performance.now() - detectStarted)} ms.`);
+      const lens = d.lens_distortion ? `, lens k ${fmt(d.lens_distortion.k, 3)}${Number.isFinite(d.lens_distortion.k_sd) ? ` ± ${fmt(d.lens_distortion.k_sd, 3)}` : ''}` : '';
+      app.setStatus(`Detected ${n} vanishing points (${res.perspective || d.perspective || `${n}pp`}), ${(res.segments || []).length} segments, focal ${fmt(f, 0)} px${lens}, in ${Math.round(performance.now() - detectStarted)} ms.`);
       app.syncForms();
       app.renderPanel();
     },
