@@ -246,7 +246,8 @@ impl PyDetection {
     }
 
     /// The lens distortion the vanishing points were found through: a dict of ``k`` (the
-    /// one-parameter division model's, barrel negative; docs/scene-format.md), ``k_sd`` (0
+    /// one-parameter division model's applied, barrel negative, 0 when the edges do not show a
+    /// lens at 99 %; docs/scene-format.md), ``estimated_k`` (the edges' estimate), ``k_sd`` (0
     /// when given) and ``segments_k_sd`` (the segments' part alone, or ``None``); ``None``
     /// with ``lens="none"``.
     #[getter]
@@ -256,6 +257,7 @@ impl PyDetection {
         };
         let d = PyDict::new(py);
         d.set_item("k", l.k())?;
+        d.set_item("estimated_k", l.estimated_k)?;
         d.set_item("k_sd", l.k_sd)?;
         d.set_item("segments_k_sd", l.segments_k_sd)?;
         Ok(Some(d))

@@ -12,7 +12,8 @@ use crate::{manhattan, prepare, segments};
 use vpmap_metrology::calibration::Perspective;
 
 /// Rounds of lens estimation and detection again ([`LensOption::Estimate`]): a second one
-/// changed York Urban's figures by less than their run-to-run noise at twice the cost.
+/// moved York Urban's AUC by at most 0.3 points and its focal figures not at all, at twice
+/// the cost.
 const LENS_ROUNDS: usize = 1;
 
 /// Find line segments, the three Manhattan vanishing points and the camera in `image`.
@@ -92,6 +93,7 @@ pub fn detect_from_segments(
         LensOption::Known(k) => {
             let lens = LensEstimate {
                 model: DivisionModel::new(k, image, Some(centre)),
+                estimated_k: k,
                 k_sd: 0.0,
                 segments_k_sd: None,
                 segments: 0,
@@ -119,6 +121,11 @@ pub fn detect_from_segments(
                 ) else {
                     break;
                 };
+                if found.k() == 0.0 {
+                    // Not clearly a lens: the pinhole frame stands.
+                    lens = Some(found);
+                    break;
+                }
                 let pinhole: Vec<Segment> = segments.iter().map(|s| found.undistort(s)).collect();
                 match find(&pinhole) {
                     Ok(next) => {

@@ -124,7 +124,8 @@ impl DetectedScene {
     /// fit's camera before any click. `None` when that fit fails.
     #[must_use]
     pub fn camera_estimate(&self) -> Option<CameraEstimate> {
-        let scene = Scene::from_json_str(&self.json).ok()?;
+        let written = Scene::from_json_str(&self.json).ok()?;
+        let scene = written.undistorted();
         let options = vpmap_metrology::fit::FitOptions::default();
         let fitted = vpmap_metrology::fit::fit_scene(&scene, &options).ok()?;
         let u = fitted.uncertainty(&scene, &options).ok()?;

@@ -378,11 +378,18 @@ fn summary(
         det.segments.len().saturating_sub(assigned)
     );
     if let Some(lens) = &det.lens {
-        let _ = if lens.k_sd > 0.0 {
+        let _ = if lens.k_sd > 0.0 && lens.k() != 0.0 {
             write!(
                 text,
-                " Lens distortion (division model) k = {:.4} +- {:.4} (95 %), estimated from the edges' bowing{}; the clicks and segments are undistorted by it before the fit.",
+                " Lens distortion (division model) k = {:.4} +- {:.4} (95 %), estimated from the edges' bowing; the clicks and segments are undistorted by it before the fit.",
                 lens.k(),
+                Z_95 * lens.k_sd,
+            )
+        } else if lens.k_sd > 0.0 {
+            write!(
+                text,
+                " Lens distortion (division model): the edges give k = {:.4} +- {:.4} (95 %){}, not clearly a lens (99 %), so the photo is taken as a pinhole's (k = 0, its sd kept for the error bars).",
+                lens.estimated_k,
                 Z_95 * lens.k_sd,
                 if lens.segments_k_sd.is_none() {
                     " (they do not fix it: the prior of real lenses alone)"

@@ -319,7 +319,8 @@ fn run_one(
             perspective: det.perspective.name(),
             segments: det.segments.len(),
             horizon_error: scene_horizon_error(&det, label),
-            lens: det.lens.map(|l| [l.k(), l.k_sd]),
+            lens: det.lens.map(|l| [l.estimated_k, l.k_sd]),
+            lens_segments_sd: det.lens.and_then(|l| l.segments_k_sd),
         }
     });
     Run {

@@ -510,6 +510,7 @@ pub fn json(ctx: &Context, results: &[ImageResult], summaries: &[Summary; 2]) ->
                         "horizon_error_against_labelled_horizontal_vps": ok.horizon_error.map(|e| e[1]).filter(|e| e.is_finite()),
                         "lens_k": ok.lens.map(|l| l[0]),
                         "lens_k_sd": ok.lens.map(|l| l[1]),
+                        "lens_k_sd_segments": ok.lens_segments_sd,
                     }),
                     Err(e) => json!({"time_ms": run.time_ms, "refused": e}),
                 };
@@ -570,6 +571,7 @@ mod tests {
                 segments: 9,
                 horizon_error: Some([0.05, 0.3]),
                 lens: None,
+                lens_segments_sd: None,
             }),
         };
         ImageResult {

@@ -60,9 +60,12 @@ pub struct RunOk {
     /// [`Label::horizon`](super::Label::horizon) and against
     /// [`Label::horizon_of_horizontals`](super::Label::horizon_of_horizontals); `None` when the detection gives no scene.
     pub horizon_error: Option<[f64; 2]>,
-    /// The lens distortion found: the division model's `k` and its sd (`None` with the lens
-    /// taken as a pinhole's).
+    /// The lens distortion the edges show: the division model's `k` (applied or not) and its
+    /// sd (`None` with the lens taken as a pinhole's).
     pub lens: Option<[f64; 2]>,
+    /// The segments' own part of that sd, before the floor and the prior (`None` when they do
+    /// not fix `k`).
+    pub lens_segments_sd: Option<f64>,
 }
 
 /// One photo's two runs.

@@ -124,6 +124,7 @@ fn run(
             horizon_error,
             // One camera's k, each photo's estimate a little off it.
             lens: Some([-0.02 + 0.004 * time_ms.sin(), 0.005]),
+            lens_segments_sd: Some(0.003),
         }),
     }
 }

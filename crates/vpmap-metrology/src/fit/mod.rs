@@ -45,9 +45,13 @@ pub use uncertainty::{CHI2_2DOF_95, FitUncertainty, ellipse_95};
 /// Largest focal length the fit accepts, in image diagonals (a 1.5 degree field of view).
 pub const MAX_FOCAL_DIAGONALS: f64 = 40.0;
 
-/// Fit the camera and every object of a validated scene.
+/// Fit the camera and every object of a validated scene of a pinhole camera: a scene with a
+/// `lens_distortion` is fitted as [`Scene::undistorted`] gives it (as [`crate::map::build_map`]
+/// does, which also adds the lens's uncertainty to the error bars).
 ///
 /// # Errors
+/// - [`MetrologyError::InvalidField`] for a scene whose `lens_distortion` has a `k` other than
+///   0: undistort it first;
 /// - [`MetrologyError::InvalidField`] when an object's clicks do not fix it, naming the
 ///   corner to add;
 /// - [`MetrologyError::Degenerate`] when the fit does not converge, a box comes out with its
@@ -56,6 +60,15 @@ pub const MAX_FOCAL_DIAGONALS: f64 = 40.0;
 /// - the vanishing-point errors of [`Scene::resolve_vanishing_points`] when no starting
 ///   camera can be found.
 pub fn fit_scene(scene: &Scene, options: &FitOptions) -> Result<Fitted> {
+    if let Some(lens) = scene.lens_distortion.filter(|l| l.k != 0.0) {
+        return Err(MetrologyError::InvalidField {
+            field: "lens_distortion".to_owned(),
+            reason: format!(
+                "k = {}: the fit takes a pinhole camera's clicks; fit Scene::undistorted() (vpmap build does)",
+                lens.k
+            ),
+        });
+    }
     check_below_given_horizon(scene)?;
     // Each reading of which vanishing point is vertical; the best fit wins, the first on a
     // tie (init::vanishing_point_orders).

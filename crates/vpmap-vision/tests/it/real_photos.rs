@@ -7,7 +7,8 @@
 
 use std::path::PathBuf;
 
-use vpmap_metrology::fit::{CHI2_2DOF_95, FitOptions, fit_scene};
+use vpmap_metrology::fit::CHI2_2DOF_95;
+use vpmap_metrology::map::{BuildOptions, build_map};
 use vpmap_metrology::scene::Scene;
 use vpmap_vision::photo::{PhotoLimits, decode_photo};
 use vpmap_vision::scene::detected_scene;
@@ -45,24 +46,21 @@ fn measure(dir: &std::path::Path) -> Vec<(String, String, f64, f64, f64)> {
             }
         }
         let scene = Scene::from_json_str(&scene.to_string()).unwrap();
-        let options = FitOptions::default();
-        let fitted = fit_scene(&scene, &options).unwrap();
-        let k = fitted.meters_per_camera_height(&scene).unwrap().unwrap();
-        let u = fitted.uncertainty(&scene, &options).unwrap();
+        // vpmap build's map: the lens undistorted, its uncertainty in the error bars.
+        let map = build_map(&scene, &BuildOptions::default()).unwrap();
         let truth: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(folder.join("truth.json")).unwrap())
                 .unwrap();
         for t in truth["objects"].as_array().unwrap() {
             let name = t["name"].as_str().unwrap();
-            let i = scene.objects.iter().position(|o| o.name == name).unwrap();
-            let fp = &fitted.reconstruction.objects[i].footprint;
-            let c = fp.iter().sum::<nalgebra::Vector2<f64>>() * (k / fp.len() as f64);
+            let o = map.objects.iter().find(|o| o.name == name).unwrap();
+            let c = nalgebra::Vector2::new(o.centroid[0], o.centroid[1]);
             let tc = nalgebra::Vector2::new(
                 t["centroid"][0].as_f64().unwrap(),
                 t["centroid"][1].as_f64().unwrap(),
             );
             let e = c - tc;
-            let m = u.objects[i].centroid_covariance;
+            let m = o.uncertainty.as_ref().unwrap().centroid_covariance;
             let cov = nalgebra::Matrix2::new(m[0][0], m[0][1], m[1][0], m[1][1]);
             let d2 = (e.transpose() * cov.try_inverse().unwrap() * e)[(0, 0)];
             out.push((id.to_owned(), name.to_owned(), e.norm(), d2, tc.norm()));
