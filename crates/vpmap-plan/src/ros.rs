@@ -134,17 +134,18 @@ pub fn encode_ros_map(grid: &OccupancyGrid, image_file_name: &str) -> (String, V
     (yaml, pgm)
 }
 
-/// Write `bytes` to `path` through a temporary file in the same folder, renamed into place,
-/// so that a failure never leaves half a file.
-fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
-    let io = |action, path: &Path| {
-        let path = path.to_path_buf();
-        move |source| PlanError::Io {
-            action,
-            path,
-            source,
-        }
-    };
+/// The I/O error of `action` on `path`.
+fn io_error(action: &'static str, path: &Path) -> impl FnOnce(std::io::Error) -> PlanError {
+    let path = path.to_path_buf();
+    move |source| PlanError::Io {
+        action,
+        path,
+        source,
+    }
+}
+
+/// A hidden file beside `path` for this process: `.<name>.<pid>.<what>`.
+fn beside(path: &Path, what: &str) -> Result<PathBuf> {
     let name = path.file_name().ok_or_else(|| PlanError::Io {
         action: "write",
         path: path.to_path_buf(),
@@ -153,23 +154,91 @@ fn write_atomically(path: &Path, bytes: &[u8]) -> Result<()> {
             "the path has no file name",
         ),
     })?;
-    let mut tmp_name = std::ffi::OsString::from(".");
-    tmp_name.push(name);
-    tmp_name.push(format!(".{}.tmp", std::process::id()));
-    let tmp = path.with_file_name(tmp_name);
-    std::fs::write(&tmp, bytes).map_err(io("write", &tmp))?;
-    std::fs::rename(&tmp, path).map_err(|e| {
-        let _ = std::fs::remove_file(&tmp);
-        io("rename to", path)(e)
-    })
+    let mut hidden = std::ffi::OsString::from(".");
+    hidden.push(name);
+    hidden.push(format!(".{}.{what}", std::process::id()));
+    Ok(path.with_file_name(hidden))
+}
+
+/// Write `files` (path, bytes) all or nothing: every one to a temporary file beside it, then
+/// the old ones moved aside, the new ones renamed into place, the old ones removed. On any
+/// failure the temporary files are removed and every old file is put back, so the folder is
+/// as it was.
+fn write_all_or_nothing(files: &[(&Path, &[u8])]) -> Result<()> {
+    let mut temps: Vec<PathBuf> = Vec::with_capacity(files.len());
+    let cleanup = |temps: &[PathBuf]| {
+        for t in temps {
+            let _ = std::fs::remove_file(t);
+        }
+    };
+    for (path, bytes) in files {
+        let tmp = beside(path, "tmp").inspect_err(|_| cleanup(&temps))?;
+        if let Err(e) = std::fs::write(&tmp, bytes) {
+            let _ = std::fs::remove_file(&tmp);
+            cleanup(&temps);
+            return Err(io_error("write", &tmp)(e));
+        }
+        temps.push(tmp);
+    }
+    // (path, its old file moved aside, whether the new one is in place)
+    let mut moved: Vec<(&Path, Option<PathBuf>, bool)> = Vec::with_capacity(files.len());
+    let undo = |moved: &[(&Path, Option<PathBuf>, bool)]| {
+        for (path, old, placed) in moved.iter().rev() {
+            if *placed {
+                let _ = std::fs::remove_file(path);
+            }
+            if let Some(old) = old {
+                let _ = std::fs::rename(old, path);
+            }
+        }
+    };
+    for ((path, _), tmp) in files.iter().zip(&temps) {
+        let old = if path.exists() {
+            let backup = match beside(path, "old") {
+                Ok(b) => b,
+                Err(e) => {
+                    undo(&moved);
+                    cleanup(&temps);
+                    return Err(e);
+                }
+            };
+            if let Err(e) = std::fs::rename(path, &backup) {
+                undo(&moved);
+                cleanup(&temps);
+                return Err(io_error("move aside", path)(e));
+            }
+            Some(backup)
+        } else {
+            None
+        };
+        moved.push((path, old, false));
+        if let Err(e) = std::fs::rename(tmp, path) {
+            undo(&moved);
+            cleanup(&temps);
+            return Err(io_error("rename to", path)(e));
+        }
+        if let Some(last) = moved.last_mut() {
+            last.2 = true;
+        }
+    }
+    for (_, old, _) in &moved {
+        if let Some(old) = old {
+            let _ = std::fs::remove_file(old);
+        }
+    }
+    Ok(())
 }
 
 /// Write a grid as `map_server` files: the YAML at `yaml_path` and the PGM image beside it,
 /// named after it with the extension `pgm`. Returns the image's path.
 ///
+/// Both files are written or neither: a failure leaves the folder as it was (the previous map's
+/// files kept). An existing path that is not a regular file (a folder, a device, a FIFO) is
+/// refused and left untouched.
+///
 /// # Errors
 /// [`PlanError::Io`] naming the file that could not be written, or `yaml_path` when it
-/// ends in `.pgm`.
+/// ends in `.pgm`; [`PlanError::File`] for a path that is not a regular file.
 ///
 /// # Example
 /// ```
@@ -196,9 +265,11 @@ pub fn write_ros_map(grid: &OccupancyGrid, yaml_path: &Path) -> Result<PathBuf> 
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
+    // Regular files or new paths only (never a device, FIFO or folder), both or neither.
+    vpmap_files::check_output_path(&image_path)?;
+    vpmap_files::check_output_path(yaml_path)?;
     let (yaml, pgm) = encode_ros_map(grid, &image_name);
-    write_atomically(&image_path, &pgm)?;
-    write_atomically(yaml_path, yaml.as_bytes())?;
+    write_all_or_nothing(&[(&image_path, &pgm), (yaml_path, yaml.as_bytes())])?;
     Ok(image_path)
 }
 
@@ -857,5 +928,17 @@ mod tests {
         assert!(matches!(e, PlanError::Yaml { .. }), "{e}");
         let e = parse_map_yaml("", p).unwrap_err();
         assert!(e.to_string().contains("image"), "{e}");
+    }
+
+    #[test]
+    fn a_file_that_cannot_be_written_leaves_the_others_as_they_were() {
+        let dir = tempfile::tempdir().unwrap();
+        let first = dir.path().join("a.pgm");
+        std::fs::write(&first, b"old").unwrap();
+        let second = dir.path().join("missing/b.yaml");
+        let e = write_all_or_nothing(&[(&first, b"new"), (&second, b"new")]).unwrap_err();
+        assert!(e.to_string().contains("b.yaml"), "{e}");
+        assert_eq!(std::fs::read(&first).unwrap(), b"old");
+        assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 1);
     }
 }

@@ -359,3 +359,58 @@ proptest! {
         prop_assert_eq!(read_ros_map(&yaml_path).unwrap(), grid);
     }
 }
+
+#[test]
+fn a_failed_write_leaves_the_previous_map_and_nothing_else() {
+    // The YAML's path is a folder: refused before anything is written, the previous image
+    // byte for byte as it was, no temporary file left.
+    let dir = tempfile::tempdir().unwrap();
+    let old = OccupancyGrid::new(3, 2, 0.5, [0.0; 2], Occupancy::Occupied).unwrap();
+    write_ros_map(&old, &dir.path().join("room.yaml")).unwrap();
+    let image_before = std::fs::read(dir.path().join("room.pgm")).unwrap();
+    std::fs::remove_file(dir.path().join("room.yaml")).unwrap();
+    std::fs::create_dir(dir.path().join("room.yaml")).unwrap();
+    let new = OccupancyGrid::new(5, 5, 0.1, [1.0; 2], Occupancy::Free).unwrap();
+    let err = write_ros_map(&new, &dir.path().join("room.yaml")).unwrap_err();
+    assert!(err.to_string().contains("room.yaml"), "{err}");
+    assert_eq!(
+        std::fs::read(dir.path().join("room.pgm")).unwrap(),
+        image_before
+    );
+    let mut names: Vec<String> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+        .collect();
+    names.sort();
+    assert_eq!(names, ["room.pgm", "room.yaml"]);
+}
+
+#[cfg(unix)]
+#[test]
+fn a_fifo_is_refused_and_left_a_fifo() {
+    use std::os::unix::fs::FileTypeExt;
+    let dir = tempfile::tempdir().unwrap();
+    let fifo = dir.path().join("room.pgm");
+    let made = std::process::Command::new("mkfifo").arg(&fifo).status();
+    if !made.is_ok_and(|s| s.success()) {
+        eprintln!("SKIPPED: mkfifo is not available");
+        return;
+    }
+    let grid = OccupancyGrid::new(2, 2, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+    let err = write_ros_map(&grid, &dir.path().join("room.yaml")).unwrap_err();
+    assert!(err.to_string().contains("room.pgm"), "{err}");
+    assert!(std::fs::metadata(&fifo).unwrap().file_type().is_fifo());
+    assert!(!dir.path().join("room.yaml").exists());
+}
+
+#[test]
+fn writing_again_replaces_both_files() {
+    let dir = tempfile::tempdir().unwrap();
+    let yaml = dir.path().join("room.yaml");
+    let first = OccupancyGrid::new(3, 2, 0.5, [0.0; 2], Occupancy::Occupied).unwrap();
+    write_ros_map(&first, &yaml).unwrap();
+    let second = OccupancyGrid::new(4, 4, 0.25, [1.0, 2.0], Occupancy::Free).unwrap();
+    write_ros_map(&second, &yaml).unwrap();
+    assert_eq!(read_ros_map(&yaml).unwrap(), second);
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 2);
+}
