@@ -6,8 +6,10 @@
 //! `thickness` pixels wide (about 1/500 of the longer side); unassigned segments are thin and
 //! grey. The horizon (the image of the plane orthogonal to the vertical direction) is yellow;
 //! vanishing points inside the photo are filled circles in their colour; the principal point
-//! is a magenta cross in a circle. A legend strip under the photo names each colour and
-//! symbol (the photo's own pixels keep their coordinates).
+//! is a magenta cross in a circle. Thin yellow lines either side of the horizon are its 95 %
+//! band (the scene's camera before any click). A legend strip under the photo names each
+//! colour and symbol, with each direction's ± at 95 % (the major semi-axis of its written
+//! ellipse) and the band's half-width (the photo's own pixels keep their coordinates).
 
 use std::fmt::Write as _;
 use std::io::Cursor;
@@ -17,6 +19,7 @@ use imageproc::drawing::{
     draw_antialiased_line_segment_mut, draw_filled_circle_mut, draw_hollow_circle_mut,
 };
 use imageproc::pixelops::interpolate;
+use vpmap_metrology::fit::CHI2_2DOF_95;
 use vpmap_vision::Detection;
 use vpmap_vision::scene::{DetectedScene, VP_NAMES};
 
@@ -32,6 +35,8 @@ const UNASSIGNED: Rgb<u8> = Rgb([165, 165, 165]);
 const HORIZON: Rgb<u8> = Rgb([255, 215, 0]);
 const PRINCIPAL_POINT: Rgb<u8> = Rgb([255, 0, 255]);
 const OUTLINE: Rgb<u8> = Rgb([255, 255, 255]);
+/// The normal quantile at 97.5 % (a two-sided 95 % interval).
+const Z_95: f64 = 1.959_963_984_540_054;
 
 /// An error's message followed by its sources', joined by `: `.
 fn chain_text(e: &dyn std::error::Error) -> String {
@@ -91,6 +96,23 @@ pub fn detection_overlay_png(
     if let Some((a, b)) = clip_line(line, w, h) {
         draw_thick_segment(&mut canvas, a, b, thickness, HORIZON);
     }
+    // Its 95 % band: the horizon moved by 1.96 sd either way (the scene's camera before any
+    // click), thin lines.
+    let horizon_95_px = scene
+        .camera_estimate()
+        .map(|e| Z_95 * e.horizon_sd_px)
+        .filter(|d| d.is_finite() && *d > 0.0);
+    let norm = line[0].hypot(line[1]);
+    if let Some(d) = horizon_95_px
+        && norm > 0.0
+    {
+        for side in [-1.0, 1.0] {
+            let moved = [line[0], line[1], line[2] + side * d * norm];
+            if let Some((a, b)) = clip_line(moved, w, h) {
+                draw_thick_segment(&mut canvas, a, b, 1, HORIZON);
+            }
+        }
+    }
 
     let radius = 2 * thickness as i32 + 2;
     for (p, &colour) in scene.points_px.iter().zip(&VP_COLOURS) {
@@ -129,7 +151,16 @@ pub fn detection_overlay_png(
         }
     }
 
-    let canvas = with_legend(&canvas, thickness)?;
+    // Each direction's 95 % spread (the ellipse's major semi-axis) in the legend.
+    let spread: [Option<f64>; 3] = std::array::from_fn(|role| {
+        scene
+            .covariances
+            .get(role)
+            .copied()
+            .flatten()
+            .map(|c| c.major_sd_deg() * CHI2_2DOF_95.sqrt())
+    });
+    let canvas = with_legend(&canvas, thickness, spread, horizon_95_px)?;
     let mut bytes = Vec::new();
     DynamicImage::ImageRgb8(canvas)
         .write_to(&mut Cursor::new(&mut bytes), ImageFormat::Png)
@@ -157,26 +188,34 @@ enum Symbol {
 
 /// The legend's SVG for a photo `width` pixels wide, and its height in pixels: one row per
 /// fitting run of entries, text about 1/70 of the width (11 to 28 px).
-fn legend_svg(width: u32, thickness: u32) -> (String, u32) {
+fn legend_svg(
+    width: u32,
+    thickness: u32,
+    spread_deg: [Option<f64>; 3],
+    horizon_95_px: Option<f64>,
+) -> (String, u32) {
     let names = VP_NAMES;
+    let vp = |role: usize| {
+        let within = spread_deg[role]
+            .map(|d| format!(" (±{d:.1}° at 95 %)"))
+            .unwrap_or_default();
+        format!("segments of the {}{within}", names[role])
+    };
     let entries: [(Symbol, String); 7] = [
-        (
-            Symbol::Line(VP_COLOURS[0], thickness),
-            format!("segments of the {}", names[0]),
-        ),
-        (
-            Symbol::Line(VP_COLOURS[1], thickness),
-            format!("segments of the {}", names[1]),
-        ),
-        (
-            Symbol::Line(VP_COLOURS[2], thickness),
-            format!("segments of the {}", names[2]),
-        ),
+        (Symbol::Line(VP_COLOURS[0], thickness), vp(0)),
+        (Symbol::Line(VP_COLOURS[1], thickness), vp(1)),
+        (Symbol::Line(VP_COLOURS[2], thickness), vp(2)),
         (
             Symbol::Line(UNASSIGNED, 1),
             "unassigned segments".to_owned(),
         ),
-        (Symbol::Line(HORIZON, thickness), "horizon".to_owned()),
+        (
+            Symbol::Line(HORIZON, thickness),
+            horizon_95_px.map_or_else(
+                || "horizon".to_owned(),
+                |d| format!("horizon, thin lines its 95 % band (±{d:.1} px)"),
+            ),
+        ),
         (
             Symbol::Dot,
             "vanishing point (when inside the photo)".to_owned(),
@@ -253,9 +292,14 @@ fn legend_svg(width: u32, thickness: u32) -> (String, u32) {
 }
 
 /// The drawing with the legend strip under it: the photo's pixels keep their coordinates.
-fn with_legend(drawing: &RgbImage, thickness: u32) -> Result<RgbImage, RenderError> {
+fn with_legend(
+    drawing: &RgbImage,
+    thickness: u32,
+    spread_deg: [Option<f64>; 3],
+    horizon_95_px: Option<f64>,
+) -> Result<RgbImage, RenderError> {
     let (w, h) = drawing.dimensions();
-    let (svg, strip_h) = legend_svg(w, thickness);
+    let (svg, strip_h) = legend_svg(w, thickness, spread_deg, horizon_95_px);
     let png = svg_to_png(&svg).map_err(|e| RenderError::Overlay {
         step: "drawing the overlay's legend",
         reason: chain_text(&e),
