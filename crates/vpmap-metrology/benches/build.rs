@@ -2,7 +2,8 @@
 //! the vanishing points given as the objects' own edges): the joint fit against the side-view
 //! method and the projective form (the references) in one group, side by side; the fit's
 //! parts (the fit alone, then with its error bars); and calibration with reconstruction alone
-//! for the two closed-form methods.
+//! for the two closed-form methods. The fit also as `vpmap detect` writes a scene, with and
+//! without a lens distortion's sd.
 #![allow(missing_docs, clippy::unwrap_used)]
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -11,7 +12,7 @@ use std::time::Duration;
 use vpmap_metrology::fit::{FitOptions, fit_scene};
 use vpmap_metrology::map::{BuildOptions, build_map, reconstruct_scene};
 use vpmap_metrology::reconstruct::Method;
-use vpmap_metrology::scene::Scene;
+use vpmap_metrology::scene::{LensDistortion, Scene};
 use vpmap_metrology::synth::{SynthOptions, VanishingPointForm, synthesize};
 
 /// The click noise of the scene and of the fit's error bars, pixels.
@@ -71,6 +72,23 @@ fn bench_build(c: &mut Criterion) {
                     },
                 )
             });
+        });
+    }
+    // As `vpmap detect` writes a scene: measured vanishing points, the principal point a
+    // prior, and the lens's k with its sd (k_sd's spread costs two more fits, map/lens.rs).
+    let measured = measured_vanishing_points(&scene);
+    let mut with_lens = measured.clone();
+    with_lens.lens_distortion = Some(LensDistortion {
+        k: 0.0,
+        k_sd: Some(0.008),
+    });
+    for (name, s) in [
+        ("fit, measured vanishing points", &measured),
+        ("fit, measured vanishing points and a lens k_sd", &with_lens),
+    ] {
+        build_map(s, &BuildOptions::default()).unwrap();
+        g.bench_function(name, |b| {
+            b.iter(|| build_map(black_box(s), &BuildOptions::default()));
         });
     }
     g.finish();
