@@ -29,6 +29,7 @@
 
 mod report;
 mod trial;
+pub mod yud;
 
 use rayon::prelude::*;
 
