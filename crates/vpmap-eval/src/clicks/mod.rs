@@ -33,7 +33,7 @@ pub mod yud;
 
 use rayon::prelude::*;
 
-pub use report::{CLICKS_SECTION, published_section, summary_markdown};
+pub use report::{CLICKS_SECTION, CLUTTERED_SECTION, published_section, summary_markdown};
 pub use trial::{ClickRecord, FitRecord, ProposalRecord, TrialResult, run_clicks_trial};
 
 use crate::progress::Progress;
@@ -50,6 +50,10 @@ pub struct Config {
     /// Also fit the snapped clicks with each click's own covariance
     /// (`click_covariances_px2`: a snapped point's, `sigma^2 I` for a click that stayed).
     pub per_click_covariance: bool,
+    /// Render the photos with what real photos have
+    /// ([`vpmap_vision::synthetic::photo::PhotoOptions::cluttered`]: clutter near the corners,
+    /// occluding bars, blur growing off-centre, JPEG at quality 85, barrel distortion).
+    pub cluttered: bool,
 }
 
 impl Default for Config {
@@ -59,6 +63,7 @@ impl Default for Config {
             sigmas_px: vec![1.0, 2.0, 3.0],
             seed: 1,
             per_click_covariance: true,
+            cluttered: false,
         }
     }
 }

@@ -37,7 +37,7 @@ use rand::{RngExt as _, SeedableRng as _};
 use rand_chacha::ChaCha8Rng;
 use serde::Deserialize;
 use vpmap_vision::photo::{PhotoLimits, decode_photo};
-use vpmap_vision::snap::{KeptReason, SnapImage, SnapOptions, SnapOutcome, snap_click};
+use vpmap_vision::snap::{Doubt, KeptReason, SnapImage, SnapOptions, SnapOutcome, snap_click};
 use vpmap_vision::{DetectOptions, detect};
 
 use crate::detection::find_pairs;
@@ -59,6 +59,8 @@ pub struct YudConfig {
     /// Subtracted from every labelled coordinate, pixels: 0.5, as the labels put pixel
     /// centres at whole numbers and snapping at `k + 0.5` (see the [module docs](self)).
     pub label_shift_px: f64,
+    /// The snapping options (`None`: [`SnapOptions::for_click_sigma`] of the click noise).
+    pub snap: Option<SnapOptions>,
 }
 
 impl Default for YudConfig {
@@ -69,6 +71,7 @@ impl Default for YudConfig {
             max_gap_px: 3.0,
             min_length_px: 15.0,
             label_shift_px: 0.5,
+            snap: None,
         }
     }
 }
@@ -336,7 +339,7 @@ pub fn run_yud(dir: &Path, config: &YudConfig, progress: &dyn Progress) -> Resul
     let pairs = find_pairs(dir)?;
     progress.start(pairs.len() as u64);
     let mut out = YudResults::default();
-    let opts = SnapOptions::for_click_sigma(config.sigma_px.max(0.5));
+    let opts = snap_options(config);
     for pair in &pairs {
         let text = std::fs::read_to_string(&pair.label)
             .with_context(|| format!("cannot read {}", pair.label.display()))?;
@@ -437,6 +440,15 @@ fn kept_name(r: &KeptReason) -> &'static str {
         KeptReason::NoEdge => "no straight edge",
         KeptReason::OneDirection(_) => "edges of one direction",
         KeptReason::TooFar { .. } => "no meeting within the radius",
+        KeptReason::Unsure { doubt, .. } => match doubt {
+            Doubt::TJunction => "unsure: a T junction",
+            Doubt::ShortEdge { .. } => "unsure: an edge too short",
+            Doubt::RoughEdge { .. } => "unsure: an edge not straight",
+            Doubt::OffVanishingPoint { .. } => "unsure: an edge off its vanishing point",
+            Doubt::Rival { .. } => "unsure: a rival corner",
+            #[allow(unreachable_patterns)]
+            _ => "unsure",
+        },
         #[allow(unreachable_patterns)]
         _ => "other",
     }
@@ -524,6 +536,25 @@ fn mahalanobis_sq(e: [f64; 2], cov: [[f64; 2]; 2]) -> f64 {
 /// The chi-square quantile with 2 degrees of freedom at 95 %.
 const CHI2_95: f64 = 5.991_464_547_107_979;
 
+/// The name of the section `--yud DIR --publish` writes.
+pub const YUD_SECTION: &str = "eval-clicks-yud";
+
+/// The section of `docs/results.md`.
+#[must_use]
+pub fn yud_published_section(
+    config: &YudConfig,
+    results: &YudResults,
+    elapsed: std::time::Duration,
+    command: &str,
+) -> String {
+    crate::publish::published(
+        "Snapping clicks on real photos (`vpmap eval-clicks --yud`)",
+        &yud_markdown(config, results),
+        elapsed,
+        command,
+    )
+}
+
 /// The report's Markdown (no title).
 #[must_use]
 pub fn yud_markdown(config: &YudConfig, results: &YudResults) -> String {
@@ -540,7 +571,7 @@ pub fn yud_markdown(config: &YudConfig, results: &YudResults) -> String {
         results.detected,
         config.sigma_px,
         config.seed,
-        SnapOptions::for_click_sigma(config.sigma_px.max(0.5)).search_radius_px,
+        snap_options(config).search_radius_px,
     );
     if let Some(l) = label {
         let _ = writeln!(
@@ -592,6 +623,30 @@ pub fn yud_markdown(config: &YudConfig, results: &YudResults) -> String {
         pct(inside_plain, snapped.len()),
         num(median(&sds), 2),
     );
+    // The floor the covariances would need on these photos: the smallest, in steps of 0.1 px,
+    // that puts at least 92 % of the labelled corners in the snapped points' 95 % ellipses.
+    let floor = opts_floor(config);
+    let needed = (0..=40).map(|k| 0.1 * f64::from(k)).find(|&f| {
+        let inside = snapped
+            .iter()
+            .filter_map(|c| c.covariance_px2.map(|cov| (c, cov)))
+            .filter(|(c, cov)| {
+                let l = corner_label_covariance(&c.corner, sd_l);
+                let add = f * f - floor * floor;
+                let total = [
+                    [cov[0][0] + l[0][0] + add, cov[0][1] + l[0][1]],
+                    [cov[1][0] + l[1][0], cov[1][1] + l[1][1] + add],
+                ];
+                mahalanobis_sq(c.error_vec_px, total) <= CHI2_95
+            })
+            .count();
+        !snapped.is_empty() && inside as f64 >= 0.92 * snapped.len() as f64
+    });
+    let _ = writeln!(
+        s,
+        "\nThe covariance floor (`SnapOptions::covariance_floor_px`, {floor} px in this run) these photos would need for 92 % of the snapped points' ellipses to hold their labelled corner (labels' error added): {}.",
+        needed.map_or_else(|| "more than 4 px".to_owned(), |f| format!("{f:.1} px"))
+    );
     let exact: Vec<f64> = clicks.iter().map(|c| c.exact_moved_px).collect();
     let _ = writeln!(
         s,
@@ -613,6 +668,17 @@ pub fn yud_markdown(config: &YudConfig, results: &YudResults) -> String {
         let _ = writeln!(s, "Clicks that stayed, by reason: {}.", list.join("; "));
     }
     s
+}
+
+/// The snapping options of a run.
+fn snap_options(config: &YudConfig) -> SnapOptions {
+    config
+        .snap
+        .unwrap_or_else(|| SnapOptions::for_click_sigma(config.sigma_px.max(0.5)))
+}
+
+fn opts_floor(config: &YudConfig) -> f64 {
+    snap_options(config).covariance_floor_px
 }
 
 fn pct(part: usize, whole: usize) -> String {

@@ -64,6 +64,11 @@ fn box_corner_errors(seeds: std::ops::Range<u64>, sigma_px: f64) -> Vec<Option<(
             if !(0.0..800.0).contains(&click[0]) || !(0.0..600.0).contains(&click[1]) {
                 continue;
             }
+            // A corner beyond the search radius (2.45 sigma: 5 % of clicks) is out of reach
+            // by design: the share snapped counts the corners within it.
+            if (click[0] - c.point_px[0]).hypot(click[1] - c.point_px[1]) > opts.search_radius_px {
+                continue;
+            }
             let snap = snap_click(&image, &vps, click, &opts).unwrap();
             assert!(snap.moved_px() <= opts.search_radius_px + 1e-9);
             out.push(snap.covariance_px2.map(|cov| {
