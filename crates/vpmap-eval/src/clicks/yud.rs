@@ -266,6 +266,11 @@ impl Gradient {
 /// The offset of the photo's edge from a labelled line at a corner, along the line's normal,
 /// pixels: the median over the points 3 to 12 px from the corner along the segment of the
 /// sub-pixel gradient maximum across the line (`None` with fewer than 5 such points).
+/// Profile step across a labelled line, pixels.
+const STEP: f64 = 0.25;
+/// Profile samples on each side of a labelled line (3 px).
+const HALF: i32 = 12;
+
 fn label_offset(
     grad: &Gradient,
     corner: [f64; 2],
@@ -285,10 +290,8 @@ fn label_offset(
     }
     let u = [(far[0] - corner[0]) / len, (far[1] - corner[1]) / len];
     let n = normal;
-    const STEP: f64 = 0.25;
-    const HALF: i32 = 12; // 3 px either side
     let profiles: Vec<Vec<f64>> = (3..=12)
-        .map(|t| f64::from(t))
+        .map(f64::from)
         .filter(|&t| t <= len)
         .map(|t| {
             (-HALF..=HALF)
@@ -531,7 +534,7 @@ pub fn corner_label_covariance(corner: &LabelledCorner, sd_px: f64) -> [[f64; 2]
 /// The squared Mahalanobis distance of `e` under `cov`.
 fn mahalanobis_sq(e: [f64; 2], cov: [[f64; 2]; 2]) -> f64 {
     let det = cov[0][0] * cov[1][1] - cov[0][1] * cov[1][0];
-    if !(det > 0.0) {
+    if det.is_nan() || det <= 0.0 {
         return f64::INFINITY;
     }
     (e[0] * e[0] * cov[1][1] - 2.0 * e[0] * e[1] * cov[0][1] + e[1] * e[1] * cov[0][0]) / det

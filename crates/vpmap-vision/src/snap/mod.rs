@@ -46,7 +46,12 @@
 //! found all run one way (a click on a single edge), or when edges of two directions meet
 //! farther than the search radius from the click: a click on a flat wall never jumps to a far
 //! corner. A snapped point is never farther than [`SnapOptions::search_radius_px`] from the
-//! click.
+//! click. It also stays, unsure ([`KeptReason::Unsure`], naming the [`Doubt`]), when the
+//! corner found is a T junction (one edge passes on), when an edge is seen along less than
+//! [`SnapOptions::min_edge_px`] or is not straight ([`SnapOptions::max_edge_rms_px`]), when an
+//! edge chosen towards a vanishing point runs off it by more than three standard deviations of
+//! the fit's and the vanishing point's ([`SnapOptions::vp_direction_sd_deg`]) uncertainty, or
+//! when a rival corner is nearly as strong ([`SnapOptions::max_rival_ratio`]).
 //!
 //! # References
 //! - Canny, "A computational approach to edge detection", IEEE PAMI 8(6), 1986 (gradient
