@@ -205,7 +205,7 @@ fn totals(snapped: &[SnappedClick], radius_px: f64, out: &Path) -> String {
     let largest = moved.iter().copied().fold(0.0, f64::max);
     let _ = writeln!(
         s,
-        "snapped {} of {} clicks (largest move {largest:.2} px, search radius {radius_px} px); wrote {}",
+        "snapped {} of {} clicks (largest move {largest:.2} px, search radius {radius_px:.1} px); wrote {}",
         moved.len(),
         snapped.len(),
         out.display()

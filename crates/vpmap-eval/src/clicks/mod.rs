@@ -1,4 +1,11 @@
-//! Snapped against raw clicks on rendered photos (`vpmap eval-clicks`).
+//! Snapped against raw clicks on rendered photos (`vpmap eval-clicks`); on real photos, see
+//! [`yud`] (`vpmap eval-clicks --yud DIR`).
+//!
+//! With [`Config::cluttered`] the photos are rendered with
+//! [`vpmap_vision::synthetic::photo::PhotoOptions::cluttered`] (clutter near the corners,
+//! occluding bars, blur growing off-centre, JPEG at quality 85, barrel distortion): the clicks
+//! are then jittered about the true points as the distorted photo shows them, and both fits
+//! take them there (a pinhole fit of a distorted photo).
 //!
 //! Each trial draws a random room from `vpmap_metrology::synth` (1600 x 1200 px, focal length
 //! 1100 px, camera 1.5 m high, pitch 10, 20 or 30 degrees by turn, 3 degrees of roll, four

@@ -38,7 +38,8 @@ pub(crate) enum NoCorner {
     Unsure([f64; 2], Doubt),
 }
 
-/// Why a corner found near a click is not trusted (see [`CornerSearch`]'s checks).
+/// Why a corner found near a click is not trusted (the checks of `SnapOptions::min_edge_px`,
+/// `max_edge_rms_px`, `vp_direction_sd_deg` and `max_rival_ratio`, and the junction).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Doubt {
     /// One edge passes on through the corner: a T junction, mostly an edge in front hiding

@@ -253,12 +253,12 @@ impl std::fmt::Display for KeptReason {
                 radius_px,
             } => write!(
                 f,
-                "the nearest edges meet at ({:.1}, {:.1}), {d:.1} px away, beyond the {radius_px} px search radius",
+                "the nearest edges meet at ({:.1}, {:.1}), {d:.1} px away, beyond the {radius_px:.1} px search radius",
                 c[0], c[1]
             ),
             Self::TooFar { radius_px, .. } => write!(
                 f,
-                "no two edges meet within the {radius_px} px search radius"
+                "no two edges meet within the {radius_px:.1} px search radius"
             ),
             Self::Unsure { corner_px, doubt } => {
                 write!(
