@@ -29,7 +29,6 @@
 //! must hold the exact clicks, as `synthesize` writes them with no noise), whether the camera
 //! sees it (nothing in front of it, itself included) and what kind of image point it is.
 
-use image::codecs::jpeg::{JpegDecoder, JpegEncoder};
 use image::{DynamicImage, Rgb, RgbImage};
 use nalgebra::{Vector2, Vector3};
 use rand::{RngExt, SeedableRng};
@@ -38,7 +37,9 @@ use rand_distr::{Distribution, Normal};
 use vpmap_metrology::scene::Scene;
 use vpmap_metrology::synth::{PinholeCamera, Truth};
 
-use super::realism::{Lens, draw_clutter, draw_occluders, varying_blur};
+use super::realism::{
+    Lens, draw_clutter, draw_occluders, gaussian_blur, jpeg_round_trip, varying_blur,
+};
 use crate::clicks::{ClickPlace, scene_clicks};
 use crate::error::{Result, VisionError};
 
@@ -524,55 +525,6 @@ fn value_noise(x: f64, y: f64, seed: u64) -> f64 {
     2.0 * (top + (bottom - top) * sy) - 1.0
 }
 
-/// A separable Gaussian blur of a planar float image, mirrored at the borders.
-pub(crate) fn gaussian_blur(pixels: &mut [f64], width: usize, height: usize, sigma: f64) {
-    if sigma <= 0.0 || width == 0 || height == 0 {
-        return;
-    }
-    let half = (3.0 * sigma).ceil() as isize;
-    let kernel: Vec<f64> = (-half..=half)
-        .map(|k| (-0.5 * (k as f64 / sigma).powi(2)).exp())
-        .collect();
-    let total: f64 = kernel.iter().sum();
-    let kernel: Vec<f64> = kernel.iter().map(|k| k / total).collect();
-    let mirror = |i: isize, n: usize| -> usize {
-        let n = n as isize;
-        let mut i = i;
-        if i < 0 {
-            i = -i - 1;
-        }
-        if i >= n {
-            i = 2 * n - i - 1;
-        }
-        i.clamp(0, n - 1) as usize
-    };
-    let mut tmp = vec![0.0; pixels.len()];
-    for y in 0..height {
-        for x in 0..width {
-            let mut s = 0.0;
-            for (k, w) in kernel.iter().enumerate() {
-                let xi = mirror(x as isize + k as isize - half, width);
-                s += w * pixels.get(y * width + xi).copied().unwrap_or(0.0);
-            }
-            if let Some(t) = tmp.get_mut(y * width + x) {
-                *t = s;
-            }
-        }
-    }
-    for y in 0..height {
-        for x in 0..width {
-            let mut s = 0.0;
-            for (k, w) in kernel.iter().enumerate() {
-                let yi = mirror(y as isize + k as isize - half, height);
-                s += w * tmp.get(yi * width + x).copied().unwrap_or(0.0);
-            }
-            if let Some(p) = pixels.get_mut(y * width + x) {
-                *p = s;
-            }
-        }
-    }
-}
-
 /// Render a photo of a synthetic scene (`vpmap_metrology::synth::synthesize` with no noise)
 /// and the truth of its clicks. Deterministic for the same inputs.
 ///
@@ -767,21 +719,6 @@ fn check_options(opts: &PhotoOptions) -> Result<()> {
         );
     }
     Ok(())
-}
-
-fn jpeg_round_trip(img: &RgbImage, quality: u8) -> Result<DynamicImage> {
-    let decode_error = |e: image::ImageError| VisionError::Decode {
-        format: "JPEG",
-        message: e.to_string(),
-    };
-    let mut bytes = Vec::new();
-    JpegEncoder::new_with_quality(&mut bytes, quality)
-        .encode_image(img)
-        .map_err(decode_error)?;
-    let decoder = JpegDecoder::new(std::io::Cursor::new(bytes)).map_err(decode_error)?;
-    DynamicImage::from_decoder(decoder)
-        .map(|d| DynamicImage::ImageRgb8(d.to_rgb8()))
-        .map_err(decode_error)
 }
 
 /// The world point of each click and whether the camera sees it.

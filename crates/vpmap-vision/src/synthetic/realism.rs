@@ -1,4 +1,5 @@
-//! What real photos have and the plain renders lack, for [`super::photo::render_photo`]:
+//! The camera's part of a rendered photo, for [`super::photo::render_photo`]: Gaussian blur
+//! and the JPEG round trip, and what real photos have and the plain renders lack:
 //! lens distortion (a one-parameter division model), clutter strokes near the corners and off
 //! the room's axes, thin occluders in front of the scene (T-junctions where they cross an
 //! edge), and blur that grows towards the photo's corners. Every part is off by default, and
@@ -14,8 +15,12 @@
 //! Fitzgibbon, "Simultaneous linear estimation of multiple view geometry and lens
 //! distortion", CVPR 2001 (the division model).
 
+use image::codecs::jpeg::{JpegDecoder, JpegEncoder};
+use image::{DynamicImage, RgbImage};
 use rand::RngExt as _;
 use rand_chacha::ChaCha8Rng;
+
+use crate::error::{Result, VisionError};
 
 /// The lens of a rendered photo: the division model's `k` about the principal point.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -206,8 +211,8 @@ pub(crate) fn varying_blur(
     growth: f64,
 ) {
     let mut soft = plane.to_vec();
-    super::photo::gaussian_blur(plane, width, height, sigma);
-    super::photo::gaussian_blur(&mut soft, width, height, sigma * (1.0 + growth));
+    gaussian_blur(plane, width, height, sigma);
+    gaussian_blur(&mut soft, width, height, sigma * (1.0 + growth));
     let (cx, cy) = (0.5 * width as f64, 0.5 * height as f64);
     let h2 = cx * cx + cy * cy;
     for (i, (p, s)) in plane.iter_mut().zip(&soft).enumerate() {
@@ -215,6 +220,70 @@ pub(crate) fn varying_blur(
         let t = ((x * x + y * y) / h2).min(1.0);
         *p += t * (s - *p);
     }
+}
+
+/// A separable Gaussian blur of a planar float image, mirrored at the borders.
+pub(crate) fn gaussian_blur(pixels: &mut [f64], width: usize, height: usize, sigma: f64) {
+    if sigma <= 0.0 || width == 0 || height == 0 {
+        return;
+    }
+    let half = (3.0 * sigma).ceil() as isize;
+    let kernel: Vec<f64> = (-half..=half)
+        .map(|k| (-0.5 * (k as f64 / sigma).powi(2)).exp())
+        .collect();
+    let total: f64 = kernel.iter().sum();
+    let kernel: Vec<f64> = kernel.iter().map(|k| k / total).collect();
+    let mirror = |i: isize, n: usize| -> usize {
+        let n = n as isize;
+        let mut i = i;
+        if i < 0 {
+            i = -i - 1;
+        }
+        if i >= n {
+            i = 2 * n - i - 1;
+        }
+        i.clamp(0, n - 1) as usize
+    };
+    let mut tmp = vec![0.0; pixels.len()];
+    for y in 0..height {
+        for x in 0..width {
+            let mut s = 0.0;
+            for (k, w) in kernel.iter().enumerate() {
+                let xi = mirror(x as isize + k as isize - half, width);
+                s += w * pixels.get(y * width + xi).copied().unwrap_or(0.0);
+            }
+            if let Some(t) = tmp.get_mut(y * width + x) {
+                *t = s;
+            }
+        }
+    }
+    for y in 0..height {
+        for x in 0..width {
+            let mut s = 0.0;
+            for (k, w) in kernel.iter().enumerate() {
+                let yi = mirror(y as isize + k as isize - half, height);
+                s += w * tmp.get(yi * width + x).copied().unwrap_or(0.0);
+            }
+            if let Some(p) = pixels.get_mut(y * width + x) {
+                *p = s;
+            }
+        }
+    }
+}
+
+pub(crate) fn jpeg_round_trip(img: &RgbImage, quality: u8) -> Result<DynamicImage> {
+    let decode_error = |e: image::ImageError| VisionError::Decode {
+        format: "JPEG",
+        message: e.to_string(),
+    };
+    let mut bytes = Vec::new();
+    JpegEncoder::new_with_quality(&mut bytes, quality)
+        .encode_image(img)
+        .map_err(decode_error)?;
+    let decoder = JpegDecoder::new(std::io::Cursor::new(bytes)).map_err(decode_error)?;
+    DynamicImage::from_decoder(decoder)
+        .map(|d| DynamicImage::ImageRgb8(d.to_rgb8()))
+        .map_err(decode_error)
 }
 
 #[cfg(test)]
