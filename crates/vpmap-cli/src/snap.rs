@@ -32,7 +32,7 @@ pub struct SnapArgs {
     /// The scene file to write, with the snapped points and their covariances.
     #[arg(long, short)]
     pub out: PathBuf,
-    /// How far off the clicks are, pixels (1 sigma): the search radius is 3.5 times it, 6 to
+    /// How far off the clicks are, pixels (1 sigma): the search radius is 2.45 times it, 3 to
     /// 16 px, and a click that stays is written with this sigma's covariance.
     #[arg(long, default_value_t = 2.0)]
     pub click_sigma: f64,
@@ -205,7 +205,7 @@ fn totals(snapped: &[SnappedClick], radius_px: f64, out: &Path) -> String {
     let largest = moved.iter().copied().fold(0.0, f64::max);
     let _ = writeln!(
         s,
-        "snapped {} of {} clicks (largest move {largest:.2} px, search radius {radius_px} px); wrote {}",
+        "snapped {} of {} clicks (largest move {largest:.2} px, search radius {radius_px:.1} px); wrote {}",
         moved.len(),
         snapped.len(),
         out.display()

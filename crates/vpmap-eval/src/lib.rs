@@ -13,9 +13,11 @@
 //! - [`detection`]: vanishing-point detection on labelled photos in the York Urban format:
 //!   angular error per vanishing point (the one York Urban scorer, [`detection::match_errors`]),
 //!   fractions within 1-10 degrees, area under the error curve, focal error and time.
-//! - [`clicks`]: snapping clicks on rendered photos (`vpmap eval-clicks`): the snapped
-//!   corners' error and share per kind of click, box size errors and error-bar coverage with
-//!   snapped against raw clicks, and the box proposals' recall and precision.
+//! - [`clicks`]: snapping clicks on rendered photos (`vpmap eval-clicks`, plain or
+//!   `--cluttered`): the snapped corners' error and share per kind of click, box size errors
+//!   and error-bar coverage with snapped against raw clicks, and the box proposals' recall and
+//!   precision; on real photos ([`clicks::yud`], `--yud DIR`): York Urban's labelled corners,
+//!   with the labels' own error measured and allowed for.
 //! - [`room`]: rooms of several photos: the joint map against the map of the first photo
 //!   alone and each shared object against the photos that show it alone (issue 29's targets).
 //! - [`stats`]: every quantile, median, mean and box-plot figure the reports print (type 7
@@ -28,7 +30,7 @@
 //! `mod.rs`): `error`, [`progress`], [`stats`], [`output`], [`publish`];
 //! [`accuracy`] (`config`, `collect`, `files`, `report`, `plot`); [`bench`](mod@bench) (`maps`,
 //! `measure`, `results`, `summary`, `plots`, `report`); [`navigate`](mod@navigate) (`eval`);
-//! [`detection`] (`geom`, `horizon`, `results`, `report`); [`clicks`] (`trial`, `report`).
+//! [`detection`] (`geom`, `horizon`, `results`, `report`); [`clicks`] (`trial`, `report`, `yud`).
 //!
 //! Each measurement is a function with an options struct; it returns its results and the files
 //! of its report and writes them all or nothing ([`output::OutputSet`]). Nothing here prints:

@@ -27,6 +27,7 @@
 //! surface changes are supersampled 4 x 4 (anti-aliasing); seeded Gaussian noise is added.
 
 pub mod photo;
+mod realism;
 
 use image::{DynamicImage, GrayImage, Luma, Rgb, RgbImage};
 use nalgebra::Vector3;

@@ -1,4 +1,11 @@
-//! Snapped against raw clicks on rendered photos (`vpmap eval-clicks`).
+//! Snapped against raw clicks on rendered photos (`vpmap eval-clicks`); on real photos, see
+//! [`yud`] (`vpmap eval-clicks --yud DIR`).
+//!
+//! With [`Config::cluttered`] the photos are rendered with
+//! [`vpmap_vision::synthetic::photo::PhotoOptions::cluttered`] (clutter near the corners,
+//! occluding bars, blur growing off-centre, JPEG at quality 85, barrel distortion): the clicks
+//! are then jittered about the true points as the distorted photo shows them, and both fits
+//! take them there (a pinhole fit of a distorted photo).
 //!
 //! Each trial draws a random room from `vpmap_metrology::synth` (1600 x 1200 px, focal length
 //! 1100 px, camera 1.5 m high, pitch 10, 20 or 30 degrees by turn, 3 degrees of roll, four
@@ -29,10 +36,11 @@
 
 mod report;
 mod trial;
+pub mod yud;
 
 use rayon::prelude::*;
 
-pub use report::{CLICKS_SECTION, published_section, summary_markdown};
+pub use report::{CLICKS_SECTION, CLUTTERED_SECTION, published_section, summary_markdown};
 pub use trial::{ClickRecord, FitRecord, ProposalRecord, TrialResult, run_clicks_trial};
 
 use crate::progress::Progress;
@@ -49,6 +57,10 @@ pub struct Config {
     /// Also fit the snapped clicks with each click's own covariance
     /// (`click_covariances_px2`: a snapped point's, `sigma^2 I` for a click that stayed).
     pub per_click_covariance: bool,
+    /// Render the photos with what real photos have
+    /// ([`vpmap_vision::synthetic::photo::PhotoOptions::cluttered`]: clutter near the corners,
+    /// occluding bars, blur growing off-centre, JPEG at quality 85, barrel distortion).
+    pub cluttered: bool,
 }
 
 impl Default for Config {
@@ -58,6 +70,7 @@ impl Default for Config {
             sigmas_px: vec![1.0, 2.0, 3.0],
             seed: 1,
             per_click_covariance: true,
+            cluttered: false,
         }
     }
 }

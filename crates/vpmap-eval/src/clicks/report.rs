@@ -12,6 +12,9 @@ use crate::stats::{median, quantile_of};
 /// The name of the section `--publish` writes.
 pub const CLICKS_SECTION: &str = "eval-clicks";
 
+/// The name of the section `--cluttered --publish` writes.
+pub const CLUTTERED_SECTION: &str = "eval-clicks-cluttered";
+
 fn pct(part: usize, whole: usize) -> String {
     if whole == 0 {
         "-".to_owned()
@@ -33,8 +36,13 @@ pub fn summary_markdown(config: &Config, results: &Results) -> String {
     let failed: Vec<&str> = trials.iter().filter_map(|t| t.error.as_deref()).collect();
     let _ = writeln!(
         s,
-        "{} rooms (1600 x 1200 px, focal length 1100 px, pitch 10/20/30 degrees, four boxes and a pentagonal prism each), rendered with shaded textured faces, 0.7 px blur, noise of 2 grey levels and JPEG at quality 90; vanishing points detected in {detected} photos (the true ones otherwise){}. Click noise: Gaussian, `sigma` px per coordinate; search radius `3.5 sigma` (6 to 16 px).\n",
+        "{} rooms (1600 x 1200 px, focal length 1100 px, pitch 10/20/30 degrees, four boxes and a pentagonal prism each), rendered with shaded textured faces, {}; vanishing points detected in {detected} photos (the true ones otherwise){}. Click noise: Gaussian, `sigma` px per coordinate; search radius `2.45 sigma` (3 to 16 px).\n",
         trials.len(),
+        if config.cluttered {
+            "0.7 px blur growing to 1.4 px at the photo's corners, noise of 2 grey levels, three clutter strokes near every corner, two occluding bars, barrel distortion k = -0.06 and JPEG at quality 85"
+        } else {
+            "0.7 px blur, noise of 2 grey levels and JPEG at quality 90"
+        },
         if failed.is_empty() {
             String::new()
         } else {
@@ -166,7 +174,11 @@ pub fn published_section(
     command: &str,
 ) -> String {
     crate::publish::published(
-        "Snapping clicks to the photo (`vpmap eval-clicks`)",
+        if config.cluttered {
+            "Snapping clicks on cluttered renders (`vpmap eval-clicks --cluttered`)"
+        } else {
+            "Snapping clicks to the photo (`vpmap eval-clicks`)"
+        },
         &summary_markdown(config, results),
         elapsed,
         command,

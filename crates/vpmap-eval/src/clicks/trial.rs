@@ -135,14 +135,15 @@ pub fn run_clicks_trial(config: &Config, trial: u64) -> TrialResult {
             return out;
         }
     };
-    let photo = match render_photo(
-        &scene,
-        &truth,
-        &PhotoOptions {
+    let photo_options = if config.cluttered {
+        PhotoOptions::cluttered(synth.seed)
+    } else {
+        PhotoOptions {
             seed: synth.seed,
             ..PhotoOptions::default()
-        },
-    ) {
+        }
+    };
+    let photo = match render_photo(&scene, &truth, &photo_options) {
         Ok(p) => p,
         Err(e) => {
             out.error = Some(e.to_string());
@@ -169,13 +170,28 @@ pub fn run_clicks_trial(config: &Config, trial: u64) -> TrialResult {
         let mut rng = ChaCha8Rng::seed_from_u64(noise_seed(synth.seed, sigma));
         add_noise(&mut noisy, sigma, &mut rng);
         let mut snapped = noisy.clone();
+        let mut raw_scene = noisy.clone();
         let clicks = vpmap_vision::clicks::scene_clicks(&noisy);
+        let exact = vpmap_vision::clicks::scene_clicks(&scene);
         let mut snapped_points: Vec<[f64; 2]> = Vec::new();
         let mut covariances = std::collections::BTreeMap::new();
         let opts = SnapOptions::for_click_sigma(sigma);
-        for (c, t) in clicks.iter().zip(&photo.corners) {
-            let raw_error = dist(c.point_px, t.point_px);
-            let snap = snap_click(&image, &vps, c.point_px, &opts).ok();
+        for ((c, t), e) in clicks.iter().zip(&photo.corners).zip(&exact) {
+            // The click: the true point in the photo (distorted by the lens, if any) plus the
+            // click's noise; both fits get it where the photo shows it.
+            let click_px = if photo.distortion_k == 0.0 {
+                c.point_px
+            } else {
+                let p = [
+                    t.point_px[0] + c.point_px[0] - e.point_px[0],
+                    t.point_px[1] + c.point_px[1] - e.point_px[1],
+                ];
+                set_scene_click(&mut raw_scene, c.place, p);
+                set_scene_click(&mut snapped, c.place, p);
+                p
+            };
+            let raw_error = dist(click_px, t.point_px);
+            let snap = snap_click(&image, &vps, click_px, &opts).ok();
             let (point, snapped_here, chi2) = match &snap {
                 Some(s) if s.snapped() => (
                     s.point_px,
@@ -183,7 +199,7 @@ pub fn run_clicks_trial(config: &Config, trial: u64) -> TrialResult {
                     s.covariance_px2
                         .map(|cov| mahalanobis_sq(s.point_px, t.point_px, cov)),
                 ),
-                _ => (c.point_px, false, None),
+                _ => (click_px, false, None),
             };
             if snapped_here {
                 set_scene_click(&mut snapped, c.place, point);
@@ -208,6 +224,7 @@ pub fn run_clicks_trial(config: &Config, trial: u64) -> TrialResult {
                 chi2,
             });
         }
+        let mut noisy = raw_scene;
         vanishing_points_as_lines(&mut noisy);
         vanishing_points_as_lines(&mut snapped);
         keep_snapped_lines(&mut snapped, &snapped_points);

@@ -20,6 +20,9 @@ pub(crate) struct CornerEdge {
     pub(crate) support_px: f64,
     pub(crate) strength: f64,
     pub(crate) rms_px: f64,
+    /// The angle between the fitted line and its pencil's direction, radians, and one
+    /// standard deviation of it from the fit (`None` for a free direction).
+    pub(crate) off_pencil: Option<(f64, f64)>,
 }
 
 /// Why no corner was found near the click.
@@ -31,6 +34,47 @@ pub(crate) enum NoCorner {
     /// Pieces along two or more directions that do not meet within the radius (nearest
     /// meeting point and its distance, if they meet at all).
     NoMeeting(Option<([f64; 2], f64)>),
+    /// A corner within the radius that the edges do not support well enough.
+    Unsure([f64; 2], Doubt),
+}
+
+/// Why a corner found near a click is not trusted (the checks of `SnapOptions::min_edge_px`,
+/// `max_edge_rms_px`, `vp_direction_sd_deg` and `max_rival_ratio`, and the junction).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Doubt {
+    /// One edge passes on through the corner: a T junction, mostly an edge in front hiding
+    /// one behind, whose meeting point lies on no object's corner.
+    TJunction,
+    /// An edge has too few points on its side of the corner, pixels of support.
+    ShortEdge {
+        /// The shorter edge's support, pixels.
+        support_px: f64,
+        /// The least accepted, pixels.
+        required_px: f64,
+    },
+    /// An edge is not straight: its points lie farther from its fitted line than the blur
+    /// and the noise allow (texture, a rounded or curved edge).
+    RoughEdge {
+        /// The larger root-mean-square distance of an edge's points from its line, pixels.
+        rms_px: f64,
+        /// The largest accepted, pixels.
+        allowed_px: f64,
+    },
+    /// An edge chosen towards a vanishing point runs off it by more than the fit and the
+    /// vanishing point's uncertainty allow.
+    OffVanishingPoint {
+        /// The angle between the fitted edge and the line to its vanishing point, degrees.
+        angle_deg: f64,
+        /// Three standard deviations of that angle, degrees.
+        allowed_deg: f64,
+    },
+    /// Another corner of nearly the same strength lies within the search radius.
+    Rival {
+        /// The other corner, pixels.
+        other_px: [f64; 2],
+        /// Its score over the chosen corner's.
+        ratio: f64,
+    },
 }
 
 /// The sine of the smallest angle between two edges that meet at a corner (6 degrees): a
@@ -65,6 +109,14 @@ pub(crate) struct CornerSearch {
     pub(crate) covariance_scale: f64,
     /// Added to the corner's standard deviation per axis, pixels.
     pub(crate) covariance_floor: f64,
+    /// The least support of each edge beside the corner for a snap, pixels.
+    pub(crate) min_edge_px: f64,
+    /// The largest root-mean-square distance of an edge's points from its line, pixels.
+    pub(crate) max_rms_px: f64,
+    /// One standard deviation of the image direction of a vanishing point's line, radians.
+    pub(crate) vp_direction_sd: f64,
+    /// A rival corner this strong (score ratio) makes the snap unsure.
+    pub(crate) max_rival_ratio: f64,
 }
 
 /// The score factor of a T junction against an L or Y junction.
@@ -72,6 +124,9 @@ const T_JUNCTION_WEIGHT: f64 = 0.2;
 
 /// A rival corner farther than this from the chosen one makes the choice ambiguous, pixels.
 const AMBIGUITY_PX: f64 = 1.0;
+
+/// A rival corner farther than this from the chosen one can make the snap unsure, pixels.
+const RIVAL_PX: f64 = 2.0;
 
 /// How far past a piece's end the corner may lie, pixels (the blur eats the last pixels).
 const END_SLACK_PX: f64 = 3.0;
@@ -110,7 +165,7 @@ pub(crate) fn find_corner(pieces: &[Piece], search: &CornerSearch) -> Result<Cor
         return Err(NoCorner::NoEdge);
     }
     let fits: Vec<Option<LineFit>> = pieces.iter().map(|p| fit_line(&p.points, 0.05)).collect();
-    let mut best: Option<(f64, usize, usize, [f64; 2])> = None;
+    let mut best: Option<(f64, usize, usize, [f64; 2], bool)> = None;
     // Every candidate corner and its score, for the ambiguity term of the covariance.
     let mut candidates: Vec<(f64, [f64; 2])> = Vec::new();
     let mut nearest: Option<([f64; 2], f64)> = None;
@@ -155,11 +210,11 @@ pub(crate) fn find_corner(pieces: &[Piece], search: &CornerSearch) -> Result<Cor
                 * (-0.5 * (d / sigma_prior).powi(2)).exp();
             candidates.push((score, x));
             if best.is_none_or(|bst| score > bst.0) {
-                best = Some((score, i, j, x));
+                best = Some((score, i, j, x, ea && eb));
             }
         }
     }
-    let Some((best_score, i, j, mut x)) = best else {
+    let Some((best_score, i, j, mut x, l_junction)) = best else {
         let kinds: Vec<EdgeDirection> = pieces.iter().map(|p| p.kind).collect();
         return Err(if kinds.iter().all(|k| *k == kinds[0]) {
             NoCorner::OneDirection(kinds[0])
@@ -192,6 +247,9 @@ pub(crate) fn find_corner(pieces: &[Piece], search: &CornerSearch) -> Result<Cor
             if (c.point[0] - search.click[0]).hypot(c.point[1] - search.click[1])
                 <= search.radius =>
         {
+            if let Some(doubt) = doubt(&c, l_junction, best_score, &candidates, search) {
+                return Err(NoCorner::Unsure(c.point, doubt));
+            }
             // Ambiguity: the strongest rival corner more than a pixel away, taken as the
             // other component of a two-point mixture weighted by the scores, adds
             // `p (x2 - x1)(x2 - x1)^T` with `p = s2 / (s1 + s2)`.
@@ -281,6 +339,12 @@ fn corner_of(
             support_px: points.len() as f64,
             strength: points.iter().map(|q| q.weight).sum::<f64>() / points.len().max(1) as f64,
             rms_px: fit.rms,
+            off_pencil: matches!(piece.kind, EdgeDirection::VanishingPoint(_)).then(|| {
+                (
+                    fit.beta.atan(),
+                    (fit.cov[1][1] * search.covariance_scale).max(0.0).sqrt(),
+                )
+            }),
         }
     };
     Some(Corner {
@@ -288,4 +352,56 @@ fn corner_of(
         cov,
         edges: [edge(a, fa, pa), edge(b, fb, pb)],
     })
+}
+
+/// The first reason the chosen corner is not trusted, if any: a T junction, an edge too short
+/// or too rough, an edge off its vanishing point, a rival corner nearly as strong.
+fn doubt(
+    c: &Corner,
+    l_junction: bool,
+    score: f64,
+    candidates: &[(f64, [f64; 2])],
+    search: &CornerSearch,
+) -> Option<Doubt> {
+    if !l_junction {
+        return Some(Doubt::TJunction);
+    }
+    let shortest = c
+        .edges
+        .iter()
+        .map(|e| e.support_px)
+        .fold(f64::INFINITY, f64::min);
+    if shortest < search.min_edge_px {
+        return Some(Doubt::ShortEdge {
+            support_px: shortest,
+            required_px: search.min_edge_px,
+        });
+    }
+    let roughest = c.edges.iter().map(|e| e.rms_px).fold(0.0, f64::max);
+    if roughest > search.max_rms_px {
+        return Some(Doubt::RoughEdge {
+            rms_px: roughest,
+            allowed_px: search.max_rms_px,
+        });
+    }
+    for e in &c.edges {
+        if let Some((angle, sd)) = e.off_pencil {
+            let allowed = 3.0 * sd.hypot(search.vp_direction_sd);
+            if angle.abs() > allowed {
+                return Some(Doubt::OffVanishingPoint {
+                    angle_deg: angle.abs().to_degrees(),
+                    allowed_deg: allowed.to_degrees(),
+                });
+            }
+        }
+    }
+    candidates
+        .iter()
+        .filter(|(_, y)| (y[0] - c.point[0]).hypot(y[1] - c.point[1]) > RIVAL_PX)
+        .max_by(|a, b| a.0.total_cmp(&b.0))
+        .filter(|(s2, _)| *s2 > search.max_rival_ratio * score)
+        .map(|(s2, y)| Doubt::Rival {
+            other_px: *y,
+            ratio: s2 / score,
+        })
 }

@@ -46,7 +46,12 @@
 //! found all run one way (a click on a single edge), or when edges of two directions meet
 //! farther than the search radius from the click: a click on a flat wall never jumps to a far
 //! corner. A snapped point is never farther than [`SnapOptions::search_radius_px`] from the
-//! click.
+//! click. It also stays, unsure ([`KeptReason::Unsure`], naming the [`Doubt`]), when the
+//! corner found is a T junction (one edge passes on), when an edge is seen along less than
+//! [`SnapOptions::min_edge_px`] or is not straight ([`SnapOptions::max_edge_rms_px`]), when an
+//! edge chosen towards a vanishing point runs off it by more than three standard deviations of
+//! the fit's and the vanishing point's ([`SnapOptions::vp_direction_sd_deg`]) uncertainty, or
+//! when a rival corner is nearly as strong ([`SnapOptions::max_rival_ratio`]).
 //!
 //! # References
 //! - Canny, "A computational approach to edge detection", IEEE PAMI 8(6), 1986 (gradient
@@ -62,6 +67,7 @@ mod edges;
 mod patch;
 pub mod scene;
 
+pub use corner::Doubt;
 pub use edges::EdgeDirection;
 pub use patch::SnapImage;
 
@@ -94,6 +100,24 @@ pub struct SnapOptions {
     pub covariance_scale: f64,
     /// Standard deviation added on each axis of the snapped point's covariance, pixels.
     pub covariance_floor_px: f64,
+    /// The least support of each edge beside the corner (points from
+    /// [`SnapOptions::corner_gap_px`] to [`SnapOptions::edge_length_px`] from it, one a
+    /// pixel: at most 14 with the defaults) for a snap, pixels. 10 (the edge seen along
+    /// three quarters of the fit) is the one threshold chosen on York Urban: 8, 10 and 12 made
+    /// 3.6 %, 2.8 % and 1.8 % of 2 px clicks worse by more than 1 px and snapped 40 %, 35 %
+    /// and 26 % (`docs/snapping.md`).
+    pub min_edge_px: f64,
+    /// The largest root-mean-square distance of an edge's points from its fitted line for a
+    /// snap, pixels.
+    pub max_edge_rms_px: f64,
+    /// One standard deviation of the image direction of a line towards a vanishing point,
+    /// degrees: how far an edge may run off its vanishing point (3 sd, with the fit's own
+    /// uncertainty) before the snap is doubted. 1 degree is the floor of a detected vanishing
+    /// point ([`crate::uncertainty::VP_FLOOR_SD_DEG`]).
+    pub vp_direction_sd_deg: f64,
+    /// A rival corner (more than 2 px from the chosen one, within the search radius) whose
+    /// score is more than this share of the chosen one's makes the snap unsure.
+    pub max_rival_ratio: f64,
 }
 
 impl Default for SnapOptions {
@@ -109,24 +133,36 @@ impl Default for SnapOptions {
             free_directions: true,
             covariance_scale: 2.0,
             covariance_floor_px: 0.4,
+            min_edge_px: 10.0,
+            max_edge_rms_px: 0.5,
+            vp_direction_sd_deg: crate::uncertainty::VP_FLOOR_SD_DEG,
+            max_rival_ratio: 0.5,
         }
     }
 }
 
+/// The search radius in click sigmas: `sqrt(chi2_2(0.95))`, the 95 % circle of a 2-D
+/// Gaussian click.
+pub const CLICK_RADIUS_SIGMAS: f64 = 2.447_746_830_680_816;
+
 impl SnapOptions {
     /// The default options with the search radius for clicks of `sigma_px` pixels of noise
-    /// (1 sigma per coordinate): `3.5 sigma`, at least 6 and at most 16 pixels (a 2-D
-    /// Gaussian click lies within 3.5 sigma 99.8 % of the time).
+    /// (1 sigma per coordinate): `2.45 sigma`, at least 3 and at most 16 pixels. A 2-D
+    /// Gaussian click lies within `2.45 sigma` of its corner 95 % of the time
+    /// (`sqrt(chi2_2(0.95))`): a corner farther from the click is not the one clicked at 95 %,
+    /// and on real photos it is more often another structure's corner (York Urban: a radius of
+    /// `3.5 sigma` made 5.4 % of 2 px clicks worse by more than 1 px, `2.45 sigma` 3.6 %;
+    /// `docs/snapping.md`).
     #[must_use]
     pub fn for_click_sigma(sigma_px: f64) -> Self {
         Self {
-            search_radius_px: (3.5 * sigma_px).clamp(6.0, 16.0),
+            search_radius_px: (CLICK_RADIUS_SIGMAS * sigma_px).clamp(3.0, 16.0),
             ..Self::default()
         }
     }
 
     fn check(&self) -> Result<()> {
-        let checks: [(&'static str, f64, f64, f64); 8] = [
+        let checks: [(&'static str, f64, f64, f64); 12] = [
             ("search_radius_px", self.search_radius_px, 0.5, 64.0),
             ("edge_length_px", self.edge_length_px, 3.0, 128.0),
             ("smoothing_sigma_px", self.smoothing_sigma_px, 0.0, 8.0),
@@ -135,6 +171,10 @@ impl SnapOptions {
             ("min_support_px", self.min_support_px, 3.0, 128.0),
             ("corner_gap_px", self.corner_gap_px, 0.0, 16.0),
             ("covariance_scale", self.covariance_scale, 0.0, 1e6),
+            ("min_edge_px", self.min_edge_px, 0.0, 128.0),
+            ("max_edge_rms_px", self.max_edge_rms_px, 0.0, 1e6),
+            ("vp_direction_sd_deg", self.vp_direction_sd_deg, 0.0, 90.0),
+            ("max_rival_ratio", self.max_rival_ratio, 0.0, 1e6),
         ];
         for (field, value, lo, hi) in checks {
             if !(value.is_finite() && value >= lo && value <= hi) {
@@ -190,6 +230,13 @@ pub enum KeptReason {
         /// The search radius, pixels.
         radius_px: f64,
     },
+    /// A corner within the search radius, but the edges do not support it well enough.
+    Unsure {
+        /// The corner, pixels.
+        corner_px: [f64; 2],
+        /// What is wrong with it.
+        doubt: Doubt,
+    },
 }
 
 impl std::fmt::Display for KeptReason {
@@ -206,13 +253,51 @@ impl std::fmt::Display for KeptReason {
                 radius_px,
             } => write!(
                 f,
-                "the nearest edges meet at ({:.1}, {:.1}), {d:.1} px away, beyond the {radius_px} px search radius",
+                "the nearest edges meet at ({:.1}, {:.1}), {d:.1} px away, beyond the {radius_px:.1} px search radius",
                 c[0], c[1]
             ),
             Self::TooFar { radius_px, .. } => write!(
                 f,
-                "no two edges meet within the {radius_px} px search radius"
+                "no two edges meet within the {radius_px:.1} px search radius"
             ),
+            Self::Unsure { corner_px, doubt } => {
+                write!(
+                    f,
+                    "unsure of the corner at ({:.1}, {:.1}): ",
+                    corner_px[0], corner_px[1]
+                )?;
+                match doubt {
+                    Doubt::TJunction => write!(
+                        f,
+                        "a T junction (one edge passes on: an edge in front of another)"
+                    ),
+                    Doubt::ShortEdge {
+                        support_px,
+                        required_px,
+                    } => write!(
+                        f,
+                        "an edge only {support_px:.0} px long beside it (at least {required_px:.0} px needed)"
+                    ),
+                    Doubt::RoughEdge { rms_px, allowed_px } => write!(
+                        f,
+                        "an edge is not straight ({rms_px:.2} px from its line, at most {allowed_px:.2} px)"
+                    ),
+                    Doubt::OffVanishingPoint {
+                        angle_deg,
+                        allowed_deg,
+                    } => write!(
+                        f,
+                        "an edge runs {angle_deg:.1} deg off its vanishing point (at most {allowed_deg:.1} deg)"
+                    ),
+                    Doubt::Rival { other_px, ratio } => write!(
+                        f,
+                        "another corner at ({:.1}, {:.1}) is nearly as strong ({:.0} %)",
+                        other_px[0],
+                        other_px[1],
+                        100.0 * ratio
+                    ),
+                }
+            }
         }
     }
 }
@@ -364,6 +449,10 @@ pub fn snap_click(
             min_points,
             covariance_scale: opts.covariance_scale,
             covariance_floor: opts.covariance_floor_px,
+            min_edge_px: opts.min_edge_px,
+            max_rms_px: opts.max_edge_rms_px,
+            vp_direction_sd: opts.vp_direction_sd_deg.to_radians(),
+            max_rival_ratio: opts.max_rival_ratio,
         },
     );
     Ok(match corner {
@@ -398,6 +487,7 @@ pub fn snap_click(
                     distance_px: m.map(|m| m.1),
                     radius_px: opts.search_radius_px,
                 },
+                NoCorner::Unsure(corner_px, doubt) => KeptReason::Unsure { corner_px, doubt },
             }),
         },
     })

@@ -78,15 +78,41 @@ pub fn snap_scene(
         });
     }
     let vps = scene_vanishing_points(scene)?;
+    // A scene that states its vanishing points' uncertainty (`vpmap detect` writes it): the
+    // edges may run off them by as much (the largest sd of any, if larger than the options').
+    let opts = SnapOptions {
+        vp_direction_sd_deg: opts.vp_direction_sd_deg.max(largest_vp_sd_deg(scene)),
+        ..*opts
+    };
     clicks
         .into_iter()
         .map(|c| {
             Ok(SnappedClick {
                 place: c.place,
-                snap: snap_click(image, &vps, c.point_px, opts)?,
+                snap: snap_click(image, &vps, c.point_px, &opts)?,
             })
         })
         .collect()
+}
+
+/// The largest standard deviation of any of the scene's vanishing points, degrees (the major
+/// axis of its `covariance_deg2`; 0 when none states one). The chart's angle stands in for
+/// the angle of the image line through a click, which it matches for points off the image.
+fn largest_vp_sd_deg(scene: &Scene) -> f64 {
+    scene
+        .vanishing_points
+        .iter()
+        .filter_map(|v| v.covariance_deg2)
+        .map(|c| {
+            let (a, b, d) = (c[0][0], c[0][1], c[1][1]);
+            let major = 0.5 * (a + d) + (0.25 * (a - d) * (a - d) + b * b).sqrt();
+            if major.is_finite() {
+                major.max(0.0).sqrt()
+            } else {
+                0.0
+            }
+        })
+        .fold(0.0, f64::max)
 }
 
 /// A number rounded to 1e-4 (pixels) or 1e-6 (pixels squared), for a readable file.

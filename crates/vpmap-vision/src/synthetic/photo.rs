@@ -15,13 +15,20 @@
 //!   [`PhotoOptions::supersample`]^2 sub-samples;
 //! * then a Gaussian blur ([`PhotoOptions::blur_sigma_px`], the lens), Gaussian noise
 //!   ([`PhotoOptions::noise_sigma`], grey levels) and a JPEG round trip
-//!   ([`PhotoOptions::jpeg_quality`]).
+//!   ([`PhotoOptions::jpeg_quality`]);
+//! * optionally what real photos have and these renders lack (all off by default, and then
+//!   the photo is byte for byte what it was): lens distortion
+//!   ([`PhotoOptions::distortion_k`], a one-parameter division model about the principal
+//!   point), clutter strokes near the corners and off the room's axes
+//!   ([`PhotoOptions::clutter_per_corner`]), thin occluders in front of the scene making
+//!   T junctions ([`PhotoOptions::occluders`]) and blur growing towards the photo's corners
+//!   ([`PhotoOptions::blur_growth`]); [`PhotoOptions::cluttered`] turns them all on with JPEG
+//!   at phone quality (85).
 //!
 //! Every click of the scene comes back as a [`TrueCorner`]: its exact projection (the scene
 //! must hold the exact clicks, as `synthesize` writes them with no noise), whether the camera
 //! sees it (nothing in front of it, itself included) and what kind of image point it is.
 
-use image::codecs::jpeg::{JpegDecoder, JpegEncoder};
 use image::{DynamicImage, Rgb, RgbImage};
 use nalgebra::{Vector2, Vector3};
 use rand::{RngExt, SeedableRng};
@@ -30,6 +37,9 @@ use rand_distr::{Distribution, Normal};
 use vpmap_metrology::scene::Scene;
 use vpmap_metrology::synth::{PinholeCamera, Truth};
 
+use super::realism::{
+    Lens, draw_clutter, draw_occluders, gaussian_blur, jpeg_round_trip, varying_blur,
+};
 use crate::clicks::{ClickPlace, scene_clicks};
 use crate::error::{Result, VisionError};
 
@@ -51,6 +61,21 @@ pub struct PhotoOptions {
     pub wall_height: f64,
     /// Seed of the colours, textures and noise.
     pub seed: u64,
+    /// Lens distortion, the division model's `k` (0: a pinhole photo). For a photo pixel
+    /// `p_d`, with `c` the principal point and `r = |p_d - c| / h` (`h` half the image
+    /// diagonal, pixels), the pinhole pixel is `p_u = c + (p_d - c) / (1 + k r^2)`; barrel
+    /// distortion has `k < 0`, phones about `-0.12` to 0. The true corners come back
+    /// distorted, and [`RenderedPhoto::distortion_k`] holds it.
+    pub distortion_k: f64,
+    /// Clutter strokes drawn near each visible corner (0: none): short, thin, any direction.
+    pub clutter_per_corner: usize,
+    /// Thin bars across the photo in front of everything (0: none); a corner under one is not
+    /// visible.
+    pub occluders: usize,
+    /// Blur growth towards the photo's corners: there the blur is
+    /// `blur_sigma_px (1 + blur_growth)`, mixed in by the squared distance from the centre
+    /// (0: the same blur everywhere).
+    pub blur_growth: f64,
 }
 
 impl Default for PhotoOptions {
@@ -63,6 +88,28 @@ impl Default for PhotoOptions {
             supersample: 5,
             wall_height: 1.8,
             seed: 0,
+            distortion_k: 0.0,
+            clutter_per_corner: 0,
+            occluders: 0,
+            blur_growth: 0.0,
+        }
+    }
+}
+
+impl PhotoOptions {
+    /// A photo closer to a phone's: the default with three clutter strokes a corner, two
+    /// occluding bars, blur twice as wide at the photo's corners, JPEG at quality 85 and
+    /// barrel distortion `k = -0.06` (mid-range for phones).
+    #[must_use]
+    pub fn cluttered(seed: u64) -> Self {
+        Self {
+            seed,
+            jpeg_quality: Some(85),
+            distortion_k: -0.06,
+            clutter_per_corner: 3,
+            occluders: 2,
+            blur_growth: 1.0,
+            ..Self::default()
         }
     }
 }
@@ -112,8 +159,11 @@ pub struct TrueCorner {
 pub struct RenderedPhoto {
     /// The photo (`ImageRgb8`, after the JPEG round trip when asked).
     pub image: DynamicImage,
-    /// Per click of the scene, in [`crate::clicks::scene_clicks`] order.
+    /// Per click of the scene, in [`crate::clicks::scene_clicks`] order (in the distorted
+    /// photo when [`PhotoOptions::distortion_k`] is not 0).
     pub corners: Vec<TrueCorner>,
+    /// The lens distortion rendered, the division model's `k` ([`PhotoOptions::distortion_k`]).
+    pub distortion_k: f64,
 }
 
 /// A surface a ray can hit.
@@ -475,55 +525,6 @@ fn value_noise(x: f64, y: f64, seed: u64) -> f64 {
     2.0 * (top + (bottom - top) * sy) - 1.0
 }
 
-/// A separable Gaussian blur of a planar float image, mirrored at the borders.
-pub(crate) fn gaussian_blur(pixels: &mut [f64], width: usize, height: usize, sigma: f64) {
-    if sigma <= 0.0 || width == 0 || height == 0 {
-        return;
-    }
-    let half = (3.0 * sigma).ceil() as isize;
-    let kernel: Vec<f64> = (-half..=half)
-        .map(|k| (-0.5 * (k as f64 / sigma).powi(2)).exp())
-        .collect();
-    let total: f64 = kernel.iter().sum();
-    let kernel: Vec<f64> = kernel.iter().map(|k| k / total).collect();
-    let mirror = |i: isize, n: usize| -> usize {
-        let n = n as isize;
-        let mut i = i;
-        if i < 0 {
-            i = -i - 1;
-        }
-        if i >= n {
-            i = 2 * n - i - 1;
-        }
-        i.clamp(0, n - 1) as usize
-    };
-    let mut tmp = vec![0.0; pixels.len()];
-    for y in 0..height {
-        for x in 0..width {
-            let mut s = 0.0;
-            for (k, w) in kernel.iter().enumerate() {
-                let xi = mirror(x as isize + k as isize - half, width);
-                s += w * pixels.get(y * width + xi).copied().unwrap_or(0.0);
-            }
-            if let Some(t) = tmp.get_mut(y * width + x) {
-                *t = s;
-            }
-        }
-    }
-    for y in 0..height {
-        for x in 0..width {
-            let mut s = 0.0;
-            for (k, w) in kernel.iter().enumerate() {
-                let yi = mirror(y as isize + k as isize - half, height);
-                s += w * tmp.get(yi * width + x).copied().unwrap_or(0.0);
-            }
-            if let Some(p) = pixels.get_mut(y * width + x) {
-                *p = s;
-            }
-        }
-    }
-}
-
 /// Render a photo of a synthetic scene (`vpmap_metrology::synth::synthesize` with no noise)
 /// and the truth of its clicks. Deterministic for the same inputs.
 ///
@@ -551,11 +552,25 @@ pub fn render_photo(scene: &Scene, truth: &Truth, opts: &PhotoOptions) -> Result
     let camera = truth.camera.pinhole(scene.image);
     let world = World::new(scene, truth, &camera, opts);
     let (w, h) = (scene.image.width as usize, scene.image.height as usize);
+    let lens = Lens {
+        centre: [camera.principal_point_px.x, camera.principal_point_px.y],
+        half_diagonal: 0.5 * (w as f64).hypot(h as f64),
+        k: opts.distortion_k,
+    };
+    // A photo pixel shows the pinhole pixel `undistort(p)` (itself without distortion).
+    let sample = |u: f64, v: f64| {
+        if opts.distortion_k == 0.0 {
+            world.sample(u, v)
+        } else {
+            let p = lens.undistort([u, v]);
+            world.sample(p[0], p[1])
+        }
+    };
     let mut surfaces = Vec::with_capacity(w * h);
     let mut colours = Vec::with_capacity(w * h);
     for y in 0..h {
         for x in 0..w {
-            let (s, c) = world.sample(x as f64 + 0.5, y as f64 + 0.5);
+            let (s, c) = sample(x as f64 + 0.5, y as f64 + 0.5);
             surfaces.push(s);
             colours.push(c);
         }
@@ -582,7 +597,7 @@ pub fn render_photo(scene: &Scene, truth: &Truth, opts: &PhotoOptions) -> Result
                 for sx in 0..sub {
                     let u = x as f64 + (sx as f64 + 0.5) / sub as f64;
                     let v = y as f64 + (sy as f64 + 0.5) / sub as f64;
-                    let (_, c) = world.sample(u, v);
+                    let (_, c) = sample(u, v);
                     for (s, v) in sum.iter_mut().zip(c) {
                         *s += v;
                     }
@@ -593,13 +608,48 @@ pub fn render_photo(scene: &Scene, truth: &Truth, opts: &PhotoOptions) -> Result
             }
         }
     }
+    let mut corners = true_corners(scene, truth, &world, &camera);
+    if opts.distortion_k != 0.0 {
+        for c in &mut corners {
+            match lens.distort(c.point_px) {
+                Some(p) => c.point_px = p,
+                None => c.visible = false,
+            }
+        }
+    }
+    if opts.clutter_per_corner > 0 || opts.occluders > 0 {
+        let mut clutter_rng = ChaCha8Rng::seed_from_u64(opts.seed ^ 0xC1A7_7E2D);
+        let visible: Vec<[f64; 2]> = corners
+            .iter()
+            .filter(|c| c.visible)
+            .map(|c| c.point_px)
+            .collect();
+        draw_clutter(
+            &mut out,
+            w,
+            h,
+            &visible,
+            opts.clutter_per_corner,
+            &mut clutter_rng,
+        );
+        let bars = draw_occluders(&mut out, w, h, opts.occluders, &mut clutter_rng);
+        for c in &mut corners {
+            if bars.iter().any(|b| b.covers(c.point_px, 1.0)) {
+                c.visible = false;
+            }
+        }
+    }
     let mut rng = ChaCha8Rng::seed_from_u64(opts.seed);
     let noise = Normal::new(0.0, opts.noise_sigma.max(0.0)).ok();
     let mut planes: Vec<Vec<f64>> = (0..3)
         .map(|c| out.iter().map(|p| p[c] * 255.0).collect())
         .collect();
     for plane in &mut planes {
-        gaussian_blur(plane, w, h, opts.blur_sigma_px);
+        if opts.blur_growth > 0.0 {
+            varying_blur(plane, w, h, opts.blur_sigma_px, opts.blur_growth);
+        } else {
+            gaussian_blur(plane, w, h, opts.blur_sigma_px);
+        }
     }
     let mut img = RgbImage::new(scene.image.width, scene.image.height);
     for (i, px) in img.pixels_mut().enumerate() {
@@ -618,7 +668,8 @@ pub fn render_photo(scene: &Scene, truth: &Truth, opts: &PhotoOptions) -> Result
     };
     Ok(RenderedPhoto {
         image,
-        corners: true_corners(scene, truth, &world, &camera),
+        corners,
+        distortion_k: opts.distortion_k,
     })
 }
 
@@ -654,22 +705,20 @@ fn check_options(opts: &PhotoOptions) -> Result<()> {
     if !(opts.wall_height.is_finite() && opts.wall_height > 0.0) {
         return bad("wall_height", opts.wall_height, "must be positive");
     }
+    if !(opts.distortion_k.is_finite() && (-0.5..=0.5).contains(&opts.distortion_k)) {
+        return bad("distortion_k", opts.distortion_k, "must lie in -0.5..=0.5");
+    }
+    if !(opts.blur_growth.is_finite() && (0.0..=10.0).contains(&opts.blur_growth)) {
+        return bad("blur_growth", opts.blur_growth, "must lie in 0..=10");
+    }
+    if opts.clutter_per_corner > 100 || opts.occluders > 100 {
+        return bad(
+            "clutter_per_corner",
+            opts.clutter_per_corner.max(opts.occluders) as f64,
+            "clutter_per_corner and occluders must be at most 100",
+        );
+    }
     Ok(())
-}
-
-fn jpeg_round_trip(img: &RgbImage, quality: u8) -> Result<DynamicImage> {
-    let decode_error = |e: image::ImageError| VisionError::Decode {
-        format: "JPEG",
-        message: e.to_string(),
-    };
-    let mut bytes = Vec::new();
-    JpegEncoder::new_with_quality(&mut bytes, quality)
-        .encode_image(img)
-        .map_err(decode_error)?;
-    let decoder = JpegDecoder::new(std::io::Cursor::new(bytes)).map_err(decode_error)?;
-    DynamicImage::from_decoder(decoder)
-        .map(|d| DynamicImage::ImageRgb8(d.to_rgb8()))
-        .map_err(decode_error)
 }
 
 /// The world point of each click and whether the camera sees it.

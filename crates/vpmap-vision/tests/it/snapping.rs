@@ -64,6 +64,11 @@ fn box_corner_errors(seeds: std::ops::Range<u64>, sigma_px: f64) -> Vec<Option<(
             if !(0.0..800.0).contains(&click[0]) || !(0.0..600.0).contains(&click[1]) {
                 continue;
             }
+            // A corner beyond the search radius (2.45 sigma: 5 % of clicks) is out of reach
+            // by design: the share snapped counts the corners within it.
+            if (click[0] - c.point_px[0]).hypot(click[1] - c.point_px[1]) > opts.search_radius_px {
+                continue;
+            }
             let snap = snap_click(&image, &vps, click, &opts).unwrap();
             assert!(snap.moved_px() <= opts.search_radius_px + 1e-9);
             out.push(snap.covariance_px2.map(|cov| {
@@ -282,4 +287,66 @@ fn a_snapped_scene_keeps_its_other_fields_and_records_covariances() {
     if let Some(k) = kept {
         assert_eq!(table[&k.place.field()][0][0].as_f64(), Some(2.25));
     }
+}
+
+/// The lens distortion of the renderer follows the division model's convention: for a photo
+/// pixel `p_d`, `r = |p_d - c| / h` (`c` the principal point, `h` half the diagonal), the
+/// pinhole pixel is `p_u = c + (p_d - c) / (1 + k r^2)`. The returned (distorted) corners,
+/// undistorted here by that formula, are the scene's exact clicks (the independent pinhole
+/// camera's projections), and the photo shows them there: clicks near them snap to within a
+/// pixel of them, while they lie several pixels from the pinhole points near the photo's edge.
+#[test]
+fn a_distorted_render_shows_its_corners_where_its_truth_says() {
+    let (scene, truth) = scene(3, 15.0);
+    let k = -0.1;
+    let rendered = render_photo(
+        &scene,
+        &truth,
+        &PhotoOptions {
+            seed: 3,
+            distortion_k: k,
+            ..PhotoOptions::default()
+        },
+    )
+    .unwrap();
+    assert_eq!(rendered.distortion_k, k);
+    let c = [
+        truth.camera.pinhole(scene.image).principal_point_px.x,
+        truth.camera.pinhole(scene.image).principal_point_px.y,
+    ];
+    let h = 0.5 * 800f64.hypot(600.0);
+    let exact = vpmap_vision::clicks::scene_clicks(&scene);
+    let image = SnapImage::new(&rendered.image);
+    let vps = scene_vanishing_points(&scene).unwrap();
+    let (mut near, mut far_from_pinhole) = (0, 0);
+    for (t, e) in rendered.corners.iter().zip(&exact) {
+        let d = [t.point_px[0] - c[0], t.point_px[1] - c[1]];
+        let r2 = (d[0] * d[0] + d[1] * d[1]) / (h * h);
+        let u = [c[0] + d[0] / (1.0 + k * r2), c[1] + d[1] / (1.0 + k * r2)];
+        assert!(
+            (u[0] - e.point_px[0]).abs() < 1e-6 && (u[1] - e.point_px[1]).abs() < 1e-6,
+            "{:?} undistorts to {u:?}, not {:?}",
+            t.point_px,
+            e.point_px
+        );
+        if !(t.visible && t.kind == CornerKind::BoxCorner) {
+            continue;
+        }
+        let click = [t.point_px[0] + 1.2, t.point_px[1] - 0.9];
+        let snap = snap_click(&image, &vps, click, &SnapOptions::for_click_sigma(2.0)).unwrap();
+        if snap.snapped() {
+            let err = (snap.point_px[0] - t.point_px[0]).hypot(snap.point_px[1] - t.point_px[1]);
+            near += usize::from(err < 1.0);
+            let moved = (t.point_px[0] - e.point_px[0]).hypot(t.point_px[1] - e.point_px[1]);
+            far_from_pinhole += usize::from(moved > 3.0 && err < 1.0);
+        }
+    }
+    assert!(
+        near >= 5,
+        "{near} snapped within a pixel of the distorted truth"
+    );
+    assert!(
+        far_from_pinhole >= 1,
+        "no corner snapped where the distorted truth is far from the pinhole point"
+    );
 }

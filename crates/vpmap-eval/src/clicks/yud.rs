@@ -1,0 +1,770 @@
+//! Snapping on real photos: the labelled corners of York Urban (`vpmap eval-clicks --yud DIR`).
+//!
+//! The folder holds York Urban pairs `<name>.jpg` + `<name>.json` (`segments_xyxy`,
+//! `segment_vp_index0`, `vp_px`; [`crate::detection`] reads the same files).
+//!
+//! * **Corners.** Where two labelled segments of different vanishing points meet: an end of one
+//!   within [`YudConfig::max_gap_px`] (3 px) of an end of the other, both at least
+//!   [`YudConfig::min_length_px`] (15 px) long; the corner is where their lines cross. Every
+//!   such pair is one corner (three segments meeting at a Y give three).
+//! * **Clicks.** Each corner is clicked once, `sigma` px off (Gaussian per coordinate, seeded by
+//!   the photo's name and the corner), and snapped with
+//!   [`vpmap_vision::snap::SnapOptions::for_click_sigma`] and the photo's detected vanishing
+//!   points ([`vpmap_vision::detect`], as `vpmap detect` finds them; the labelled ones when
+//!   detection finds fewer than two). A second click exactly on the labelled corner shows how
+//!   far snapping moves a perfect click.
+//! * **The labels' own error.** A labelled line is not exactly on the photo's edge. At each
+//!   corner, along each of its two segments from 3 to 12 px from the corner, the edge is located
+//!   across the labelled line (the largest gradient of the photo smoothed by 1 px, by a
+//!   parabola through its neighbours; one polarity per segment); the median of these offsets is
+//!   the labelled line's offset at the corner. Their robust spread (1.4826 x the median
+//!   absolute deviation about their mean, over every corner's segments) is the labels' line
+//!   error `sigma_l`, and a labelled corner, the crossing of two such lines with unit normals
+//!   `n1`, `n2`, is off by `sigma_l^2 (N^T N)^-1` (`N` the matrix of rows `n1`, `n2`): that
+//!   covariance is added to a snapped point's before its error is judged against its 95 %
+//!   ellipse. Their mean, per image axis, shows whether the labels sit half a pixel off the
+//!   photo's pixel grid (coordinates here: pixel centres at `k + 0.5`).
+//!
+//! Measured: the distance of the point after snapping (the click when it stays) from the
+//! labelled corner, its median against the raw clicks'; the share of clicks made worse by more
+//! than 1 px; the share snapped; the share of snapped points whose labelled corner lies in their
+//! 95 % ellipse, with and without the labels' error; the reasons clicks stayed.
+
+use std::fmt::Write as _;
+use std::path::Path;
+
+use rand::{RngExt as _, SeedableRng as _};
+use rand_chacha::ChaCha8Rng;
+use serde::Deserialize;
+use vpmap_vision::photo::{PhotoLimits, decode_photo};
+use vpmap_vision::snap::{Doubt, KeptReason, SnapImage, SnapOptions, SnapOutcome, snap_click};
+use vpmap_vision::{DetectOptions, detect};
+
+use crate::detection::find_pairs;
+use crate::error::{EvalError, Result, ResultExt as _, bail};
+use crate::progress::Progress;
+use crate::stats::{median, quantile_of};
+
+/// Options of [`run_yud`].
+#[derive(Debug, Clone, PartialEq)]
+pub struct YudConfig {
+    /// Click noise, pixels (1 sigma per coordinate).
+    pub sigma_px: f64,
+    /// Seed of the clicks.
+    pub seed: u64,
+    /// Largest distance between the two segments' nearest ends, pixels.
+    pub max_gap_px: f64,
+    /// Shortest segment, pixels.
+    pub min_length_px: f64,
+    /// Subtracted from every labelled coordinate, pixels: 0.5, as the labels put pixel
+    /// centres at whole numbers and snapping at `k + 0.5` (see the [module docs](self)).
+    pub label_shift_px: f64,
+    /// The snapping options (`None`: [`SnapOptions::for_click_sigma`] of the click noise).
+    pub snap: Option<SnapOptions>,
+}
+
+impl Default for YudConfig {
+    fn default() -> Self {
+        Self {
+            sigma_px: 2.0,
+            seed: 1,
+            max_gap_px: 3.0,
+            min_length_px: 15.0,
+            label_shift_px: 0.5,
+            snap: None,
+        }
+    }
+}
+
+/// A labelled corner: the crossing of two labelled segments' lines.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LabelledCorner {
+    /// The corner, pixels.
+    pub point_px: [f64; 2],
+    /// The two segments (indices into the label file's `segments_xyxy`).
+    pub segments: [usize; 2],
+    /// The two lines' unit normals.
+    pub normals: [[f64; 2]; 2],
+}
+
+/// One click on one labelled corner.
+#[derive(Debug, Clone, PartialEq)]
+pub struct YudClick {
+    /// The photo's file stem.
+    pub photo: String,
+    /// The corner.
+    pub corner: LabelledCorner,
+    /// Distance of the click from the corner, pixels.
+    pub raw_error_px: f64,
+    /// Distance of the point after snapping (the click when kept), pixels.
+    pub error_px: f64,
+    /// Whether it moved.
+    pub snapped: bool,
+    /// The larger standard deviation of a snapped point's covariance, pixels.
+    pub sd_px: Option<f64>,
+    /// A snapped point's covariance, pixels squared.
+    pub covariance_px2: Option<[[f64; 2]; 2]>,
+    /// Why it stayed (a short name), when it did.
+    pub kept: Option<&'static str>,
+    /// How far a click exactly on the corner moved, pixels.
+    pub exact_moved_px: f64,
+    /// The error of the point after snapping, pixels (signed, x and y).
+    pub error_vec_px: [f64; 2],
+    /// The labelled lines' offsets from the photo's edges at the corner, pixels, along their
+    /// normals (`None` where no edge was found).
+    pub label_offsets_px: [Option<f64>; 2],
+    /// A snapped point's edges: root-mean-square distance of their points from their lines,
+    /// pixels, and mean gradient across them, grey levels per pixel.
+    pub edges: Vec<(f64, f64)>,
+}
+
+/// Every click of a run, and what the run found of the photos.
+#[derive(Debug, Clone, Default)]
+pub struct YudResults {
+    /// Every click, photo by photo.
+    pub clicks: Vec<YudClick>,
+    /// Photos read.
+    pub photos: usize,
+    /// Photos whose vanishing points were detected (the labelled ones otherwise).
+    pub detected: usize,
+}
+
+#[derive(Deserialize)]
+struct LabelFile {
+    segments_xyxy: Vec<[f64; 4]>,
+    segment_vp_index0: Vec<usize>,
+    vp_px: Vec<[f64; 2]>,
+}
+
+/// The labelled corners of one photo (see the [module docs](self)).
+#[must_use]
+pub fn labelled_corners(
+    segments: &[[f64; 4]],
+    vp_index: &[usize],
+    config: &YudConfig,
+) -> Vec<LabelledCorner> {
+    let length = |s: &[f64; 4]| (s[2] - s[0]).hypot(s[3] - s[1]);
+    let ends = |s: &[f64; 4]| [[s[0], s[1]], [s[2], s[3]]];
+    let mut out = Vec::new();
+    for (i, (a, va)) in segments.iter().zip(vp_index).enumerate() {
+        if length(a) < config.min_length_px {
+            continue;
+        }
+        for (j, (b, vb)) in segments.iter().zip(vp_index).enumerate().skip(i + 1) {
+            if va == vb || length(b) < config.min_length_px {
+                continue;
+            }
+            let gap = ends(a)
+                .iter()
+                .flat_map(|p| ends(b).map(|q| dist(*p, q)))
+                .fold(f64::INFINITY, f64::min);
+            if gap > config.max_gap_px {
+                continue;
+            }
+            let (da, db) = ([a[2] - a[0], a[3] - a[1]], [b[2] - b[0], b[3] - b[1]]);
+            let den = da[0] * db[1] - da[1] * db[0];
+            if den.abs() <= 1e-12 {
+                continue;
+            }
+            let t = ((b[0] - a[0]) * db[1] - (b[1] - a[1]) * db[0]) / den;
+            let point_px = [a[0] + t * da[0], a[1] + t * da[1]];
+            let normal = |d: [f64; 2]| {
+                let n = d[0].hypot(d[1]);
+                [-d[1] / n, d[0] / n]
+            };
+            out.push(LabelledCorner {
+                point_px,
+                segments: [i, j],
+                normals: [normal(da), normal(db)],
+            });
+        }
+    }
+    out
+}
+
+/// The photo's grey levels smoothed by a Gaussian of 1 px and their gradient, for locating
+/// edges across the labelled lines.
+struct Gradient {
+    width: usize,
+    height: usize,
+    gx: Vec<f64>,
+    gy: Vec<f64>,
+}
+
+impl Gradient {
+    fn new(image: &image::DynamicImage) -> Self {
+        let grey = image.to_luma8();
+        let (width, height) = (grey.width() as usize, grey.height() as usize);
+        let raw: Vec<f64> = grey.as_raw().iter().map(|&v| f64::from(v)).collect();
+        let kernel: Vec<f64> = (-3i32..=3)
+            .map(|k| (-0.5 * f64::from(k * k)).exp())
+            .collect();
+        let total: f64 = kernel.iter().sum();
+        let pass = |src: &[f64], horizontal: bool| -> Vec<f64> {
+            let mut out = vec![0.0; src.len()];
+            for y in 0..height {
+                for x in 0..width {
+                    let mut s = 0.0;
+                    for (k, w) in kernel.iter().enumerate() {
+                        let o = k as i64 - 3;
+                        let (xx, yy) = if horizontal {
+                            ((x as i64 + o).clamp(0, width as i64 - 1) as usize, y)
+                        } else {
+                            (x, (y as i64 + o).clamp(0, height as i64 - 1) as usize)
+                        };
+                        s += w * src.get(yy * width + xx).copied().unwrap_or(0.0);
+                    }
+                    if let Some(v) = out.get_mut(y * width + x) {
+                        *v = s / total;
+                    }
+                }
+            }
+            out
+        };
+        let smooth = pass(&pass(&raw, true), false);
+        let at = |x: usize, y: usize| smooth.get(y * width + x).copied().unwrap_or(0.0);
+        let mut gx = vec![0.0; raw.len()];
+        let mut gy = vec![0.0; raw.len()];
+        for y in 1..height.saturating_sub(1) {
+            for x in 1..width.saturating_sub(1) {
+                let k = y * width + x;
+                if let (Some(a), Some(b)) = (gx.get_mut(k), gy.get_mut(k)) {
+                    *a = 0.5 * (at(x + 1, y) - at(x - 1, y));
+                    *b = 0.5 * (at(x, y + 1) - at(x, y - 1));
+                }
+            }
+        }
+        Self {
+            width,
+            height,
+            gx,
+            gy,
+        }
+    }
+
+    /// The gradient at an image position (pixel centres at `k + 0.5`), bilinear.
+    fn at(&self, p: [f64; 2]) -> Option<[f64; 2]> {
+        let (fx, fy) = (p[0] - 0.5, p[1] - 0.5);
+        if !(fx >= 1.0 && fy >= 1.0) {
+            return None;
+        }
+        let (ix, iy) = (fx.floor() as usize, fy.floor() as usize);
+        if ix + 2 >= self.width || iy + 2 >= self.height {
+            return None;
+        }
+        let (tx, ty) = (fx - ix as f64, fy - iy as f64);
+        let k = iy * self.width + ix;
+        let lerp = |g: &[f64]| -> Option<f64> {
+            let (a, b) = (*g.get(k)?, *g.get(k + 1)?);
+            let (c, d) = (*g.get(k + self.width)?, *g.get(k + self.width + 1)?);
+            Some((a * (1.0 - tx) + b * tx) * (1.0 - ty) + (c * (1.0 - tx) + d * tx) * ty)
+        };
+        Some([lerp(&self.gx)?, lerp(&self.gy)?])
+    }
+}
+
+/// The offset of the photo's edge from a labelled line at a corner, along the line's normal,
+/// pixels: the median over the points 3 to 12 px from the corner along the segment of the
+/// sub-pixel gradient maximum across the line (`None` with fewer than 5 such points).
+/// Profile step across a labelled line, pixels.
+const STEP: f64 = 0.25;
+/// Profile samples on each side of a labelled line (3 px).
+const HALF: i32 = 12;
+
+fn label_offset(
+    grad: &Gradient,
+    corner: [f64; 2],
+    segment: &[f64; 4],
+    normal: [f64; 2],
+) -> Option<f64> {
+    // Along the segment, away from the corner.
+    let (p, q) = ([segment[0], segment[1]], [segment[2], segment[3]]);
+    let far = if dist(p, corner) > dist(q, corner) {
+        p
+    } else {
+        q
+    };
+    let len = dist(far, corner);
+    if len < 1e-9 {
+        return None;
+    }
+    let u = [(far[0] - corner[0]) / len, (far[1] - corner[1]) / len];
+    let n = normal;
+    let profiles: Vec<Vec<f64>> = (3..=12)
+        .map(f64::from)
+        .filter(|&t| t <= len)
+        .map(|t| {
+            (-HALF..=HALF)
+                .map(|k| {
+                    let s = f64::from(k) * STEP;
+                    let x = [
+                        corner[0] + t * u[0] + s * n[0],
+                        corner[1] + t * u[1] + s * n[1],
+                    ];
+                    grad.at(x).map_or(f64::NAN, |g| g[0] * n[0] + g[1] * n[1])
+                })
+                .collect()
+        })
+        .collect();
+    // One polarity per segment: the sign of the summed gradient across it.
+    let total: f64 = profiles.iter().flatten().filter(|v| v.is_finite()).sum();
+    let sign = if total >= 0.0 { 1.0 } else { -1.0 };
+    let mut offsets: Vec<f64> = Vec::new();
+    for prof in &profiles {
+        let best = prof
+            .iter()
+            .enumerate()
+            .filter(|(_, v)| v.is_finite())
+            .max_by(|a, b| (sign * a.1).total_cmp(&(sign * b.1)));
+        let Some((i, &g)) = best else { continue };
+        if i == 0 || i + 1 == prof.len() || sign * g < 2.0 {
+            continue;
+        }
+        let (a, c) = (sign * prof[i - 1], sign * prof[i + 1]);
+        let b = sign * g;
+        let den = a - 2.0 * b + c;
+        let off = if den < -1e-12 {
+            (0.5 * (a - c) / den).clamp(-0.5, 0.5)
+        } else {
+            0.0
+        };
+        offsets.push((f64::from(i as i32 - HALF) + off) * STEP);
+    }
+    (offsets.len() >= 5).then(|| median(&offsets)).flatten()
+}
+
+/// Snap every labelled corner of every photo in `dir`, one photo at a time; one
+/// [`Progress::step`] per photo.
+///
+/// # Errors
+/// When the folder holds no labelled photos, or a photo or label file cannot be read.
+pub fn run_yud(dir: &Path, config: &YudConfig, progress: &dyn Progress) -> Result<YudResults> {
+    if !(config.sigma_px.is_finite() && config.sigma_px >= 0.0 && config.sigma_px <= 10.0) {
+        bail!("the click noise {} px must lie in [0, 10]", config.sigma_px);
+    }
+    let pairs = find_pairs(dir)?;
+    progress.start(pairs.len() as u64);
+    let mut out = YudResults::default();
+    let opts = snap_options(config);
+    for pair in &pairs {
+        let text = std::fs::read_to_string(&pair.label)
+            .with_context(|| format!("cannot read {}", pair.label.display()))?;
+        let label: LabelFile = serde_json::from_str(&text)
+            .with_context(|| format!("{} is not a York Urban label file", pair.label.display()))?;
+        if label.segments_xyxy.len() != label.segment_vp_index0.len() {
+            bail!(
+                "{}: {} segments but {} vanishing-point indices",
+                pair.label.display(),
+                label.segments_xyxy.len(),
+                label.segment_vp_index0.len()
+            );
+        }
+        let bytes = std::fs::read(&pair.image)
+            .with_context(|| format!("cannot read photo {}", pair.image.display()))?;
+        let photo = decode_photo(&bytes, &PhotoLimits::default())
+            .map_err(|e| EvalError::Invalid(format!("{}: {e}", pair.image.display())))?;
+        let image = SnapImage::new(&photo.image);
+        let grad = Gradient::new(&photo.image);
+        let detected: Vec<[f64; 3]> = detect(&photo.image, &DetectOptions::default())
+            .map(|d| {
+                let (f, c) = (d.intrinsics.focal_px, d.intrinsics.principal_point_px);
+                d.vanishing_points
+                    .iter()
+                    .map(|v| {
+                        let k = v.direction_camera;
+                        [f * k[0] + c[0] * k[2], f * k[1] + c[1] * k[2], k[2]]
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        let vps = if detected.len() >= 2 {
+            out.detected += 1;
+            detected
+        } else {
+            label.vp_px.iter().map(|p| [p[0], p[1], 1.0]).collect()
+        };
+        out.photos += 1;
+        // The labels put pixel centres at whole numbers (MATLAB's 1-based pixels); here they
+        // sit at `k + 0.5`.
+        let segments: Vec<[f64; 4]> = label
+            .segments_xyxy
+            .iter()
+            .map(|s| s.map(|v| v - config.label_shift_px))
+            .collect();
+        let corners = labelled_corners(&segments, &label.segment_vp_index0, config);
+        let mut rng = ChaCha8Rng::seed_from_u64(config.seed ^ name_hash(&pair.name));
+        for corner in corners {
+            let noise = [gaussian(&mut rng), gaussian(&mut rng)];
+            let click = clamp_into(
+                [
+                    corner.point_px[0] + config.sigma_px * noise[0],
+                    corner.point_px[1] + config.sigma_px * noise[1],
+                ],
+                &image,
+            );
+            let Some(truth_click) = inside(corner.point_px, &image) else {
+                continue;
+            };
+            let snap = snap_click(&image, &vps, click, &opts)
+                .map_err(|e| EvalError::Invalid(format!("{}: snapping a click: {e}", pair.name)))?;
+            let exact = snap_click(&image, &vps, truth_click, &opts)
+                .map_err(|e| EvalError::Invalid(format!("{}: snapping a click: {e}", pair.name)))?;
+            let label_offsets_px = [0, 1].map(|k| {
+                let s = corner.segments[k];
+                segments
+                    .get(s)
+                    .and_then(|seg| label_offset(&grad, corner.point_px, seg, corner.normals[k]))
+            });
+            out.clicks.push(YudClick {
+                photo: pair.name.clone(),
+                corner,
+                raw_error_px: dist(click, corner.point_px),
+                error_px: dist(snap.point_px, corner.point_px),
+                snapped: snap.snapped(),
+                sd_px: snap.covariance_px2.map(largest_sd),
+                covariance_px2: snap.covariance_px2,
+                kept: match snap.outcome {
+                    SnapOutcome::Snapped => None,
+                    SnapOutcome::Kept(r) => Some(kept_name(&r)),
+                },
+                exact_moved_px: exact.moved_px(),
+                error_vec_px: [
+                    snap.point_px[0] - corner.point_px[0],
+                    snap.point_px[1] - corner.point_px[1],
+                ],
+                label_offsets_px,
+                edges: snap.edges.iter().map(|e| (e.rms_px, e.gradient)).collect(),
+            });
+        }
+        progress.step();
+    }
+    progress.finish();
+    Ok(out)
+}
+
+fn kept_name(r: &KeptReason) -> &'static str {
+    match r {
+        KeptReason::NoEdge => "no straight edge",
+        KeptReason::OneDirection(_) => "edges of one direction",
+        KeptReason::TooFar { .. } => "no meeting within the radius",
+        KeptReason::Unsure { doubt, .. } => match doubt {
+            Doubt::TJunction => "unsure: a T junction",
+            Doubt::ShortEdge { .. } => "unsure: an edge too short",
+            Doubt::RoughEdge { .. } => "unsure: an edge not straight",
+            Doubt::OffVanishingPoint { .. } => "unsure: an edge off its vanishing point",
+            Doubt::Rival { .. } => "unsure: a rival corner",
+            #[allow(unreachable_patterns)]
+            _ => "unsure",
+        },
+        #[allow(unreachable_patterns)]
+        _ => "other",
+    }
+}
+
+/// The labels' error measured at the corners: the mean offset per image axis (a bias, by
+/// least squares over the offsets' normals) and the robust sd of the offsets about it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LabelError {
+    /// The mean offset of the labelled lines from the photo's edges, x and y, pixels.
+    pub bias_px: [f64; 2],
+    /// 1.4826 x the median absolute deviation of the offsets about the bias, pixels.
+    pub sd_px: f64,
+    /// Segment ends measured.
+    pub count: usize,
+}
+
+/// The labels' error from the clicks' measured offsets (each corner's two segments).
+#[must_use]
+pub fn label_error(clicks: &[YudClick]) -> Option<LabelError> {
+    let obs: Vec<([f64; 2], f64)> = clicks
+        .iter()
+        .flat_map(|c| {
+            (0..2).filter_map(move |k| c.label_offsets_px[k].map(|d| (c.corner.normals[k], d)))
+        })
+        .collect();
+    // Least squares d = n . b.
+    let (mut a, mut r) = ([[0.0; 2]; 2], [0.0; 2]);
+    for (n, d) in &obs {
+        for i in 0..2 {
+            r[i] += n[i] * d;
+            for j in 0..2 {
+                a[i][j] += n[i] * n[j];
+            }
+        }
+    }
+    let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+    if obs.len() < 10 || det.abs() < 1e-9 {
+        return None;
+    }
+    let bias_px = [
+        (a[1][1] * r[0] - a[0][1] * r[1]) / det,
+        (a[0][0] * r[1] - a[1][0] * r[0]) / det,
+    ];
+    let dev: Vec<f64> = obs
+        .iter()
+        .map(|(n, d)| (d - n[0] * bias_px[0] - n[1] * bias_px[1]).abs())
+        .collect();
+    Some(LabelError {
+        bias_px,
+        sd_px: 1.4826 * median(&dev)?,
+        count: obs.len(),
+    })
+}
+
+/// The covariance of a labelled corner from its two lines' error `sd_px`:
+/// `sd^2 (N^T N)^-1`, `N` the rows of the two normals.
+#[must_use]
+pub fn corner_label_covariance(corner: &LabelledCorner, sd_px: f64) -> [[f64; 2]; 2] {
+    let [n1, n2] = corner.normals;
+    let m = [
+        [n1[0] * n1[0] + n2[0] * n2[0], n1[0] * n1[1] + n2[0] * n2[1]],
+        [n1[0] * n1[1] + n2[0] * n2[1], n1[1] * n1[1] + n2[1] * n2[1]],
+    ];
+    let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    let s2 = sd_px * sd_px;
+    if det.abs() < 1e-12 {
+        return [[f64::INFINITY, 0.0], [0.0, f64::INFINITY]];
+    }
+    [
+        [s2 * m[1][1] / det, -s2 * m[0][1] / det],
+        [-s2 * m[1][0] / det, s2 * m[0][0] / det],
+    ]
+}
+
+/// The squared Mahalanobis distance of `e` under `cov`.
+fn mahalanobis_sq(e: [f64; 2], cov: [[f64; 2]; 2]) -> f64 {
+    let det = cov[0][0] * cov[1][1] - cov[0][1] * cov[1][0];
+    if det.is_nan() || det <= 0.0 {
+        return f64::INFINITY;
+    }
+    (e[0] * e[0] * cov[1][1] - 2.0 * e[0] * e[1] * cov[0][1] + e[1] * e[1] * cov[0][0]) / det
+}
+
+/// The chi-square quantile with 2 degrees of freedom at 95 %.
+const CHI2_95: f64 = 5.991_464_547_107_979;
+
+/// The name of the section `--yud DIR --publish` writes.
+pub const YUD_SECTION: &str = "eval-clicks-yud";
+
+/// The section of `docs/results.md`.
+#[must_use]
+pub fn yud_published_section(
+    config: &YudConfig,
+    results: &YudResults,
+    elapsed: std::time::Duration,
+    command: &str,
+) -> String {
+    crate::publish::published(
+        "Snapping clicks on real photos (`vpmap eval-clicks --yud`)",
+        &yud_markdown(config, results),
+        elapsed,
+        command,
+    )
+}
+
+/// The report's Markdown (no title).
+#[must_use]
+pub fn yud_markdown(config: &YudConfig, results: &YudResults) -> String {
+    let mut s = String::new();
+    let clicks = &results.clicks;
+    let n = clicks.len();
+    let label = label_error(clicks);
+    let _ = writeln!(
+        s,
+        "{} York Urban photos (640 x 480), {n} labelled corners (two labelled segments of different vanishing points, their nearest ends within {} px, both at least {} px long; the corner where their lines cross); vanishing points detected in {} photos (the labelled ones otherwise). Each corner clicked once, Gaussian noise of {} px per coordinate (seed {}); search radius {:.1} px.\n",
+        results.photos,
+        config.max_gap_px,
+        config.min_length_px,
+        results.detected,
+        config.sigma_px,
+        config.seed,
+        snap_options(config).search_radius_px,
+    );
+    if let Some(l) = label {
+        let _ = writeln!(
+            s,
+            "The labels' own error, measured at the corners ({} segment ends: the photo's edge located across the labelled line from 3 to 12 px from the corner): mean offset ({:+.2}, {:+.2}) px in x and y, spread about it {:.2} px (robust sd), so a labelled corner is off by `{:.2}^2 (N^T N)^-1` px² (`N` the two lines' unit normals), which is added to a snapped point's covariance below.\n",
+            l.count, l.bias_px[0], l.bias_px[1], l.sd_px, l.sd_px
+        );
+    }
+    let sd_l = label.map_or(0.0, |l| l.sd_px);
+    let after: Vec<f64> = clicks.iter().map(|c| c.error_px).collect();
+    let raw: Vec<f64> = clicks.iter().map(|c| c.raw_error_px).collect();
+    let worse = clicks
+        .iter()
+        .filter(|c| c.error_px > c.raw_error_px + 1.0)
+        .count();
+    let snapped: Vec<&YudClick> = clicks.iter().filter(|c| c.snapped).collect();
+    let (mut inside, mut inside_plain) = (0, 0);
+    for c in &snapped {
+        let Some(cov) = c.covariance_px2 else {
+            continue;
+        };
+        let l = corner_label_covariance(&c.corner, sd_l);
+        let total = [
+            [cov[0][0] + l[0][0], cov[0][1] + l[0][1]],
+            [cov[1][0] + l[1][0], cov[1][1] + l[1][1]],
+        ];
+        inside += usize::from(mahalanobis_sq(c.error_vec_px, total) <= CHI2_95);
+        inside_plain += usize::from(mahalanobis_sq(c.error_vec_px, cov) <= CHI2_95);
+    }
+    let sds: Vec<f64> = snapped.iter().filter_map(|c| c.sd_px).collect();
+    let snapped_err: Vec<f64> = snapped.iter().map(|c| c.error_px).collect();
+    let _ = writeln!(
+        s,
+        "| clicks | median distance to the corner after snapping | p90 | raw clicks' median | made worse by > 1 px | snapped | snapped points' median distance | corner in the 95 % ellipse (labels' error added) | without it | snapped points' median sd |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|");
+    let _ = writeln!(
+        s,
+        "| {n} | {} px | {} px | {} px | {} ({}) | {} ({}) | {} px | {} | {} | {} px |",
+        num(median(&after), 2),
+        num(quantile_of(&after, 0.9), 2),
+        num(median(&raw), 2),
+        worse,
+        pct(worse, n),
+        snapped.len(),
+        pct(snapped.len(), n),
+        num(median(&snapped_err), 2),
+        pct(inside, snapped.len()),
+        pct(inside_plain, snapped.len()),
+        num(median(&sds), 2),
+    );
+    // The floor the covariances would need on these photos: the smallest, in steps of 0.1 px,
+    // that puts at least 90 % (92 %) of the labelled corners in the snapped points' 95 %
+    // ellipses.
+    let floor = opts_floor(config);
+    let needed = |share: f64| {
+        (0..=40).map(|k| 0.1 * f64::from(k)).find(|&f| {
+            let inside = snapped
+                .iter()
+                .filter_map(|c| c.covariance_px2.map(|cov| (c, cov)))
+                .filter(|(c, cov)| {
+                    let l = corner_label_covariance(&c.corner, sd_l);
+                    let add = f * f - floor * floor;
+                    let total = [
+                        [cov[0][0] + l[0][0] + add, cov[0][1] + l[0][1]],
+                        [cov[1][0] + l[1][0], cov[1][1] + l[1][1] + add],
+                    ];
+                    mahalanobis_sq(c.error_vec_px, total) <= CHI2_95
+                })
+                .count();
+            !snapped.is_empty() && inside as f64 >= share * snapped.len() as f64
+        })
+    };
+    let show =
+        |f: Option<f64>| f.map_or_else(|| "more than 4 px".to_owned(), |f| format!("{f:.1} px"));
+    let _ = writeln!(
+        s,
+        "\nThe covariance floor (`SnapOptions::covariance_floor_px`, {floor} px in this run) these photos need for the snapped points' 95 % ellipses to hold their labelled corner (labels' error added) 90 % of the time: {}; 92 %: {}.",
+        show(needed(0.90)),
+        show(needed(0.92))
+    );
+    let exact: Vec<f64> = clicks.iter().map(|c| c.exact_moved_px).collect();
+    let _ = writeln!(
+        s,
+        "\nA click exactly on the labelled corner moves a median {} px (p90 {} px).\n",
+        num(median(&exact), 2),
+        num(quantile_of(&exact, 0.9), 2)
+    );
+    let mut reasons: Vec<(&str, usize)> = Vec::new();
+    for c in clicks {
+        if let Some(k) = c.kept {
+            match reasons.iter_mut().find(|(r, _)| *r == k) {
+                Some(e) => e.1 += 1,
+                None => reasons.push((k, 1)),
+            }
+        }
+    }
+    if !reasons.is_empty() {
+        let list: Vec<String> = reasons.iter().map(|(r, k)| format!("{r}: {k}")).collect();
+        let _ = writeln!(s, "Clicks that stayed, by reason: {}.", list.join("; "));
+    }
+    s
+}
+
+/// The snapping options of a run.
+fn snap_options(config: &YudConfig) -> SnapOptions {
+    config
+        .snap
+        .unwrap_or_else(|| SnapOptions::for_click_sigma(config.sigma_px.max(0.5)))
+}
+
+fn opts_floor(config: &YudConfig) -> f64 {
+    snap_options(config).covariance_floor_px
+}
+
+fn pct(part: usize, whole: usize) -> String {
+    if whole == 0 {
+        "-".to_owned()
+    } else {
+        format!("{:.1} %", 100.0 * part as f64 / whole as f64)
+    }
+}
+
+fn num(v: Option<f64>, digits: usize) -> String {
+    v.map_or_else(|| "-".to_owned(), |v| format!("{v:.digits$}"))
+}
+
+fn largest_sd(c: [[f64; 2]; 2]) -> f64 {
+    let (a, b, d) = (c[0][0], c[0][1], c[1][1]);
+    let m = 0.5 * (a + d);
+    let r = (0.25 * (a - d) * (a - d) + b * b).sqrt();
+    (m + r).max(0.0).sqrt()
+}
+
+fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+/// A standard normal draw (Box-Muller).
+fn gaussian(rng: &mut ChaCha8Rng) -> f64 {
+    let u1: f64 = rng.random::<f64>().max(1e-300);
+    let u2: f64 = rng.random::<f64>();
+    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+}
+
+/// FNV-1a of a name, for per-photo seeds.
+fn name_hash(name: &str) -> u64 {
+    name.bytes().fold(0xcbf2_9ce4_8422_2325, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0100_0000_01b3)
+    })
+}
+
+/// The point if it lies inside the photo.
+fn inside(p: [f64; 2], image: &SnapImage) -> Option<[f64; 2]> {
+    let (w, h) = (f64::from(image.width()), f64::from(image.height()));
+    (p[0] >= 0.0 && p[0] <= w && p[1] >= 0.0 && p[1] <= h).then_some(p)
+}
+
+/// The point moved into the photo.
+fn clamp_into(p: [f64; 2], image: &SnapImage) -> [f64; 2] {
+    [
+        p[0].clamp(0.0, f64::from(image.width())),
+        p[1].clamp(0.0, f64::from(image.height())),
+    ]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn two_segments_meeting_at_their_ends_make_one_corner_where_their_lines_cross() {
+        // An L: a horizontal segment ending 2 px short of a vertical one's end.
+        let segments = [
+            [10.0, 50.0, 48.0, 50.0],
+            [50.0, 49.0, 50.0, 10.0],
+            [10.0, 10.0, 20.0, 10.0], // too short
+            [12.0, 60.0, 48.0, 60.0], // same direction as the first
+        ];
+        let corners = labelled_corners(&segments, &[0, 1, 0, 0], &YudConfig::default());
+        assert_eq!(corners.len(), 1);
+        let c = corners[0];
+        assert!(dist(c.point_px, [50.0, 50.0]) < 1e-9);
+        assert_eq!(c.segments, [0, 1]);
+        // Perpendicular lines of 0.5 px error: the corner is off by 0.5 px per axis.
+        let cov = corner_label_covariance(&c, 0.5);
+        assert!((cov[0][0] - 0.25).abs() < 1e-12 && (cov[1][1] - 0.25).abs() < 1e-12);
+    }
+}
