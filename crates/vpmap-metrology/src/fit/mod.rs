@@ -177,6 +177,7 @@ fn fit_with(
     } else {
         best
     };
+    let (best, widened) = widen_disagreeing_evidence(best, known_sigma.is_none());
     let mut fitted = finish(
         scene,
         best,
@@ -192,7 +193,125 @@ fn fit_with(
         .calibration
         .warnings
         .extend(evidence_warnings(&fitted, order));
+    for w in widened {
+        let index = order.get(w.group).copied().unwrap_or(w.group);
+        let what = if w.group == 2 {
+            "vertical"
+        } else {
+            "horizontal"
+        };
+        fitted.calibration.warnings.push(format!(
+            "vanishing point {} ({what}) lay {:.2} degrees ({:.1} sigma) from where the clicks put it: the clicked corners and the detected vanishing point disagree far beyond its error bars (an edge of something else taken for the room's, say), so its error bars were widened {:.1} times to agree and the map's follow; check its edges, or the clicks of the boxes along it",
+            index + 1,
+            w.angle_deg,
+            w.chi2.sqrt(),
+            w.factor
+        ));
+    }
     Ok(fitted)
+}
+
+/// The chi-square quantile with 2 degrees of freedom at 99.9 %: `-2 ln 0.001`. A measured
+/// vanishing point farther than this from where the fit puts it is taken to disagree with
+/// the clicks: a right one does so once in a thousand fits.
+const CHI2_2DOF_999: f64 = 13.815_510_557_964_274;
+
+/// Most rounds of widening disagreeing evidence.
+const MAX_WIDEN_ROUNDS: usize = 3;
+
+/// A measured vanishing point whose error bars [`widen_disagreeing_evidence`] widened.
+struct Widened {
+    /// Its group (0, 1 horizontal, 2 vertical).
+    group: usize,
+    /// Its squared Mahalanobis distance from the first fit.
+    chi2: f64,
+    /// Its angle from the first fit, degrees.
+    angle_deg: f64,
+    /// How many times its standard deviations were widened in all.
+    factor: f64,
+}
+
+/// Each measured vanishing point's squared Mahalanobis distance from where the fitted camera
+/// puts it, and the angle (radians); `None` for other evidence.
+fn evidence_distances(problem: &Problem, x: &[f64]) -> Vec<Option<(f64, f64)>> {
+    let cam = problem.camera(x);
+    problem
+        .vps
+        .iter()
+        .enumerate()
+        .map(|(g, e)| {
+            let model::VpEvidence::Measured {
+                at,
+                chart,
+                whitening,
+                ..
+            } = e
+            else {
+                return None;
+            };
+            let v = cam.vanishing_point(vp_direction(&cam, g));
+            let o = chart.offset_rad(*at, v)?;
+            let o = Vector2::new(o[0], o[1]);
+            Some(((whitening * o).norm_squared(), o.norm()))
+        })
+        .collect()
+}
+
+/// Robustness to a wrong detected vanishing point: when the fit puts a measured vanishing
+/// point beyond its 99.9 % ellipse ([`CHI2_2DOF_999`]), the clicks and it disagree far more
+/// than its covariance allows (an occluding bar's edges taken for a room direction, say).
+/// Its covariance is then widened by `chi2 / 2` (its squared distance over the mean of a
+/// chi-square of two degrees of freedom: the covariance at which the disagreement is
+/// ordinary) and the fit run again from where it stands, at most [`MAX_WIDEN_ROUNDS`] times;
+/// the map's error bars then carry the disagreement instead of hiding it. Returns the fit
+/// and what was widened.
+fn widen_disagreeing_evidence(mut solved: Solved, rescale: bool) -> (Solved, Vec<Widened>) {
+    let mut widened: Vec<Widened> = Vec::new();
+    for _ in 0..MAX_WIDEN_ROUNDS {
+        let distances = evidence_distances(&solved.problem, &solved.x);
+        let far: Vec<(usize, f64, f64)> = distances
+            .iter()
+            .enumerate()
+            .filter_map(|(g, d)| d.map(|(chi2, angle)| (g, chi2, angle)))
+            .filter(|(_, chi2, _)| chi2.is_finite() && *chi2 > CHI2_2DOF_999)
+            .collect();
+        if far.is_empty() {
+            break;
+        }
+        let mut problem = solved.problem.clone();
+        for &(g, chi2, _) in &far {
+            if let Some(model::VpEvidence::Measured { whitening, .. }) = problem.vps.get_mut(g) {
+                *whitening *= (2.0 / chi2).sqrt();
+            }
+        }
+        match minimise(&problem, solved.x.clone()) {
+            Some(sol) if sol.converged && sol.x.iter().all(|v| v.is_finite()) => {
+                for &(g, chi2, angle) in &far {
+                    let grow = (chi2 / 2.0).sqrt();
+                    match widened.iter_mut().find(|w| w.group == g) {
+                        Some(w) => w.factor *= grow,
+                        None => widened.push(Widened {
+                            group: g,
+                            chi2,
+                            angle_deg: angle.to_degrees(),
+                            factor: grow,
+                        }),
+                    }
+                }
+                solved = Solved {
+                    problem,
+                    x: sol.x,
+                    cost: sol.cost,
+                    iterations: solved.iterations + sol.iterations,
+                };
+                if rescale {
+                    solved = rescale_evidence(solved);
+                }
+            }
+            _ => break,
+        }
+    }
+    (solved, widened)
 }
 
 /// Most rounds of re-estimating the click noise that weighed evidence is expressed in.

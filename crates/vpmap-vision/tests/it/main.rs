@@ -3,5 +3,6 @@
 
 mod bad_input;
 mod real_photos;
+mod rendered_rooms;
 mod snapping;
 mod synthetic_scenes;
