@@ -65,9 +65,9 @@ fn room(seed: u64) -> Option<Vec<(f64, f64, f64)>> {
         );
     }
     let mut detected = Scene::from_json_str(&written.json).unwrap();
-    detected.objects = clicked.objects.clone();
-    detected.floor = clicked.floor.clone();
-    detected.scale = clicked.scale.clone();
+    detected.objects.clone_from(&clicked.objects);
+    detected.floor.clone_from(&clicked.floor);
+    detected.scale.clone_from(&clicked.scale);
     let with_detected = snapped(&image, &detected);
     // The reference: the true vanishing points and lens, the same clicks snapped.
     let mut reference = clicked.clone();
