@@ -176,7 +176,7 @@ struct Pairs {
 }
 
 /// An object's floor corners (own frame), and its height if fitted.
-fn own_corners(cam: &Camera, o: &PhotoObject) -> (Vec<Vector2<f64>>, Option<f64>) {
+pub(crate) fn own_corners(cam: &Camera, o: &PhotoObject) -> (Vec<Vector2<f64>>, Option<f64>) {
     match &o.part {
         Part::Box {
             axes,
@@ -270,7 +270,7 @@ fn similarity(pairs: &Pairs, heading: f64) -> Option<(f64, Vector2<f64>, f64)> {
 
 /// The best cyclic correspondence of a footprint's vertices to the room-frame ones: for each
 /// own vertex, the room vertex index.
-fn footprint_map(
+pub(crate) fn footprint_map(
     own: &[Vector2<f64>],
     room: &[Vector2<f64>],
     heading: f64,
@@ -306,24 +306,25 @@ fn footprint_map(
 }
 
 /// The photo's heading for a quarter turn.
-fn heading(first_yaw: f64, own_yaw: f64, quarter: u8) -> f64 {
+pub(crate) fn heading(first_yaw: f64, own_yaw: f64, quarter: u8) -> f64 {
     first_yaw + f64::from(quarter) * std::f64::consts::FRAC_PI_2 - own_yaw
 }
 
 /// A pose for one quarter turn, its misfit, and the footprints' vertex maps under it.
 pub(crate) type Candidate = (Pose, f64, Vec<(String, Vec<usize>)>);
 
-/// Score every quarter turn of photo `fit` against the placed objects: `(quarter, pose,
-/// misfit)`, best first; and for each the footprints' vertex maps.
+/// Score every quarter turn of photo `fit` (or only `only`) against the placed objects:
+/// `(quarter, pose, misfit)`, best first; and for each the footprints' vertex maps.
 pub(crate) fn candidate_poses(
     fit: &PhotoFit,
     first_yaw: f64,
     room_cam: &Camera,
     placed: &[Placed],
+    only: Option<u8>,
 ) -> Vec<Candidate> {
     let cam = fit.camera();
     let mut out = Vec::new();
-    for quarter in 0..4u8 {
+    for quarter in (0..4u8).filter(|q| only.is_none_or(|o| o == *q)) {
         let th = heading(first_yaw, cam.room_yaw_rad, quarter);
         let mut pairs = Pairs::default();
         let mut maps = Vec::new();
@@ -587,14 +588,6 @@ pub(crate) fn record_maps(placed: &mut [Placed], photo: usize, maps: &[(String, 
             p.vertex_maps.push((photo, map.clone()));
         }
     }
-}
-
-/// Relative misfit under which a quarter turn counts as fitting as well as the best one.
-pub(crate) const NEAR_BEST_MISFIT: f64 = 0.05;
-
-/// Whether a pose misfit is near enough the best to be tried by the joint fit.
-pub(crate) fn near_best(misfit: f64, best: f64) -> bool {
-    misfit <= 2.0 * best + NEAR_BEST_MISFIT
 }
 
 /// `Result` helper for a placed object lookup.

@@ -4,9 +4,10 @@
 use nalgebra::Vector2;
 
 use super::align::{
-    PhotoFit, Placed, Pose, candidate_poses, in_photo, near_best, photo_block, place_objects,
+    PhotoFit, Placed, Pose, candidate_poses, heading, in_photo, photo_block, place_objects,
     placed_index, record_maps, room_axes, sightings,
 };
+use super::hypotheses::{Hypothesis, Search, Ties, join_order, starts};
 use super::model::{Place, RoomPart, RoomProblem, Shape, Sighting};
 use crate::calibration::{Calibration, Perspective};
 use crate::error::{MetrologyError, Result};
@@ -71,27 +72,19 @@ pub struct RoomFitted {
 /// chi-square difference (in click variances) under which they fit about equally.
 const TIE_CHI2: f64 = 4.0;
 
-/// Most correspondence hypotheses the joint fit tries.
-const MAX_HYPOTHESES: usize = 32;
-
-/// The placement of every photo for given quarter turns (`None`: the best-scoring one).
+/// The placement of every photo for one whole-room hypothesis.
 struct Placement {
     poses: Vec<Option<Pose>>,
     placed: Vec<Placed>,
-    /// Each photo's near-best quarter turns (photo 1: none).
-    options: Vec<Vec<u8>>,
-    /// Each placed photo's shared objects' names.
-    shared: Vec<Vec<String>>,
 }
 
-fn place_all(fits: &[PhotoFit], forced: &[Option<u8>]) -> Result<Placement> {
+/// Place every photo as hypothesis `h` has it, in join order `order`: each photo's objects
+/// not yet in the room from its pose, its footprints' vertices matched to the room's.
+fn place_all(fits: &[PhotoFit], order: &[usize], h: &Hypothesis) -> Placement {
     let n = fits.len();
     let first_cam = fits[0].camera();
     let mut poses: Vec<Option<Pose>> = vec![None; n];
     let mut placed: Vec<Placed> = Vec::new();
-    let mut options = vec![Vec::new(); n];
-    let mut shared = vec![Vec::new(); n];
-    let mut done = vec![false; n];
     place_objects(
         &fits[0],
         &Pose {
@@ -103,57 +96,32 @@ fn place_all(fits: &[PhotoFit], forced: &[Option<u8>]) -> Result<Placement> {
         &mut placed,
         0,
     );
-    done[0] = true;
-    for _ in 1..n {
-        let Some(k) = (0..n).find(|&k| {
-            !done[k]
-                && fits[k]
-                    .objects
-                    .iter()
-                    .any(|o| placed.iter().any(|p| p.name == o.name))
-        }) else {
-            break;
+    for &k in order.iter().skip(1) {
+        let (Some(q), Some((scale, position))) = (
+            h.quarters.get(k).copied().flatten(),
+            h.placements.get(k).copied().flatten(),
+        ) else {
+            continue;
         };
-        let candidates = candidate_poses(&fits[k], first_cam.room_yaw_rad, &first_cam, &placed);
-        let Some(best) = candidates.first().map(|c| c.1) else {
-            return Err(MetrologyError::Degenerate {
-                field: format!("photos[{k}]"),
-                reason: format!(
-                    "photo {} cannot be placed in the room: the objects it shares with the others do not fix its scale (give them sizes in both photos)",
-                    k + 1
-                ),
-            });
+        let candidates = candidate_poses(
+            &fits[k],
+            first_cam.room_yaw_rad,
+            &first_cam,
+            &placed,
+            Some(q),
+        );
+        let maps = candidates.first().map(|c| c.2.clone()).unwrap_or_default();
+        let pose = Pose {
+            quarter: q,
+            heading_rad: heading(first_cam.room_yaw_rad, fits[k].camera().room_yaw_rad, q),
+            scale,
+            position,
         };
-        options[k] = candidates
-            .iter()
-            .filter(|c| near_best(c.1, best))
-            .map(|c| c.0.quarter)
-            .collect();
-        let chosen = match forced[k] {
-            Some(q) => candidates.iter().find(|c| c.0.quarter == q),
-            None => candidates.first(),
-        }
-        .ok_or_else(|| MetrologyError::Degenerate {
-            field: format!("photos[{k}]"),
-            reason: "no placement for the requested quarter turn".to_owned(),
-        })?;
-        shared[k] = fits[k]
-            .objects
-            .iter()
-            .filter(|o| placed.iter().any(|p| p.name == o.name))
-            .map(|o| o.name.clone())
-            .collect();
-        record_maps(&mut placed, k, &chosen.2);
-        place_objects(&fits[k], &chosen.0, &mut placed, k);
-        poses[k] = Some(chosen.0);
-        done[k] = true;
+        record_maps(&mut placed, k, &maps);
+        place_objects(&fits[k], &pose, &mut placed, k);
+        poses[k] = Some(pose);
     }
-    Ok(Placement {
-        poses,
-        placed,
-        options,
-        shared,
-    })
+    Placement { poses, placed }
 }
 
 /// The problem, its start and index maps for one placement.
@@ -304,17 +272,19 @@ struct Solved {
     cost: f64,
     iterations: usize,
     quarters: Vec<u8>,
+    hypothesis: Hypothesis,
 }
 
 fn solve(
     scene: &Scene,
     fits: &[PhotoFit],
-    forced: &[Option<u8>],
+    order: &[usize],
+    h: &Hypothesis,
     hold: bool,
     interrupt: &Interrupt,
-) -> Result<(Solved, Placement)> {
+) -> Result<Solved> {
     stop_if_interrupted(scene, interrupt)?;
-    let placement = place_all(fits, forced)?;
+    let placement = place_all(fits, order, h);
     let mut built = build(scene, fits, &placement, hold)?;
     built.problem.interrupt = interrupt.clone();
     let sol = minimise(&built.problem, built.x0.clone());
@@ -342,16 +312,14 @@ fn solve(
         .iter()
         .map(|p| p.map_or(0, |p| p.quarter))
         .collect();
-    Ok((
-        Solved {
-            built,
-            x: sol.x,
-            cost: sol.cost,
-            iterations: sol.iterations,
-            quarters,
-        },
-        placement,
-    ))
+    Ok(Solved {
+        built,
+        x: sol.x,
+        cost: sol.cost,
+        iterations: sol.iterations,
+        quarters,
+        hypothesis: h.clone(),
+    })
 }
 
 /// Most objects in all of a room's photos together (an object shown in three photos counts
@@ -428,35 +396,35 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
         fits.push(PhotoFit::new(fitted, p));
     }
     let n = photos.len();
-    let (first, placement) = solve(scene, &fits, &vec![None; n], false, interrupt)?;
-    // The other near-best quarter turns, one combination at a time (all of them while few).
-    let mut combos: Vec<Vec<Option<u8>>> = vec![vec![None; n]];
-    for k in 1..n {
-        let mut next = Vec::new();
-        for c in &combos {
-            for &q in &placement.options[k] {
-                let mut c = c.clone();
-                c[k] = Some(q);
-                next.push(c);
+    let ties = Ties::new(&fits);
+    let order = join_order(&fits, &ties);
+    let all = Search::new(&fits, &ties).run(&order).map_err(|k| {
+        MetrologyError::Degenerate {
+            field: format!("photos[{k}]"),
+            reason: format!(
+                "photo {} cannot be placed in the room: the objects it shares with the others do not fix its scale (give them sizes in both photos)",
+                k + 1
+            ),
+        }
+    })?;
+    // The joint fit from the best few whole-room hypotheses; the first failure is reported
+    // when none converges.
+    let mut results: Vec<Solved> = Vec::new();
+    let mut failure = None;
+    for h in starts(&all) {
+        match solve(scene, &fits, &order, h, false, interrupt) {
+            Ok(s) => results.push(s),
+            Err(e @ MetrologyError::Interrupted { .. }) => return Err(e),
+            Err(e) => {
+                failure.get_or_insert(e);
             }
         }
-        if !next.is_empty() && next.len() <= MAX_HYPOTHESES {
-            combos = next;
-        }
     }
-    let mut results = vec![first];
-    for c in combos {
-        if c.iter()
-            .zip(&results[0].quarters)
-            .all(|(a, b)| a.is_none_or(|q| q == *b))
-        {
-            continue;
-        }
-        match solve(scene, &fits, &c, false, interrupt) {
-            Ok((s, _)) if !results.iter().any(|r| r.quarters == s.quarters) => results.push(s),
-            Err(e @ MetrologyError::Interrupted { .. }) => return Err(e),
-            _ => {}
-        }
+    if results.is_empty() {
+        return Err(failure.unwrap_or_else(|| MetrologyError::Degenerate {
+            field: "photos".to_owned(),
+            reason: "no placement of the room's photos".to_owned(),
+        }));
     }
     results.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     let mut warnings: Vec<String> = Vec::new();
@@ -500,8 +468,8 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
             warnings.push(format!(
                 "photo {} is tied to the room only by {}, which fit{} about as well with photo {} turned by {turn} degrees (cost {:.3} against {:.3} px^2): {}; to be sure, name one more object seen in photo {} and another photo",
                 k + 1,
-                quoted(&placement.shared[k]),
-                if placement.shared[k].len() == 1 { "s" } else { "" },
+                quoted(&ties.shared_by(k)),
+                if ties.shared_by(k).len() == 1 { "s" } else { "" },
                 k + 1,
                 second.cost,
                 chosen.cost,
@@ -515,7 +483,7 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
         }
     }
     let best = results.swap_remove(0);
-    let best = hold_known_heights(scene, &fits, best, variance, interrupt)?;
+    let best = hold_known_heights(scene, &fits, &order, best, variance, interrupt)?;
     finish(scene, best, warnings)
 }
 
@@ -536,6 +504,7 @@ fn chi2_99(m: usize) -> f64 {
 fn hold_known_heights(
     scene: &Scene,
     fits: &[PhotoFit],
+    order: &[usize],
     free: Solved,
     variance: f64,
     interrupt: &Interrupt,
@@ -550,9 +519,8 @@ fn hold_known_heights(
     if held == 0 {
         return Ok(free);
     }
-    let forced: Vec<Option<u8>> = free.quarters.iter().map(|&q| Some(q)).collect();
-    match solve(scene, fits, &forced, true, interrupt) {
-        Ok((s, _)) if (s.cost - free.cost) / variance <= chi2_99(held) => Ok(s),
+    match solve(scene, fits, order, &free.hypothesis, true, interrupt) {
+        Ok(s) if (s.cost - free.cost) / variance <= chi2_99(held) => Ok(s),
         Err(e @ MetrologyError::Interrupted { .. }) => Err(e),
         _ => Ok(free),
     }
@@ -632,7 +600,7 @@ fn finish(scene: &Scene, solved: Solved, mut warnings: Vec<String>) -> Result<Ro
         x,
         cost: _,
         iterations,
-        quarters: _,
+        ..
     } = solved;
     let problem = &built.problem;
     let photos: Vec<&Scene> = scene.photos().collect();

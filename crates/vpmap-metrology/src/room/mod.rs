@@ -20,6 +20,7 @@
 
 mod align;
 mod fit;
+mod hypotheses;
 mod model;
 mod uncertainty;
 

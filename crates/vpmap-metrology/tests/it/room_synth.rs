@@ -250,3 +250,39 @@ fn known_camera_heights_are_held_when_the_clicks_agree_and_not_when_they_contrad
     );
     assert_eq!(held_wrong, 0, "a wrong height was held");
 }
+
+#[test]
+fn synthetic_rooms_give_the_same_map_for_every_order_of_photos_2_to_n() {
+    use crate::rooms::{map_difference, permutations};
+    for photos in 3..=4 {
+        for seed in 0..3 {
+            let (scene, truth) = synthesize_room(&RoomSynthOptions {
+                seed,
+                photos,
+                ..RoomSynthOptions::default()
+            })
+            .unwrap();
+            let reference = build_map(&scene, &BuildOptions::default()).unwrap();
+            let rest: Vec<usize> = (0..photos - 1).collect();
+            for order in permutations(&rest) {
+                let mut s = scene.clone();
+                s.other_photos = order
+                    .iter()
+                    .map(|&k| scene.other_photos[k].clone())
+                    .collect();
+                let context = format!("{photos} photos, seed {seed}, order {order:?}");
+                let map = build_map(&s, &BuildOptions::default())
+                    .unwrap_or_else(|e| panic!("{context}: {e}"));
+                let d = map_difference(&map, &reference);
+                assert!(d < 1e-9, "{context}: {d} m from the synthesizer's order");
+                // Each the truth too (room_error needs the cameras in the truth's order).
+                let mut t = truth.clone();
+                t.cameras = std::iter::once(truth.cameras[0].clone())
+                    .chain(order.iter().map(|&k| truth.cameras[k + 1].clone()))
+                    .collect();
+                let e = room_error(&map, &t);
+                assert!(e < 1e-9, "{context}: {e} m from the truth");
+            }
+        }
+    }
+}

@@ -396,3 +396,89 @@ fn shared_data_rooms_tied_by_one_box_are_placed_by_their_walls_or_warned() {
     assert!(cases >= 30, "{cases}");
     assert!(right * 5 >= cases * 4, "{right} of {cases}");
 }
+
+/// Every order of `items` (Heap's algorithm).
+pub fn permutations<T: Clone>(items: &[T]) -> Vec<Vec<T>> {
+    if items.len() <= 1 {
+        return vec![items.to_vec()];
+    }
+    let mut out = Vec::new();
+    for i in 0..items.len() {
+        let mut rest = items.to_vec();
+        let first = rest.remove(i);
+        for mut p in permutations(&rest) {
+            p.insert(0, first.clone());
+            out.push(p);
+        }
+    }
+    out
+}
+
+/// Largest difference between two maps of one room: every object's footprint corners (the
+/// nearest corner of the other map's object of the same name) and height, metres.
+pub fn map_difference(a: &FloorMap, b: &FloorMap) -> f64 {
+    assert_eq!(a.objects.len(), b.objects.len());
+    let mut worst = 0.0f64;
+    for o in &a.objects {
+        let p = b
+            .objects
+            .iter()
+            .find(|p| p.name == o.name)
+            .unwrap_or_else(|| panic!("object {} missing", o.name));
+        worst = worst.max(footprint_error(&p.footprint, &o.footprint));
+        worst = worst.max(footprint_error(&o.footprint, &p.footprint));
+        if let (Some(h), Some(g)) = (o.height, p.height) {
+            worst = worst.max((h - g).abs());
+        }
+    }
+    worst
+}
+
+#[test]
+#[ignore = "needs ../shared/data/multiview-scenes (absent from a fresh clone): cargo test -- --ignored shared_data"]
+fn shared_data_rooms_give_the_same_map_for_every_order_of_photos_2_to_n() {
+    let dir = shared("multiview-scenes");
+    let mut orders = 0;
+    for r in 0..8 {
+        let path = dir.join(format!("mv0{r}.json"));
+        let room: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        let truth: RoomTruth = serde_json::from_str(
+            &std::fs::read_to_string(path.with_extension("truth.json")).unwrap(),
+        )
+        .unwrap();
+        let photos = room["photos"].as_array().unwrap().clone();
+        let reference = build_value(&room).unwrap_or_else(|e| panic!("mv0{r}: {e}"));
+        let rest: Vec<usize> = (1..photos.len()).collect();
+        for order in permutations(&rest) {
+            let mut v = room.clone();
+            let mut reordered = vec![photos[0].clone()];
+            reordered.extend(order.iter().map(|&k| photos[k].clone()));
+            v["photos"] = serde_json::Value::Array(reordered);
+            let map = build_value(&v).unwrap_or_else(|e| panic!("mv0{r} order {order:?}: {e}"));
+            let d = map_difference(&map, &reference);
+            assert!(
+                d < 1e-9,
+                "mv0{r} order {order:?}: {d} m from the file's order"
+            );
+            // And each is the truth.
+            for t in &truth.objects {
+                let m = map.objects.iter().find(|o| o.name == t.name).unwrap();
+                let e = footprint_error(&m.footprint, &t.footprint);
+                assert!(e < 1e-9, "mv0{r} order {order:?}: {} {e} m", t.name);
+            }
+            // The cameras follow their photos.
+            for (i, &k) in order.iter().enumerate() {
+                let (p, t) = (map.cameras[i + 1].position, truth.cameras[k].position);
+                assert!(
+                    (p[0] - t[0]).hypot(p[1] - t[1]) < 1e-9,
+                    "mv0{r} order {order:?}: camera of photo {}",
+                    k + 1
+                );
+            }
+            orders += 1;
+        }
+    }
+    println!("{orders} orders of 8 rooms: one map each");
+    assert!(orders >= 8 + 6, "{orders}");
+}
