@@ -307,6 +307,7 @@ fn solve(
             ),
         });
     }
+    floor_below_horizons(scene, &built.problem, &sol.x)?;
     let quarters = placement
         .poses
         .iter()
@@ -320,6 +321,31 @@ fn solve(
         quarters,
         hypothesis: h.clone(),
     })
+}
+
+/// Every photo's floor corners below its fitted camera's horizon: a hypothesis whose joint fit
+/// puts one on or above it is refused (and the next one tried), naming the corner and how
+/// far above the horizon it came out.
+fn floor_below_horizons(scene: &Scene, problem: &RoomProblem, x: &[f64]) -> Result<()> {
+    let views = problem.views(&x[..problem.camera_len]);
+    for (k, p) in scene.photos().enumerate() {
+        let Some(v) = views.get(k) else { continue };
+        for (i, q) in p.floor.iter().enumerate() {
+            if v.cam.floor_point(px(*q)).is_none() {
+                return Err(in_photo(
+                    k,
+                    MetrologyError::NotBelowHorizon {
+                        field: format!("floor[{i}]"),
+                        x: q[0],
+                        y: q[1],
+                        distance_px: -v.cam.below_horizon_px(px(*q)),
+                        side: "on or above",
+                    },
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Most objects in all of a room's photos together (an object shown in three photos counts
@@ -723,7 +749,7 @@ fn finish(scene: &Scene, solved: Solved, mut warnings: Vec<String>) -> Result<Ro
                         field: format!("floor[{i}]"),
                         x: q[0],
                         y: q[1],
-                        distance_px: 0.0,
+                        distance_px: -views[k].cam.below_horizon_px(px(*q)),
                         side: "on or above",
                     },
                 )

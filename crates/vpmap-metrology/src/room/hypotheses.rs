@@ -31,6 +31,10 @@ use crate::fit::model::{BoxAxes, Part};
 /// four photos).
 pub(crate) const BEAM: usize = 64;
 
+/// Smallest ratio of the placement system's Cholesky diagonal to its largest (the square
+/// root of its condition number's inverse) for the system to place its photos.
+const SINGULAR_RATIO: f64 = 1e-7;
+
 /// One whole-room hypothesis: each photo's quarter turn and its placement.
 #[derive(Debug, Clone)]
 pub(crate) struct Hypothesis {
@@ -372,13 +376,15 @@ impl<'a> Search<'a> {
             DVector::zeros(0)
         } else {
             let chol = hess.clone().cholesky()?;
-            let z = chol.solve(&(-&grad));
             // A nearly singular system (a photo tied by a single point) does not place it.
-            let diag_min = (0..dim).map(|i| hess[(i, i)]).fold(f64::INFINITY, f64::min);
-            if !(diag_min > 0.0) {
+            let l = chol.l_dirty().diagonal();
+            let (lo, hi) = l
+                .iter()
+                .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
+            if lo <= SINGULAR_RATIO * hi {
                 return None;
             }
-            z
+            chol.solve(&(-&grad))
         };
         let score = (constant + grad.dot(&z)).max(0.0);
         let mut placements = vec![None; n];
