@@ -190,6 +190,7 @@ pub fn build_map_until(
         free_space: free,
         hidden,
         warnings,
+        alternatives: Vec::new(),
         fit: fit_report,
     })
 }

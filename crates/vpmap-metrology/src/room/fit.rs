@@ -7,6 +7,8 @@ use super::align::{
     PhotoFit, Placed, Pose, candidate_poses, heading, in_photo, photo_block, place_objects,
     placed_index, record_maps, room_axes, sightings,
 };
+use super::checks::physical;
+use super::consistency;
 use super::hypotheses::{Hypothesis, Search, Ties, join_order, starts};
 use super::model::{Place, RoomPart, RoomProblem, Shape, Sighting};
 use crate::calibration::{Calibration, Perspective};
@@ -38,6 +40,20 @@ pub struct FittedPhoto {
     pub principal_point_fitted: bool,
 }
 
+/// A placement of one photo that fits the room about as well as the chosen one (a tie the
+/// clicks and the physical checks leave open).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RoomAlternative {
+    /// The photo, from 0.
+    pub photo: usize,
+    /// Its turn from the chosen placement, degrees counter-clockwise (90, 180 or 270).
+    pub turn_deg: i32,
+    /// The joint fit's cost with the photo so turned, squared pixels.
+    pub cost_px2: f64,
+    /// The chosen placement's cost, squared pixels.
+    pub chosen_cost_px2: f64,
+}
+
 /// The result of [`fit_room`].
 #[derive(Debug, Clone)]
 pub struct RoomFitted {
@@ -58,6 +74,9 @@ pub struct RoomFitted {
     pub point_residuals: Vec<PointResidual>,
     /// Notes: the photos' own notes, and correspondences the data leave open.
     pub warnings: Vec<String>,
+    /// Placements that fit about as well as the chosen one and that no physical check
+    /// rules out: one per photo placed otherwise.
+    pub alternatives: Vec<RoomAlternative>,
     pub(crate) problem: RoomProblem,
     pub(crate) x: Vec<f64>,
     /// For each photo, each scene object's room object index.
@@ -473,15 +492,16 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
         .iter()
         .take_while(|r| (r.cost - best_cost) / variance < TIE_CHI2)
         .count();
+    let mut alternatives = Vec::new();
     if tied > 1 {
-        let outside: Vec<usize> = results[..tied]
+        let violations: Vec<usize> = results[..tied]
             .iter()
-            .map(|r| outside_walls(scene, r))
+            .map(|r| physical(scene, &r.built.problem, &r.x, &r.built.names).total())
             .collect();
-        let pick = (0..tied).min_by_key(|&i| (outside[i], i)).unwrap_or(0);
+        let pick = (0..tied).min_by_key(|&i| (violations[i], i)).unwrap_or(0);
         // The runner-up: the most likely of the others.
         let other = usize::from(pick == 0);
-        let decided = outside[pick] < outside[other];
+        let decided = violations[pick] < violations[other];
         results.swap(0, pick);
         // After the swap the runner-up sits where the chosen one was, unless it was first.
         let other = if other == 0 { pick } else { other };
@@ -491,26 +511,94 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
             .collect();
         for k in differ {
             let turn = (4 + i32::from(second.quarters[k]) - i32::from(chosen.quarters[k])) % 4 * 90;
+            let shared = ties.shared_by(k);
             warnings.push(format!(
                 "photo {} is tied to the room only by {}, which fit{} about as well with photo {} turned by {turn} degrees (cost {:.3} against {:.3} px^2): {}; to be sure, name one more object seen in photo {} and another photo",
                 k + 1,
-                quoted(&ties.shared_by(k)),
-                if ties.shared_by(k).len() == 1 { "s" } else { "" },
+                quoted(&shared),
+                if shared.len() == 1 { "s" } else { "" },
                 k + 1,
                 second.cost,
                 chosen.cost,
                 if decided {
-                    "the map takes the turn that keeps every camera and floor corner inside the walls the photos' floor outlines show"
+                    format!(
+                        "the map takes the turn the room's physical checks favour ({} violations against {}: cameras, floor corners and boxes inside the walls the photos' floor outlines show, boxes not overlapping, no camera inside a box)",
+                        violations[pick], violations[usize::from(pick == 0)]
+                    )
                 } else {
-                    "the map uses the better one"
+                    "the map uses the better one".to_owned()
                 },
                 k + 1
             ));
+            if !decided {
+                alternatives.push(RoomAlternative {
+                    photo: k,
+                    turn_deg: turn,
+                    cost_px2: second.cost,
+                    chosen_cost_px2: chosen.cost,
+                });
+            }
         }
     }
     let best = results.swap_remove(0);
     let best = hold_known_heights(scene, &fits, &order, best, variance, interrupt)?;
-    finish(scene, best, warnings)
+    let test = consistency::test(&fits, &best.built.problem, &best.x, &best.built.names);
+    if test.refused() {
+        // The best other placement, fitted if it was not.
+        let mut other = results.into_iter().find(|r| r.quarters != best.quarters);
+        if other.is_none()
+            && let Some(h) = all.iter().find(|h| {
+                h.quarters
+                    .iter()
+                    .map(|q| q.unwrap_or(0))
+                    .ne(best.quarters.iter().copied())
+            })
+        {
+            other = solve(scene, &fits, &order, h, false, interrupt).ok();
+        }
+        let alternative = other.map(|o| {
+            let turns: Vec<String> = (1..n)
+                .filter(|&k| o.quarters[k] != best.quarters[k])
+                .map(|k| {
+                    let turn = (4 + i32::from(o.quarters[k]) - i32::from(best.quarters[k])) % 4 * 90;
+                    format!("photo {} turned by {turn} degrees", k + 1)
+                })
+                .collect();
+            format!(
+                "the best other placement ({}) fits worse or no better: cost {:.3} against {:.3} px^2",
+                turns.join(", "),
+                o.cost,
+                best.cost
+            )
+        });
+        let objects: Vec<Vec<String>> = fits
+            .iter()
+            .map(|f| f.objects.iter().map(|o| o.name.clone()).collect())
+            .collect();
+        return Err(consistency::refusal(&test, alternative, &objects));
+    }
+    let mut fitted = finish(scene, best, warnings)?;
+    fitted.alternatives = alternatives;
+    Ok(fitted)
+}
+
+/// Each clicked point's part, photo and squared residual, for the residuals of `problem`
+/// whose points start at `at` (after the vanishing-point groups).
+pub(crate) fn point_residuals_of(
+    problem: &RoomProblem,
+    residuals: &[f64],
+    mut at: usize,
+) -> Vec<(usize, (usize, f64))> {
+    let mut out = Vec::new();
+    for (i, part) in problem.parts.iter().enumerate() {
+        for s in &part.sightings {
+            let r = residuals.get(at).copied().unwrap_or(0.0).powi(2)
+                + residuals.get(at + 1).copied().unwrap_or(0.0).powi(2);
+            out.push((i, (s.photo, r)));
+            at += 2;
+        }
+    }
+    out
 }
 
 /// The upper 1 % point of the chi-square distribution with `m` degrees of freedom
@@ -550,65 +638,6 @@ fn hold_known_heights(
         Err(e @ MetrologyError::Interrupted { .. }) => Err(e),
         _ => Ok(free),
     }
-}
-
-/// How many cameras and floor corners of a hypothesis lie outside another photo's walls: the
-/// lines through two consecutive floor-outline corners that are both inside its image (a wall
-/// meets the floor there; an edge to a corner on the image's border is where the photo ends).
-/// A room is taken as convex for this count (Manhattan rooms mostly are).
-fn outside_walls(scene: &Scene, solved: &Solved) -> usize {
-    let problem = &solved.built.problem;
-    let views = problem.views(&solved.x[..problem.camera_len]);
-    let photos: Vec<&Scene> = scene.photos().collect();
-    let mut floors: Vec<Vec<(Vector2<f64>, bool)>> = Vec::with_capacity(photos.len());
-    for (k, p) in photos.iter().enumerate() {
-        let (w, h) = (f64::from(p.image.width), f64::from(p.image.height));
-        let inside = |q: [f64; 2]| q[0] > 1.0 && q[0] < w - 1.0 && q[1] > 1.0 && q[1] < h - 1.0;
-        floors.push(
-            p.floor
-                .iter()
-                .filter_map(|q| {
-                    let own = views[k].cam.floor_point(px(*q))?;
-                    Some((views[k].room_from_own(own), inside(*q)))
-                })
-                .collect(),
-        );
-    }
-    let mut count = 0;
-    for (q, floor) in floors.iter().enumerate() {
-        let m = floor.len();
-        if m < 3 {
-            continue;
-        }
-        // The outline's orientation: the floor is on the left of a counter-clockwise ring.
-        let area: f64 = (0..m).map(|i| floor[i].0.perp(&floor[(i + 1) % m].0)).sum();
-        let sign = area.signum();
-        let size = floor
-            .iter()
-            .map(|(a, _)| a.norm())
-            .fold(0.0f64, f64::max)
-            .max(1.0);
-        for i in 0..m {
-            let ((a, wa), (b, wb)) = (floor[i], floor[(i + 1) % m]);
-            if !(wa && wb) || (b - a).norm() <= 1e-9 * size {
-                continue;
-            }
-            let side = |p: Vector2<f64>| sign * (b - a).perp(&(p - a)) / (b - a).norm();
-            for (k, other) in floors.iter().enumerate() {
-                if k == q {
-                    continue;
-                }
-                if side(views[k].position) < -0.05 * size {
-                    count += 1;
-                }
-                count += other
-                    .iter()
-                    .filter(|(p, _)| side(*p) < -0.05 * size)
-                    .count();
-            }
-        }
-    }
-    count
 }
 
 fn quoted(names: &[String]) -> String {
@@ -815,6 +844,7 @@ fn finish(scene: &Scene, solved: Solved, mut warnings: Vec<String>) -> Result<Ro
         iterations,
         point_residuals,
         warnings,
+        alternatives: Vec::new(),
         problem: built.problem,
         x,
         object_of: built.object_of,

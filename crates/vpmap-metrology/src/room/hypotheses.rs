@@ -378,9 +378,9 @@ impl<'a> Search<'a> {
             let chol = hess.clone().cholesky()?;
             // A nearly singular system (a photo tied by a single point) does not place it.
             let l = chol.l_dirty().diagonal();
-            let (lo, hi) = l
-                .iter()
-                .fold((f64::INFINITY, 0.0f64), |(lo, hi), v| (lo.min(*v), hi.max(*v)));
+            let (lo, hi) = l.iter().fold((f64::INFINITY, 0.0f64), |(lo, hi), v| {
+                (lo.min(*v), hi.max(*v))
+            });
             if lo <= SINGULAR_RATIO * hi {
                 return None;
             }

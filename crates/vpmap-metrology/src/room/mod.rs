@@ -19,10 +19,15 @@
 //! Files: `model`, then `align`, then `fit`, then `uncertainty`.
 
 mod align;
+mod checks;
+mod consistency;
 mod fit;
 mod hypotheses;
 mod model;
 mod uncertainty;
 
-pub use fit::{FittedPhoto, MAX_ROOM_SIGHTINGS, RoomFitted, fit_room, fit_room_until};
+pub use consistency::LEVEL as CONSISTENCY_LEVEL;
+pub use fit::{
+    FittedPhoto, MAX_ROOM_SIGHTINGS, RoomAlternative, RoomFitted, fit_room, fit_room_until,
+};
 pub use uncertainty::{PhotoUncertainty, RoomUncertainty};
