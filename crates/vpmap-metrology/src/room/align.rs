@@ -600,3 +600,87 @@ pub(crate) fn placed_index(placed: &[Placed], name: &str) -> Result<usize> {
             reason: format!("object {name:?} was not placed in the room"),
         })
 }
+
+/// The start of every room-aligned box seen by several photos: the weighted mean of its
+/// corners as each placed photo sees them (each corner weighted by the inverse of its
+/// depth's variance, `f^2 / (d^2 (1 + d^2) + 1)`), and of its height; a box placed from one
+/// photo alone can start far off when that photo sees it from afar or with noisy clicks, and
+/// the joint fit then runs into a point behind a camera or a poorer minimum.
+pub(crate) fn average_boxes(fits: &[PhotoFit], poses: &[Option<Pose>], placed: &mut [Placed]) {
+    let Some(room_cam) = fits.first().map(PhotoFit::camera) else {
+        return;
+    };
+    for w in placed.iter_mut() {
+        let Shape::Box {
+            axes: waxes,
+            has_top,
+            own_yaw: false,
+        } = w.shape
+        else {
+            continue;
+        };
+        // Per room-frame corner (i + 2 j): weighted sum and weight; the height likewise.
+        let mut sums = [(Vector2::zeros(), 0.0); 4];
+        let mut height = (0.0, 0.0);
+        let mut seen = 0;
+        for (k, fit) in fits.iter().enumerate() {
+            let pose = match (k, poses.get(k).copied().flatten()) {
+                (0, _) => Pose {
+                    quarter: 0,
+                    heading_rad: 0.0,
+                    scale: 1.0,
+                    position: Vector2::zeros(),
+                },
+                (_, Some(p)) => p,
+                _ => continue,
+            };
+            let Some(o) = fit.objects.iter().find(|o| o.name == w.name) else {
+                continue;
+            };
+            let Part::Box { axes, .. } = &o.part else {
+                continue;
+            };
+            let cam = fit.camera();
+            let (corners, h) = own_corners(&cam, o);
+            let turned = room_axes(*axes, pose.quarter);
+            let mut d_sum = 0.0;
+            for (c, (i, j)) in corners.iter().zip([(0u8, 0u8), (1, 0), (1, 1), (0, 1)]) {
+                let (ii, jj) = corner_in_room(turned, waxes, i, j);
+                let d = c.norm();
+                d_sum += d;
+                let weight = cam.focal_px.powi(2) / (d * d * (1.0 + d * d) + 1.0);
+                if let Some(s) = sums.get_mut(usize::from(ii) + 2 * usize::from(jj)) {
+                    s.0 += pose.apply(*c) * weight;
+                    s.1 += weight;
+                }
+            }
+            if let Some(h) = h {
+                let d = d_sum / 4.0;
+                let weight = cam.focal_px.powi(2) / (d * d + 1.0);
+                height.0 += h * pose.scale * weight;
+                height.1 += weight;
+            }
+            seen += 1;
+        }
+        if seen < 2 || sums.iter().any(|s| s.1 <= 0.0) {
+            continue;
+        }
+        let c: Vec<Vector2<f64>> = sums.iter().map(|s| s.0 / s.1).collect();
+        let (e1, e2) = Part::box_axes(&room_cam, waxes, 0.0);
+        let a = 0.5 * ((c[1] - c[0]).dot(&e1) + (c[3] - c[2]).dot(&e1));
+        let b = 0.5 * ((c[2] - c[0]).dot(&e2) + (c[3] - c[1]).dot(&e2));
+        if !(a > 0.0 && b > 0.0) {
+            continue;
+        }
+        let origin = (c[0] + (c[1] - e1 * a) + (c[2] - e2 * b) + (c[3] - e1 * a - e2 * b)) / 4.0;
+        if let Some(p) = w.params.get_mut(..4) {
+            p.copy_from_slice(&[origin.x, origin.y, a, b]);
+        }
+        if has_top
+            && height.1 > 0.0
+            && let Some(p) = w.params.get_mut(4)
+        {
+            *p = height.0 / height.1;
+        }
+    }
+}

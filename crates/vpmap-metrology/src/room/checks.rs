@@ -9,7 +9,8 @@
 //!   ends), by more than [`WALL_MARGIN`] of the outline's size; the room is taken as convex
 //!   (Manhattan rooms mostly are);
 //! * two boxes whose footprints overlap by more than [`OVERLAP_SHARE`] of the smaller one
-//!   (more than their error bars allow for the clicks that place them);
+//!   (more than their error bars allow for the clicks that place them), unless their sides
+//!   agree within that share (then they may be one box named differently in two photos);
 //! * a camera standing inside a box (deeper than [`OVERLAP_SHARE`] of its smaller side).
 //!
 //! Every clicked point lies in front of its camera in any hypothesis the joint fit accepts
@@ -87,9 +88,25 @@ pub(crate) fn physical(
         ..Physical::default()
     };
     let polys: Vec<Polygon<f64>> = boxes.iter().map(|(_, fp)| polygon(fp)).collect();
-    let areas: Vec<f64> = polys.iter().map(|p| p.unsigned_area()).collect();
+    let areas: Vec<f64> = polys.iter().map(Area::unsigned_area).collect();
+    // Sorted sides: two overlapping boxes of one size may be one box named differently in
+    // two photos (the map warns about them elsewhere), not a misplaced photo.
+    let sides: Vec<(f64, f64)> = boxes
+        .iter()
+        .map(|(_, fp)| {
+            let (u, v) = ((fp[1] - fp[0]).norm(), (fp[3] - fp[0]).norm());
+            (u.min(v), u.max(v))
+        })
+        .collect();
+    let alike = |a: usize, b: usize| {
+        let close = |x: f64, y: f64| (x - y).abs() <= OVERLAP_SHARE * x.max(y);
+        close(sides[a].0, sides[b].0) && close(sides[a].1, sides[b].1)
+    };
     for a in 0..boxes.len() {
         for b in a + 1..boxes.len() {
+            if alike(a, b) {
+                continue;
+            }
             let shared = polys[a].intersection(&polys[b]).unsigned_area();
             if shared > OVERLAP_SHARE * areas[a].min(areas[b]) {
                 out.overlaps.push((boxes[a].0.clone(), boxes[b].0.clone()));

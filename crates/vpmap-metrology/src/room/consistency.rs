@@ -11,6 +11,12 @@
 //! is refused when `F` exceeds the distribution's upper [`LEVEL`] point: a consistent room is
 //! refused once in a thousand. Without redundant clicks in the photos (`sum d_k = 0`) the
 //! variance is 1 px^2 and the test is the chi-square one.
+//!
+//! The photos' own fits of a few short edges absorb part of the noise (their misfit per
+//! degree of freedom comes out below the click variance: 0.32 px for clicks of 0.5 px on a
+//! shared room), which inflates `F`; so the room is refused only when it is also **far
+//! worse**: the joint fit's click sigma (`sqrt(C / d)`) at least [`FAR_WORSE_SIGMA_RATIO`]
+//! times the photos' own `s`.
 
 use super::fit::point_residuals_of;
 use super::model::RoomProblem;
@@ -20,8 +26,12 @@ use crate::fit::solve::Model;
 
 use super::align::PhotoFit;
 
-/// The test's level: the share of consistent rooms it refuses.
+/// The test's level: the share of consistent rooms its F test alone would refuse.
 pub const LEVEL: f64 = 0.001;
+
+/// How much larger the joint fit's click sigma (its misfit per degree of freedom) must be
+/// than the photos' own for a room to be "far worse" than its photos alone.
+pub const FAR_WORSE_SIGMA_RATIO: f64 = 2.0;
 
 /// The standard normal's upper [`LEVEL`] point.
 const Z_LEVEL: f64 = 3.090_232_306_167_813;
@@ -61,6 +71,8 @@ pub(crate) struct Consistency {
     pub d: usize,
     /// The click variance, px^2.
     pub variance: f64,
+    /// The joint fit's misfit per degree of freedom, px^2.
+    pub joint_variance: f64,
     /// Per photo: its misfit's growth in click variances.
     pub photo_growth: Vec<f64>,
     /// Objects by their joint misfit, worst first: name and squared residual in click
@@ -71,6 +83,7 @@ pub(crate) struct Consistency {
 impl Consistency {
     pub fn refused(&self) -> bool {
         self.f > self.threshold
+            && self.joint_variance >= FAR_WORSE_SIGMA_RATIO.powi(2) * self.variance
     }
 }
 
@@ -140,6 +153,7 @@ pub(crate) fn test(
         m,
         d,
         variance,
+        joint_variance: joint_cost / joint_dof.max(1) as f64,
         photo_growth,
         objects,
     }
@@ -171,10 +185,10 @@ pub(crate) fn refusal(
         .map(|(n, v)| format!("{n:?} ({v:.0})"))
         .collect();
     let mut common: Vec<String> = Vec::new();
-    if let [(a, _), (b, _)] = worst.as_slice() {
-        if let (Some(sa), Some(sb)) = (shared.get(*a), shared.get(*b)) {
-            common = sa.iter().filter(|n| sb.contains(n)).cloned().collect();
-        }
+    if let [(a, _), (b, _)] = worst.as_slice()
+        && let (Some(sa), Some(sb)) = (shared.get(*a), shared.get(*b))
+    {
+        common = sa.iter().filter(|n| sb.contains(n)).cloned().collect();
     }
     let rename = if common.is_empty() {
         "check that the objects they share with the other photos are named alike only where they are the same object".to_owned()
@@ -194,13 +208,15 @@ pub(crate) fn refusal(
     };
     MetrologyError::InconsistentRoom {
         reason: format!(
-            "the joint fit's misfit exceeds what the photos' own clicks allow (F = {:.1} over {} constraints and {} degrees of freedom, above {:.2}, the test's upper {} % point; click sigma {:.2} px from the photos alone); {} disagree most; the objects that misfit most are {} (squared residuals in click variances); {}; {}, or click one more object seen in both",
+            "the joint fit's misfit exceeds what the photos' own clicks allow (F = {:.1} over {} constraints and {} degrees of freedom, above {:.2}, the test's upper {} % point; click sigma {:.2} px jointly against {:.2} px from the photos alone, more than {} times); {} disagree most; the objects that misfit most are {} (squared residuals in click variances); {}; {}, or click one more object seen in both",
             c.f,
             c.m,
             c.d,
             c.threshold,
             LEVEL * 100.0,
+            c.joint_variance.sqrt(),
             c.variance.sqrt(),
+            FAR_WORSE_SIGMA_RATIO,
             named.join(" and "),
             objects.join(", "),
             alternative.unwrap_or_else(|| {

@@ -4,8 +4,8 @@
 use nalgebra::Vector2;
 
 use super::align::{
-    PhotoFit, Placed, Pose, candidate_poses, heading, in_photo, photo_block, place_objects,
-    placed_index, record_maps, room_axes, sightings,
+    PhotoFit, Placed, Pose, average_boxes, candidate_poses, heading, in_photo, photo_block,
+    place_objects, placed_index, record_maps, room_axes, sightings,
 };
 use super::checks::physical;
 use super::consistency;
@@ -140,6 +140,7 @@ fn place_all(fits: &[PhotoFit], order: &[usize], h: &Hypothesis) -> Placement {
         place_objects(&fits[k], &pose, &mut placed, k);
         poses[k] = Some(pose);
     }
+    average_boxes(fits, &poses, &mut placed);
     Placement { poses, placed }
 }
 
@@ -292,6 +293,9 @@ struct Solved {
     iterations: usize,
     quarters: Vec<u8>,
     hypothesis: Hypothesis,
+    /// Whether the minimiser converged (an unconverged fit is only tested for consistency,
+    /// to name what disagrees).
+    converged: bool,
 }
 
 fn solve(
@@ -316,17 +320,9 @@ fn solve(
             reason: "the room fit's starting point puts a clicked point behind a camera: check that objects named the same in several photos are the same object".to_owned(),
         }
     })?;
-    if !sol.converged {
-        return Err(MetrologyError::Degenerate {
-            field: "photos".to_owned(),
-            reason: format!(
-                "the room fit did not converge in {} iterations (reprojection error {:.3} px RMS): check that objects named the same in several photos are the same object",
-                sol.iterations,
-                (sol.cost / built.problem.residual_count().max(1) as f64).sqrt()
-            ),
-        });
+    if sol.converged {
+        floor_below_horizons(scene, &built.problem, &sol.x)?;
     }
-    floor_below_horizons(scene, &built.problem, &sol.x)?;
     let quarters = placement
         .poses
         .iter()
@@ -339,6 +335,7 @@ fn solve(
         iterations: sol.iterations,
         quarters,
         hypothesis: h.clone(),
+        converged: sol.converged,
     })
 }
 
@@ -465,7 +462,37 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
             }
         }
     }
+    let (mut results, unconverged): (Vec<Solved>, Vec<Solved>) =
+        results.into_iter().partition(|s| s.converged);
     if results.is_empty() {
+        // A fit that did not converge: refused, by the consistency test's names when its
+        // photos are far from fitting together.
+        if let Some(u) = unconverged.iter().min_by(|a, b| a.cost.total_cmp(&b.cost)) {
+            let rms = (u.cost / u.built.problem.residual_count().max(1) as f64).sqrt();
+            let test = consistency::test(&fits, &u.built.problem, &u.x, &u.built.names);
+            let objects: Vec<Vec<String>> = fits
+                .iter()
+                .map(|f| f.objects.iter().map(|o| o.name.clone()).collect())
+                .collect();
+            return Err(if test.refused() {
+                consistency::refusal(
+                    &test,
+                    Some(format!(
+                        "the joint fit did not converge in {} iterations ({rms:.3} px RMS) from any placement",
+                        u.iterations
+                    )),
+                    &objects,
+                )
+            } else {
+                MetrologyError::Degenerate {
+                    field: "photos".to_owned(),
+                    reason: format!(
+                        "the room fit did not converge in {} iterations (reprojection error {rms:.3} px RMS): check that objects named the same in several photos are the same object",
+                        u.iterations
+                    ),
+                }
+            });
+        }
         return Err(failure.unwrap_or_else(|| MetrologyError::Degenerate {
             field: "photos".to_owned(),
             reason: "no placement of the room's photos".to_owned(),
@@ -556,6 +583,11 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
         {
             other = solve(scene, &fits, &order, h, false, interrupt).ok();
         }
+        if other.is_none() {
+            other = unconverged
+                .into_iter()
+                .min_by(|a, b| a.cost.total_cmp(&b.cost));
+        }
         let alternative = other.map(|o| {
             let turns: Vec<String> = (1..n)
                 .filter(|&k| o.quarters[k] != best.quarters[k])
@@ -634,7 +666,7 @@ fn hold_known_heights(
         return Ok(free);
     }
     match solve(scene, fits, order, &free.hypothesis, true, interrupt) {
-        Ok(s) if (s.cost - free.cost) / variance <= chi2_99(held) => Ok(s),
+        Ok(s) if s.converged && (s.cost - free.cost) / variance <= chi2_99(held) => Ok(s),
         Err(e @ MetrologyError::Interrupted { .. }) => Err(e),
         _ => Ok(free),
     }
