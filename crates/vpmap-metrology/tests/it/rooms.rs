@@ -528,7 +528,10 @@ fn noisy_shared_rooms(sigma_px: f64, trials: u64, edges: bool) -> NoisyCount {
         .unwrap();
         for t in 0..trials {
             count.trials += 1;
-            let scene = noisy_room(&room, sigma_px, 1000 * r + t, edges);
+            let mut scene = noisy_room(&room, sigma_px, 1000 * r + t, edges);
+            // Photos 2..n in an order of the trial's own.
+            let orders = permutations(&scene.other_photos);
+            scene.other_photos = orders[(t as usize * 7 + r as usize) % orders.len()].clone();
             match build_map(&scene, &BuildOptions::default()) {
                 Err(e) => count.refused.push(format!("mv0{r} trial {t}: {e}")),
                 Ok(map) => {
@@ -578,7 +581,12 @@ fn shared_data_rooms_with_noisy_clicks_are_mapped_not_refused() {
         (0.5, true),
         (1.0, true),
     ] {
-        let c = noisy_shared_rooms(sigma, 8, edges);
+        // VPMAP_ROOM_TRIALS=50 for the figures of docs/results.md.
+        let trials = std::env::var("VPMAP_ROOM_TRIALS")
+            .ok()
+            .and_then(|t| t.parse().ok())
+            .unwrap_or(8);
+        let c = noisy_shared_rooms(sigma, trials, edges);
         println!(
             "{sigma} px, vanishing points from edges {edges}: {} trials, {} refused, {} silently wrong (d^2 > 30), {} a box > 0.25 m inside its error bars, worst box {:.3} m, worst d^2 {:.1}\n{:#?}\n{:#?}",
             c.trials,
