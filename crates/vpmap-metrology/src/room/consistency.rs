@@ -220,7 +220,7 @@ pub(crate) fn refusal(
             named.join(" and "),
             objects.join(", "),
             alternative.unwrap_or_else(|| {
-                "no other placement of the photos could be fitted".to_owned()
+                "no other placement of the photos comes near it in the placement search or could be fitted".to_owned()
             }),
             rename,
         ),

@@ -20,7 +20,9 @@
 //! Search: photos are joined strongest tie first (most shared corners with the photos
 //! already joined; equal ties by their objects' names, so the order of the file does not
 //! matter), keeping the best [`BEAM`] partial hypotheses at each step (every one of them
-//! for rooms of up to four photos).
+//! for rooms of up to four photos) among those scoring within the bound a greedy pass sets
+//! (a photo joining never lowers a score, so a partial hypothesis above `2 S +
+//! NEAR_SCORE_PX2`, `S` the greedy hypothesis's score, can never be started from).
 
 use nalgebra::{DMatrix, DVector, Vector2};
 
@@ -199,16 +201,34 @@ pub(crate) struct Search<'a> {
     /// Per photo, its room yaw.
     yaws: Vec<f64>,
     focals: Vec<f64>,
+    /// Per tied object and sighting (as `ties.seen`), its floor corners in its photo's own
+    /// frame and its height.
+    own: Vec<Vec<(Vec<Vector2<f64>>, Option<f64>)>>,
 }
 
 impl<'a> Search<'a> {
     pub fn new(fits: &'a [PhotoFit], ties: &'a Ties) -> Self {
         let cams: Vec<_> = fits.iter().map(PhotoFit::camera).collect();
+        let own = ties
+            .seen
+            .iter()
+            .map(|s| {
+                s.iter()
+                    .map(|&(p, i)| {
+                        match (cams.get(p), fits.get(p).and_then(|f| f.objects.get(i))) {
+                            (Some(cam), Some(o)) => own_corners(cam, o),
+                            _ => (Vec::new(), None),
+                        }
+                    })
+                    .collect()
+            })
+            .collect();
         Self {
             fits,
             ties,
             yaws: cams.iter().map(|c| c.room_yaw_rad).collect(),
             focals: cams.iter().map(|c| c.focal_px).collect(),
+            own,
         }
     }
 
@@ -222,24 +242,27 @@ impl<'a> Search<'a> {
         let rank = |k: usize| order.iter().position(|&o| o == k).unwrap_or(usize::MAX);
         let mut out = Vec::new();
         for (object, s) in self.ties.seen.iter().enumerate() {
-            let mut joined: Vec<(usize, usize, u8)> = s
+            let mut joined: Vec<(usize, usize, u8, usize)> = s
                 .iter()
-                .filter_map(|&(p, i)| Some((p, i, quarters.get(p).copied().flatten()?)))
+                .enumerate()
+                .filter_map(|(n, &(p, i))| Some((p, i, quarters.get(p).copied().flatten()?, n)))
                 .collect();
             if joined.len() < 2 {
                 continue;
             }
             // A footprint's vertices are matched to those of the first photo joined that
             // shows it.
-            joined.sort_by_key(|(p, _, _)| rank(*p));
+            joined.sort_by_key(|(p, _, _, _)| rank(*p));
             let mut reference: Option<Vec<Vector2<f64>>> = None;
-            for &(p, i, q) in &joined {
+            for &(p, i, q, n) in &joined {
                 let Some(f) = self.fits.get(p) else { continue };
                 let Some(o) = f.objects.get(i) else { continue };
-                let cam = f.camera();
+                let Some((corners, h)) = self.own.get(object).and_then(|v| v.get(n)) else {
+                    continue;
+                };
+                let h = *h;
                 let (sn, cs) = self.heading(p, q).sin_cos();
                 let turn = |v: Vector2<f64>| Vector2::new(cs * v.x - sn * v.y, sn * v.x + cs * v.y);
-                let (corners, h) = own_corners(&cam, o);
                 let focal = self.focals.get(p).copied().unwrap_or(1000.0);
                 let centre = corners.iter().sum::<Vector2<f64>>() / corners.len().max(1) as f64;
                 let labels: Vec<usize> = match &o.part {
@@ -306,18 +329,16 @@ impl<'a> Search<'a> {
         let mut constant = 0.0;
         // Each observation as `a = J z + b` (2 rows for a floor point, 1 for a height), `J`
         // nonzero only in its photo's three columns.
-        let rows = |o: &Obs| -> Vec<([f64; 3], f64)> {
-            if o.height {
-                vec![([o.at.x, 0.0, 0.0], 0.0)]
-            } else {
-                vec![([o.at.x, 1.0, 0.0], 0.0), ([o.at.y, 0.0, 1.0], 0.0)]
+        let row = |o: &Obs, r: usize| -> [f64; 3] {
+            match (o.height, r) {
+                (true, _) => [o.at.x, 0.0, 0.0],
+                (false, 0) => [o.at.x, 1.0, 0.0],
+                (false, _) => [o.at.y, 0.0, 1.0],
             }
         };
-        let mut keys: Vec<(usize, usize)> = obs.iter().map(|o| o.key).collect();
-        keys.sort_unstable();
-        keys.dedup();
-        for key in keys {
-            let group: Vec<&Obs> = obs.iter().filter(|o| o.key == key).collect();
+        let mut obs = obs;
+        obs.sort_by_key(|o| o.key);
+        for group in obs.chunk_by(|a, b| a.key == b.key) {
             if group.len() < 2 {
                 continue;
             }
@@ -333,7 +354,7 @@ impl<'a> Search<'a> {
                 let lin: Vec<(Option<usize>, [f64; 3], f64, f64)> = group
                     .iter()
                     .map(|o| {
-                        let (coef, _) = rows(o)[r];
+                        let coef = row(o, r);
                         match slot.get(o.photo).copied().flatten() {
                             Some(s) => (Some(s), coef, 0.0, o.weight),
                             // Photo 1: s = 1, t = 0.
@@ -419,6 +440,23 @@ impl Search<'_> {
     /// Every whole-room hypothesis the beam keeps, best first (ties by the photos' turns in
     /// join order); `Err(k)` names a photo that no hypothesis places.
     pub fn run(&self, order: &[usize]) -> std::result::Result<Vec<Hypothesis>, usize> {
+        // A greedy pass bounds the search: a photo joining never lowers a hypothesis's score
+        // (it adds residuals and unknowns of its own), so a partial hypothesis scoring above
+        // `2 S + NEAR_SCORE_PX2`, `S` the greedy one's, can never be started from.
+        let greedy = self.beam(order, 1, f64::INFINITY)?;
+        let bound = greedy
+            .first()
+            .map_or(f64::INFINITY, |h| 2.0 * h.score + NEAR_SCORE_PX2);
+        self.beam(order, BEAM, bound)
+    }
+
+    /// The beam search keeping `width` partial hypotheses scoring at most `bound`.
+    fn beam(
+        &self,
+        order: &[usize],
+        width: usize,
+        bound: f64,
+    ) -> std::result::Result<Vec<Hypothesis>, usize> {
         let n = self.fits.len();
         let mut start = vec![None; n];
         if let Some(s) = start.first_mut() {
@@ -437,7 +475,9 @@ impl Search<'_> {
                     if let Some(slot) = quarters.get_mut(k) {
                         *slot = Some(q);
                     }
-                    if let Some(s) = self.solve(&quarters, &order[..=step]) {
+                    if let Some(s) = self.solve(&quarters, &order[..=step])
+                        && s.score <= bound
+                    {
                         next.push(s);
                     }
                 }
@@ -456,7 +496,7 @@ impl Search<'_> {
                     .total_cmp(&b.score)
                     .then_with(|| key(a).cmp(&key(b)))
             });
-            next.truncate(BEAM);
+            next.truncate(width);
             beam = next;
         }
         if beam.iter().all(|h| h.placements.is_empty()) {
