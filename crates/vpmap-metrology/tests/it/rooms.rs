@@ -573,19 +573,20 @@ fn noisy_shared_rooms(sigma_px: f64, trials: u64, edges: bool) -> NoisyCount {
 #[test]
 #[ignore = "needs ../shared/data/multiview-scenes (absent from a fresh clone): cargo test -- --ignored shared_data"]
 fn shared_data_rooms_with_noisy_clicks_are_mapped_not_refused() {
+    // VPMAP_ROOM_TRIALS=50 for the figures of docs/method.md.
+    let trials = std::env::var("VPMAP_ROOM_TRIALS")
+        .ok()
+        .and_then(|t| t.parse().ok())
+        .unwrap_or(8);
+    let mut counts = Vec::new();
     for (sigma, edges) in [
-        (2.0, true),
         (0.5, false),
         (1.0, false),
         (2.0, false),
         (0.5, true),
         (1.0, true),
+        (2.0, true),
     ] {
-        // VPMAP_ROOM_TRIALS=50 for the figures of docs/results.md.
-        let trials = std::env::var("VPMAP_ROOM_TRIALS")
-            .ok()
-            .and_then(|t| t.parse().ok())
-            .unwrap_or(8);
         let c = noisy_shared_rooms(sigma, trials, edges);
         println!(
             "{sigma} px, vanishing points from edges {edges}: {} trials, {} refused, {} silently wrong (d^2 > 30), {} a box > 0.25 m inside its error bars, worst box {:.3} m, worst d^2 {:.1}\n{:#?}\n{:#?}",
@@ -598,18 +599,26 @@ fn shared_data_rooms_with_noisy_clicks_are_mapped_not_refused() {
             c.refused,
             c.silent_wrong
         );
+        counts.push((sigma, edges, c));
+    }
+    for (sigma, edges, c) in counts {
         assert!(
             c.silent_wrong.is_empty(),
             "{sigma} px: {:?}",
             c.silent_wrong
         );
         if (sigma, edges) == (2.0, true) {
-            // Known short of the target (at most 1 % refused): with vanishing points
-            // from the boxes' own short edges at 2 px, mv06 trial 2 is refused (F = 44, its
-            // joint click sigma 4 times the photos' own: photo 1's misfit grows 57-fold; a
-            // poorer minimum of the joint fit or a real limit of two boxes' short edges, not
-            // settled). Held here so that it does not grow unnoticed.
-            assert!(c.refused.len() <= 1, "{sigma} px: {:?}", c.refused);
+            // Short of the target (at most 1 % refused) in 8 trials a room: with
+            // vanishing points from the boxes' own short edges at 2 px, mv06 trial 2 is
+            // refused (F = 44, its joint click sigma 4 times the photos' own: photo 1's misfit
+            // grows 57-fold; a poorer minimum of the joint fit or a real limit of two boxes'
+            // short edges, not settled); 4 of 400 (1.0 %) in 50 trials a room. Held here so
+            // that it does not grow unnoticed.
+            assert!(
+                c.refused.len() * 100 <= c.trials,
+                "{sigma} px: {:?}",
+                c.refused
+            );
         } else {
             assert!(c.refused.is_empty(), "{sigma} px: {:?}", c.refused);
         }
