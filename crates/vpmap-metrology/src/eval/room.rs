@@ -513,13 +513,12 @@ fn map_errors(
                 let c = u.centroid_covariance;
                 let d = [cm[0] - ct[0], cm[1] - ct[1]];
                 let det = c[0][0] * c[1][1] - c[0][1] * c[1][0];
-                let m2 = if det > 0.0 {
+                if det > 0.0 {
                     (c[1][1] * d[0] * d[0] - 2.0 * c[0][1] * d[0] * d[1] + c[0][0] * d[1] * d[1])
                         / det
                 } else {
                     f64::INFINITY
-                };
-                m2
+                }
             });
             let in_ellipse_95 = mahalanobis_sq.map(|m2| m2 <= CHI2_2DOF_95);
             let corner_error_m = t

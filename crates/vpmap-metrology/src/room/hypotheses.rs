@@ -194,6 +194,9 @@ fn height_weight(focal_px: f64, d: f64) -> f64 {
     focal_px * focal_px / (d * d + 1.0)
 }
 
+/// An object's floor corners in its photo's own frame and its height.
+type OwnObject = (Vec<Vector2<f64>>, Option<f64>);
+
 /// The search's fixed data: each photo's shared objects' corners in its own frame.
 pub(crate) struct Search<'a> {
     fits: &'a [PhotoFit],
@@ -203,7 +206,7 @@ pub(crate) struct Search<'a> {
     focals: Vec<f64>,
     /// Per tied object and sighting (as `ties.seen`), its floor corners in its photo's own
     /// frame and its height.
-    own: Vec<Vec<(Vec<Vector2<f64>>, Option<f64>)>>,
+    own: Vec<Vec<OwnObject>>,
 }
 
 impl<'a> Search<'a> {

@@ -531,7 +531,9 @@ fn noisy_shared_rooms(sigma_px: f64, trials: u64, edges: bool) -> NoisyCount {
             let mut scene = noisy_room(&room, sigma_px, 1000 * r + t, edges);
             // Photos 2..n in an order of the trial's own.
             let orders = permutations(&scene.other_photos);
-            scene.other_photos = orders[(t as usize * 7 + r as usize) % orders.len()].clone();
+            scene
+                .other_photos
+                .clone_from(&orders[(t as usize * 7 + r as usize) % orders.len()]);
             match build_map(&scene, &BuildOptions::default()) {
                 Err(e) => count.refused.push(format!("mv0{r} trial {t}: {e}")),
                 Ok(map) => {
