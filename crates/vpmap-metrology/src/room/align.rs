@@ -1,13 +1,14 @@
-//! The room fit's start: each photo fitted alone, then placed in the first photo's frame
-//! through the objects it shares with the photos already placed.
+//! The room fit's start: each photo fitted alone, then placed in the first photo's frame as a
+//! whole-room hypothesis (`room/hypotheses.rs`) has it.
 //!
 //! Placing photo `p` is a similarity on the floor: its heading follows from the room
 //! directions up to a quarter turn (`quarter` in 0..4, the room's 90-degree ambiguity
 //! between photos, which also decides which of a box's corners in one photo is which in the
-//! other), its scale and station point from the shared objects' corners by least squares
-//! (Horn's closed form, rotation known). Each quarter turn is scored by how well the shared
-//! corners and heights agree after the similarity; the near-best ones are kept as
-//! hypotheses that the joint fit decides by likelihood.
+//! other), its scale and station point from the hypothesis's least-squares placement. Here:
+//! the photos' objects in the room frame ([`place_objects`], a box seen by several photos
+//! started at the weighted mean of their placements, [`average_boxes`]), the footprints'
+//! vertex correspondences ([`candidate_poses`]), and each photo's clicks as sightings of the
+//! room's objects ([`sightings`]).
 
 use nalgebra::Vector2;
 

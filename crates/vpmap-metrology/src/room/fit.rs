@@ -426,7 +426,9 @@ pub fn fit_room(scene: &Scene) -> Result<RoomFitted> {
 /// ([`MetrologyError::InvalidField`], before any fit); a photo whose own fit fails
 /// ([`MetrologyError::InPhoto`]); a room whose photos cannot be placed or whose fit does not
 /// converge; an object the clicks of all photos together do not fix (naming it); a box with
-/// its top below its base; [`MetrologyError::Interrupted`] when `interrupt` fires.
+/// its top below its base; [`MetrologyError::InconsistentRoom`] when the photos fit together
+/// far worse than each alone (naming the photos and objects that disagree);
+/// [`MetrologyError::Interrupted`] when `interrupt` fires.
 pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted> {
     scene.validate()?;
     check_room_size(scene)?;
