@@ -12,7 +12,9 @@
 //! map can know), and the share of shared objects whose joint
 //! position error is below the better of their single-photo errors (also for the joint map
 //! given every camera height, as the photos alone are, and per listing photo in its own
-//! frame); then the issue's targets, met or not. [`room_csv`] has one row per object, map and noise level.
+//! frame); then issue 39's placement figures (the joint maps are given photos 2..n in a
+//! shuffled order: silent wrong maps, ties said and resolved right, ellipse coverage); then the
+//! issue's targets, met or not. [`room_csv`] has one row per object, map and noise level.
 
 use std::fmt::Write as _;
 
@@ -127,7 +129,24 @@ pub struct RoomRow {
     /// Per shared object and listing photo: the joint map given every camera height, in that
     /// photo's frame, below that photo's map alone.
     pub shared_better_in_frame: Vec<bool>,
+    /// Joint maps (photos 2..n shuffled) with a box more than [`WRONG_BOX_M`] off or a
+    /// centroid at a squared Mahalanobis distance above [`WRONG_MAHALANOBIS_SQ`], that say
+    /// no tie.
+    pub silent_wrong: usize,
+    /// The same, off by the Mahalanobis distance (the error bars do not cover it).
+    pub silent_wrong_mahalanobis: usize,
+    /// Joint maps that say a tie (alternatives or the tie warning).
+    pub ties_said: usize,
+    /// Of those, the ones whose every box is within [`WRONG_BOX_M`] and its error bars.
+    pub ties_right: usize,
 }
+
+/// A joint map's box this far from the truth (its worst corner) is wrong, metres (issue 39).
+pub const WRONG_BOX_M: f64 = 0.25;
+
+/// A joint map's box centroid at this squared Mahalanobis distance from the truth is wrong
+/// (issue 39).
+pub const WRONG_MAHALANOBIS_SQ: f64 = 30.0;
 
 fn add_map(
     m: &RoomMapErrors,
@@ -194,6 +213,27 @@ pub fn room_row(trials: &[RoomTrial], sigma_px: f64) -> RoomRow {
         );
         r.shared_better_in_frame
             .extend(ev.shared.iter().flat_map(SharedObject::better_in_frames));
+        let far = ev
+            .joint
+            .objects
+            .iter()
+            .any(|o| o.corner_error_m > WRONG_BOX_M);
+        let outside = ev
+            .joint
+            .objects
+            .iter()
+            .any(|o| o.mahalanobis_sq.is_some_and(|m| m > WRONG_MAHALANOBIS_SQ));
+        if ev.tie_said {
+            r.ties_said += 1;
+            if !(far || outside) {
+                r.ties_right += 1;
+            }
+        } else if far || outside {
+            r.silent_wrong += 1;
+            if outside {
+                r.silent_wrong_mahalanobis += 1;
+            }
+        }
     }
     r
 }
@@ -263,8 +303,42 @@ pub fn room_report(options: &RoomEvalOptions, trials: &[Vec<RoomTrial>]) -> Stri
         }
         md.push('\n');
     }
+    md.push_str(&placement(options, trials));
     md.push_str(&refusals(options, trials));
     md.push_str(&targets(options, trials));
+    md
+}
+
+/// Issue 39's placement figures: the joint maps were given photos 2..n in a shuffled order.
+fn placement(options: &RoomEvalOptions, trials: &[Vec<RoomTrial>]) -> String {
+    let mut md = format!(
+        "### Placement (issue 39): photos 2..n in a shuffled order\n\n\
+         A joint map is wrong when a box's worst corner is more than {WRONG_BOX_M} m from the truth \
+         or its centroid at a squared Mahalanobis distance above {WRONG_MAHALANOBIS_SQ}; silent when \
+         it says no tie (no `alternatives`, no tie warning).\n\n\
+         | sigma | photos | rooms | refused | silent wrong (of them beyond the error bars) | ties said | ties said and right | truth in 95 % ellipse |\n\
+         |---|---|---|---|---|---|---|---|\n"
+    );
+    for &sigma in &options.sigmas_px {
+        for (&n, list) in options.photos.iter().zip(trials) {
+            if n < 2 {
+                continue;
+            }
+            let r = room_row(list, sigma);
+            let _ = writeln!(
+                md,
+                "| {sigma} px | {n} | {} | {} | {} ({}) | {} | {} | {} |",
+                r.rooms + r.refused,
+                r.refused,
+                r.silent_wrong,
+                r.silent_wrong_mahalanobis,
+                r.ties_said,
+                r.ties_right,
+                pct(share(&r.joint_covered)),
+            );
+        }
+    }
+    md.push('\n');
     md
 }
 
@@ -435,6 +509,8 @@ mod tests {
         assert!(md.contains("### sigma = 1 px"), "{md}");
         assert!(md.contains("| 3 | "), "{md}");
         assert!(md.contains("### Targets"), "{md}");
+        assert!(md.contains("### Placement (issue 39)"), "{md}");
+        assert!(md.contains("| 1 px | 3 | 2 | "), "{md}");
         let csv = room_csv(&trials);
         assert!(csv.lines().count() > 1);
         let columns = csv.lines().next().unwrap().split(',').count();

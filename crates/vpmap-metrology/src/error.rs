@@ -117,6 +117,14 @@ pub enum MetrologyError {
         /// What went wrong, with values.
         reason: String,
     },
+    /// A room's photos fit together far worse than each alone: the joint fit's residuals
+    /// fail the consistency test (`room::consistency`), and nothing is mapped.
+    #[error("the room's photos do not fit together: {reason}")]
+    InconsistentRoom {
+        /// The test, its level, the photos and objects that disagree, the alternative's cost
+        /// and what to click or rename.
+        reason: String,
+    },
 }
 
 /// Result alias of this crate.

@@ -86,3 +86,46 @@ fn eval_photos_reports_rooms_against_their_first_photo() {
             .success()
     );
 }
+
+#[test]
+fn build_refuses_a_room_whose_photos_swap_two_names_and_writes_nothing() {
+    // Photo 2 of the bundled room calls box0 "box1" and box1 "box0": exit 1, one line
+    // naming the test and the objects, no output.
+    let bundled = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/room.json");
+    let mut room: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&bundled).unwrap()).unwrap();
+    for o in room["photos"][1]["objects"].as_array_mut().unwrap() {
+        let swapped = match o["name"].as_str().unwrap() {
+            "box0" => "box1",
+            "box1" => "box0",
+            other => other,
+        };
+        o["name"] = serde_json::Value::String(swapped.to_owned());
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("swapped.json");
+    std::fs::write(&path, room.to_string()).unwrap();
+    let out = dir.path().join("out");
+    crate::assert_fails_cleanly(
+        &[
+            "build",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &out,
+        "the room's photos do not fit together",
+    );
+    let o = vpmap(&[
+        "build",
+        path.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert_eq!(o.status.code(), Some(1));
+    let stderr = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        stderr.contains("\"box0\"") && stderr.contains("\"box1\""),
+        "{stderr}"
+    );
+}

@@ -89,6 +89,11 @@ pub struct RoomObjectErrors {
     /// Whether the true centroid lies inside the map's 95 % ellipse (`None` without error bars
     /// or without noise).
     pub in_ellipse_95: Option<bool>,
+    /// The squared Mahalanobis distance of the true centroid from the map's, in the map's
+    /// centroid covariance (`None` without error bars or without noise).
+    pub mahalanobis_sq: Option<f64>,
+    /// The largest distance from a true footprint corner to the nearest of the map's, metres.
+    pub corner_error_m: f64,
 }
 
 /// A map of the room (joint or one photo alone) against its truth.
@@ -168,6 +173,12 @@ pub struct RoomEvaluation {
     pub floor_visible: f64,
     /// The same for the first camera alone.
     pub first_floor_visible: f64,
+    /// The order the joint map was given the photos in (from 0; photo 0 first, the others
+    /// shuffled, seeded by the room and the noise level).
+    pub order: Vec<usize>,
+    /// Whether the joint map says its placement is open: `alternatives` in the map, or a
+    /// warning of a photo that fits about as well turned.
+    pub tie_said: bool,
 }
 
 /// One noise level of a room trial.
@@ -276,7 +287,21 @@ fn evaluate_noisy(
         message: "a room without photos".to_owned(),
     })?;
     room.other_photos = photos.iter().skip(1).cloned().collect();
-    let joint_map = build_map(&room, &options).map_err(|e| failure(&e))?;
+    // The joint map from the photos in a shuffled order (photo 1 sets the frame): the map may
+    // not depend on it.
+    let order = shuffled_order(photos.len(), splitmix(scene_seed ^ sigma_px.to_bits()));
+    let mut shuffled = room.clone();
+    shuffled.other_photos = order
+        .iter()
+        .skip(1)
+        .filter_map(|&k| photos.get(k).cloned())
+        .collect();
+    let joint_map = build_map(&shuffled, &options).map_err(|e| failure(&e))?;
+    let tie_said = !joint_map.alternatives.is_empty()
+        || joint_map
+            .warnings
+            .iter()
+            .any(|w| w.contains("about as well with photo"));
     let joint = map_errors(&joint_map, truth, &truth_objects(truth, None), sigma_px);
     // The same clicks with every photo's true camera height: what the photos alone know.
     let true_height = |k: usize| {
@@ -362,7 +387,21 @@ fn evaluate_noisy(
         shared,
         floor_visible,
         first_floor_visible,
+        order,
+        tie_said,
     })
+}
+
+/// `0, 1, ..., n - 1` with `1..n` shuffled (Fisher-Yates on SplitMix64 draws from `seed`).
+fn shuffled_order(n: usize, seed: u64) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..n).collect();
+    let mut state = seed;
+    for i in (2..n).rev() {
+        state = splitmix(state);
+        let j = 1 + (state % i as u64) as usize;
+        order.swap(i, j);
+    }
+    order
 }
 
 /// Object `name`'s true footprint centroid in photo `k`'s own plan frame.
@@ -470,18 +509,28 @@ fn map_errors(
             let (cm, ct) = (centroid(&m.footprint)?, centroid(&t.footprint)?);
             let (lm, bm) = long_short(&m.footprint)?;
             let (lt, bt) = long_short(&t.footprint)?;
-            let in_ellipse_95 = m.uncertainty.as_ref().filter(|_| sigma_px > 0.0).map(|u| {
+            let mahalanobis_sq = m.uncertainty.as_ref().filter(|_| sigma_px > 0.0).map(|u| {
                 let c = u.centroid_covariance;
                 let d = [cm[0] - ct[0], cm[1] - ct[1]];
                 let det = c[0][0] * c[1][1] - c[0][1] * c[1][0];
-                let m2 = if det > 0.0 {
+                if det > 0.0 {
                     (c[1][1] * d[0] * d[0] - 2.0 * c[0][1] * d[0] * d[1] + c[0][0] * d[1] * d[1])
                         / det
                 } else {
                     f64::INFINITY
-                };
-                m2 <= CHI2_2DOF_95
+                }
             });
+            let in_ellipse_95 = mahalanobis_sq.map(|m2| m2 <= CHI2_2DOF_95);
+            let corner_error_m = t
+                .footprint
+                .iter()
+                .map(|c| {
+                    m.footprint
+                        .iter()
+                        .map(|p| distance(*p, *c))
+                        .fold(f64::INFINITY, f64::min)
+                })
+                .fold(0.0, f64::max);
             Some(RoomObjectErrors {
                 name: t.name.clone(),
                 photos: t.photos.len(),
@@ -490,6 +539,8 @@ fn map_errors(
                 breadth_error_m: (bm - bt).abs(),
                 height_error_m: (m.height.unwrap_or(f64::NAN) - t.height).abs(),
                 in_ellipse_95,
+                mahalanobis_sq,
+                corner_error_m,
             })
         })
         .collect();

@@ -154,6 +154,7 @@ pub fn failure_category(error: &MetrologyError) -> &'static str {
             }
         }
         MetrologyError::InvalidField { .. } => "invalid_field",
+        MetrologyError::InconsistentRoom { .. } => "inconsistent_room",
         MetrologyError::Interrupted { .. } => "interrupted",
         MetrologyError::Json(_)
         | MetrologyError::UnsupportedVersion { .. }

@@ -722,7 +722,7 @@ fn finish(
                     field: format!("floor[{i}]"),
                     x: p[0],
                     y: p[1],
-                    distance_px: 0.0,
+                    distance_px: -cam.below_horizon_px(px(*p)),
                     side: "on or above",
                 })
         })

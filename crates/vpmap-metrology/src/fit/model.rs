@@ -84,6 +84,17 @@ impl Camera {
         self.from_map.transpose() * Vector3::new(q.x, q.y, 1.0)
     }
 
+    /// A pixel's signed distance below the camera's horizon, pixels (negative above it).
+    pub fn below_horizon_px(&self, pixel: Vector2<f64>) -> f64 {
+        let up = self.from_map.transpose().row(2).transpose();
+        let q = (pixel - self.principal_point_px) / self.focal_px;
+        let along = up.x.hypot(up.y);
+        if along <= f64::MIN_POSITIVE {
+            return f64::INFINITY;
+        }
+        -(up.x * q.x + up.y * q.y + up.z) * self.focal_px / along
+    }
+
     /// Where a pixel's ray meets the floor, or `None` at or above the horizon.
     pub fn floor_point(&self, pixel: Vector2<f64>) -> Option<Vector2<f64>> {
         let r = self.ray(pixel);
@@ -418,4 +429,43 @@ pub(crate) fn vp_residuals(cam: &Camera, k: usize, evidence: &VpEvidence, out: &
 /// A clicked pixel as a vector.
 pub(crate) fn px(p: PixelPoint) -> Vector2<f64> {
     Vector2::new(p[0], p[1])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_pixel_s_distance_below_the_horizon_follows_the_pinhole_camera() {
+        // A level-rolled camera pitched down by 20 degrees: its horizon is the image row
+        // f tan(20 deg) above the principal point (a standard pinhole's).
+        let (f, pitch) = (1000.0, 20f64.to_radians());
+        let pp = Vector2::new(800.0, 600.0);
+        let cam = Camera::from_params(&[f, pitch, 0.0, 0.3], Some(pp));
+        let horizon_y = 600.0 - f * pitch.tan();
+        for (x, y) in [
+            (800.0, 600.0),
+            (0.0, 1200.0),
+            (1600.0, horizon_y - 30.0),
+            (10.0, horizon_y + 0.25),
+        ] {
+            let d = cam.below_horizon_px(Vector2::new(x, y));
+            assert!((d - (y - horizon_y)).abs() < 1e-9, "({x}, {y}): {d}");
+            assert_eq!(
+                cam.floor_point(Vector2::new(x, y)).is_some(),
+                d > 0.0,
+                "({x}, {y})"
+            );
+        }
+        // Rolled: floor points far away in any direction lie on the horizon, nearer ones
+        // below it.
+        let cam = Camera::from_params(&[f, pitch, 4f64.to_radians(), 0.3], Some(pp));
+        for a in [-0.5f64, 0.0, 0.4] {
+            let dir = Vector3::new(a.sin(), a.cos(), 0.0);
+            let far = cam.project(dir * 1e9).map(|p| cam.below_horizon_px(p));
+            let near = cam.project(dir * 5.0).map(|p| cam.below_horizon_px(p));
+            assert!(far.is_some_and(|d| d.abs() < 1e-3), "{a}: {far:?}");
+            assert!(near.is_some_and(|d| d > 10.0), "{a}: {near:?}");
+        }
+    }
 }

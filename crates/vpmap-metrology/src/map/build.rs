@@ -210,6 +210,7 @@ fn build_photo(scene: &Scene, options: &BuildOptions, uncertainty: bool) -> Resu
         free_space: free,
         hidden,
         warnings,
+        alternatives: Vec::new(),
         fit: fit_report,
     })
 }

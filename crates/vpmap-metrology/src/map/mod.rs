@@ -25,7 +25,9 @@ pub use crate::uncertainty::{CameraUncertainty, Ellipse, ObjectUncertainty};
 pub use build::{BuildOptions, build_map, build_map_until};
 pub use reconstruction::{MAX_RANGE_CAMERA_HEIGHTS, meters_per_camera_height, reconstruct_scene};
 pub use regions::{free_space, occlusion_shadow, to_polygons};
-pub use types::{BoxSize, CameraReport, FitReport, FloorMap, MapObject, PolygonWithHoles, Units};
+pub use types::{
+    BoxSize, CameraReport, FitReport, FloorMap, MapAlternative, MapObject, PolygonWithHoles, Units,
+};
 pub use warnings::{
     WARN_FOCAL_SD_FRACTION, WARN_PRINCIPAL_POINT_SD_DIAGONALS, WARN_RELATIVE_SD,
     WARN_RESIDUAL_SIGMAS, self_crossing,

@@ -9,7 +9,7 @@ use super::build::BuildOptions;
 use super::cameras::{camera_report, placed};
 use super::reconstruction::box_size;
 use super::regions::{occlusion_shadow, ring, to_polygons};
-use super::types::{FitReport, FloorMap, MapObject, Units};
+use super::types::{FitReport, FloorMap, MapAlternative, MapObject, Units};
 use super::warnings::{WARN_RELATIVE_SD, WARN_RESIDUAL_SIGMAS, poorly_fixed_camera};
 use crate::error::{MetrologyError, Result};
 use crate::fit::FitOptions;
@@ -256,6 +256,16 @@ pub(super) fn build_room_map(
         free_space: to_polygons(&free_mp),
         hidden,
         warnings,
+        alternatives: fitted
+            .alternatives
+            .iter()
+            .map(|a| MapAlternative {
+                photo: a.photo + 1,
+                turn_deg: a.turn_deg,
+                cost_px2: a.cost_px2,
+                chosen_cost_px2: a.chosen_cost_px2,
+            })
+            .collect(),
         fit: Some(FitReport {
             click_sigma_px: u.click_sigma_px,
             click_sigma_source: u.click_sigma_source.to_owned(),

@@ -176,9 +176,27 @@ pub struct FloorMap {
     pub hidden: Vec<PolygonWithHoles>,
     /// Notes for the user.
     pub warnings: Vec<String>,
+    /// A room's placements that fit about as well as the map's and that no physical check
+    /// rules out (a tie the clicks leave open), one per photo placed otherwise; absent when
+    /// there is none.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub alternatives: Vec<MapAlternative>,
     /// How the joint fit went (method `fit` only).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub fit: Option<FitReport>,
+}
+
+/// A room photo's other placement (`map.json`'s `alternatives`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct MapAlternative {
+    /// The photo, from 1 (as the warnings name it).
+    pub photo: usize,
+    /// Its turn from the map's placement, degrees counter-clockwise: 90, 180 or 270.
+    pub turn_deg: i32,
+    /// The joint fit's cost with the photo so turned, squared pixels.
+    pub cost_px2: f64,
+    /// The map's own cost, squared pixels.
+    pub chosen_cost_px2: f64,
 }
 
 impl FloorMap {

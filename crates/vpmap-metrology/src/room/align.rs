@@ -1,13 +1,14 @@
-//! The room fit's start: each photo fitted alone, then placed in the first photo's frame
-//! through the objects it shares with the photos already placed.
+//! The room fit's start: each photo fitted alone, then placed in the first photo's frame as a
+//! whole-room hypothesis (`room/hypotheses.rs`) has it.
 //!
 //! Placing photo `p` is a similarity on the floor: its heading follows from the room
 //! directions up to a quarter turn (`quarter` in 0..4, the room's 90-degree ambiguity
 //! between photos, which also decides which of a box's corners in one photo is which in the
-//! other), its scale and station point from the shared objects' corners by least squares
-//! (Horn's closed form, rotation known). Each quarter turn is scored by how well the shared
-//! corners and heights agree after the similarity; the near-best ones are kept as
-//! hypotheses that the joint fit decides by likelihood.
+//! other), its scale and station point from the hypothesis's least-squares placement. Here:
+//! the photos' objects in the room frame ([`place_objects`], a box seen by several photos
+//! started at the weighted mean of their placements, [`average_boxes`]), the footprints'
+//! vertex correspondences ([`candidate_poses`]), and each photo's clicks as sightings of the
+//! room's objects ([`sightings`]).
 
 use nalgebra::Vector2;
 
@@ -176,7 +177,7 @@ struct Pairs {
 }
 
 /// An object's floor corners (own frame), and its height if fitted.
-fn own_corners(cam: &Camera, o: &PhotoObject) -> (Vec<Vector2<f64>>, Option<f64>) {
+pub(crate) fn own_corners(cam: &Camera, o: &PhotoObject) -> (Vec<Vector2<f64>>, Option<f64>) {
     match &o.part {
         Part::Box {
             axes,
@@ -270,7 +271,7 @@ fn similarity(pairs: &Pairs, heading: f64) -> Option<(f64, Vector2<f64>, f64)> {
 
 /// The best cyclic correspondence of a footprint's vertices to the room-frame ones: for each
 /// own vertex, the room vertex index.
-fn footprint_map(
+pub(crate) fn footprint_map(
     own: &[Vector2<f64>],
     room: &[Vector2<f64>],
     heading: f64,
@@ -306,24 +307,25 @@ fn footprint_map(
 }
 
 /// The photo's heading for a quarter turn.
-fn heading(first_yaw: f64, own_yaw: f64, quarter: u8) -> f64 {
+pub(crate) fn heading(first_yaw: f64, own_yaw: f64, quarter: u8) -> f64 {
     first_yaw + f64::from(quarter) * std::f64::consts::FRAC_PI_2 - own_yaw
 }
 
 /// A pose for one quarter turn, its misfit, and the footprints' vertex maps under it.
 pub(crate) type Candidate = (Pose, f64, Vec<(String, Vec<usize>)>);
 
-/// Score every quarter turn of photo `fit` against the placed objects: `(quarter, pose,
-/// misfit)`, best first; and for each the footprints' vertex maps.
+/// Score every quarter turn of photo `fit` (or only `only`) against the placed objects:
+/// `(quarter, pose, misfit)`, best first; and for each the footprints' vertex maps.
 pub(crate) fn candidate_poses(
     fit: &PhotoFit,
     first_yaw: f64,
     room_cam: &Camera,
     placed: &[Placed],
+    only: Option<u8>,
 ) -> Vec<Candidate> {
     let cam = fit.camera();
     let mut out = Vec::new();
-    for quarter in 0..4u8 {
+    for quarter in (0..4u8).filter(|q| only.is_none_or(|o| o == *q)) {
         let th = heading(first_yaw, cam.room_yaw_rad, quarter);
         let mut pairs = Pairs::default();
         let mut maps = Vec::new();
@@ -589,14 +591,6 @@ pub(crate) fn record_maps(placed: &mut [Placed], photo: usize, maps: &[(String, 
     }
 }
 
-/// Relative misfit under which a quarter turn counts as fitting as well as the best one.
-pub(crate) const NEAR_BEST_MISFIT: f64 = 0.05;
-
-/// Whether a pose misfit is near enough the best to be tried by the joint fit.
-pub(crate) fn near_best(misfit: f64, best: f64) -> bool {
-    misfit <= 2.0 * best + NEAR_BEST_MISFIT
-}
-
 /// `Result` helper for a placed object lookup.
 pub(crate) fn placed_index(placed: &[Placed], name: &str) -> Result<usize> {
     placed
@@ -606,4 +600,88 @@ pub(crate) fn placed_index(placed: &[Placed], name: &str) -> Result<usize> {
             field: "photos".to_owned(),
             reason: format!("object {name:?} was not placed in the room"),
         })
+}
+
+/// The start of every room-aligned box seen by several photos: the weighted mean of its
+/// corners as each placed photo sees them (each corner weighted by the inverse of its
+/// depth's variance, `f^2 / (d^2 (1 + d^2) + 1)`), and of its height; a box placed from one
+/// photo alone can start far off when that photo sees it from afar or with noisy clicks, and
+/// the joint fit then runs into a point behind a camera or a poorer minimum.
+pub(crate) fn average_boxes(fits: &[PhotoFit], poses: &[Option<Pose>], placed: &mut [Placed]) {
+    let Some(room_cam) = fits.first().map(PhotoFit::camera) else {
+        return;
+    };
+    for w in placed.iter_mut() {
+        let Shape::Box {
+            axes: waxes,
+            has_top,
+            own_yaw: false,
+        } = w.shape
+        else {
+            continue;
+        };
+        // Per room-frame corner (i + 2 j): weighted sum and weight; the height likewise.
+        let mut sums = [(Vector2::zeros(), 0.0); 4];
+        let mut height = (0.0, 0.0);
+        let mut seen = 0;
+        for (k, fit) in fits.iter().enumerate() {
+            let pose = match (k, poses.get(k).copied().flatten()) {
+                (0, _) => Pose {
+                    quarter: 0,
+                    heading_rad: 0.0,
+                    scale: 1.0,
+                    position: Vector2::zeros(),
+                },
+                (_, Some(p)) => p,
+                _ => continue,
+            };
+            let Some(o) = fit.objects.iter().find(|o| o.name == w.name) else {
+                continue;
+            };
+            let Part::Box { axes, .. } = &o.part else {
+                continue;
+            };
+            let cam = fit.camera();
+            let (corners, h) = own_corners(&cam, o);
+            let turned = room_axes(*axes, pose.quarter);
+            let mut d_sum = 0.0;
+            for (c, (i, j)) in corners.iter().zip([(0u8, 0u8), (1, 0), (1, 1), (0, 1)]) {
+                let (ii, jj) = corner_in_room(turned, waxes, i, j);
+                let d = c.norm();
+                d_sum += d;
+                let weight = cam.focal_px.powi(2) / (d * d * (1.0 + d * d) + 1.0);
+                if let Some(s) = sums.get_mut(usize::from(ii) + 2 * usize::from(jj)) {
+                    s.0 += pose.apply(*c) * weight;
+                    s.1 += weight;
+                }
+            }
+            if let Some(h) = h {
+                let d = d_sum / 4.0;
+                let weight = cam.focal_px.powi(2) / (d * d + 1.0);
+                height.0 += h * pose.scale * weight;
+                height.1 += weight;
+            }
+            seen += 1;
+        }
+        if seen < 2 || sums.iter().any(|s| s.1 <= 0.0) {
+            continue;
+        }
+        let c: Vec<Vector2<f64>> = sums.iter().map(|s| s.0 / s.1).collect();
+        let (e1, e2) = Part::box_axes(&room_cam, waxes, 0.0);
+        let a = 0.5 * ((c[1] - c[0]).dot(&e1) + (c[3] - c[2]).dot(&e1));
+        let b = 0.5 * ((c[2] - c[0]).dot(&e2) + (c[3] - c[1]).dot(&e2));
+        if !(a > 0.0 && b > 0.0) {
+            continue;
+        }
+        let origin = (c[0] + (c[1] - e1 * a) + (c[2] - e2 * b) + (c[3] - e1 * a - e2 * b)) / 4.0;
+        if let Some(p) = w.params.get_mut(..4) {
+            p.copy_from_slice(&[origin.x, origin.y, a, b]);
+        }
+        if has_top
+            && height.1 > 0.0
+            && let Some(p) = w.params.get_mut(4)
+        {
+            *p = height.0 / height.1;
+        }
+    }
 }

@@ -4,9 +4,12 @@
 use nalgebra::Vector2;
 
 use super::align::{
-    PhotoFit, Placed, Pose, candidate_poses, in_photo, near_best, photo_block, place_objects,
-    placed_index, record_maps, room_axes, sightings,
+    PhotoFit, Placed, Pose, average_boxes, candidate_poses, heading, in_photo, photo_block,
+    place_objects, placed_index, record_maps, room_axes, sightings,
 };
+use super::checks::physical;
+use super::consistency;
+use super::hypotheses::{Hypothesis, Search, Ties, join_order, starts};
 use super::model::{Place, RoomPart, RoomProblem, Shape, Sighting};
 use crate::calibration::{Calibration, Perspective};
 use crate::error::{MetrologyError, Result};
@@ -37,6 +40,20 @@ pub struct FittedPhoto {
     pub principal_point_fitted: bool,
 }
 
+/// A placement of one photo that fits the room about as well as the chosen one (a tie the
+/// clicks and the physical checks leave open).
+#[derive(Debug, Clone, PartialEq)]
+pub struct RoomAlternative {
+    /// The photo, from 0.
+    pub photo: usize,
+    /// Its turn from the chosen placement, degrees counter-clockwise (90, 180 or 270).
+    pub turn_deg: i32,
+    /// The joint fit's cost with the photo so turned, squared pixels.
+    pub cost_px2: f64,
+    /// The chosen placement's cost, squared pixels.
+    pub chosen_cost_px2: f64,
+}
+
 /// The result of [`fit_room`].
 #[derive(Debug, Clone)]
 pub struct RoomFitted {
@@ -57,6 +74,9 @@ pub struct RoomFitted {
     pub point_residuals: Vec<PointResidual>,
     /// Notes: the photos' own notes, and correspondences the data leave open.
     pub warnings: Vec<String>,
+    /// Placements that fit about as well as the chosen one and that no physical check
+    /// rules out: one per photo placed otherwise.
+    pub alternatives: Vec<RoomAlternative>,
     pub(crate) problem: RoomProblem,
     pub(crate) x: Vec<f64>,
     /// For each photo, each scene object's room object index.
@@ -71,27 +91,19 @@ pub struct RoomFitted {
 /// chi-square difference (in click variances) under which they fit about equally.
 const TIE_CHI2: f64 = 4.0;
 
-/// Most correspondence hypotheses the joint fit tries.
-const MAX_HYPOTHESES: usize = 32;
-
-/// The placement of every photo for given quarter turns (`None`: the best-scoring one).
+/// The placement of every photo for one whole-room hypothesis.
 struct Placement {
     poses: Vec<Option<Pose>>,
     placed: Vec<Placed>,
-    /// Each photo's near-best quarter turns (photo 1: none).
-    options: Vec<Vec<u8>>,
-    /// Each placed photo's shared objects' names.
-    shared: Vec<Vec<String>>,
 }
 
-fn place_all(fits: &[PhotoFit], forced: &[Option<u8>]) -> Result<Placement> {
+/// Place every photo as hypothesis `h` has it, in join order `order`: each photo's objects
+/// not yet in the room from its pose, its footprints' vertices matched to the room's.
+fn place_all(fits: &[PhotoFit], order: &[usize], h: &Hypothesis) -> Placement {
     let n = fits.len();
     let first_cam = fits[0].camera();
     let mut poses: Vec<Option<Pose>> = vec![None; n];
     let mut placed: Vec<Placed> = Vec::new();
-    let mut options = vec![Vec::new(); n];
-    let mut shared = vec![Vec::new(); n];
-    let mut done = vec![false; n];
     place_objects(
         &fits[0],
         &Pose {
@@ -103,57 +115,33 @@ fn place_all(fits: &[PhotoFit], forced: &[Option<u8>]) -> Result<Placement> {
         &mut placed,
         0,
     );
-    done[0] = true;
-    for _ in 1..n {
-        let Some(k) = (0..n).find(|&k| {
-            !done[k]
-                && fits[k]
-                    .objects
-                    .iter()
-                    .any(|o| placed.iter().any(|p| p.name == o.name))
-        }) else {
-            break;
+    for &k in order.iter().skip(1) {
+        let (Some(q), Some((scale, position))) = (
+            h.quarters.get(k).copied().flatten(),
+            h.placements.get(k).copied().flatten(),
+        ) else {
+            continue;
         };
-        let candidates = candidate_poses(&fits[k], first_cam.room_yaw_rad, &first_cam, &placed);
-        let Some(best) = candidates.first().map(|c| c.1) else {
-            return Err(MetrologyError::Degenerate {
-                field: format!("photos[{k}]"),
-                reason: format!(
-                    "photo {} cannot be placed in the room: the objects it shares with the others do not fix its scale (give them sizes in both photos)",
-                    k + 1
-                ),
-            });
+        let candidates = candidate_poses(
+            &fits[k],
+            first_cam.room_yaw_rad,
+            &first_cam,
+            &placed,
+            Some(q),
+        );
+        let maps = candidates.first().map(|c| c.2.clone()).unwrap_or_default();
+        let pose = Pose {
+            quarter: q,
+            heading_rad: heading(first_cam.room_yaw_rad, fits[k].camera().room_yaw_rad, q),
+            scale,
+            position,
         };
-        options[k] = candidates
-            .iter()
-            .filter(|c| near_best(c.1, best))
-            .map(|c| c.0.quarter)
-            .collect();
-        let chosen = match forced[k] {
-            Some(q) => candidates.iter().find(|c| c.0.quarter == q),
-            None => candidates.first(),
-        }
-        .ok_or_else(|| MetrologyError::Degenerate {
-            field: format!("photos[{k}]"),
-            reason: "no placement for the requested quarter turn".to_owned(),
-        })?;
-        shared[k] = fits[k]
-            .objects
-            .iter()
-            .filter(|o| placed.iter().any(|p| p.name == o.name))
-            .map(|o| o.name.clone())
-            .collect();
-        record_maps(&mut placed, k, &chosen.2);
-        place_objects(&fits[k], &chosen.0, &mut placed, k);
-        poses[k] = Some(chosen.0);
-        done[k] = true;
+        record_maps(&mut placed, k, &maps);
+        place_objects(&fits[k], &pose, &mut placed, k);
+        poses[k] = Some(pose);
     }
-    Ok(Placement {
-        poses,
-        placed,
-        options,
-        shared,
-    })
+    average_boxes(fits, &poses, &mut placed);
+    Placement { poses, placed }
 }
 
 /// The problem, its start and index maps for one placement.
@@ -304,17 +292,22 @@ struct Solved {
     cost: f64,
     iterations: usize,
     quarters: Vec<u8>,
+    hypothesis: Hypothesis,
+    /// Whether the minimiser converged (an unconverged fit is only tested for consistency,
+    /// to name what disagrees).
+    converged: bool,
 }
 
 fn solve(
     scene: &Scene,
     fits: &[PhotoFit],
-    forced: &[Option<u8>],
+    order: &[usize],
+    h: &Hypothesis,
     hold: bool,
     interrupt: &Interrupt,
-) -> Result<(Solved, Placement)> {
+) -> Result<Solved> {
     stop_if_interrupted(scene, interrupt)?;
-    let placement = place_all(fits, forced)?;
+    let placement = place_all(fits, order, h);
     let mut built = build(scene, fits, &placement, hold)?;
     built.problem.interrupt = interrupt.clone();
     let sol = minimise(&built.problem, built.x0.clone());
@@ -327,31 +320,48 @@ fn solve(
             reason: "the room fit's starting point puts a clicked point behind a camera: check that objects named the same in several photos are the same object".to_owned(),
         }
     })?;
-    if !sol.converged {
-        return Err(MetrologyError::Degenerate {
-            field: "photos".to_owned(),
-            reason: format!(
-                "the room fit did not converge in {} iterations (reprojection error {:.3} px RMS): check that objects named the same in several photos are the same object",
-                sol.iterations,
-                (sol.cost / built.problem.residual_count().max(1) as f64).sqrt()
-            ),
-        });
+    if sol.converged {
+        floor_below_horizons(scene, &built.problem, &sol.x)?;
     }
     let quarters = placement
         .poses
         .iter()
         .map(|p| p.map_or(0, |p| p.quarter))
         .collect();
-    Ok((
-        Solved {
-            built,
-            x: sol.x,
-            cost: sol.cost,
-            iterations: sol.iterations,
-            quarters,
-        },
-        placement,
-    ))
+    Ok(Solved {
+        built,
+        x: sol.x,
+        cost: sol.cost,
+        iterations: sol.iterations,
+        quarters,
+        hypothesis: h.clone(),
+        converged: sol.converged,
+    })
+}
+
+/// Every photo's floor corners below its fitted camera's horizon: a hypothesis whose joint fit
+/// puts one on or above it is refused (and the next one tried), naming the corner and how
+/// far above the horizon it came out.
+fn floor_below_horizons(scene: &Scene, problem: &RoomProblem, x: &[f64]) -> Result<()> {
+    let views = problem.views(&x[..problem.camera_len]);
+    for (k, p) in scene.photos().enumerate() {
+        let Some(v) = views.get(k) else { continue };
+        for (i, q) in p.floor.iter().enumerate() {
+            if v.cam.floor_point(px(*q)).is_none() {
+                return Err(in_photo(
+                    k,
+                    MetrologyError::NotBelowHorizon {
+                        field: format!("floor[{i}]"),
+                        x: q[0],
+                        y: q[1],
+                        distance_px: -v.cam.below_horizon_px(px(*q)),
+                        side: "on or above",
+                    },
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Most objects in all of a room's photos together (an object shown in three photos counts
@@ -416,7 +426,9 @@ pub fn fit_room(scene: &Scene) -> Result<RoomFitted> {
 /// ([`MetrologyError::InvalidField`], before any fit); a photo whose own fit fails
 /// ([`MetrologyError::InPhoto`]); a room whose photos cannot be placed or whose fit does not
 /// converge; an object the clicks of all photos together do not fix (naming it); a box with
-/// its top below its base; [`MetrologyError::Interrupted`] when `interrupt` fires.
+/// its top below its base; [`MetrologyError::InconsistentRoom`] when the photos fit together
+/// far worse than each alone (naming the photos and objects that disagree);
+/// [`MetrologyError::Interrupted`] when `interrupt` fires.
 pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted> {
     scene.validate()?;
     check_room_size(scene)?;
@@ -428,35 +440,65 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
         fits.push(PhotoFit::new(fitted, p));
     }
     let n = photos.len();
-    let (first, placement) = solve(scene, &fits, &vec![None; n], false, interrupt)?;
-    // The other near-best quarter turns, one combination at a time (all of them while few).
-    let mut combos: Vec<Vec<Option<u8>>> = vec![vec![None; n]];
-    for k in 1..n {
-        let mut next = Vec::new();
-        for c in &combos {
-            for &q in &placement.options[k] {
-                let mut c = c.clone();
-                c[k] = Some(q);
-                next.push(c);
+    let ties = Ties::new(&fits);
+    let order = join_order(&fits, &ties);
+    let all = Search::new(&fits, &ties).run(&order).map_err(|k| {
+        MetrologyError::Degenerate {
+            field: format!("photos[{k}]"),
+            reason: format!(
+                "photo {} cannot be placed in the room: the objects it shares with the others do not fix its scale (give them sizes in both photos)",
+                k + 1
+            ),
+        }
+    })?;
+    // The joint fit from the best few whole-room hypotheses; the first failure is reported
+    // when none converges.
+    let mut results: Vec<Solved> = Vec::new();
+    let mut failure = None;
+    for h in starts(&all) {
+        match solve(scene, &fits, &order, h, false, interrupt) {
+            Ok(s) => results.push(s),
+            Err(e @ MetrologyError::Interrupted { .. }) => return Err(e),
+            Err(e) => {
+                failure.get_or_insert(e);
             }
         }
-        if !next.is_empty() && next.len() <= MAX_HYPOTHESES {
-            combos = next;
-        }
     }
-    let mut results = vec![first];
-    for c in combos {
-        if c.iter()
-            .zip(&results[0].quarters)
-            .all(|(a, b)| a.is_none_or(|q| q == *b))
-        {
-            continue;
+    let (mut results, unconverged): (Vec<Solved>, Vec<Solved>) =
+        results.into_iter().partition(|s| s.converged);
+    if results.is_empty() {
+        // A fit that did not converge: refused, by the consistency test's names when its
+        // photos are far from fitting together.
+        if let Some(u) = unconverged.iter().min_by(|a, b| a.cost.total_cmp(&b.cost)) {
+            let rms = (u.cost / u.built.problem.residual_count().max(1) as f64).sqrt();
+            let test = consistency::test(&fits, &u.built.problem, &u.x, &u.built.names);
+            let objects: Vec<Vec<String>> = fits
+                .iter()
+                .map(|f| f.objects.iter().map(|o| o.name.clone()).collect())
+                .collect();
+            return Err(if test.refused() {
+                consistency::refusal(
+                    &test,
+                    Some(format!(
+                        "the joint fit did not converge in {} iterations ({rms:.3} px RMS) from any placement",
+                        u.iterations
+                    )),
+                    &objects,
+                )
+            } else {
+                MetrologyError::Degenerate {
+                    field: "photos".to_owned(),
+                    reason: format!(
+                        "the room fit did not converge in {} iterations (reprojection error {rms:.3} px RMS): check that objects named the same in several photos are the same object",
+                        u.iterations
+                    ),
+                }
+            });
         }
-        match solve(scene, &fits, &c, false, interrupt) {
-            Ok((s, _)) if !results.iter().any(|r| r.quarters == s.quarters) => results.push(s),
-            Err(e @ MetrologyError::Interrupted { .. }) => return Err(e),
-            _ => {}
-        }
+        return Err(failure.unwrap_or_else(|| MetrologyError::Degenerate {
+            field: "photos".to_owned(),
+            reason: "no placement of the room's photos".to_owned(),
+        }));
     }
     results.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     let mut warnings: Vec<String> = Vec::new();
@@ -479,15 +521,16 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
         .iter()
         .take_while(|r| (r.cost - best_cost) / variance < TIE_CHI2)
         .count();
+    let mut alternatives = Vec::new();
     if tied > 1 {
-        let outside: Vec<usize> = results[..tied]
+        let violations: Vec<usize> = results[..tied]
             .iter()
-            .map(|r| outside_walls(scene, r))
+            .map(|r| physical(scene, &r.built.problem, &r.x, &r.built.names).total())
             .collect();
-        let pick = (0..tied).min_by_key(|&i| (outside[i], i)).unwrap_or(0);
+        let pick = (0..tied).min_by_key(|&i| (violations[i], i)).unwrap_or(0);
         // The runner-up: the most likely of the others.
         let other = usize::from(pick == 0);
-        let decided = outside[pick] < outside[other];
+        let decided = violations[pick] < violations[other];
         results.swap(0, pick);
         // After the swap the runner-up sits where the chosen one was, unless it was first.
         let other = if other == 0 { pick } else { other };
@@ -497,26 +540,99 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
             .collect();
         for k in differ {
             let turn = (4 + i32::from(second.quarters[k]) - i32::from(chosen.quarters[k])) % 4 * 90;
+            let shared = ties.shared_by(k);
             warnings.push(format!(
                 "photo {} is tied to the room only by {}, which fit{} about as well with photo {} turned by {turn} degrees (cost {:.3} against {:.3} px^2): {}; to be sure, name one more object seen in photo {} and another photo",
                 k + 1,
-                quoted(&placement.shared[k]),
-                if placement.shared[k].len() == 1 { "s" } else { "" },
+                quoted(&shared),
+                if shared.len() == 1 { "s" } else { "" },
                 k + 1,
                 second.cost,
                 chosen.cost,
                 if decided {
-                    "the map takes the turn that keeps every camera and floor corner inside the walls the photos' floor outlines show"
+                    format!(
+                        "the map takes the turn the room's physical checks favour ({} violations against {}: cameras, floor corners and boxes inside the walls the photos' floor outlines show, boxes not overlapping, no camera inside a box)",
+                        violations[pick], violations[usize::from(pick == 0)]
+                    )
                 } else {
-                    "the map uses the better one"
+                    "the map uses the better one".to_owned()
                 },
                 k + 1
             ));
+            if !decided {
+                alternatives.push(RoomAlternative {
+                    photo: k,
+                    turn_deg: turn,
+                    cost_px2: second.cost,
+                    chosen_cost_px2: chosen.cost,
+                });
+            }
         }
     }
     let best = results.swap_remove(0);
-    let best = hold_known_heights(scene, &fits, best, variance, interrupt)?;
-    finish(scene, best, warnings)
+    let best = hold_known_heights(scene, &fits, &order, best, variance, interrupt)?;
+    let test = consistency::test(&fits, &best.built.problem, &best.x, &best.built.names);
+    if test.refused() {
+        // The best other placement, fitted if it was not.
+        let mut other = results.into_iter().find(|r| r.quarters != best.quarters);
+        if other.is_none()
+            && let Some(h) = all.iter().find(|h| {
+                h.quarters
+                    .iter()
+                    .map(|q| q.unwrap_or(0))
+                    .ne(best.quarters.iter().copied())
+            })
+        {
+            other = solve(scene, &fits, &order, h, false, interrupt).ok();
+        }
+        if other.is_none() {
+            other = unconverged
+                .into_iter()
+                .min_by(|a, b| a.cost.total_cmp(&b.cost));
+        }
+        let alternative = other.map(|o| {
+            let turns: Vec<String> = (1..n)
+                .filter(|&k| o.quarters[k] != best.quarters[k])
+                .map(|k| {
+                    let turn = (4 + i32::from(o.quarters[k]) - i32::from(best.quarters[k])) % 4 * 90;
+                    format!("photo {} turned by {turn} degrees", k + 1)
+                })
+                .collect();
+            format!(
+                "the best other placement ({}) fits worse or no better: cost {:.3} against {:.3} px^2",
+                turns.join(", "),
+                o.cost,
+                best.cost
+            )
+        });
+        let objects: Vec<Vec<String>> = fits
+            .iter()
+            .map(|f| f.objects.iter().map(|o| o.name.clone()).collect())
+            .collect();
+        return Err(consistency::refusal(&test, alternative, &objects));
+    }
+    let mut fitted = finish(scene, best, warnings)?;
+    fitted.alternatives = alternatives;
+    Ok(fitted)
+}
+
+/// Each clicked point's part, photo and squared residual, for the residuals of `problem`
+/// whose points start at `at` (after the vanishing-point groups).
+pub(crate) fn point_residuals_of(
+    problem: &RoomProblem,
+    residuals: &[f64],
+    mut at: usize,
+) -> Vec<(usize, (usize, f64))> {
+    let mut out = Vec::new();
+    for (i, part) in problem.parts.iter().enumerate() {
+        for s in &part.sightings {
+            let r = residuals.get(at).copied().unwrap_or(0.0).powi(2)
+                + residuals.get(at + 1).copied().unwrap_or(0.0).powi(2);
+            out.push((i, (s.photo, r)));
+            at += 2;
+        }
+    }
+    out
 }
 
 /// The upper 1 % point of the chi-square distribution with `m` degrees of freedom
@@ -536,6 +652,7 @@ fn chi2_99(m: usize) -> f64 {
 fn hold_known_heights(
     scene: &Scene,
     fits: &[PhotoFit],
+    order: &[usize],
     free: Solved,
     variance: f64,
     interrupt: &Interrupt,
@@ -550,71 +667,11 @@ fn hold_known_heights(
     if held == 0 {
         return Ok(free);
     }
-    let forced: Vec<Option<u8>> = free.quarters.iter().map(|&q| Some(q)).collect();
-    match solve(scene, fits, &forced, true, interrupt) {
-        Ok((s, _)) if (s.cost - free.cost) / variance <= chi2_99(held) => Ok(s),
+    match solve(scene, fits, order, &free.hypothesis, true, interrupt) {
+        Ok(s) if s.converged && (s.cost - free.cost) / variance <= chi2_99(held) => Ok(s),
         Err(e @ MetrologyError::Interrupted { .. }) => Err(e),
         _ => Ok(free),
     }
-}
-
-/// How many cameras and floor corners of a hypothesis lie outside another photo's walls: the
-/// lines through two consecutive floor-outline corners that are both inside its image (a wall
-/// meets the floor there; an edge to a corner on the image's border is where the photo ends).
-/// A room is taken as convex for this count (Manhattan rooms mostly are).
-fn outside_walls(scene: &Scene, solved: &Solved) -> usize {
-    let problem = &solved.built.problem;
-    let views = problem.views(&solved.x[..problem.camera_len]);
-    let photos: Vec<&Scene> = scene.photos().collect();
-    let mut floors: Vec<Vec<(Vector2<f64>, bool)>> = Vec::with_capacity(photos.len());
-    for (k, p) in photos.iter().enumerate() {
-        let (w, h) = (f64::from(p.image.width), f64::from(p.image.height));
-        let inside = |q: [f64; 2]| q[0] > 1.0 && q[0] < w - 1.0 && q[1] > 1.0 && q[1] < h - 1.0;
-        floors.push(
-            p.floor
-                .iter()
-                .filter_map(|q| {
-                    let own = views[k].cam.floor_point(px(*q))?;
-                    Some((views[k].room_from_own(own), inside(*q)))
-                })
-                .collect(),
-        );
-    }
-    let mut count = 0;
-    for (q, floor) in floors.iter().enumerate() {
-        let m = floor.len();
-        if m < 3 {
-            continue;
-        }
-        // The outline's orientation: the floor is on the left of a counter-clockwise ring.
-        let area: f64 = (0..m).map(|i| floor[i].0.perp(&floor[(i + 1) % m].0)).sum();
-        let sign = area.signum();
-        let size = floor
-            .iter()
-            .map(|(a, _)| a.norm())
-            .fold(0.0f64, f64::max)
-            .max(1.0);
-        for i in 0..m {
-            let ((a, wa), (b, wb)) = (floor[i], floor[(i + 1) % m]);
-            if !(wa && wb) || (b - a).norm() <= 1e-9 * size {
-                continue;
-            }
-            let side = |p: Vector2<f64>| sign * (b - a).perp(&(p - a)) / (b - a).norm();
-            for (k, other) in floors.iter().enumerate() {
-                if k == q {
-                    continue;
-                }
-                if side(views[k].position) < -0.05 * size {
-                    count += 1;
-                }
-                count += other
-                    .iter()
-                    .filter(|(p, _)| side(*p) < -0.05 * size)
-                    .count();
-            }
-        }
-    }
-    count
 }
 
 fn quoted(names: &[String]) -> String {
@@ -632,7 +689,7 @@ fn finish(scene: &Scene, solved: Solved, mut warnings: Vec<String>) -> Result<Ro
         x,
         cost: _,
         iterations,
-        quarters: _,
+        ..
     } = solved;
     let problem = &built.problem;
     let photos: Vec<&Scene> = scene.photos().collect();
@@ -755,7 +812,7 @@ fn finish(scene: &Scene, solved: Solved, mut warnings: Vec<String>) -> Result<Ro
                         field: format!("floor[{i}]"),
                         x: q[0],
                         y: q[1],
-                        distance_px: 0.0,
+                        distance_px: -views[k].cam.below_horizon_px(px(*q)),
                         side: "on or above",
                     },
                 )
@@ -821,6 +878,7 @@ fn finish(scene: &Scene, solved: Solved, mut warnings: Vec<String>) -> Result<Ro
         iterations,
         point_residuals,
         warnings,
+        alternatives: Vec::new(),
         problem: built.problem,
         x,
         object_of: built.object_of,

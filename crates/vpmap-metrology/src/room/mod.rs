@@ -10,18 +10,28 @@
 //! the maximum-likelihood estimate under independent Gaussian click noise; minimised by the
 //! same sparse Levenberg-Marquardt (the cameras are one block, each object another).
 //!
-//! Start (`room/align.rs`): each photo fitted alone, then placed through the objects it
-//! shares with the photos already placed, for each quarter turn; the near-best turns are
-//! fitted jointly and the most likely wins, with a warning when another fits about as well.
-//! Error bars (`room/uncertainty.rs`): the covariance of the whole fit, propagated as for one
-//! photo.
+//! Start (`room/hypotheses.rs`, `room/align.rs`): each photo fitted alone; every whole-room
+//! hypothesis (a quarter turn per photo) scored by one linear least-squares placement of every
+//! shared corner and height, independent of the photos' order; the joint fit started from the
+//! best few, the most likely kept. Ties between hypotheses that fit about equally are broken by
+//! physical checks (`room/checks.rs`), and said (a warning, `alternatives`) when they remain;
+//! a room whose joint fit is far worse than its photos alone is refused
+//! (`room/consistency.rs`). Error bars (`room/uncertainty.rs`): the covariance of the whole
+//! fit, propagated as for one photo.
 //!
-//! Files: `model`, then `align`, then `fit`, then `uncertainty`.
+//! Files: `model`, then `align` and `hypotheses`, then `fit` (with `checks` and
+//! `consistency`), then `uncertainty`.
 
 mod align;
+mod checks;
+mod consistency;
 mod fit;
+mod hypotheses;
 mod model;
 mod uncertainty;
 
-pub use fit::{FittedPhoto, MAX_ROOM_SIGHTINGS, RoomFitted, fit_room, fit_room_until};
+pub use consistency::LEVEL as CONSISTENCY_LEVEL;
+pub use fit::{
+    FittedPhoto, MAX_ROOM_SIGHTINGS, RoomAlternative, RoomFitted, fit_room, fit_room_until,
+};
 pub use uncertainty::{PhotoUncertainty, RoomUncertainty};

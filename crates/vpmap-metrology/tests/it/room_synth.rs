@@ -250,3 +250,107 @@ fn known_camera_heights_are_held_when_the_clicks_agree_and_not_when_they_contrad
     );
     assert_eq!(held_wrong, 0, "a wrong height was held");
 }
+
+#[test]
+fn synthetic_rooms_give_the_same_map_for_every_order_of_photos_2_to_n() {
+    use crate::rooms::{map_difference, permutations};
+    for photos in 3..=4 {
+        for seed in 0..3 {
+            let (scene, truth) = synthesize_room(&RoomSynthOptions {
+                seed,
+                photos,
+                ..RoomSynthOptions::default()
+            })
+            .unwrap();
+            let reference = build_map(&scene, &BuildOptions::default()).unwrap();
+            let rest: Vec<usize> = (0..photos - 1).collect();
+            for order in permutations(&rest) {
+                let mut s = scene.clone();
+                s.other_photos = order
+                    .iter()
+                    .map(|&k| scene.other_photos[k].clone())
+                    .collect();
+                let context = format!("{photos} photos, seed {seed}, order {order:?}");
+                let map = build_map(&s, &BuildOptions::default())
+                    .unwrap_or_else(|e| panic!("{context}: {e}"));
+                let d = map_difference(&map, &reference);
+                assert!(d < 1e-9, "{context}: {d} m from the synthesizer's order");
+                // Each the truth too (room_error needs the cameras in the truth's order).
+                let mut t = truth.clone();
+                t.cameras = std::iter::once(truth.cameras[0].clone())
+                    .chain(order.iter().map(|&k| truth.cameras[k + 1].clone()))
+                    .collect();
+                let e = room_error(&map, &t);
+                assert!(e < 1e-9, "{context}: {e} m from the truth");
+            }
+        }
+    }
+}
+
+#[test]
+fn a_photo_tied_to_the_first_by_one_box_is_placed_by_its_ties_to_the_others_in_every_order() {
+    // Issue 39: photo k tied to photo 1 by one box only (a box fits as well turned by half a
+    // turn about its centre), but to the other photos by boxes of their own: the whole room
+    // decides its turn, whatever the order the photos are listed in.
+    use crate::rooms::{map_difference, permutations};
+    let mut cases = 0;
+    for seed in 0..1 {
+        let (scene, truth) = synthesize_room(&RoomSynthOptions {
+            seed,
+            photos: 4,
+            boxes: 8,
+            ..RoomSynthOptions::default()
+        })
+        .unwrap();
+        let names =
+            |s: &Scene| -> Vec<String> { s.objects.iter().map(|o| o.name.clone()).collect() };
+        let first = names(&scene);
+        for k in 0..3 {
+            let photo = &scene.other_photos[k];
+            let with_first: Vec<String> = names(photo)
+                .into_iter()
+                .filter(|n| first.contains(n))
+                .collect();
+            for keep in &with_first {
+                let mut s = scene.clone();
+                for o in &mut s.other_photos[k].objects {
+                    if first.contains(&o.name) && &o.name != keep {
+                        o.name = format!("{} (only in photo {})", o.name, k + 2);
+                    }
+                }
+                // Still tied to another photo by a box of its own.
+                let others: Vec<String> = (0..3)
+                    .filter(|&j| j != k)
+                    .flat_map(|j| names(&s.other_photos[j]))
+                    .collect();
+                let own_ties = names(&s.other_photos[k])
+                    .iter()
+                    .filter(|n| *n != keep && others.contains(n))
+                    .count();
+                if own_ties == 0 {
+                    continue;
+                }
+                cases += 1;
+                let reference = build_map(&s, &BuildOptions::default())
+                    .unwrap_or_else(|e| panic!("seed {seed} photo {} by {keep}: {e}", k + 2));
+                for order in permutations(&[0usize, 1, 2]) {
+                    let mut o = s.clone();
+                    o.other_photos = order.iter().map(|&j| s.other_photos[j].clone()).collect();
+                    let map = build_map(&o, &BuildOptions::default()).unwrap();
+                    let context = format!(
+                        "seed {seed}, photo {} tied to photo 1 by {keep}, order {order:?}",
+                        k + 2
+                    );
+                    let d = map_difference(&map, &reference);
+                    assert!(d < 1e-9, "{context}: {d} m from the first order");
+                    let i = order.iter().position(|&j| j == k).unwrap();
+                    let (p, t) = (map.cameras[i + 1].position, truth.cameras[k + 1].position);
+                    let off = (p[0] - t[0]).hypot(p[1] - t[1]);
+                    assert!(off < 1e-9, "{context}: camera {off} m off");
+                }
+            }
+        }
+    }
+    println!("{cases} rooms with a photo tied to the first by one box");
+    assert!(cases >= 5, "{cases}");
+}

@@ -396,3 +396,233 @@ fn shared_data_rooms_tied_by_one_box_are_placed_by_their_walls_or_warned() {
     assert!(cases >= 30, "{cases}");
     assert!(right * 5 >= cases * 4, "{right} of {cases}");
 }
+
+/// Every order of `items` (Heap's algorithm).
+pub fn permutations<T: Clone>(items: &[T]) -> Vec<Vec<T>> {
+    if items.len() <= 1 {
+        return vec![items.to_vec()];
+    }
+    let mut out = Vec::new();
+    for i in 0..items.len() {
+        let mut rest = items.to_vec();
+        let first = rest.remove(i);
+        for mut p in permutations(&rest) {
+            p.insert(0, first.clone());
+            out.push(p);
+        }
+    }
+    out
+}
+
+/// Largest difference between two maps of one room: every object's footprint corners (the
+/// nearest corner of the other map's object of the same name) and height, metres.
+pub fn map_difference(a: &FloorMap, b: &FloorMap) -> f64 {
+    assert_eq!(a.objects.len(), b.objects.len());
+    let mut worst = 0.0f64;
+    for o in &a.objects {
+        let p = b
+            .objects
+            .iter()
+            .find(|p| p.name == o.name)
+            .unwrap_or_else(|| panic!("object {} missing", o.name));
+        worst = worst.max(footprint_error(&p.footprint, &o.footprint));
+        worst = worst.max(footprint_error(&o.footprint, &p.footprint));
+        if let (Some(h), Some(g)) = (o.height, p.height) {
+            worst = worst.max((h - g).abs());
+        }
+    }
+    worst
+}
+
+#[test]
+#[ignore = "needs ../shared/data/multiview-scenes (absent from a fresh clone): cargo test -- --ignored shared_data"]
+fn shared_data_rooms_give_the_same_map_for_every_order_of_photos_2_to_n() {
+    let dir = shared("multiview-scenes");
+    let mut orders = 0;
+    for r in 0..8 {
+        let path = dir.join(format!("mv0{r}.json"));
+        let room: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        let truth: RoomTruth = serde_json::from_str(
+            &std::fs::read_to_string(path.with_extension("truth.json")).unwrap(),
+        )
+        .unwrap();
+        let photos = room["photos"].as_array().unwrap().clone();
+        let reference = build_value(&room).unwrap_or_else(|e| panic!("mv0{r}: {e}"));
+        let rest: Vec<usize> = (1..photos.len()).collect();
+        for order in permutations(&rest) {
+            let mut v = room.clone();
+            let mut reordered = vec![photos[0].clone()];
+            reordered.extend(order.iter().map(|&k| photos[k].clone()));
+            v["photos"] = serde_json::Value::Array(reordered);
+            let map = build_value(&v).unwrap_or_else(|e| panic!("mv0{r} order {order:?}: {e}"));
+            let d = map_difference(&map, &reference);
+            assert!(
+                d < 1e-9,
+                "mv0{r} order {order:?}: {d} m from the file's order"
+            );
+            // And each is the truth.
+            for t in &truth.objects {
+                let m = map.objects.iter().find(|o| o.name == t.name).unwrap();
+                let e = footprint_error(&m.footprint, &t.footprint);
+                assert!(e < 1e-9, "mv0{r} order {order:?}: {} {e} m", t.name);
+            }
+            // The cameras follow their photos.
+            for (i, &k) in order.iter().enumerate() {
+                let (p, t) = (map.cameras[i + 1].position, truth.cameras[k].position);
+                assert!(
+                    (p[0] - t[0]).hypot(p[1] - t[1]) < 1e-9,
+                    "mv0{r} order {order:?}: camera of photo {}",
+                    k + 1
+                );
+            }
+            orders += 1;
+        }
+    }
+    println!("{orders} orders of 8 rooms: one map each");
+    assert!(orders >= 8 + 6, "{orders}");
+}
+
+/// Room `v` with Gaussian noise of `sigma_px` on every click of every photo (box and
+/// footprint corners, floor corners), seeded; with `edges`, each photo's vanishing points
+/// written as its boxes' edges through the noisy corners (as the evaluations do).
+fn noisy_room(v: &serde_json::Value, sigma_px: f64, seed: u64, edges: bool) -> Scene {
+    use rand::SeedableRng;
+    let mut scene = Scene::from_json_str(&v.to_string()).unwrap();
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
+    vpmap_metrology::synth::add_noise(&mut scene, sigma_px, &mut rng);
+    for p in &mut scene.other_photos {
+        vpmap_metrology::synth::add_noise(p, sigma_px, &mut rng);
+    }
+    if edges {
+        vpmap_metrology::synth::vanishing_points_as_lines(&mut scene);
+        for p in &mut scene.other_photos {
+            vpmap_metrology::synth::vanishing_points_as_lines(p);
+        }
+    }
+    scene
+}
+
+/// How the noisy trials of the shared rooms came out.
+#[derive(Debug, Default)]
+struct NoisyCount {
+    trials: usize,
+    refused: Vec<String>,
+    silent_wrong: Vec<String>,
+    /// Maps with a box more than 0.25 m off inside its error bars (d^2 <= 30).
+    beyond_quarter_metre: usize,
+    worst_m: f64,
+    worst_d2: f64,
+}
+
+fn noisy_shared_rooms(sigma_px: f64, trials: u64, edges: bool) -> NoisyCount {
+    let dir = shared("multiview-scenes");
+    let mut count = NoisyCount::default();
+    for r in 0..8 {
+        let path = dir.join(format!("mv0{r}.json"));
+        let room: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        let truth: RoomTruth = serde_json::from_str(
+            &std::fs::read_to_string(path.with_extension("truth.json")).unwrap(),
+        )
+        .unwrap();
+        for t in 0..trials {
+            count.trials += 1;
+            let mut scene = noisy_room(&room, sigma_px, 1000 * r + t, edges);
+            // Photos 2..n in an order of the trial's own.
+            let orders = permutations(&scene.other_photos);
+            scene
+                .other_photos
+                .clone_from(&orders[(t as usize * 7 + r as usize) % orders.len()]);
+            match build_map(&scene, &BuildOptions::default()) {
+                Err(e) => count.refused.push(format!("mv0{r} trial {t}: {e}")),
+                Ok(map) => {
+                    let mut worst = 0.0f64;
+                    let mut worst_d2 = 0.0f64;
+                    for o in &truth.objects {
+                        let m = map.objects.iter().find(|m| m.name == o.name).unwrap();
+                        worst = worst.max(footprint_error(&m.footprint, &o.footprint));
+                        let c = o
+                            .footprint
+                            .iter()
+                            .fold([0.0, 0.0], |a, p| [a[0] + p[0] / 4.0, a[1] + p[1] / 4.0]);
+                        let d = [m.centroid[0] - c[0], m.centroid[1] - c[1]];
+                        let k = m.uncertainty.as_ref().unwrap().centroid_covariance;
+                        let det = k[0][0] * k[1][1] - k[0][1] * k[1][0];
+                        let d2 = (k[1][1] * d[0] * d[0] - 2.0 * k[0][1] * d[0] * d[1]
+                            + k[0][0] * d[1] * d[1])
+                            / det;
+                        worst_d2 = worst_d2.max(d2);
+                    }
+                    count.worst_m = count.worst_m.max(worst);
+                    count.worst_d2 = count.worst_d2.max(worst_d2);
+                    let said = map.warnings.iter().any(|w| w.contains("turned by"));
+                    if worst > 0.25 && worst_d2 <= 30.0 {
+                        count.beyond_quarter_metre += 1;
+                    }
+                    if worst_d2 > 30.0 && !said {
+                        count
+                            .silent_wrong
+                            .push(format!("mv0{r} trial {t}: {worst:.2} m, d^2 {worst_d2:.1}"));
+                    }
+                }
+            }
+        }
+    }
+    count
+}
+
+#[test]
+#[ignore = "needs ../shared/data/multiview-scenes (absent from a fresh clone): cargo test -- --ignored shared_data"]
+fn shared_data_rooms_with_noisy_clicks_are_mapped_not_refused() {
+    // VPMAP_ROOM_TRIALS=50 for the figures of docs/method.md.
+    let trials = std::env::var("VPMAP_ROOM_TRIALS")
+        .ok()
+        .and_then(|t| t.parse().ok())
+        .unwrap_or(8);
+    let mut counts = Vec::new();
+    for (sigma, edges) in [
+        (0.5, false),
+        (1.0, false),
+        (2.0, false),
+        (0.5, true),
+        (1.0, true),
+        (2.0, true),
+    ] {
+        let c = noisy_shared_rooms(sigma, trials, edges);
+        println!(
+            "{sigma} px, vanishing points from edges {edges}: {} trials, {} refused, {} silently wrong (d^2 > 30), {} a box > 0.25 m inside its error bars, worst box {:.3} m, worst d^2 {:.1}\n{:#?}\n{:#?}",
+            c.trials,
+            c.refused.len(),
+            c.silent_wrong.len(),
+            c.beyond_quarter_metre,
+            c.worst_m,
+            c.worst_d2,
+            c.refused,
+            c.silent_wrong
+        );
+        counts.push((sigma, edges, c));
+    }
+    for (sigma, edges, c) in counts {
+        assert!(
+            c.silent_wrong.is_empty(),
+            "{sigma} px: {:?}",
+            c.silent_wrong
+        );
+        if (sigma, edges) == (2.0, true) {
+            // Short of the target (at most 1 % refused) in 8 trials a room: with
+            // vanishing points from the boxes' own short edges at 2 px, mv06 trial 2 is
+            // refused (F = 44, its joint click sigma 4 times the photos' own: photo 1's misfit
+            // grows 57-fold; a poorer minimum of the joint fit or a real limit of two boxes'
+            // short edges, not settled); 4 of 400 (1.0 %) in 50 trials a room. Held here so
+            // that it does not grow unnoticed.
+            assert!(
+                c.refused.len() * 100 <= c.trials,
+                "{sigma} px: {:?}",
+                c.refused
+            );
+        } else {
+            assert!(c.refused.is_empty(), "{sigma} px: {:?}", c.refused);
+        }
+    }
+}
