@@ -405,6 +405,13 @@ async function main() {
     check(JSON.stringify(Object.keys(added.base)) === '["near","right"]' && JSON.stringify(Object.keys(added.top)) === '["near","left"]', `the box is ${JSON.stringify(added)}`);
     await page.waitForTimeout(150);
     await settle('the build with the hidden corner', { builds: before + 1 });
+    // A build may start while the box is still being clicked (two base corners, then the top
+    // ones): the server refuses that half-drawn box (400), expected as above. How many such
+    // builds finish before the next edit cancels them depends on how long a build takes, so
+    // every 400 of this step goes; the step's own build above succeeded.
+    for (let k = problems.length - 1; k >= 0; k--) {
+      if (problems[k].includes('status of 400')) problems.splice(k, 1);
+    }
     const got = (await page.evaluate(() => window.vpmap.map())).objects.at(-1);
     for (const k of ['length', 'breadth']) {
       check(Math.abs(got.size[k] - want.size[k]) <= 0.05 * want.size[k], `the box without base.left is ${got.size[k].toFixed(3)} ${k}, with it ${want.size[k].toFixed(3)}`);
@@ -431,10 +438,14 @@ async function main() {
     const map = await page.evaluate(() => window.vpmap.map());
     const i = example.objects.findIndex((o) => o.base && o.top?.near);
     const o = map.objects[i];
-    await page.check('#scale-object');
+    // The object, the edge and the length first, then the choice: one edit, one build. (Chosen
+    // first, each field's change would build a scale of its own on the way, e.g. the old length
+    // on another dimension, and the page's re-plan with the earlier start and goal may then be
+    // refused as off the floor, a 400 in the console, depending on how fast the builds are.)
     await page.selectOption('#scale-object-name', o.name);
     await page.selectOption('#scale-object-dim', 'edge:base.near,top.near');
     await page.fill('#scale-object-m', o.height.toFixed(4));
+    await page.check('#scale-object');
     const s = await settle('the build with an edge scale', { builds: before + 1 });
     const scale = (await page.evaluate(() => window.vpmap.scene())).scale;
     check(JSON.stringify(scale.edge) === '["base.near","top.near"]' && scale.object === o.name, `the scale is ${JSON.stringify(scale)}`);
