@@ -614,13 +614,10 @@ fn shared_data_rooms_with_noisy_clicks_are_mapped_not_refused() {
             // vanishing points from the boxes' own short edges at 2 px, mv06 trial 2 is
             // refused (F = 44, its joint click sigma 4 times the photos' own: photo 1's misfit
             // grows 57-fold; a poorer minimum of the joint fit or a real limit of two boxes'
-            // short edges, not settled); 4 of 400 (1.0 %) in 50 trials a room. Held here so
-            // that it does not grow unnoticed.
-            assert!(
-                c.refused.len() * 100 <= c.trials,
-                "{sigma} px: {:?}",
-                c.refused
-            );
+            // short edges, not settled); 4 of 400 (1.0 %) in 50 trials a room. Held here at
+            // that one refusal so that it does not grow unnoticed (1 % of 64 trials would
+            // allow none).
+            assert!(c.refused.len() <= 1, "{sigma} px: {:?}", c.refused);
         } else {
             assert!(c.refused.is_empty(), "{sigma} px: {:?}", c.refused);
         }
