@@ -204,7 +204,6 @@ impl Problem<'_> {
     /// Each segment's weight at `k`: its edge's share for the inliers (within 3 robust sigmas
     /// of their refitted point), 0 for the others.
     fn inliers(&self, k: f64) -> Vec<Vec<f64>> {
-        let ones: Vec<Vec<f64>> = self.groups.iter().map(|g| g.weights.clone()).collect();
         let model = self.model(k);
         let residuals: Vec<Vec<f64>> = self
             .groups
@@ -219,10 +218,12 @@ impl Problem<'_> {
         all.sort_by(f64::total_cmp);
         let mad = all.get(all.len() / 2).copied().unwrap_or(0.0);
         let limit = 3.0 * (1.4826 * mad).max(MIN_SEGMENT_SIGMA_PX);
-        ones.iter()
+        self.groups
+            .iter()
             .zip(&residuals)
-            .map(|(o, r)| {
-                o.iter()
+            .map(|(g, r)| {
+                g.weights
+                    .iter()
                     .zip(r)
                     .map(|(w, ri)| if ri.abs() <= limit { *w } else { 0.0 })
                     .collect()

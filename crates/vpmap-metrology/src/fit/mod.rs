@@ -386,37 +386,22 @@ const CHI2_2DOF_99: f64 = 9.210_340_371_976_184;
 /// A warning for each measured vanishing point the fitted camera puts outside its 99 %
 /// ellipse: the clicks (and the other evidence) disagree with it beyond its error bars.
 fn evidence_warnings(fitted: &Fitted, order: [usize; 3]) -> Vec<String> {
-    let problem = &fitted.problem;
-    let cam = problem.camera(&fitted.x);
-    let mut out = Vec::new();
-    for (g, e) in problem.vps.iter().enumerate() {
-        let model::VpEvidence::Measured {
-            at,
-            chart,
-            whitening,
-            ..
-        } = e
-        else {
-            continue;
-        };
-        let v = cam.vanishing_point(vp_direction(&cam, g));
-        let Some(o) = chart.offset_rad(*at, v) else {
-            continue;
-        };
-        let o = Vector2::new(o[0], o[1]);
-        let chi2 = (whitening * o).norm_squared();
-        if chi2 > CHI2_2DOF_99 {
+    evidence_distances(&fitted.problem, &fitted.x)
+        .into_iter()
+        .enumerate()
+        .filter_map(|(g, d)| d.map(|(chi2, angle)| (g, chi2, angle)))
+        .filter(|(_, chi2, _)| *chi2 > CHI2_2DOF_99)
+        .map(|(g, chi2, angle)| {
             let index = order.get(g).copied().unwrap_or(g);
             let what = if g == 2 { "vertical" } else { "horizontal" };
-            out.push(format!(
+            format!(
                 "vanishing point {} ({what}) lies {:.2} degrees ({:.1} sigma) from where the clicks put it: the clicked corners and the detected vanishing point disagree beyond its error bars; check its edges, or the clicks of the boxes along it",
                 index + 1,
-                o.norm().to_degrees(),
+                angle.to_degrees(),
                 chi2.sqrt()
-            ));
-        }
-    }
-    out
+            )
+        })
+        .collect()
 }
 
 /// Mean squared residual (pixels squared) under which a fit from the first start is taken

@@ -702,43 +702,6 @@ impl Scene {
         Ok(())
     }
 
-    /// The field paths of every click a covariance may be given for.
-    fn click_fields(&self) -> std::collections::BTreeSet<String> {
-        let mut out = std::collections::BTreeSet::new();
-        for (i, o) in self.objects.iter().enumerate() {
-            if let Some(b) = &o.base {
-                for (c, _) in b.given() {
-                    out.insert(format!("objects[{i}].base.{}", c.name()));
-                }
-            }
-            if let Some(t) = &o.top {
-                for (c, _) in t.corners.given() {
-                    out.insert(format!("objects[{i}].top.{}", c.name()));
-                }
-                if t.point.is_some() {
-                    out.insert(format!("objects[{i}].top.point"));
-                }
-            }
-            if let Some(f) = &o.footprint {
-                for k in 0..f.len() {
-                    out.insert(format!("objects[{i}].footprint[{k}]"));
-                }
-            }
-        }
-        for k in 0..self.floor.len() {
-            out.insert(format!("floor[{k}]"));
-        }
-        if self
-            .scale
-            .as_ref()
-            .is_some_and(|s| s.floor_distance.is_some())
-        {
-            out.insert("scale.floor_distance.from".to_owned());
-            out.insert("scale.floor_distance.to".to_owned());
-        }
-        out
-    }
-
     /// The vanishing points' covariances and the intrinsics' standard deviations: finite,
     /// positive (definite) and in the range [`MIN_VP_SD_DEG`]..[`MAX_VP_SD_DEG`] (vanishing
     /// points), at most the image diagonal (principal point) or the focal length itself
@@ -799,10 +762,10 @@ impl Scene {
         if self.click_covariances_px2.is_empty() {
             return Ok(());
         }
-        let known = self.click_fields();
+        let known = self.clicks_by_field();
         for (key, m) in &self.click_covariances_px2 {
             let field = format!("click_covariances_px2.\"{key}\"");
-            if !known.contains(key) {
+            if !known.contains_key(key) {
                 return Err(MetrologyError::InvalidField {
                     field,
                     reason: "names no click of this scene (expected a field path such as `objects[0].base.near` or `floor[2]`)".to_owned(),
