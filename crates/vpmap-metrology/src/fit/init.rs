@@ -1,6 +1,7 @@
 //! The fit's starting point: the camera from the vanishing points with the principal point
-//! held (the projective form's calibration, in closed form), and each object by linear least
-//! squares on the rays of its clicks.
+//! held (the projective form's calibration, in closed form), or from the points the clicked
+//! boxes' edges give (`box_edges.rs`), and each object by linear least squares on the rays of
+//! its clicks.
 
 use nalgebra::{DMatrix, DVector, Matrix2, Matrix3, Vector2, Vector3};
 
@@ -22,7 +23,7 @@ pub(crate) struct Built {
 
 /// The least-squares intersection of segments' lines, homogeneous pixel coordinates (may be
 /// at infinity); `None` when the lines' moment matrix has no finite decomposition.
-fn homogeneous_vp(lines: &[[f64; 4]], image: ImageSize) -> Option<Vector3<f64>> {
+pub(super) fn homogeneous_vp(lines: &[[f64; 4]], image: ImageSize) -> Option<Vector3<f64>> {
     let c = image.centre();
     let s = image.diagonal();
     let mut m = Matrix3::<f64>::zeros();
@@ -619,7 +620,19 @@ pub(crate) fn build(
     }
     let mut candidates: Vec<(f64, Built)> = Vec::new();
     let mut first_error = None;
-    for &pp in &pp_starts {
+    // The cameras the given vanishing points imply, and those the clicked boxes' own edges
+    // imply (`box_edges.rs`): when a detected point is wrong, only the second start near the
+    // clicks' camera.
+    let mut point_sets = vec![points.clone()];
+    point_sets.extend(super::box_edges::box_edge_points(
+        scene,
+        &points,
+        scene.image,
+    ));
+    for (&pp, (set, points)) in pp_starts
+        .iter()
+        .flat_map(|pp| point_sets.iter().enumerate().map(move |p| (pp, p)))
+    {
         // Starting focal lengths: from each pair of vanishing points, the scene's, and the range
         // of real lenses (0.4 to 2 image diagonals); vanishing points from short noisy edges can
         // put the first far off, where the fit runs towards an orthographic camera.
@@ -635,7 +648,7 @@ pub(crate) fn build(
         // Two-point perspective: the scene format defines the camera as level (pitch 0).
         let level = scene.vanishing_points.len() == 2;
         for f in focals {
-            let Some(c) = camera_params(&points, pp, f, level) else {
+            let Some(c) = camera_params(points, pp, f, level) else {
                 continue;
             };
             // The camera that best explains the vanishing-point evidence alone (orthogonal room
@@ -653,7 +666,9 @@ pub(crate) fn build(
             if free_pp {
                 c.extend([pp.x, pp.y]);
             }
-            if let Some(sol) = super::solve::minimise(&alone, c.clone())
+            // (Not for the boxes' own points: that would take them back to the given ones.)
+            if set == 0
+                && let Some(sol) = super::solve::minimise(&alone, c.clone())
                 && sol.x.iter().all(|v| v.is_finite())
                 && sol.x[0] > 0.0
             {

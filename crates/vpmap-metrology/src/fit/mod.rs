@@ -13,11 +13,13 @@
 //! *Multiple View Geometry*, 2nd ed., sections 4.2-4.3 and appendix A6).
 //!
 //! Start: the projective form's camera (vanishing points with the principal point held), and
-//! each object by linear least squares on its clicks' rays. Minimiser: sparse
+//! each object by linear least squares on its clicks' rays; also the cameras the clicked boxes'
+//! own edges imply (`fit/box_edges.rs`), for given vanishing points that are far off. Minimiser: sparse
 //! Levenberg-Marquardt (`fit/solve.rs`). Error bars: the inverse of `J^T J` times the click
 //! variance, propagated to each reported quantity by its gradient (first order), as in
 //! Criminisi, Reid & Zisserman, "Single view metrology", IJCV 40(2), 2000, section 5.
 
+mod box_edges;
 mod fitted;
 mod init;
 pub(crate) mod model;

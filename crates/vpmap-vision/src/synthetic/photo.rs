@@ -632,9 +632,10 @@ pub fn render_photo(scene: &Scene, truth: &Truth, opts: &PhotoOptions) -> Result
             opts.clutter_per_corner,
             &mut clutter_rng,
         );
-        let bars = draw_occluders(&mut out, w, h, opts.occluders, &mut clutter_rng);
+        let bars = draw_occluders(&mut out, w, h, opts.occluders, &lens, &mut clutter_rng);
         for c in &mut corners {
-            if bars.iter().any(|b| b.covers(c.point_px, 1.0)) {
+            let pinhole = lens.undistort(c.point_px);
+            if bars.iter().any(|b| b.covers(pinhole, 1.0)) {
                 c.visible = false;
             }
         }

@@ -59,7 +59,8 @@ impl Lens {
     }
 }
 
-/// A thin bar in front of the scene, from image border to image border.
+/// A thin bar in front of the scene, from image border to image border: straight in the
+/// pinhole image, so bowed by the lens like every other straight edge of the photo.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub(crate) struct Bar {
     from: [f64; 2],
@@ -69,7 +70,7 @@ pub(crate) struct Bar {
 }
 
 impl Bar {
-    /// Whether a point lies under the bar (or within `margin` pixels of it).
+    /// Whether a pinhole pixel lies under the bar (or within `margin` pixels of it).
     pub(crate) fn covers(&self, p: [f64; 2], margin: f64) -> bool {
         segment_distance(p, self.from, self.to) <= self.half_width + margin
     }
@@ -89,6 +90,8 @@ fn segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
 
 /// Paint a stroke (a segment `half_width` wide, anti-aliased by its distance from the pixel
 /// centre) blending towards `colour` by `opacity`.
+/// With a `lens`, the stroke is straight in the pinhole image: each photo pixel's centre is
+/// undistorted before its distance is taken (and every pixel of the photo is tried).
 fn paint(
     colours: &mut [[f64; 3]],
     width: usize,
@@ -96,16 +99,26 @@ fn paint(
     stroke: ([f64; 2], [f64; 2], f64),
     colour: [f64; 3],
     opacity: f64,
+    lens: Option<&Lens>,
 ) {
     let (a, b, half) = stroke;
     let reach = half + 1.0;
-    let x0 = (a[0].min(b[0]) - reach).floor().max(0.0) as usize;
-    let y0 = (a[1].min(b[1]) - reach).floor().max(0.0) as usize;
-    let x1 = ((a[0].max(b[0]) + reach).ceil().max(0.0) as usize).min(width);
-    let y1 = ((a[1].max(b[1]) + reach).ceil().max(0.0) as usize).min(height);
+    let (x0, y0, x1, y1) = if lens.is_some() {
+        (0, 0, width, height)
+    } else {
+        (
+            (a[0].min(b[0]) - reach).floor().max(0.0) as usize,
+            (a[1].min(b[1]) - reach).floor().max(0.0) as usize,
+            ((a[0].max(b[0]) + reach).ceil().max(0.0) as usize).min(width),
+            ((a[1].max(b[1]) + reach).ceil().max(0.0) as usize).min(height),
+        )
+    };
     for y in y0..y1 {
         for x in x0..x1 {
-            let p = [x as f64 + 0.5, y as f64 + 0.5];
+            let mut p = [x as f64 + 0.5, y as f64 + 0.5];
+            if let Some(lens) = lens {
+                p = lens.undistort(p);
+            }
             let cover = (half + 0.5 - segment_distance(p, a, b)).clamp(0.0, 1.0) * opacity;
             if cover <= 0.0 {
                 continue;
@@ -157,6 +170,7 @@ pub(crate) fn draw_clutter(
                 (start, end, half),
                 [shade; 3],
                 opacity,
+                None,
             );
         }
     }
@@ -164,12 +178,14 @@ pub(crate) fn draw_clutter(
 
 /// `count` thin bars (1.5 to 4 px wide, a uniform grey) across the photo in front of
 /// everything, each through a random point of the photo at a random angle: where one crosses
-/// an edge of the scene it makes a T junction.
+/// an edge of the scene it makes a T junction. Each is straight in the pinhole image and seen
+/// through the `lens` (when it has a `k`), as a pole or a cable in front of a real camera.
 pub(crate) fn draw_occluders(
     colours: &mut [[f64; 3]],
     width: usize,
     height: usize,
     count: usize,
+    lens: &Lens,
     rng: &mut ChaCha8Rng,
 ) -> Vec<Bar> {
     let diagonal = (width as f64).hypot(height as f64);
@@ -194,6 +210,7 @@ pub(crate) fn draw_occluders(
                 (bar.from, bar.to, bar.half_width),
                 bar.colour,
                 1.0,
+                (lens.k != 0.0).then_some(lens),
             );
             bar
         })
