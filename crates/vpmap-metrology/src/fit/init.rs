@@ -492,6 +492,16 @@ pub(crate) fn vanishing_point_orders(scene: &Scene) -> Result<Vec<[usize; 3]>> {
     })
 }
 
+/// Where the starting cameras come from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Cameras {
+    /// The given (or detected) vanishing points.
+    Given,
+    /// The vanishing points the clicked boxes' own edges give (`box_edges.rs`); no start when
+    /// they give none.
+    BoxEdges,
+}
+
 /// Build the problem and its starting points, best (lowest starting cost) first.
 ///
 /// `fit_pp`: whether the principal point is a parameter when the scene allows it (three
@@ -509,6 +519,7 @@ pub(crate) fn build(
     fit_pp: bool,
     order: [usize; 3],
     evidence_sigma_px: Option<f64>,
+    cameras: Cameras,
 ) -> Result<Vec<Built>> {
     let (mut all, mut points) = evidence(scene)?;
     // The documented order: the horizontal vanishing points as given, the vertical one last.
@@ -620,19 +631,19 @@ pub(crate) fn build(
     }
     let mut candidates: Vec<(f64, Built)> = Vec::new();
     let mut first_error = None;
-    // The cameras the given vanishing points imply, and those the clicked boxes' own edges
+    // The cameras the given vanishing points imply, or those the clicked boxes' own edges
     // imply (`box_edges.rs`): when a detected point is wrong, only the second start near the
     // clicks' camera.
-    let mut point_sets = vec![points.clone()];
-    point_sets.extend(super::box_edges::box_edge_points(
-        scene,
-        &points,
-        scene.image,
-    ));
-    for (&pp, (set, points)) in pp_starts
-        .iter()
-        .flat_map(|pp| point_sets.iter().enumerate().map(move |p| (pp, p)))
-    {
+    let points = match cameras {
+        Cameras::Given => points,
+        Cameras::BoxEdges => {
+            match super::box_edges::box_edge_points(scene, &points, scene.image) {
+                Some(p) => p,
+                None => return Ok(Vec::new()),
+            }
+        }
+    };
+    for &pp in &pp_starts {
         // Starting focal lengths: from each pair of vanishing points, the scene's, and the range
         // of real lenses (0.4 to 2 image diagonals); vanishing points from short noisy edges can
         // put the first far off, where the fit runs towards an orthographic camera.
@@ -648,7 +659,7 @@ pub(crate) fn build(
         // Two-point perspective: the scene format defines the camera as level (pitch 0).
         let level = scene.vanishing_points.len() == 2;
         for f in focals {
-            let Some(c) = camera_params(points, pp, f, level) else {
+            let Some(c) = camera_params(&points, pp, f, level) else {
                 continue;
             };
             // The camera that best explains the vanishing-point evidence alone (orthogonal room
@@ -667,7 +678,7 @@ pub(crate) fn build(
                 c.extend([pp.x, pp.y]);
             }
             // (Not for the boxes' own points: that would take them back to the given ones.)
-            if set == 0
+            if cameras == Cameras::Given
                 && let Some(sol) = super::solve::minimise(&alone, c.clone())
                 && sol.x.iter().all(|v| v.is_finite())
                 && sol.x[0] > 0.0

@@ -139,13 +139,34 @@ fn fit_with(
     let known_sigma = options
         .click_sigma_px
         .or_else(|| has_covariances.then_some(1.0));
-    let starts = init::build(scene, fit_pp, order, known_sigma).map_err(|e| (e, false))?;
+    let mut starts = init::build(scene, fit_pp, order, known_sigma, init::Cameras::Given)
+        .map_err(|e| (e, false))?;
     let pp_free = starts.first().is_some_and(|s| s.problem.fixed_pp.is_none());
     // From the best start; the others only when it fails or ends with residuals far above
-    // a pixel (a local minimum, or a camera running off to infinite focal length).
+    // a pixel (a local minimum, or a camera running off to infinite focal length). When none
+    // of the given vanishing points' cameras fits well, the cameras the clicked boxes' own
+    // edges imply are tried too (a detected point taken from the wrong edges).
     let mut best: Option<(Solved, usize)> = None;
     let mut first_error = None;
-    for (k, start) in starts.iter().enumerate() {
+    let mut good = false;
+    let mut next = 0;
+    let mut box_edges_tried = false;
+    while !good {
+        let Some(start) = starts.get(next) else {
+            if box_edges_tried {
+                break;
+            }
+            box_edges_tried = true;
+            match init::build(scene, fit_pp, order, known_sigma, init::Cameras::BoxEdges) {
+                Ok(more) => starts.extend(more),
+                Err(e) => {
+                    first_error.get_or_insert(e);
+                }
+            }
+            continue;
+        };
+        let k = next;
+        next += 1;
         match run(scene, &start.problem, start.x0.clone()) {
             Ok(sol) => {
                 let dof = start
@@ -153,12 +174,9 @@ fn fit_with(
                     .residual_count()
                     .saturating_sub(start.problem.len())
                     .max(1);
-                let good = sol.cost / dof as f64 <= GOOD_FIT_PX2;
+                good = sol.cost / dof as f64 <= GOOD_FIT_PX2;
                 if best.as_ref().is_none_or(|(b, _)| sol.cost < b.cost) {
                     best = Some((sol, k));
-                }
-                if good {
-                    break;
                 }
             }
             Err(e) => {
