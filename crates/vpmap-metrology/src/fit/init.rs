@@ -636,12 +636,10 @@ pub(crate) fn build(
     // clicks' camera.
     let points = match cameras {
         Cameras::Given => points,
-        Cameras::BoxEdges => {
-            match super::box_edges::box_edge_points(scene, &points, scene.image) {
-                Some(p) => p,
-                None => return Ok(Vec::new()),
-            }
-        }
+        Cameras::BoxEdges => match super::box_edges::box_edge_points(scene, &points, scene.image) {
+            Some(p) => p,
+            None => return Ok(Vec::new()),
+        },
     };
     for &pp in &pp_starts {
         // Starting focal lengths: from each pair of vanishing points, the scene's, and the range
