@@ -19,7 +19,8 @@ use vpmap_metrology::scene::Scene;
 use vpmap_metrology::synth::{SynthOptions, synthesize};
 use vpmap_plan::movingai::{Scenario, read_movingai_map, read_scen};
 use vpmap_plan::reach::Components;
-use vpmap_plan::{Occupancy, OccupancyGrid, RasterOptions, rasterize_map};
+use vpmap_plan::{Occupancy, OccupancyGrid};
+use vpmap_raster::{RasterOptions, rasterize_map};
 
 /// A cell `(x, y)`: column, row from the top.
 pub use vpmap_plan::CellXy;
