@@ -10,10 +10,11 @@ use vpmap_plan::reach::Components;
 
 use crate::error::PipelineError;
 
-/// The bundled example: a synthetic office seen at 25 degrees pitch (`examples/office.json`).
-pub const EXAMPLE_SCENE: &str = include_str!("../../../examples/office.json");
+/// The bundled example: a synthetic office seen at 25 degrees pitch (`examples/office.json`;
+/// `data/` in this crate links to it, so that the crate's package holds it).
+pub const EXAMPLE_SCENE: &str = include_str!("../data/office.json");
 /// The bundled example's truth (`examples/office.truth.json`).
-pub const EXAMPLE_TRUTH: &str = include_str!("../../../examples/office.truth.json");
+pub const EXAMPLE_TRUTH: &str = include_str!("../data/office.truth.json");
 
 /// How far into the seen floor the demo's path starts, in front of the camera, map units.
 const START_INTO_FLOOR: f64 = 0.5;

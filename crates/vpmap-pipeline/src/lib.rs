@@ -62,3 +62,8 @@ pub use options::{
 pub use planning::{Limits, PlanningMap, mbpp_stats, plan_json, read_planning_map, run_planner};
 pub use scene::{ParsedScene, parse_scene};
 pub use text::{num, units_name};
+
+/// The README's example, compiled and run as a doc test.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

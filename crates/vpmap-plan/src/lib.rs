@@ -122,3 +122,8 @@ pub use ros::{encode_ros_map, read_ros_map, write_ros_map};
 pub use smoothing::{AstarPsOptions, astar_ps, smooth_path};
 pub use theta_star::{ThetaStarOptions, theta_star};
 pub use validate::{PathViolation, validate_path};
+
+/// The README's example, compiled and run as a doc test.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

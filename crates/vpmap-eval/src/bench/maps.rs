@@ -134,7 +134,7 @@ pub const CATEGORY_ORDER: [&str; 8] = [
 ];
 
 /// The bundled example scene (`examples/office.json`).
-const EXAMPLE_SCENE: &str = include_str!("../../../../examples/office.json");
+const EXAMPLE_SCENE: &str = vpmap_pipeline::demo::EXAMPLE_SCENE;
 
 /// Cell size of the built maps, metres.
 pub const BUILT_RESOLUTION_M: f64 = 0.05;
