@@ -8,7 +8,7 @@ use libfuzzer_sys::fuzz_target;
 use vpmap_metrology::map::FloorMap;
 use vpmap_plan::grid::{CellXy, Occupancy};
 use vpmap_plan::planner::{Planner, PlannerKind};
-use vpmap_plan::raster::{RasterOptions, rasterize_map};
+use vpmap_raster::{RasterOptions, rasterize_map};
 use vpmap_plan::validate::validate_path;
 
 /// Cells a side, about, at most.

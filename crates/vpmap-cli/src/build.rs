@@ -3,12 +3,12 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result, bail};
-use vpmap_metrology::map::{FloorMap, Units};
+use vpmap_metrology::map::FloorMap;
 use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::scene::Scene;
 use vpmap_metrology::synth::Truth;
 use vpmap_pipeline::demo::{EXAMPLE_SCENE, EXAMPLE_TRUTH};
-use vpmap_pipeline::{DemoPath, MapOptions, PipelineError, TruthErrors, errors_against_truth};
+use vpmap_pipeline::{MapOptions, PipelineError, TruthErrors, errors_against_truth};
 use vpmap_plan::grid::OccupancyGrid;
 use vpmap_render::{FloorPlanStyle, floor_plan_svg, svg_to_png};
 
@@ -80,7 +80,6 @@ struct Built {
     map: FloorMap,
     grid: OccupancyGrid,
     files: OutputSet,
-    grid_summary: String,
 }
 
 /// The pipeline's options from the command line's.
@@ -118,24 +117,10 @@ fn build_outputs(scene: &Scene, args: &BuildArgs) -> Result<Built> {
     files.add("model.glb", built.model_glb);
     files.add("occupancy.yaml", built.occupancy_yaml);
     files.add("occupancy.pgm", built.occupancy_pgm);
-    let (map, grid) = (built.map, built.grid);
-    let (free, occupied, unknown) = grid.counts();
-    let total = (free + occupied + unknown).max(1) as f64;
-    let grid_summary = format!(
-        "occupancy grid {} x {} cells at {} {}: {:.0} % free, {:.0} % occupied, {:.0} % unknown",
-        grid.width(),
-        grid.height(),
-        args.resolution,
-        unit_name(map.units),
-        100.0 * free as f64 / total,
-        100.0 * occupied as f64 / total,
-        100.0 * unknown as f64 / total,
-    );
     Ok(Built {
-        map,
-        grid,
+        map: built.map,
+        grid: built.grid,
         files,
-        grid_summary,
     })
 }
 
@@ -150,121 +135,11 @@ fn add_pictures(built: &mut Built, style: &FloorPlanStyle) -> Result<()> {
     Ok(())
 }
 
-fn unit_name(units: Units) -> &'static str {
-    match units {
-        Units::Meters => "m",
-        Units::CameraHeights => "camera heights",
-    }
-}
-
-fn print_summary(map: &FloorMap, grid_summary: &str) {
-    if map.cameras.is_empty() {
-        print_camera(map, &map.camera, "camera");
-    } else {
-        for (k, c) in map.cameras.iter().enumerate() {
-            print_camera(map, c, &format!("photo {}", k + 1));
-        }
-    }
-    print_objects_and_floor(map, grid_summary);
-}
-
-/// One camera's line and its error bars; a room's cameras also say where they stood.
-fn print_camera(map: &FloorMap, c: &vpmap_metrology::map::CameraReport, label: &str) {
-    let u = unit_name(map.units);
-    let placed = c.heading_deg.map_or_else(String::new, |h| {
-        let sd = c
-            .uncertainty
-            .as_ref()
-            .and_then(|e| e.position_sd.zip(e.heading_deg_sd));
-        format!(
-            ", at ({:.3}, {:.3}) {u} heading {h:.1} deg{}",
-            c.position[0],
-            c.position[1],
-            sd.map_or_else(String::new, |([sx, sy], sh)| format!(
-                " (+- {sx:.3}, {sy:.3} {u}, {sh:.2} deg)"
-            ))
-        )
-    });
-    println!(
-        "{label}: {} perspective, focal {:.1} px, principal point ({:.1}, {:.1}), pitch {:.2} deg, roll {:.2} deg, height {:.3} {u}{placed}",
-        c.perspective.words(),
-        c.focal_px,
-        c.principal_point[0],
-        c.principal_point[1],
-        c.pitch_deg,
-        c.roll_deg,
-        c.height
-    );
-    if let (Some(e), Some(f)) = (&c.uncertainty, &map.fit) {
-        let pp = e
-            .principal_point_px_sd
-            .map(|[x, y]| format!(", principal point ({x:.1}, {y:.1}) px"));
-        println!(
-            "  +- (1 sigma): focal {:.1} px{}, pitch {:.2} deg, roll {:.2} deg, height {:.3} {u}; for {:.2} px clicks ({}), reprojection RMS {:.2} px{}",
-            e.focal_px_sd,
-            pp.unwrap_or_default(),
-            e.pitch_deg_sd,
-            e.roll_deg_sd,
-            e.height_sd,
-            f.click_sigma_px,
-            match f.click_sigma_source.as_str() {
-                "given" => "given",
-                "residuals" => "estimated from the residuals",
-                "covariances" => "the clicks without their own covariance; the others by it",
-                _ => "default",
-            },
-            f.rms_residual_px,
-            f.rms_normalised
-                .map(|n| format!(" ({n:.2} sigma normalised by each click's covariance)"))
-                .unwrap_or_default()
-        );
-    }
-}
-
-/// The objects, the floor, the grid and the warnings.
-fn print_objects_and_floor(map: &FloorMap, grid_summary: &str) {
-    let u = unit_name(map.units);
-    for o in &map.objects {
-        let pm = |sd: Option<f64>| sd.map_or_else(String::new, |s| format!(" +- {s:.3}"));
-        let (u_len, u_br, u_h) = o.uncertainty.as_ref().map_or((None, None, None), |e| {
-            (e.length_sd, e.breadth_sd, e.height_sd)
-        });
-        let size = o.size.map_or_else(
-            || format!("area {:.3} {u}^2", o.area),
-            |s| {
-                format!(
-                    "{:.3}{} x {:.3}{} {u}",
-                    s.length,
-                    pm(u_len),
-                    s.breadth,
-                    pm(u_br)
-                )
-            },
-        );
-        let height = o.height.map_or_else(
-            || "height unknown".to_owned(),
-            |h| format!("height {h:.3}{} {u}", pm(u_h)),
-        );
-        let place = o.uncertainty.as_ref().map_or_else(String::new, |e| {
-            format!(
-                " (95 % within {:.3} x {:.3} {u})",
-                e.centroid_ellipse_95.semi_axes[0], e.centroid_ellipse_95.semi_axes[1]
-            )
-        });
-        println!(
-            "  {:<12} at ({:.3}, {:.3}) {u}{place}: {size}, {height}",
-            o.name, o.centroid[0], o.centroid[1]
-        );
-    }
-    let free_area = map.free_area();
-    println!(
-        "floor: {} corners, free space {:.2} {u}^2 in {} region(s)",
-        map.floor.len(),
-        free_area,
-        map.free_space.len()
-    );
-    println!("{grid_summary}");
-    for w in &map.warnings {
+/// What `build` and `demo` print of the map ([`vpmap_pipeline::map_summary`]), and its
+/// warnings on stderr.
+fn print_summary(built: &Built) {
+    print!("{}", vpmap_pipeline::map_summary(&built.map, &built.grid));
+    for w in &built.map.warnings {
         eprintln!("warning: {w}");
     }
 }
@@ -289,7 +164,7 @@ pub fn run_build(scene_path: &Path, args: &BuildArgs) -> Result<()> {
         .and_then(|mut b| add_pictures(&mut b, &FloorPlanStyle::default()).map(|()| b))
         .with_context(|| format!("building {}", scene_path.display()))?;
     let paths = built.files.write_all(&args.out)?;
-    print_summary(&built.map, &built.grid_summary);
+    print_summary(&built);
     report_written(&paths);
     Ok(())
 }
@@ -313,10 +188,11 @@ pub fn run_demo(out: &Path, method: Method) -> Result<()> {
         grow_confidence: None,
     };
     let mut built = build_outputs(&scene, &args)?;
-    let (path_line, style) = demo_path(&built, out)?;
+    let route = vpmap_pipeline::demo_path(&built.map, &built.grid)?;
+    let (path_line, style) = vpmap_pipeline::demo_path_text(&route, out);
     add_pictures(&mut built, &style)?;
     let paths = built.files.write_all(out)?;
-    print_summary(&built.map, &built.grid_summary);
+    print_summary(&built);
     println!("{path_line}");
     let TruthErrors {
         position: pos,
@@ -330,46 +206,4 @@ pub fn run_demo(out: &Path, method: Method) -> Result<()> {
     );
     report_written(&paths);
     Ok(())
-}
-
-/// The demo's path ([`vpmap_pipeline::demo_path`]) and the floor-plan style that draws it;
-/// the line printed names the `vpmap plan` command that draws the bugs and alternatives too
-/// (into `out`).
-fn demo_path(built: &Built, out: &Path) -> Result<(String, FloorPlanStyle)> {
-    let route = match vpmap_pipeline::demo_path(&built.map, &built.grid)? {
-        DemoPath::Found(route) => route,
-        DemoPath::NoFreeFloor => {
-            return Ok((
-                "path: the map has no free floor to plan on".to_owned(),
-                FloorPlanStyle::default(),
-            ));
-        }
-        DemoPath::NoPath => {
-            return Ok(("path: no path found".to_owned(), FloorPlanStyle::default()));
-        }
-    };
-    let length = route.length;
-    let style = FloorPlanStyle {
-        path: route.waypoints.clone(),
-        path_label: format!("path (MBPP, {length:.2} m)"),
-        ..FloorPlanStyle::default()
-    };
-    let (a, b) = (route.from, route.to);
-    let line = format!(
-        "path: MBPP from ({:.2}, {:.2}) to ({:.2}, {:.2}) m around the objects (robot radius {} m): {length:.2} m, {} bugs, {} alternatives; the path is drawn in map.svg and map.png, and\n  vpmap plan {} --from={:.2},{:.2} --to={:.2},{:.2} --planner mbpp --svg {}\ndraws it with every bug's track and the alternatives",
-        a[0],
-        a[1],
-        b[0],
-        b[1],
-        vpmap_pipeline::DEFAULT_ROBOT_RADIUS_M,
-        route.bugs,
-        route.alternatives,
-        out.join("map.json").display(),
-        a[0],
-        a[1],
-        b[0],
-        b[1],
-        out.join("plan.svg").display(),
-    );
-    Ok((line, style))
 }

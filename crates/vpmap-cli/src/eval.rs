@@ -28,7 +28,7 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{Context, Result, bail};
-use vpmap_eval::accuracy::{Config, DEFAULT_TRIALS, section_name, select_setups};
+use vpmap_eval::accuracy::{Config, DEFAULT_TRIALS, section_name, select_setups, sigmas_from_text};
 use vpmap_eval::navigate::{EVAL_SECTION, eval_published_section};
 use vpmap_eval::output::check_writable_folder;
 use vpmap_metrology::eval::{Setup, VpEdges};
@@ -40,9 +40,6 @@ use vpmap_pipeline::num;
 /// Most trials per set-up accepted (objects.csv grows by about 300 kB per trial with three
 /// methods).
 const MAX_TRIALS: u64 = 10_000;
-
-/// Largest noise accepted, pixels.
-const MAX_SIGMA_PX: f64 = 100.0;
 
 /// Shortest long vanishing-point edge accepted, pixels.
 const MIN_VP_EDGE_PX: f64 = 20.0;
@@ -256,27 +253,9 @@ fn run_navigate(args: &EvalArgs) -> Result<()> {
     Ok(())
 }
 
+/// `--sigma`: the noise levels ([`vpmap_eval::accuracy::sigmas_from_text`]).
 fn parse_sigmas(text: &str) -> Result<Vec<f64>> {
-    let mut sigmas = Vec::new();
-    for part in text.split(',') {
-        let part = part.trim();
-        let Ok(v) = part.parse::<f64>() else {
-            bail!("--sigma {part:?} is not a number; give pixels such as 0,0.5,1,2,4");
-        };
-        if !(v.is_finite() && (0.0..=MAX_SIGMA_PX).contains(&v)) {
-            bail!(
-                "--sigma {} must be a finite number of pixels from 0 to {MAX_SIGMA_PX}",
-                num(v)
-            );
-        }
-        // `-0` is 0.
-        sigmas.push(v + 0.0);
-    }
-    sigmas.sort_by(f64::total_cmp);
-    if let Some(w) = sigmas.windows(2).find(|w| w[0].to_bits() == w[1].to_bits()) {
-        bail!("--sigma {} is given twice", num(w[0]));
-    }
-    Ok(sigmas)
+    sigmas_from_text(text).map_err(|e| anyhow::anyhow!("--sigma {e}"))
 }
 
 fn parse_methods(text: &str) -> Result<Vec<Method>> {

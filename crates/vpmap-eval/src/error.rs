@@ -19,6 +19,9 @@ pub enum EvalError {
     /// A map or scenario file could not be read or planned on.
     #[error(transparent)]
     Plan(#[from] vpmap_plan::PlanError),
+    /// A floor map or a truth could not be rasterised into a grid.
+    #[error(transparent)]
+    Raster(#[from] vpmap_raster::RasterError),
     /// A scene could not be synthesised or built into a map.
     #[error(transparent)]
     Metrology(#[from] vpmap_metrology::MetrologyError),

@@ -52,3 +52,8 @@ pub mod stats;
 
 pub use error::{EvalError, Result};
 pub use progress::{Progress, Silent};
+
+/// The README's example, compiled and run as a doc test.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

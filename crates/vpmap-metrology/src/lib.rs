@@ -76,3 +76,8 @@ pub mod synth;
 mod uncertainty;
 
 pub use error::{MetrologyError, Result};
+
+/// The README's example, compiled and run as a doc test.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

@@ -2,18 +2,22 @@
 //! computes on it besides the build: a path across the built grid ([`demo_path`]) and the
 //! map's largest errors against the truth ([`errors_against_truth`]).
 
+use std::path::Path;
+
 use vpmap_metrology::map::FloorMap;
 use vpmap_metrology::synth::Truth;
 use vpmap_plan::grid::{Occupancy, OccupancyGrid};
 use vpmap_plan::mbpp::{MbppOptions, mbpp};
 use vpmap_plan::reach::Components;
+use vpmap_render::FloorPlanStyle;
 
 use crate::error::PipelineError;
 
-/// The bundled example: a synthetic office seen at 25 degrees pitch (`examples/office.json`).
-pub const EXAMPLE_SCENE: &str = include_str!("../../../examples/office.json");
+/// The bundled example: a synthetic office seen at 25 degrees pitch (`examples/office.json`;
+/// `data/` in this crate links to it, so that the crate's package holds it).
+pub const EXAMPLE_SCENE: &str = include_str!("../data/office.json");
 /// The bundled example's truth (`examples/office.truth.json`).
-pub const EXAMPLE_TRUTH: &str = include_str!("../../../examples/office.truth.json");
+pub const EXAMPLE_TRUTH: &str = include_str!("../data/office.truth.json");
 
 /// How far into the seen floor the demo's path starts, in front of the camera, map units.
 const START_INTO_FLOOR: f64 = 0.5;
@@ -137,6 +141,54 @@ pub fn errors_against_truth(map: &FloorMap, truth: &Truth) -> TruthErrors {
         position = position.max((a[0] - b[0]).hypot(a[1] - b[1]));
     }
     TruthErrors { position, height }
+}
+
+/// What `vpmap demo` says about its path, and the floor-plan style that draws it: the line
+/// names the `vpmap plan` command that draws the bugs and the alternatives too (into `out`).
+///
+/// # Example
+/// ```
+/// use vpmap_pipeline::{demo_path_text, DemoPath};
+/// let (line, style) = demo_path_text(&DemoPath::NoPath, std::path::Path::new("out"));
+/// assert_eq!(line, "path: no path found");
+/// assert!(style.path.is_empty());
+/// ```
+#[must_use]
+pub fn demo_path_text(path: &DemoPath, out: &Path) -> (String, FloorPlanStyle) {
+    let route = match path {
+        DemoPath::Found(route) => route,
+        DemoPath::NoFreeFloor => {
+            return (
+                "path: the map has no free floor to plan on".to_owned(),
+                FloorPlanStyle::default(),
+            );
+        }
+        DemoPath::NoPath => return ("path: no path found".to_owned(), FloorPlanStyle::default()),
+    };
+    let length = route.length;
+    let style = FloorPlanStyle {
+        path: route.waypoints.clone(),
+        path_label: format!("path (MBPP, {length:.2} m)"),
+        ..FloorPlanStyle::default()
+    };
+    let (a, b) = (route.from, route.to);
+    let line = format!(
+        "path: MBPP from ({:.2}, {:.2}) to ({:.2}, {:.2}) m around the objects (robot radius {} m): {length:.2} m, {} bugs, {} alternatives; the path is drawn in map.svg and map.png, and\n  vpmap plan {} --from={:.2},{:.2} --to={:.2},{:.2} --planner mbpp --svg {}\ndraws it with every bug's track and the alternatives",
+        a[0],
+        a[1],
+        b[0],
+        b[1],
+        crate::options::DEFAULT_ROBOT_RADIUS_M,
+        route.bugs,
+        route.alternatives,
+        out.join("map.json").display(),
+        a[0],
+        a[1],
+        b[0],
+        b[1],
+        out.join("plan.svg").display(),
+    );
+    (line, style)
 }
 
 #[cfg(test)]

@@ -9,7 +9,7 @@ use std::path::{Path, PathBuf};
 use vpmap_metrology::synth::Truth;
 use vpmap_plan::grid::{CellXy, Occupancy, OccupancyGrid};
 use vpmap_plan::navigate::{Navigation, OnlinePlanner, Outcome, TruthOptimum};
-use vpmap_plan::raster::truth_grid;
+use vpmap_raster::truth_grid;
 
 use crate::error::PipelineError;
 use crate::options::DEFAULT_ROBOT_RADIUS_M;
@@ -99,7 +99,7 @@ pub fn drive_maps(
                 truth.grid.origin_m(),
                 Occupancy::Unknown,
             )
-            .map_err(PipelineError::Grid)?,
+            .map_err(|e| PipelineError::Grid(e.into()))?,
             in_cells: truth.in_cells,
             robot_radius: truth.robot_radius,
         },
@@ -164,7 +164,7 @@ pub fn truth_frame(truth: &Truth, resolution_m: f64) -> Result<OccupancyGrid, Pi
         [lo[0] - resolution_m, lo[1] - resolution_m],
         Occupancy::Unknown,
     )
-    .map_err(PipelineError::Grid)
+    .map_err(|e| PipelineError::Grid(e.into()))
 }
 
 /// What a drive's report says besides the drive: who drove, how, in which units.

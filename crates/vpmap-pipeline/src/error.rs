@@ -6,6 +6,7 @@ use thiserror::Error;
 use vpmap_files::FileError;
 use vpmap_metrology::MetrologyError;
 use vpmap_plan::PlanError;
+use vpmap_raster::RasterError;
 use vpmap_render::RenderError;
 
 use crate::ranges::BuildOption;
@@ -49,9 +50,10 @@ pub enum PipelineError {
         /// The most cells allowed.
         limit: f64,
     },
-    /// The map cannot be rasterised into an occupancy grid.
+    /// The map cannot be rasterised into an occupancy grid, or a grid (file) is refused
+    /// ([`RasterError::Plan`]).
     #[error(transparent)]
-    Grid(PlanError),
+    Grid(RasterError),
     /// A start or goal is outside the grid, not on a cell, or on a cell a path cannot enter.
     #[error("{0}")]
     Endpoint(String),
@@ -97,7 +99,7 @@ pub enum PipelineError {
         /// The resolution asked for, metres a cell.
         resolution: f64,
         /// Why not.
-        source: PlanError,
+        source: RasterError,
     },
     /// A map file of a type vpmap does not read (by its extension).
     #[error(

@@ -3,7 +3,8 @@
 
 use nalgebra::Vector2;
 use vpmap_metrology::map::{FloorMap, ObjectUncertainty};
-use vpmap_plan::{OccupancyGrid, RasterOptions, rasterize_map};
+use vpmap_plan::OccupancyGrid;
+use vpmap_raster::{RasterOptions, rasterize_map};
 
 use crate::error::PipelineError;
 use crate::options::{GRID_MARGIN_M, MapOptions};
@@ -76,11 +77,11 @@ pub fn grown_by_uncertainty(map: &FloorMap, p: f64) -> FloorMap {
 /// when [`MapOptions::grow_confidence`] is set; the map is rasterised at
 /// [`MapOptions::resolution_m`] with [`GRID_MARGIN_M`] of unknown border, floor hidden behind
 /// objects unknown unless [`MapOptions::hidden_free`], and obstacles inflated by
-/// [`MapOptions::robot_radius_m`] ([`vpmap_plan::rasterize_map`]). Refused beyond
+/// [`MapOptions::robot_radius_m`] ([`vpmap_raster::rasterize_map`]). Refused beyond
 /// [`MapOptions::max_grid_cells`] before any cell is made.
 ///
 /// The options are not range-checked here beyond what rasterising needs
-/// ([`vpmap_plan::RasterOptions::validate`]): [`crate::map_and_grid`] and [`crate::build`]
+/// ([`vpmap_raster::RasterOptions::validate`]): [`crate::map_and_grid`] and [`crate::build`]
 /// check them all with [`MapOptions::validate`] first.
 ///
 /// # Errors

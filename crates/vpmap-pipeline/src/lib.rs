@@ -16,12 +16,14 @@
 //! | [`endpoint_cell`] | a start or goal in map coordinates -> its grid cell, checked (`vpmap plan`, `/api/plan`) |
 //! | [`run_planner`] | one planner on a grid within counted limits (`vpmap plan`) |
 //! | [`truth_frame`], [`navigate_json`] | an empty grid around a synthetic truth, and a drive's report file (`vpmap navigate`) |
-//! | [`demo_path`] | the path `vpmap demo` draws across the bundled example |
+//! | [`demo_path`], [`demo_path_text`] | the path `vpmap demo` draws across the bundled example, and what it says of it |
+//! | [`map_summary`] | what `vpmap build` prints of a map: cameras, objects, floor, grid |
 //!
 //! Modules, bottom-up (each uses only those before it): `text` (numbers and units in
 //! messages), `ranges` (each option's range and names), `error`, [`options`], [`scene`],
 //! `grid` ([`occupancy_grid`]), `build` ([`map_and_grid`], [`build`]), [`endpoint`],
-//! [`planning`], [`drive`], [`demo`]. This file only declares and re-exports them.
+//! [`planning`], [`drive`], [`demo`], `summary` ([`map_summary`]). This file only declares and
+//! re-exports them.
 //!
 //! # Example
 //! ```
@@ -45,10 +47,11 @@ pub mod options;
 pub mod planning;
 mod ranges;
 pub mod scene;
+mod summary;
 mod text;
 
 pub use build::{Built, MapAndGrid, build, build_until, map_and_grid, map_and_grid_until};
-pub use demo::{DemoPath, DemoRoute, TruthErrors, demo_path, errors_against_truth};
+pub use demo::{DemoPath, DemoRoute, TruthErrors, demo_path, demo_path_text, errors_against_truth};
 pub use drive::{
     DriveMap, DriveReport, drive_maps, is_truth_file, navigate_json, read_truth, truth_frame,
 };
@@ -61,4 +64,10 @@ pub use options::{
 };
 pub use planning::{Limits, PlanningMap, mbpp_stats, plan_json, read_planning_map, run_planner};
 pub use scene::{ParsedScene, parse_scene};
+pub use summary::map_summary;
 pub use text::{num, units_name};
+
+/// The README's example, compiled and run as a doc test.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

@@ -125,11 +125,12 @@ pub fn read_planning_map(
     });
     let (grid, in_cells) = match ext.as_str() {
         "map" => (
-            vpmap_plan::movingai::read_movingai_map(path).map_err(PipelineError::Grid)?,
+            vpmap_plan::movingai::read_movingai_map(path)
+                .map_err(|e| PipelineError::Grid(e.into()))?,
             true,
         ),
         "yaml" | "yml" => (
-            vpmap_plan::ros::read_ros_map(path).map_err(PipelineError::Grid)?,
+            vpmap_plan::ros::read_ros_map(path).map_err(|e| PipelineError::Grid(e.into()))?,
             false,
         ),
         "json" => {
@@ -169,7 +170,9 @@ pub fn read_planning_map(
     } else {
         robot_radius
     };
-    let grid = grid.inflate(radius).map_err(PipelineError::Grid)?;
+    let grid = grid
+        .inflate(radius)
+        .map_err(|e| PipelineError::Grid(e.into()))?;
     Ok(PlanningMap {
         grid,
         in_cells,

@@ -25,7 +25,7 @@ pub enum PlanError {
     /// A numeric parameter (an option field or a grid property) is outside its valid range.
     #[error("`{field}` is {value}; it {requirement}")]
     InvalidParameter {
-        /// Name of the parameter, e.g. `RasterOptions.resolution_m`.
+        /// Name of the parameter, e.g. `resolution_m`.
         field: &'static str,
         /// The value given.
         value: f64,
@@ -80,29 +80,6 @@ pub enum PlanError {
         width: usize,
         /// Grid height, cells.
         height: usize,
-    },
-    /// A coordinate of the floor map is NaN or infinite.
-    #[error("floor map coordinate `{field}` is not finite ({value})")]
-    NonFiniteMap {
-        /// Path of the coordinate, e.g. `objects[2].footprint[1][0]`.
-        field: String,
-        /// The value found.
-        value: f64,
-    },
-    /// A coordinate of the floor map is further from the origin than
-    /// [`crate::raster::MAX_MAP_COORDINATE`].
-    #[error(
-        "floor map coordinate `{field}` is {}; coordinates must be within ±{} map units of the origin",
-        vpmap_files::num(*value),
-        vpmap_files::num(*limit)
-    )]
-    MapCoordinateOutOfRange {
-        /// Path of the coordinate, e.g. `floor[0][1]`.
-        field: String,
-        /// The value found.
-        value: f64,
-        /// The limit, map units.
-        limit: f64,
     },
     /// A planner reached its work budget before finishing.
     #[error(

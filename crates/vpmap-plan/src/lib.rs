@@ -1,11 +1,11 @@
-//! Occupancy grids from vpmap floor maps, their ROS `map_server` and Moving AI files, line
-//! of sight and path planning on them.
+//! Occupancy grids, their ROS `map_server` and Moving AI files, line of sight and path
+//! planning on them. (A vpmap floor map becomes a grid in the `vpmap-raster` crate, so this
+//! one stands alone: its only vpmap dependency is `vpmap-files`, the bounded file reader.)
 //!
 //! | step | module | method |
 //! |---|---|---|
 //! | grid model | [`grid`] | row-major [`Occupancy`]s, `(x, y)` = (column, row from the top), ROS origin at the lower-left corner |
 //! | obstacle inflation | [`grid`] | exact Euclidean distance transform to the obstacles' squares (Felzenszwalb and Huttenlocher 2012), thresholded at the robot radius |
-//! | floor map to grid | [`raster`] | scanline fill of free-space polygons by cell centre; conservative obstacles (every cell a footprint touches) |
 //! | map files | [`ros`] | `map_server` YAML + PGM writer; reader for PGM (P2, P5) and PNG with `negate`, thresholds and the `trinary`, `scale` and `raw` modes |
 //! | benchmark files | [`movingai`] | Moving AI `.map` grids and `.scen` problem lists (Sturtevant 2012) |
 //! | collision rule | [`los`] | a cell-sized square swept between cell centres may touch but not overlap blocked cells; exact integer walk over the swept cells, built once per grid as [`PassableGrid`] for every planner |
@@ -30,8 +30,8 @@
 //! 3. [`budget`] uses `error`, `stop_reason`; [`grid`] uses `cell`, `error`;
 //! 4. [`los`] uses `grid`;
 //! 5. [`plan`] uses `error`, `grid`, `los`; `corners` (private: the corner cells) uses `grid`,
-//!    `los`; [`validate`] and [`reach`] use `grid` (and `los`); the files, [`raster`], [`ros`]
-//!    and [`movingai`], use `error`, `grid`;
+//!    `los`; [`validate`] and [`reach`] use `grid` (and `los`); the files, [`ros`] and
+//!    [`movingai`], use `error`, `grid`;
 //! 6. the searches, [`astar`](mod@astar), [`theta_star`](mod@theta_star),
 //!    [`dstar_lite`](mod@dstar_lite) and [`anya`] (also `corners`), use `budget`, `error`,
 //!    `grid`, `los`, `plan`;
@@ -48,12 +48,15 @@
 //!
 //! # Example
 //! ```
-//! use vpmap_metrology::{map::{build_map, BuildOptions}, synth::{synthesize, SynthOptions}};
-//! use vpmap_plan::{rasterize_map, read_ros_map, write_ros_map, RasterOptions};
-//! let (scene, _) = synthesize(&SynthOptions::default()).unwrap();
-//! let map = build_map(&scene, &BuildOptions::default()).unwrap();
-//! let opts = RasterOptions { resolution_m: 0.1, robot_radius_m: 0.2, ..RasterOptions::default() };
-//! let grid = rasterize_map(&map, &opts).unwrap();
+//! use vpmap_plan::{astar, read_ros_map, write_ros_map, AstarOptions, Occupancy, OccupancyGrid};
+//! // A 20 x 10 room of 0.1 m cells with a wall across it, open at the bottom.
+//! let mut grid = OccupancyGrid::new(20, 10, 0.1, [0.0, 0.0], Occupancy::Free).unwrap();
+//! for y in 0..8 {
+//!     grid.set(10, y, Occupancy::Occupied).unwrap();
+//! }
+//! let grid = grid.inflate(0.1).unwrap();
+//! let plan = astar(&grid, (2, 2), (17, 2), &AstarOptions::default()).unwrap().unwrap();
+//! assert!(plan.length_cells > 15.0);
 //! let dir = tempfile::tempdir().unwrap();
 //! write_ros_map(&grid, &dir.path().join("room.yaml")).unwrap();
 //! assert_eq!(read_ros_map(&dir.path().join("room.yaml")).unwrap(), grid);
@@ -91,7 +94,6 @@ pub mod optimal;
 pub mod plan;
 mod planned;
 pub mod planner;
-pub mod raster;
 pub mod reach;
 pub mod ros;
 pub mod smoothing;
@@ -115,9 +117,13 @@ pub use navigate::{NavigateOptions, Navigation, OnlinePlanner, Outcome, navigate
 pub use optimal::{OptimalAnyAngleOptions, corner_cells, optimal_any_angle};
 pub use plan::{Plan, PlanStats, path_length};
 pub use planner::{Planned, Planner, PlannerKind};
-pub use raster::{RasterOptions, rasterize_map};
 pub use reach::{Components, reachable};
 pub use ros::{encode_ros_map, read_ros_map, write_ros_map};
 pub use smoothing::{AstarPsOptions, astar_ps, smooth_path};
 pub use theta_star::{ThetaStarOptions, theta_star};
 pub use validate::{PathViolation, validate_path};
+
+/// The README's example, compiled and run as a doc test.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

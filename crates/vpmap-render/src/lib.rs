@@ -49,3 +49,8 @@ pub use overlay::detection_overlay_png;
 pub use plan_svg::{GridCoordinates, plan_svg, plan_title, planner_title};
 pub use raster::svg_to_png;
 pub use svg::{FloorPlanStyle, SVG_FROM_MAP_ATTRIBUTE, escape_xml, floor_plan_svg, matrix_text};
+
+/// The README's example, compiled and run as a doc test.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

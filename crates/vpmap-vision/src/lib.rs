@@ -82,3 +82,8 @@ pub use segments::detect_segments;
 /// Two-point (vertical lines parallel in the image) or three-point perspective; the one type
 /// of the workspace, from `vpmap-metrology`.
 pub use vpmap_metrology::calibration::Perspective;
+
+/// The README's example, compiled and run as a doc test.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

@@ -28,9 +28,9 @@ use vpmap_metrology::scene::Scene;
 use vpmap_metrology::synth::{PinholeCamera, Truth};
 
 /// `examples/office.json`: the scene the page starts with.
-pub const OFFICE_SCENE: &str = include_str!("../../../examples/office.json");
+pub const OFFICE_SCENE: &str = vpmap_pipeline::demo::EXAMPLE_SCENE;
 /// `examples/office.truth.json`: what the office really is.
-pub const OFFICE_TRUTH: &str = include_str!("../../../examples/office.truth.json");
+pub const OFFICE_TRUTH: &str = vpmap_pipeline::demo::EXAMPLE_TRUTH;
 
 /// Height of the rendered walls, metres.
 const WALL_HEIGHT_M: f64 = 2.7;

@@ -8,7 +8,7 @@
 //! | endpoint | what | built on |
 //! |---|---|---|
 //! | `GET /api/example` | the bundled office scene and a photo of it | [`example`]: the scene's truth rendered through its camera |
-//! | `POST /api/build` | scene JSON in; map, floor-plan SVG, glTF model, occupancy grid, camera out | `vpmap_metrology::map::build_map`, `vpmap_render`, `vpmap_plan::rasterize_map` (as `vpmap build`) |
+//! | `POST /api/build` | scene JSON in; map, floor-plan SVG, glTF model, occupancy grid, camera out | `vpmap_metrology::map::build_map`, `vpmap_render`, `vpmap_raster::rasterize_map` (as `vpmap build`) |
 //! | `POST /api/detect` | photo in; segments, vanishing points, camera and a scene out | `vpmap_vision::detect`, then `vpmap_vision::scene::detected_scene` (as `vpmap detect`) |
 //! | `POST /api/plan` | scene, start and goal in; paths of several planners out | `vpmap_plan::PlannerKind` (MBPP with its bug tracks) |
 //!
@@ -490,3 +490,8 @@ mod tests {
         ));
     }
 }
+
+/// The README's example, compiled and run as a doc test.
+#[doc = include_str!("../README.md")]
+#[cfg(doctest)]
+pub struct ReadmeDoctests;

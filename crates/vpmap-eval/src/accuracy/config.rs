@@ -75,6 +75,45 @@ pub fn section_name(vp_edges: &VpEdges, setups: &[&Setup]) -> &'static str {
     }
 }
 
+/// Largest annotation noise a run accepts, pixels (1 sigma per coordinate).
+pub const MAX_SIGMA_PX: f64 = 100.0;
+
+/// The noise levels of a comma-separated list of pixels (`vpmap eval --sigma 0,0.5,1,2`),
+/// sorted; `-0` reads as 0.
+///
+/// # Errors
+/// [`crate::EvalError::Invalid`] for a part that is not a number (`"x" is not a number; give
+/// pixels such as 0,0.5,1,2,4`), outside 0 to [`MAX_SIGMA_PX`], or given twice.
+///
+/// # Example
+/// ```
+/// use vpmap_eval::accuracy::sigmas_from_text;
+/// assert_eq!(sigmas_from_text(" 2, 0,1").unwrap(), vec![0.0, 1.0, 2.0]);
+/// assert_eq!(sigmas_from_text("1,1").unwrap_err().to_string(), "1 is given twice");
+/// ```
+pub fn sigmas_from_text(text: &str) -> Result<Vec<f64>> {
+    let mut sigmas = Vec::new();
+    for part in text.split(',') {
+        let part = part.trim();
+        let Ok(v) = part.parse::<f64>() else {
+            bail!("{part:?} is not a number; give pixels such as 0,0.5,1,2,4");
+        };
+        if !(v.is_finite() && (0.0..=MAX_SIGMA_PX).contains(&v)) {
+            bail!(
+                "{} must be a finite number of pixels from 0 to {MAX_SIGMA_PX}",
+                vpmap_files::num(v)
+            );
+        }
+        // `-0` is 0.
+        sigmas.push(v + 0.0);
+    }
+    sigmas.sort_by(f64::total_cmp);
+    if let Some(w) = sigmas.windows(2).find(|w| w[0].to_bits() == w[1].to_bits()) {
+        bail!("{} is given twice", vpmap_files::num(w[0]));
+    }
+    Ok(sigmas)
+}
+
 /// The set-ups a comma-separated list of names chooses, in table order (the thesis's
 /// seventeen of [`SETUPS`], then the views' six of [`VIEW_SETUPS`]): `all` (the seventeen),
 /// `2pp` or `3pp` (theirs of that perspective), `views` (the six), or set-up names

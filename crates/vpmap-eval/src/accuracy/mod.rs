@@ -41,7 +41,10 @@ use crate::progress::Progress;
 use crate::publish::relative_link;
 
 pub use collect::Collected;
-pub use config::{Config, DEFAULT_TRIALS, Results, has_views, section_name, select_setups};
+pub use config::{
+    Config, DEFAULT_TRIALS, MAX_SIGMA_PX, Results, has_views, section_name, select_setups,
+    sigmas_from_text,
+};
 
 /// Run every trial of every set-up, in parallel (rayon); one [`Progress::step`] per scene.
 pub fn run_trials(config: &Config, progress: &dyn Progress) -> Results {

@@ -19,7 +19,8 @@ use vpmap_metrology::scene::Scene;
 use vpmap_metrology::synth::{SynthOptions, synthesize};
 use vpmap_plan::movingai::{Scenario, read_movingai_map, read_scen};
 use vpmap_plan::reach::Components;
-use vpmap_plan::{Occupancy, OccupancyGrid, RasterOptions, rasterize_map};
+use vpmap_plan::{Occupancy, OccupancyGrid};
+use vpmap_raster::{RasterOptions, rasterize_map};
 
 /// A cell `(x, y)`: column, row from the top.
 pub use vpmap_plan::CellXy;
@@ -133,7 +134,7 @@ pub const CATEGORY_ORDER: [&str; 8] = [
 ];
 
 /// The bundled example scene (`examples/office.json`).
-const EXAMPLE_SCENE: &str = include_str!("../../../../examples/office.json");
+const EXAMPLE_SCENE: &str = vpmap_pipeline::demo::EXAMPLE_SCENE;
 
 /// Cell size of the built maps, metres.
 pub const BUILT_RESOLUTION_M: f64 = 0.05;

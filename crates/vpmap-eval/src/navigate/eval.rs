@@ -2,7 +2,7 @@
 //! with noise, their maps built with each method, and a robot driven across each map
 //! against the true room.
 //!
-//! Per scene: the truth is rasterised into the believed map's grid ([`truth_grid`](vpmap_plan::raster::truth_grid)); start
+//! Per scene: the truth is rasterised into the believed map's grid ([`truth_grid`](vpmap_raster::truth_grid)); start
 //! and goal are two free cells of the true room at least 2 m apart (drawn once per scene on
 //! the noise-free truth, as map points, so every method and noise level drives between the
 //! same points); a trial whose start or goal falls on an obstacle of the true grid in a
@@ -24,8 +24,8 @@ use vpmap_metrology::reconstruct::Method;
 use vpmap_metrology::synth::{SynthOptions, Truth, add_noise, synthesize};
 use vpmap_pipeline::grown_by_uncertainty;
 use vpmap_plan::navigate::{NavigateOptions, OnlinePlanner, Outcome, navigate, truth_optimum};
-use vpmap_plan::raster::{RasterOptions, rasterize_map, truth_grid};
 use vpmap_plan::{Budget, Occupancy, OccupancyGrid};
+use vpmap_raster::{RasterOptions, rasterize_map, truth_grid};
 
 use crate::error::Result;
 use crate::progress::Progress;

@@ -5,6 +5,7 @@ use geo::{Area, BooleanOps, Centroid, Polygon};
 use nalgebra::Vector2;
 
 use super::cameras::camera_report;
+use super::options::BuildOptions;
 use super::reconstruction::{
     box_size, check_plausible, meters_per_camera_height, reconstruct_scene,
 };
@@ -17,17 +18,6 @@ use crate::fit::{FitOptions, fit_scene};
 use crate::interrupt::Interrupt;
 use crate::reconstruct::{Method, ObjectKind};
 use crate::scene::Scene;
-
-/// Options of [`build_map`].
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-pub struct BuildOptions {
-    /// Reconstruction method.
-    pub method: Method,
-    /// The click noise the fit's error bars are computed for, pixels (1 sigma per
-    /// coordinate); `None`: estimated from the residuals when the data over-determine the
-    /// model, else 1 px ([`crate::fit::FitOptions`]). Method `fit` only.
-    pub click_sigma_px: Option<f64>,
-}
 
 /// Everything `vpmap build` computes, from a validated scene to a [`FloorMap`].
 ///

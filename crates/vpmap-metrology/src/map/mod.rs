@@ -4,16 +4,18 @@
 //! viewing direction, `+z` up. Units: metres when the scene gives a scale, else camera heights.
 //! The format is documented for users in `docs/map-format.md`.
 //!
-//! The types are in `map/types.rs`; `map/build.rs` builds a map from the reconstruction and its
-//! scale (`map/reconstruction.rs`), the regions on the floor (`map/regions.rs`), the warnings
-//! (`map/warnings.rs`), the camera's report (`map/cameras.rs`) and what the lens distortion's
-//! uncertainty adds (`map/lens.rs`); a room of several photos
-//! is built by `map/room.rs` in the first photo's frame. Files in that order: `types`, then
-//! `reconstruction`, `regions`, `warnings`, `cameras`, then `room`, then `build`.
+//! The types are in `map/types.rs`, the options in `map/options.rs`; `map/build.rs` builds a
+//! map from the reconstruction and its scale (`map/reconstruction.rs`), the regions on the
+//! floor (`map/regions.rs`), the warnings (`map/warnings.rs`), the camera's report
+//! (`map/cameras.rs`) and what the lens distortion's uncertainty adds (`map/lens.rs`); a room
+//! of several photos is built by `map/room.rs` in the first photo's frame. Files in that
+//! order, each importing only files before it: `types` and `options`, then `reconstruction`,
+//! `regions`, `warnings`, `cameras`, `lens`, then `room`, then `build`.
 
 mod build;
 mod cameras;
 mod lens;
+mod options;
 mod reconstruction;
 mod regions;
 mod room;
@@ -22,7 +24,8 @@ mod warnings;
 
 pub use crate::camera::{MapPoint, calibrate, room_yaw_rad, rotation_map_from_camera};
 pub use crate::uncertainty::{CameraUncertainty, Ellipse, ObjectUncertainty};
-pub use build::{BuildOptions, build_map, build_map_until};
+pub use build::{build_map, build_map_until};
+pub use options::BuildOptions;
 pub use reconstruction::{MAX_RANGE_CAMERA_HEIGHTS, meters_per_camera_height, reconstruct_scene};
 pub use regions::{free_space, occlusion_shadow, to_polygons};
 pub use types::{

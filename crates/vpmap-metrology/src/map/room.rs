@@ -5,8 +5,8 @@
 use geo::{Area, BooleanOps, Centroid, Contains, MultiPolygon, Polygon};
 use nalgebra::Vector2;
 
-use super::build::BuildOptions;
 use super::cameras::{camera_report, placed};
+use super::options::BuildOptions;
 use super::reconstruction::box_size;
 use super::regions::{occlusion_shadow, ring, to_polygons};
 use super::types::{FitReport, FloorMap, MapAlternative, MapObject, Units};

@@ -1,5 +1,5 @@
-//! Integration tests of vpmap-plan: grids against independent references (geo predicates,
-//! brute-force distances), file round trips, line of sight against the independent
+//! Integration tests of vpmap-plan: grids against independent references (brute-force
+//! distances), file round trips, line of sight against the independent
 //! validator, A* against `pathfinding::astar`, BFS and the Moving AI benchmark optima, MBPP
 //! against BFS, the validator and the exact optimum.
 #![allow(clippy::unwrap_used, clippy::expect_used, clippy::float_cmp)]
@@ -16,7 +16,6 @@ mod mbpp;
 mod movingai_benchmarks;
 mod movingai_files;
 mod navigate;
-mod raster;
 mod ros_files;
 
 use std::path::PathBuf;

@@ -16,8 +16,8 @@ use vpmap_metrology::synth::Truth;
 use vpmap_plan::navigate::{
     MAX_SENSOR_RANGE_CELLS, NavigateOptions, OnlinePlanner, navigate, truth_optimum,
 };
-use vpmap_plan::raster::truth_grid;
 use vpmap_plan::{Budget, OccupancyGrid, Stop};
+use vpmap_raster::truth_grid;
 
 use super::answer::{elapsed_ms, respond, to_json};
 use super::plan::{

@@ -1,31 +1,11 @@
-//! Floor map to occupancy grid.
-//!
-//! Rules, in the order they are applied to a grid that starts all [`Occupancy::Unknown`]:
-//! 1. **Free**: a cell whose centre lies inside a free-space polygon (the floor minus the
-//!    footprints): inside its exterior ring and outside every hole, each ring read with the
-//!    even-odd rule. A centre exactly on a boundary is decided by the half-open scanline
-//!    convention (the obstacle rule below blocks such cells along footprints anyway).
-//! 2. **Occupied**: a cell whose closed square intersects an object's closed footprint:
-//!    its centre is inside the footprint, or a footprint edge touches the square. This is
-//!    conservative: an obstacle that grazes a cell, even along its border, blocks it.
-//!    Footprints with one or two points block the cells their point or segment touches.
-//! 3. **Inflation** by [`RasterOptions::robot_radius_m`] (see [`OccupancyGrid::inflate`]).
-//!
-//! Everything else (outside the floor the photo shows) stays unknown.
-//!
-//! The grid covers [`FloorMap::bounds`] (floor, objects and the station point at the origin)
-//! plus [`RasterOptions::margin_m`] on every side, with its origin snapped down to a multiple
-//! of the resolution so that grids of one resolution share cell boundaries.
-//!
-//! Polygons are filled by scanlines: for each row, the crossings of every edge with the
-//! row's centre line, sorted, give the runs of inside cells, so the cost is
-//! `O(rows x edges + cells)`, not a point-in-polygon test per cell.
+//! The rasterisation: rules in the [crate docs](crate).
 
 use vpmap_metrology::map::{FloorMap, MapPoint};
 use vpmap_metrology::synth::Truth;
 
-use crate::error::{PlanError, Result};
-use crate::grid::{MAX_CELLS, Occupancy, OccupancyGrid};
+use vpmap_plan::{MAX_CELLS, Occupancy, OccupancyGrid, PlanError};
+
+use crate::error::{RasterError, Result};
 
 /// Options of [`rasterize_map`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -55,14 +35,16 @@ impl RasterOptions {
     /// Check every field.
     ///
     /// # Errors
-    /// [`PlanError::InvalidParameter`] naming the first invalid field and its value.
+    /// [`PlanError::InvalidParameter`] (in [`RasterError::Plan`]) naming the first invalid field and
+    /// its value.
     pub fn validate(&self) -> Result<()> {
         if !(self.resolution_m.is_finite() && self.resolution_m > 0.0) {
             return Err(PlanError::InvalidParameter {
                 field: "RasterOptions.resolution_m",
                 value: self.resolution_m,
                 requirement: "must be finite and positive",
-            });
+            }
+            .into());
         }
         for (field, value) in [
             ("RasterOptions.robot_radius_m", self.robot_radius_m),
@@ -73,7 +55,8 @@ impl RasterOptions {
                     field,
                     value,
                     requirement: "must be finite and non-negative",
-                });
+                }
+                .into());
             }
         }
         Ok(())
@@ -245,13 +228,13 @@ fn check_points<'a>(
     for (i, p) in points.into_iter().enumerate() {
         for (axis, value) in p.iter().enumerate() {
             if !value.is_finite() {
-                return Err(PlanError::NonFiniteMap {
+                return Err(RasterError::NonFiniteMap {
                     field: field(i, axis),
                     value: *value,
                 });
             }
             if value.abs() > MAX_MAP_COORDINATE {
-                return Err(PlanError::MapCoordinateOutOfRange {
+                return Err(RasterError::MapCoordinateOutOfRange {
                     field: field(i, axis),
                     value: *value,
                     limit: MAX_MAP_COORDINATE,
@@ -291,12 +274,14 @@ fn check_map(map: &FloorMap) -> Result<()> {
     Ok(())
 }
 
-/// The occupancy grid of a floor map (rules in the [module docs](self)).
+/// The occupancy grid of a floor map (rules in the [crate docs](crate)).
 ///
 /// # Errors
-/// [`PlanError::InvalidParameter`] for an invalid option, [`PlanError::NonFiniteMap`] for a
-/// NaN or infinite map coordinate, [`PlanError::GridTooLarge`] when the map at this
-/// resolution needs more than [`MAX_CELLS`] cells.
+/// [`RasterError::NonFiniteMap`] for a NaN or infinite map coordinate,
+/// [`RasterError::MapCoordinateOutOfRange`] for one beyond [`MAX_MAP_COORDINATE`], and in
+/// [`RasterError::Plan`]: [`PlanError::InvalidParameter`] for an invalid option,
+/// [`PlanError::GridTooLarge`] when the map at this resolution needs more than [`MAX_CELLS`]
+/// cells.
 ///
 /// # Complexity
 /// `O(rows x polygon edges + cells)`.
@@ -305,7 +290,8 @@ fn check_map(map: &FloorMap) -> Result<()> {
 /// ```
 /// use vpmap_metrology::map::{build_map, BuildOptions};
 /// use vpmap_metrology::synth::{synthesize, SynthOptions};
-/// use vpmap_plan::{rasterize_map, CellXy, Occupancy, RasterOptions};
+/// use vpmap_plan::{CellXy, Occupancy};
+/// use vpmap_raster::{rasterize_map, RasterOptions};
 /// let (scene, _) = synthesize(&SynthOptions::default()).unwrap();
 /// let map = build_map(&scene, &BuildOptions::default()).unwrap();
 /// let grid = rasterize_map(&map, &RasterOptions::default()).unwrap();
@@ -339,7 +325,8 @@ pub fn rasterize_map(map: &FloorMap, opts: &RasterOptions) -> Result<OccupancyGr
             width: width_f as usize,
             height: height_f as usize,
             max: MAX_CELLS,
-        });
+        }
+        .into());
     }
     let (width, height) = (width_f as usize, height_f as usize);
     let mut grid = OccupancyGrid::new(width, height, res, origin_m, Occupancy::Unknown)?;
@@ -375,7 +362,7 @@ pub fn rasterize_map(map: &FloorMap, opts: &RasterOptions) -> Result<OccupancyGr
         }
         fill_centres(&mut grid, &ring, &[], Occupancy::Occupied);
     }
-    grid.inflate(opts.robot_radius_m)
+    Ok(grid.inflate(opts.robot_radius_m)?)
 }
 
 /// `truth` rasterised into `frame`'s grid (its size, resolution and origin; the truth's
@@ -384,12 +371,13 @@ pub fn rasterize_map(map: &FloorMap, opts: &RasterOptions) -> Result<OccupancyGr
 /// rule), occupied otherwise; then inflated by `radius_m` like every planning grid.
 ///
 /// # Errors
-/// [`PlanError::InvalidParameter`] when `radius_m` is negative or not finite.
+/// [`PlanError::InvalidParameter`] (in [`RasterError::Plan`]) when `radius_m` is negative or
+/// not finite.
 ///
 /// # Example
 /// ```
 /// use vpmap_metrology::{map::{build_map, BuildOptions}, synth::{synthesize, SynthOptions}};
-/// use vpmap_plan::raster::{rasterize_map, truth_grid, RasterOptions};
+/// use vpmap_raster::{rasterize_map, truth_grid, RasterOptions};
 /// let (scene, truth) = synthesize(&SynthOptions::default()).unwrap();
 /// let map = build_map(&scene, &BuildOptions::default()).unwrap();
 /// let belief = rasterize_map(&map, &RasterOptions::default()).unwrap();
@@ -417,7 +405,7 @@ pub fn truth_grid(truth: &Truth, frame: &OccupancyGrid, radius_m: f64) -> Result
             }
         }
     }
-    grid.inflate(radius_m)
+    Ok(grid.inflate(radius_m)?)
 }
 
 /// Even-odd point-in-polygon test.

@@ -6,7 +6,8 @@ use geo::{
 use proptest::prelude::*;
 use vpmap_metrology::map::{BuildOptions, FloorMap, MapObject, PolygonWithHoles, build_map};
 use vpmap_metrology::synth::{SynthOptions, synthesize};
-use vpmap_plan::{CellXy, Occupancy, OccupancyGrid, PlanError, RasterOptions, rasterize_map};
+use vpmap_plan::{CellXy, Occupancy, OccupancyGrid, PlanError};
+use vpmap_raster::{RasterError, RasterOptions, rasterize_map};
 
 fn ring(points: &[[f64; 2]]) -> LineString<f64> {
     LineString::from(
@@ -265,7 +266,10 @@ fn invalid_options_and_maps_are_refused() {
         },
     )
     .unwrap_err();
-    assert!(matches!(err, PlanError::GridTooLarge { .. }), "{err}");
+    assert!(
+        matches!(err, RasterError::Plan(PlanError::GridTooLarge { .. })),
+        "{err}"
+    );
     let mut bad = map.clone();
     bad.objects[1].footprint[2][1] = f64::NAN;
     let err = rasterize_map(&bad, &RasterOptions::default()).unwrap_err();
