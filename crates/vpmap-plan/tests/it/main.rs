@@ -18,6 +18,7 @@ mod movingai_files;
 mod navigate;
 mod raster;
 mod ros_files;
+mod smooth;
 
 use std::path::PathBuf;
 
