@@ -156,6 +156,50 @@ fn build(start: Pose, word: [Steer; 3], lengths: [f64; 3], radius: f64) -> Smoot
     curve
 }
 
+/// The frame of [`word_lengths`] for `start`, `goal`: `(d, alpha, beta)` in units of
+/// `radius`; `None` for a non-finite input or a non-positive radius.
+fn frame(start: Pose, goal: Pose, radius: f64) -> Option<(f64, f64, f64)> {
+    let finite = [start.x, start.y, start.heading_rad, goal.x, goal.y]
+        .iter()
+        .chain([goal.heading_rad, radius].iter())
+        .all(|v| v.is_finite());
+    if !finite || radius <= 0.0 {
+        return None;
+    }
+    let (dx, dy) = (goal.x - start.x, goal.y - start.y);
+    let d = dx.hypot(dy) / radius;
+    let phi = if d > 0.0 { dy.atan2(dx) } else { 0.0 };
+    Some((
+        d,
+        mod2pi(start.heading_rad - phi),
+        mod2pi(goal.heading_rad - phi),
+    ))
+}
+
+/// The lengths (cells) of the six words of [`WORDS`] from `start` to `goal`, infinite
+/// for a word with no solution: cheap, no curve built.
+#[must_use]
+pub fn word_table(start: Pose, goal: Pose, radius: f64) -> [f64; 6] {
+    let mut out = [f64::INFINITY; 6];
+    if let Some((d, alpha, beta)) = frame(start, goal, radius) {
+        for (slot, word) in out.iter_mut().zip(WORDS) {
+            if let Some(l) = word_lengths(word, d, alpha, beta) {
+                *slot = l.iter().sum::<f64>() * radius;
+            }
+        }
+    }
+    out
+}
+
+/// The curve of word `WORDS[index]` from `start` to `goal` (`None` when it has none).
+#[must_use]
+pub fn word_curve(start: Pose, goal: Pose, radius: f64, index: usize) -> Option<SmoothCurve> {
+    let (d, alpha, beta) = frame(start, goal, radius)?;
+    let word = *WORDS.get(index)?;
+    let lengths = word_lengths(word, d, alpha, beta)?;
+    Some(build(start, word, lengths, radius))
+}
+
 /// Every Dubins word that joins `start` to `goal` with turning radius `radius` (cells,
 /// positive), shortest first. Empty only for a non-positive or non-finite radius or pose.
 ///
@@ -167,18 +211,9 @@ fn build(start: Pose, word: [Steer; 3], lengths: [f64; 3], radius: f64) -> Smoot
 /// ```
 #[must_use]
 pub fn dubins_words(start: Pose, goal: Pose, radius: f64) -> Vec<DubinsPath> {
-    let finite = [start.x, start.y, start.heading_rad, goal.x, goal.y]
-        .iter()
-        .chain([goal.heading_rad, radius].iter())
-        .all(|v| v.is_finite());
-    if !finite || radius <= 0.0 {
+    let Some((d, alpha, beta)) = frame(start, goal, radius) else {
         return Vec::new();
-    }
-    let (dx, dy) = (goal.x - start.x, goal.y - start.y);
-    let d = dx.hypot(dy) / radius;
-    let phi = if d > 0.0 { dy.atan2(dx) } else { 0.0 };
-    let alpha = mod2pi(start.heading_rad - phi);
-    let beta = mod2pi(goal.heading_rad - phi);
+    };
     let mut paths: Vec<DubinsPath> = WORDS
         .into_iter()
         .filter_map(|word| {

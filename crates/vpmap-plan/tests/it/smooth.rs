@@ -316,3 +316,198 @@ fn validator_catches_an_arc_bulging_into_a_cell_between_samples() {
         Err(SmoothViolation::Collision { cell: (3, 0), .. })
     ));
 }
+
+// ---------------------------------------------------------------------------------------
+// The planner: every path validated again here, never shorter than the any-angle bound or
+// the Dubins distance, the fallback reference found whenever it finds one.
+
+use rand::RngExt;
+use vpmap_plan::smooth::{
+    SmoothMethod, SmoothOptions, SmoothOutcome, SmoothPlan, dubins_distance, plan_smooth,
+};
+use vpmap_plan::{PlanError, reachable};
+
+fn random_grid(seed: u64, w: usize, h: usize, density: f64) -> OccupancyGrid {
+    let mut rng = crate::rng(seed);
+    let mut grid = OccupancyGrid::new(w, h, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+    // Rectangular obstacles, as Nav2's benchmark maps.
+    let count = ((w * h) as f64 * density / 12.0) as usize;
+    for _ in 0..count {
+        let (x, y) = (rng.random_range(0..w), rng.random_range(0..h));
+        let (bw, bh) = (rng.random_range(1..5), rng.random_range(1..5));
+        for yy in y..(y + bh).min(h) {
+            for xx in x..(x + bw).min(w) {
+                grid.set(xx, yy, Occupancy::Occupied).unwrap();
+            }
+        }
+    }
+    grid
+}
+
+fn free_cell(grid: &OccupancyGrid, rng: &mut impl RngExt) -> (usize, usize) {
+    loop {
+        let c = (
+            rng.random_range(0..grid.width()),
+            rng.random_range(0..grid.height()),
+        );
+        if grid.is_free(c.0, c.1) {
+            return c;
+        }
+    }
+}
+
+fn check_plan(
+    grid: &OccupancyGrid,
+    plan: &SmoothPlan,
+    opts: &SmoothOptions,
+    s: (usize, usize),
+    g: (usize, usize),
+) {
+    let rules = SmoothRules {
+        radius_cells: opts.turning_radius_cells,
+        start: Pose::new(
+            s.0 as f64,
+            s.1 as f64,
+            opts.start_heading_rad.unwrap_or(0.0),
+        ),
+        start_heading: opts.start_heading_rad.is_some(),
+        goal: Pose::new(g.0 as f64, g.1 as f64, opts.goal_heading_rad.unwrap_or(0.0)),
+        goal_heading: opts.goal_heading_rad.is_some(),
+        reverse: opts.reverse,
+        unknown_passable: opts.unknown_passable,
+    };
+    assert_eq!(validate_smooth(grid, &plan.curve, &rules), Ok(()));
+    assert!(plan.length_cells >= plan.any_angle_length_cells - 1e-6);
+    if let (Some(a), Some(b)) = (opts.start_heading_rad, opts.goal_heading_rad) {
+        let d = dubins_distance(
+            rules.start,
+            Pose::new(g.0 as f64, g.1 as f64, b),
+            opts.turning_radius_cells,
+        );
+        let _ = a;
+        assert!(plan.length_cells >= d - 1e-6);
+    }
+    assert!(plan.max_curvature <= 1.0 / opts.turning_radius_cells * (1.0 + 1e-12));
+    assert!(plan.min_clearance_cells >= -1e-9);
+    // Poses: at most a quarter cell apart, the ends exact.
+    for w in plan.poses.windows(2) {
+        assert!(w[0].distance(&w[1]) <= 0.25 + 1e-9);
+    }
+    let (first, last) = (plan.poses[0], *plan.poses.last().unwrap());
+    assert_eq!((first.x, first.y), (s.0 as f64, s.1 as f64));
+    assert_eq!((last.x, last.y), (g.0 as f64, g.1 as f64));
+}
+
+#[test]
+fn smooth_paths_on_random_maps_are_drivable_and_no_shorter_than_the_bounds() {
+    let mut found = 0;
+    let mut rng = crate::rng(41);
+    for seed in 0..12u64 {
+        let grid = random_grid(seed, 60, 45, 0.12);
+        for k in 0..4 {
+            let (s, g) = (free_cell(&grid, &mut rng), free_cell(&grid, &mut rng));
+            let headings = match k % 3 {
+                0 => (None, None),
+                1 => (Some(rng.random_range(-PI..PI)), None),
+                _ => (
+                    Some(rng.random_range(-PI..PI)),
+                    Some(rng.random_range(-PI..PI)),
+                ),
+            };
+            let opts = SmoothOptions {
+                turning_radius_cells: [1.0, 2.5, 4.0][k % 3],
+                start_heading_rad: headings.0,
+                goal_heading_rad: headings.1,
+                ..SmoothOptions::default()
+            };
+            let out = plan_smooth(&grid, s, g, &opts).unwrap();
+            let reference = plan_smooth(
+                &grid,
+                s,
+                g,
+                &SmoothOptions {
+                    method: SmoothMethod::HybridAstar,
+                    ..opts.clone()
+                },
+            )
+            .unwrap();
+            match (&out, &reference) {
+                (SmoothOutcome::Path(p), _) => {
+                    assert!(reachable(&grid, s, g, false));
+                    check_plan(&grid, p, &opts, s, g);
+                    found += 1;
+                }
+                (SmoothOutcome::NoPath(_), SmoothOutcome::Path(_)) => {
+                    panic!(
+                        "seed {seed}: the reference found a path from {s:?} to {g:?}, the planner none"
+                    );
+                }
+                (SmoothOutcome::NoPath(n), SmoothOutcome::NoPath(_)) => {
+                    assert!(!n.reason.is_empty());
+                }
+            }
+            if let SmoothOutcome::Path(p) = &reference {
+                check_plan(&grid, p, &opts, s, g);
+            }
+        }
+    }
+    assert!(found >= 30, "only {found} of 48 queries found a path");
+}
+
+#[test]
+fn a_start_facing_a_wall_has_no_room_and_bad_input_is_refused() {
+    // A dead-end corridor one cell wide, the start in it facing the wall.
+    let mut grid = OccupancyGrid::new(20, 9, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+    for x in 0..20 {
+        for y in [3, 5] {
+            if x < 8 {
+                grid.set(x, y, Occupancy::Occupied).unwrap();
+            }
+        }
+    }
+    grid.set(0, 4, Occupancy::Occupied).unwrap();
+    let opts = SmoothOptions {
+        turning_radius_cells: 3.0,
+        start_heading_rad: Some(PI),
+        ..SmoothOptions::default()
+    };
+    let SmoothOutcome::NoPath(n) = plan_smooth(&grid, (2, 4), (15, 4), &opts).unwrap() else {
+        panic!("a robot facing a dead end one cell wide found a forward path");
+    };
+    assert_eq!(n.pose, Some("start"), "{}", n.reason);
+    assert!(n.reason.contains("no room"), "{}", n.reason);
+    // Facing the open end it drives out.
+    let out = SmoothOptions {
+        start_heading_rad: Some(0.0),
+        ..opts.clone()
+    };
+    assert!(matches!(
+        plan_smooth(&grid, (2, 4), (15, 4), &out).unwrap(),
+        SmoothOutcome::Path(_)
+    ));
+    for bad in [0.0, -1.0, f64::NAN, f64::INFINITY, 21.0] {
+        let o = SmoothOptions {
+            turning_radius_cells: bad,
+            ..opts.clone()
+        };
+        assert!(
+            matches!(
+                plan_smooth(&grid, (2, 4), (15, 4), &o),
+                Err(PlanError::InvalidParameter { .. })
+            ),
+            "{bad}"
+        );
+    }
+    let o = SmoothOptions {
+        goal_heading_rad: Some(f64::NAN),
+        ..opts.clone()
+    };
+    assert!(matches!(
+        plan_smooth(&grid, (2, 4), (15, 4), &o),
+        Err(PlanError::InvalidParameter { .. })
+    ));
+    assert!(matches!(
+        plan_smooth(&grid, (0, 4), (15, 4), &opts),
+        Err(PlanError::EndpointBlocked { .. })
+    ));
+}
