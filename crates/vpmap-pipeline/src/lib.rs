@@ -45,6 +45,7 @@ pub mod options;
 pub mod planning;
 mod ranges;
 pub mod scene;
+pub mod smooth;
 mod text;
 
 pub use build::{Built, MapAndGrid, build, build_until, map_and_grid, map_and_grid_until};
@@ -61,4 +62,5 @@ pub use options::{
 };
 pub use planning::{Limits, PlanningMap, mbpp_stats, plan_json, read_planning_map, run_planner};
 pub use scene::{ParsedScene, parse_scene};
+pub use smooth::{no_path_reason, smooth_json, smooth_options};
 pub use text::{num, units_name};

@@ -148,9 +148,27 @@ pub struct SmoothPlan {
     pub stats: SmoothStats,
 }
 
+/// The kinds of "no drivable path".
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[non_exhaustive]
+pub enum NoPathKind {
+    /// No path of any shape: start and goal are in different components.
+    NotConnected,
+    /// The start pose cannot move: every turn and the straight line are blocked at once.
+    StartHasNoRoom,
+    /// The goal pose cannot be entered with its heading.
+    GoalHasNoRoom,
+    /// Both poses can move, but the passages between them are too narrow to turn in.
+    TooNarrow,
+    /// A path was found but failed the independent check (a bug; it is not returned).
+    FailedCheck,
+}
+
 /// Why there is no drivable path.
 #[derive(Clone, Debug, PartialEq)]
 pub struct NoDrivablePath {
+    /// Which case it is.
+    pub kind: NoPathKind,
     /// `Some("start")` or `Some("goal")` when that pose has no room to move.
     pub pose: Option<&'static str>,
     /// The room a turn needs, cells: a clear width of `2 R + 1`.
@@ -246,6 +264,7 @@ pub fn plan_smooth(
         ExactPlanner::new(grid, opts.unknown_passable).plan(start, goal, &opts.budget)?
     else {
         return Ok(SmoothOutcome::NoPath(NoDrivablePath {
+            kind: NoPathKind::NotConnected,
             pose: None,
             room_cells: room,
             reason: "start and goal are not connected".to_owned(),
@@ -441,6 +460,7 @@ fn no_room(
     let deg = |h: f64| h.to_degrees();
     if let Some(v) = rejected {
         return NoDrivablePath {
+            kind: NoPathKind::FailedCheck,
             pose: None,
             room_cells: room,
             reason: format!("the path found failed the independent check ({v}); none is returned"),
@@ -449,6 +469,7 @@ fn no_room(
     }
     if rules.start_heading && !can_move(field, rules.start, r, rules.reverse) {
         return NoDrivablePath {
+            kind: NoPathKind::StartHasNoRoom,
             pose: Some("start"),
             room_cells: room,
             reason: format!(
@@ -463,6 +484,7 @@ fn no_room(
     let arriving = Pose::new(rules.goal.x, rules.goal.y, rules.goal.heading_rad + PI);
     if rules.goal_heading && !can_move(field, arriving, r, rules.reverse) {
         return NoDrivablePath {
+            kind: NoPathKind::GoalHasNoRoom,
             pose: Some("goal"),
             room_cells: room,
             reason: format!(
@@ -475,6 +497,7 @@ fn no_room(
         };
     }
     NoDrivablePath {
+        kind: NoPathKind::TooNarrow,
         pose: None,
         room_cells: room,
         reason: format!(
