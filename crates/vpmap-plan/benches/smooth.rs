@@ -15,7 +15,10 @@
 //! against the taut path's corners + 1, max curvature, min clearance and cusps; then
 //! criterion times both planners over the same queries (`smooth/<map>/<R>`).
 //!
-//! `SMOOTH_BENCH_QUERIES` sets the queries per map and radius (default 20).
+//! The planner's tables ([`SmoothPlanner`]) are built once per map, outside the timing (the
+//! build time is printed). `SMOOTH_BENCH_QUERIES` sets the queries per map and radius
+//! (default 20), `SMOOTH_BENCH_MAP` keeps the maps whose name contains it,
+//! `SMOOTH_BENCH_VERBOSE` prints every query.
 #![allow(missing_docs)]
 #![allow(clippy::unwrap_used, clippy::expect_used)]
 
@@ -28,7 +31,7 @@ use criterion::{Criterion, criterion_group, criterion_main};
 use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use vpmap_plan::smooth::{
-    Pose, SmoothMethod, SmoothOptions, SmoothOutcome, SmoothRules, dubins_distance, plan_smooth,
+    Pose, SmoothMethod, SmoothOptions, SmoothOutcome, SmoothPlanner, SmoothRules, dubins_distance,
     validate_smooth,
 };
 use vpmap_plan::{Budget, CellXy, ExactPlanner, Occupancy, OccupancyGrid, read_movingai_map};
@@ -130,7 +133,13 @@ fn quantile(v: &[f64], q: f64) -> f64 {
     s[lo] + (s[hi] - s[lo]) * (pos - lo as f64)
 }
 
-fn measure(grid: &OccupancyGrid, qs: &[Query], r: f64, method: SmoothMethod) -> Run {
+fn measure(
+    grid: &OccupancyGrid,
+    planner: &mut SmoothPlanner,
+    qs: &[Query],
+    r: f64,
+    method: SmoothMethod,
+) -> Run {
     let mut run = Run {
         min_clearance: f64::INFINITY,
         ..Run::default()
@@ -139,7 +148,7 @@ fn measure(grid: &OccupancyGrid, qs: &[Query], r: f64, method: SmoothMethod) -> 
     for q in qs {
         let opts = options(r, q, method);
         let began = Instant::now();
-        let out = plan_smooth(grid, q.start, q.goal, &opts);
+        let out = planner.plan(q.start, q.goal, &opts);
         run.times_ms.push(began.elapsed().as_secs_f64() * 1e3);
         let Ok(SmoothOutcome::Path(p)) = out else {
             run.lengths.push(None);
@@ -188,6 +197,20 @@ fn measure(grid: &OccupancyGrid, qs: &[Query], r: f64, method: SmoothMethod) -> 
         run.min_clearance = run.min_clearance.min(p.min_clearance_cells);
         run.cusps += p.cusps;
         run.fillet += usize::from(p.method == "fillet");
+        if std::env::var_os("SMOOTH_BENCH_VERBOSE").is_some() {
+            println!(
+                "  {:?} -> {:?} headings {:?}: {} {:.1} ms, ratio {:.4}, fillet rounds {} words {}, hybrid expanded {}",
+                q.start,
+                q.goal,
+                q.headings,
+                p.method,
+                run.times_ms.last().unwrap(),
+                run.ratios.last().unwrap(),
+                p.stats.fillet.rounds,
+                p.stats.fillet.words_tested,
+                p.stats.hybrid.expanded
+            );
+        }
     }
     run
 }
@@ -261,10 +284,19 @@ fn bench_smooth(c: &mut Criterion) {
         .sample_size(10)
         .measurement_time(Duration::from_secs(5));
     for (mi, (name, grid, radii, range)) in maps.iter().enumerate() {
+        if std::env::var("SMOOTH_BENCH_MAP").is_ok_and(|m| !name.contains(&m)) {
+            continue;
+        }
         let qs = queries(grid, 100 + mi as u64, n, *range);
+        let began = Instant::now();
+        let mut planner = SmoothPlanner::new(grid, false);
+        println!(
+            "{name}: planner tables built in {:.1} ms (once per map)",
+            began.elapsed().as_secs_f64() * 1e3
+        );
         for &r in radii {
-            let smooth = measure(grid, &qs, r, SmoothMethod::Auto);
-            let hybrid = measure(grid, &qs, r, SmoothMethod::HybridAstar);
+            let smooth = measure(grid, &mut planner, &qs, r, SmoothMethod::Auto);
+            let hybrid = measure(grid, &mut planner, &qs, r, SmoothMethod::HybridAstar);
             report(name, r, qs.len(), &smooth, &hybrid);
             let few: Vec<Query> = qs.iter().copied().take(5).collect();
             for (label, method) in [
@@ -274,9 +306,7 @@ fn bench_smooth(c: &mut Criterion) {
                 group.bench_function(format!("{name}/R{r}/{label}"), |b| {
                     b.iter(|| {
                         for q in &few {
-                            black_box(
-                                plan_smooth(grid, q.start, q.goal, &options(r, q, method)).ok(),
-                            );
+                            black_box(planner.plan(q.start, q.goal, &options(r, q, method)).ok());
                         }
                     });
                 });

@@ -23,7 +23,6 @@
 //! `O(corners x LOOKAHEAD x K^2)` word tables per round (`K` poses a layer, each table six
 //! closed forms), plus the collision tests of the edges on the rounds' paths.
 
-use std::collections::HashMap;
 use std::f64::consts::TAU;
 
 use super::clearance::Field;
@@ -36,6 +35,13 @@ pub const HEADING_OFFSETS_DEG: [f64; 11] = [
     0.0, -4.0, 4.0, -8.0, 8.0, -15.0, 15.0, -25.0, 25.0, -40.0, 40.0,
 ];
 
+/// Distances (in turning radii) by which a corner's pose may also move away from the
+/// obstacle it wraps, along the outward normal of the bisector, to swing wide of it.
+pub const OUTWARD_OFFSETS_R: [f64; 2] = [0.35, 1.0];
+
+/// Heading offsets from the bisector of the outward-moved poses, degrees.
+pub const OUTWARD_HEADINGS_DEG: [f64; 3] = [0.0, -15.0, 15.0];
+
 /// Evenly spaced headings tried at a free start or goal (besides the leg's direction).
 pub const FREE_HEADINGS: usize = 24;
 
@@ -43,7 +49,7 @@ pub const FREE_HEADINGS: usize = 24;
 pub const LOOKAHEAD: usize = 3;
 
 /// Most rounds of the lazy search before it gives up (and the fallback takes over).
-pub const MAX_ROUNDS: usize = 400;
+pub const MAX_ROUNDS: usize = 4000;
 
 /// What the fillet search did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -82,6 +88,7 @@ fn layers(
     start_free: bool,
     goal: Pose,
     goal_free: bool,
+    radius: f64,
 ) -> Vec<Vec<Pose>> {
     let pts: Vec<(f64, f64)> = waypoints.iter().map(|c| (c.x as f64, c.y as f64)).collect();
     let dir = |a: (f64, f64), b: (f64, f64)| (b.1 - a.1).atan2(b.0 - a.0);
@@ -113,12 +120,20 @@ fn layers(
             let (h_in, h_out) = (dir(a, p), dir(p, b));
             let turn = (h_out - h_in + std::f64::consts::PI).rem_euclid(TAU) - std::f64::consts::PI;
             let bisector = h_in + turn / 2.0;
-            out.push(
-                HEADING_OFFSETS_DEG
-                    .iter()
-                    .map(|d| Pose::new(p.0, p.1, bisector + d.to_radians()))
-                    .collect(),
-            );
+            let mut poses: Vec<Pose> = HEADING_OFFSETS_DEG
+                .iter()
+                .map(|d| Pose::new(p.0, p.1, bisector + d.to_radians()))
+                .collect();
+            // Outward: to the right of the bisector for a left turn, and back.
+            let side = if turn > 0.0 { -1.0 } else { 1.0 };
+            let normal = (bisector + side * std::f64::consts::FRAC_PI_2).sin_cos();
+            for k in OUTWARD_OFFSETS_R {
+                let (x, y) = (p.0 + k * radius * normal.1, p.1 + k * radius * normal.0);
+                for d in OUTWARD_HEADINGS_DEG {
+                    poses.push(Pose::new(x, y, bisector + d.to_radians()));
+                }
+            }
+            out.push(poses);
         }
     }
     out
@@ -139,54 +154,66 @@ pub fn fillet(
     if waypoints.len() < 2 {
         return None;
     }
-    let layers = layers(waypoints, start, start_free, goal, goal_free);
+    let layers = layers(waypoints, start, start_free, goal, goal_free, radius);
     let n = layers.len();
-    let mut edges: HashMap<(usize, usize, usize, usize), Edge> = HashMap::new();
+    // Edges in one dense table, each made when first relaxed: (i, a, j - i - 1, b).
+    let k_max = layers.iter().map(Vec::len).max().unwrap_or(0);
+    let slot = |(i, a, j, b): (usize, usize, usize, usize)| {
+        ((i * k_max + a) * LOOKAHEAD + (j - i - 1)) * k_max + b
+    };
+    let mut edges: Vec<Option<Edge>> = vec![None; n * k_max * LOOKAHEAD * k_max];
+    let mut dist: Vec<Vec<f64>> = layers
+        .iter()
+        .map(|l| vec![f64::INFINITY; l.len()])
+        .collect();
+    let mut back: Vec<Vec<Option<(usize, usize)>>> =
+        layers.iter().map(|l| vec![None; l.len()]).collect();
+    if let Some(d0) = dist.first_mut() {
+        d0.fill(0.0);
+    }
+    // Layers before `from` keep their distances: edges only go forward, so dropping a word
+    // of an edge into layer `j` changes nothing before `j`.
+    let mut from = 1;
     for _ in 0..MAX_ROUNDS {
         stats.rounds += 1;
         // Shortest path over the layers with every edge at its current shortest word.
-        let mut dist: Vec<Vec<f64>> = layers
-            .iter()
-            .map(|l| vec![f64::INFINITY; l.len()])
-            .collect();
-        let mut back: Vec<Vec<Option<(usize, usize)>>> =
-            layers.iter().map(|l| vec![None; l.len()]).collect();
-        if let Some(d0) = dist.first_mut() {
-            d0.fill(0.0);
-        }
-        for i in 0..n {
-            for a in 0..layers.get(i).map_or(0, Vec::len) {
-                let da = dist
-                    .get(i)
-                    .and_then(|d| d.get(a))
-                    .copied()
-                    .unwrap_or(f64::INFINITY);
-                if !da.is_finite() {
-                    continue;
-                }
-                let Some(&pa) = layers.get(i).and_then(|l| l.get(a)) else {
-                    continue;
-                };
-                for j in i + 1..=(i + LOOKAHEAD).min(n - 1) {
-                    let Some(lj) = layers.get(j) else { continue };
-                    for (b, &pb) in lj.iter().enumerate() {
-                        let edge = edges.entry((i, a, j, b)).or_insert_with(|| Edge {
+        for j in from..n {
+            let Some(lj) = layers.get(j) else { continue };
+            for (b, &pb) in lj.iter().enumerate() {
+                let mut best = (f64::INFINITY, None);
+                for i in j.saturating_sub(LOOKAHEAD)..j {
+                    let Some(li) = layers.get(i) else { continue };
+                    for (a, &pa) in li.iter().enumerate() {
+                        let da = dist
+                            .get(i)
+                            .and_then(|d| d.get(a))
+                            .copied()
+                            .unwrap_or(f64::INFINITY);
+                        if !da.is_finite() {
+                            continue;
+                        }
+                        let Some(entry) = edges.get_mut(slot((i, a, j, b))) else {
+                            continue;
+                        };
+                        let edge = entry.get_or_insert_with(|| Edge {
                             lengths: word_table(pa, pb, radius),
                             clear: false,
                         });
                         let cand = da + edge.best().1;
-                        if let Some(slot) = dist.get_mut(j).and_then(|d| d.get_mut(b))
-                            && cand < *slot
-                        {
-                            *slot = cand;
-                            if let Some(bk) = back.get_mut(j).and_then(|v| v.get_mut(b)) {
-                                *bk = Some((i, a));
-                            }
+                        if cand < best.0 {
+                            best = (cand, Some((i, a)));
                         }
                     }
                 }
+                if let (Some(d), Some(bk)) = (
+                    dist.get_mut(j).and_then(|d| d.get_mut(b)),
+                    back.get_mut(j).and_then(|v| v.get_mut(b)),
+                ) {
+                    (*d, *bk) = best;
+                }
             }
         }
+        from = n;
         // The best end pose, then the chain of edges back to the start.
         let last = dist.last()?;
         let (mut b, best) =
@@ -210,7 +237,7 @@ pub fn fillet(
         // Test the edges not yet known clear; a blocked word is dropped from its edge.
         let mut all_clear = true;
         for key in &chain {
-            let Some(edge) = edges.get_mut(key) else {
+            let Some(Some(edge)) = edges.get_mut(slot(*key)) else {
                 return None;
             };
             if edge.clear {
@@ -226,6 +253,7 @@ pub fn fillet(
                 if let Some(l) = edge.lengths.get_mut(w) {
                     *l = f64::INFINITY;
                 }
+                from = from.min(key.2);
                 all_clear = false;
             }
         }
@@ -233,7 +261,7 @@ pub fn fillet(
             let mut curve = SmoothCurve::default();
             for key in &chain {
                 let (pa, pb) = pose_pair(&layers, *key)?;
-                let (w, _) = edges.get(key)?.best();
+                let (w, _) = edges.get(slot(*key))?.as_ref()?.best();
                 curve.extend(&word_curve(pa, pb, radius, w)?);
             }
             return Some(curve);

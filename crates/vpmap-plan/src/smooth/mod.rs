@@ -243,82 +243,161 @@ pub fn plan_smooth(
     goal: impl Into<CellXy>,
     opts: &SmoothOptions,
 ) -> Result<SmoothOutcome> {
-    let (start, goal) = (start.into(), goal.into());
     check_options(grid, opts)?;
-    check_endpoint(grid, "start", start, opts.unknown_passable)?;
-    check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
-    let r = opts.turning_radius_cells;
-    let mut stats = SmoothStats::default();
-    let start_pose = Pose::new(
-        start.x as f64,
-        start.y as f64,
-        opts.start_heading_rad.unwrap_or(0.0),
-    );
-    let goal_pose = Pose::new(
-        goal.x as f64,
-        goal.y as f64,
-        opts.goal_heading_rad.unwrap_or(0.0),
-    );
-    let room = 2.0 * r + 1.0;
-    let Some(taut) =
-        ExactPlanner::new(grid, opts.unknown_passable).plan(start, goal, &opts.budget)?
-    else {
-        return Ok(SmoothOutcome::NoPath(NoDrivablePath {
-            kind: NoPathKind::NotConnected,
-            pose: None,
-            room_cells: room,
-            reason: "start and goal are not connected".to_owned(),
-            stats,
-        }));
-    };
-    stats.any_angle = taut.stats;
-    let field = Field::new(grid, opts.unknown_passable);
-    let rules = SmoothRules {
-        radius_cells: r,
-        start: start_pose,
-        start_heading: opts.start_heading_rad.is_some(),
-        goal: goal_pose,
-        goal_heading: opts.goal_heading_rad.is_some(),
-        reverse: opts.reverse,
-        unknown_passable: opts.unknown_passable,
-    };
-    let same_pose = start == goal
-        && match (opts.start_heading_rad, opts.goal_heading_rad) {
-            (Some(a), Some(b)) => {
-                (a - b)
-                    .rem_euclid(2.0 * PI)
-                    .min((b - a).rem_euclid(2.0 * PI))
-                    < 1e-12
-            }
-            _ => true,
-        };
-    let mut rejected: Option<SmoothViolation> = None;
-    if same_pose {
-        let empty = SmoothCurve::default();
-        return Ok(SmoothOutcome::Path(finish(
-            &field,
-            empty,
-            &rules,
-            "fillet",
-            taut.length_cells,
-            stats,
-        )));
+    SmoothPlanner::new(grid, opts.unknown_passable).plan(start, goal, opts)
+}
+
+/// [`plan_smooth`] with what it builds from the grid kept between queries: the exact
+/// planner's free space ([`ExactPlanner`]) and the distance field of [`Field`] (one pass
+/// over the grid each). Build it once per grid and `unknown_passable`.
+#[derive(Clone, Debug)]
+pub struct SmoothPlanner {
+    grid: OccupancyGrid,
+    unknown_passable: bool,
+    exact: ExactPlanner,
+    field: Field,
+}
+
+impl SmoothPlanner {
+    /// Build the planner's tables for `grid`.
+    ///
+    /// # Complexity
+    /// A few passes over the grid; about 15 bytes a cell.
+    #[must_use]
+    pub fn new(grid: &OccupancyGrid, unknown_passable: bool) -> Self {
+        Self {
+            grid: grid.clone(),
+            unknown_passable,
+            exact: ExactPlanner::new(grid, unknown_passable),
+            field: Field::new(grid, unknown_passable),
+        }
     }
-    if opts.method == SmoothMethod::Auto {
-        let ends = (
-            start_pose,
-            !rules.start_heading,
-            goal_pose,
-            !rules.goal_heading,
+
+    /// As [`plan_smooth`] on the planner's grid; `opts.unknown_passable` is the planner's.
+    ///
+    /// # Errors
+    /// As [`plan_smooth`].
+    pub fn plan(
+        &mut self,
+        start: impl Into<CellXy>,
+        goal: impl Into<CellXy>,
+        opts: &SmoothOptions,
+    ) -> Result<SmoothOutcome> {
+        let Self {
+            grid,
+            unknown_passable,
+            exact,
+            field,
+        } = self;
+        let (grid, field) = (&*grid, &*field);
+        let (start, goal) = (start.into(), goal.into());
+        check_options(grid, opts)?;
+        let opts = &SmoothOptions {
+            unknown_passable: *unknown_passable,
+            ..opts.clone()
+        };
+        check_endpoint(grid, "start", start, opts.unknown_passable)?;
+        check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
+        let r = opts.turning_radius_cells;
+        let mut stats = SmoothStats::default();
+        let start_pose = Pose::new(
+            start.x as f64,
+            start.y as f64,
+            opts.start_heading_rad.unwrap_or(0.0),
         );
-        if let Some(curve) = fillet::fillet(&field, &taut.waypoints, ends, r, &mut stats.fillet) {
+        let goal_pose = Pose::new(
+            goal.x as f64,
+            goal.y as f64,
+            opts.goal_heading_rad.unwrap_or(0.0),
+        );
+        let room = 2.0 * r + 1.0;
+        let Some(taut) = exact.plan(start, goal, &opts.budget)? else {
+            return Ok(SmoothOutcome::NoPath(NoDrivablePath {
+                kind: NoPathKind::NotConnected,
+                pose: None,
+                room_cells: room,
+                reason: "start and goal are not connected".to_owned(),
+                stats,
+            }));
+        };
+        stats.any_angle = taut.stats;
+        let rules = SmoothRules {
+            radius_cells: r,
+            start: start_pose,
+            start_heading: opts.start_heading_rad.is_some(),
+            goal: goal_pose,
+            goal_heading: opts.goal_heading_rad.is_some(),
+            reverse: opts.reverse,
+            unknown_passable: opts.unknown_passable,
+        };
+        let same_pose = start == goal
+            && match (opts.start_heading_rad, opts.goal_heading_rad) {
+                (Some(a), Some(b)) => {
+                    (a - b)
+                        .rem_euclid(2.0 * PI)
+                        .min((b - a).rem_euclid(2.0 * PI))
+                        < 1e-12
+                }
+                _ => true,
+            };
+        let mut rejected: Option<SmoothViolation> = None;
+        if same_pose {
+            let empty = SmoothCurve::default();
+            return Ok(SmoothOutcome::Path(finish(
+                &field,
+                empty,
+                &rules,
+                "fillet",
+                taut.length_cells,
+                stats,
+            )));
+        }
+        if opts.method == SmoothMethod::Auto {
+            let ends = (
+                start_pose,
+                !rules.start_heading,
+                goal_pose,
+                !rules.goal_heading,
+            );
+            if let Some(curve) = fillet::fillet(field, &taut.waypoints, ends, r, &mut stats.fillet)
+            {
+                match validate_smooth(grid, &curve, &rules) {
+                    Ok(()) => {
+                        return Ok(SmoothOutcome::Path(finish(
+                            &field,
+                            curve,
+                            &rules,
+                            "fillet",
+                            taut.length_cells,
+                            stats,
+                        )));
+                    }
+                    Err(v) => rejected = Some(v),
+                }
+            }
+        }
+        let query = HybridQuery {
+            start: start_pose,
+            start_free: !rules.start_heading,
+            goal: goal_pose,
+            goal_free: !rules.goal_heading,
+            radius: r,
+            reverse: opts.reverse,
+        };
+        if let Some(curve) = hybrid::hybrid_astar(
+            &field,
+            &query,
+            &opts.hybrid,
+            &opts.budget,
+            &mut stats.hybrid,
+        )? {
             match validate_smooth(grid, &curve, &rules) {
                 Ok(()) => {
                     return Ok(SmoothOutcome::Path(finish(
                         &field,
                         curve,
                         &rules,
-                        "fillet",
+                        "hybrid-astar",
                         taut.length_cells,
                         stats,
                     )));
@@ -326,43 +405,14 @@ pub fn plan_smooth(
                 Err(v) => rejected = Some(v),
             }
         }
+        Ok(SmoothOutcome::NoPath(no_room(
+            &field,
+            &rules,
+            taut.length_cells,
+            rejected,
+            stats,
+        )))
     }
-    let query = HybridQuery {
-        start: start_pose,
-        start_free: !rules.start_heading,
-        goal: goal_pose,
-        goal_free: !rules.goal_heading,
-        radius: r,
-        reverse: opts.reverse,
-    };
-    if let Some(curve) = hybrid::hybrid_astar(
-        &field,
-        &query,
-        &opts.hybrid,
-        &opts.budget,
-        &mut stats.hybrid,
-    )? {
-        match validate_smooth(grid, &curve, &rules) {
-            Ok(()) => {
-                return Ok(SmoothOutcome::Path(finish(
-                    &field,
-                    curve,
-                    &rules,
-                    "hybrid-astar",
-                    taut.length_cells,
-                    stats,
-                )));
-            }
-            Err(v) => rejected = Some(v),
-        }
-    }
-    Ok(SmoothOutcome::NoPath(no_room(
-        &field,
-        &rules,
-        taut.length_cells,
-        rejected,
-        stats,
-    )))
 }
 
 /// The measures and poses of a validated curve.
@@ -414,7 +464,11 @@ fn finish(
     SmoothPlan {
         length_cells: curve.length(),
         max_curvature: curve.max_curvature(),
-        min_clearance_cells: field.min_clearance(&poses),
+        // Touching within round-off is touching.
+        min_clearance_cells: {
+            let c = field.min_clearance(&poses);
+            if c.abs() < 1e-9 { 0.0 } else { c }
+        },
         cusps: curve.cusps(),
         curvature_sign_changes: curve.curvature_sign_changes(),
         method,
