@@ -3,9 +3,10 @@
 //! Maps: Nav2-benchmark-like grids of 2000 x 2000 cells (100 m x 100 m at 0.05 m) with
 //! seeded random rectangular obstacles, and, when `shared/data/movingai` is present, the
 //! Moving AI maps `8room_000` (rooms) and `Berlin_0_256` (cities). Queries: seeded free
-//! start and goal cells (on the Nav2-like maps 30-60 m apart), half with both headings
+//! start and goal cells (on the Nav2-like maps 30-60 m apart, on Moving AI maps 10-80 cells), half with both headings
 //! given, half with both free; turning radius 0.3, 0.5 and 1 m (6, 10, 20 cells) on the
-//! Nav2-like maps, 2 and 5 cells on Moving AI maps.
+//! Nav2-like maps, 1 and 2 cells on `8room_000` (rooms of 7 x 7 cells, doors one cell wide), 2 and
+//! 5 cells on `Berlin_0_256`.
 //!
 //! Before timing, the bench prints per map and radius, for both planners: the share of
 //! queries with a path, the share validated by the independent validator, the length ratio
@@ -271,12 +272,12 @@ fn bench_smooth(c: &mut Criterion) {
         ));
     }
     let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("../../../shared/data/movingai/maps");
-    for (name, file) in [
-        ("8room_000", "rooms/8room_000.map"),
-        ("Berlin_0_256", "cities/Berlin_0_256.map"),
+    for (name, file, radii) in [
+        ("8room_000", "rooms/8room_000.map", [1.0, 2.0]),
+        ("Berlin_0_256", "cities/Berlin_0_256.map", [2.0, 5.0]),
     ] {
         if let Ok(grid) = read_movingai_map(&dir.join(file)) {
-            maps.push((name.to_owned(), grid, vec![2.0, 5.0], (50.0, 1e9)));
+            maps.push((name.to_owned(), grid, radii.to_vec(), (10.0, 80.0)));
         }
     }
     let mut group = c.benchmark_group("smooth");

@@ -6,8 +6,10 @@
 //! such a corner passes through the vertex tangentially on an arc of radius `R` whose
 //! centre lies inside the turn: near the vertex it stays on the free side of the blocked
 //! quadrant for turns up to 180 degrees. So each corner becomes a **layer** of candidate
-//! poses at the vertex: the bisector of the incoming and outgoing legs and headings
-//! offset from it by [`HEADING_OFFSETS_DEG`]. The start and the goal are layers of one
+//! poses at the vertex: the bisector of the incoming and outgoing legs, headings offset
+//! from it by [`HEADING_OFFSETS_DEG`], the two legs' directions (a path through a gap one
+//! cell wide must run exactly along the leg), and poses moved outward from the vertex by
+//! [`OUTWARD_OFFSETS_R`] turning radii (to swing wide of a tight corner). The start and the goal are layers of one
 //! pose, or of [`FREE_HEADINGS`] headings plus the leg's direction when their heading is
 //! free.
 //!
@@ -17,7 +19,7 @@
 //! is **lazy**: the shortest path over the layers is found with every edge at its shortest
 //! untested word, the edges on it are then tested (exactly, by [`Field`]), a blocked word
 //! is replaced by the edge's next one, and the search repeats until its path is clear or
-//! [`MAX_ROUNDS`] rounds have passed.
+//! [`MAX_ROUNDS`] rounds have passed or [`MAX_WORDS_TESTED`] words have been tested.
 //!
 //! # Complexity
 //! `O(corners x LOOKAHEAD x K^2)` word tables per round (`K` poses a layer, each table six
@@ -50,6 +52,9 @@ pub const LOOKAHEAD: usize = 3;
 
 /// Most rounds of the lazy search before it gives up (and the fallback takes over).
 pub const MAX_ROUNDS: usize = 4000;
+
+/// Most Dubins words the lazy search tests for collision before it gives up.
+pub const MAX_WORDS_TESTED: usize = 5000;
 
 /// What the fillet search did.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -124,6 +129,10 @@ fn layers(
                 .iter()
                 .map(|d| Pose::new(p.0, p.1, bisector + d.to_radians()))
                 .collect();
+            // The legs' own directions: a path through a gap one cell wide must run
+            // exactly along the leg through it.
+            poses.push(Pose::new(p.0, p.1, h_in));
+            poses.push(Pose::new(p.0, p.1, h_out));
             // Outward: to the right of the bisector for a left turn, and back.
             let side = if turn > 0.0 { -1.0 } else { 1.0 };
             let normal = (bisector + side * std::f64::consts::FRAC_PI_2).sin_cos();
@@ -175,6 +184,9 @@ pub fn fillet(
     // of an edge into layer `j` changes nothing before `j`.
     let mut from = 1;
     for _ in 0..MAX_ROUNDS {
+        if stats.words_tested > MAX_WORDS_TESTED {
+            return None;
+        }
         stats.rounds += 1;
         // Shortest path over the layers with every edge at its current shortest word.
         for j in from..n {

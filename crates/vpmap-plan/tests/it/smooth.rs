@@ -511,3 +511,25 @@ fn a_start_facing_a_wall_has_no_room_and_bad_input_is_refused() {
         Err(PlanError::EndpointBlocked { .. })
     ));
 }
+
+#[test]
+fn a_door_one_cell_wide_is_passed_exactly_along_its_line() {
+    // A wall across row 10 with a one-cell door at column 12: the robot's square passes
+    // only moving straight down column 12.
+    let mut grid = OccupancyGrid::new(25, 21, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+    for x in 0..25 {
+        if x != 12 {
+            grid.set(x, 10, Occupancy::Occupied).unwrap();
+        }
+    }
+    for (s, g) in [((4, 3), (20, 17)), ((12, 2), (12, 18)), ((20, 4), (3, 16))] {
+        let opts = SmoothOptions {
+            turning_radius_cells: 2.0,
+            ..SmoothOptions::default()
+        };
+        let SmoothOutcome::Path(p) = plan_smooth(&grid, s, g, &opts).unwrap() else {
+            panic!("no path through the door from {s:?} to {g:?}");
+        };
+        check_plan(&grid, &p, &opts, s, g);
+    }
+}
