@@ -533,3 +533,35 @@ fn a_door_one_cell_wide_is_passed_exactly_along_its_line() {
         check_plan(&grid, &p, &opts, s, g);
     }
 }
+
+proptest! {
+    #[test]
+    fn the_exact_piece_test_agrees_with_dense_sampling(
+        x in -2.0..2.0f64, y in -2.0..2.0f64, h in -PI..PI,
+        kind in 0..3usize, r in 0.3..6.0f64, length in 0.01..6.0f64,
+        bx in -4i64..=4, by in -4i64..=4, reverse in proptest::bool::ANY,
+    ) {
+        use vpmap_plan::smooth::check::piece_enters_square;
+        let curvature = [0.0, 1.0 / r, -1.0 / r][kind];
+        let seg = Segment {
+            start: Pose::new(x, y, h),
+            curvature,
+            length,
+            gear: if reverse { Gear::Reverse } else { Gear::Forward },
+        };
+        let exact = piece_enters_square(&seg, 0.0, length, (bx, by));
+        // Dense samples by the curve's own closed form, 20000 along the piece.
+        let depth = (0..=20_000)
+            .map(|k| seg.pose_at(length * f64::from(k) / 20_000.0))
+            .map(|p| 1.0 - (p.x - bx as f64).abs().max((p.y - by as f64).abs()))
+            .fold(f64::NEG_INFINITY, f64::max);
+        if depth > 1e-3 {
+            prop_assert!(exact.is_some(), "samples reach {depth} inside, the exact test says clear");
+        }
+        if let Some(p) = exact {
+            prop_assert!((p[0] - bx as f64).abs() < 1.0 && (p[1] - by as f64).abs() < 1.0);
+            // A point inside means the samples come close to inside too.
+            prop_assert!(depth > -1e-3, "exact inside at {p:?}, samples at best {depth}");
+        }
+    }
+}
