@@ -5,8 +5,8 @@ use std::time::Instant;
 
 use anyhow::{Result, bail};
 use vpmap_pipeline::{
-    Limits, OptionNames, PlanningMap, mbpp_stats, no_path_reason, plan_json, read_planning_map,
-    run_planner, smooth_json, smooth_options,
+    Limits, OptionNames, PlanningMap, mbpp_stats, plan_json, read_planning_map, run_planner,
+    smooth_json, smooth_options, smooth_text,
 };
 use vpmap_plan::PlanError;
 use vpmap_plan::Planned;
@@ -324,29 +324,7 @@ fn run_smooth(args: &PlanArgs) -> Result<()> {
         println!("{}", smooth_json(&map, &outcome, poses, seconds));
         return Ok(());
     }
-    let (unit, scale, ms) = (map.unit(), map.scale(), seconds * 1e3);
-    match (&outcome, plan) {
-        (_, Some(p)) => println!(
-            "smooth: path found, length {:.3} {unit} ({} segments, {} cusps, tightest radius {:.3} {unit}, min clearance {:.3} {unit}, by {}, {ms:.3} ms)",
-            p.length_cells * scale,
-            p.curve.segments.len(),
-            p.cusps,
-            if p.max_curvature > 0.0 {
-                scale / p.max_curvature
-            } else {
-                f64::INFINITY
-            },
-            p.min_clearance_cells * scale,
-            p.method,
-        ),
-        (SmoothOutcome::NoPath(n), None) => {
-            println!(
-                "smooth: no drivable path: {} ({ms:.3} ms)",
-                no_path_reason(&map, n, poses)
-            );
-        }
-        _ => {}
-    }
+    println!("{}", smooth_text(&map, &outcome, poses, seconds));
     Ok(())
 }
 

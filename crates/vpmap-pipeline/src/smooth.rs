@@ -210,3 +210,34 @@ pub fn no_path_reason(map: &PlanningMap, n: &NoDrivablePath, start_goal: [Pose; 
 fn round3(v: f64) -> f64 {
     (v * 1000.0).round() / 1000.0
 }
+
+/// The one-line answer of `vpmap plan --planner smooth`: the path's length, segments, cusps,
+/// tightest radius, clearance, method and time, or "no drivable path" and why.
+#[must_use]
+pub fn smooth_text(
+    map: &PlanningMap,
+    outcome: &SmoothOutcome,
+    start_goal: [Pose; 2],
+    seconds: f64,
+) -> String {
+    let (unit, scale, ms) = (map.unit(), map.scale(), seconds * 1e3);
+    match outcome {
+        SmoothOutcome::Path(p) => format!(
+            "smooth: path found, length {:.3} {unit} ({} segments, {} cusps, tightest radius {:.3} {unit}, min clearance {:.3} {unit}, by {}, {ms:.3} ms)",
+            p.length_cells * scale,
+            p.curve.segments.len(),
+            p.cusps,
+            if p.max_curvature > 0.0 {
+                scale / p.max_curvature
+            } else {
+                f64::INFINITY
+            },
+            p.min_clearance_cells * scale,
+            p.method,
+        ),
+        SmoothOutcome::NoPath(n) => format!(
+            "smooth: no drivable path: {} ({ms:.3} ms)",
+            no_path_reason(map, n, start_goal)
+        ),
+    }
+}
