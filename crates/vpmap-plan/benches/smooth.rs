@@ -56,6 +56,9 @@ fn nav2_like(seed: u64, side: usize, density: f64) -> OccupancyGrid {
     grid
 }
 
+/// A map's name, grid, turning radii (cells) and start-goal distance range (cells).
+type BenchMap = (String, OccupancyGrid, Vec<f64>, (f64, f64));
+
 #[derive(Clone, Copy, Debug)]
 struct Query {
     start: CellXy,
@@ -262,7 +265,7 @@ fn bench_smooth(c: &mut Criterion) {
         .ok()
         .and_then(|v| v.parse().ok())
         .unwrap_or(20);
-    let mut maps: Vec<(String, OccupancyGrid, Vec<f64>, (f64, f64))> = Vec::new();
+    let mut maps: Vec<BenchMap> = Vec::new();
     for seed in 1..=2u64 {
         maps.push((
             format!("nav2like-{seed}"),
@@ -276,7 +279,7 @@ fn bench_smooth(c: &mut Criterion) {
         ("8room_000", "rooms/8room_000.map", [1.0, 2.0]),
         ("Berlin_0_256", "cities/Berlin_0_256.map", [2.0, 5.0]),
     ] {
-        if let Ok(grid) = read_movingai_map(&dir.join(file)) {
+        if let Ok(grid) = read_movingai_map(dir.join(file)) {
             maps.push((name.to_owned(), grid, radii.to_vec(), (10.0, 80.0)));
         }
     }

@@ -2,6 +2,8 @@
 //! independent validator, headings in cells and in metres, the SVG, "no drivable path" and
 //! bad input.
 
+#![allow(clippy::float_cmp)]
+
 use std::f64::consts::PI;
 
 use serde_json::Value;

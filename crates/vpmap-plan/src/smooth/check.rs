@@ -41,6 +41,7 @@ pub const JOIN_TOLERANCE: f64 = 1e-6;
 
 /// What a smooth path must satisfy besides the grid (see [`validate_smooth`]).
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[allow(clippy::struct_excessive_bools)] // four independent yes/no rules of the query
 pub struct SmoothRules {
     /// Smallest turning radius, cells.
     pub radius_cells: f64,

@@ -231,7 +231,7 @@ fn ring_cells(cx: i64, cy: i64, ring: i64) -> Vec<(i64, i64)> {
 }
 
 #[cfg(test)]
-#[allow(clippy::unwrap_used)]
+#[allow(clippy::unwrap_used, clippy::float_cmp)]
 mod tests {
     use super::*;
     use crate::smooth::curve::Gear;

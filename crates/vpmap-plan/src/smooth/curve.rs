@@ -223,11 +223,15 @@ impl SmoothCurve {
     /// The segment with the largest `|curvature|` (the first such), if any is an arc.
     #[must_use]
     pub fn tightest_turn(&self) -> Option<usize> {
-        let max = self.max_curvature();
-        if max == 0.0 {
-            return None;
-        }
-        self.segments.iter().position(|s| s.curvature.abs() == max)
+        self.segments
+            .iter()
+            .enumerate()
+            .filter(|(_, s)| s.curvature != 0.0)
+            .fold(None, |best: Option<(usize, f64)>, (i, s)| match best {
+                Some((_, k)) if k >= s.curvature.abs() => best,
+                _ => Some((i, s.curvature.abs())),
+            })
+            .map(|(i, _)| i)
     }
 }
 

@@ -344,7 +344,7 @@ impl SmoothPlanner {
         if same_pose {
             let empty = SmoothCurve::default();
             return Ok(SmoothOutcome::Path(finish(
-                &field,
+                field,
                 empty,
                 &rules,
                 "fillet",
@@ -364,7 +364,7 @@ impl SmoothPlanner {
                 match validate_smooth(grid, &curve, &rules) {
                     Ok(()) => {
                         return Ok(SmoothOutcome::Path(finish(
-                            &field,
+                            field,
                             curve,
                             &rules,
                             "fillet",
@@ -384,17 +384,13 @@ impl SmoothPlanner {
             radius: r,
             reverse: opts.reverse,
         };
-        if let Some(curve) = hybrid::hybrid_astar(
-            &field,
-            &query,
-            &opts.hybrid,
-            &opts.budget,
-            &mut stats.hybrid,
-        )? {
+        if let Some(curve) =
+            hybrid::hybrid_astar(field, &query, &opts.hybrid, &opts.budget, &mut stats.hybrid)?
+        {
             match validate_smooth(grid, &curve, &rules) {
                 Ok(()) => {
                     return Ok(SmoothOutcome::Path(finish(
-                        &field,
+                        field,
                         curve,
                         &rules,
                         "hybrid-astar",
@@ -406,7 +402,7 @@ impl SmoothPlanner {
             }
         }
         Ok(SmoothOutcome::NoPath(no_room(
-            &field,
+            field,
             &rules,
             taut.length_cells,
             rejected,

@@ -74,8 +74,8 @@ fn ccc_by_circles(p: Pose, q: Pose, s: f64, r: f64) -> Option<f64> {
         let heading_on = |c: [f64; 2], point: [f64; 2], side: f64| {
             (point[1] - c[1]).atan2(point[0] - c[0]) + side * FRAC_PI_2
         };
-        let q1 = [(c1[0] + m[0]) / 2.0, (c1[1] + m[1]) / 2.0];
-        let q2 = [(m[0] + c3[0]) / 2.0, (m[1] + c3[1]) / 2.0];
+        let q1 = [f64::midpoint(c1[0], m[0]), f64::midpoint(c1[1], m[1])];
+        let q2 = [f64::midpoint(m[0], c3[0]), f64::midpoint(m[1], c3[1])];
         let h1 = heading_on(c1, q1, s);
         let h2 = heading_on(m, q2, -s);
         let len = r * (turn(p.heading_rad, h1, s) + turn(h1, h2, -s) + turn(h2, q.heading_rad, s));
@@ -136,7 +136,7 @@ fn dubins_textbook_values() {
     // 2 r sin a + l cos a = x; minimise 2 r a + l: brute force over a.
     let mut best = f64::INFINITY;
     for k in 1..200_000 {
-        let a = FRAC_PI_2 * k as f64 / 200_000.0;
+        let a = FRAC_PI_2 * f64::from(k) / 200_000.0;
         let l = (lateral - 2.0 * r * (1.0 - a.cos())) / a.sin();
         if l >= 0.0 && ((2.0 * r * a.sin() + l * a.cos()) - x).abs() < 1e-3 {
             best = best.min(2.0 * r * a + l);
@@ -154,7 +154,11 @@ fn dubins_matches_tangent_construction_on_a_grid_of_poses() {
     for ix in -6..=6 {
         for iy in -6..=6 {
             for ih in 0..12 {
-                let q = Pose::new(ix as f64 * 0.9, iy as f64 * 0.9, TAU * ih as f64 / 12.0);
+                let q = Pose::new(
+                    f64::from(ix) * 0.9,
+                    f64::from(iy) * 0.9,
+                    TAU * f64::from(ih) / 12.0,
+                );
                 let words = dubins_words(o, q, r);
                 let mine = words[0].length;
                 let reference = reference_dubins(o, q, r);
