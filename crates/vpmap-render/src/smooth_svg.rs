@@ -1,4 +1,4 @@
-//! The picture of a smooth path ([`smooth_svg`]): the grid as [`crate::plan_svg`] draws
+//! The picture of a smooth path ([`smooth_svg`]): the grid as [`crate::plan_svg()`] draws
 //! it, the path as a polyline through its poses, and its tightest turn marked by the arc's
 //! whole turning circle (dashed) and a ring where the turn is.
 
@@ -16,7 +16,7 @@ const PATH_COLOUR: &str = "#d62728";
 /// Colour of the tightest turn's marks.
 const TURN_COLOUR: &str = "#ff7f0e";
 
-/// The grid, start and goal as [`plan_svg`] draws them (its subtitle giving the path's
+/// The grid, start and goal as [`plan_svg()`] draws them (its subtitle giving the path's
 /// length), with `plan`'s curve through its poses (one SVG unit per cell, cell `(x, y)`
 /// spanning `x..x + 1`) and its tightest turn's circle; `plan: None` draws "no path".
 #[must_use]

@@ -243,7 +243,7 @@ pub fn dubins_distance(start: Pose, goal: Pose, radius: f64) -> f64 {
 }
 
 /// Headings tried for a free end by [`dubins_to_point`] besides the analytic ones.
-const FREE_HEADING_SAMPLES: usize = 72;
+pub const FREE_HEADING_SAMPLES: usize = 72;
 
 /// A short forward path of curvature at most `1 / radius` from `start` to the point
 /// `(x, y)` with any final heading: the best of the two turn-then-straight paths (exact
