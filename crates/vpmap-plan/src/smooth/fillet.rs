@@ -9,9 +9,11 @@
 //! poses at the vertex: the bisector of the incoming and outgoing legs, headings offset
 //! from it by [`HEADING_OFFSETS_DEG`], the two legs' directions (a path through a gap one
 //! cell wide must run exactly along the leg), and poses moved outward from the vertex by
-//! [`OUTWARD_OFFSETS_R`] turning radii (to swing wide of a tight corner). The start and the goal are layers of one
-//! pose, or of [`FREE_HEADINGS`] headings plus the leg's direction when their heading is
-//! free.
+//! [`OUTWARD_OFFSETS_R`] turning radii (to swing wide of a tight corner). The start and
+//! the goal are layers of one pose, or of [`FREE_HEADINGS`] headings plus the leg's
+//! direction when their heading is free; a fixed-heading end also gets a layer of escape
+//! poses beside it (one arc of 45 to 270 degrees or one line of `R` or `2 R` away), through
+//! which the path may first turn away from what the end faces.
 //!
 //! An edge joins a pose of layer `i` to a pose of layer `j` for `i < j <= i + LOOKAHEAD`
 //! (skipping a corner lets the path swing wide of a tight cluster of corners) and costs its
@@ -28,7 +30,7 @@
 use std::f64::consts::TAU;
 
 use super::clearance::Field;
-use super::curve::{Pose, SmoothCurve};
+use super::curve::{Pose, SmoothCurve, pose_along};
 use super::dubins::{word_curve, word_table};
 use crate::grid::CellXy;
 
@@ -113,14 +115,20 @@ fn layers(
     for (i, &p) in pts.iter().enumerate() {
         if i == 0 {
             let leg = pts.get(1).map_or(start.heading_rad, |&q| dir(p, q));
-            out.push(if start_free {
-                free(p, leg)
+            if start_free {
+                out.push(free(p, leg));
             } else {
-                vec![start]
-            });
+                out.push(vec![start]);
+                out.push(escapes(start, radius, 1.0));
+            }
         } else if i + 1 == n {
             let leg = pts.get(i - 1).map_or(goal.heading_rad, |&q| dir(q, p));
-            out.push(if goal_free { free(p, leg) } else { vec![goal] });
+            if goal_free {
+                out.push(free(p, leg));
+            } else {
+                out.push(escapes(goal, radius, -1.0));
+                out.push(vec![goal]);
+            }
         } else if let (Some(&a), Some(&b)) = (pts.get(i - 1), pts.get(i + 1)) {
             let (h_in, h_out) = (dir(a, p), dir(p, b));
             let turn = (h_out - h_in + std::f64::consts::PI).rem_euclid(TAU) - std::f64::consts::PI;
@@ -146,6 +154,30 @@ fn layers(
         }
     }
     out
+}
+
+/// Turn angles of the escape poses, degrees.
+const ESCAPE_TURNS_DEG: [f64; 4] = [45.0, 90.0, 180.0, 270.0];
+
+/// Poses one arc (left or right, by [`ESCAPE_TURNS_DEG`]) or one straight line (`R`, `2 R`)
+/// away from a fixed-heading end: after it (`direction` 1, the start) or before it (-1, the
+/// goal). They let the path first turn away from an obstacle the end faces, a manoeuvre one
+/// Dubins word cannot make.
+fn escapes(end: Pose, radius: f64, direction: f64) -> Vec<Pose> {
+    let mut v = Vec::new();
+    for curvature in [1.0 / radius, -1.0 / radius] {
+        for t in ESCAPE_TURNS_DEG {
+            v.push(pose_along(
+                end,
+                curvature,
+                direction * t.to_radians() * radius,
+            ));
+        }
+    }
+    for l in [radius, 2.0 * radius] {
+        v.push(pose_along(end, 0.0, direction * l));
+    }
+    v
 }
 
 /// A clear curvature-bounded path from `start` to `goal` along the taut path `waypoints`
