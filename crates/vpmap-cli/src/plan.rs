@@ -6,12 +6,14 @@ use std::time::Instant;
 use anyhow::{Result, bail};
 use vpmap_pipeline::{
     Limits, OptionNames, PlanningMap, mbpp_stats, plan_json, read_planning_map, run_planner,
+    smooth_json, smooth_options, smooth_text,
 };
 use vpmap_plan::PlanError;
 use vpmap_plan::Planned;
 use vpmap_plan::budget::{Budget, Stop, StopReason};
 use vpmap_plan::planner::PlannerKind;
-use vpmap_render::{GridCoordinates, plan_svg, plan_title};
+use vpmap_plan::smooth::{Pose, SmoothOutcome, plan_smooth};
+use vpmap_render::{GridCoordinates, plan_svg, plan_title, smooth_svg};
 
 use crate::output::write_file;
 use vpmap_pipeline::num;
@@ -34,13 +36,32 @@ fn planner_help(kind: PlannerKind) -> &'static str {
     }
 }
 
-/// `--planner`: a [`PlannerKind`] by its name, read with its `FromStr`; `--help` lists them.
-fn planner_parser() -> impl clap::builder::TypedValueParser<Value = PlannerKind> {
-    use clap::builder::TypedValueParser as _;
+/// What `--planner` names: a grid planner or the smooth planner.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PlannerChoice {
+    /// One of [`PlannerKind::ALL`].
+    Grid(PlannerKind),
+    /// `smooth`: curvature-bounded paths ([`vpmap_plan::smooth`]).
+    Smooth,
+}
+
+/// `--planner`: a [`PlannerKind`] by its name, read with its `FromStr`, or `smooth`; `--help`
+/// lists them.
+fn planner_parser() -> impl clap::builder::TypedValueParser<Value = PlannerChoice> {
+    use clap::builder::{PossibleValue, TypedValueParser as _};
+    let smooth = PossibleValue::new("smooth").help(
+        "Curvature-bounded lines and arcs (needs --turning-radius): Dubins paths through the exact any-angle path's corners, Hybrid-A* when they fail",
+    );
     clap::builder::PossibleValuesParser::new(
-        PlannerKind::ALL.map(|k| clap::builder::PossibleValue::new(k.name()).help(planner_help(k))),
+        PlannerKind::ALL
+            .map(|k| PossibleValue::new(k.name()).help(planner_help(k)))
+            .into_iter()
+            .chain([smooth]),
     )
-    .try_map(|name| name.parse::<PlannerKind>())
+    .try_map(|name| match name.as_str() {
+        "smooth" => Ok(PlannerChoice::Smooth),
+        _ => name.parse::<PlannerKind>().map(PlannerChoice::Grid),
+    })
 }
 
 /// Arguments of `vpmap plan`.
@@ -49,15 +70,23 @@ pub struct PlanArgs {
     /// The map: a Moving AI `.map` (coordinates in cells), a ROS map `.yaml` or a vpmap
     /// `map.json` (coordinates in metres in the map's frame).
     map: PathBuf,
-    /// Start `X,Y`.
+    /// Start `X,Y` (with `--planner smooth`, `X,Y,HEADING`: degrees, atan2(dy, dx) in the
+    /// map's coordinates; free when left out).
     #[arg(long, allow_hyphen_values = true)]
     from: String,
-    /// Goal `X,Y`.
+    /// Goal `X,Y` (with `--planner smooth`, `X,Y,HEADING` as for `--from`).
     #[arg(long, allow_hyphen_values = true)]
     to: String,
     /// Planner.
     #[arg(long, default_value = "astar", value_parser = planner_parser())]
-    planner: PlannerKind,
+    planner: PlannerChoice,
+    /// `--planner smooth`: the smallest turning radius (metres for ROS maps and map.json,
+    /// cells for .map).
+    #[arg(long, allow_negative_numbers = true)]
+    turning_radius: Option<f64>,
+    /// `--planner smooth`: allow driving in reverse (cusps, reported as such).
+    #[arg(long)]
+    reverse: bool,
     /// Inflate obstacles by this radius (metres for ROS maps and map.json, cells for .map).
     /// Default: 0.2 m for a map.json (the robot radius `vpmap build` uses), 0 for a ROS map
     /// (`vpmap build` inflated its grid already) and for a Moving AI map.
@@ -118,6 +147,19 @@ pub(crate) fn parse_point(what: &str, text: &str) -> Result<[f64; 2]> {
     }
 }
 
+/// A pose `X,Y[,HEADING]` given as `what`: the point and the heading in degrees, if any.
+fn parse_pose(what: &str, text: &str) -> Result<([f64; 2], Option<f64>)> {
+    let parts: Vec<&str> = text.split(',').map(str::trim).collect();
+    if let [x, y, h] = parts.as_slice() {
+        let point = parse_point(what, &format!("{x},{y}"))?;
+        return match h.parse::<f64>() {
+            Ok(h) if h.is_finite() => Ok((point, Some(h))),
+            _ => bail!("{what} {text:?}: the heading {h:?} is not a finite number of degrees"),
+        };
+    }
+    Ok((parse_point(what, text)?, None))
+}
+
 /// Read any supported map and inflate its obstacles by `robot_radius`
 /// ([`vpmap_pipeline::read_planning_map`]), the radius checked first.
 pub fn load_map(path: &Path, robot_radius: Option<f64>, resolution: f64) -> Result<PlanningMap> {
@@ -167,6 +209,13 @@ fn counted(count: usize, noun: &str) -> String {
 
 /// `vpmap plan`.
 pub fn run(args: &PlanArgs) -> Result<()> {
+    let planner = match args.planner {
+        PlannerChoice::Smooth => return run_smooth(args),
+        PlannerChoice::Grid(kind) => kind,
+    };
+    if args.turning_radius.is_some() || args.reverse {
+        bail!("--turning-radius and --reverse are for --planner smooth");
+    }
     let from = parse_point("--from", &args.from)?;
     let to = parse_point("--to", &args.to)?;
     let map = load_map(&args.map, args.robot_radius, args.resolution)?;
@@ -179,7 +228,7 @@ pub fn run(args: &PlanArgs) -> Result<()> {
     let goal = map.endpoint("--to", to, args.unknown_passable, OptionNames::CommandLine)?;
     let began = Instant::now();
     let outcome = run_planner(
-        args.planner,
+        planner,
         &map.grid,
         (start, goal),
         args.unknown_passable,
@@ -203,23 +252,79 @@ pub fn run(args: &PlanArgs) -> Result<()> {
         } else {
             GridCoordinates::World
         };
-        let title = plan_title(
-            args.planner,
-            &args.map.file_name().map_or_else(
-                || args.map.display().to_string(),
-                |n| n.to_string_lossy().into_owned(),
-            ),
-        );
+        let title = plan_title(planner, &map_name(&args.map));
         write_file(
             svg_path,
             plan_svg(&map.grid, &outcome, start, goal, coordinates, &title),
         )?;
     }
     if args.json {
-        println!("{}", plan_json(&map, args.planner, &outcome, seconds));
+        println!("{}", plan_json(&map, planner, &outcome, seconds));
     } else {
-        println!("{}", plan_text(&map, args.planner, &outcome, seconds));
+        println!("{}", plan_text(&map, planner, &outcome, seconds));
     }
+    Ok(())
+}
+
+/// The map's file name, for titles.
+fn map_name(path: &Path) -> String {
+    path.file_name().map_or_else(
+        || path.display().to_string(),
+        |n| n.to_string_lossy().into_owned(),
+    )
+}
+
+/// `vpmap plan --planner smooth`.
+fn run_smooth(args: &PlanArgs) -> Result<()> {
+    let (from, start_heading) = parse_pose("--from", &args.from)?;
+    let (to, goal_heading) = parse_pose("--to", &args.to)?;
+    let Some(radius) = args.turning_radius else {
+        bail!("--planner smooth needs --turning-radius (metres, or cells for a Moving AI map)");
+    };
+    let map = load_map(&args.map, args.robot_radius, args.resolution)?;
+    let headings = [start_heading, goal_heading];
+    let mut opts = smooth_options(&map, radius, "--turning-radius", headings, args.reverse)?;
+    let names = OptionNames::CommandLine;
+    let start = map.endpoint("--from", from, args.unknown_passable, names)?;
+    let goal = map.endpoint("--to", to, args.unknown_passable, names)?;
+    opts.unknown_passable = args.unknown_passable;
+    opts.budget = Budget {
+        max_expansions: args.max_expansions,
+        max_sight_cells: args.max_sight_cells,
+        stop: args
+            .timeout
+            .map_or_else(Stop::new, |t| Stop::new().with_timeout(t)),
+    };
+    let began = Instant::now();
+    let outcome =
+        plan_smooth(&map.grid, start, goal, &opts).map_err(|e| name_the_flag(e.into()))?;
+    let seconds = began.elapsed().as_secs_f64();
+    let plan = match &outcome {
+        SmoothOutcome::Path(p) => Some(p),
+        SmoothOutcome::NoPath(_) => None,
+    };
+    if let Some(svg_path) = &args.svg {
+        let coordinates = if map.in_cells {
+            GridCoordinates::Cells
+        } else {
+            GridCoordinates::World
+        };
+        let title = format!("Smooth path on {}", map_name(&args.map));
+        write_file(
+            svg_path,
+            smooth_svg(&map.grid, plan, start, goal, coordinates, &title),
+        )?;
+    }
+    let poses = [
+        (start, opts.start_heading_rad),
+        (goal, opts.goal_heading_rad),
+    ]
+    .map(|(c, h)| Pose::new(c.x as f64, c.y as f64, h.unwrap_or(0.0)));
+    if args.json {
+        println!("{}", smooth_json(&map, &outcome, poses, seconds));
+        return Ok(());
+    }
+    println!("{}", smooth_text(&map, &outcome, poses, seconds));
     Ok(())
 }
 

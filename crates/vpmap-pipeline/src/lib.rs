@@ -47,6 +47,7 @@ pub mod options;
 pub mod planning;
 mod ranges;
 pub mod scene;
+pub mod smooth;
 mod summary;
 mod text;
 
@@ -64,6 +65,7 @@ pub use options::{
 };
 pub use planning::{Limits, PlanningMap, mbpp_stats, plan_json, read_planning_map, run_planner};
 pub use scene::{ParsedScene, parse_scene};
+pub use smooth::{no_path_reason, smooth_json, smooth_options, smooth_text};
 pub use summary::map_summary;
 pub use text::{num, units_name};
 

@@ -18,6 +18,7 @@
 //! | multi-bug path | [`mbpp`](mod@mbpp) | the thesis's Multi-Bug Path Planning: greedy bugs on the m-line split at obstacles, follow walls both ways, note corners by line of sight; shortest `v_list`, checked, re-planned and smoothed |
 //! | navigation | [`navigate`](mod@navigate) | a robot driving a believed map, sensing the true one within a range by line of sight and re-planning (repeated A*, A* PS, D* Lite, online MBPP) |
 //! | shortest any-angle path | [`anya`] | exact: Anya-style interval search over the free space cut into row-line intervals and strip rectangles, built once per grid (Harabor et al. 2016, Cui et al. 2017) |
+//! | curvature-bounded path | [`smooth`] | lines and arcs of radius at least `R`: Dubins paths (Dubins 1957) through the exact any-angle path's corners with lazy feasibility repair, Hybrid-A* with analytic Dubins expansion as the complete fallback (Dolgov et al. 2008); an analytic validator of every point of the curve |
 //! | shortest any-angle path (reference) | [`optimal`] | exact: A* on the visibility graph of start, goal and convex corner cells (Lozano-Pérez and Wesley 1979) |
 //!
 //! # Module order
@@ -39,12 +40,14 @@
 //! 8. `planned` (private: [`Planned`] and MBPP's records) uses `budget`, `grid`, `plan`;
 //! 9. [`mbpp`](mod@mbpp) uses `planned`, `smoothing`;
 //! 10. [`planner`] uses `planned`, `astar`, `smoothing`, `theta_star`, `anya`, `mbpp`;
-//! 11. [`navigate`](mod@navigate) uses `planner`, `dstar_lite`, `mbpp`.
+//! 11. [`navigate`](mod@navigate) uses `planner`, `dstar_lite`, `mbpp`;
+//! 12. [`smooth`] uses `anya` (and `budget`, `error`, `grid`, `plan`).
 //!
 //! Inside the folders, bottom-up: `anya/`: `dead_ends`, `space`, `search`, `mod.rs`;
 //! `dstar_lite/`: `cost`, `keys`, `queue`, `search`, `drive`, `mod.rs`; `mbpp/`: `cells` and
 //! `options`, `walk`, `graph`, `alternatives`, `run`, `mod.rs`; `navigate/`: `options`,
-//! `sensor`, `ties`, `shadow`, `outcome`, `replan`, `mod.rs`.
+//! `sensor`, `ties`, `shadow`, `outcome`, `replan`, `mod.rs`; `smooth/`: `curve`, `dubins`,
+//! `check`, `clearance`, `fillet`, `hybrid`, `mod.rs`.
 //!
 //! # Example
 //! ```
@@ -74,6 +77,10 @@
 //!   of Game Development 1(1), 2004.
 //! - A. Nash, K. Daniel, S. Koenig, A. Felner, "Theta*: Any-Angle Path Planning on Grids",
 //!   AAAI 2007.
+//! - L. E. Dubins, "On Curves of Minimal Length with a Constraint on Average Curvature...",
+//!   American Journal of Mathematics 79(3), 1957.
+//! - D. Dolgov, S. Thrun, M. Montemerlo, J. Diebel, "Practical Search Techniques in Path
+//!   Planning for Autonomous Driving", STAIR 2008.
 //! - T. Lozano-Pérez, M. A. Wesley, "An Algorithm for Planning Collision-Free Paths Among
 //!   Polyhedral Obstacles", Communications of the ACM 22(10), 1979.
 #![deny(missing_docs)]
@@ -96,6 +103,7 @@ mod planned;
 pub mod planner;
 pub mod reach;
 pub mod ros;
+pub mod smooth;
 pub mod smoothing;
 mod stop_reason;
 pub mod theta_star;
@@ -119,6 +127,9 @@ pub use plan::{Plan, PlanStats, path_length};
 pub use planner::{Planned, Planner, PlannerKind};
 pub use reach::{Components, reachable};
 pub use ros::{encode_ros_map, read_ros_map, write_ros_map};
+pub use smooth::{
+    Pose, SmoothCurve, SmoothOptions, SmoothOutcome, SmoothPlanner, plan_smooth, validate_smooth,
+};
 pub use smoothing::{AstarPsOptions, astar_ps, smooth_path};
 pub use theta_star::{ThetaStarOptions, theta_star};
 pub use validate::{PathViolation, validate_path};

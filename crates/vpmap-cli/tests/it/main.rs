@@ -8,6 +8,7 @@ mod hostile;
 mod navigate;
 mod outputs;
 mod plan_mbpp;
+mod plan_smooth;
 mod rooms;
 mod snap;
 

@@ -17,6 +17,7 @@ mod movingai_benchmarks;
 mod movingai_files;
 mod navigate;
 mod ros_files;
+mod smooth;
 
 use std::path::PathBuf;
 

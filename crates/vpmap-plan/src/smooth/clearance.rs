@@ -1,0 +1,277 @@
+//! The planner's collision test of segments ([`Field`]): a chessboard distance field over
+//! the cell centres lets it skip along a segment in steps as long as the clearance
+//! certifies, and near blocked cells it falls back to the exact piece test of
+//! [`super::check`]. Exact under the same rule as the validator, much faster in open space.
+//!
+//! `D(c)` is the Chebyshev distance, in cells, from the centre of cell `c` to the nearest
+//! blocked cell's centre (cells outside the grid count as blocked). A point `p` whose
+//! nearest cell centre is `c` is then at Chebyshev distance at least
+//! `D(c) - |p - c|_inf >= D(c) - 1/2` from every blocked centre, and it is clear (outside
+//! every open square of side 2) when that is at least 1. Moving a length `l` along a curve
+//! moves the point by at most `l`, so a point with margin `m = D(c) - 3/2 >= 0` certifies
+//! the next `m` cells of the curve.
+
+use super::check::{PIECE_CELLS, piece_enters_square};
+use super::curve::{Pose, Segment, SmoothCurve};
+use crate::grid::{Occupancy, OccupancyGrid};
+
+/// Below this certified margin (cells) the test switches to exact pieces.
+const EXACT_BELOW: f64 = 0.25;
+
+/// Blocked cells and their chessboard distance field, built once per grid.
+#[derive(Clone, Debug)]
+pub struct Field {
+    width: usize,
+    height: usize,
+    blocked: Vec<bool>,
+    distance: Vec<u32>,
+}
+
+impl Field {
+    /// Build the field of `grid` (unknown cells blocked unless `unknown_passable`).
+    ///
+    /// # Complexity
+    /// Two passes over the grid.
+    #[must_use]
+    pub fn new(grid: &OccupancyGrid, unknown_passable: bool) -> Self {
+        let (w, h) = (grid.width(), grid.height());
+        let blocked: Vec<bool> = grid
+            .cells()
+            .iter()
+            .map(|&c| match c {
+                Occupancy::Free => false,
+                Occupancy::Unknown => !unknown_passable,
+                Occupancy::Occupied => true,
+            })
+            .collect();
+        let mut distance = vec![u32::MAX; w * h];
+        for y in 0..h {
+            for x in 0..w {
+                let border = (x + 1).min(w - x).min(y + 1).min(h - y) as u32;
+                let i = y * w + x;
+                if let (Some(d), Some(&b)) = (distance.get_mut(i), blocked.get(i)) {
+                    *d = if b { 0 } else { border };
+                }
+            }
+        }
+        // Chamfer passes with unit weights: exact for the chessboard metric.
+        let relax = |distance: &mut Vec<u32>, x: usize, y: usize, nbrs: &[(isize, isize)]| {
+            let i = y * w + x;
+            let mut best = distance.get(i).copied().unwrap_or(0);
+            for &(dx, dy) in nbrs {
+                let (nx, ny) = (x as isize + dx, y as isize + dy);
+                if nx >= 0 && ny >= 0 && (nx as usize) < w && (ny as usize) < h {
+                    let j = ny as usize * w + nx as usize;
+                    if let Some(&d) = distance.get(j) {
+                        best = best.min(d.saturating_add(1));
+                    }
+                }
+            }
+            if let Some(d) = distance.get_mut(i) {
+                *d = best;
+            }
+        };
+        for y in 0..h {
+            for x in 0..w {
+                relax(&mut distance, x, y, &[(-1, 0), (-1, -1), (0, -1), (1, -1)]);
+            }
+        }
+        for y in (0..h).rev() {
+            for x in (0..w).rev() {
+                relax(&mut distance, x, y, &[(1, 0), (1, 1), (0, 1), (-1, 1)]);
+            }
+        }
+        Self {
+            width: w,
+            height: h,
+            blocked,
+            distance,
+        }
+    }
+
+    /// Whether cell `(x, y)` is blocked (outside the grid: yes).
+    #[must_use]
+    pub fn blocked(&self, x: i64, y: i64) -> bool {
+        if x < 0 || y < 0 || x >= self.width as i64 || y >= self.height as i64 {
+            return true;
+        }
+        self.blocked
+            .get(y as usize * self.width + x as usize)
+            .copied()
+            .unwrap_or(true)
+    }
+
+    /// `D` of the cell nearest to `(x, y)` (0 outside the grid).
+    fn distance_near(&self, x: f64, y: f64) -> f64 {
+        let (cx, cy) = (x.round(), y.round());
+        if !(cx >= 0.0 && cy >= 0.0 && cx < self.width as f64 && cy < self.height as f64) {
+            return 0.0;
+        }
+        self.distance
+            .get(cy as usize * self.width + cx as usize)
+            .map_or(0.0, |&d| f64::from(d))
+    }
+
+    /// Grid size `(width, height)`, cells.
+    #[must_use]
+    pub fn size(&self) -> (usize, usize) {
+        (self.width, self.height)
+    }
+
+    /// A lower bound on the clearance at `(x, y)`: how far (Chebyshev, cells) the robot's
+    /// square is from every blocked cell; negative values say nothing.
+    #[must_use]
+    pub fn margin(&self, x: f64, y: f64) -> f64 {
+        self.distance_near(x, y) - 1.5
+    }
+
+    /// Whether the piece `lo..=hi` of `seg` is clear, exactly.
+    fn piece_clear(&self, seg: &Segment, lo: f64, hi: f64) -> bool {
+        let (a, b) = (seg.pose_at(lo), seg.pose_at(hi));
+        let reach = 1.0 + 0.5 * (hi - lo);
+        let x0 = (a.x.min(b.x) - reach).floor() as i64;
+        let x1 = (a.x.max(b.x) + reach).ceil() as i64;
+        let y0 = (a.y.min(b.y) - reach).floor() as i64;
+        let y1 = (a.y.max(b.y) + reach).ceil() as i64;
+        for y in y0..=y1 {
+            for x in x0..=x1 {
+                if self.blocked(x, y) && piece_enters_square(seg, lo, hi, (x, y)).is_some() {
+                    return false;
+                }
+            }
+        }
+        true
+    }
+
+    /// How far along `seg` (cells) the robot drives before its square first enters a
+    /// blocked cell's square, to within [`PIECE_CELLS`] (the start of the first piece that
+    /// is not clear); `seg.length` when all of it is clear.
+    #[must_use]
+    pub fn clear_length(&self, seg: &Segment) -> f64 {
+        let mut s = 0.0;
+        while s < seg.length {
+            let p = seg.pose_at(s);
+            let m = self.margin(p.x, p.y);
+            if m >= EXACT_BELOW {
+                s += m;
+                continue;
+            }
+            let hi = (s + PIECE_CELLS).min(seg.length);
+            if !self.piece_clear(seg, s, hi) {
+                return s;
+            }
+            s = hi;
+        }
+        seg.length
+    }
+
+    /// Whether all of `seg` is clear.
+    #[must_use]
+    pub fn segment_clear(&self, seg: &Segment) -> bool {
+        if seg.length == 0.0 {
+            return self.piece_clear(seg, 0.0, 0.0);
+        }
+        self.clear_length(seg) >= seg.length
+    }
+
+    /// Whether every segment of `curve` is clear.
+    #[must_use]
+    pub fn curve_clear(&self, curve: &SmoothCurve) -> bool {
+        curve.segments.iter().all(|s| self.segment_clear(s))
+    }
+
+    /// The clearance at `p`, exactly: the Chebyshev distance from `p` to the nearest
+    /// blocked cell's centre, minus 1 (0: the robot's square touches a blocked cell).
+    #[must_use]
+    pub fn clearance_at(&self, p: Pose) -> f64 {
+        let (cx, cy) = (p.x.round() as i64, p.y.round() as i64);
+        let d = self.distance_near(p.x, p.y) as i64;
+        // The nearest blocked centre is at chessboard distance d or d + 1 from c.
+        let mut best = f64::INFINITY;
+        for ring in d.max(0)..=d + 1 {
+            for (x, y) in ring_cells(cx, cy, ring) {
+                if self.blocked(x, y) {
+                    let dist = (p.x - x as f64).abs().max((p.y - y as f64).abs());
+                    best = best.min(dist);
+                }
+            }
+        }
+        best - 1.0
+    }
+
+    /// The smallest clearance over `poses` (see [`Self::clearance_at`]), skipping poses
+    /// whose bound cannot beat the current minimum.
+    #[must_use]
+    pub fn min_clearance(&self, poses: &[Pose]) -> f64 {
+        let mut best = f64::INFINITY;
+        for p in poses {
+            if self.distance_near(p.x, p.y) - 1.5 < best {
+                best = best.min(self.clearance_at(*p));
+            }
+        }
+        best
+    }
+}
+
+/// The cells at chessboard distance exactly `ring` from `(cx, cy)`.
+fn ring_cells(cx: i64, cy: i64, ring: i64) -> Vec<(i64, i64)> {
+    if ring == 0 {
+        return vec![(cx, cy)];
+    }
+    let mut out = Vec::with_capacity(8 * ring as usize);
+    for k in -ring..=ring {
+        out.push((cx + k, cy - ring));
+        out.push((cx + k, cy + ring));
+    }
+    for k in -ring + 1..ring {
+        out.push((cx - ring, cy + k));
+        out.push((cx + ring, cy + k));
+    }
+    out
+}
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used, clippy::float_cmp)]
+mod tests {
+    use super::*;
+    use crate::smooth::curve::Gear;
+
+    #[test]
+    fn distance_field_and_clearance_by_brute_force() {
+        let mut grid = OccupancyGrid::new(9, 7, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+        for (x, y) in [(3, 2), (4, 2), (6, 5)] {
+            grid.set(x, y, Occupancy::Occupied).unwrap();
+        }
+        let field = Field::new(&grid, false);
+        for y in 0..7i64 {
+            for x in 0..9i64 {
+                let mut best = i64::MAX;
+                for by in -1..=7i64 {
+                    for bx in -1..=9i64 {
+                        if field.blocked(bx, by) {
+                            best = best.min((bx - x).abs().max((by - y).abs()));
+                        }
+                    }
+                }
+                assert_eq!(field.distance_near(x as f64, y as f64), best as f64);
+            }
+        }
+        let p = Pose::new(1.3, 3.6, 0.0);
+        // Nearest blocked centres: (3, 2) at max(1.7, 1.6) = 1.7, the border x = -1 at 2.3.
+        assert!((field.clearance_at(p) - 0.7).abs() < 1e-12);
+        let seg = Segment {
+            start: Pose::new(1.0, 4.0, 0.0),
+            curvature: 0.0,
+            length: 6.0,
+            gear: Gear::Forward,
+        };
+        // Along row 4 the square slides 2 rows below row 2: clear; along y = 2.5 it
+        // enters (3, 2)'s square at x = 2, one cell along.
+        assert!(field.segment_clear(&seg));
+        let low = Segment {
+            start: Pose::new(1.0, 2.5, 0.0),
+            ..seg
+        };
+        assert!((field.clear_length(&low) - 1.0).abs() <= PIECE_CELLS);
+    }
+}
