@@ -232,7 +232,7 @@ fn median(mut v: Vec<f64>) -> f64 {
 }
 
 #[test]
-#[ignore = "issue 37's rendered rooms, 20 s in a debug build (docs/detection.md): run with -- --ignored rendered_rooms"]
+#[ignore = "issue 37's rendered rooms, 16 renders and 48 builds (docs/detection.md): run with --release -- --ignored rendered_rooms"]
 fn rendered_rooms_with_clutter_and_a_lens_keep_their_error_bars_honest() {
     let mut rows = Vec::new();
     let mut refused = 0;
