@@ -10,6 +10,7 @@
 //! | `Map.occupancy` | `vpmap_pipeline::occupancy_grid` | `map` |
 //! | `vpmap.Grid` | `vpmap_plan::OccupancyGrid::from_cells`, `vpmap_pipeline::read_planning_map`, `vpmap_plan::write_ros_map` | `grid` |
 //! | `vpmap.plan`, `vpmap.Planner` | `vpmap_pipeline::PlanningMap::endpoint`, `vpmap_pipeline::run_planner` and the plan crate's `Planner` (as `vpmap plan`) | `plan` |
+//! | `vpmap.plan(..., planner="smooth")`, `vpmap.SmoothPath` | `vpmap_pipeline::smooth_options`, `vpmap_plan::smooth::plan_smooth`, `vpmap_pipeline::smooth_json` (as `vpmap plan --planner smooth`) | `smooth` |
 //! | `vpmap.detect` | `vpmap_vision::detect`, `vpmap_vision::scene::detected_scene` (as `vpmap detect`) | `detect` |
 //! | `vpmap.navigate` | `vpmap_plan::navigate`, `vpmap_pipeline::navigate_json` (as `vpmap navigate`) | `navigate` |
 //!
@@ -19,7 +20,7 @@
 //! panic on bad input. Long work runs with the GIL released (`Python::detach`).
 //!
 //! Modules, bottom-up: `convert` (values both ways, `VpmapError`), `grid`, `map`, `plan`,
-//! `detect`, `navigate`.
+//! `smooth`, `detect`, `navigate`.
 
 mod convert;
 mod detect;
@@ -27,6 +28,7 @@ mod grid;
 mod map;
 mod navigate;
 mod plan;
+mod smooth;
 
 use pyo3::prelude::*;
 
@@ -45,6 +47,7 @@ fn _vpmap(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<map::Map>()?;
     m.add_class::<plan::Path>()?;
     m.add_class::<plan::PyPlanner>()?;
+    m.add_class::<smooth::SmoothPath>()?;
     m.add_class::<detect::PyDetection>()?;
     m.add_function(wrap_pyfunction!(map::build, m)?)?;
     m.add_function(wrap_pyfunction!(plan::plan, m)?)?;

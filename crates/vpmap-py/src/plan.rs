@@ -15,6 +15,7 @@ use vpmap_plan::{CellXy, PlanError, Planned, Planner as _};
 
 use crate::convert::{error, point};
 use crate::grid::{Grid, cells_from_array};
+use crate::smooth::{SmoothArgs, plan_smooth_path};
 
 /// A planner's error in the command line's words, ending with the keyword that raises the
 /// budget (as `vpmap plan` ends it with the flag).
@@ -31,11 +32,16 @@ pub(crate) fn plan_error(e: &PlanError) -> PyErr {
 
 /// The planner kind by its name, as `vpmap plan --planner` reads it.
 fn planner_kind(name: &str) -> PyResult<PlannerKind> {
+    if name == "smooth" {
+        return Err(error(
+            "planner \"smooth\" is for vpmap.plan (with turning_radius); a Planner keeps a grid planner's arrays",
+        ));
+    }
     name.parse::<PlannerKind>().map_err(|e| error(&e))
 }
 
 /// The work limits of a query from the keywords.
-fn limits(
+pub(crate) fn limits(
     max_expansions: Option<usize>,
     max_bug_steps: Option<usize>,
     timeout: Option<f64>,
@@ -131,10 +137,16 @@ fn endpoints(
 /// bugs' cells (for drawing). ``max_expansions``, ``max_bug_steps`` and ``timeout`` (seconds)
 /// bound the work (defaults as ``vpmap plan``'s).
 ///
+/// ``planner="smooth"`` plans a path a car-like robot can drive (lines and arcs of radius at
+/// least ``turning_radius``, the grid's units), with optional ``start_heading`` and
+/// ``goal_heading`` (degrees, ``atan2(dy, dx)`` in the grid's coordinates; free when left
+/// out) and ``reverse`` (cusps allowed), as ``vpmap plan --planner smooth``; it returns a
+/// ``SmoothPath`` whose ``poses`` are an N x 3 array of ``(x, y, heading_deg)``.
+///
 /// Returns a ``Path`` (``found`` False when start and goal are not connected). The GIL is
 /// released while it plans. Raises ``VpmapError`` for bad input or a budget run out.
 #[pyfunction]
-#[pyo3(signature = (grid, start, goal, planner="mbpp", robot_radius=0.0, *, unknown_passable=false, tracks=false, max_expansions=None, max_bug_steps=None, timeout=None))]
+#[pyo3(signature = (grid, start, goal, planner="mbpp", robot_radius=0.0, *, unknown_passable=false, tracks=false, max_expansions=None, max_bug_steps=None, timeout=None, turning_radius=None, start_heading=None, goal_heading=None, reverse=false))]
 #[allow(clippy::too_many_arguments)]
 pub fn plan(
     py: Python<'_>,
@@ -148,10 +160,33 @@ pub fn plan(
     max_expansions: Option<usize>,
     max_bug_steps: Option<usize>,
     timeout: Option<f64>,
-) -> PyResult<Path> {
-    let kind = planner_kind(planner)?;
+    turning_radius: Option<f64>,
+    start_heading: Option<f64>,
+    goal_heading: Option<f64>,
+    reverse: bool,
+) -> PyResult<Py<PyAny>> {
     let start = point("start", start)?;
     let goal = point("goal", goal)?;
+    if planner == "smooth" {
+        let args = SmoothArgs {
+            turning_radius,
+            headings_deg: [start_heading, goal_heading],
+            reverse,
+            unknown_passable,
+            max_expansions,
+            timeout,
+        };
+        return with_planning_map(py, grid, robot_radius, |map| {
+            let path = plan_smooth_path(py, map, start, goal, &args)?;
+            Ok(Py::new(py, path)?.into_any())
+        });
+    }
+    if turning_radius.is_some() || start_heading.is_some() || goal_heading.is_some() || reverse {
+        return Err(error(format!(
+            "turning_radius, start_heading, goal_heading and reverse are for planner=\"smooth\", not \"{planner}\""
+        )));
+    }
+    let kind = planner_kind(planner)?;
     let limits = limits(max_expansions, max_bug_steps, timeout)?;
     with_planning_map(py, grid, robot_radius, |map| {
         let ends = endpoints(map, start, goal, unknown_passable)?;
@@ -169,7 +204,7 @@ pub fn plan(
             })
             .map_err(|e| plan_error(&e))?;
         let seconds = began.elapsed().as_secs_f64();
-        Path::of(py, map, kind, &outcome, seconds)
+        Ok(Py::new(py, Path::of(py, map, kind, &outcome, seconds)?)?.into_any())
     })
 }
 

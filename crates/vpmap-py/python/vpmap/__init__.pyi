@@ -111,6 +111,28 @@ class Path:
     def bugs(self) -> List[Dict[str, Any]]: ...
     def __len__(self) -> int: ...
 
+class SmoothPath:
+    """A curvature-bounded path (vpmap.plan(..., planner="smooth"))."""
+
+    found: bool
+    length: Optional[float]
+    units: Literal["m", "cells"]
+    time_s: float
+    reason: Optional[str]
+    max_curvature: Optional[float]
+    min_clearance: Optional[float]
+    cusps: int
+    @property
+    def poses(self) -> npt.NDArray[np.float64]:
+        """N x 3 (x, y, heading_deg) in the grid's units, at most a quarter cell apart."""
+    @property
+    def segments(self) -> List[Dict[str, Any]]:
+        """The lines and arcs, as vpmap plan --planner smooth --json gives them."""
+    @property
+    def answer(self) -> Dict[str, Any]:
+        """The whole answer of vpmap plan --planner smooth --json."""
+    def __len__(self) -> int: ...
+
 class Planner:
     """A planner bound to one grid, keeping its precomputation across queries."""
 
@@ -177,7 +199,7 @@ def plan(
     grid: Union[Grid, npt.ArrayLike],
     start: Point,
     goal: Point,
-    planner: PlannerName = "mbpp",
+    planner: Union[PlannerName, Literal["smooth"]] = "mbpp",
     robot_radius: float = 0.0,
     *,
     unknown_passable: bool = False,
@@ -185,7 +207,11 @@ def plan(
     max_expansions: Optional[int] = None,
     max_bug_steps: Optional[int] = None,
     timeout: Optional[float] = None,
-) -> Path:
+    turning_radius: Optional[float] = None,
+    start_heading: Optional[float] = None,
+    goal_heading: Optional[float] = None,
+    reverse: bool = False,
+) -> Union[Path, SmoothPath]:
     """A path from start to goal, as vpmap plan; cells (column, row) or metres."""
 
 def detect(
