@@ -64,7 +64,7 @@ pub enum PathViolation {
 
 /// Whether `(x, y)` is a cell the robot may occupy: inside the grid and free (or unknown
 /// when `unknown_passable`).
-fn passable(grid: &OccupancyGrid, x: i64, y: i64, unknown_passable: bool) -> bool {
+pub(crate) fn passable(grid: &OccupancyGrid, x: i64, y: i64, unknown_passable: bool) -> bool {
     let (Ok(x), Ok(y)) = (usize::try_from(x), usize::try_from(y)) else {
         return false;
     };

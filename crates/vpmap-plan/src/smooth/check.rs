@@ -26,7 +26,8 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 use thiserror::Error;
 
 use super::curve::{Gear, Pose, Segment, SmoothCurve};
-use crate::grid::{Occupancy, OccupancyGrid};
+use crate::grid::OccupancyGrid;
+use crate::validate::passable;
 
 /// Longest piece a segment is cut into for the collision test, cells.
 pub const PIECE_CELLS: f64 = 0.5;
@@ -247,18 +248,6 @@ fn piece_enters(shape: &Shape, lo: f64, hi: f64, b: (i64, i64)) -> Option<[f64; 
         [a, b] => Some(shape.at(0.5 * (a + b))).filter(|&p| inside(p)),
         _ => None,
     })
-}
-
-/// Whether the robot may stand in cell `(x, y)` (outside the grid: no).
-fn passable(grid: &OccupancyGrid, x: i64, y: i64, unknown_passable: bool) -> bool {
-    let (Ok(x), Ok(y)) = (usize::try_from(x), usize::try_from(y)) else {
-        return false;
-    };
-    match grid.get(x, y) {
-        Some(Occupancy::Free) => true,
-        Some(Occupancy::Unknown) => unknown_passable,
-        _ => false,
-    }
 }
 
 /// The first blocked cell a segment's swept square overlaps, with a point inside it.
