@@ -155,16 +155,26 @@ pub fn machine_description() -> String {
     )
 }
 
+/// The command that regenerates a published section, as a fenced `sh` block that
+/// `.ci/doc-blocks.py` leaves unrun (measurements take minutes to hours), with a blank line
+/// after it.
+#[must_use]
+pub fn command_block(command: &str) -> String {
+    format!(
+        "<!-- not run in CI: minutes to hours of measurement (the times are given with each result) -->\n```sh\n{command}\n```\n"
+    )
+}
+
 /// A published section titled `title`: where, when and how it was measured (`elapsed`,
 /// `command`), then `body`.
 #[must_use]
 pub fn published(title: &str, body: &str, elapsed: Duration, command: &str) -> String {
     format!(
-        "## {title}\n\nMeasured on {}, {} (UTC), in {:.1} s, with\n\n    {}\n\n{body}",
+        "## {title}\n\nMeasured on {}, {} (UTC), in {:.1} s, with\n\n{}\n{body}",
         machine_description(),
         utc_date(),
         elapsed.as_secs_f64(),
-        command
+        command_block(command)
     )
 }
 

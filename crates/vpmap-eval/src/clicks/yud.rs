@@ -588,48 +588,45 @@ pub fn yud_markdown(config: &YudConfig, results: &YudResults) -> String {
         );
     }
     let sd_l = label.map_or(0.0, |l| l.sd_px);
-    let after: Vec<f64> = clicks.iter().map(|c| c.error_px).collect();
-    let raw: Vec<f64> = clicks.iter().map(|c| c.raw_error_px).collect();
-    let worse = clicks
-        .iter()
-        .filter(|c| c.error_px > c.raw_error_px + 1.0)
-        .count();
-    let snapped: Vec<&YudClick> = clicks.iter().filter(|c| c.snapped).collect();
-    let (mut inside, mut inside_plain) = (0, 0);
-    for c in &snapped {
-        let Some(cov) = c.covariance_px2 else {
-            continue;
-        };
-        let l = corner_label_covariance(&c.corner, sd_l);
-        let total = [
-            [cov[0][0] + l[0][0], cov[0][1] + l[0][1]],
-            [cov[1][0] + l[1][0], cov[1][1] + l[1][1]],
-        ];
-        inside += usize::from(mahalanobis_sq(c.error_vec_px, total) <= CHI2_95);
-        inside_plain += usize::from(mahalanobis_sq(c.error_vec_px, cov) <= CHI2_95);
-    }
-    let sds: Vec<f64> = snapped.iter().filter_map(|c| c.sd_px).collect();
-    let snapped_err: Vec<f64> = snapped.iter().map(|c| c.error_px).collect();
+    let bias = label.map_or([0.0; 2], |l| l.bias_px);
+    let checks: Vec<LabelCheck> = clicks.iter().map(|c| label_check(c, bias, sd_l)).collect();
+    let subset = |keep: &dyn Fn(LabelCheck) -> bool| -> Vec<&YudClick> {
+        clicks
+            .iter()
+            .zip(&checks)
+            .filter(|(_, k)| keep(**k))
+            .map(|(c, _)| c)
+            .collect()
+    };
+    let not_outlier = subset(&|k| k != LabelCheck::Outlier);
+    let confirmed = subset(&|k| k == LabelCheck::Confirmed);
     let _ = writeln!(
         s,
-        "| clicks | median distance to the corner after snapping | p90 | raw clicks' median | made worse by > 1 px | snapped | snapped points' median distance | corner in the 95 % ellipse (labels' error added) | without it | snapped points' median sd |"
+        "| corners | median distance to the corner after snapping | p90 | raw clicks' median | made worse by > 1 px | snapped | snapped points' median distance | corner in the 95 % ellipse (labels' error added) | without it | snapped points' median sd |"
     );
     let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|");
+    let all: Vec<&YudClick> = clicks.iter().collect();
+    table_row(&mut s, &format!("every corner, {n}"), &all, sd_l);
+    table_row(
+        &mut s,
+        &format!("labels the photo does not show off, {}", not_outlier.len()),
+        &not_outlier,
+        sd_l,
+    );
+    table_row(
+        &mut s,
+        &format!("labels the photo confirms, {}", confirmed.len()),
+        &confirmed,
+        sd_l,
+    );
     let _ = writeln!(
         s,
-        "| {n} | {} px | {} px | {} px | {} ({}) | {} ({}) | {} px | {} | {} | {} px |",
-        num(median(&after), 2),
-        num(quantile_of(&after, 0.9), 2),
-        num(median(&raw), 2),
-        worse,
-        pct(worse, n),
-        snapped.len(),
-        pct(snapped.len(), n),
-        num(median(&snapped_err), 2),
-        pct(inside, snapped.len()),
-        pct(inside_plain, snapped.len()),
-        num(median(&sds), 2),
+        "\nThe labels' error is taken as a Gaussian of that sd with outliers: a labelled line farther than {LABEL_OUTLIER_SDS} robust sd ({:.2} px) from the photo's edge where it is measured (3-12 px from the corner) is an outlier, and a corner with one cannot say whether a snap is right ({} of {n} corners; where the labels drew an edge the photo does not show there). The second row leaves those out; the third also leaves out the {} corners where a line could not be measured (no edge found beside the label), which favours clear corners. Which corners are left out depends on the labels and the photo only, never on the snap.",
+        LABEL_OUTLIER_SDS * sd_l,
+        n - not_outlier.len(),
+        not_outlier.len() - confirmed.len(),
     );
+    let snapped: Vec<&YudClick> = clicks.iter().filter(|c| c.snapped).collect();
     // The floor the covariances would need on these photos: the smallest, in steps of 0.1 px,
     // that puts at least 90 % (92 %) of the labelled corners in the snapped points' 95 %
     // ellipses.
@@ -681,6 +678,82 @@ pub fn yud_markdown(config: &YudConfig, results: &YudResults) -> String {
         let _ = writeln!(s, "Clicks that stayed, by reason: {}.", list.join("; "));
     }
     s
+}
+
+/// A labelled line farther than this many robust sd from the photo's edge is an outlier.
+pub const LABEL_OUTLIER_SDS: f64 = 3.0;
+
+/// What the photo says of a corner's two labelled lines, each compared with the photo's edge
+/// where it was measured (after the labels' mean offset `bias_px`): within
+/// [`LABEL_OUTLIER_SDS`] robust sd (`sd_px`), farther, or not measured (no edge found).
+#[must_use]
+pub fn label_check(click: &YudClick, bias_px: [f64; 2], sd_px: f64) -> LabelCheck {
+    let mut check = LabelCheck::Confirmed;
+    for k in 0..2 {
+        match click.label_offsets_px[k] {
+            None => check = LabelCheck::Unmeasured,
+            Some(d) => {
+                let n = click.corner.normals[k];
+                if (d - n[0] * bias_px[0] - n[1] * bias_px[1]).abs() > LABEL_OUTLIER_SDS * sd_px {
+                    return LabelCheck::Outlier;
+                }
+            }
+        }
+    }
+    check
+}
+
+/// What the photo says of a labelled corner ([`label_check`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum LabelCheck {
+    /// Both labelled lines lie within [`LABEL_OUTLIER_SDS`] sd of the photo's edges.
+    Confirmed,
+    /// Neither is off, but at least one could not be measured (no edge found there).
+    Unmeasured,
+    /// A labelled line lies farther than [`LABEL_OUTLIER_SDS`] sd from the photo's edge.
+    Outlier,
+}
+
+/// One row of the table: the clicks `clicks`, named `name`.
+fn table_row(s: &mut String, name: &str, clicks: &[&YudClick], sd_l: f64) {
+    let n = clicks.len();
+    let after: Vec<f64> = clicks.iter().map(|c| c.error_px).collect();
+    let raw: Vec<f64> = clicks.iter().map(|c| c.raw_error_px).collect();
+    let worse = clicks
+        .iter()
+        .filter(|c| c.error_px > c.raw_error_px + 1.0)
+        .count();
+    let snapped: Vec<&&YudClick> = clicks.iter().filter(|c| c.snapped).collect();
+    let (mut inside, mut inside_plain) = (0, 0);
+    for c in &snapped {
+        let Some(cov) = c.covariance_px2 else {
+            continue;
+        };
+        let l = corner_label_covariance(&c.corner, sd_l);
+        let total = [
+            [cov[0][0] + l[0][0], cov[0][1] + l[0][1]],
+            [cov[1][0] + l[1][0], cov[1][1] + l[1][1]],
+        ];
+        inside += usize::from(mahalanobis_sq(c.error_vec_px, total) <= CHI2_95);
+        inside_plain += usize::from(mahalanobis_sq(c.error_vec_px, cov) <= CHI2_95);
+    }
+    let sds: Vec<f64> = snapped.iter().filter_map(|c| c.sd_px).collect();
+    let snapped_err: Vec<f64> = snapped.iter().map(|c| c.error_px).collect();
+    let _ = writeln!(
+        s,
+        "| {name} | {} px | {} px | {} px | {} ({}) | {} ({}) | {} px | {} | {} | {} px |",
+        num(median(&after), 2),
+        num(quantile_of(&after, 0.9), 2),
+        num(median(&raw), 2),
+        worse,
+        pct(worse, n),
+        snapped.len(),
+        pct(snapped.len(), n),
+        num(median(&snapped_err), 2),
+        pct(inside, snapped.len()),
+        pct(inside_plain, snapped.len()),
+        num(median(&sds), 2),
+    );
 }
 
 /// The snapping options of a run.
@@ -748,6 +821,51 @@ fn clamp_into(p: [f64; 2], image: &SnapImage) -> [f64; 2] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_label_is_an_outlier_only_where_the_photo_shows_its_line_off() {
+        let click = |offsets: [Option<f64>; 2]| YudClick {
+            photo: "p".to_owned(),
+            corner: LabelledCorner {
+                point_px: [10.0, 10.0],
+                segments: [0, 1],
+                normals: [[1.0, 0.0], [0.0, 1.0]],
+            },
+            raw_error_px: 1.0,
+            error_px: 1.0,
+            snapped: false,
+            sd_px: None,
+            covariance_px2: None,
+            kept: None,
+            exact_moved_px: 0.0,
+            error_vec_px: [0.0; 2],
+            label_offsets_px: offsets,
+            edges: Vec::new(),
+        };
+        let sd = 0.5;
+        // 3 sd = 1.5 px; a bias of 0.2 px along x moves the first line's allowance.
+        let bias = [0.2, 0.0];
+        assert_eq!(
+            label_check(&click([Some(1.6), Some(-1.4)]), bias, sd),
+            LabelCheck::Confirmed
+        );
+        assert_eq!(
+            label_check(&click([Some(-1.4), Some(0.0)]), bias, sd),
+            LabelCheck::Outlier
+        );
+        assert_eq!(
+            label_check(&click([Some(0.1), Some(1.6)]), bias, sd),
+            LabelCheck::Outlier
+        );
+        assert_eq!(
+            label_check(&click([None, Some(0.3)]), bias, sd),
+            LabelCheck::Unmeasured
+        );
+        assert_eq!(
+            label_check(&click([None, Some(2.0)]), bias, sd),
+            LabelCheck::Outlier
+        );
+    }
 
     #[test]
     fn two_segments_meeting_at_their_ends_make_one_corner_where_their_lines_cross() {

@@ -436,10 +436,10 @@ impl Report {
             .trim_start();
         format!(
             "## Vanishing-point detection on real photos (`vpmap eval-detect`)\n\n\
-             Measured on {}, {}, with\n\n    {}\n\n{body}",
+             Measured on {}, {}, with\n\n{}\n{body}",
             crate::publish::machine_description(),
             crate::publish::utc_now(),
-            command
+            crate::publish::command_block(command)
         )
     }
 }
