@@ -106,6 +106,7 @@ covariances() {
 covariances 1e-150 > "$tmp/cov-tiny.json"
 covariances 1e300 > "$tmp/cov-huge.json"
 mkfifo "$tmp/out.fifo"
+printf '| input | wall time | peak memory | exit | answer |\n|---|---|---|---|---|\n'
 row "\`snap\` on an 8000 x 8000 photo of another size (was 1.9 s, 434 MB)" "$VPMAP" snap "$tmp/grey8000.png" "$tmp/synth.json" -o "$tmp/snapped.json"
 row "\`snap\` on a 16-bit 12000 x 12000 PNG with an EXIF quarter turn (was 2.2 GB)" "$VPMAP" snap "$tmp/turned12000.png" "$tmp/synth12000.json" -o "$tmp/snapped.json"
 sed 's/"width": [0-9]*/"width": 8000/; s/"height": [0-9]*/"height": 8000/' "$tmp/synth.json" > "$tmp/synth8000.json"
@@ -117,6 +118,45 @@ row "\`synth --truth X -o X\` (the truth lost)" "$VPMAP" synth -o "$tmp/s.json" 
 row "\`synth --noise 1e308\` (exit 0, nulls written)" "$VPMAP" synth --noise 1e308 -o "$tmp/s.json"
 row "\`build\`, a click variance of 1e-150 px^2 (was \"RMS 7.6e61 px\")" "$VPMAP" build "$tmp/cov-tiny.json" --out "$tmp/cov-out"
 row "\`build\`, a click variance of 1e300 px^2 (300-digit numbers)" "$VPMAP" build "$tmp/cov-huge.json" --out "$tmp/cov-out"
+# Rooms at the limit of 1,000 objects in all photos (issue 40: 4 photos of 500 objects took 20 s,
+# 16 of 100 took 50 s before the limit): a synthetic room of 4 photos and 99 boxes, its second
+# photo repeated up to 10 photos (979 objects) and beyond the limit (1078); its photos cut to 62
+# objects and repeated to 16 photos (992).
+"$VPMAP" synth --photos 4 --boxes 99 --seed 3 -o "$tmp/room4.json" > /dev/null
+python3 - "$tmp" <<'PY'
+import copy, json, sys
+tmp = sys.argv[1]
+room = json.load(open(f"{tmp}/room4.json"))
+count = lambda r: sum(len(p["objects"]) for p in r["photos"])
+ten = copy.deepcopy(room)
+while count(ten) + len(room["photos"][1]["objects"]) <= 1000:
+    ten["photos"].append(copy.deepcopy(room["photos"][1]))
+json.dump(ten, open(f"{tmp}/room-most.json", "w"))
+ten["photos"].append(copy.deepcopy(room["photos"][1]))
+json.dump(ten, open(f"{tmp}/room-over.json", "w"))
+sixteen = copy.deepcopy(room)
+for p in sixteen["photos"]:
+    p["objects"] = p["objects"][:62]
+while len(sixteen["photos"]) < 16:
+    sixteen["photos"].append(copy.deepcopy(sixteen["photos"][len(sixteen["photos"]) % 4]))
+json.dump(sixteen, open(f"{tmp}/room-16.json", "w"))
+# One photo of 500 objects (the limit): the room's first photo, its objects repeated under new
+# names, with a lens whose k has an sd (three fits).
+photo = copy.deepcopy(room["photos"][0])
+objects, k = [], 0
+while len(objects) < 500:
+    for o in photo["objects"]:
+        objects.append(dict(o, name=f"{o['name']}-{k}"))
+    k += 1
+photo["objects"] = objects[:500]
+photo["lens_distortion"] = {"k": 0.0, "k_sd": 0.01}
+json.dump(photo, open(f"{tmp}/photo-500.json", "w"))
+PY
+row "\`build\`, one photo of 500 objects (the limit) and a lens with an sd" "$VPMAP" build "$tmp/photo-500.json" --out "$tmp/photo-out"
+row "\`build\`, a room of 4 photos and 99 boxes (385 objects in all)" "$VPMAP" build "$tmp/room4.json" --out "$tmp/room-out"
+row "\`build\`, a room of 10 photos, 979 objects in all (within the limit)" "$VPMAP" build "$tmp/room-most.json" --out "$tmp/room-out"
+row "\`build\`, a room of 16 photos, 992 objects in all (16 x 100 took 50 s)" "$VPMAP" build "$tmp/room-16.json" --out "$tmp/room-out"
+row "\`build\`, a room of 11 photos, 1078 objects in all (over the limit)" "$VPMAP" build "$tmp/room-over.json" --out "$tmp/room-out"
 echo
 
 # Memory a cell takes: the office map.json planned on at two resolutions by each planner; the

@@ -1,7 +1,9 @@
 //! Stopping long work early ([`Interrupt`]): a deadline, a flag another thread sets (the
-//! server sets it when the client of a request has gone), or both. The room fit
-//! ([`crate::room::fit_room_until`]) looks at one before each photo's own fit, before each
-//! placement hypothesis and at every evaluation of its Levenberg-Marquardt iterations;
+//! server sets it when the client of a request has gone), or both. A photo's fit
+//! ([`crate::fit::fit_scene_until`]) looks at one before each start and each
+//! Levenberg-Marquardt iteration; the room fit ([`crate::room::fit_room_until`]) before each
+//! photo's own fit (and inside it, as a photo's fit), before each placement hypothesis and at
+//! every evaluation of its Levenberg-Marquardt iterations;
 //! `vpmap_vision`'s box proposals before each candidate corner. Without a deadline or a flag
 //! ([`Interrupt::default`]) nothing is ever interrupted.
 

@@ -38,8 +38,9 @@ pub struct ServerLimits {
     /// grid, then its planners (a planner starting late gets only what is left). A room's fit
     /// (a scene of several photos) counts in it too.
     pub plan_timeout: Duration,
-    /// Time allowed to the fit of a room (a scene of several photos) in one `/api/build`
-    /// request, from when it takes its slot; beyond it the request is answered with 400.
+    /// Time allowed to the fit of a photo or a room (a scene of several photos) in one
+    /// `/api/build` request, from when it takes its slot; beyond it the request is answered
+    /// with 400.
     pub build_timeout: Duration,
     /// Time allowed to the search for box proposals of one `/api/propose` request, from when
     /// it takes its slot (finding the photo's segments, on first use, counts in it but is

@@ -9,6 +9,7 @@ use super::model::{BoxAxes, Camera, CornerClick, Part, VpEvidence, px};
 use super::solve::{Model, Problem};
 use crate::camera::rotation_map_from_camera;
 use crate::error::{MetrologyError, Result};
+use crate::interrupt::Interrupt;
 use crate::scene::{ImageSize, ObjectShape, Scale, Scene, VpChart};
 
 /// The problem and where to start it.
@@ -670,6 +671,7 @@ pub(crate) fn build(
                 offsets: Vec::new(),
                 vps: vps.clone(),
                 weights: Vec::new(),
+                interrupt: Interrupt::default(),
             };
             let mut c = c.to_vec();
             if free_pp {
@@ -707,6 +709,7 @@ pub(crate) fn build(
                 offsets,
                 vps: vps.clone(),
                 weights,
+                interrupt: Interrupt::default(),
             };
             let mut x0 = c;
             x0.extend(params);

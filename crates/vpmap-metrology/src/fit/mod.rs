@@ -31,6 +31,7 @@ use nalgebra::{Vector2, Vector3};
 
 use crate::calibration::{Calibration, HorizonFrame, Perspective};
 use crate::error::{MetrologyError, Result};
+use crate::interrupt::Interrupt;
 use crate::reconstruct::{
     Method, ObjectKind, ReconstructedObject, Reconstruction, require_below_horizon,
 };
@@ -64,6 +65,40 @@ pub const MAX_FOCAL_DIAGONALS: f64 = 40.0;
 /// - the vanishing-point errors of [`Scene::resolve_vanishing_points`] when no starting
 ///   camera can be found.
 pub fn fit_scene(scene: &Scene, options: &FitOptions) -> Result<Fitted> {
+    fit_scene_until(scene, options, &Interrupt::default())
+}
+
+/// [`fit_scene`], stopping early when `interrupt` fires: it is looked at before every
+/// Levenberg-Marquardt iteration of every start, so the fit stops within one iteration.
+///
+/// # Errors
+/// As [`fit_scene`], and [`MetrologyError::Interrupted`] when `interrupt` fires.
+pub fn fit_scene_until(
+    scene: &Scene,
+    options: &FitOptions,
+    interrupt: &Interrupt,
+) -> Result<Fitted> {
+    let result = fit_scene_orders(scene, options, interrupt);
+    // An interrupted minimiser returns where it was: not a result (nor its failure).
+    stop_if_interrupted(scene, interrupt)?;
+    let mut fitted = result?;
+    fitted.problem.interrupt = Interrupt::default();
+    Ok(fitted)
+}
+
+/// [`MetrologyError::Interrupted`] when `interrupt` has fired, naming the photo's fit.
+fn stop_if_interrupted(scene: &Scene, interrupt: &Interrupt) -> Result<()> {
+    match interrupt.check() {
+        Some(reason) => Err(MetrologyError::Interrupted {
+            work: format!("the fit of a photo of {} objects", scene.objects.len()),
+            reason,
+        }),
+        None => Ok(()),
+    }
+}
+
+/// The fit of every reading of the vanishing points (see [`fit_scene`]).
+fn fit_scene_orders(scene: &Scene, options: &FitOptions, interrupt: &Interrupt) -> Result<Fitted> {
     if let Some(lens) = scene.lens_distortion.filter(|l| l.k != 0.0) {
         return Err(MetrologyError::InvalidField {
             field: "lens_distortion".to_owned(),
@@ -79,7 +114,8 @@ pub fn fit_scene(scene: &Scene, options: &FitOptions) -> Result<Fitted> {
     let mut best: Option<(f64, Fitted)> = None;
     let mut first_error = None;
     for order in init::vanishing_point_orders(scene)? {
-        match fit_order(scene, order, options) {
+        stop_if_interrupted(scene, interrupt)?;
+        match fit_order(scene, order, options, interrupt) {
             Ok(fitted) => {
                 let cost = fitted.problem.cost(&fitted.x);
                 if best
@@ -109,14 +145,20 @@ const TIE_COST_PX2: f64 = 1e-9;
 
 /// The fit for one reading of the vanishing points: the principal point fitted where the
 /// scene allows it, else (or when that fails) held at the image centre, with a warning.
-fn fit_order(scene: &Scene, order: [usize; 3], options: &FitOptions) -> Result<Fitted> {
-    match fit_with(scene, true, order, options) {
+fn fit_order(
+    scene: &Scene,
+    order: [usize; 3],
+    options: &FitOptions,
+    interrupt: &Interrupt,
+) -> Result<Fitted> {
+    match fit_with(scene, true, order, options, interrupt) {
         Ok(fitted) => Ok(fitted),
         Err((e, false)) => Err(e),
         // The vanishing points did not fix the principal point after all (nearly parallel
         // edges meeting far outside the image): hold it at the image centre and say so.
         Err((free_error, true)) => {
-            let mut fitted = fit_with(scene, false, order, options).map_err(|(e, _)| e)?;
+            let mut fitted =
+                fit_with(scene, false, order, options, interrupt).map_err(|(e, _)| e)?;
             fitted.calibration.warnings.push(format!(
                 "the three vanishing points do not fix the principal point ({free_error}); it was held at the image centre ({:.1}, {:.1})",
                 scene.image.centre().x,
@@ -134,6 +176,7 @@ fn fit_with(
     fit_pp: bool,
     order: [usize; 3],
     options: &FitOptions,
+    interrupt: &Interrupt,
 ) -> std::result::Result<Fitted, (MetrologyError, bool)> {
     // Evidence with its own uncertainty weighs against the clicks in their noise: given, 1 px
     // for clicks with covariances (absolute), else estimated below.
@@ -169,7 +212,10 @@ fn fit_with(
         };
         let k = next;
         next += 1;
-        match run(scene, &start.problem, start.x0.clone()) {
+        stop_if_interrupted(scene, interrupt).map_err(|e| (e, false))?;
+        let mut problem = start.problem.clone();
+        problem.interrupt = interrupt.clone();
+        match run(scene, &problem, start.x0.clone()) {
             Ok(sol) => {
                 let dof = start
                     .problem

@@ -14,6 +14,7 @@
 use nalgebra::{DMatrix, DVector, Matrix2, Vector2};
 
 use super::model::{Camera, Part, VpEvidence, vp_residual_count, vp_residuals};
+use crate::interrupt::Interrupt;
 
 /// The least-squares problem: camera parameters first, then each part's.
 #[derive(Debug, Clone)]
@@ -34,6 +35,8 @@ pub(crate) struct Problem {
     /// Per part, per clicked point, the whitening of its covariance when the scene gives one
     /// (empty when it gives none): the point's residual is `W r`.
     pub weights: Vec<Vec<Option<Matrix2<f64>>>>,
+    /// Stops the minimiser early ([`minimise`] looks at it before every iteration).
+    pub interrupt: Interrupt,
 }
 
 /// The blocks of `J^T J` and `J^T r` at one point.
@@ -98,6 +101,11 @@ pub(crate) trait Model {
         p: &[f64],
         out: &mut [f64],
     ) -> bool;
+
+    /// Whether the work must stop ([`minimise`] then returns where it is, not converged).
+    fn stopped(&self) -> bool {
+        false
+    }
 
     /// Whether some clicks carry their own covariance (then the click noise of the error
     /// bars is 1 px unless given: the covariances are absolute).
@@ -327,6 +335,10 @@ impl Model for Problem {
         self.camera(c)
     }
 
+    fn stopped(&self) -> bool {
+        self.interrupt.check().is_some()
+    }
+
     fn part_residuals_with(&self, i: usize, camera: &Camera, p: &[f64], out: &mut [f64]) -> bool {
         let ok = self.parts[i].residuals(camera, p, out);
         if let Some(ws) = self.weights.get(i) {
@@ -489,6 +501,9 @@ pub(crate) fn minimise<M: Model + ?Sized>(problem: &M, x0: Vec<f64>) -> Option<S
     let mut iterations = 0;
     let mut converged = false;
     while iterations < MAX_ITERATIONS {
+        if problem.stopped() {
+            break;
+        }
         iterations += 1;
         let normal = problem.normal(&x)?;
         let (gc, go) = normal.gradient();

@@ -14,7 +14,7 @@ use super::types::{FitReport, FloorMap, MapObject, Units};
 use super::warnings::{crossing_warnings, fit_warnings};
 use crate::camera::room_yaw_rad;
 use crate::error::Result;
-use crate::fit::{FitOptions, fit_scene};
+use crate::fit::{FitOptions, fit_scene_until};
 use crate::interrupt::Interrupt;
 use crate::reconstruct::{Method, ObjectKind};
 use crate::scene::Scene;
@@ -37,9 +37,9 @@ pub fn build_map(scene: &Scene, options: &BuildOptions) -> Result<FloorMap> {
     build_map_until(scene, options, &Interrupt::default())
 }
 
-/// [`build_map`], stopping early when `interrupt` fires while a room is fitted
-/// ([`crate::room::fit_room_until`]; a scene of one photo is not interrupted: its fit is
-/// bounded by the scene's size limits).
+/// [`build_map`], stopping early when `interrupt` fires while a photo's fit
+/// ([`crate::fit::fit_scene_until`], method `fit`) or a room's
+/// ([`crate::room::fit_room_until`]) runs.
 ///
 /// # Errors
 /// As [`build_map`], and [`crate::MetrologyError::Interrupted`] when `interrupt` fires.
@@ -63,22 +63,37 @@ pub fn build_map_until(
         }
         return Ok(map);
     }
-    let mut map = build_photo(&pinhole, options, true)?;
+    let mut map = build_photo(&pinhole, options, true, interrupt)?;
     map.camera.lens_distortion = scene.lens_distortion;
-    super::lens::add_lens_spread(scene, &mut map, |s| build_photo(s, options, false));
+    super::lens::add_lens_spread(scene, &mut map, |s| {
+        build_photo(s, options, false, interrupt)
+    });
+    // The lens's spread leaves out a fit that failed; one that was interrupted is no map.
+    if let Some(reason) = interrupt.check() {
+        return Err(crate::MetrologyError::Interrupted {
+            work: format!("the fit of a photo of {} objects", scene.objects.len()),
+            reason,
+        });
+    }
     Ok(map)
 }
 
 /// [`build_map`] of one photo as a pinhole camera saw it (clicks undistorted), with the fit's
 /// error bars when `uncertainty` (method `fit`).
-fn build_photo(scene: &Scene, options: &BuildOptions, uncertainty: bool) -> Result<FloorMap> {
+fn build_photo(
+    scene: &Scene,
+    options: &BuildOptions,
+    uncertainty: bool,
+    interrupt: &Interrupt,
+) -> Result<FloorMap> {
     let fitted = if options.method == Method::Fit {
         // The given click noise also weighs the evidence that has its own uncertainty.
-        Some(fit_scene(
+        Some(fit_scene_until(
             scene,
             &FitOptions {
                 click_sigma_px: options.click_sigma_px,
             },
+            interrupt,
         )?)
     } else {
         None

@@ -15,7 +15,7 @@ use crate::calibration::{Calibration, Perspective};
 use crate::error::{MetrologyError, Result};
 use crate::fit::model::{BoxAxes, Part, px};
 use crate::fit::solve::{Model, Singular, minimise};
-use crate::fit::{FitOptions, MAX_FOCAL_DIAGONALS, PointResidual, calibration_of, fit_scene};
+use crate::fit::{FitOptions, MAX_FOCAL_DIAGONALS, PointResidual, calibration_of, fit_scene_until};
 use crate::interrupt::Interrupt;
 use crate::reconstruct::{ObjectKind, ReconstructedObject};
 use crate::scene::{Scale, Scene};
@@ -436,7 +436,9 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
     let mut fits = Vec::with_capacity(photos.len());
     for (k, p) in photos.iter().enumerate() {
         stop_if_interrupted(scene, interrupt)?;
-        let fitted = fit_scene(p, &FitOptions::default()).map_err(|e| in_photo(k, e))?;
+        let fitted = fit_scene_until(p, &FitOptions::default(), interrupt);
+        stop_if_interrupted(scene, interrupt)?;
+        let fitted = fitted.map_err(|e| in_photo(k, e))?;
         fits.push(PhotoFit::new(fitted, p));
     }
     let n = photos.len();

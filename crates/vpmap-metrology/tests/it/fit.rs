@@ -419,3 +419,66 @@ fn a_top_below_its_base_is_refused_with_the_objects_name() {
         "{e}"
     );
 }
+
+#[test]
+fn a_photos_fit_stops_when_interrupted_and_is_unchanged_when_not() {
+    use std::sync::Arc;
+    use std::sync::atomic::AtomicBool;
+    use std::time::Duration;
+    use vpmap_metrology::MetrologyError;
+    use vpmap_metrology::fit::{FitOptions, fit_scene, fit_scene_until};
+    use vpmap_metrology::interrupt::{Interrupt, Interruption};
+    use vpmap_metrology::map::build_map_until;
+
+    let cam = camera(25.0, 2.0);
+    let boxes = [
+        boxed([-1.5, 3.0], 0.8, 0.6, 0.9, ROOM_YAW_DEG),
+        boxed([0.8, 3.5], 0.7, 0.5, 0.6, ROOM_YAW_DEG),
+        boxed([-0.2, 5.5], 1.0, 0.4, 1.2, ROOM_YAW_DEG),
+    ];
+    let (scene, _) = scene_of(&cam, &boxes);
+    let options = FitOptions::default();
+    // A flag already set: the fit stops before its first iteration and says what it stopped.
+    let cancelled = Interrupt::default().with_flag(Arc::new(AtomicBool::new(true)));
+    match fit_scene_until(&scene, &options, &cancelled) {
+        Err(MetrologyError::Interrupted { work, reason }) => {
+            assert_eq!(work, "the fit of a photo of 3 objects");
+            assert_eq!(reason, Interruption::Cancelled);
+        }
+        other => panic!("{:?}", other.map(|_| ())),
+    }
+    let build = BuildOptions {
+        method: Method::Fit,
+        click_sigma_px: None,
+    };
+    let e = build_map_until(&scene, &build, &cancelled).map(|_| ());
+    assert!(
+        matches!(e, Err(MetrologyError::Interrupted { .. })),
+        "{e:?}"
+    );
+    // A deadline that has passed.
+    let late = Interrupt::default().with_timeout(Duration::ZERO);
+    let e = fit_scene_until(&scene, &options, &late).map(|_| ());
+    assert!(
+        matches!(
+            e,
+            Err(MetrologyError::Interrupted {
+                reason: Interruption::TimeLimit { .. },
+                ..
+            })
+        ),
+        "{e:?}"
+    );
+    // Far from its deadline, the same fit as without one.
+    let far = Interrupt::default().with_timeout(Duration::from_secs(3600));
+    let a = fit_scene(&scene, &options).unwrap_or_else(|e| panic!("{e}"));
+    let b = fit_scene_until(&scene, &options, &far).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(a.rms_residual_px.to_bits(), b.rms_residual_px.to_bits());
+    assert_eq!(a.iterations, b.iterations);
+    assert_eq!(
+        a.calibration.focal_px.to_bits(),
+        b.calibration.focal_px.to_bits()
+    );
+    let map = build_map_until(&scene, &build, &far).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(map.objects.len(), 3);
+}
