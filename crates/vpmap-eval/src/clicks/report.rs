@@ -39,7 +39,7 @@ pub fn summary_markdown(config: &Config, results: &Results) -> String {
         "{} rooms (1600 x 1200 px, focal length 1100 px, pitch 10/20/30 degrees, four boxes and a pentagonal prism each), rendered with shaded textured faces, {}; vanishing points detected in {detected} photos (the true ones otherwise){}. Click noise: Gaussian, `sigma` px per coordinate; search radius `2.45 sigma` (3 to 16 px).\n",
         trials.len(),
         if config.cluttered {
-            "0.7 px blur growing to 1.4 px at the photo's corners, noise of 2 grey levels, three clutter strokes near every corner, two occluding bars, barrel distortion k = -0.06 and JPEG at quality 85"
+            "0.7 px blur growing to 1.4 px at the photo's corners, noise of 2 grey levels, three clutter strokes near every corner, two occluding bars, barrel distortion k = -0.06 (the fits are told it, as a calibrated lens) and JPEG at quality 85"
         } else {
             "0.7 px blur, noise of 2 grey levels and JPEG at quality 90"
         },

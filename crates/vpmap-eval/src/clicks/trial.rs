@@ -6,7 +6,7 @@ use rand_chacha::ChaCha8Rng;
 use vpmap_metrology::eval::{evaluate_map, noise_seed};
 use vpmap_metrology::map::{BuildOptions, build_map};
 use vpmap_metrology::reconstruct::{Method, ObjectKind};
-use vpmap_metrology::scene::{ImageSize, Scene};
+use vpmap_metrology::scene::{ImageSize, LensDistortion, Scene};
 use vpmap_metrology::synth::{
     SynthOptions, Truth, add_noise, synthesize, vanishing_points_as_lines,
 };
@@ -223,6 +223,16 @@ pub fn run_clicks_trial(config: &Config, trial: u64) -> TrialResult {
                 error_px: dist(point, t.point_px),
                 chi2,
             });
+        }
+        // The clicks are where the photo shows them: through its lens, which the fits are
+        // told (as a calibrated lens: known `k`).
+        if photo.distortion_k != 0.0 {
+            let lens = Some(LensDistortion {
+                k: photo.distortion_k,
+                k_sd: None,
+            });
+            raw_scene.lens_distortion = lens;
+            snapped.lens_distortion = lens;
         }
         let mut noisy = raw_scene;
         vanishing_points_as_lines(&mut noisy);
