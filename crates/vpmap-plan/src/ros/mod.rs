@@ -28,8 +28,14 @@ use std::path::{Path, PathBuf};
 use serde::Deserialize;
 
 use crate::error::{PlanError, Result};
-use crate::grid::{MAX_CELLS, Occupancy, OccupancyGrid, checked_cell_count};
+use crate::grid::{Occupancy, OccupancyGrid};
 use vpmap_files::num;
+
+mod image;
+mod write;
+
+use image::decode_image;
+pub use write::write_ros_map;
 
 /// Smallest `resolution` a map YAML may give: 10 micrometres a cell.
 pub const MIN_RESOLUTION_M: f64 = 1e-5;
@@ -132,145 +138,6 @@ pub fn encode_ros_map(grid: &OccupancyGrid, image_file_name: &str) -> (String, V
         Occupancy::Unknown => UNKNOWN_PIXEL,
     }));
     (yaml, pgm)
-}
-
-/// The I/O error of `action` on `path`.
-fn io_error(action: &'static str, path: &Path) -> impl FnOnce(std::io::Error) -> PlanError {
-    let path = path.to_path_buf();
-    move |source| PlanError::Io {
-        action,
-        path,
-        source,
-    }
-}
-
-/// A hidden file beside `path` for this process: `.<name>.<pid>.<what>`.
-fn beside(path: &Path, what: &str) -> Result<PathBuf> {
-    let name = path.file_name().ok_or_else(|| PlanError::Io {
-        action: "write",
-        path: path.to_path_buf(),
-        source: std::io::Error::new(
-            std::io::ErrorKind::InvalidInput,
-            "the path has no file name",
-        ),
-    })?;
-    let mut hidden = std::ffi::OsString::from(".");
-    hidden.push(name);
-    hidden.push(format!(".{}.{what}", std::process::id()));
-    Ok(path.with_file_name(hidden))
-}
-
-/// Write `files` (path, bytes) all or nothing: every one to a temporary file beside it, then
-/// the old ones moved aside, the new ones renamed into place, the old ones removed. On any
-/// failure the temporary files are removed and every old file is put back, so the folder is
-/// as it was.
-fn write_all_or_nothing(files: &[(&Path, &[u8])]) -> Result<()> {
-    let mut temps: Vec<PathBuf> = Vec::with_capacity(files.len());
-    let cleanup = |temps: &[PathBuf]| {
-        for t in temps {
-            let _ = std::fs::remove_file(t);
-        }
-    };
-    for (path, bytes) in files {
-        let tmp = beside(path, "tmp").inspect_err(|_| cleanup(&temps))?;
-        if let Err(e) = std::fs::write(&tmp, bytes) {
-            let _ = std::fs::remove_file(&tmp);
-            cleanup(&temps);
-            return Err(io_error("write", &tmp)(e));
-        }
-        temps.push(tmp);
-    }
-    // (path, its old file moved aside, whether the new one is in place)
-    let mut moved: Vec<(&Path, Option<PathBuf>, bool)> = Vec::with_capacity(files.len());
-    let undo = |moved: &[(&Path, Option<PathBuf>, bool)]| {
-        for (path, old, placed) in moved.iter().rev() {
-            if *placed {
-                let _ = std::fs::remove_file(path);
-            }
-            if let Some(old) = old {
-                let _ = std::fs::rename(old, path);
-            }
-        }
-    };
-    for ((path, _), tmp) in files.iter().zip(&temps) {
-        let old = if path.exists() {
-            let backup = match beside(path, "old") {
-                Ok(b) => b,
-                Err(e) => {
-                    undo(&moved);
-                    cleanup(&temps);
-                    return Err(e);
-                }
-            };
-            if let Err(e) = std::fs::rename(path, &backup) {
-                undo(&moved);
-                cleanup(&temps);
-                return Err(io_error("move aside", path)(e));
-            }
-            Some(backup)
-        } else {
-            None
-        };
-        moved.push((path, old, false));
-        if let Err(e) = std::fs::rename(tmp, path) {
-            undo(&moved);
-            cleanup(&temps);
-            return Err(io_error("rename to", path)(e));
-        }
-        if let Some(last) = moved.last_mut() {
-            last.2 = true;
-        }
-    }
-    for (_, old, _) in &moved {
-        if let Some(old) = old {
-            let _ = std::fs::remove_file(old);
-        }
-    }
-    Ok(())
-}
-
-/// Write a grid as `map_server` files: the YAML at `yaml_path` and the PGM image beside it,
-/// named after it with the extension `pgm`. Returns the image's path.
-///
-/// Both files are written or neither: a failure leaves the folder as it was (the previous map's
-/// files kept). An existing path that is not a regular file (a folder, a device, a FIFO) is
-/// refused and left untouched.
-///
-/// # Errors
-/// [`PlanError::Io`] naming the file that could not be written, or `yaml_path` when it
-/// ends in `.pgm`; [`PlanError::File`] for a path that is not a regular file.
-///
-/// # Example
-/// ```
-/// use vpmap_plan::{read_ros_map, write_ros_map, Occupancy, OccupancyGrid};
-/// let dir = tempfile::tempdir().unwrap();
-/// let grid = OccupancyGrid::new(4, 2, 0.1, [0.0, -0.2], Occupancy::Unknown).unwrap();
-/// let image = write_ros_map(&grid, &dir.path().join("room.yaml")).unwrap();
-/// assert_eq!(image, dir.path().join("room.pgm"));
-/// assert_eq!(read_ros_map(&dir.path().join("room.yaml")).unwrap(), grid);
-/// ```
-pub fn write_ros_map(grid: &OccupancyGrid, yaml_path: &Path) -> Result<PathBuf> {
-    let image_path = yaml_path.with_extension("pgm");
-    if image_path == yaml_path {
-        return Err(PlanError::Io {
-            action: "write",
-            path: yaml_path.to_path_buf(),
-            source: std::io::Error::new(
-                std::io::ErrorKind::InvalidInput,
-                "the map YAML file must not have the image's extension `.pgm`",
-            ),
-        });
-    }
-    let image_name = image_path
-        .file_name()
-        .map(|n| n.to_string_lossy().into_owned())
-        .unwrap_or_default();
-    // Regular files or new paths only (never a device, FIFO or folder), both or neither.
-    vpmap_files::check_output_path(&image_path)?;
-    vpmap_files::check_output_path(yaml_path)?;
-    let (yaml, pgm) = encode_ros_map(grid, &image_name);
-    write_all_or_nothing(&[(&image_path, &pgm), (yaml_path, yaml.as_bytes())])?;
-    Ok(image_path)
 }
 
 /// How pixel values map to occupancy (`mode` of the YAML file).
@@ -458,217 +325,6 @@ fn parse_map_yaml(text: &str, yaml_path: &Path) -> Result<MapYaml> {
     })
 }
 
-/// A decoded greyscale image, rows from the top.
-#[derive(Debug, Clone, PartialEq)]
-struct GreyImage {
-    width: usize,
-    height: usize,
-    /// Largest possible sample value (PGM maxval; 255 for PNG).
-    max_value: u8,
-    grey: Vec<u8>,
-    /// Alpha per pixel, when the image has an alpha channel.
-    alpha: Option<Vec<u8>>,
-}
-
-/// A cursor over a PGM header.
-struct PgmHeader<'a> {
-    bytes: &'a [u8],
-    pos: usize,
-}
-
-impl PgmHeader<'_> {
-    /// Skip whitespace and `#` comments.
-    fn skip_space(&mut self) {
-        while let Some(&b) = self.bytes.get(self.pos) {
-            if b == b'#' {
-                while self
-                    .bytes
-                    .get(self.pos)
-                    .is_some_and(|&c| c != b'\n' && c != b'\r')
-                {
-                    self.pos += 1;
-                }
-            } else if b.is_ascii_whitespace() {
-                self.pos += 1;
-            } else {
-                break;
-            }
-        }
-    }
-
-    /// The next unsigned decimal number, or `None` when the next token is not one.
-    fn number(&mut self) -> Option<u64> {
-        self.skip_space();
-        let start = self.pos;
-        let mut value: u64 = 0;
-        while let Some(&b) = self.bytes.get(self.pos) {
-            if !b.is_ascii_digit() {
-                break;
-            }
-            value = value.saturating_mul(10).saturating_add(u64::from(b - b'0'));
-            self.pos += 1;
-        }
-        (self.pos > start).then_some(value)
-    }
-}
-
-fn decode_pgm(bytes: &[u8], path: &Path) -> Result<GreyImage> {
-    let malformed = |reason: String| PlanError::MalformedImage {
-        path: path.to_path_buf(),
-        reason,
-    };
-    let ascii = match bytes.get(..2) {
-        Some(b"P5") => false,
-        Some(b"P2") => true,
-        _ => return Err(malformed("not a PGM file (no P2 or P5 magic)".to_owned())),
-    };
-    let mut header = PgmHeader { bytes, pos: 2 };
-    let mut field = |name: &str| {
-        header
-            .number()
-            .ok_or_else(|| malformed(format!("the header has no {name}")))
-    };
-    let width = field("width")?;
-    let height = field("height")?;
-    let maxval = field("maxval")?;
-    let width = usize::try_from(width).unwrap_or(usize::MAX);
-    let height = usize::try_from(height).unwrap_or(usize::MAX);
-    let n = checked_cell_count(width, height)?;
-    let max_value = match u8::try_from(maxval) {
-        Ok(0) => return Err(malformed("maxval is 0".to_owned())),
-        Ok(m) => m,
-        Err(_) => {
-            return Err(PlanError::UnsupportedImage {
-                path: path.to_path_buf(),
-                reason: format!("PGM maxval {maxval} (16-bit samples); maxval must be at most 255"),
-            });
-        }
-    };
-    let grey = if ascii {
-        let mut grey = Vec::with_capacity(n);
-        for i in 0..n {
-            let v = header.number().ok_or_else(|| {
-                malformed(format!(
-                    "the ASCII raster ends after {i} of {n} values, or holds a non-number"
-                ))
-            })?;
-            match u8::try_from(v) {
-                Ok(v) if v <= max_value => grey.push(v),
-                _ => {
-                    return Err(malformed(format!(
-                        "value {v} of pixel {i} exceeds maxval {max_value}"
-                    )));
-                }
-            }
-        }
-        grey
-    } else {
-        // Exactly one whitespace byte separates maxval from the raster.
-        let start = header.pos + 1;
-        let raster = bytes
-            .get(start..)
-            .and_then(|rest| rest.get(..n))
-            .ok_or_else(|| {
-                malformed(format!(
-                    "the raster has {} bytes; {width} x {height} pixels need {n}",
-                    bytes.len().saturating_sub(start)
-                ))
-            })?;
-        if let Some((i, v)) = raster.iter().enumerate().find(|(_, v)| **v > max_value) {
-            return Err(malformed(format!(
-                "value {v} of pixel {i} exceeds maxval {max_value}"
-            )));
-        }
-        raster.to_vec()
-    };
-    Ok(GreyImage {
-        width,
-        height,
-        max_value,
-        grey,
-        alpha: None,
-    })
-}
-
-fn decode_png(bytes: &[u8], path: &Path) -> Result<GreyImage> {
-    let malformed = |e: png::DecodingError| PlanError::MalformedImage {
-        path: path.to_path_buf(),
-        reason: vpmap_files::decoder_message(&e.to_string()),
-    };
-    let limits = png::Limits {
-        bytes: MAX_CELLS.saturating_mul(4),
-    };
-    let mut decoder = png::Decoder::new_with_limits(std::io::Cursor::new(bytes), limits);
-    decoder.set_transformations(png::Transformations::EXPAND | png::Transformations::STRIP_16);
-    let mut reader = decoder.read_info().map_err(malformed)?;
-    let (w, h) = reader.info().size();
-    let width = usize::try_from(w).unwrap_or(usize::MAX);
-    let height = usize::try_from(h).unwrap_or(usize::MAX);
-    let n = checked_cell_count(width, height)?;
-    // `None` when the decoded size overflows `usize`: far beyond the cell cap.
-    let size = reader.output_buffer_size().ok_or(PlanError::GridTooLarge {
-        width,
-        height,
-        max: MAX_CELLS,
-    })?;
-    let mut buf = vec![0; size];
-    let info = reader.next_frame(&mut buf).map_err(malformed)?;
-    let channels = match info.color_type {
-        png::ColorType::Grayscale => 1,
-        png::ColorType::GrayscaleAlpha => 2,
-        png::ColorType::Rgb => 3,
-        png::ColorType::Rgba => 4,
-        png::ColorType::Indexed => {
-            return Err(PlanError::UnsupportedImage {
-                path: path.to_path_buf(),
-                reason: "an indexed-colour PNG that did not expand to RGB".to_owned(),
-            });
-        }
-    };
-    let has_alpha = channels % 2 == 0;
-    let mut grey = Vec::with_capacity(n);
-    let mut alpha = Vec::with_capacity(if has_alpha { n } else { 0 });
-    for row in buf.chunks(info.line_size.max(1)).take(height) {
-        for px in row.chunks_exact(channels).take(width) {
-            let colour = if channels >= 3 { &px[..3] } else { &px[..1] };
-            let sum: u32 = colour.iter().map(|&v| u32::from(v)).sum();
-            let mean = (sum + colour.len() as u32 / 2) / colour.len() as u32;
-            grey.push(u8::try_from(mean).unwrap_or(u8::MAX));
-            if has_alpha {
-                alpha.push(px.last().copied().unwrap_or(u8::MAX));
-            }
-        }
-    }
-    if grey.len() != n {
-        return Err(PlanError::MalformedImage {
-            path: path.to_path_buf(),
-            reason: format!("decoded {} of {n} pixels", grey.len()),
-        });
-    }
-    Ok(GreyImage {
-        width,
-        height,
-        max_value: u8::MAX,
-        grey,
-        alpha: has_alpha.then_some(alpha),
-    })
-}
-
-fn decode_image(bytes: &[u8], path: &Path) -> Result<GreyImage> {
-    match bytes.get(..2) {
-        Some(b"P2" | b"P5") => decode_pgm(bytes, path),
-        _ if bytes.starts_with(b"\x89PNG\r\n\x1a\n") => decode_png(bytes, path),
-        Some([b'P', b'1' | b'3' | b'4' | b'6']) => Err(PlanError::UnsupportedImage {
-            path: path.to_path_buf(),
-            reason: "a PBM or PPM file; use a greyscale PGM (P2 or P5) or PNG".to_owned(),
-        }),
-        _ => Err(PlanError::UnsupportedImage {
-            path: path.to_path_buf(),
-            reason: "neither PGM nor PNG (by its first bytes)".to_owned(),
-        }),
-    }
-}
-
 /// The cell of an occupancy probability `p`.
 fn threshold(p: f64, meta: &MapYaml) -> Occupancy {
     if p > meta.occupied_thresh {
@@ -710,7 +366,7 @@ fn cell_from_pixel(value: u8, alpha: u8, max_value: u8, meta: &MapYaml) -> Occup
 /// [`PlanError::Yaml`] for malformed YAML, [`PlanError::MissingField`] and
 /// [`PlanError::InvalidField`] naming the field, [`PlanError::MalformedImage`] and
 /// [`PlanError::UnsupportedImage`] for the image, [`PlanError::GridTooLarge`] above
-/// [`MAX_CELLS`] pixels.
+/// [`MAX_CELLS`](crate::grid::MAX_CELLS) pixels.
 ///
 /// # Example
 /// ```
@@ -781,6 +437,8 @@ fn grid_from_image(meta: &MapYaml, bytes: &[u8]) -> Result<OccupancyGrid> {
 #[cfg(test)]
 #[allow(clippy::unwrap_used, clippy::float_cmp)]
 mod tests {
+    use super::image::decode_pgm;
+    use super::write::write_all_or_nothing;
     use super::*;
 
     fn meta(mode: MapMode, negate: bool) -> MapYaml {
