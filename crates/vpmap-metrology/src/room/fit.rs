@@ -48,6 +48,9 @@ pub struct RoomAlternative {
     pub photo: usize,
     /// Its turn from the chosen placement, degrees counter-clockwise (90, 180 or 270).
     pub turn_deg: i32,
+    /// Its quarter turn against photo 1's room directions in this placement, degrees (0, 90,
+    /// 180 or 270): the room file's `placement_turn_deg` that asks the fit for it.
+    pub placement_turn_deg: i32,
     /// The joint fit's cost with the photo so turned, squared pixels.
     pub cost_px2: f64,
     /// The chosen placement's cost, squared pixels.
@@ -442,15 +445,22 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
     let n = photos.len();
     let ties = Ties::new(&fits);
     let order = join_order(&fits, &ties);
-    let all = Search::new(&fits, &ties).run(&order).map_err(|k| {
-        MetrologyError::Degenerate {
+    let pins = scene.placement_pins();
+    let pinned = |k: usize| pins.get(k).copied().flatten();
+    let all = Search::new(&fits, &ties)
+        .with_pins(pins.clone())
+        .run(&order)
+        .map_err(|k| MetrologyError::Degenerate {
             field: format!("photos[{k}]"),
             reason: format!(
-                "photo {} cannot be placed in the room: the objects it shares with the others do not fix its scale (give them sizes in both photos)",
-                k + 1
+                "photo {} cannot be placed in the room{}: the objects it shares with the others do not fix its scale (give them sizes in both photos)",
+                k + 1,
+                pinned(k).map_or_else(String::new, |q| format!(
+                    " turned by {} degrees as its `placement_turn_deg` pins it",
+                    u16::from(q) * 90
+                ))
             ),
-        }
-    })?;
+        })?;
     // The joint fit from the best few whole-room hypotheses; the first failure is reported
     // when none converges.
     let mut results: Vec<Solved> = Vec::new();
@@ -505,6 +515,15 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
     for (k, f) in fits.iter().enumerate() {
         for w in &f.fitted.calibration.warnings {
             warnings.push(format!("photo {}: {w}", k + 1));
+        }
+    }
+    for (k, q) in pins.iter().enumerate() {
+        if let Some(q) = q {
+            warnings.push(format!(
+                "photo {}'s placement is pinned by its `placement_turn_deg` ({} degrees): the room fit tried no other turn of it; remove the field to let the fit choose",
+                k + 1,
+                u16::from(*q) * 90
+            ));
         }
     }
     let best_cost = results[0].cost;
@@ -563,6 +582,7 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
                 alternatives.push(RoomAlternative {
                     photo: k,
                     turn_deg: turn,
+                    placement_turn_deg: i32::from(second.quarters[k]) * 90,
                     cost_px2: second.cost,
                     chosen_cost_px2: chosen.cost,
                 });

@@ -519,7 +519,8 @@ impl Scene {
     /// The first problem found, naming the field and the value.
     pub fn validate(&self) -> Result<()> {
         if self.other_photos.is_empty() {
-            return self.validate_photo();
+            self.validate_photo()?;
+            return self.validate_placement_pins();
         }
         for (k, p) in self.photos().enumerate() {
             p.validate_photo()
