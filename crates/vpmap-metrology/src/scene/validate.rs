@@ -364,8 +364,9 @@ fn check_covariance_deg2(field: &str, m: [[f64; 2]; 2]) -> Result<()> {
 
 /// [`unknown_fields`] of one photo's scene.
 fn photo_unknown_fields(value: &serde_json::Value) -> Vec<String> {
-    const TOP: [&str; 13] = [
+    const TOP: [&str; 14] = [
         "click_covariances_px2",
+        "placement_turn_deg",
         "lens_distortion",
         "focal_sd_px",
         "principal_point_sd_px",

@@ -679,6 +679,12 @@ fn a_tie_no_check_decides_is_an_alternative_and_its_placement_turn_pins_it() {
     // it, and the map says it is pinned.
     let mut pinned = v.clone();
     pinned["photos"][1]["placement_turn_deg"] = serde_json::json!(alt.placement_turn_deg);
+    // A field vpmap reads: no "unknown field" note about it.
+    assert!(
+        vpmap_metrology::scene::unknown_fields(&pinned).is_empty(),
+        "{:?}",
+        vpmap_metrology::scene::unknown_fields(&pinned)
+    );
     let swapped = build_value(&pinned).unwrap();
     assert!(
         distance(here(&swapped), other) < 1e-6,
