@@ -181,7 +181,7 @@ impl Scene {
                 Some(v) => Err(MetrologyError::InvalidField {
                     field: "placement_turn_deg".to_owned(),
                     reason: format!(
-                        "is {v}, but a single-photo scene has no placement to pin: `placement_turn_deg` pins photos 2..n of a room file"
+                        "{v} pins a photo of a room, but this is a single-photo scene: `placement_turn_deg` pins photos 2..n of a room file"
                     ),
                 }),
                 None => Ok(()),
@@ -195,7 +195,7 @@ impl Scene {
                 return Err(MetrologyError::InvalidField {
                     field: "photos[0].placement_turn_deg".to_owned(),
                     reason: format!(
-                        "is {v}, but photo 1 sets the room's frame and cannot be turned: pin photos 2..n only"
+                        "{v} pins photo 1, but photo 1 sets the room's frame and cannot be turned: pin photos 2..n only"
                     ),
                 });
             }
@@ -203,7 +203,7 @@ impl Scene {
                 return Err(MetrologyError::InvalidField {
                     field: format!("photos[{k}].placement_turn_deg"),
                     reason: format!(
-                        "is {v}; photo {}'s placement turn must be 0, 90, 180 or 270 degrees (as the map's `alternatives` give it)",
+                        "{v} is not a quarter turn: photo {}'s placement turn must be 0, 90, 180 or 270 degrees (as the map's `alternatives` give it)",
                         k + 1
                     ),
                 });

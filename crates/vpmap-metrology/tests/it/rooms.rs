@@ -691,7 +691,11 @@ fn a_tie_no_check_decides_is_an_alternative_and_its_placement_turn_pins_it() {
         "{:?} vs {other:?}",
         here(&swapped)
     );
-    assert!(swapped.alternatives.is_empty(), "{:?}", swapped.alternatives);
+    assert!(
+        swapped.alternatives.is_empty(),
+        "{:?}",
+        swapped.alternatives
+    );
     assert!(
         swapped.warnings.iter().any(|w| w.contains(&format!(
             "photo 2's placement is pinned by its `placement_turn_deg` ({} degrees)",
@@ -720,7 +724,9 @@ fn placement_turns_that_are_not_quarter_turns_or_pin_photo_1_are_refused_by_name
     v["photos"][1]["placement_turn_deg"] = serde_json::json!(45);
     let e = build_value(&v).unwrap_err();
     assert!(
-        e.contains("photos[1].placement_turn_deg") && e.contains("is 45") && e.contains("0, 90, 180 or 270"),
+        e.contains("photos[1].placement_turn_deg")
+            && e.contains("45 is not a quarter turn")
+            && e.contains("0, 90, 180 or 270"),
         "{e}"
     );
     let mut v = tied_by_one_box_without_walls();
@@ -740,5 +746,8 @@ fn placement_turns_that_are_not_quarter_turns_or_pin_photo_1_are_refused_by_name
     let mut v = tied_by_one_box_without_walls();
     v["photos"][1]["placement_turn_deg"] = serde_json::json!("half");
     let e = build_value(&v).unwrap_err();
-    assert!(e.contains("placement_turn_deg") || e.contains("invalid type"), "{e}");
+    assert!(
+        e.contains("placement_turn_deg") || e.contains("invalid type"),
+        "{e}"
+    );
 }
