@@ -5,7 +5,7 @@
 //! a room none of whose placements converged.
 
 use super::align::PhotoFit;
-use super::checks::physical;
+use super::checks::{OVERLAP_SHARE, physical};
 use super::consistency;
 use super::fit::{RoomAlternative, Solved, solve};
 use super::hypotheses::{Hypothesis, Ties};
@@ -186,6 +186,31 @@ pub(super) fn refuse_if_inconsistent(
         return Err(consistency::refusal(&test, alternative, &objects));
     }
     Ok(())
+}
+
+/// The chosen map's cameras that stand inside an object (`room/checks.rs`: deeper than
+/// [`OVERLAP_SHARE`] of the box's size from its edges), each said by name: a camera cannot
+/// stand inside an object, so the map is wrong there (a box named the same in two photos that
+/// is not one box, or a pinned placement the room does not have), though its clicks fit.
+pub(super) fn cameras_inside_objects(scene: &Scene, best: &Solved) -> Vec<String> {
+    let pinned = scene.placement_pins().iter().any(Option::is_some);
+    physical(scene, &best.built.problem, &best.x, &best.built.names)
+        .cameras_inside
+        .iter()
+        .map(|(k, name)| {
+            format!(
+                "photo {}'s camera stands inside object {name:?} on this map (more than {:.0} % of the box's size inside its edges), which no real room allows: check that the objects photo {} shares with the other photos are the same objects{}",
+                k + 1,
+                OVERLAP_SHARE * 100.0,
+                k + 1,
+                if pinned {
+                    ", and the `placement_turn_deg` that pins a photo's placement"
+                } else {
+                    ""
+                }
+            )
+        })
+        .collect()
 }
 
 fn quoted(names: &[String]) -> String {

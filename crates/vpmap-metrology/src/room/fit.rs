@@ -7,7 +7,9 @@ use super::align::{
     PhotoFit, Placed, Pose, average_boxes, candidate_poses, heading, in_photo, photo_block,
     place_objects, placed_index, record_maps, room_axes, sightings,
 };
-use super::choose::{break_ties, refuse_if_inconsistent, refuse_unconverged};
+use super::choose::{
+    break_ties, cameras_inside_objects, refuse_if_inconsistent, refuse_unconverged,
+};
 use super::hypotheses::{Hypothesis, Search, Ties, join_order, starts};
 use super::model::{Place, RoomPart, RoomProblem, Shape, Sighting};
 use crate::calibration::{Calibration, Perspective};
@@ -511,6 +513,7 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
         unconverged,
         interrupt,
     )?;
+    warnings.extend(cameras_inside_objects(scene, &best));
     let mut fitted = finish(scene, best, warnings)?;
     fitted.alternatives = alternatives;
     Ok(fitted)

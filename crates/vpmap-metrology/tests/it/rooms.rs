@@ -751,3 +751,67 @@ fn placement_turns_that_are_not_quarter_turns_or_pin_photo_1_are_refused_by_name
         "{e}"
     );
 }
+
+#[test]
+fn a_camera_the_map_puts_inside_an_object_is_said_by_name() {
+    // Issue 39: a camera placed inside an object is never a silent map. The fixture's photo 2
+    // twice: the copy shares box3 only (its other boxes named apart), so it fits as well
+    // turned by a half turn about box3's centre, where (by the fixture's truth) each camera
+    // lands inside a box of the other photo. The physical checks choose the copy's true place;
+    // pinned the other way, the map says which camera stands inside which object.
+    let photo = fixture()["photos"][1].clone();
+    let mut copy = photo.clone();
+    for o in copy["objects"].as_array_mut().unwrap() {
+        if o["name"] != "box3" {
+            let apart = format!("{} (copy)", o["name"].as_str().unwrap());
+            o["name"] = serde_json::Value::String(apart);
+        }
+    }
+    let mut room = serde_json::json!({"version": 1, "photos": [photo, copy]});
+    let inside = |m: &FloorMap| -> Vec<String> {
+        m.warnings
+            .iter()
+            .filter(|w| w.contains("camera stands inside object"))
+            .cloned()
+            .collect()
+    };
+    let free = build_value(&room).unwrap();
+    assert!(inside(&free).is_empty(), "{:?}", free.warnings);
+    // Photo 2's camera where photo 1's is (the copy's true place).
+    let here = |m: &FloorMap| [m.cameras[1].position[0], m.cameras[1].position[1]];
+    assert!(
+        distance(here(&free), [0.0, 0.0]) < 1e-6,
+        "{:?}",
+        here(&free)
+    );
+    let box3 = free
+        .objects
+        .iter()
+        .find(|o| o.name == "box3")
+        .unwrap()
+        .centroid;
+    let turned = [2.0 * box3[0], 2.0 * box3[1]];
+    let mut found = false;
+    for turn in [0, 90, 180, 270] {
+        room["photos"][1]["placement_turn_deg"] = serde_json::json!(turn);
+        let Ok(map) = build_value(&room) else {
+            continue;
+        };
+        if distance(here(&map), turned) > 1e-6 {
+            continue;
+        }
+        found = true;
+        let said = inside(&map).join("\n");
+        assert!(
+            said.contains("photo 2's camera stands inside object \"box0\"")
+                && said.contains("photo 1's camera stands inside object \"box0 (copy)\"")
+                && said.contains("`placement_turn_deg`"),
+            "{:?}",
+            map.warnings
+        );
+    }
+    assert!(
+        found,
+        "no pinned turn puts photo 2 at its half turn about box3"
+    );
+}
