@@ -134,8 +134,7 @@ fn build_refuses_a_room_whose_photos_swap_two_names_and_writes_nothing() {
     let want =
         vpmap_metrology::map::build_map(&scene, &vpmap_metrology::map::BuildOptions::default())
             .err()
-            .map(|e| e.to_string())
-            .unwrap_or_else(|| panic!("the library built the room"));
+            .map_or_else(|| panic!("the library built the room"), |e| e.to_string());
     assert_eq!(
         stderr.trim_end(),
         format!("error: building {}: {want}", path.display())

@@ -23,7 +23,7 @@ const TIE_CHI2: f64 = 4.0;
 /// fit's failure, else the first error met (`failure`).
 pub(super) fn refuse_unconverged(
     fits: &[PhotoFit],
-    unconverged: Vec<Solved>,
+    unconverged: &[Solved],
     failure: Option<MetrologyError>,
 ) -> MetrologyError {
     // A fit that did not converge: refused, by the consistency test's names when its

@@ -172,8 +172,7 @@ fn library_error(room: &serde_json::Value) -> String {
     let scene = vpmap_metrology::scene::Scene::from_json_str(&room.to_string()).unwrap();
     vpmap_metrology::map::build_map(&scene, &vpmap_metrology::map::BuildOptions::default())
         .err()
-        .map(|e| e.to_string())
-        .unwrap_or_else(|| panic!("the library built the room"))
+        .map_or_else(|| panic!("the library built the room"), |e| e.to_string())
 }
 
 /// A server with two minutes for a room's build and plan (a debug build's refusal fits every
