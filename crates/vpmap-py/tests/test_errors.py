@@ -1,12 +1,14 @@
 """Bad input raises VpmapError (a ValueError) naming the value, never crashes."""
 
 import json
+import os
+import subprocess
 
 import numpy as np
 import pytest
 
 import vpmap
-from conftest import EXAMPLE
+from conftest import EXAMPLE, REPO
 
 
 def raises(fn, *args, match=None, **kwargs):
@@ -107,3 +109,62 @@ def test_images_that_are_not_photos(tmp_path):
     raises(vpmap.detect, np.zeros((20, 30, 3)), match="dtype float64 is not an image; give a uint8 array")
     raises(vpmap.detect, np.zeros((20, 30, 4), np.uint8), match=r"shape \[20, 30, 4\]")
     raises(vpmap.detect, np.zeros((4, 4, 3), np.uint8), match="no vanishing points found in the image")
+
+
+ROOM_EXAMPLE = EXAMPLE.with_name("room.json")
+
+
+def room_with_swapped_names():
+    """The bundled room with photo 2's "box0" and "box1" named the other way round."""
+    room = json.loads(ROOM_EXAMPLE.read_text())
+    for o in room["photos"][1]["objects"]:
+        o["name"] = {"box0": "box1", "box1": "box0"}.get(o["name"], o["name"])
+    return room
+
+
+def test_an_inconsistent_room_is_refused_with_the_words_of_vpmap_build(tmp_path):
+    """Issue 39: the CLI, the server and the Python module say the same thing."""
+    room = room_with_swapped_names()
+    said = raises(vpmap.build, room)
+    assert said.startswith("the room's photos do not fit together: ")
+    assert "photo 2" in said and '"box0"' in said and '"box1"' in said
+    path = tmp_path / "swapped.json"
+    path.write_text(json.dumps(room))
+    assert raises(vpmap.build, path) == f"building {path}: {said}"
+    # `vpmap build` on the same file, when a binary is given (VPMAP_BIN): its one line is the
+    # same text, and it writes nothing.
+    binary = os.environ.get("VPMAP_BIN")
+    if binary:
+        out = tmp_path / "out"
+        r = subprocess.run([binary, "build", str(path), "--out", str(out)], capture_output=True, text=True)
+        assert r.returncode == 1
+        assert r.stderr.strip() == f"error: building {path}: {said}"
+        assert not out.exists() or not any(out.iterdir())
+
+
+def tied_room():
+    """The room fit's fixture with photo 2 tied to photo 1 by one box and no floor outlines."""
+    room = json.loads((REPO / "crates" / "vpmap-metrology" / "tests" / "fixtures" / "room-mv00.json").read_text())
+    for o in room["photos"][1]["objects"]:
+        if o["name"] == "box3":
+            o["name"] = "box3-seen-from-2"
+    for p in room["photos"]:
+        p["floor"] = []
+    return room
+
+
+def test_a_room_takes_a_pinned_placement_and_refuses_a_bad_one_by_name():
+    room = tied_room()
+    free = json.loads(vpmap.build(room).to_json())
+    [alt] = free["alternatives"]
+    assert alt["photo"] == 2 and alt["turn_deg"] == 180
+    room["photos"][1]["placement_turn_deg"] = alt["placement_turn_deg"]
+    m = vpmap.build(room)
+    pinned = json.loads(m.to_json())
+    assert "alternatives" not in pinned
+    assert any("photo 2's placement is pinned" in w for w in m.warnings)
+    moved = np.subtract(pinned["cameras"][1]["position"][:2], free["cameras"][1]["position"][:2])
+    assert np.hypot(*moved) > 0.5
+    room["photos"][1]["placement_turn_deg"] = 45
+    said = raises(vpmap.build, room)
+    assert "`photos[1].placement_turn_deg`" in said and "45 is not a quarter turn" in said

@@ -128,4 +128,86 @@ fn build_refuses_a_room_whose_photos_swap_two_names_and_writes_nothing() {
         stderr.contains("\"box0\"") && stderr.contains("\"box1\""),
         "{stderr}"
     );
+    // The library's words, as `/api/build`, `/api/plan` and the Python module give them (issue
+    // 39: the same text everywhere).
+    let scene = vpmap_metrology::scene::Scene::from_json_str(&room.to_string()).unwrap();
+    let want =
+        vpmap_metrology::map::build_map(&scene, &vpmap_metrology::map::BuildOptions::default())
+            .err()
+            .map_or_else(|| panic!("the library built the room"), |e| e.to_string());
+    assert_eq!(
+        stderr.trim_end(),
+        format!("error: building {}: {want}", path.display())
+    );
+}
+
+/// The room fit's fixture with photo 2 tied to photo 1 by one box and no floor outlines: a
+/// tie the map gives as an alternative.
+fn tied_room() -> serde_json::Value {
+    let fixture = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../vpmap-metrology/tests/fixtures/room-mv00.json");
+    let mut room: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(fixture).unwrap()).unwrap();
+    for o in room["photos"][1]["objects"].as_array_mut().unwrap() {
+        if o["name"] == "box3" {
+            o["name"] = serde_json::Value::String("box3-seen-from-2".to_owned());
+        }
+    }
+    for p in room["photos"].as_array_mut().unwrap() {
+        p["floor"] = serde_json::json!([]);
+    }
+    room
+}
+
+#[test]
+fn build_takes_the_placement_a_room_file_pins_and_refuses_a_bad_one() {
+    let dir = tempfile::tempdir().unwrap();
+    let build = |room: &serde_json::Value, name: &str| {
+        let path = dir.path().join(format!("{name}.json"));
+        std::fs::write(&path, room.to_string()).unwrap();
+        let out = dir.path().join(name);
+        let o = vpmap(&[
+            "build",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ]);
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        let text = std::fs::read_to_string(out.join("map.json")).unwrap();
+        (
+            serde_json::from_str::<serde_json::Value>(&text).unwrap(),
+            String::from_utf8_lossy(&o.stderr).into_owned(),
+        )
+    };
+    let mut room = tied_room();
+    let (map, _) = build(&room, "free");
+    let alt = map["alternatives"][0].clone();
+    assert_eq!(alt["photo"], 2, "{}", map["alternatives"]);
+    room["photos"][1]["placement_turn_deg"] = alt["placement_turn_deg"].clone();
+    let (pinned, stderr) = build(&room, "pinned");
+    assert!(pinned.get("alternatives").is_none(), "{pinned}");
+    assert!(stderr.contains("photo 2's placement is pinned"), "{stderr}");
+    let at = |m: &serde_json::Value| {
+        [
+            m["cameras"][1]["position"][0].as_f64().unwrap(),
+            m["cameras"][1]["position"][1].as_f64().unwrap(),
+        ]
+    };
+    let (a, b) = (at(&map), at(&pinned));
+    assert!((a[0] - b[0]).hypot(a[1] - b[1]) > 0.5, "{a:?} {b:?}");
+    // A turn that is not a quarter turn: refused by name, nothing written.
+    room["photos"][1]["placement_turn_deg"] = serde_json::json!(100);
+    let path = dir.path().join("bad.json");
+    std::fs::write(&path, room.to_string()).unwrap();
+    let out = dir.path().join("bad");
+    crate::assert_fails_cleanly(
+        &[
+            "build",
+            path.to_str().unwrap(),
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &out,
+        "scene field `photos[1].placement_turn_deg` is invalid: 100 is not a quarter turn: photo 2's placement turn must be 0, 90, 180 or 270 degrees",
+    );
 }

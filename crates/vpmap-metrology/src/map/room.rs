@@ -262,6 +262,7 @@ pub(super) fn build_room_map(
             .map(|a| MapAlternative {
                 photo: a.photo + 1,
                 turn_deg: a.turn_deg,
+                placement_turn_deg: a.placement_turn_deg,
                 cost_px2: a.cost_px2,
                 chosen_cost_px2: a.chosen_cost_px2,
             })

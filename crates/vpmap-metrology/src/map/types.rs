@@ -193,6 +193,10 @@ pub struct MapAlternative {
     pub photo: usize,
     /// Its turn from the map's placement, degrees counter-clockwise: 90, 180 or 270.
     pub turn_deg: i32,
+    /// Its quarter turn against photo 1's room directions in this placement, degrees: 0, 90,
+    /// 180 or 270. Written as the photo's `placement_turn_deg` in the room file, it asks the
+    /// build for this placement.
+    pub placement_turn_deg: i32,
     /// The joint fit's cost with the photo so turned, squared pixels.
     pub cost_px2: f64,
     /// The map's own cost, squared pixels.

@@ -7,8 +7,9 @@ use super::align::{
     PhotoFit, Placed, Pose, average_boxes, candidate_poses, heading, in_photo, photo_block,
     place_objects, placed_index, record_maps, room_axes, sightings,
 };
-use super::checks::physical;
-use super::consistency;
+use super::choose::{
+    break_ties, cameras_inside_objects, refuse_if_inconsistent, refuse_unconverged,
+};
 use super::hypotheses::{Hypothesis, Search, Ties, join_order, starts};
 use super::model::{Place, RoomPart, RoomProblem, Shape, Sighting};
 use crate::calibration::{Calibration, Perspective};
@@ -48,6 +49,9 @@ pub struct RoomAlternative {
     pub photo: usize,
     /// Its turn from the chosen placement, degrees counter-clockwise (90, 180 or 270).
     pub turn_deg: i32,
+    /// Its quarter turn against photo 1's room directions in this placement, degrees (0, 90,
+    /// 180 or 270): the room file's `placement_turn_deg` that asks the fit for it.
+    pub placement_turn_deg: i32,
     /// The joint fit's cost with the photo so turned, squared pixels.
     pub cost_px2: f64,
     /// The chosen placement's cost, squared pixels.
@@ -86,10 +90,6 @@ pub struct RoomFitted {
     /// For each photo, each scene box's axes turned into the room frame.
     pub(crate) photo_axes: Vec<Vec<Option<BoxAxes>>>,
 }
-
-/// Relative cost difference under which two hypotheses fit equally well, and the
-/// chi-square difference (in click variances) under which they fit about equally.
-const TIE_CHI2: f64 = 4.0;
 
 /// The placement of every photo for one whole-room hypothesis.
 struct Placement {
@@ -145,12 +145,12 @@ fn place_all(fits: &[PhotoFit], order: &[usize], h: &Hypothesis) -> Placement {
 }
 
 /// The problem, its start and index maps for one placement.
-struct Built {
-    problem: RoomProblem,
+pub(super) struct Built {
+    pub(super) problem: RoomProblem,
     x0: Vec<f64>,
     object_of: Vec<Vec<usize>>,
     floor_distance_parts: Vec<Option<[usize; 2]>>,
-    names: Vec<String>,
+    pub(super) names: Vec<String>,
     photo_axes: Vec<Vec<Option<BoxAxes>>>,
 }
 
@@ -286,19 +286,20 @@ fn build(scene: &Scene, fits: &[PhotoFit], placement: &Placement, hold: bool) ->
 }
 
 /// A converged hypothesis.
-struct Solved {
-    built: Built,
-    x: Vec<f64>,
-    cost: f64,
-    iterations: usize,
-    quarters: Vec<u8>,
+pub(super) struct Solved {
+    pub(super) built: Built,
+    pub(super) x: Vec<f64>,
+    pub(super) cost: f64,
+    pub(super) iterations: usize,
+    pub(super) quarters: Vec<u8>,
     hypothesis: Hypothesis,
     /// Whether the minimiser converged (an unconverged fit is only tested for consistency,
     /// to name what disagrees).
-    converged: bool,
+    pub(super) converged: bool,
 }
 
-fn solve(
+/// The joint fit from hypothesis `h` (`hold`: the known camera heights held).
+pub(super) fn solve(
     scene: &Scene,
     fits: &[PhotoFit],
     order: &[usize],
@@ -441,18 +442,24 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
         let fitted = fitted.map_err(|e| in_photo(k, e))?;
         fits.push(PhotoFit::new(fitted, p));
     }
-    let n = photos.len();
     let ties = Ties::new(&fits);
     let order = join_order(&fits, &ties);
-    let all = Search::new(&fits, &ties).run(&order).map_err(|k| {
-        MetrologyError::Degenerate {
+    let pins = scene.placement_pins();
+    let pinned = |k: usize| pins.get(k).copied().flatten();
+    let all = Search::new(&fits, &ties)
+        .with_pins(pins.clone())
+        .run(&order)
+        .map_err(|k| MetrologyError::Degenerate {
             field: format!("photos[{k}]"),
             reason: format!(
-                "photo {} cannot be placed in the room: the objects it shares with the others do not fix its scale (give them sizes in both photos)",
-                k + 1
+                "photo {} cannot be placed in the room{}: the objects it shares with the others do not fix its scale (give them sizes in both photos)",
+                k + 1,
+                pinned(k).map_or_else(String::new, |q| format!(
+                    " turned by {} degrees as its `placement_turn_deg` pins it",
+                    u16::from(q) * 90
+                ))
             ),
-        }
-    })?;
+        })?;
     // The joint fit from the best few whole-room hypotheses; the first failure is reported
     // when none converges.
     let mut results: Vec<Solved> = Vec::new();
@@ -469,44 +476,22 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
     let (mut results, unconverged): (Vec<Solved>, Vec<Solved>) =
         results.into_iter().partition(|s| s.converged);
     if results.is_empty() {
-        // A fit that did not converge: refused, by the consistency test's names when its
-        // photos are far from fitting together.
-        if let Some(u) = unconverged.iter().min_by(|a, b| a.cost.total_cmp(&b.cost)) {
-            let rms = (u.cost / u.built.problem.residual_count().max(1) as f64).sqrt();
-            let test = consistency::test(&fits, &u.built.problem, &u.x, &u.built.names);
-            let objects: Vec<Vec<String>> = fits
-                .iter()
-                .map(|f| f.objects.iter().map(|o| o.name.clone()).collect())
-                .collect();
-            return Err(if test.refused() {
-                consistency::refusal(
-                    &test,
-                    Some(format!(
-                        "the joint fit did not converge in {} iterations ({rms:.3} px RMS) from any placement",
-                        u.iterations
-                    )),
-                    &objects,
-                )
-            } else {
-                MetrologyError::Degenerate {
-                    field: "photos".to_owned(),
-                    reason: format!(
-                        "the room fit did not converge in {} iterations (reprojection error {rms:.3} px RMS): check that objects named the same in several photos are the same object",
-                        u.iterations
-                    ),
-                }
-            });
-        }
-        return Err(failure.unwrap_or_else(|| MetrologyError::Degenerate {
-            field: "photos".to_owned(),
-            reason: "no placement of the room's photos".to_owned(),
-        }));
+        return Err(refuse_unconverged(&fits, &unconverged, failure));
     }
     results.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     let mut warnings: Vec<String> = Vec::new();
     for (k, f) in fits.iter().enumerate() {
         for w in &f.fitted.calibration.warnings {
             warnings.push(format!("photo {}: {w}", k + 1));
+        }
+    }
+    for (k, q) in pins.iter().enumerate() {
+        if let Some(q) = q {
+            warnings.push(format!(
+                "photo {}'s placement is pinned by its `placement_turn_deg` ({} degrees): the room fit tried no other turn of it; remove the field to let the fit choose",
+                k + 1,
+                u16::from(*q) * 90
+            ));
         }
     }
     let best_cost = results[0].cost;
@@ -517,102 +502,20 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
         .saturating_sub(results[0].built.problem.len())
         .max(1);
     let variance = (best_cost / dof as f64).max(crate::fit::MIN_CLICK_SIGMA_PX.powi(2));
-    // Hypotheses that fit about equally: the likelihood cannot choose, so the walls do (the
-    // one that keeps every camera and floor inside every photo's walls), and the build says so.
-    let tied = results
-        .iter()
-        .take_while(|r| (r.cost - best_cost) / variance < TIE_CHI2)
-        .count();
-    let mut alternatives = Vec::new();
-    if tied > 1 {
-        let violations: Vec<usize> = results[..tied]
-            .iter()
-            .map(|r| physical(scene, &r.built.problem, &r.x, &r.built.names).total())
-            .collect();
-        let pick = (0..tied).min_by_key(|&i| (violations[i], i)).unwrap_or(0);
-        // The runner-up: the most likely of the others.
-        let other = usize::from(pick == 0);
-        let decided = violations[pick] < violations[other];
-        results.swap(0, pick);
-        // After the swap the runner-up sits where the chosen one was, unless it was first.
-        let other = if other == 0 { pick } else { other };
-        let (chosen, second) = (&results[0], &results[other]);
-        let differ: Vec<usize> = (1..n)
-            .filter(|&k| second.quarters[k] != chosen.quarters[k])
-            .collect();
-        for k in differ {
-            let turn = (4 + i32::from(second.quarters[k]) - i32::from(chosen.quarters[k])) % 4 * 90;
-            let shared = ties.shared_by(k);
-            warnings.push(format!(
-                "photo {} is tied to the room only by {}, which fit{} about as well with photo {} turned by {turn} degrees (cost {:.3} against {:.3} px^2): {}; to be sure, name one more object seen in photo {} and another photo",
-                k + 1,
-                quoted(&shared),
-                if shared.len() == 1 { "s" } else { "" },
-                k + 1,
-                second.cost,
-                chosen.cost,
-                if decided {
-                    format!(
-                        "the map takes the turn the room's physical checks favour ({} violations against {}: cameras, floor corners and boxes inside the walls the photos' floor outlines show, boxes not overlapping, no camera inside a box)",
-                        violations[pick], violations[usize::from(pick == 0)]
-                    )
-                } else {
-                    "the map uses the better one".to_owned()
-                },
-                k + 1
-            ));
-            if !decided {
-                alternatives.push(RoomAlternative {
-                    photo: k,
-                    turn_deg: turn,
-                    cost_px2: second.cost,
-                    chosen_cost_px2: chosen.cost,
-                });
-            }
-        }
-    }
+    let alternatives = break_ties(scene, &fits, &ties, &mut results, variance, &mut warnings);
     let best = results.swap_remove(0);
     let best = hold_known_heights(scene, &fits, &order, best, variance, interrupt)?;
-    let test = consistency::test(&fits, &best.built.problem, &best.x, &best.built.names);
-    if test.refused() {
-        // The best other placement, fitted if it was not.
-        let mut other = results.into_iter().find(|r| r.quarters != best.quarters);
-        if other.is_none()
-            && let Some(h) = all.iter().find(|h| {
-                h.quarters
-                    .iter()
-                    .map(|q| q.unwrap_or(0))
-                    .ne(best.quarters.iter().copied())
-            })
-        {
-            other = solve(scene, &fits, &order, h, false, interrupt).ok();
-        }
-        if other.is_none() {
-            other = unconverged
-                .into_iter()
-                .min_by(|a, b| a.cost.total_cmp(&b.cost));
-        }
-        let alternative = other.map(|o| {
-            let turns: Vec<String> = (1..n)
-                .filter(|&k| o.quarters[k] != best.quarters[k])
-                .map(|k| {
-                    let turn = (4 + i32::from(o.quarters[k]) - i32::from(best.quarters[k])) % 4 * 90;
-                    format!("photo {} turned by {turn} degrees", k + 1)
-                })
-                .collect();
-            format!(
-                "the best other placement ({}) fits worse or no better: cost {:.3} against {:.3} px^2",
-                turns.join(", "),
-                o.cost,
-                best.cost
-            )
-        });
-        let objects: Vec<Vec<String>> = fits
-            .iter()
-            .map(|f| f.objects.iter().map(|o| o.name.clone()).collect())
-            .collect();
-        return Err(consistency::refusal(&test, alternative, &objects));
-    }
+    refuse_if_inconsistent(
+        scene,
+        &fits,
+        &order,
+        &all,
+        &best,
+        results,
+        unconverged,
+        interrupt,
+    )?;
+    warnings.extend(cameras_inside_objects(scene, &best));
     let mut fitted = finish(scene, best, warnings)?;
     fitted.alternatives = alternatives;
     Ok(fitted)
@@ -673,15 +576,6 @@ fn hold_known_heights(
         Ok(s) if s.converged && (s.cost - free.cost) / variance <= chi2_99(held) => Ok(s),
         Err(e @ MetrologyError::Interrupted { .. }) => Err(e),
         _ => Ok(free),
-    }
-}
-
-fn quoted(names: &[String]) -> String {
-    let q: Vec<String> = names.iter().map(|n| format!("{n:?}")).collect();
-    match q.len() {
-        0 => "no object".to_owned(),
-        1 => format!("object {}", q[0]),
-        _ => format!("objects {}", q.join(", ")),
     }
 }
 

@@ -22,7 +22,8 @@
 //! matter), keeping the best [`BEAM`] partial hypotheses at each step (every one of them
 //! for rooms of up to four photos) among those scoring within the bound a greedy pass sets
 //! (a photo joining never lowers a score, so a partial hypothesis above `2 S +
-//! NEAR_SCORE_PX2`, `S` the greedy hypothesis's score, can never be started from).
+//! NEAR_SCORE_PX2`, `S` the greedy hypothesis's score, can never be started from). A photo
+//! whose room file pins its turn (`placement_turn_deg`) is tried at that turn only.
 
 use nalgebra::{DMatrix, DVector, Vector2};
 
@@ -207,6 +208,9 @@ pub(crate) struct Search<'a> {
     /// Per tied object and sighting (as `ties.seen`), its floor corners in its photo's own
     /// frame and its height.
     own: Vec<Vec<OwnObject>>,
+    /// Per photo, its pinned quarter turn (the room file's `placement_turn_deg`), `None`
+    /// where every turn is tried.
+    pins: Vec<Option<u8>>,
 }
 
 impl<'a> Search<'a> {
@@ -232,7 +236,14 @@ impl<'a> Search<'a> {
             yaws: cams.iter().map(|c| c.room_yaw_rad).collect(),
             focals: cams.iter().map(|c| c.focal_px).collect(),
             own,
+            pins: Vec::new(),
         }
+    }
+
+    /// The search with photos pinned to quarter turns (`pins[k]`, `None`: every turn tried).
+    pub fn with_pins(mut self, pins: Vec<Option<u8>>) -> Self {
+        self.pins = pins;
+        self
     }
 
     fn heading(&self, k: usize, quarter: u8) -> f64 {
@@ -473,7 +484,8 @@ impl Search<'_> {
         for (step, &k) in order.iter().enumerate().skip(1) {
             let mut next = Vec::with_capacity(4 * beam.len());
             for h in &beam {
-                for q in 0..4u8 {
+                let pinned = self.pins.get(k).copied().flatten();
+                for q in (0..4u8).filter(|&q| pinned.is_none_or(|p| p == q)) {
                     let mut quarters = h.quarters.clone();
                     if let Some(slot) = quarters.get_mut(k) {
                         *slot = Some(q);

@@ -19,11 +19,12 @@
 //! (`room/consistency.rs`). Error bars (`room/uncertainty.rs`): the covariance of the whole
 //! fit, propagated as for one photo.
 //!
-//! Files: `model`, then `align` and `hypotheses`, then `fit` (with `checks` and
-//! `consistency`), then `uncertainty`.
+//! Files: `model`, then `align` and `hypotheses`, then `fit` (with `choose`, which uses
+//! `checks` and `consistency`), then `uncertainty`.
 
 mod align;
 mod checks;
+mod choose;
 mod consistency;
 mod fit;
 mod hypotheses;

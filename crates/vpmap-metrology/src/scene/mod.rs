@@ -17,7 +17,7 @@ mod validate;
 mod vanishing;
 
 pub use lens::{DivisionModel, LensDistortion, MAX_DIVISION_K, MAX_DIVISION_STRETCH};
-pub use room::MAX_PHOTOS;
+pub use room::{MAX_PHOTOS, PLACEMENT_TURNS_DEG};
 pub use types::{
     BoxBase, BoxCorner, BoxCorners, BoxPoint, BoxView, Dimension, FloorDistance, ImageSize,
     ObjectShape, ObjectSpec, Perspective, PixelPoint, Scale, ScaleSpec, Scene, ThesisBox, TopSpec,

@@ -104,6 +104,7 @@ impl Scene {
                 });
             }
         }
+        self.validate_placement_pins()?;
         // Each name: its kind and vertex count where first seen.
         let mut first_seen: std::collections::BTreeMap<&str, (usize, usize)> =
             std::collections::BTreeMap::new();
@@ -165,6 +166,64 @@ impl Scene {
             });
         }
         Ok(())
+    }
+}
+
+/// The placement turns a room's photos may be pinned to ([`Scene::placement_turn_deg`]).
+pub const PLACEMENT_TURNS_DEG: [i64; 4] = [0, 90, 180, 270];
+
+impl Scene {
+    /// Each photo's `placement_turn_deg`: photos 2..n of a room only, one of
+    /// [`PLACEMENT_TURNS_DEG`].
+    pub(super) fn validate_placement_pins(&self) -> Result<()> {
+        if self.other_photos.is_empty() {
+            return match self.placement_turn_deg {
+                Some(v) => Err(MetrologyError::InvalidField {
+                    field: "placement_turn_deg".to_owned(),
+                    reason: format!(
+                        "{v} pins a photo of a room, but this is a single-photo scene: `placement_turn_deg` pins photos 2..n of a room file"
+                    ),
+                }),
+                None => Ok(()),
+            };
+        }
+        for (k, p) in self.photos().enumerate() {
+            let Some(v) = p.placement_turn_deg else {
+                continue;
+            };
+            if k == 0 {
+                return Err(MetrologyError::InvalidField {
+                    field: "photos[0].placement_turn_deg".to_owned(),
+                    reason: format!(
+                        "{v} pins photo 1, but photo 1 sets the room's frame and cannot be turned: pin photos 2..n only"
+                    ),
+                });
+            }
+            if !PLACEMENT_TURNS_DEG.contains(&v) {
+                return Err(MetrologyError::InvalidField {
+                    field: format!("photos[{k}].placement_turn_deg"),
+                    reason: format!(
+                        "{v} is not a quarter turn: photo {}'s placement turn must be 0, 90, 180 or 270 degrees (as the map's `alternatives` give it)",
+                        k + 1
+                    ),
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// Each photo's pinned quarter turn (`placement_turn_deg / 90`), `None` where the room fit
+    /// chooses; photo 1 is never pinned.
+    #[must_use]
+    pub(crate) fn placement_pins(&self) -> Vec<Option<u8>> {
+        self.photos()
+            .enumerate()
+            .map(|(k, p)| {
+                p.placement_turn_deg
+                    .filter(|_| k > 0)
+                    .and_then(|v| u8::try_from(v.rem_euclid(360) / 90).ok())
+            })
+            .collect()
     }
 }
 

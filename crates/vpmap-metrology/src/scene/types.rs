@@ -495,6 +495,12 @@ pub struct Scene {
     /// writes it: the fit weights each such click by its own covariance.
     #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
     pub click_covariances_px2: std::collections::BTreeMap<String, [[f64; 2]; 2]>,
+    /// In a room file, this photo's placement pinned: its quarter turn against photo 1's
+    /// room directions, degrees (0, 90, 180 or 270), as a map's `alternatives` give it
+    /// (`placement_turn_deg`). The room fit then places the photo only so turned; without it
+    /// the fit chooses. Photos 2..n only.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub placement_turn_deg: Option<i64>,
     /// The room's other photos: a room file (`{"version": 1, "photos": [SCENE, ...]}`) is
     /// read into its first photo, this scene, with photos 2..n here, each a single-photo
     /// scene. Empty for a single-photo scene file; not a field of the file.

@@ -364,8 +364,9 @@ fn check_covariance_deg2(field: &str, m: [[f64; 2]; 2]) -> Result<()> {
 
 /// [`unknown_fields`] of one photo's scene.
 fn photo_unknown_fields(value: &serde_json::Value) -> Vec<String> {
-    const TOP: [&str; 13] = [
+    const TOP: [&str; 14] = [
         "click_covariances_px2",
+        "placement_turn_deg",
         "lens_distortion",
         "focal_sd_px",
         "principal_point_sd_px",
@@ -519,7 +520,8 @@ impl Scene {
     /// The first problem found, naming the field and the value.
     pub fn validate(&self) -> Result<()> {
         if self.other_photos.is_empty() {
-            return self.validate_photo();
+            self.validate_photo()?;
+            return self.validate_placement_pins();
         }
         for (k, p) in self.photos().enumerate() {
             p.validate_photo()

@@ -252,6 +252,7 @@ pub fn render_annotated(
         scale: None,
         perspective: None,
         click_covariances_px2: std::collections::BTreeMap::new(),
+        placement_turn_deg: None,
         other_photos: Vec::new(),
     };
     let truth = Truth {

@@ -623,3 +623,195 @@ fn shared_data_rooms_with_noisy_clicks_are_mapped_not_refused() {
         }
     }
 }
+
+/// The fixture with photo 2 tied to photo 1 by box2 only (its box3 named apart) and no floor
+/// outlines, so that no wall can tell which way photo 2 faces: box2 fits as well with photo 2
+/// turned by a half turn about its centre.
+fn tied_by_one_box_without_walls() -> serde_json::Value {
+    let mut v = fixture();
+    for o in v["photos"][1]["objects"].as_array_mut().unwrap() {
+        if o["name"] == "box3" {
+            o["name"] = serde_json::Value::String("box3-seen-from-2".to_owned());
+        }
+    }
+    for p in v["photos"].as_array_mut().unwrap() {
+        p["floor"] = serde_json::json!([]);
+    }
+    v
+}
+
+fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+#[test]
+fn a_tie_no_check_decides_is_an_alternative_and_its_placement_turn_pins_it() {
+    // Issue 39: the map names the other placement and the room file's `placement_turn_deg`
+    // asks for it. Checked against the independent truth: photo 2's two placements are its
+    // true camera and that camera turned by a half turn about box2's true centre.
+    let v = tied_by_one_box_without_walls();
+    let truth: RoomTruth = serde_json::from_str(FIXTURE_TRUTH).unwrap();
+    let box2 = truth.objects.iter().find(|o| o.name == "box2").unwrap();
+    let n = box2.footprint.len() as f64;
+    let c = [
+        box2.footprint.iter().map(|p| p[0]).sum::<f64>() / n,
+        box2.footprint.iter().map(|p| p[1]).sum::<f64>() / n,
+    ];
+    let true_cam = truth.cameras[1].position;
+    let turned_cam = [2.0 * c[0] - true_cam[0], 2.0 * c[1] - true_cam[1]];
+    let map = build_value(&v).unwrap();
+    assert_eq!(map.alternatives.len(), 1, "{:?}", map.warnings);
+    let alt = &map.alternatives[0];
+    assert_eq!((alt.photo, alt.turn_deg), (2, 180));
+    assert!(
+        [0, 90, 180, 270].contains(&alt.placement_turn_deg),
+        "{alt:?}"
+    );
+    assert!((alt.cost_px2 - alt.chosen_cost_px2).abs() < 1e-6, "{alt:?}");
+    let here = |m: &FloorMap| [m.cameras[1].position[0], m.cameras[1].position[1]];
+    let (first, other) = if distance(here(&map), true_cam) < 1e-6 {
+        (true_cam, turned_cam)
+    } else {
+        (turned_cam, true_cam)
+    };
+    assert!(distance(here(&map), first) < 1e-6, "{:?}", here(&map));
+    // Pinned to the alternative: photo 2 is placed the other way, nothing else is tried for
+    // it, and the map says it is pinned.
+    let mut pinned = v.clone();
+    pinned["photos"][1]["placement_turn_deg"] = serde_json::json!(alt.placement_turn_deg);
+    // A field vpmap reads: no "unknown field" note about it.
+    assert!(
+        vpmap_metrology::scene::unknown_fields(&pinned).is_empty(),
+        "{:?}",
+        vpmap_metrology::scene::unknown_fields(&pinned)
+    );
+    let swapped = build_value(&pinned).unwrap();
+    assert!(
+        distance(here(&swapped), other) < 1e-6,
+        "{:?} vs {other:?}",
+        here(&swapped)
+    );
+    assert!(
+        swapped.alternatives.is_empty(),
+        "{:?}",
+        swapped.alternatives
+    );
+    assert!(
+        swapped.warnings.iter().any(|w| w.contains(&format!(
+            "photo 2's placement is pinned by its `placement_turn_deg` ({} degrees)",
+            alt.placement_turn_deg
+        ))),
+        "{:?}",
+        swapped.warnings
+    );
+    // Photo 1 and the box both photos show stay where they were.
+    let centroid = |m: &FloorMap, name: &str| {
+        let o = m.objects.iter().find(|o| o.name == name).unwrap();
+        [o.centroid[0], o.centroid[1]]
+    };
+    assert!(distance(centroid(&swapped, "box2"), c) < 1e-6);
+    assert!(distance(centroid(&map, "box2"), c) < 1e-6);
+    // Pinned back to the map's own turn: the first map again.
+    pinned["photos"][1]["placement_turn_deg"] =
+        serde_json::json!((alt.placement_turn_deg + 180) % 360);
+    let back = build_value(&pinned).unwrap();
+    assert!(distance(here(&back), first) < 1e-6, "{:?}", here(&back));
+}
+
+#[test]
+fn placement_turns_that_are_not_quarter_turns_or_pin_photo_1_are_refused_by_name() {
+    let mut v = tied_by_one_box_without_walls();
+    v["photos"][1]["placement_turn_deg"] = serde_json::json!(45);
+    let e = build_value(&v).unwrap_err();
+    assert!(
+        e.contains("photos[1].placement_turn_deg")
+            && e.contains("45 is not a quarter turn")
+            && e.contains("0, 90, 180 or 270"),
+        "{e}"
+    );
+    let mut v = tied_by_one_box_without_walls();
+    v["photos"][0]["placement_turn_deg"] = serde_json::json!(90);
+    let e = build_value(&v).unwrap_err();
+    assert!(
+        e.contains("photos[0].placement_turn_deg") && e.contains("photo 1 sets the room's frame"),
+        "{e}"
+    );
+    let mut photo = fixture()["photos"][0].clone();
+    photo["placement_turn_deg"] = serde_json::json!(180);
+    let e = build_value(&photo).unwrap_err();
+    assert!(
+        e.contains("placement_turn_deg") && e.contains("single-photo scene"),
+        "{e}"
+    );
+    let mut v = tied_by_one_box_without_walls();
+    v["photos"][1]["placement_turn_deg"] = serde_json::json!("half");
+    let e = build_value(&v).unwrap_err();
+    assert!(
+        e.contains("placement_turn_deg") || e.contains("invalid type"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_camera_the_map_puts_inside_an_object_is_said_by_name() {
+    // Issue 39: a camera placed inside an object is never a silent map. The fixture's photo 2
+    // twice: the copy shares box3 only (its other boxes named apart), so it fits as well
+    // turned by a half turn about box3's centre, where (by the fixture's truth) each camera
+    // lands inside a box of the other photo. The physical checks choose the copy's true place;
+    // pinned the other way, the map says which camera stands inside which object.
+    let photo = fixture()["photos"][1].clone();
+    let mut copy = photo.clone();
+    for o in copy["objects"].as_array_mut().unwrap() {
+        if o["name"] != "box3" {
+            let apart = format!("{} (copy)", o["name"].as_str().unwrap());
+            o["name"] = serde_json::Value::String(apart);
+        }
+    }
+    let mut room = serde_json::json!({"version": 1, "photos": [photo, copy]});
+    let inside = |m: &FloorMap| -> Vec<String> {
+        m.warnings
+            .iter()
+            .filter(|w| w.contains("camera stands inside object"))
+            .cloned()
+            .collect()
+    };
+    let free = build_value(&room).unwrap();
+    assert!(inside(&free).is_empty(), "{:?}", free.warnings);
+    // Photo 2's camera where photo 1's is (the copy's true place).
+    let here = |m: &FloorMap| [m.cameras[1].position[0], m.cameras[1].position[1]];
+    assert!(
+        distance(here(&free), [0.0, 0.0]) < 1e-6,
+        "{:?}",
+        here(&free)
+    );
+    let box3 = free
+        .objects
+        .iter()
+        .find(|o| o.name == "box3")
+        .unwrap()
+        .centroid;
+    let turned = [2.0 * box3[0], 2.0 * box3[1]];
+    let mut found = false;
+    for turn in [0, 90, 180, 270] {
+        room["photos"][1]["placement_turn_deg"] = serde_json::json!(turn);
+        let Ok(map) = build_value(&room) else {
+            continue;
+        };
+        if distance(here(&map), turned) > 1e-6 {
+            continue;
+        }
+        found = true;
+        let said = inside(&map).join("\n");
+        assert!(
+            said.contains("photo 2's camera stands inside object \"box0\"")
+                && said.contains("photo 1's camera stands inside object \"box0 (copy)\"")
+                && said.contains("`placement_turn_deg`"),
+            "{:?}",
+            map.warnings
+        );
+    }
+    assert!(
+        found,
+        "no pinned turn puts photo 2 at its half turn about box3"
+    );
+}

@@ -7,6 +7,7 @@
 //   autosave.js  each photo's scene kept in the browser, and the warning before leaving
 //   room.js      the room of several photos: its file, per-photo messages, linked names
 //   photo-strip.js  the room's thumbnails: switch, remove, which photo a problem is about
+//   placement.js the room's placements the clicks leave open: swap to one, unpin
 // and the views (photo-view.js, plan-view.js, model-view.js) and photo tools (select-tool.js;
 // placement-tool.js and the tools on it, box-tool.js, outline-tools.js, floor-distance-tool.js,
 // vp-line-tool.js; where points snap, snap.js; a box's corners by name, corner or face view, in
@@ -30,6 +31,7 @@ import { installFiles } from './files.js';
 import { installRequests } from './requests.js';
 import { installAutosave } from './autosave.js';
 import { installPhotoStrip } from './photo-strip.js';
+import { installPlacements } from './placement.js';
 import { roomBody } from './room.js';
 import { roomScenes } from './state.js';
 import { dropFloor, objectRemoved } from './covariances.js';
@@ -124,6 +126,7 @@ installPhotoSnap(app);
 installProposals(app);
 installRequests(app);
 installPhotoStrip(app);
+installPlacements(app);
 installAutosave(app);
 installFiles(app);
 

@@ -69,6 +69,7 @@ export function installRequests(app) {
       setProblem(roomProblem(err.message, roomScenes(state)) || { photo: null, message: err.message });
       if (state.marked?.path?.[0] === 'objects') app.select({ type: 'object', index: state.marked.path[1] });
       app.photoView.requestRender();
+      app.renderPlacements?.();
       const other = state.problem.photo !== null && state.problem.photo !== state.active;
       app.showError(`Cannot build the map: ${err.message}${state.marked?.p ? ' (ringed in red on the photo)' : other ? ` (photo ${state.problem.photo + 1}: click its thumbnail)` : ''}`);
       app.setStatus('Build failed: see the message at the bottom.');
@@ -142,6 +143,7 @@ export function installRequests(app) {
     clearDrive();
     app.renderCamera();
     app.renderWarnings([]);
+    app.renderPlacements?.();
     app.renderDownloads();
     app.renderPlanResults();
   }
@@ -163,6 +165,7 @@ export function installRequests(app) {
     }
     markStale(false);
     app.renderWarnings([...(res.warnings || []), ...((res.map && res.map.warnings) || [])]);
+    app.renderPlacements?.();
     app.renderDownloads();
     app.renderObjectList();
     if (res.glb_base64) {

@@ -148,3 +148,134 @@ fn a_room_build_whose_client_has_gone_stops_and_frees_its_slot() {
         std::thread::sleep(Duration::from_millis(100));
     }
 }
+
+/// The bundled room with photo 2's "box0" and "box1" named the other way round (issue 39's
+/// swapped names): a room whose photos do not fit together.
+pub(crate) fn room_with_swapped_names() -> serde_json::Value {
+    let bundled = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/room.json");
+    let mut room: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(bundled).unwrap()).unwrap();
+    for o in room["photos"][1]["objects"].as_array_mut().unwrap() {
+        let swapped = match o["name"].as_str().unwrap() {
+            "box0" => "box1",
+            "box1" => "box0",
+            other => other,
+        };
+        o["name"] = serde_json::Value::String(swapped.to_owned());
+    }
+    room
+}
+
+/// What the library says about `room` (the text the CLI, the server and the Python module pass
+/// on).
+fn library_error(room: &serde_json::Value) -> String {
+    let scene = vpmap_metrology::scene::Scene::from_json_str(&room.to_string()).unwrap();
+    vpmap_metrology::map::build_map(&scene, &vpmap_metrology::map::BuildOptions::default())
+        .err()
+        .map_or_else(|| panic!("the library built the room"), |e| e.to_string())
+}
+
+/// A server with two minutes for a room's build and plan (a debug build's refusal fits every
+/// start, and other tests share the two cores).
+fn unhurried_server() -> SocketAddr {
+    static ADDR: OnceLock<SocketAddr> = OnceLock::new();
+    *ADDR.get_or_init(|| {
+        start_server(ServerLimits {
+            slot_wait: Duration::from_secs(120),
+            build_timeout: Duration::from_secs(120),
+            plan_timeout: Duration::from_secs(120),
+            ..ServerLimits::default()
+        })
+    })
+}
+
+fn post_unhurried(target: &str, body: &str) -> crate::Reply {
+    request_to(
+        unhurried_server(),
+        "POST",
+        target,
+        &[("Content-Type", "application/json")],
+        body.as_bytes(),
+    )
+}
+
+#[test]
+fn an_inconsistent_room_is_refused_by_build_and_plan_with_the_library_s_words() {
+    // Issue 39: the page, `/api/plan` on a room, the CLI and the Python module say the same
+    // thing. Here: `/api/build` and `/api/plan` answer 400 with the library's message itself.
+    let room = room_with_swapped_names();
+    let want = library_error(&room);
+    assert!(
+        want.starts_with("the room's photos do not fit together")
+            && want.contains("photo 2")
+            && want.contains("\"box0\"")
+            && want.contains("\"box1\""),
+        "{want}"
+    );
+    let build = post_unhurried("/api/build", &room.to_string()).error(400);
+    assert_eq!(build, format!("scene: {want}"));
+    let plan = post_unhurried(
+        "/api/plan",
+        &serde_json::json!({
+            "scene": room,
+            "start": [0.0, 1.0],
+            "goal": [1.0, 2.0],
+        })
+        .to_string(),
+    )
+    .error(400);
+    assert_eq!(plan, build);
+}
+
+#[test]
+fn a_room_build_takes_a_pinned_placement_and_refuses_a_bad_one_by_name() {
+    let bundled = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/room.json");
+    let mut room: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(bundled).unwrap()).unwrap();
+    room["photos"][2]["placement_turn_deg"] = serde_json::json!(45);
+    let e = post_unhurried("/api/build", &room.to_string()).error(400);
+    assert!(
+        e.contains("photos[2].placement_turn_deg") && e.contains("45 is not a quarter turn"),
+        "{e}"
+    );
+    // The turn the fit chooses, pinned: the same map, which says it is pinned.
+    room["photos"][2]
+        .as_object_mut()
+        .unwrap()
+        .remove("placement_turn_deg");
+    let free = post_unhurried("/api/build", &room.to_string());
+    assert_eq!(free.status, 200);
+    let free = free.json();
+    let mut pinned_at = None;
+    for turn in [0, 90, 180, 270] {
+        room["photos"][2]["placement_turn_deg"] = serde_json::json!(turn);
+        let reply = post_unhurried("/api/build", &room.to_string());
+        if reply.status != 200 {
+            continue;
+        }
+        let v = reply.json();
+        let same = (0..3).all(|k| {
+            (0..2).all(|i| {
+                let at =
+                    |m: &serde_json::Value| m["map"]["cameras"][k]["position"][i].as_f64().unwrap();
+                (at(&v) - at(&free)).abs() < 1e-9
+            })
+        });
+        if same {
+            assert!(
+                v["map"]["warnings"].as_array().unwrap().iter().any(|w| w
+                    .as_str()
+                    .unwrap()
+                    .contains("photo 3's placement is pinned")),
+                "{}",
+                v["map"]["warnings"]
+            );
+            pinned_at = Some(turn);
+        }
+    }
+    assert!(
+        pinned_at.is_some(),
+        "no pinned turn gives the fit's own map"
+    );
+    // Photo 3 is tied by several boxes: one turn fits, the others are refused or differ.
+}

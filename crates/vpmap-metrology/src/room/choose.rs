@@ -1,0 +1,223 @@
+//! Choosing among a room's converged placements: ties the clicks leave open broken by the
+//! physical checks (`room/checks.rs`) and said when they remain (a warning, an alternative);
+//! the consistency test (`room/consistency.rs`) refusing a room whose photos do not fit
+//! together, naming the photos, the objects and the best other placement; and the refusal of
+//! a room none of whose placements converged.
+
+use super::align::PhotoFit;
+use super::checks::{OVERLAP_SHARE, physical};
+use super::consistency;
+use super::fit::{RoomAlternative, Solved, solve};
+use super::hypotheses::{Hypothesis, Ties};
+use crate::error::{MetrologyError, Result};
+use crate::fit::solve::Model;
+use crate::interrupt::Interrupt;
+use crate::scene::Scene;
+
+/// The chi-square difference (in click variances) under which two hypotheses fit about
+/// equally.
+const TIE_CHI2: f64 = 4.0;
+
+/// The refusal of a room none of whose placements converged: by the consistency test's names
+/// when the photos are far from fitting together (the least-cost unconverged fit), else the
+/// fit's failure, else the first error met (`failure`).
+pub(super) fn refuse_unconverged(
+    fits: &[PhotoFit],
+    unconverged: &[Solved],
+    failure: Option<MetrologyError>,
+) -> MetrologyError {
+    // A fit that did not converge: refused, by the consistency test's names when its
+    // photos are far from fitting together.
+    if let Some(u) = unconverged.iter().min_by(|a, b| a.cost.total_cmp(&b.cost)) {
+        let rms = (u.cost / u.built.problem.residual_count().max(1) as f64).sqrt();
+        let test = consistency::test(fits, &u.built.problem, &u.x, &u.built.names);
+        let objects: Vec<Vec<String>> = fits
+            .iter()
+            .map(|f| f.objects.iter().map(|o| o.name.clone()).collect())
+            .collect();
+        return if test.refused() {
+            consistency::refusal(
+                &test,
+                Some(format!(
+                    "the joint fit did not converge in {} iterations ({rms:.3} px RMS) from any placement",
+                    u.iterations
+                )),
+                &objects,
+            )
+        } else {
+            MetrologyError::Degenerate {
+                field: "photos".to_owned(),
+                reason: format!(
+                    "the room fit did not converge in {} iterations (reprojection error {rms:.3} px RMS): check that objects named the same in several photos are the same object",
+                    u.iterations
+                ),
+            }
+        };
+    }
+    failure.unwrap_or_else(|| MetrologyError::Degenerate {
+        field: "photos".to_owned(),
+        reason: "no placement of the room's photos".to_owned(),
+    })
+}
+
+/// Hypotheses (`results`, converged, sorted by cost) that fit about equally: the likelihood
+/// cannot choose, so the walls do (the one that keeps every camera and floor inside every
+/// photo's walls), and the build says so. The chosen one is put first; the ties no check
+/// decides are returned as alternatives, and every tie is said in `warnings`.
+pub(super) fn break_ties(
+    scene: &Scene,
+    fits: &[PhotoFit],
+    ties: &Ties,
+    results: &mut [Solved],
+    variance: f64,
+    warnings: &mut Vec<String>,
+) -> Vec<RoomAlternative> {
+    let n = fits.len();
+    let best_cost = results.first().map_or(0.0, |r| r.cost);
+    let tied = results
+        .iter()
+        .take_while(|r| (r.cost - best_cost) / variance < TIE_CHI2)
+        .count();
+    let mut alternatives = Vec::new();
+    if tied > 1 {
+        let violations: Vec<usize> = results[..tied]
+            .iter()
+            .map(|r| physical(scene, &r.built.problem, &r.x, &r.built.names).total())
+            .collect();
+        let pick = (0..tied).min_by_key(|&i| (violations[i], i)).unwrap_or(0);
+        // The runner-up: the most likely of the others.
+        let other = usize::from(pick == 0);
+        let decided = violations[pick] < violations[other];
+        results.swap(0, pick);
+        // After the swap the runner-up sits where the chosen one was, unless it was first.
+        let other = if other == 0 { pick } else { other };
+        let (chosen, second) = (&results[0], &results[other]);
+        let differ: Vec<usize> = (1..n)
+            .filter(|&k| second.quarters[k] != chosen.quarters[k])
+            .collect();
+        for k in differ {
+            let turn = (4 + i32::from(second.quarters[k]) - i32::from(chosen.quarters[k])) % 4 * 90;
+            let shared = ties.shared_by(k);
+            warnings.push(format!(
+                "photo {} is tied to the room only by {}, which fit{} about as well with photo {} turned by {turn} degrees (cost {:.3} against {:.3} px^2): {}; to be sure, name one more object seen in photo {} and another photo",
+                k + 1,
+                quoted(&shared),
+                if shared.len() == 1 { "s" } else { "" },
+                k + 1,
+                second.cost,
+                chosen.cost,
+                if decided {
+                    format!(
+                        "the map takes the turn the room's physical checks favour ({} violations against {}: cameras, floor corners and boxes inside the walls the photos' floor outlines show, boxes not overlapping, no camera inside a box)",
+                        violations[pick], violations[usize::from(pick == 0)]
+                    )
+                } else {
+                    "the map uses the better one".to_owned()
+                },
+                k + 1
+            ));
+            if !decided {
+                alternatives.push(RoomAlternative {
+                    photo: k,
+                    turn_deg: turn,
+                    placement_turn_deg: i32::from(second.quarters[k]) * 90,
+                    cost_px2: second.cost,
+                    chosen_cost_px2: chosen.cost,
+                });
+            }
+        }
+    }
+    alternatives
+}
+
+/// Refuse the room when the chosen placement `best` fails the consistency test, naming the
+/// best other placement (`results`, the other converged ones; else the best other hypothesis
+/// of `all`, fitted now; else the least-cost unconverged fit).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn refuse_if_inconsistent(
+    scene: &Scene,
+    fits: &[PhotoFit],
+    order: &[usize],
+    all: &[Hypothesis],
+    best: &Solved,
+    results: Vec<Solved>,
+    unconverged: Vec<Solved>,
+    interrupt: &Interrupt,
+) -> Result<()> {
+    let n = fits.len();
+    let test = consistency::test(fits, &best.built.problem, &best.x, &best.built.names);
+    if test.refused() {
+        // The best other placement, fitted if it was not.
+        let mut other = results.into_iter().find(|r| r.quarters != best.quarters);
+        if other.is_none()
+            && let Some(h) = all.iter().find(|h| {
+                h.quarters
+                    .iter()
+                    .map(|q| q.unwrap_or(0))
+                    .ne(best.quarters.iter().copied())
+            })
+        {
+            other = solve(scene, fits, order, h, false, interrupt).ok();
+        }
+        if other.is_none() {
+            other = unconverged
+                .into_iter()
+                .min_by(|a, b| a.cost.total_cmp(&b.cost));
+        }
+        let alternative = other.map(|o| {
+            let turns: Vec<String> = (1..n)
+                .filter(|&k| o.quarters[k] != best.quarters[k])
+                .map(|k| {
+                    let turn = (4 + i32::from(o.quarters[k]) - i32::from(best.quarters[k])) % 4 * 90;
+                    format!("photo {} turned by {turn} degrees", k + 1)
+                })
+                .collect();
+            format!(
+                "the best other placement ({}) fits worse or no better: cost {:.3} against {:.3} px^2",
+                turns.join(", "),
+                o.cost,
+                best.cost
+            )
+        });
+        let objects: Vec<Vec<String>> = fits
+            .iter()
+            .map(|f| f.objects.iter().map(|o| o.name.clone()).collect())
+            .collect();
+        return Err(consistency::refusal(&test, alternative, &objects));
+    }
+    Ok(())
+}
+
+/// The chosen map's cameras that stand inside an object (`room/checks.rs`: deeper than
+/// [`OVERLAP_SHARE`] of the box's size from its edges), each said by name: a camera cannot
+/// stand inside an object, so the map is wrong there (a box named the same in two photos that
+/// is not one box, or a pinned placement the room does not have), though its clicks fit.
+pub(super) fn cameras_inside_objects(scene: &Scene, best: &Solved) -> Vec<String> {
+    let pinned = scene.placement_pins().iter().any(Option::is_some);
+    physical(scene, &best.built.problem, &best.x, &best.built.names)
+        .cameras_inside
+        .iter()
+        .map(|(k, name)| {
+            format!(
+                "photo {}'s camera stands inside object {name:?} on this map (more than {:.0} % of the box's size inside its edges), which no real room allows: check that the objects photo {} shares with the other photos are the same objects{}",
+                k + 1,
+                OVERLAP_SHARE * 100.0,
+                k + 1,
+                if pinned {
+                    ", and the `placement_turn_deg` that pins a photo's placement"
+                } else {
+                    ""
+                }
+            )
+        })
+        .collect()
+}
+
+fn quoted(names: &[String]) -> String {
+    let q: Vec<String> = names.iter().map(|n| format!("{n:?}")).collect();
+    match q.len() {
+        0 => "no object".to_owned(),
+        1 => format!("object {}", q[0]),
+        _ => format!("objects {}", q.join(", ")),
+    }
+}

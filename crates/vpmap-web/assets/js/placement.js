@@ -1,0 +1,118 @@
+// A room's placements the clicks leave open: the map's `alternatives` (docs/map-format.md: a
+// photo that fits about as well turned otherwise and that no physical check rules out) and the
+// photos pinned to one by their scene's `placement_turn_deg` (docs/scene-format.md, "A room of
+// several photos"). The panel under the warnings lists each with one button: **Swap** writes
+// the alternative's `placement_turn_deg` into that photo's scene (one undoable edit of that
+// photo), so the next build places the photo so turned and the map, the plan and everything
+// drawn follow it; **Unpin** removes the field and lets the fit choose again.
+//
+// placementRows and the scene edits are pure (no DOM), so the unit tests
+// (e2e/unit/placement.test.mjs) run them in Node.
+
+import { $, h, fmt } from './util.js';
+
+/**
+ * What the panel lists for a build answer's `map` and the room's `scenes` (0-based photos):
+ * `[{kind: 'alternative', photo, turn_deg, placement_turn_deg, cost_px2, chosen_cost_px2, text}]`
+ * for each alternative (none while `stale`, i.e. the last build failed), then
+ * `[{kind: 'pinned', photo, placement_turn_deg, text}]` for each pinned photo (photo 2..n).
+ * A room of one photo has none.
+ */
+export function placementRows(map, scenes, { stale = false } = {}) {
+  if (!Array.isArray(scenes) || scenes.length < 2) return [];
+  const rows = [];
+  const alternatives = !stale && Array.isArray(map?.alternatives) ? map.alternatives : [];
+  for (const a of alternatives) {
+    const photo = Number(a.photo) - 1;
+    if (!(photo >= 1 && photo < scenes.length) || ![0, 90, 180, 270].includes(a.placement_turn_deg)) continue;
+    // A photo already pinned to this very placement is listed as pinned, below.
+    if (scenes[photo]?.placement_turn_deg === a.placement_turn_deg) continue;
+    rows.push({
+      kind: 'alternative',
+      photo,
+      turn_deg: a.turn_deg,
+      placement_turn_deg: a.placement_turn_deg,
+      cost_px2: a.cost_px2,
+      chosen_cost_px2: a.chosen_cost_px2,
+      text: `Photo ${photo + 1} fits about as well turned by ${a.turn_deg}° (cost ${costText(a.cost_px2)} against the map's ${costText(a.chosen_cost_px2)} px²): the clicks and the room's walls cannot tell which is right.`,
+    });
+  }
+  scenes.forEach((scene, photo) => {
+    const v = scene?.placement_turn_deg;
+    if (photo === 0 || v === undefined || v === null) return;
+    rows.push({
+      kind: 'pinned',
+      photo,
+      placement_turn_deg: v,
+      text: `Photo ${photo + 1}'s placement is pinned (placement_turn_deg ${v}°): the fit tries no other turn of it.`,
+    });
+  });
+  return rows;
+}
+
+/** A cost for the panel: three decimals below 1000 px², else whole. */
+function costText(v) {
+  if (!Number.isFinite(v)) return '?';
+  return Math.abs(v) < 1000 ? fmt(v, 3) : String(Math.round(v));
+}
+
+/** Pin `scene` to the alternative's placement (its `placement_turn_deg`). */
+export function pinPlacement(scene, placementTurnDeg) {
+  scene.placement_turn_deg = placementTurnDeg;
+}
+
+/** Let the fit choose the photo's placement again. */
+export function unpinPlacement(scene) {
+  delete scene.placement_turn_deg;
+}
+
+/** Add `renderPlacements` to `app`: the panel `#placements`, redrawn after every build. */
+export function installPlacements(app) {
+  const { state } = app;
+
+  /** The slots holding a scene, in the order the room file lists them (room.js roomBody). */
+  const sceneSlots = () => state.photos.filter((s) => s.scene);
+
+  /** Change photo `photo`'s scene (0-based in the room file) in one undoable edit of that photo. */
+  function editPhoto(photo, fn) {
+    const slot = sceneSlots()[photo];
+    if (!slot) return;
+    if (slot === state.photos[state.active]) {
+      app.edit(fn);
+    } else {
+      slot.history?.record(slot.scene);
+      fn(slot.scene);
+      app.scheduleBuild();
+      app.sceneChanged();
+    }
+    renderPlacements();
+  }
+
+  function renderPlacements() {
+    const host = $('placements');
+    if (!host) return;
+    const scenes = sceneSlots().map((s) => s.scene);
+    const rows = placementRows(state.build?.map, scenes, { stale: !!state.buildError });
+    host.hidden = rows.length === 0;
+    host.replaceChildren(
+      ...rows.map((r) => {
+        const button = r.kind === 'alternative'
+          ? h('button', { type: 'button', class: 'swap', text: 'Swap', title: `Place photo ${r.photo + 1} turned by ${r.turn_deg}° and rebuild (photo ${r.photo + 1}'s Undo takes it back)` })
+          : h('button', { type: 'button', class: 'unpin', text: 'Unpin', title: `Let the fit choose photo ${r.photo + 1}'s placement again` });
+        button.dataset.photo = String(r.photo);
+        button.addEventListener('click', () => {
+          if (r.kind === 'alternative') {
+            editPhoto(r.photo, (s) => pinPlacement(s, r.placement_turn_deg));
+            app.setStatus(`Photo ${r.photo + 1} placed turned by ${r.turn_deg}°: rebuilding…`);
+          } else {
+            editPhoto(r.photo, unpinPlacement);
+            app.setStatus(`Photo ${r.photo + 1}'s placement is the fit's choice again: rebuilding…`);
+          }
+        });
+        return h('li', { class: r.kind, dataset: { photo: String(r.photo), kind: r.kind } }, h('span', { text: r.text }), ' ', button);
+      }),
+    );
+  }
+
+  Object.assign(app, { renderPlacements });
+}
