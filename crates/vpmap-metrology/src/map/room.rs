@@ -219,31 +219,22 @@ pub(super) fn build_room_map(
             ));
         }
     }
-    // The fit's residuals are whitened where a click has a covariance: its pixels apart.
-    let pixels = pixel_distances(&fitted);
-    let pixels_of = |field: &str, weighted: f64| pixels.get(field).copied().unwrap_or(weighted);
-    for r in &fitted.point_residuals {
-        let sigmas = r.distance_px / u.click_sigma_px;
+    for (r, weighted) in fitted
+        .point_residuals
+        .iter()
+        .zip(&fitted.weighted_residuals)
+    {
+        let sigmas = weighted / u.click_sigma_px;
         if u.click_sigma_px > 0.0 && sigmas > WARN_RESIDUAL_SIGMAS {
             warnings.push(format!(
                 "`{}` of object {:?} lies {:.1} px ({:.1} sigma) from the fitted room: a misplaced click, or not the same object in every photo?",
-                r.field,
-                r.object,
-                pixels_of(&r.field, r.distance_px),
-                sigmas
+                r.field, r.object, r.distance_px, sigmas
             ));
         }
     }
-    let covariances = !pixels.is_empty();
-    let pixel_rms = if covariances {
-        let d: Vec<f64> = fitted
-            .point_residuals
-            .iter()
-            .map(|r| pixels_of(&r.field, r.distance_px))
-            .collect();
-        super::warnings::rms(&d)
-    } else {
-        fitted.rms_residual_px
+    let covariances = {
+        use crate::fit::solve::Model as _;
+        fitted.problem.has_click_covariances()
     };
     Ok(FloorMap {
         version: 1,
@@ -270,8 +261,9 @@ pub(super) fn build_room_map(
         fit: Some(FitReport {
             click_sigma_px: u.click_sigma_px,
             click_sigma_source: u.click_sigma_source.to_owned(),
-            rms_residual_px: pixel_rms,
-            rms_normalised: covariances.then(|| fitted.rms_residual_px / u.click_sigma_px),
+            rms_residual_px: fitted.rms_residual_px,
+            rms_normalised: covariances
+                .then(|| super::warnings::rms(&fitted.weighted_residuals) / u.click_sigma_px),
             degrees_of_freedom: fitted.degrees_of_freedom,
             iterations: fitted.iterations,
             principal_point_fitted: fitted.photos.iter().all(|p| p.principal_point_fitted),
@@ -287,40 +279,4 @@ pub(super) fn build_room_map(
             .filter(|n| *n > 0),
         }),
     })
-}
-
-/// Each clicked point's distance from the fitted room in pixels, by field, when some click
-/// has a covariance (the fit's own residuals are then whitened: in standard deviations of
-/// those clicks); empty when none has.
-fn pixel_distances(fitted: &crate::room::RoomFitted) -> std::collections::BTreeMap<String, f64> {
-    use crate::fit::solve::Model as _;
-    let mut out = std::collections::BTreeMap::new();
-    if !fitted.problem.has_click_covariances() {
-        return out;
-    }
-    let mut unweighted = fitted.problem.clone();
-    for s in unweighted
-        .parts
-        .iter_mut()
-        .flat_map(|p| p.sightings.iter_mut())
-    {
-        s.weight = None;
-    }
-    let Some(residuals) = unweighted.residuals(&fitted.x) else {
-        return out;
-    };
-    // The cameras' residuals first, then each part's, two per sighting.
-    let mut at: usize = (0..unweighted.camera_group_count())
-        .map(|g| unweighted.camera_group_len(g))
-        .sum();
-    for s in unweighted.parts.iter().flat_map(|p| p.sightings.iter()) {
-        let d = residuals
-            .get(at)
-            .copied()
-            .unwrap_or(0.0)
-            .hypot(residuals.get(at + 1).copied().unwrap_or(0.0));
-        out.insert(s.field.clone(), d);
-        at += 2;
-    }
-    out
 }

@@ -74,8 +74,12 @@ pub struct RoomFitted {
     pub degrees_of_freedom: usize,
     /// Levenberg-Marquardt iterations of the chosen hypothesis.
     pub iterations: usize,
-    /// Every clicked point's misfit.
+    /// Every clicked point's misfit, pixels (without the clicks' covariances).
     pub point_residuals: Vec<PointResidual>,
+    /// Every clicked point's misfit as the fit weighs it, in the order of `point_residuals`:
+    /// with a covariance (`click_covariances_px2`), the whitened residual's length (in
+    /// standard deviations of that click); without, its length in pixels (a 1 px click).
+    pub weighted_residuals: Vec<f64>,
     /// Notes: the photos' own notes, and correspondences the data leave open.
     pub warnings: Vec<String>,
     /// Placements that fit about as well as the chosen one and that no physical check
@@ -717,23 +721,42 @@ fn finish(scene: &Scene, solved: Solved, mut warnings: Vec<String>) -> Result<Ro
         }
         floors.push(floor);
     }
+    // The residuals as the fit weighs them, and in pixels (without the clicks' whitening).
     let residuals = problem.residuals(&x).unwrap_or_default();
+    let pixel_residuals = if problem.has_click_covariances() {
+        let mut unweighted = problem.clone();
+        for s in unweighted
+            .parts
+            .iter_mut()
+            .flat_map(|p| p.sightings.iter_mut())
+        {
+            s.weight = None;
+        }
+        unweighted.residuals(&x).unwrap_or_default()
+    } else {
+        residuals.clone()
+    };
     let mut point_residuals = Vec::new();
+    let mut weighted_residuals = Vec::new();
+    // The cameras' residuals first, then each part's, two per sighting.
     let mut at: usize = (0..problem.camera_group_count())
         .map(|g| problem.camera_group_len(g))
         .sum();
+    let length = |r: &[f64], at: usize| {
+        r.get(at)
+            .copied()
+            .unwrap_or(0.0)
+            .hypot(r.get(at + 1).copied().unwrap_or(0.0))
+    };
     for (i, part) in problem.parts.iter().enumerate() {
         for s in &part.sightings {
             if let Some(name) = built.names.get(i) {
                 point_residuals.push(PointResidual {
                     object: name.clone(),
                     field: s.field.clone(),
-                    distance_px: residuals
-                        .get(at)
-                        .copied()
-                        .unwrap_or(0.0)
-                        .hypot(residuals.get(at + 1).copied().unwrap_or(0.0)),
+                    distance_px: length(&pixel_residuals, at),
                 });
+                weighted_residuals.push(length(&residuals, at));
             }
             at += 2;
         }
@@ -773,6 +796,7 @@ fn finish(scene: &Scene, solved: Solved, mut warnings: Vec<String>) -> Result<Ro
         degrees_of_freedom: problem.residual_count().saturating_sub(problem.len()),
         iterations,
         point_residuals,
+        weighted_residuals,
         warnings,
         alternatives: Vec::new(),
         problem: built.problem,

@@ -346,3 +346,64 @@ fn a_rooms_residuals_with_covariances_are_reported_in_pixels_and_sigmas() {
         wf.rms_residual_px
     );
 }
+
+#[test]
+fn a_rooms_residuals_are_pixels_and_its_normalised_ones_sigmas() {
+    use vpmap_metrology::room::fit_room;
+    use vpmap_metrology::synth::{RoomSynthOptions, synthesize_room};
+    // Every object click of every photo at 4 I px^2 (2 px), on clicks 1 px off: the
+    // misfits in pixels are about the unweighted fit's (the weights differ from the plain
+    // fit's estimated ones only in scale), and in sigmas half of them. Reported in sigmas,
+    // as before this test, the pixel RMS would come out at half the plain fit's.
+    let (plain, _) = synthesize_room(&RoomSynthOptions {
+        seed: 3,
+        photos: 3,
+        noise_px: 1.0,
+        ..RoomSynthOptions::default()
+    })
+    .unwrap();
+    let mut weighted = plain.clone();
+    let add = |s: &mut Scene| {
+        for (f, _) in box_fields(s) {
+            s.click_covariances_px2.insert(f, [[4.0, 0.0], [0.0, 4.0]]);
+        }
+    };
+    add(&mut weighted);
+    for p in &mut weighted.other_photos {
+        add(p);
+    }
+    let a = fit_room(&plain).unwrap_or_else(|e| panic!("{e}"));
+    let b = fit_room(&weighted).unwrap_or_else(|e| panic!("{e}"));
+    assert!(a.rms_residual_px > 0.3, "{}", a.rms_residual_px);
+    assert!(
+        (a.rms_residual_px - b.rms_residual_px).abs() < 0.05 * a.rms_residual_px,
+        "{} px unweighted, {} px weighted",
+        a.rms_residual_px,
+        b.rms_residual_px
+    );
+    assert_eq!(a.point_residuals.len(), b.point_residuals.len());
+    for ((ra, rb), w) in a
+        .point_residuals
+        .iter()
+        .zip(&b.point_residuals)
+        .zip(&b.weighted_residuals)
+    {
+        assert_eq!(ra.field, rb.field);
+        assert!((rb.distance_px - 2.0 * w).abs() < 1e-9, "{rb:?} {w}");
+    }
+    // Unweighted, the weighed residuals are the pixels.
+    for (r, w) in a.point_residuals.iter().zip(&a.weighted_residuals) {
+        assert!((r.distance_px - w).abs() < 1e-12);
+    }
+    // The map reports the same: pixels as pixels, the normalised RMS in sigmas.
+    let map = build_map(&weighted, &BuildOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let fit = map.fit.as_ref().unwrap();
+    assert!((fit.rms_residual_px - b.rms_residual_px).abs() < 1e-9);
+    let normalised = fit.rms_normalised.unwrap();
+    assert!(
+        (normalised - b.rms_residual_px / 2.0 / fit.click_sigma_px).abs() < 1e-9,
+        "{normalised} vs {} / 2 / {}",
+        b.rms_residual_px,
+        fit.click_sigma_px
+    );
+}
