@@ -487,3 +487,47 @@ fn a_one_pixel_image_is_refused_by_name() {
         );
     }
 }
+
+#[test]
+fn a_floor_corner_within_rounding_of_the_horizon_is_read_as_on_it() {
+    // The stated tolerance: a point less than 1e-9 focal lengths (here about 1.6e-6 px) from
+    // the horizon is on it, whichever side rounding put it; farther, it is below.
+    for dy in [0.0, 1e-7, -1e-7, 1e-6] {
+        let mut v = base_scene();
+        v["floor"][2] = serde_json::json!([1300.0, 600.0 + dy]);
+        let e = err_text(&v);
+        assert!(
+            e.contains("floor[2]") && e.contains(" on the horizon"),
+            "{dy}: {e}"
+        );
+    }
+    let mut v = base_scene();
+    v["floor"][2] = serde_json::json!([1300.0, 600.0 - 1e-3]);
+    let e = err_text(&v);
+    assert!(
+        e.contains("floor[2]") && e.contains(" above the horizon"),
+        "{e}"
+    );
+}
+
+#[test]
+fn numbers_in_a_scene_file_are_read_correctly_rounded() {
+    // Decimals of 18-20 significant digits that a parser without correct rounding reads one
+    // unit in the last place off; the reference is the standard library's correctly rounded
+    // parse. A click 1 ulp off would move a floor corner near the horizon across it.
+    let texts = [
+        "1983.030559428644220",
+        "540.687964898110354",
+        "132.34911341117422933814861",
+        "1987.9934361392354795086",
+    ];
+    for t in texts {
+        let text = base_scene()
+            .to_string()
+            .replace("[100.0,1100.0]", &format!("[{t},1100.0]"));
+        assert!(text.contains(t), "{text}");
+        let scene = Scene::from_json_str(&text).unwrap_or_else(|e| panic!("{e}"));
+        let want: f64 = t.parse().unwrap();
+        assert_eq!(scene.floor[0][0].to_bits(), want.to_bits(), "{t}");
+    }
+}
