@@ -291,7 +291,13 @@ fn plan_once(
 ///     truth.set(20, y, Occupancy::Occupied).unwrap(); // a wall the robot does not know
 /// }
 /// let belief = OccupancyGrid::new(40, 30, 1.0, [0.0; 2], Occupancy::Unknown).unwrap();
-/// let smooth = SmoothOptions { turning_radius_cells: 3.0, start_heading_rad: Some(0.0), ..SmoothOptions::default() };
+/// // It may back up: forward only, a wall seen late can leave it no room to turn.
+/// let smooth = SmoothOptions {
+///     turning_radius_cells: 3.0,
+///     start_heading_rad: Some(0.0),
+///     reverse: true,
+///     ..SmoothOptions::default()
+/// };
 /// let opts = SmoothNavigateOptions { smooth, ..SmoothNavigateOptions::default() };
 /// let run = navigate_smooth(&belief, &truth, (5, 5).into(), (35, 5).into(), &opts).unwrap();
 /// assert_eq!(run.outcome, Outcome::Reached);
@@ -301,7 +307,7 @@ fn plan_once(
 ///     start_heading: true,
 ///     goal: Pose::new(35.0, 5.0, 0.0),
 ///     goal_heading: false,
-///     reverse: false,
+///     reverse: true,
 ///     unknown_passable: false,
 /// };
 /// assert!(validate_smooth(&truth, &run.driven, &rules).is_ok()); // drivable on the truth
