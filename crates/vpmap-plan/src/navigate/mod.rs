@@ -74,7 +74,7 @@ mod outcome;
 mod replan;
 mod sensor;
 mod shadow;
-mod smooth;
+pub mod smooth;
 mod ties;
 
 pub use options::{NavigateOptions, OnlinePlanner};
