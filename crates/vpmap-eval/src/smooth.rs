@@ -132,7 +132,7 @@ pub struct SmoothTrial {
     pub turns_plus_one: usize,
     /// Largest curvature, 1/cells.
     pub max_curvature: f64,
-    /// Smallest clearance over the poses, cells.
+    /// Smallest clearance over every point of the curve, cells.
     pub min_clearance_cells: f64,
     /// Cusps.
     pub cusps: usize,

@@ -105,8 +105,8 @@ pub struct SmoothNavigation {
     pub cusps: usize,
     /// Sign changes of the curvature along the driven curve.
     pub curvature_sign_changes: usize,
-    /// Smallest clearance on the true map over [`Self::poses`], cells (see
-    /// [`Field::clearance_at`]).
+    /// Smallest clearance on the true map over every point of the driven curve, cells (see
+    /// [`Field::curve_min_clearance`]).
     pub min_clearance_cells: f64,
     /// Every planning event, the initial one first (`cell`: the cell holding the robot's
     /// position; `expanded`: the any-angle search's and the Hybrid-A*'s expansions).
@@ -450,7 +450,8 @@ pub fn navigate_smooth(
         }
     };
     let field = Field::new(truth, false);
-    let min_clearance = field.min_clearance(&poses);
+    let first = poses.first().copied().unwrap_or(robot);
+    let min_clearance = field.curve_min_clearance(&driven, first);
     Ok(SmoothNavigation {
         outcome,
         reason: if outcome == Outcome::NoDrivablePath {

@@ -133,8 +133,9 @@ pub struct SmoothPlan {
     pub length_cells: f64,
     /// Largest curvature, 1/cells.
     pub max_curvature: f64,
-    /// Smallest clearance over the poses, cells: how far the robot's square stays from
-    /// every blocked cell (0: touching).
+    /// Smallest clearance over every point of the curve, cells: how close the robot's square
+    /// comes to a blocked cell (Chebyshev distance between the square and the cell's, 0:
+    /// touching; [`clearance::Field::curve_min_clearance`], exact).
     pub min_clearance_cells: f64,
     /// Changes between forward and reverse.
     pub cusps: usize,
@@ -516,7 +517,7 @@ fn finish(
         max_curvature: curve.max_curvature(),
         // Touching within round-off is touching.
         min_clearance_cells: {
-            let c = field.min_clearance(&poses);
+            let c = field.curve_min_clearance(&curve, rules.start);
             if c.abs() < 1e-9 { 0.0 } else { c }
         },
         cusps: curve.cusps(),
