@@ -243,20 +243,23 @@ impl Field {
         if pieces.is_empty() {
             return self.clearance_at(start);
         }
-        let mut best = f64::INFINITY;
-        let mut at_start = Vec::with_capacity(pieces.len());
+        // The pieces' ends first (cheaply, skipping by the distance field), then the pieces
+        // that could still come closer.
+        let ends: Vec<Pose> = pieces
+            .iter()
+            .flat_map(|&(seg, lo, hi)| [seg.pose_at(lo), seg.pose_at(hi)])
+            .collect();
+        let mut best = self.min_clearance(&ends);
         for &(seg, lo, hi) in &pieces {
-            let (a, b) = (seg.pose_at(lo), seg.pose_at(hi));
-            let ca = self.clearance_at(a);
-            best = best.min(ca).min(self.clearance_at(b));
-            at_start.push(ca);
-        }
-        for (&(seg, lo, hi), &ca) in pieces.iter().zip(&at_start) {
             let len = hi - lo;
+            let p = seg.pose_at(lo);
+            if self.margin(p.x, p.y) - len >= best {
+                continue;
+            }
+            let ca = self.clearance_at(p);
             if ca - len >= best {
                 continue;
             }
-            let p = seg.pose_at(lo);
             // Every point of the piece is within `len` of `p`, and its nearest blocked centre
             // within `ca + 1 + len` of it.
             let reach = (ca + 1.0 + 2.0 * len).ceil() as i64 + 1;

@@ -393,6 +393,9 @@ fn forward_only_the_turning_margin_reaches_the_goal_more_often() {
         reached_forward_only(false, 40),
         reached_forward_only(true, 40),
     );
+    println!(
+        "forward only, 40 drives: {without} reached without the turning margin, {with} with it"
+    );
     assert!(
         with > without,
         "with the margin {with} of 40, without {without}"
