@@ -72,6 +72,67 @@ pub struct BenchArgs {
     /// Sensor range of `--navigate`, cells.
     #[arg(long, default_value_t = 10.0, allow_negative_numbers = true)]
     sensor_range: f64,
+    /// The smooth planner against its Hybrid-A* reference instead (issue 41; see
+    /// docs/planning.md): Nav2-kind maps, maps built from scenes and, when found, Moving AI
+    /// rooms and cities; writes smooth.csv and smooth.md (`--publish`: the `bench-smooth`
+    /// section).
+    #[arg(long, conflicts_with = "navigate")]
+    smooth: bool,
+    /// Queries per map of `--smooth` (each at every radius, with both planners).
+    #[arg(long, default_value_t = 6)]
+    queries: usize,
+}
+
+/// `vpmap bench --smooth`.
+fn run_smooth(args: &BenchArgs) -> Result<()> {
+    use vpmap_eval::smooth::{SMOOTH_SECTION, SmoothBenchOptions, load_average};
+    if !args.inputs.is_empty() {
+        bail!("--smooth runs on its own maps; give no map files");
+    }
+    if args.queries == 0 {
+        bail!("--queries must be at least 1, got 0");
+    }
+    if args.out.is_file() {
+        bail!("--out {}: it is a file, not a folder", args.out.display());
+    }
+    if let Some(p) = &args.publish {
+        check_publish_target(p, SMOOTH_SECTION)?;
+    }
+    let opts = SmoothBenchOptions {
+        queries: args.queries,
+        movingai_dir: vpmap_eval::bench::maps::movingai_dir().ok(),
+        seed: args.seed,
+        command: command_line(),
+        ..SmoothBenchOptions::default()
+    };
+    let load_before = load_average();
+    let started = std::time::Instant::now();
+    let bar = crate::progress::Bar::new("{elapsed_precise} [{bar}] {pos}/{len} {msg}", "30");
+    let trials = vpmap_eval::smooth::run_smooth(&opts, &bar)?;
+    let elapsed = started.elapsed();
+    let loads = [load_before, load_average()];
+    vpmap_eval::smooth::smooth_report(&trials).write_all(&args.out)?;
+    let table = vpmap_eval::smooth::smooth_table(&trials);
+    if let Some(path) = &args.publish {
+        let section =
+            vpmap_eval::smooth::smooth_published_section(&table, elapsed, &opts.command, loads);
+        vpmap_eval::publish::replace_section(path, SMOOTH_SECTION, &section)?;
+    }
+    print!("{table}");
+    println!(
+        "wrote smooth.csv and smooth.md in {} ({:.1} s; load average {} before, {} after)",
+        args.out.display(),
+        elapsed.as_secs_f64(),
+        loads[0].map_or_else(|| "unknown".to_owned(), |v| format!("{v:.2}")),
+        loads[1].map_or_else(|| "unknown".to_owned(), |v| format!("{v:.2}")),
+    );
+    if let Some(path) = &args.publish {
+        println!(
+            "published the {SMOOTH_SECTION} section of {}",
+            path.display()
+        );
+    }
+    Ok(())
 }
 
 /// `vpmap bench --navigate`.
@@ -170,6 +231,9 @@ fn check_publish_target(path: &Path, name: &str) -> Result<()> {
 pub fn run(args: &BenchArgs) -> Result<()> {
     if args.navigate {
         return run_navigate(args);
+    }
+    if args.smooth {
+        return run_smooth(args);
     }
     let opts = BenchOptions {
         inputs: args.inputs.clone(),

@@ -6,14 +6,19 @@ use std::path::PathBuf;
 use anyhow::{Context, Result, bail};
 use vpmap_pipeline::{
     DriveMap, DriveReport, Endpoint, EndpointRules, OptionNames, PipelineError, PlanningMap,
-    drive_maps, endpoint_cell, navigate_json,
+    SmoothDriveReport, drive_maps, endpoint_cell, navigate_json, navigate_smooth_json,
+    smooth_options,
 };
 use vpmap_plan::budget::{Budget, Stop};
 use vpmap_plan::grid::{CellXy, OccupancyGrid};
-use vpmap_plan::navigate::{NavigateOptions, OnlinePlanner, navigate, truth_optimum};
+use vpmap_plan::navigate::{
+    NavigateOptions, OnlinePlanner, SmoothNavigateOptions, navigate, navigate_smooth, truth_optimum,
+};
+use vpmap_plan::smooth::{SmoothPlan, SmoothStats};
+use vpmap_render::{GridCoordinates, smooth_svg};
 
 use crate::output::OutputSet;
-use crate::plan::{check_robot_radius, parse_point};
+use crate::plan::{check_robot_radius, parse_point, parse_pose};
 use vpmap_pipeline::num;
 
 /// Arguments of `vpmap navigate`.
@@ -30,15 +35,26 @@ pub struct NavigateArgs {
     /// of the believed map's size and resolution.
     #[arg(long)]
     truth: PathBuf,
-    /// Start `X,Y` (metres in the map's frame; cells for a Moving AI map).
+    /// Start `X,Y` (metres in the map's frame; cells for a Moving AI map); with `--planner
+    /// smooth`, `X,Y,HEADING` too (degrees, atan2(dy, dx) in the map's coordinates; free
+    /// when left out).
     #[arg(long, allow_hyphen_values = true)]
     from: String,
-    /// Goal `X,Y`.
+    /// Goal `X,Y` (with `--planner smooth`, `X,Y,HEADING` as for `--from`).
     #[arg(long, allow_hyphen_values = true)]
     to: String,
-    /// Online planner: astar, astar-ps, dstar-lite or mbpp.
+    /// Online planner: astar, astar-ps, dstar-lite, mbpp, astar-ties, dstar-lite-ties, or
+    /// smooth (curvature-bounded curves re-planned from the robot's pose and heading; needs
+    /// --turning-radius).
     #[arg(long, default_value = "dstar-lite", value_parser = parse_planner)]
-    planner: OnlinePlanner,
+    planner: NavPlanner,
+    /// `--planner smooth`: the smallest turning radius (metres for ROS maps and map.json,
+    /// cells for a Moving AI map).
+    #[arg(long, allow_negative_numbers = true)]
+    turning_radius: Option<f64>,
+    /// `--planner smooth`: allow driving in reverse (cusps, reported as such).
+    #[arg(long)]
+    reverse: bool,
     /// Sensor range, metres (cells for a Moving AI map); default: 10 cells.
     #[arg(long, allow_negative_numbers = true)]
     sensor_range: Option<f64>,
@@ -72,8 +88,20 @@ pub struct NavigateArgs {
     out: PathBuf,
 }
 
-fn parse_planner(s: &str) -> std::result::Result<OnlinePlanner, String> {
-    s.parse::<OnlinePlanner>().map_err(|e| e.to_string())
+/// What `--planner` names: an online grid planner or the smooth planner.
+#[derive(Clone, Copy, Debug)]
+enum NavPlanner {
+    Online(OnlinePlanner),
+    Smooth,
+}
+
+fn parse_planner(s: &str) -> std::result::Result<NavPlanner, String> {
+    if s == "smooth" {
+        return Ok(NavPlanner::Smooth);
+    }
+    s.parse::<OnlinePlanner>()
+        .map(NavPlanner::Online)
+        .map_err(|e| format!("{e}, smooth"))
 }
 
 /// The believed and true maps of a run (same grid).
@@ -101,6 +129,13 @@ fn load_maps(args: &NavigateArgs) -> Result<(PlanningMap, OccupancyGrid)> {
 
 /// `vpmap navigate`.
 pub fn run(args: &NavigateArgs) -> Result<()> {
+    let planner = match args.planner {
+        NavPlanner::Smooth => return run_smooth(args),
+        NavPlanner::Online(p) => p,
+    };
+    if args.turning_radius.is_some() || args.reverse {
+        bail!("--turning-radius and --reverse are for --planner smooth");
+    }
     let from = parse_point("--from", &args.from)?;
     let to = parse_point("--to", &args.to)?;
     let (believed, truth) = load_maps(args)?;
@@ -126,18 +161,12 @@ pub fn run(args: &NavigateArgs) -> Result<()> {
     let start = on_truth("--from", from)?;
     let goal = on_truth("--to", to)?;
     let opts = NavigateOptions {
-        planner: args.planner,
+        planner,
         sensor_range_cells: range_cells,
         unknown_passable: !args.unknown_blocked,
         max_moves: args.max_moves,
         max_replans: args.max_replans,
-        budget: Budget {
-            max_expansions: args.max_expansions,
-            max_sight_cells: args.max_sight_cells,
-            stop: args
-                .timeout
-                .map_or_else(Stop::new, |t| Stop::new().with_timeout(t)),
-        },
+        budget: budget(args),
     };
     let run = navigate(&believed.grid, &truth, start, goal, &opts)
         .map_err(|e| crate::plan::name_the_flag(e.into()))?;
@@ -153,7 +182,7 @@ pub fn run(args: &NavigateArgs) -> Result<()> {
     let report = DriveReport {
         run: &run,
         optimum: &optimum,
-        planner: args.planner,
+        planner,
         unknown_passable: !args.unknown_blocked,
         sensor_range_cells: range_cells,
         scale,
@@ -167,12 +196,12 @@ pub fn run(args: &NavigateArgs) -> Result<()> {
     );
     outputs.add(
         "navigate.svg",
-        vpmap_render::navigation_svg(&truth, &believed.grid, &run, start, goal, args.planner),
+        vpmap_render::navigation_svg(&truth, &believed.grid, &run, start, goal, planner),
     );
     outputs.write_all(&args.out)?;
     println!(
         "{}: {} after {} moves, driven {:.3} {unit} (true optimum {} octile, {} any-angle), {} re-plans, planning {:.3} ms; wrote {}",
-        args.planner.name(),
+        planner.name(),
         run.outcome.as_str(),
         run.moves,
         run.length_cells * scale,
@@ -182,6 +211,128 @@ pub fn run(args: &NavigateArgs) -> Result<()> {
         optimum
             .any_angle_cells
             .map_or_else(|| "none".to_owned(), |l| format!("{:.3}", l * scale)),
+        run.events.len().saturating_sub(1),
+        run.planning_time_s * 1e3,
+        args.out.display()
+    );
+    Ok(())
+}
+
+/// The budget of each re-plan, from the flags.
+fn budget(args: &NavigateArgs) -> Budget {
+    Budget {
+        max_expansions: args.max_expansions,
+        max_sight_cells: args.max_sight_cells,
+        stop: args
+            .timeout
+            .map_or_else(Stop::new, |t| Stop::new().with_timeout(t)),
+    }
+}
+
+/// `vpmap navigate --planner smooth`.
+fn run_smooth(args: &NavigateArgs) -> Result<()> {
+    let (from, start_heading) = parse_pose("--from", &args.from)?;
+    let (to, goal_heading) = parse_pose("--to", &args.to)?;
+    let Some(radius) = args.turning_radius else {
+        bail!("--planner smooth needs --turning-radius (metres, or cells for a Moving AI map)");
+    };
+    let (believed, truth) = load_maps(args)?;
+    let (scale, unit) = (believed.scale(), believed.unit());
+    let range_cells =
+        vpmap_pipeline::drive::sensor_range_cells(args.sensor_range, scale, unit, "--sensor-range")
+            .map_err(anyhow::Error::msg)?;
+    let headings = [start_heading, goal_heading];
+    let mut smooth = smooth_options(
+        &believed,
+        radius,
+        "--turning-radius",
+        headings,
+        args.reverse,
+    )?;
+    smooth.budget = budget(args);
+    let coordinates = believed.coordinates();
+    let rules = EndpointRules {
+        unknown_passable: false,
+        robot_radius: believed.robot_radius,
+        names: OptionNames::CommandLine,
+    };
+    let on_truth = |name: &str, point| {
+        endpoint_cell(&truth, coordinates, &Endpoint { name, point }, &rules)
+            .with_context(|| format!("{name} on the true map {}", args.truth.display()))
+    };
+    let start = on_truth("--from", from)?;
+    let goal = on_truth("--to", to)?;
+    let opts = SmoothNavigateOptions {
+        smooth,
+        sensor_range_cells: range_cells,
+        unknown_passable: !args.unknown_blocked,
+        max_moves: args.max_moves,
+        max_replans: args.max_replans,
+        ..SmoothNavigateOptions::default()
+    };
+    let run = navigate_smooth(&believed.grid, &truth, start, goal, &opts)
+        .map_err(|e| crate::plan::name_the_flag(e.into()))?;
+    let optimum = truth_optimum(&truth, start, goal, &opts.smooth.budget)
+        .map_err(|e| crate::plan::name_the_flag(e.into()))?;
+    let report = SmoothDriveReport {
+        run: &run,
+        optimum: &optimum,
+        opts: &opts.smooth,
+        unknown_passable: opts.unknown_passable,
+        sensor_range_cells: range_cells,
+    };
+    let json = navigate_smooth_json(&believed, &report);
+    // The picture: the true map and the driven curve, its tightest turn marked.
+    let driven = SmoothPlan {
+        curve: run.driven.clone(),
+        poses: run.poses.clone(),
+        length_cells: run.length_cells,
+        max_curvature: run.max_curvature,
+        min_clearance_cells: run.min_clearance_cells,
+        cusps: run.cusps,
+        curvature_sign_changes: run.curvature_sign_changes,
+        method: "navigate",
+        any_angle_length_cells: optimum.any_angle_cells.unwrap_or(0.0),
+        stats: SmoothStats::default(),
+    };
+    let grid_coordinates = if believed.in_cells {
+        GridCoordinates::Cells
+    } else {
+        GridCoordinates::World
+    };
+    let title = format!(
+        "Smooth navigation ({}; turning radius {} {unit})",
+        run.outcome.as_str(),
+        vpmap_pipeline::num(radius)
+    );
+    let mut outputs = OutputSet::default();
+    outputs.add(
+        "navigate.json",
+        serde_json::to_string_pretty(&json).context("serialising navigate.json")?,
+    );
+    outputs.add(
+        "navigate.svg",
+        smooth_svg(&truth, Some(&driven), start, goal, grid_coordinates, &title),
+    );
+    outputs.write_all(&args.out)?;
+    let reason = run
+        .reason
+        .as_ref()
+        .map_or_else(String::new, |r| format!(" ({r})"));
+    println!(
+        "smooth: {}{reason} after {} moves, driven {:.3} {unit} (true any-angle optimum {}), {} cusps, tightest radius {}, {} re-plans, planning {:.3} ms; wrote {}",
+        run.outcome.as_str(),
+        run.moves,
+        run.length_cells * scale,
+        optimum
+            .any_angle_cells
+            .map_or_else(|| "none".to_owned(), |l| format!("{:.3} {unit}", l * scale)),
+        run.cusps,
+        if run.max_curvature > 0.0 {
+            format!("{:.3} {unit}", scale / run.max_curvature)
+        } else {
+            "none (straight)".to_owned()
+        },
         run.events.len().saturating_sub(1),
         run.planning_time_s * 1e3,
         args.out.display()

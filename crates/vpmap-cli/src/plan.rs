@@ -148,7 +148,7 @@ pub(crate) fn parse_point(what: &str, text: &str) -> Result<[f64; 2]> {
 }
 
 /// A pose `X,Y[,HEADING]` given as `what`: the point and the heading in degrees, if any.
-fn parse_pose(what: &str, text: &str) -> Result<([f64; 2], Option<f64>)> {
+pub(crate) fn parse_pose(what: &str, text: &str) -> Result<([f64; 2], Option<f64>)> {
     let parts: Vec<&str> = text.split(',').map(str::trim).collect();
     if let [x, y, h] = parts.as_slice() {
         let point = parse_point(what, &format!("{x},{y}"))?;

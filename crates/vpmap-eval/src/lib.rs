@@ -18,6 +18,8 @@
 //!   and error-bar coverage with snapped against raw clicks, and the box proposals' recall and
 //!   precision; on real photos ([`clicks::yud`], `--yud DIR`): York Urban's labelled corners,
 //!   with the labels' own error measured and allowed for.
+//! - [`smooth`]: the smooth planner against its Hybrid-A* reference (`vpmap bench --smooth`),
+//!   side by side on Nav2-kind maps, maps built from scenes and Moving AI rooms and cities.
 //! - [`room`]: rooms of several photos: the joint map against the map of the first photo
 //!   alone and each shared object against the photos that show it alone (issue 29's targets).
 //! - [`stats`]: every quantile, median, mean and box-plot figure the reports print (type 7
@@ -29,7 +31,7 @@
 //! Bottom-up, each using only those before it (inside a folder, the files before its
 //! `mod.rs`): `error`, [`progress`], [`stats`], [`output`], [`publish`];
 //! [`accuracy`] (`config`, `collect`, `files`, `report`, `plot`); [`bench`](mod@bench) (`maps`,
-//! `measure`, `results`, `summary`, `plots`, `report`); [`navigate`](mod@navigate) (`eval`);
+//! `measure`, `results`, `summary`, `plots`, `report`); [`navigate`](mod@navigate) (`eval`); [`smooth`];
 //! [`detection`] (`geom`, `horizon`, `results`, `report`); [`clicks`] (`trial`, `report`, `yud`).
 //!
 //! Each measurement is a function with an options struct; it returns its results and the files
@@ -48,6 +50,7 @@ pub mod output;
 pub mod progress;
 pub mod publish;
 pub mod room;
+pub mod smooth;
 pub mod stats;
 
 pub use error::{EvalError, Result};

@@ -1,5 +1,6 @@
 //! Smooth paths in a map's own coordinates: turning radius and headings in, segments and
-//! poses out ([`smooth_options`], [`smooth_json`]).
+//! poses out ([`smooth_options`], [`smooth_json`]), and the report of a drive with the smooth
+//! planner ([`navigate_smooth_json`], `vpmap navigate --planner smooth`).
 //!
 //! A Moving AI map's coordinates are cells `(column, row)`, `y` down the rows, so a heading
 //! `atan2(dy, dx)` there is the planner's heading. A ROS map's or a `map.json`'s
@@ -7,6 +8,7 @@
 //! resolution, headings and curvatures change sign. A `turn` of `left` always means the
 //! heading (in the map's coordinates) increases.
 
+use vpmap_plan::navigate::{Outcome, SmoothNavigation, TruthOptimum};
 use vpmap_plan::smooth::{
     Gear, NoDrivablePath, NoPathKind, Pose, Segment, SmoothOptions, SmoothOutcome,
 };
@@ -240,4 +242,94 @@ pub fn smooth_text(
             no_path_reason(map, n, start_goal)
         ),
     }
+}
+
+/// What `navigate.json` says about a drive with the smooth planner besides the drive.
+#[derive(Debug, Clone, Copy)]
+pub struct SmoothDriveReport<'a> {
+    /// The drive.
+    pub run: &'a SmoothNavigation,
+    /// The optimum on the true map.
+    pub optimum: &'a TruthOptimum,
+    /// The options the robot planned with (turning radius, reverse), in cells.
+    pub opts: &'a SmoothOptions,
+    /// Whether unknown cells were passable to the planner.
+    pub unknown_passable: bool,
+    /// The sensor range, cells.
+    pub sensor_range_cells: f64,
+}
+
+/// `navigate.json` of `vpmap navigate --planner smooth` (format in docs/navigation.md): the
+/// fields of the other planners' report that apply (`outcome`, `reached`, `moves`,
+/// `length`, the true optima and the excess over them, `replans`, `planning_time_s`,
+/// `events`, `seen_cells`), and the driven curve: `segments`, `poses` (every pose the robot
+/// stood at, `[x, y, heading_deg]`), `max_curvature`, `min_clearance`, `cusps`,
+/// `curvature_sign_changes`; `reason` when no drivable path was left.
+#[must_use]
+pub fn navigate_smooth_json(
+    map: &PlanningMap,
+    report: &SmoothDriveReport<'_>,
+) -> serde_json::Value {
+    let SmoothDriveReport {
+        run,
+        optimum,
+        opts,
+        unknown_passable,
+        sensor_range_cells,
+    } = *report;
+    let scale = map.scale();
+    let unit = map.unit();
+    let at = |c: vpmap_plan::grid::CellXy| {
+        let p = pose_in_map(map, Pose::new(c.x as f64, c.y as f64, 0.0));
+        [p[0], p[1]]
+    };
+    let events: Vec<serde_json::Value> = run
+        .events
+        .iter()
+        .map(|e| {
+            serde_json::json!({
+                "moves": e.moves,
+                "cell": [e.cell.x, e.cell.y],
+                "at": at(e.cell),
+                "pose": run.poses.get(e.moves).map(|&p| pose_in_map(map, p)),
+                "reason": e.reason.as_str(),
+                "time_s": e.time_s,
+                "expanded": e.expanded,
+                "planned_length": e.planned_length_cells.map(|l| l * scale),
+                "doubted_cells": e.doubted_cells,
+            })
+        })
+        .collect();
+    let excess = |opt: Option<f64>| opt.filter(|&o| o > 0.0).map(|o| run.length_cells / o - 1.0);
+    serde_json::json!({
+        "version": 1,
+        "planner": "smooth",
+        "units": unit,
+        "turning_radius": opts.turning_radius_cells * scale,
+        "reverse": opts.reverse,
+        "sensor_range_cells": sensor_range_cells,
+        "unknown_passable": unknown_passable,
+        "outcome": run.outcome.as_str(),
+        "reached": run.outcome == Outcome::Reached,
+        "reason": run.reason,
+        "moves": run.moves,
+        "length": run.length_cells * scale,
+        "length_cells": run.length_cells,
+        "length_m": if unit == "m" { Some(run.length_cells * scale) } else { None },
+        "optimum_octile": optimum.octile_cells.map(|l| l * scale),
+        "optimum_any_angle": optimum.any_angle_cells.map(|l| l * scale),
+        "excess_over_octile": excess(optimum.octile_cells),
+        "excess_over_any_angle": excess(optimum.any_angle_cells),
+        "replans": run.events.len().saturating_sub(1),
+        "planning_time_s": run.planning_time_s,
+        "expanded": run.expanded,
+        "max_curvature": run.max_curvature / scale,
+        "min_clearance": run.min_clearance_cells * scale,
+        "cusps": run.cusps,
+        "curvature_sign_changes": run.curvature_sign_changes,
+        "segments": run.driven.segments.iter().map(|s| segment_json(map, s)).collect::<Vec<_>>(),
+        "poses": run.poses.iter().map(|&q| pose_in_map(map, q)).collect::<Vec<_>>(),
+        "events": events,
+        "seen_cells": run.belief.seen.iter().filter(|&&s| s).count(),
+    })
 }

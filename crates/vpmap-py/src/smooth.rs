@@ -99,7 +99,8 @@ pub struct SmoothPath {
     /// Its largest curvature, 1 / the grid's unit (``None`` without a path).
     #[pyo3(get)]
     max_curvature: Option<f64>,
-    /// Its smallest clearance over the poses, the grid's units (``None`` without a path).
+    /// Its smallest clearance over every point of the curve, the grid's units (``None``
+    /// without a path).
     #[pyo3(get)]
     min_clearance: Option<f64>,
     /// Changes between driving forward and in reverse.

@@ -403,6 +403,14 @@ fn bench_rejects_bad_input_and_writes_nothing() {
             "is not a free cell",
         ),
         (vec!["bench", "notes.txt", "--out", o], "unknown input type"),
+        (
+            vec!["bench", "--smooth", "--queries", "0", "--out", o],
+            "--queries must be at least 1",
+        ),
+        (
+            vec!["bench", "--smooth", g, "--out", o],
+            "--smooth runs on its own maps",
+        ),
     ] {
         assert_bench_fails(&args, &out, needle);
     }

@@ -6,6 +6,7 @@ mod detect;
 mod eval;
 mod hostile;
 mod navigate;
+mod navigate_smooth;
 mod outputs;
 mod plan_mbpp;
 mod plan_smooth;

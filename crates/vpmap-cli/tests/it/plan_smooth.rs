@@ -27,7 +27,7 @@ fn grid() -> OccupancyGrid {
     g
 }
 
-fn movingai_text(g: &OccupancyGrid) -> String {
+pub(super) fn movingai_text(g: &OccupancyGrid) -> String {
     let mut s = format!(
         "type octile\nheight {}\nwidth {}\nmap\n",
         g.height(),
@@ -52,12 +52,12 @@ fn json(args: &[&str]) -> Value {
     serde_json::from_slice(&o.stdout).unwrap()
 }
 
-fn f(v: &Value) -> f64 {
+pub(super) fn f(v: &Value) -> f64 {
     v.as_f64().unwrap()
 }
 
 /// The JSON's segments (Moving AI coordinates: the planner's own) as a curve.
-fn curve_of(v: &Value) -> SmoothCurve {
+pub(super) fn curve_of(v: &Value) -> SmoothCurve {
     let mut c = SmoothCurve::default();
     for s in v["segments"].as_array().unwrap() {
         let start = &s["start"];

@@ -65,6 +65,8 @@
 //! - `ties.rs`: A* under the common tie rule;
 //! - `shadow.rs`: the A* timed beside a drive, replayed on the logged beliefs;
 //! - `outcome.rs`: what a drive returns;
+//! - `smooth.rs`: the drive with the smooth planner ([`navigate_smooth`]), along curves
+//!   from the robot's pose and heading;
 //! - this file: [`navigate`] and the drive itself (moving, the bumper, when to re-plan).
 
 mod options;
@@ -72,12 +74,14 @@ mod outcome;
 mod replan;
 mod sensor;
 mod shadow;
+pub mod smooth;
 mod ties;
 
 pub use options::{NavigateOptions, OnlinePlanner};
 pub use outcome::{Navigation, Outcome, ReplanEvent, ReplanReason, TruthOptimum};
 pub use sensor::{Belief, MAX_SENSOR_RANGE_CELLS, Sensed};
 pub use shadow::ShadowAstar;
+pub use smooth::{SmoothNavigateOptions, SmoothNavigation, navigate_smooth};
 
 use crate::budget::Budget;
 use crate::error::{PlanError, Result};
@@ -120,7 +124,7 @@ fn check_inputs(
     truth: &OccupancyGrid,
     start: CellXy,
     goal: CellXy,
-    opts: &NavigateOptions,
+    sensor_range_cells: f64,
 ) -> Result<()> {
     if (believed.width(), believed.height()) != (truth.width(), truth.height()) {
         return Err(PlanError::MapMismatch {
@@ -137,7 +141,7 @@ fn check_inputs(
             truth: rt.to_string(),
         });
     }
-    let r = opts.sensor_range_cells;
+    let r = sensor_range_cells;
     if !(r.is_finite() && (1.0..=MAX_SENSOR_RANGE_CELLS).contains(&r)) {
         return Err(PlanError::InvalidParameter {
             field: "sensor range (cells)",
@@ -225,7 +229,7 @@ fn drive(
     opts: &NavigateOptions,
     shadow: bool,
 ) -> Result<Navigation> {
-    check_inputs(believed, truth, start, goal, opts)?;
+    check_inputs(believed, truth, start, goal, opts.sensor_range_cells)?;
     let mut belief_grid = believed.clone();
     belief_grid.set(goal.x, goal.y, Occupancy::Free)?;
     let online = match opts.planner {

@@ -21,6 +21,11 @@ pub enum Outcome {
     MoveLimit,
     /// [`NavigateOptions::max_replans`](super::NavigateOptions::max_replans) reached.
     ReplanLimit,
+    /// The smooth planner ([`navigate_smooth`](super::navigate_smooth)) found no drivable
+    /// path from the robot's pose, even with the map's unseen obstacles doubted (e.g. a wall
+    /// seen too late to turn before it); the path's reason is in
+    /// [`SmoothNavigation::reason`](super::SmoothNavigation::reason).
+    NoDrivablePath,
 }
 
 impl Outcome {
@@ -32,6 +37,7 @@ impl Outcome {
             Self::GoalUnreachable => "goal unreachable after sensing",
             Self::MoveLimit => "move limit reached",
             Self::ReplanLimit => "re-plan limit reached",
+            Self::NoDrivablePath => "no drivable path from the robot's pose",
         }
     }
 }

@@ -149,24 +149,7 @@ impl Run<'_> {
     /// Believe free every cell the belief holds impassable that the sensor has never seen
     /// (the map's unverified obstacles), telling D* Lite; returns how many.
     pub(super) fn doubt_unseen(&mut self, robot: CellXy) -> Result<usize> {
-        let unknown_passable = self.opts.unknown_passable;
-        let width = self.belief.grid.width();
-        let mut changes = Vec::new();
-        for (i, (&cell, &seen)) in self
-            .belief
-            .grid
-            .cells()
-            .iter()
-            .zip(&self.belief.seen)
-            .enumerate()
-        {
-            if !seen && !crate::los::cell_passable(cell, unknown_passable) && width > 0 {
-                changes.push((CellXy::new(i % width, i / width), Occupancy::Free));
-            }
-        }
-        for &(c, o) in &changes {
-            self.belief.grid.set(c.x, c.y, o)?;
-        }
+        let changes = self.belief.doubt_unseen(self.opts.unknown_passable)?;
         if !changes.is_empty() {
             self.observe(robot, &changes)?;
         }

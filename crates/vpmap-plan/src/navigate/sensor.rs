@@ -113,4 +113,26 @@ impl Belief {
         }
         Sensed { changes, opened }
     }
+
+    /// Believe free every cell the belief holds impassable (under `unknown_passable`) that
+    /// the sensor has never seen (the map's unverified obstacles); returns the changes.
+    ///
+    /// # Errors
+    /// Not expected (the cells are the grid's own).
+    pub(super) fn doubt_unseen(
+        &mut self,
+        unknown_passable: bool,
+    ) -> crate::error::Result<Vec<(CellXy, Occupancy)>> {
+        let width = self.grid.width();
+        let mut changes = Vec::new();
+        for (i, (&cell, &seen)) in self.grid.cells().iter().zip(&self.seen).enumerate() {
+            if !seen && !cell_passable(cell, unknown_passable) && width > 0 {
+                changes.push((CellXy::new(i % width, i / width), Occupancy::Free));
+            }
+        }
+        for &(c, o) in &changes {
+            self.grid.set(c.x, c.y, o)?;
+        }
+        Ok(changes)
+    }
 }

@@ -251,7 +251,7 @@ fn piece_enters(shape: &Shape, lo: f64, hi: f64, b: (i64, i64)) -> Option<[f64; 
 }
 
 /// The first blocked cell a segment's swept square overlaps, with a point inside it.
-fn segment_collision(
+pub(crate) fn segment_collision(
     grid: &OccupancyGrid,
     seg: &Segment,
     unknown_passable: bool,

@@ -213,6 +213,133 @@ impl Field {
     }
 }
 
+impl Field {
+    /// The smallest clearance over every point of `curve` (not only sampled poses), cells:
+    /// the least Chebyshev distance from a point of the curve to a blocked cell's centre,
+    /// minus 1 (see [`Self::clearance_at`]); for an empty curve, the clearance at `start`.
+    ///
+    /// The curve is cut into pieces of at most a quarter cell. The clearance moves by at most
+    /// the length moved along the curve, so a piece whose start's clearance minus its length
+    /// cannot beat the smallest value found is skipped; every other piece is solved exactly
+    /// against each blocked cell within reach ([`piece_chebyshev`]).
+    ///
+    /// # Complexity
+    /// `O(length)` clearance look-ups, plus `O(r^2)` cells for each piece near the minimum,
+    /// `r` the clearance there.
+    #[must_use]
+    pub fn curve_min_clearance(&self, curve: &SmoothCurve, start: Pose) -> f64 {
+        const PIECE: f64 = 0.25;
+        let mut pieces = Vec::new();
+        for seg in &curve.segments {
+            let n = (seg.length / PIECE).ceil().max(1.0) as usize;
+            for k in 0..n {
+                let (lo, hi) = (
+                    seg.length * k as f64 / n as f64,
+                    seg.length * (k + 1) as f64 / n as f64,
+                );
+                pieces.push((seg, lo, hi));
+            }
+        }
+        if pieces.is_empty() {
+            return self.clearance_at(start);
+        }
+        // The pieces' ends first (cheaply, skipping by the distance field), then the pieces
+        // that could still come closer.
+        let ends: Vec<Pose> = pieces
+            .iter()
+            .flat_map(|&(seg, lo, hi)| [seg.pose_at(lo), seg.pose_at(hi)])
+            .collect();
+        let mut best = self.min_clearance(&ends);
+        for &(seg, lo, hi) in &pieces {
+            let len = hi - lo;
+            let p = seg.pose_at(lo);
+            if self.margin(p.x, p.y) - len >= best {
+                continue;
+            }
+            let ca = self.clearance_at(p);
+            if ca - len >= best {
+                continue;
+            }
+            // Every point of the piece is within `len` of `p`, and its nearest blocked centre
+            // within `ca + 1 + len` of it.
+            let reach = (ca + 1.0 + 2.0 * len).ceil() as i64 + 1;
+            let (cx, cy) = (p.x.round() as i64, p.y.round() as i64);
+            for y in cy - reach..=cy + reach {
+                for x in cx - reach..=cx + reach {
+                    if self.blocked(x, y) {
+                        let d = piece_chebyshev(seg, lo, hi, (x as f64, y as f64));
+                        best = best.min(d - 1.0);
+                    }
+                }
+            }
+        }
+        best
+    }
+}
+
+/// The least Chebyshev distance from the piece `lo..=hi` of `seg` to the point `q`, exactly:
+/// along the piece the distance is `max(|X|, |Y|)` of the offsets `X`, `Y` from `q`, linear
+/// in the length on a line and sinusoids of the heading on an arc, so its minimum is at an
+/// end of the piece, where `X` or `Y` is 0, where `|X| = |Y|`, or (arcs) at an extreme of
+/// `X` or `Y`: every such place is solved in closed form and evaluated.
+#[must_use]
+pub fn piece_chebyshev(seg: &Segment, lo: f64, hi: f64, q: (f64, f64)) -> f64 {
+    let cheb = |p: Pose| (p.x - q.0).abs().max((p.y - q.1).abs());
+    let mut best = cheb(seg.pose_at(lo)).min(cheb(seg.pose_at(hi)));
+    let (p0, g, k) = (seg.start, seg.gear.sign(), seg.curvature);
+    if k == 0.0 {
+        // X = a + b s, Y = c + d s.
+        let (sin, cos) = p0.heading_rad.sin_cos();
+        let (a, b, c, d) = (p0.x - q.0, g * cos, p0.y - q.1, g * sin);
+        for (num, den) in [(a, b), (c, d), (a - c, b - d), (a + c, b + d)] {
+            if den.abs() > 1e-300 {
+                let s = -num / den;
+                if s > lo && s < hi {
+                    best = best.min(cheb(seg.pose_at(s)));
+                }
+            }
+        }
+        return best;
+    }
+    // X(t) = a + sin(t) / k, Y(t) = b - cos(t) / k for the heading t along the arc.
+    let (sin0, cos0) = p0.heading_rad.sin_cos();
+    let (a, b) = (p0.x - q.0 - sin0 / k, p0.y - q.1 + cos0 / k);
+    let (t_lo, t_hi) = (p0.heading_rad + g * k * lo, p0.heading_rad + g * k * hi);
+    let (t_min, t_max) = (t_lo.min(t_hi), t_lo.max(t_hi));
+    let mut angles = vec![
+        0.0,
+        std::f64::consts::FRAC_PI_2,
+        std::f64::consts::PI,
+        -std::f64::consts::FRAC_PI_2,
+    ];
+    let mut both = |v: f64, shift: f64| {
+        if v.abs() <= 1.0 {
+            let r = v.asin();
+            angles.push(r + shift);
+            angles.push(std::f64::consts::PI - r + shift);
+        }
+    };
+    // X = 0: sin t = -a k.  Y = 0: cos t = b k, i.e. sin(t + pi/2) = b k.
+    both(-a * k, 0.0);
+    both(b * k, -std::f64::consts::FRAC_PI_2);
+    // X = Y: sin t + cos t = k (b - a), i.e. sqrt 2 sin(t + pi/4) = k (b - a).
+    both(k * (b - a) / 2f64.sqrt(), -std::f64::consts::FRAC_PI_4);
+    // X = -Y: sin t - cos t = -k (a + b), i.e. sqrt 2 sin(t - pi/4) = -k (a + b).
+    both(-k * (a + b) / 2f64.sqrt(), std::f64::consts::FRAC_PI_4);
+    let tau = std::f64::consts::TAU;
+    for t in angles {
+        // Every turn of `t` inside the arc's range of headings.
+        let mut u = t + ((t_min - t) / tau).ceil() * tau;
+        while u <= t_max {
+            let x = a + u.sin() / k;
+            let y = b - u.cos() / k;
+            best = best.min(x.abs().max(y.abs()));
+            u += tau;
+        }
+    }
+    best
+}
+
 /// The cells at chessboard distance exactly `ring` from `(cx, cy)`.
 fn ring_cells(cx: i64, cy: i64, ring: i64) -> Vec<(i64, i64)> {
     if ring == 0 {
@@ -273,5 +400,78 @@ mod tests {
             ..seg
         };
         assert!((field.clear_length(&low) - 1.0).abs() <= PIECE_CELLS);
+    }
+
+    #[test]
+    fn curve_clearance_matches_dense_sampling_by_brute_force() {
+        use rand::{RngExt, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(41);
+        let mut grid = OccupancyGrid::new(24, 20, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+        for _ in 0..30 {
+            let (x, y) = (rng.random_range(0..24), rng.random_range(0..20));
+            grid.set(x, y, Occupancy::Occupied).unwrap();
+        }
+        let field = Field::new(&grid, false);
+        let blocked: Vec<(f64, f64)> = (-1..=24i64)
+            .flat_map(|y| (-1..=25i64).map(move |x| (x, y)))
+            .filter(|&(x, y)| field.blocked(x, y))
+            .map(|(x, y)| (x as f64, y as f64))
+            .collect();
+        let brute = |p: Pose| {
+            blocked
+                .iter()
+                .map(|&(x, y)| (p.x - x).abs().max((p.y - y).abs()))
+                .fold(f64::INFINITY, f64::min)
+                - 1.0
+        };
+        let (mut below_poses, mut tested) = (0, 0);
+        for _ in 0..600 {
+            let seg = Segment {
+                start: Pose::new(
+                    rng.random_range(2.0..22.0),
+                    rng.random_range(2.0..18.0),
+                    rng.random_range(-3.2..3.2),
+                ),
+                curvature: [0.0, 0.3, -0.7, 1.0][rng.random_range(0..4)],
+                length: rng.random_range(0.1..9.0),
+                gear: if rng.random_bool(0.3) {
+                    Gear::Reverse
+                } else {
+                    Gear::Forward
+                },
+            };
+            let curve = SmoothCurve {
+                segments: vec![seg],
+            };
+            // On the grid (the brute force knows the border's blocked cells, not beyond).
+            let inside = curve
+                .sample(0.05)
+                .iter()
+                .all(|p| (0.0..=23.0).contains(&p.x) && (0.0..=19.0).contains(&p.y));
+            if !inside {
+                continue;
+            }
+            tested += 1;
+            let exact = field.curve_min_clearance(&curve, seg.start);
+            let h = 1e-3;
+            let n = (seg.length / h).ceil() as usize;
+            let sampled = (0..=n)
+                .map(|i| brute(seg.pose_at(seg.length * i as f64 / n as f64)))
+                .fold(f64::INFINITY, f64::min);
+            // Never above any point's clearance; below the samples' by at most half a step
+            // (the clearance moves by at most the length moved).
+            assert!(exact <= sampled + 1e-9, "{seg:?}: {exact} > {sampled}");
+            assert!(
+                exact >= sampled - h / 2.0 - 1e-9,
+                "{seg:?}: {exact} < {sampled}"
+            );
+            let poses = curve.sample(0.25);
+            if exact < field.min_clearance(&poses) - 1e-6 {
+                below_poses += 1;
+            }
+        }
+        assert!(tested > 150, "{tested}");
+        // Between poses a quarter cell apart the curve comes closer on some of them.
+        assert!(below_poses > 0);
     }
 }

@@ -133,8 +133,9 @@ pub struct SmoothPlan {
     pub length_cells: f64,
     /// Largest curvature, 1/cells.
     pub max_curvature: f64,
-    /// Smallest clearance over the poses, cells: how far the robot's square stays from
-    /// every blocked cell (0: touching).
+    /// Smallest clearance over every point of the curve, cells: how close the robot's square
+    /// comes to a blocked cell (Chebyshev distance between the square and the cell's, 0:
+    /// touching; [`clearance::Field::curve_min_clearance`], exact).
     pub min_clearance_cells: f64,
     /// Changes between forward and reverse.
     pub cusps: usize,
@@ -283,6 +284,66 @@ impl SmoothPlanner {
         goal: impl Into<CellXy>,
         opts: &SmoothOptions,
     ) -> Result<SmoothOutcome> {
+        let start = start.into();
+        let start_pose = Pose::new(
+            start.x as f64,
+            start.y as f64,
+            opts.start_heading_rad.unwrap_or(0.0),
+        );
+        self.plan_poses(start, start_pose, goal.into(), opts)
+    }
+
+    /// As [`Self::plan`], but from a robot's pose anywhere on the grid (not only at a cell
+    /// centre), its heading fixed (`opts.start_heading_rad` is ignored): a robot re-planning
+    /// mid-drive ([`crate::navigate::navigate_smooth`]). The any-angle path (the lower bound
+    /// and the corridor) starts from the cell holding `start`'s position.
+    ///
+    /// # Errors
+    /// As [`plan_smooth`]; [`PlanError::InvalidParameter`] for a pose that is not finite,
+    /// [`PlanError::EndpointOutsideGrid`] for one off the grid.
+    pub fn plan_from_pose(
+        &mut self,
+        start: Pose,
+        goal: impl Into<CellXy>,
+        opts: &SmoothOptions,
+    ) -> Result<SmoothOutcome> {
+        for (field, v) in [
+            ("start pose x (cells)", start.x),
+            ("start pose y (cells)", start.y),
+            ("start pose heading (rad)", start.heading_rad),
+        ] {
+            if !v.is_finite() {
+                return Err(invalid(field, v, "must be finite"));
+            }
+        }
+        let (w, h) = (self.grid.width(), self.grid.height());
+        let (cx, cy) = (start.x.round(), start.y.round());
+        if cx < 0.0 || cy < 0.0 || cx >= w as f64 || cy >= h as f64 {
+            return Err(PlanError::EndpointOutsideGrid {
+                endpoint: "start",
+                x: cx.max(0.0) as usize,
+                y: cy.max(0.0) as usize,
+                width: w,
+                height: h,
+            });
+        }
+        let cell = CellXy::new(cx as usize, cy as usize);
+        let opts = SmoothOptions {
+            start_heading_rad: Some(start.heading_rad),
+            ..opts.clone()
+        };
+        self.plan_poses(cell, start, goal.into(), &opts)
+    }
+
+    /// [`Self::plan`] from `start_pose` (in or at the centre of cell `start`), its heading
+    /// fixed when `opts.start_heading_rad` is given.
+    fn plan_poses(
+        &mut self,
+        start: CellXy,
+        start_pose: Pose,
+        goal: CellXy,
+        opts: &SmoothOptions,
+    ) -> Result<SmoothOutcome> {
         let Self {
             grid,
             unknown_passable,
@@ -290,7 +351,6 @@ impl SmoothPlanner {
             field,
         } = self;
         let (grid, field) = (&*grid, &*field);
-        let (start, goal) = (start.into(), goal.into());
         check_options(grid, opts)?;
         let opts = &SmoothOptions {
             unknown_passable: *unknown_passable,
@@ -300,11 +360,6 @@ impl SmoothPlanner {
         check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
         let r = opts.turning_radius_cells;
         let mut stats = SmoothStats::default();
-        let start_pose = Pose::new(
-            start.x as f64,
-            start.y as f64,
-            opts.start_heading_rad.unwrap_or(0.0),
-        );
         let goal_pose = Pose::new(
             goal.x as f64,
             goal.y as f64,
@@ -330,7 +385,7 @@ impl SmoothPlanner {
             reverse: opts.reverse,
             unknown_passable: opts.unknown_passable,
         };
-        let same_pose = start == goal
+        let same_pose = start_pose.distance(&goal_pose) < 1e-12
             && match (opts.start_heading_rad, opts.goal_heading_rad) {
                 (Some(a), Some(b)) => {
                     (a - b)
@@ -462,7 +517,7 @@ fn finish(
         max_curvature: curve.max_curvature(),
         // Touching within round-off is touching.
         min_clearance_cells: {
-            let c = field.min_clearance(&poses);
+            let c = field.curve_min_clearance(&curve, rules.start);
             if c.abs() < 1e-9 { 0.0 } else { c }
         },
         cusps: curve.cusps(),

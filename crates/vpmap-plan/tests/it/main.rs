@@ -16,6 +16,7 @@ mod mbpp;
 mod movingai_benchmarks;
 mod movingai_files;
 mod navigate;
+mod navigate_smooth;
 mod ros_files;
 mod smooth;
 
