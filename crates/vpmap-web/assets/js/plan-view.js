@@ -28,6 +28,9 @@ export const PLANNER_STYLE = {
   smooth: { label: 'smooth', colour: SMOOTH_COLOUR, width: 3, dash: null },
 };
 
+/** Two presses on a heading arrow this close (ms) free its heading. */
+const DOUBLE_PRESS_MS = 450;
+
 const finite = (p) => Array.isArray(p) && Number.isFinite(p[0]) && Number.isFinite(p[1]);
 
 /** Object names on the plan are never drawn smaller than this on screen (px); the size lines in proportion. */
@@ -252,9 +255,21 @@ export class PlanView {
   listen(svg) {
     svg.setAttribute('tabindex', '0');
     let press = null;
+    let lastHandle = null;
     svg.addEventListener('pointerdown', (e) => {
       if (e.button !== 0 && e.button !== 1) return;
       const heading = e.button === 0 ? e.target.closest?.('.vp-heading-handle')?.getAttribute('data-heading') : null;
+      // A second press on the same arrow within DOUBLE_PRESS_MS frees its heading (the pointer
+      // capture makes the svg, not the arrow, the target of a dblclick).
+      const last = lastHandle;
+      lastHandle = heading ? { heading, t: e.timeStamp } : null;
+      if (heading && last?.heading === heading && e.timeStamp - last.t < DOUBLE_PRESS_MS) {
+        lastHandle = null;
+        e.preventDefault();
+        this.headings[heading] = null;
+        this.onHeading?.(heading, null);
+        return;
+      }
       press = { id: e.pointerId, x: e.clientX, y: e.clientY, box: { ...this.box }, panning: e.button === 1, heading, turned: false };
       svg.setPointerCapture(e.pointerId);
       e.preventDefault();
@@ -299,13 +314,6 @@ export class PlanView {
     };
     svg.addEventListener('pointerup', (e) => end(e, false));
     svg.addEventListener('pointercancel', (e) => end(e, true));
-    svg.addEventListener('dblclick', (e) => {
-      const which = e.target.closest?.('.vp-heading-handle')?.getAttribute('data-heading');
-      if (!which) return;
-      e.preventDefault();
-      this.headings[which] = null;
-      this.onHeading?.(which, null);
-    });
     svg.addEventListener('pointerleave', () => {
       if (!press) this.coords.textContent = '';
     });
