@@ -450,7 +450,7 @@ fn smooth_result(
         stop: stop.for_planner(),
     };
     let opts = smooth_plan_options(map, units, ask, unknown_passable, budget)?;
-    let run = run_smooth(map, start, goal, &opts)?;
+    let run = run_smooth(map, units, start, goal, &opts)?;
     Ok(ResultOut {
         smooth: Some(run.json),
         planner: "smooth",

@@ -80,7 +80,8 @@ pub(crate) fn smooth_ask(
 }
 
 /// Check that the turning radius of `ask` fits on `grid` (a metric or camera-height map
-/// whose units are `units`): at most the grid's larger side.
+/// whose units are `units`, the answer's `m` or `camera_heights`): at most the grid's larger
+/// side.
 ///
 /// # Errors
 /// A 400 naming the radius and the map's size in the map's units.
@@ -89,6 +90,7 @@ pub(crate) fn radius_fits(
     grid: &OccupancyGrid,
     units: &str,
 ) -> Result<(), ApiError> {
+    let units = if units == "m" { "m" } else { "camera heights" };
     let side = grid.width().max(grid.height()) as f64 * grid.resolution_m();
     if ask.turning_radius > side {
         return Err(ApiError::bad_request(format!(
@@ -145,12 +147,15 @@ pub(crate) struct SmoothRun {
     pub time_ms: f64,
 }
 
-/// Plan a smooth path on `map` from `start` to `goal` with `opts`.
+/// Plan a smooth path on `map` (whose units are `units`: the answer's `units` says so, where
+/// the pipeline's JSON would say `m` for any map not in cells) from `start` to `goal` with
+/// `opts`.
 ///
 /// # Errors
 /// A 400 naming the planner when it refuses the query or its budget runs out.
 pub(crate) fn run_smooth(
     map: &PlanningMap,
+    units: &str,
     start: CellXy,
     goal: CellXy,
     opts: &SmoothOptions,
@@ -165,7 +170,10 @@ pub(crate) fn run_smooth(
         (goal, opts.goal_heading_rad),
     ]
     .map(|(c, h)| Pose::new(c.x as f64, c.y as f64, h.unwrap_or(0.0)));
-    let json = smooth_json(map, &outcome, asked, seconds);
+    let mut json = smooth_json(map, &outcome, asked, seconds);
+    if let Some(fields) = json.as_object_mut() {
+        fields.insert("units".into(), units.into());
+    }
     let run = match &outcome {
         SmoothOutcome::Path(p) => SmoothRun {
             length: Some(p.length_cells * map.scale()),

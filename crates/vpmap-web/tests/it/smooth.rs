@@ -198,6 +198,31 @@ fn a_smooth_path_across_the_office_is_drivable_on_the_grid() {
 }
 
 #[test]
+fn a_map_without_scale_is_planned_in_camera_heights() {
+    // Without its camera height the office is in camera heights (1.6 m each): the row says
+    // so, and the same radius in those units gives a path no tighter than it.
+    let mut body = request(None);
+    body["scene"].as_object_mut().unwrap().remove("scale");
+    body["turning_radius"] = json!(RADIUS / 1.6);
+    body["start"] = json!([-1.5 / 1.6, 2.0 / 1.6]);
+    body["goal"] = json!([2.0 / 1.6, 7.5 / 1.6]);
+    body["robot_radius"] = json!(0.2 / 1.6);
+    body["resolution"] = json!(0.05 / 1.6);
+    let v = plan(&body);
+    assert_eq!(v["units"], "camera_heights");
+    let s = &v["results"][0]["smooth"];
+    assert_eq!(s["units"], "camera_heights", "{s}");
+    assert_eq!(s["found"], true, "{s}");
+    assert!(s["max_curvature"].as_f64().unwrap() <= 1.6 / RADIUS + 1e-9);
+    body["turning_radius"] = json!(100);
+    let message = post_json("/api/plan", &body.to_string()).error(400);
+    assert!(
+        message.contains("is 100 camera heights, larger than the map"),
+        "{message}"
+    );
+}
+
+#[test]
 fn bad_smooth_requests_are_400_naming_the_value() {
     let with = |key: &str, value: Value| {
         let mut b = request(None);
