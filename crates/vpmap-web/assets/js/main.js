@@ -116,7 +116,7 @@ const app = {
 app.photoView = new PhotoView($('photo-canvas'), app);
 app.selectTool = new SelectTool(app);
 app.tool = app.selectTool;
-app.planView = new PlanView($('plan-host'), { onPick: (p) => app.pickPlanPoint(p), onCamera: (i) => app.switchPhoto(i) });
+app.planView = new PlanView($('plan-host'), { onPick: (p) => app.pickPlanPoint(p), onCamera: (i) => app.switchPhoto(i), onHeading: (which, deg) => app.setHeading(which, deg) });
 app.modelView = new ModelView($('model-host'));
 
 app.overlays = [(view) => drawProposals(view, app), (view) => drawSnapFlash(view, app)];
@@ -366,6 +366,8 @@ window.vpmap = Object.freeze({
     plan: state.plan.result,
     start: state.plan.start,
     goal: state.plan.goal,
+    turningRadius: state.plan.turning_radius,
+    headings: [state.plan.start_heading, state.plan.goal_heading],
     drive: state.drive.result,
     driveError: state.drive.error,
   }),

@@ -8,6 +8,7 @@ import { OFF_LINE_PX, boxEdgeNames, describeBox, edgeChoice, guideOffsets, parse
 import { vpPoint } from './geometry.js';
 import { VpLineTool } from './vp-line-tool.js';
 import { BUG_COLOURS, PLANNER_STYLE } from './plan-view.js';
+import { smoothDetail } from './smooth-view.js';
 import { busyNames, roomScenes } from './state.js';
 import { linkCandidates, sharedWith, photoList } from './room.js';
 
@@ -526,7 +527,7 @@ export function installPanels(app) {
     table.tBodies[0].replaceChildren(
       ...rows.map((r) => {
         const st = PLANNER_STYLE[r.planner];
-        const name = h('td', {}, h('i', { class: `sw ${{ mbpp: 'sw-mbpp', 'astar-ps': 'sw-astar', optimal: 'sw-opt' }[r.planner] || ''}` }), ' ', st ? st.label : r.planner);
+        const name = h('td', {}, h('i', { class: `sw ${{ mbpp: 'sw-mbpp', 'astar-ps': 'sw-astar', optimal: 'sw-opt', smooth: 'sw-smooth' }[r.planner] || ''}` }), ' ', st ? st.label : r.planner);
         const lengthCell = r.found
           ? h('td', { text: `${fmt(r.length_m, 2)} ${units}` })
           : h('td', { class: 'notfound', text: r.skipped ? 'skipped' : 'no path', title: r.note || null });
@@ -534,7 +535,7 @@ export function installPanels(app) {
           name,
           lengthCell,
           h('td', { text: `${fmt(r.time_ms, r.time_ms < 10 ? 2 : 1)} ms` }),
-          h('td', { text: r.planner === 'mbpp' ? String((r.alternatives || []).length) : '' }));
+          h('td', { text: r.planner === 'mbpp' ? `${(r.alternatives || []).length} alternatives` : r.planner === 'smooth' ? smoothDetail(r.smooth, units) : '' }));
       }),
     );
     renderPlanDetails(rows.find((r) => r.planner === 'mbpp'), units);

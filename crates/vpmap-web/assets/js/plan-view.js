@@ -12,6 +12,7 @@
 import { SVG_NS, svgEl, base64ToBytes, fmt } from './util.js';
 import { parseAffine, applyAffine, invertAffine, occupancyToSvg } from './geometry.js';
 import { drawCameras } from './plan-cameras.js';
+import { SMOOTH_COLOUR, drawSmooth, drawHeadingArrows, headingTowards, pathHeadings } from './smooth-view.js';
 
 const ID_PREFIX = 'fp-';
 /** Bug track colours: none near a planner's (purple, orange, teal) or the alternatives' grey. */
@@ -24,7 +25,11 @@ export const PLANNER_STYLE = {
   mbpp: { label: 'MBPP', colour: '#6a3d9a', width: 3.2, dash: null },
   'astar-ps': { label: 'A* PS', colour: '#ef7d00', width: 2.4, dash: null },
   optimal: { label: 'optimal', colour: '#138a72', width: 2, dash: '7 5' },
+  smooth: { label: 'smooth', colour: SMOOTH_COLOUR, width: 3, dash: null },
 };
+
+/** Two presses on a heading arrow this close (ms) free its heading. */
+const DOUBLE_PRESS_MS = 450;
 
 const finite = (p) => Array.isArray(p) && Number.isFinite(p[0]) && Number.isFinite(p[1]);
 
@@ -159,12 +164,16 @@ function pgmToDataUrl(bytes) {
 export class PlanView {
   /**
    * @param {HTMLElement} host
-   * @param {{onPick: (p: number[]) => void, onCamera: (i: number) => void}} handlers  `onPick`
-   *   gets a click's map point, `onCamera` the photo whose camera (of a room) was clicked.
+   * @param {{onPick: (p: number[]) => void, onCamera: (i: number) => void, onHeading: (which: string, deg: number|null) => void}} handlers
+   *   `onPick` gets a click's map point, `onCamera` the photo whose camera (of a room) was
+   *   clicked, `onHeading` a start or goal heading dragged (degrees) or freed (null).
    */
-  constructor(host, { onPick, onCamera }) {
+  constructor(host, { onPick, onCamera, onHeading }) {
     this.host = host;
     this.onPick = onPick;
+    this.onHeading = onHeading;
+    /** Heading arrows (the smooth planner on): the set headings, degrees, null when free. */
+    this.headings = { on: false, start: null, goal: null };
     this.onCamera = onCamera;
     this.activeCamera = 0;
     this.svg = null;
@@ -176,7 +185,7 @@ export class PlanView {
     this.drive = null;
     this.start = null;
     this.goal = null;
-    this.layers = { bugs: true, alternatives: true, mbpp: true, 'astar-ps': true, optimal: true, occupancy: false };
+    this.layers = { bugs: true, alternatives: true, mbpp: true, 'astar-ps': true, optimal: true, smooth: true, occupancy: false };
     this.coords = document.createElement('div');
     this.coords.className = 'plan-coords';
     // Overlay sizes are in screen pixels: redraw when the plan's size changes.
@@ -246,9 +255,22 @@ export class PlanView {
   listen(svg) {
     svg.setAttribute('tabindex', '0');
     let press = null;
+    let lastHandle = null;
     svg.addEventListener('pointerdown', (e) => {
       if (e.button !== 0 && e.button !== 1) return;
-      press = { id: e.pointerId, x: e.clientX, y: e.clientY, box: { ...this.box }, panning: e.button === 1 };
+      const heading = e.button === 0 ? e.target.closest?.('.vp-heading-handle')?.getAttribute('data-heading') : null;
+      // A second press on the same arrow within DOUBLE_PRESS_MS frees its heading (the pointer
+      // capture makes the svg, not the arrow, the target of a dblclick).
+      const last = lastHandle;
+      lastHandle = heading ? { heading, t: e.timeStamp } : null;
+      if (heading && last?.heading === heading && e.timeStamp - last.t < DOUBLE_PRESS_MS) {
+        lastHandle = null;
+        e.preventDefault();
+        this.headings[heading] = null;
+        this.onHeading?.(heading, null);
+        return;
+      }
+      press = { id: e.pointerId, x: e.clientX, y: e.clientY, box: { ...this.box }, panning: e.button === 1, heading, turned: false };
       svg.setPointerCapture(e.pointerId);
       e.preventDefault();
     });
@@ -257,6 +279,16 @@ export class PlanView {
       const u = this.map?.units === 'm' ? 'm' : 'ch';
       this.coords.textContent = m ? `x ${fmt(m[0])} ${u}, y ${fmt(m[1])} ${u}` : '';
       if (!press || press.id !== e.pointerId) return;
+      if (press.heading) {
+        const from = this[press.heading];
+        const deg = m && from ? headingTowards(from, m) : null;
+        if (deg !== null) {
+          this.headings[press.heading] = Math.round(deg);
+          press.turned = true;
+          this.draw();
+        }
+        return;
+      }
       if (!press.panning && Math.hypot(e.clientX - press.x, e.clientY - press.y) > 4) press.panning = true;
       if (press.panning) {
         const k = this.unitsPerPx(press.box);
@@ -267,7 +299,12 @@ export class PlanView {
     const end = (e, cancelled) => {
       if (!press || press.id !== e.pointerId) return;
       const wasPan = press.panning;
+      const { heading, turned } = press;
       press = null;
+      if (heading) {
+        if (turned && !cancelled) this.onHeading?.(heading, this.headings[heading]);
+        return;
+      }
       svg.classList.remove('panning');
       if (wasPan) this.draw();
       else if (!cancelled && e.button === 0) {
@@ -398,6 +435,12 @@ export class PlanView {
     this.draw();
   }
 
+  /** The heading arrows: shown when `on` (the smooth planner asked for), the set headings in degrees (null: free). */
+  setHeadings(on, start, goal) {
+    this.headings = { on, start, goal };
+    this.draw();
+  }
+
   setPlan(plan) {
     this.plan = plan;
     this.draw();
@@ -520,6 +563,14 @@ export class PlanView {
         'stroke-width': this.u(st.width),
         'stroke-dasharray': st.dash ? st.dash.split(' ').map((v) => this.u(Number(v))).join(' ') : null,
       });
+    }
+    if (byName.smooth && this.layers.smooth) drawSmooth(this, g, byName.smooth);
+    if (this.headings.on) {
+      const shown = pathHeadings(byName.smooth);
+      drawHeadingArrows(this, g, [
+        { which: 'start', p: finite(this.start) ? this.start : null, heading: this.headings.start, shown: shown[0], colour: '#1b8a3a' },
+        { which: 'goal', p: finite(this.goal) ? this.goal : null, heading: this.headings.goal, shown: shown[1], colour: '#c62828' },
+      ]);
     }
     if (this.drive) this.drawDrive(g, this.drive);
     if (Array.isArray(this.map?.cameras) && this.map.cameras.length) drawCameras(this, g, this.map.cameras, this.activeCamera, this.onCamera);

@@ -10,6 +10,7 @@ import { roomBody, roomBlocker, roomProblem, cameraOf } from './room.js';
 import { roomScenes } from './state.js';
 import { PLANNER_STYLE } from './plan-view.js';
 import { latestRequest } from './latest.js';
+import { parseHeading, parseTurningRadius, smoothRequest } from './smooth-view.js';
 
 const PLANNERS = ['mbpp', 'astar-ps', 'optimal'];
 /** Debounce of build and plan: wait this long after the last change (ms)... */
@@ -203,7 +204,8 @@ export function installRequests(app) {
           unknown_passable: state.plan.unknown_passable,
           start: state.plan.start,
           goal: state.plan.goal,
-          planners: PLANNERS,
+          // With a turning radius the smooth planner too, and its headings when set.
+          ...smoothRequest(state.plan, PLANNERS),
         },
         signal,
       );
@@ -272,6 +274,51 @@ export function installRequests(app) {
   }
 
   $('btn-plan').addEventListener('click', () => plan.now());
+
+  // ---- the smooth planner: turning radius and headings -----------------------------------------
+
+  /** Show the heading arrows and fields as the plan state has them. */
+  function renderHeadings() {
+    const on = Number.isFinite(state.plan.turning_radius);
+    planView.setHeadings(on, state.plan.start_heading, state.plan.goal_heading);
+    for (const [id, key] of [['plan-start-heading', 'start_heading'], ['plan-goal-heading', 'goal_heading']]) {
+      const v = state.plan[key];
+      if (document.activeElement !== $(id)) $(id).value = Number.isFinite(v) ? String(v) : '';
+    }
+  }
+
+  /** Set a heading (`which`: start or goal; degrees, or null: free) and plan again. */
+  function setHeading(which, deg) {
+    state.plan[`${which}_heading`] = Number.isFinite(deg) ? deg : null;
+    renderHeadings();
+    schedulePlan();
+  }
+
+  function badField(text) {
+    $('plan-status').textContent = text;
+    $('plan-status').classList.add('error');
+  }
+
+  $('plan-turning-radius').addEventListener('change', (e) => {
+    const r = parseTurningRadius(e.target.value);
+    if (r === undefined) return badField('Write the turning radius as a positive number of metres, or leave it empty for no smooth path.');
+    state.plan.turning_radius = r;
+    renderHeadings();
+    schedulePlan();
+  });
+  for (const [id, which] of [['plan-start-heading', 'start'], ['plan-goal-heading', 'goal']]) {
+    $(id).addEventListener('change', (e) => {
+      const d = parseHeading(e.target.value);
+      if (d === undefined) return badField('Write a heading in degrees (0 along x, 90 along y), or leave it empty to keep it free.');
+      setHeading(which, d);
+    });
+  }
+  $('btn-free-headings').addEventListener('click', () => {
+    state.plan.start_heading = null;
+    state.plan.goal_heading = null;
+    renderHeadings();
+    schedulePlan();
+  });
 
   // Where paths may go: hidden floor as free (the map changes: build again, then plan) and
   // unknown cells as passable (the planners only).
@@ -480,6 +527,7 @@ export function installRequests(app) {
     /** Forget a detection on its way (another photo became the active one). */
     cancelDetect: () => detect.cancel(),
     pickPlanPoint,
+    setHeading,
     /** A build or plan is scheduled and not started yet. */
     requestsPending: () => build.pending || plan.pending || !!app.photoSnap?.buildWaiting,
   });

@@ -9,6 +9,7 @@ pub mod fuzzing;
 mod navigate;
 mod plan;
 mod scene;
+mod smooth;
 mod snap;
 
 use axum::body::Bytes;

@@ -12,7 +12,7 @@ use axum::response::Response;
 use serde::Serialize;
 use vpmap_metrology::interrupt::Interrupt;
 use vpmap_pipeline::{
-    Coordinates, Endpoint, EndpointRules, OptionNames, endpoint_cell, units_name,
+    Coordinates, Endpoint, EndpointRules, OptionNames, PlanningMap, endpoint_cell, units_name,
 };
 use vpmap_plan::grid::{CellXy, OccupancyGrid};
 use vpmap_plan::mbpp::{BugFate, BugTrack};
@@ -22,6 +22,7 @@ use vpmap_plan::{Budget, Stop};
 
 use super::answer::{elapsed_ms, respond, to_json};
 use super::scene::{MAX_GRID_CELLS, map_options, pipeline_error, scene_from_value};
+use super::smooth::{SmoothAsk, radius_fits, run_smooth, smooth_ask, smooth_plan_options};
 use crate::error::ApiError;
 use crate::params::{self, MAX_JSON_BODY_BYTES, Query};
 use crate::state::{AppState, run_blocking};
@@ -48,7 +49,7 @@ const DEFAULT_PLANNERS: [PlannerKind; 3] = [
 ];
 
 /// The fields a plan request may have.
-const PLAN_FIELDS: [&str; 10] = [
+const PLAN_FIELDS: [&str; 13] = [
     "scene",
     "method",
     "resolution",
@@ -59,7 +60,22 @@ const PLAN_FIELDS: [&str; 10] = [
     "start",
     "goal",
     "planners",
+    "turning_radius",
+    "start_heading_deg",
+    "goal_heading_deg",
 ];
+
+/// The name of the smooth planner in `planners` (not a [`PlannerKind`]: it plans poses).
+const SMOOTH: &str = "smooth";
+
+/// One planner a request asks for.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum PlannerChoice {
+    /// A grid planner.
+    Grid(PlannerKind),
+    /// The smooth planner (`turning_radius`, headings).
+    Smooth,
+}
 
 /// A plan request, read field by field so that every message names its field.
 pub(super) struct PlanRequest {
@@ -73,6 +89,9 @@ pub(super) struct PlanRequest {
     pub(super) start: [f64; 2],
     pub(super) goal: [f64; 2],
     pub(super) planners: Option<Vec<String>>,
+    pub(super) turning_radius: Option<f64>,
+    pub(super) start_heading_deg: Option<f64>,
+    pub(super) goal_heading_deg: Option<f64>,
 }
 
 fn field_error(key: &str, wanted: &str, got: &serde_json::Value) -> ApiError {
@@ -161,6 +180,9 @@ impl PlanRequest {
             start: point("start")?,
             goal: point("goal")?,
             planners,
+            turning_radius: number("turning_radius")?,
+            start_heading_deg: number("start_heading_deg")?,
+            goal_heading_deg: number("goal_heading_deg")?,
         })
     }
 }
@@ -191,6 +213,9 @@ struct StatsOut {
 
 #[derive(Serialize)]
 struct ResultOut {
+    /// The smooth planner's answer as `vpmap plan --planner smooth --json` gives it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    smooth: Option<serde_json::Value>,
     planner: &'static str,
     found: bool,
     skipped: bool,
@@ -232,13 +257,16 @@ fn fate_name(fate: BugFate) -> &'static str {
 }
 
 fn planner_names() -> String {
-    PlannerKind::ALL.map(PlannerKind::name).join(", ")
+    format!(
+        "{}, {SMOOTH}",
+        PlannerKind::ALL.map(PlannerKind::name).join(", ")
+    )
 }
 
 /// The planners asked for, in order, each once.
-pub(super) fn planners(names: Option<&[String]>) -> Result<Vec<PlannerKind>, ApiError> {
+pub(super) fn planners(names: Option<&[String]>) -> Result<Vec<PlannerChoice>, ApiError> {
     let Some(names) = names else {
-        return Ok(DEFAULT_PLANNERS.to_vec());
+        return Ok(DEFAULT_PLANNERS.map(PlannerChoice::Grid).to_vec());
     };
     if names.is_empty() {
         return Err(ApiError::bad_request(format!(
@@ -248,14 +276,20 @@ pub(super) fn planners(names: Option<&[String]>) -> Result<Vec<PlannerKind>, Api
     }
     let mut kinds = Vec::new();
     for name in names {
+        if name == SMOOTH {
+            if !kinds.contains(&PlannerChoice::Smooth) {
+                kinds.push(PlannerChoice::Smooth);
+            }
+            continue;
+        }
         let kind: PlannerKind = name.parse().map_err(|_| {
             ApiError::bad_request(format!(
                 "field `planners` names {name:?}, which is not a planner; choose from {}",
                 planner_names()
             ))
         })?;
-        if !kinds.contains(&kind) {
-            kinds.push(kind);
+        if !kinds.contains(&PlannerChoice::Grid(kind)) {
+            kinds.push(PlannerChoice::Grid(kind));
         }
     }
     Ok(kinds)
@@ -332,6 +366,7 @@ fn run_planner(
 ) -> Result<ResultOut, ApiError> {
     let started = Instant::now();
     let mut out = ResultOut {
+        smooth: None,
         planner: kind.name(),
         found: false,
         skipped: false,
@@ -399,11 +434,50 @@ fn run_planner(
     Ok(out)
 }
 
+/// The smooth planner's result row, within the page's work budget and the planner's time.
+fn smooth_result(
+    map: &PlanningMap,
+    units: &str,
+    ask: &SmoothAsk,
+    start: CellXy,
+    goal: CellXy,
+    unknown_passable: bool,
+    stop: &PlanStop,
+) -> Result<ResultOut, ApiError> {
+    let budget = Budget {
+        max_expansions: PAGE_MAX_EXPANSIONS,
+        max_sight_cells: PAGE_MAX_SIGHT_CELLS,
+        stop: stop.for_planner(),
+    };
+    let opts = smooth_plan_options(map, units, ask, unknown_passable, budget)?;
+    let run = run_smooth(map, units, start, goal, &opts)?;
+    Ok(ResultOut {
+        smooth: Some(run.json),
+        planner: "smooth",
+        found: run.length.is_some(),
+        skipped: false,
+        note: run.note,
+        length_m: run.length,
+        waypoints: run.points,
+        alternatives: Vec::new(),
+        bugs: Vec::new(),
+        stats: StatsOut {
+            expanded: run.expanded,
+            generated: run.generated,
+            los_checks: 0,
+            los_cells: 0,
+        },
+        time_ms: run.time_ms,
+    })
+}
+
 /// A plan request checked up to the planning: its planners, the scene's map and grid, and the
 /// start and goal cells (what `/api/plan` and the fuzz target `web_body` share).
 pub(crate) struct CheckedPlan {
     /// The planners asked for, in order.
-    pub kinds: Vec<PlannerKind>,
+    pub kinds: Vec<PlannerChoice>,
+    /// What the smooth planner is asked (when it is among `kinds`).
+    pub smooth: Option<SmoothAsk>,
     /// Whether unknown cells may be crossed.
     pub unknown_passable: bool,
     /// The scene's warnings, then the map's.
@@ -442,6 +516,11 @@ pub(crate) fn checked_plan_request(
     )?;
     options.max_grid_cells = Some(max_grid_cells.min(MAX_GRID_CELLS));
     let kinds = planners(request.planners.as_deref())?;
+    let smooth = smooth_ask(
+        kinds.contains(&PlannerChoice::Smooth),
+        request.turning_radius,
+        [request.start_heading_deg, request.goal_heading_deg],
+    )?;
     let unknown_passable = request.unknown_passable.unwrap_or(false);
     let parsed = scene_from_value(&request.scene)?;
     let vpmap_pipeline::MapAndGrid { map, grid } =
@@ -462,8 +541,12 @@ pub(crate) fn checked_plan_request(
     let (start, goal) = (start?, goal?);
     let mut warnings = parsed.warnings;
     warnings.extend(map.warnings.iter().cloned());
+    if let Some(ask) = &smooth {
+        radius_fits(ask, &grid, units)?;
+    }
     Ok(CheckedPlan {
         kinds,
+        smooth,
         unknown_passable,
         warnings,
         units,
@@ -478,27 +561,41 @@ fn plan_answer(body: &[u8], stop: &PlanStop) -> Result<Bytes, ApiError> {
     let started = Instant::now();
     let CheckedPlan {
         kinds,
+        smooth,
         unknown_passable,
         warnings,
         units,
+        robot_radius,
         grid,
         start,
         goal,
-        ..
     } = checked_plan_request(body, MAX_GRID_CELLS, &stop.for_map())?;
+    // The smooth planner reads the grid as a map in metres (or camera heights), y up.
+    let map = PlanningMap {
+        grid,
+        in_cells: false,
+        robot_radius,
+    };
+    let grid = &map.grid;
     let mut budget = MAX_TRACK_POINTS;
     let results = kinds
         .into_iter()
-        .map(|kind| {
-            run_planner(
+        .map(|choice| match (choice, &smooth) {
+            (PlannerChoice::Grid(kind), _) => run_planner(
                 kind,
-                &grid,
+                grid,
                 start,
                 goal,
                 unknown_passable,
                 &mut budget,
                 stop.for_planner(),
-            )
+            ),
+            (PlannerChoice::Smooth, Some(ask)) => {
+                smooth_result(&map, units, ask, start, goal, unknown_passable, stop)
+            }
+            (PlannerChoice::Smooth, None) => Err(ApiError::bad_request(
+                "the smooth planner needs field `turning_radius`",
+            )),
         })
         .collect::<Result<Vec<_>, _>>()?;
     to_json(&PlanResponse {
@@ -601,11 +698,24 @@ mod tests {
         let names = |v: &[&str]| v.iter().map(|s| (*s).to_owned()).collect::<Vec<_>>();
         assert_eq!(
             planners(Some(&names(&["mbpp", "optimal", "mbpp"]))).ok(),
-            Some(vec![PlannerKind::Mbpp, PlannerKind::Optimal])
+            Some(vec![
+                PlannerChoice::Grid(PlannerKind::Mbpp),
+                PlannerChoice::Grid(PlannerKind::Optimal)
+            ])
+        );
+        assert_eq!(
+            planners(Some(&names(&["smooth", "mbpp", "smooth"]))).ok(),
+            Some(vec![
+                PlannerChoice::Smooth,
+                PlannerChoice::Grid(PlannerKind::Mbpp)
+            ])
         );
         assert!(planners(Some(&names(&["dijkstra"]))).is_err());
         assert!(planners(Some(&[])).is_err());
-        assert_eq!(planners(None).ok(), Some(DEFAULT_PLANNERS.to_vec()));
+        assert_eq!(
+            planners(None).ok(),
+            Some(DEFAULT_PLANNERS.map(PlannerChoice::Grid).to_vec())
+        );
     }
 
     #[test]

@@ -12,6 +12,7 @@ mod page;
 mod photos;
 mod plan;
 mod rooms;
+mod smooth;
 
 use std::fmt::Write as _;
 use std::io::{Read, Write};
