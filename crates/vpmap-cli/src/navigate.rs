@@ -148,18 +148,7 @@ pub fn run(args: &NavigateArgs) -> Result<()> {
     let range_cells =
         vpmap_pipeline::drive::sensor_range_cells(args.sensor_range, scale, unit, "--sensor-range")
             .map_err(anyhow::Error::msg)?;
-    let coordinates = believed.coordinates();
-    let rules = EndpointRules {
-        unknown_passable: false,
-        robot_radius: believed.robot_radius,
-        names: OptionNames::CommandLine,
-    };
-    let on_truth = |name: &str, point| {
-        endpoint_cell(&truth, coordinates, &Endpoint { name, point }, &rules)
-            .with_context(|| format!("{name} on the true map {}", args.truth.display()))
-    };
-    let start = on_truth("--from", from)?;
-    let goal = on_truth("--to", to)?;
+    let (start, goal) = endpoints_on_truth(args, &believed, &truth, from, to)?;
     let opts = NavigateOptions {
         planner,
         sensor_range_cells: range_cells,
@@ -229,6 +218,30 @@ fn budget(args: &NavigateArgs) -> Budget {
     }
 }
 
+/// The start and the goal as cells of the true map (in the believed map's coordinates, with its
+/// robot radius), named `--from` and `--to` in errors.
+fn endpoints_on_truth(
+    args: &NavigateArgs,
+    believed: &PlanningMap,
+    truth: &OccupancyGrid,
+    from: [f64; 2],
+    to: [f64; 2],
+) -> Result<(CellXy, CellXy)> {
+    let coordinates = believed.coordinates();
+    let rules = EndpointRules {
+        unknown_passable: false,
+        robot_radius: believed.robot_radius,
+        names: OptionNames::CommandLine,
+    };
+    let on_truth = |name: &str, point| {
+        endpoint_cell(truth, coordinates, &Endpoint { name, point }, &rules)
+            .with_context(|| format!("{name} on the true map {}", args.truth.display()))
+    };
+    let start = on_truth("--from", from)?;
+    let goal = on_truth("--to", to)?;
+    Ok((start, goal))
+}
+
 /// `vpmap navigate --planner smooth`.
 fn run_smooth(args: &NavigateArgs) -> Result<()> {
     let (from, start_heading) = parse_pose("--from", &args.from)?;
@@ -250,18 +263,7 @@ fn run_smooth(args: &NavigateArgs) -> Result<()> {
         args.reverse,
     )?;
     smooth.budget = budget(args);
-    let coordinates = believed.coordinates();
-    let rules = EndpointRules {
-        unknown_passable: false,
-        robot_radius: believed.robot_radius,
-        names: OptionNames::CommandLine,
-    };
-    let on_truth = |name: &str, point| {
-        endpoint_cell(&truth, coordinates, &Endpoint { name, point }, &rules)
-            .with_context(|| format!("{name} on the true map {}", args.truth.display()))
-    };
-    let start = on_truth("--from", from)?;
-    let goal = on_truth("--to", to)?;
+    let (start, goal) = endpoints_on_truth(args, &believed, &truth, from, to)?;
     let opts = SmoothNavigateOptions {
         smooth,
         sensor_range_cells: range_cells,

@@ -36,7 +36,7 @@ use std::f64::consts::{SQRT_2, TAU};
 use super::clearance::Field;
 use super::curve::{Gear, Pose, Segment, SmoothCurve};
 use super::dubins::{dubins_distance, free_end_candidates, word_curve, word_table};
-use crate::budget::Budget;
+use crate::budget::{Budget, STOP_CHECK_INTERVAL, Stop};
 use crate::error::{PlanError, Result};
 
 /// Most search states the Hybrid-A* keeps (about 100 bytes each).
@@ -116,6 +116,9 @@ impl PartialOrd for Open {
 /// free cells, 8-connected with octile costs and no corner cutting, run on demand.
 struct GridHeuristic<'a> {
     field: &'a Field,
+    /// Looked at every [`STOP_CHECK_INTERVAL`] settled cells: a search that settles the
+    /// whole grid stops with the planner (the next expansion's check returns the error).
+    stop: &'a Stop,
     dist: Vec<f32>,
     settled: Vec<bool>,
     heap: BinaryHeap<(std::cmp::Reverse<u64>, u32)>,
@@ -123,7 +126,7 @@ struct GridHeuristic<'a> {
 }
 
 impl<'a> GridHeuristic<'a> {
-    fn new(field: &'a Field, goal: (i64, i64)) -> Self {
+    fn new(field: &'a Field, goal: (i64, i64), stop: &'a Stop) -> Self {
         let (w, h) = field.size();
         let mut dist = vec![f32::INFINITY; w * h];
         let mut heap = BinaryHeap::new();
@@ -136,6 +139,7 @@ impl<'a> GridHeuristic<'a> {
         }
         Self {
             field,
+            stop,
             dist,
             settled: vec![false; w * h],
             heap,
@@ -151,6 +155,11 @@ impl<'a> GridHeuristic<'a> {
         }
         let target = y as usize * w + x as usize;
         while !self.settled.get(target).copied().unwrap_or(true) {
+            if self.settled_count.is_multiple_of(STOP_CHECK_INTERVAL)
+                && self.stop.check(PLANNER).is_err()
+            {
+                return f64::INFINITY;
+            }
             let Some((_, i)) = self.heap.pop() else {
                 break;
             };
@@ -245,7 +254,11 @@ pub fn hybrid_astar(
         let bin = ((p.heading_rad.rem_euclid(TAU) / bin_rad).round() as usize) % bins;
         Some(((cy as u64) * w as u64 + cx as u64) * bins as u64 + bin as u64)
     };
-    let mut grid_h = GridHeuristic::new(field, (q.goal.x.round() as i64, q.goal.y.round() as i64));
+    let mut grid_h = GridHeuristic::new(
+        field,
+        (q.goal.x.round() as i64, q.goal.y.round() as i64),
+        &budget.stop,
+    );
     let heuristic = |p: &Pose, grid_h: &mut GridHeuristic<'_>| -> f64 {
         let free = p.distance(&q.goal);
         let pose_h = if q.goal_free {
@@ -308,11 +321,15 @@ pub fn hybrid_astar(
         }
         stats.expanded += 1;
         stats.heuristic_cells = grid_h.settled_count;
+        // The stop is looked at on every expansion (tick 0), not every few thousand as in the
+        // grid planners: one expansion drives its motion primitives and may shoot a Dubins
+        // curve, milliseconds at a large turning radius, so thousands of them overran the
+        // page's 3 s by seconds. Reading the clock costs tens of nanoseconds.
         budget.check(
             PLANNER,
             stats.expanded + stats.generated + grid_h.settled_count,
             0,
-            stats.expanded,
+            0,
         )?;
         // Analytic expansion.
         let near = cur.pose.distance(&q.goal) < 6.0 * r;
@@ -387,6 +404,8 @@ pub fn hybrid_astar(
         }
     }
     stats.heuristic_cells = grid_h.settled_count;
+    // A heuristic cut short by the stop made states look unreachable: not a proof of no path.
+    budget.stop.check(PLANNER)?;
     Ok(None)
 }
 

@@ -569,3 +569,49 @@ proptest! {
         }
     }
 }
+
+#[test]
+fn the_hybrid_astar_looks_at_its_stop_on_every_expansion() {
+    // A passed deadline stops the search at its first expansion. (It was looked at every 4,096
+    // expansions, and one expansion takes milliseconds at a large radius: the page's 3 s
+    // planner limit overran by seconds. This search finishes within 4,096 expansions, so the
+    // old check never looked.)
+    use vpmap_plan::smooth::clearance::Field;
+    use vpmap_plan::smooth::hybrid::{HybridOptions, HybridQuery, HybridStats, hybrid_astar};
+    let grid = OccupancyGrid::new(60, 60, 1.0, [0.0, 0.0], Occupancy::Free).unwrap();
+    let field = Field::new(&grid, false);
+    let query = HybridQuery {
+        start: Pose::new(5.0, 5.0, 0.0),
+        start_free: false,
+        goal: Pose::new(50.0, 40.0, 0.0),
+        goal_free: true,
+        radius: 4.0,
+        reverse: false,
+    };
+    let mut budget = vpmap_plan::budget::Budget::default();
+    let mut stats = HybridStats::default();
+    let found = hybrid_astar(
+        &field,
+        &query,
+        &HybridOptions::default(),
+        &budget,
+        &mut stats,
+    );
+    assert!(matches!(found, Ok(Some(_))), "{found:?}");
+    assert!(stats.expanded < 4096, "{}", stats.expanded);
+    budget.stop = vpmap_plan::budget::Stop::new().with_timeout(std::time::Duration::ZERO);
+    let mut stats = HybridStats::default();
+    let stopped = hybrid_astar(
+        &field,
+        &query,
+        &HybridOptions::default(),
+        &budget,
+        &mut stats,
+    )
+    .map(|_| ());
+    assert!(
+        matches!(stopped, Err(PlanError::Stopped { .. })),
+        "{stopped:?}"
+    );
+    assert!(stats.expanded <= 1, "{}", stats.expanded);
+}
