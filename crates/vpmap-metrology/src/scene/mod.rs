@@ -13,6 +13,7 @@
 mod lens;
 mod room;
 mod types;
+mod unknown;
 mod validate;
 mod vanishing;
 
@@ -23,9 +24,10 @@ pub use types::{
     ObjectShape, ObjectSpec, Perspective, PixelPoint, Scale, ScaleSpec, Scene, ThesisBox, TopSpec,
     VanishingPointSpec,
 };
+pub use unknown::unknown_fields;
 pub use validate::{
     MAX_CLICK_COVARIANCE_CONDITION, MAX_CLICK_VARIANCE_PX2, MAX_OBJECTS, MAX_POINT_PX, MAX_POINTS,
     MAX_SCALE_M, MAX_VANISHING_POINT_PX, MAX_VP_SD_DEG, MIN_CLICK_VARIANCE_PX2, MIN_IMAGE_SIDE_PX,
-    MIN_VP_SD_DEG, unknown_fields,
+    MIN_VP_SD_DEG,
 };
 pub use vanishing::{SegmentFit, VpChart, intersect_segments};
