@@ -397,6 +397,99 @@ fn shared_data_rooms_tied_by_one_box_are_placed_by_their_walls_or_warned() {
     assert!(right * 5 >= cases * 4, "{right} of {cases}");
 }
 
+#[test]
+#[ignore = "needs ../shared/data/multiview-scenes (absent from a fresh clone): cargo test -- --ignored shared_data"]
+fn shared_data_ties_the_physical_checks_decide_are_resolved_right() {
+    // Issue 39: "ties resolved right wherever the physical checks can tell (at least 95 % of
+    // those)". Each photo after the first tied by one shared box (as above), with exact clicks
+    // and with 1 px of noise on every click (two seeds). A tie the checks decide leaves no
+    // alternative in the map; one they cannot decide lists the other turn. Among the decided,
+    // the placement must be the true one (camera within 0.25 m) at least 95 % of the time; an
+    // undecided one must name its alternative and may be either. (Measured 2026-11-29: 93 of
+    // 96 decided right; the three wrong, mv07's photo 4 tied by box1 or box2, carry the tie
+    // warning.)
+    use rand::SeedableRng;
+    use vpmap_metrology::synth::add_noise;
+    let dir = shared("multiview-scenes");
+    let (mut decided, mut right, mut said, mut refused) = (0, 0, 0, 0);
+    let mut wrong_warned = 0;
+    for r in 0..8 {
+        let path = dir.join(format!("mv0{r}.json"));
+        let room: serde_json::Value =
+            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+        let truth: RoomTruth = serde_json::from_str(
+            &std::fs::read_to_string(path.with_extension("truth.json")).unwrap(),
+        )
+        .unwrap();
+        let photos = room["photos"].as_array().unwrap();
+        let names = |p: &serde_json::Value| -> Vec<String> {
+            p["objects"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|o| o["name"].as_str().unwrap().to_owned())
+                .collect()
+        };
+        for k in 1..photos.len() {
+            let others: Vec<String> = (0..photos.len())
+                .filter(|&j| j != k)
+                .flat_map(|j| names(&photos[j]))
+                .collect();
+            for keep in names(&photos[k]).iter().filter(|n| others.contains(n)) {
+                let mut v = room.clone();
+                for o in v["photos"][k]["objects"].as_array_mut().unwrap() {
+                    let n = o["name"].as_str().unwrap().to_owned();
+                    if others.contains(&n) && &n != keep {
+                        o["name"] = serde_json::Value::String(format!("{n} (not shared)"));
+                    }
+                }
+                let exact = Scene::from_json_str(&v.to_string()).unwrap();
+                for (sigma, seed) in [(0.0, 0_u64), (1.0, 1), (1.0, 2)] {
+                    let mut scene = exact.clone();
+                    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(
+                        seed * 1000 + 100 * r as u64 + 10 * k as u64,
+                    );
+                    add_noise(&mut scene, sigma, &mut rng);
+                    for p in &mut scene.other_photos {
+                        add_noise(p, sigma, &mut rng);
+                    }
+                    let Ok(map) = build_map(&scene, &BuildOptions::default()) else {
+                        refused += 1;
+                        continue;
+                    };
+                    let (p, t) = (map.cameras[k].position, truth.cameras[k].position);
+                    let ok = (p[0] - t[0]).hypot(p[1] - t[1]) < 0.25;
+                    if map.alternatives.iter().any(|a| a.photo == k + 1) {
+                        said += 1;
+                    } else {
+                        decided += 1;
+                        right += usize::from(ok);
+                        if !ok {
+                            let warned = map
+                                .warnings
+                                .iter()
+                                .any(|w| w.contains("tied to the room only"));
+                            wrong_warned += usize::from(warned);
+                            println!(
+                                "mv0{r} photo {} tied by {keep:?}, {sigma} px (seed {seed}): camera {:.2} m off, tie warning {warned}",
+                                k + 1,
+                                (p[0] - t[0]).hypot(p[1] - t[1])
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+    println!(
+        "ties by one box, exact and 1 px clicks: {decided} decided by the checks, {right} of them right ({wrong_warned} of the wrong ones with the tie warning); {said} left open with the alternative named; {refused} refused"
+    );
+    assert!(decided >= 30, "{decided}");
+    assert!(right * 100 >= decided * 95, "{right} of {decided}");
+    // A wrong choice is never silent: the tie is said in the warnings.
+    assert_eq!(wrong_warned, decided - right);
+}
+
 /// Every order of `items` (Heap's algorithm).
 pub fn permutations<T: Clone>(items: &[T]) -> Vec<Vec<T>> {
     if items.len() <= 1 {
