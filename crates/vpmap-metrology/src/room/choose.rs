@@ -80,22 +80,26 @@ pub(super) fn break_ties(
         .count();
     let mut alternatives = Vec::new();
     if tied > 1 {
-        let violations: Vec<usize> = results[..tied]
+        let mut violations: Vec<usize> = results[..tied]
             .iter()
             .map(|r| physical(scene, &r.built.problem, &r.x, &r.built.names).total())
             .collect();
         let pick = (0..tied).min_by_key(|&i| (violations[i], i)).unwrap_or(0);
-        // The runner-up: the most likely of the others.
-        let other = usize::from(pick == 0);
-        let decided = violations[pick] < violations[other];
         results.swap(0, pick);
-        // After the swap the runner-up sits where the chosen one was, unless it was first.
-        let other = if other == 0 { pick } else { other };
-        let (chosen, second) = (&results[0], &results[other]);
-        let differ: Vec<usize> = (1..n)
-            .filter(|&k| second.quarters[k] != chosen.quarters[k])
-            .collect();
-        for k in differ {
+        violations.swap(0, pick);
+        let chosen = &results[0];
+        // Photo by photo, the most likely of the tied hypotheses that places it otherwise:
+        // the runner-up of the whole room may differ in other photos only, and a photo whose
+        // other turn fits as well must still be said.
+        for k in 1..n {
+            let Some(j) = (1..tied)
+                .filter(|&j| results[j].quarters[k] != chosen.quarters[k])
+                .min_by(|&a, &b| results[a].cost.total_cmp(&results[b].cost))
+            else {
+                continue;
+            };
+            let second = &results[j];
+            let decided = violations[0] < violations[j];
             let turn = (4 + i32::from(second.quarters[k]) - i32::from(chosen.quarters[k])) % 4 * 90;
             let shared = ties.shared_by(k);
             warnings.push(format!(
@@ -109,7 +113,7 @@ pub(super) fn break_ties(
                 if decided {
                     format!(
                         "the map takes the turn the room's physical checks favour ({} violations against {}: cameras, floor corners and boxes inside the walls the photos' floor outlines show, boxes not overlapping, no camera inside a box)",
-                        violations[pick], violations[usize::from(pick == 0)]
+                        violations[0], violations[j]
                     )
                 } else {
                     "the map uses the better one".to_owned()
