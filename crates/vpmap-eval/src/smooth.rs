@@ -391,7 +391,7 @@ pub fn smooth_csv(trials: &[SmoothTrial]) -> String {
         let opt = |v: Option<f64>| v.map_or_else(String::new, |v| format!("{v:.6}"));
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{},{},{},{},{:.3},{},{},{:.6},{:.6},{},{}",
+            "{},{},{:.6},{},{},{},{},{},{},{},{:.3},{},{},{:.6},{:.6},{},{}",
             t.map,
             t.radius,
             t.radius_cells,
@@ -615,6 +615,14 @@ mod tests {
         assert!(table.contains("| all | all | hybrid-A* |"), "{table}");
         let csv = smooth_csv(&trials);
         assert_eq!(csv.lines().count(), 19);
+        // A 0.3 m radius on a 0.05 m grid is 6 cells, printed as such (not 5.999999999999999).
+        let cells: Vec<&str> = csv
+            .lines()
+            .filter(|l| l.split(',').nth(1) == Some("0.3 m"))
+            .filter_map(|l| l.split(',').nth(2))
+            .collect();
+        assert!(!cells.is_empty(), "{csv}");
+        assert!(cells.iter().all(|c| *c == "6.000000"), "{csv}");
         assert!(run_smooth(&SmoothBenchOptions { queries: 0, ..opts }, &crate::Silent).is_err());
     }
 }
