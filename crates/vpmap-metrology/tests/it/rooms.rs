@@ -7,20 +7,20 @@ use serde::Deserialize;
 use vpmap_metrology::map::{BuildOptions, FloorMap, build_map};
 use vpmap_metrology::scene::Scene;
 
-#[derive(Deserialize)]
+#[derive(Clone, Deserialize)]
 struct RoomTruth {
     objects: Vec<TruthObject>,
     cameras: Vec<TruthCamera>,
 }
 
-#[derive(Deserialize)]
+#[derive(Clone, Deserialize)]
 struct TruthObject {
     name: String,
     footprint: Vec<[f64; 2]>,
     height: f64,
 }
 
-#[derive(Deserialize)]
+#[derive(Clone, Deserialize)]
 struct TruthCamera {
     position: [f64; 2],
     height: f64,
@@ -339,13 +339,24 @@ fn a_photo_tied_by_one_box_is_named_with_the_turn_that_fits_as_well() {
     );
 }
 
-#[test]
-#[ignore = "needs ../shared/data/multiview-scenes (absent from a fresh clone): cargo test -- --ignored shared_data"]
-fn shared_data_rooms_tied_by_one_box_are_placed_by_their_walls_or_warned() {
-    // Each photo after the first tied to the others by one shared box only (every shared box
-    // in turn): the likelihood cannot tell a half turn; the walls choose, and the build warns.
+/// A shared room with one photo tied to the others by one shared box only.
+struct OneBoxTie {
+    /// The room, `mv0{room}`.
+    room: usize,
+    /// The tied photo, from 0.
+    photo: usize,
+    /// The one box it still shares.
+    keep: String,
+    /// The room file, the photo's other shared boxes renamed.
+    value: serde_json::Value,
+    truth: RoomTruth,
+}
+
+/// Every photo after the first of every shared room, tied by each of its shared boxes in turn
+/// (the others renamed as not shared).
+fn one_box_ties() -> Vec<OneBoxTie> {
     let dir = shared("multiview-scenes");
-    let (mut right, mut cases) = (0, 0);
+    let mut out = Vec::new();
     for r in 0..8 {
         let path = dir.join(format!("mv0{r}.json"));
         let room: serde_json::Value =
@@ -368,28 +379,47 @@ fn shared_data_rooms_tied_by_one_box_are_placed_by_their_walls_or_warned() {
                 .filter(|&j| j != k)
                 .flat_map(|j| names(&photos[j]))
                 .collect();
-            for keep in names(&photos[k]).iter().filter(|n| others.contains(n)) {
+            for keep in names(&photos[k]).into_iter().filter(|n| others.contains(n)) {
                 let mut v = room.clone();
                 for o in v["photos"][k]["objects"].as_array_mut().unwrap() {
                     let n = o["name"].as_str().unwrap().to_owned();
-                    if others.contains(&n) && &n != keep {
+                    if others.contains(&n) && n != keep {
                         o["name"] = serde_json::Value::String(format!("{n} (not shared)"));
                     }
                 }
-                let map = build_value(&v).unwrap_or_else(|e| panic!("mv0{r} photo {k}: {e}"));
-                let (p, t) = (map.cameras[k].position, truth.cameras[k].position);
-                cases += 1;
-                if (p[0] - t[0]).hypot(p[1] - t[1]) < 1e-6 {
-                    right += 1;
-                } else {
-                    assert!(
-                        map.warnings
-                            .iter()
-                            .any(|w| w.contains("tied to the room only")),
-                        "mv0{r} photo {k} tied by {keep:?}: placed wrong without a warning"
-                    );
-                }
+                out.push(OneBoxTie {
+                    room: r,
+                    photo: k,
+                    keep,
+                    value: v,
+                    truth: truth.clone(),
+                });
             }
+        }
+    }
+    out
+}
+
+#[test]
+#[ignore = "needs ../shared/data/multiview-scenes (absent from a fresh clone): cargo test -- --ignored shared_data"]
+fn shared_data_rooms_tied_by_one_box_are_placed_by_their_walls_or_warned() {
+    // Each photo after the first tied to the others by one shared box only (every shared box
+    // in turn): the likelihood cannot tell a half turn; the walls choose, and the build warns.
+    let (mut right, mut cases) = (0, 0);
+    for tie in one_box_ties() {
+        let (r, k, keep) = (tie.room, tie.photo, &tie.keep);
+        let map = build_value(&tie.value).unwrap_or_else(|e| panic!("mv0{r} photo {k}: {e}"));
+        let (p, t) = (map.cameras[k].position, tie.truth.cameras[k].position);
+        cases += 1;
+        if (p[0] - t[0]).hypot(p[1] - t[1]) < 1e-6 {
+            right += 1;
+        } else {
+            assert!(
+                map.warnings
+                    .iter()
+                    .any(|w| w.contains("tied to the room only")),
+                "mv0{r} photo {k} tied by {keep:?}: placed wrong without a warning"
+            );
         }
     }
     println!("tied by one box: {right} of {cases} placed right, the others warned");
@@ -410,73 +440,42 @@ fn shared_data_ties_the_physical_checks_decide_are_resolved_right() {
     // named in the tie warning.)
     use rand::SeedableRng;
     use vpmap_metrology::synth::add_noise;
-    let dir = shared("multiview-scenes");
     let (mut decided, mut right, mut said, mut refused) = (0, 0, 0, 0);
     let mut wrong_warned = 0;
-    for r in 0..8 {
-        let path = dir.join(format!("mv0{r}.json"));
-        let room: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
-        let truth: RoomTruth = serde_json::from_str(
-            &std::fs::read_to_string(path.with_extension("truth.json")).unwrap(),
-        )
-        .unwrap();
-        let photos = room["photos"].as_array().unwrap();
-        let names = |p: &serde_json::Value| -> Vec<String> {
-            p["objects"]
-                .as_array()
-                .unwrap()
-                .iter()
-                .map(|o| o["name"].as_str().unwrap().to_owned())
-                .collect()
-        };
-        for k in 1..photos.len() {
-            let others: Vec<String> = (0..photos.len())
-                .filter(|&j| j != k)
-                .flat_map(|j| names(&photos[j]))
-                .collect();
-            for keep in names(&photos[k]).iter().filter(|n| others.contains(n)) {
-                let mut v = room.clone();
-                for o in v["photos"][k]["objects"].as_array_mut().unwrap() {
-                    let n = o["name"].as_str().unwrap().to_owned();
-                    if others.contains(&n) && &n != keep {
-                        o["name"] = serde_json::Value::String(format!("{n} (not shared)"));
-                    }
-                }
-                let exact = Scene::from_json_str(&v.to_string()).unwrap();
-                for (sigma, seed) in [(0.0, 0_u64), (1.0, 1), (1.0, 2)] {
-                    let mut scene = exact.clone();
-                    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(
-                        seed * 1000 + 100 * r as u64 + 10 * k as u64,
+    for tie in one_box_ties() {
+        let (r, k, keep, truth) = (tie.room, tie.photo, &tie.keep, &tie.truth);
+        let exact = Scene::from_json_str(&tie.value.to_string()).unwrap();
+        for (sigma, seed) in [(0.0, 0_u64), (1.0, 1), (1.0, 2)] {
+            let mut scene = exact.clone();
+            let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(
+                seed * 1000 + 100 * r as u64 + 10 * k as u64,
+            );
+            add_noise(&mut scene, sigma, &mut rng);
+            for p in &mut scene.other_photos {
+                add_noise(p, sigma, &mut rng);
+            }
+            let Ok(map) = build_map(&scene, &BuildOptions::default()) else {
+                refused += 1;
+                continue;
+            };
+            let (p, t) = (map.cameras[k].position, truth.cameras[k].position);
+            let ok = (p[0] - t[0]).hypot(p[1] - t[1]) < 0.25;
+            if map.alternatives.iter().any(|a| a.photo == k + 1) {
+                said += 1;
+            } else {
+                decided += 1;
+                right += usize::from(ok);
+                if !ok {
+                    let warned = map
+                        .warnings
+                        .iter()
+                        .any(|w| w.contains(&format!("photo {} is tied", k + 1)));
+                    wrong_warned += usize::from(warned);
+                    println!(
+                        "mv0{r} photo {} tied by {keep:?}, {sigma} px (seed {seed}): camera {:.2} m off, tie warning {warned}",
+                        k + 1,
+                        (p[0] - t[0]).hypot(p[1] - t[1])
                     );
-                    add_noise(&mut scene, sigma, &mut rng);
-                    for p in &mut scene.other_photos {
-                        add_noise(p, sigma, &mut rng);
-                    }
-                    let Ok(map) = build_map(&scene, &BuildOptions::default()) else {
-                        refused += 1;
-                        continue;
-                    };
-                    let (p, t) = (map.cameras[k].position, truth.cameras[k].position);
-                    let ok = (p[0] - t[0]).hypot(p[1] - t[1]) < 0.25;
-                    if map.alternatives.iter().any(|a| a.photo == k + 1) {
-                        said += 1;
-                    } else {
-                        decided += 1;
-                        right += usize::from(ok);
-                        if !ok {
-                            let warned = map
-                                .warnings
-                                .iter()
-                                .any(|w| w.contains(&format!("photo {} is tied", k + 1)));
-                            wrong_warned += usize::from(warned);
-                            println!(
-                                "mv0{r} photo {} tied by {keep:?}, {sigma} px (seed {seed}): camera {:.2} m off, tie warning {warned}",
-                                k + 1,
-                                (p[0] - t[0]).hypot(p[1] - t[1])
-                            );
-                        }
-                    }
                 }
             }
         }
