@@ -197,7 +197,7 @@ fn fit_with(
     let mut next = 0;
     let mut box_edges_tried = false;
     while !good {
-        let Some(start) = starts.get(next) else {
+        let Some(start) = starts.get_mut(next) else {
             if box_edges_tried {
                 break;
             }
@@ -213,9 +213,8 @@ fn fit_with(
         let k = next;
         next += 1;
         stop_if_interrupted(scene, interrupt).map_err(|e| (e, false))?;
-        let mut problem = start.problem.clone();
-        problem.interrupt = interrupt.clone();
-        match run(scene, &problem, start.x0.clone()) {
+        start.problem.interrupt = interrupt.clone();
+        match run(scene, &start.problem, start.x0.clone()) {
             Ok(sol) => {
                 let dof = start
                     .problem
