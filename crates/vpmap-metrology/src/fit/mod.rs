@@ -87,7 +87,7 @@ pub fn fit_scene_until(
 }
 
 /// [`MetrologyError::Interrupted`] when `interrupt` has fired, naming the photo's fit.
-fn stop_if_interrupted(scene: &Scene, interrupt: &Interrupt) -> Result<()> {
+pub(crate) fn stop_if_interrupted(scene: &Scene, interrupt: &Interrupt) -> Result<()> {
     match interrupt.check() {
         Some(reason) => Err(MetrologyError::Interrupted {
             work: format!("the fit of a photo of {} objects", scene.objects.len()),

@@ -69,12 +69,7 @@ pub fn build_map_until(
         build_photo(s, options, false, interrupt)
     });
     // The lens's spread leaves out a fit that failed; one that was interrupted is no map.
-    if let Some(reason) = interrupt.check() {
-        return Err(crate::MetrologyError::Interrupted {
-            work: format!("the fit of a photo of {} objects", scene.objects.len()),
-            reason,
-        });
-    }
+    crate::fit::stop_if_interrupted(scene, interrupt)?;
     Ok(map)
 }
 
