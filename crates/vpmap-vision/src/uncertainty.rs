@@ -159,7 +159,7 @@ pub(crate) fn edge_weights(segments: &[&Segment]) -> (Vec<f64>, usize) {
 
 /// Each segment's edge: the index of one segment of the same physical edge (pieces within
 /// [`SAME_EDGE_DEG`] and [`SAME_EDGE_PX`] of each other's line, joined transitively).
-fn edge_clusters(segments: &[&Segment]) -> Vec<usize> {
+pub(crate) fn edge_clusters(segments: &[&Segment]) -> Vec<usize> {
     let n = segments.len();
     let mut parent: Vec<usize> = (0..n).collect();
     let lines: Vec<(Vector3<f64>, Vector2<f64>)> = segments

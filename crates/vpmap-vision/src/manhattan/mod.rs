@@ -1,8 +1,11 @@
 //! The Manhattan frame: three orthogonal vanishing directions and the camera, from segments.
 //!
 //! From the longest (at most [`MAX_SEGMENTS`]) segments of at least [`MIN_SEGMENT_LENGTH_PX`];
-//! pixel thresholds here are in working-image pixels (after the internal downscale). Each step
-//! is described in its file:
+//! pixel thresholds here are in working-image pixels (after the internal downscale). In the
+//! hypotheses' scores a segment weighs its length, but the pieces of one physical edge
+//! together at most [`SCORE_WEIGHT_CAP_PX`] (`capped_weights`): a few long edges in one place
+//! (a pole, a cable, the two sides of a thin bar in front of the room) cannot outvote many
+//! short edges along the room's axes. Each step is described in its file:
 //! 1. `model.rs`: the pinhole model in normalised coordinates, and the consistency of a
 //!    segment with a vanishing point (Tardif 2009);
 //! 2. `search.rs`: first vanishing point candidates from random segment pairs, then the
@@ -30,11 +33,13 @@ use rand_chacha::ChaCha8Rng;
 
 use crate::detection::{Intrinsics, Segment};
 use crate::error::{Result, VisionError};
+use crate::uncertainty::edge_clusters;
 use model::{Frame, Normaliser, Seg, vertical_index};
 pub use problem::{
     CAUCHY_SCALE_PX, FOCAL_PRIOR, FOCAL_PRIOR_SIGMA_REFINE, FOCAL_PRIOR_SIGMA_SEARCH,
     INLIER_ANGLE_DEG, INLIER_DISTANCE_PX, MAX_SEGMENTS, MIN_SEGMENT_LENGTH_PX, MIN_SEGMENTS,
     PRINCIPAL_POINT_MIN_TILT_DEG, PRINCIPAL_POINT_PRIOR_SIGMA, SCORE_TOLERANCE_DEG,
+    SCORE_WEIGHT_CAP_PX,
 };
 use problem::{FOCAL_STEP, FocalPrior, Problem};
 use refine::best_support;
@@ -65,13 +70,14 @@ pub(crate) fn estimate(
 ) -> Result<Estimate> {
     let norm = Normaliser::new(size, working_scale);
     let min_len = MIN_SEGMENT_LENGTH_PX / norm.work_px;
-    let mut segs: Vec<Seg> = segments
+    let mut usable: Vec<(Seg, &Segment)> = segments
         .iter()
-        .filter_map(|s| Seg::new(s, &norm))
-        .filter(|s| 2.0 * s.half_len >= min_len)
+        .filter_map(|s| Some((Seg::new(s, &norm)?, s)))
+        .filter(|(s, _)| 2.0 * s.half_len >= min_len)
         .collect();
-    segs.sort_by(|a, b| b.half_len.total_cmp(&a.half_len));
-    segs.truncate(MAX_SEGMENTS);
+    usable.sort_by(|a, b| b.0.half_len.total_cmp(&a.0.half_len));
+    usable.truncate(MAX_SEGMENTS);
+    let segs = capped_weights(&usable, SCORE_WEIGHT_CAP_PX / norm.work_px);
     if segs.len() < MIN_SEGMENTS {
         return Err(VisionError::NotEnoughLines {
             found: segs.len(),
@@ -170,6 +176,37 @@ impl Problem<'_> {
             principal_point_estimated: pp_free,
         })
     }
+}
+
+/// The segments of `usable` with their weights in the hypothesis score: the pieces of one
+/// physical edge (within [`SAME_EDGE_DEG`](crate::uncertainty::SAME_EDGE_DEG) and
+/// [`SAME_EDGE_PX`](crate::uncertainty::SAME_EDGE_PX) of each other's line) weigh together
+/// their summed length, but at most `cap` (normalised units), shared in proportion to their
+/// lengths. A long edge is one structure: a pole or a cable across the photo, or the two sides
+/// of a thin bar, is no more evidence that its direction is a room axis than a box's edge.
+fn capped_weights(usable: &[(Seg, &Segment)], cap: f64) -> Vec<Seg> {
+    let originals: Vec<&Segment> = usable.iter().map(|(_, s)| *s).collect();
+    let edges = edge_clusters(&originals);
+    let mut totals = vec![0.0; usable.len()];
+    for ((s, _), &e) in usable.iter().zip(&edges) {
+        if let Some(t) = totals.get_mut(e) {
+            *t += 2.0 * s.half_len;
+        }
+    }
+    usable
+        .iter()
+        .zip(&edges)
+        .map(|((s, _), &e)| {
+            let total = totals.get(e).copied().unwrap_or(0.0);
+            let length = 2.0 * s.half_len;
+            let weight = if total > 0.0 {
+                total.min(cap) * length / total
+            } else {
+                0.0
+            };
+            Seg { weight, ..*s }
+        })
+        .collect()
 }
 
 /// The sign with `z >= 0` (then `x >= 0`, then `y >= 0` when the earlier ones are zero).

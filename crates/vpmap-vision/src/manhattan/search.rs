@@ -2,8 +2,10 @@
 //!
 //! # Search (after Lu et al. 2017, with the focal length as a search dimension)
 //! 1. *First vanishing point candidates*, independent of the camera: intersections
-//!    `v = l_i x l_j` of random segment pairs (drawn with probability proportional to length),
-//!    scored by `S(v) = sum_i L_i max(0, 1 - sin^2 theta_i / sin^2 tau)`; the best ones with
+//!    `v = l_i x l_j` of random segment pairs (drawn with probability proportional to their
+//!    weight), scored by `S(v) = sum_i W_i max(0, 1 - sin^2 theta_i / sin^2 tau)`, `W_i` the
+//!    segment's length with the pieces of one physical edge weighing together at most
+//!    [`SCORE_WEIGHT_CAP_PX`](super::SCORE_WEIGHT_CAP_PX) (`mod.rs`); the best ones with
 //!    different supporting segments are refitted by algebraic least squares.
 //! 2. *Second and third directions*: for a candidate `v_1` and a focal length `f`,
 //!    `d_1 = K^-1 v_1`; every segment not supporting `v_1` lies in a plane whose intersection
