@@ -228,6 +228,40 @@ mod tests {
     use nalgebra::Matrix3;
 
     #[test]
+    fn the_pieces_of_one_edge_weigh_together_at_most_the_cap() {
+        let norm = Normaliser::new([640, 480], 1.0);
+        let seg = |a: [f64; 2], b: [f64; 2]| Segment {
+            start_px: a,
+            end_px: b,
+            strength: 1.0,
+        };
+        // Two pieces of one edge (200 and 100 px), a parallel edge 10 px away (300 px) and a
+        // short edge of another direction (20 px).
+        let raw = [
+            seg([10.0, 100.0], [210.0, 100.0]),
+            seg([230.0, 100.5], [330.0, 100.5]),
+            seg([10.0, 110.0], [310.0, 110.0]),
+            seg([400.0, 50.0], [400.0, 70.0]),
+        ];
+        let usable: Vec<(Seg, &Segment)> = raw
+            .iter()
+            .map(|s| (Seg::new(s, &norm).unwrap(), s))
+            .collect();
+        let cap_px = 48.0;
+        let w: Vec<f64> = capped_weights(&usable, cap_px / norm.work_px)
+            .iter()
+            .map(|s| s.weight * norm.work_px)
+            .collect();
+        // The edge's pieces share the cap by length; the other edges are on their own.
+        assert!(
+            (w[0] - 32.0).abs() < 1e-9 && (w[1] - 16.0).abs() < 1e-9,
+            "{w:?}"
+        );
+        assert!((w[2] - cap_px).abs() < 1e-9, "{w:?}");
+        assert!((w[3] - 20.0).abs() < 1e-9, "{w:?}");
+    }
+
+    #[test]
     fn the_vertical_is_the_direction_closest_to_the_image_y_axis() {
         let rot = Matrix3::from_columns(&[
             Vector3::new(0.8, 0.1, 0.59),
