@@ -11,7 +11,8 @@
 //! For looking into one room: `VPMAP_ROOM=N` runs only room `N`, `VPMAP_ROOM_PNG=DIR` writes
 //! each rendered photo there (for `vpmap detect --overlay`), `VPMAP_ROOM_SCENES=DIR` the scene
 //! built with the detected vanishing points, `VPMAP_ROOM_WARNINGS=1` prints
-//! each map's camera and warnings.
+//! each map's camera and warnings, `VPMAP_ROOM_SNAPS=1` each click against its true corner
+//! before and after snapping.
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -106,6 +107,9 @@ fn room(seed: u64) -> Option<Vec<Row>> {
     detected.floor.clone_from(&clicked.floor);
     detected.scale.clone_from(&clicked.scale);
     let with_detected = snapped(&image, &detected);
+    if std::env::var_os("VPMAP_ROOM_SNAPS").is_some() {
+        print_snaps(&image, &detected, &rendered.corners);
+    }
     if let Some(dir) = std::env::var_os("VPMAP_ROOM_SCENES") {
         let path = std::path::Path::new(&dir).join(format!("room{seed}.json"));
         std::fs::write(path, with_detected.to_json_string()).unwrap();
@@ -209,6 +213,35 @@ fn directions_off_deg(det: &vpmap_vision::Detection, true_dirs: &[[f64; 3]]) -> 
             best.min(1.0).acos().to_degrees()
         })
         .collect()
+}
+
+/// Each click of `scene` snapped on `image`, against its true corner: the distance and the
+/// Mahalanobis distance squared of a snapped one (`VPMAP_ROOM_SNAPS`).
+fn print_snaps(
+    image: &SnapImage,
+    scene: &Scene,
+    corners: &[vpmap_vision::synthetic::photo::TrueCorner],
+) {
+    let snaps = snap_scene(image, scene, &SnapOptions::for_click_sigma(CLICK_SIGMA_PX)).unwrap();
+    for (s, c) in snaps.iter().zip(corners) {
+        let t = c.point_px;
+        let p = s.snap.point_px;
+        let d = [p[0] - t[0], p[1] - t[1]];
+        let d2 = s.snap.covariance_px2.map(|m| {
+            let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+            (m[1][1] * d[0] * d[0] - 2.0 * m[0][1] * d[0] * d[1] + m[0][0] * d[1] * d[1]) / det
+        });
+        eprintln!(
+            "  {:?} at ({:.1}, {:.1}): click {:.2} px off, now {:.2} px off, d2 {}, {:?}",
+            s.place,
+            t[0],
+            t[1],
+            (s.snap.click_px[0] - t[0]).hypot(s.snap.click_px[1] - t[1]),
+            d[0].hypot(d[1]),
+            d2.map_or("-".to_owned(), |v| format!("{v:.1}")),
+            s.snap.outcome
+        );
+    }
 }
 
 /// `scene` with its clicks snapped on `image` (a click that stays keeps the click noise).
