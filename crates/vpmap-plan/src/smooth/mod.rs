@@ -44,11 +44,13 @@ pub mod curve;
 pub mod dubins;
 pub mod fillet;
 pub mod hybrid;
+pub mod reeds_shepp;
 
 pub use check::{SmoothRules, SmoothViolation, validate_smooth};
 pub use curve::{Gear, Pose, Segment, SmoothCurve};
 pub use dubins::{DubinsPath, dubins_distance, dubins_shortest, dubins_words};
 pub use hybrid::{HybridOptions, HybridStats};
+pub use reeds_shepp::{ReedsSheppPath, rs_distance, rs_paths, rs_shortest};
 
 use std::f64::consts::PI;
 

@@ -18,6 +18,7 @@ mod movingai_files;
 mod navigate;
 mod navigate_smooth;
 mod ros_files;
+mod reeds_shepp;
 mod smooth;
 
 use std::path::PathBuf;

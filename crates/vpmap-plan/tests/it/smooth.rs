@@ -84,7 +84,7 @@ fn ccc_by_circles(p: Pose, q: Pose, s: f64, r: f64) -> Option<f64> {
     best
 }
 
-fn reference_dubins(p: Pose, q: Pose, r: f64) -> f64 {
+pub(crate) fn reference_dubins(p: Pose, q: Pose, r: f64) -> f64 {
     let mut best = f64::INFINITY;
     for (s1, s2) in [(1.0, 1.0), (-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0)] {
         if let Some(l) = csc_by_tangents(p, q, s1, s2, r) {
