@@ -66,16 +66,24 @@ pub struct DubinsPath {
     pub length: f64,
 }
 
+/// An angle wrapped into `[0, 2 pi)`, with angles within [`LOOP_SLACK`] below `2 pi`
+/// taken as zero: a turn of `-1e-16` from round-off is no turn, not a full loop.
 fn mod2pi(a: f64) -> f64 {
     let m = a.rem_euclid(TAU);
-    // rem_euclid may round up to TAU itself.
-    if m >= TAU { 0.0 } else { m }
+    if m >= TAU - LOOP_SLACK { 0.0 } else { m }
 }
+
+/// How close (radians) below a full turn an arc counts as none (see [`mod2pi`]).
+const LOOP_SLACK: f64 = 1e-9;
 
 /// Round-off slack of the words' feasibility tests: a squared length down to `-SLACK`
 /// counts as zero (a word whose line vanishes, as a single arc), a cosine up to
 /// `1 + SLACK` as one.
 const SLACK: f64 = 1e-10;
+
+/// Distance between the centres (in radii) below which `LSL`'s or `RSR`'s two turning
+/// circles are one: the direction between them is round-off, and the path is one arc.
+const SAME_CIRCLE: f64 = 1e-9;
 
 /// A squared length, with round-off below zero taken as zero; `None` when negative.
 fn touching(p2: f64) -> Option<f64> {
@@ -98,13 +106,22 @@ fn word_lengths(word: [Steer; 3], d: f64, alpha: f64, beta: f64) -> Option<[f64;
         [L, S, L] => {
             let p2 = 2.0 + d * d - 2.0 * cab + 2.0 * d * (sa - sb);
             let p2 = touching(p2)?;
-            let tmp = (cb - ca).atan2(d + sa - sb);
+            // Both circles one: the line has no direction, the path is one arc.
+            let tmp = if p2.sqrt() < SAME_CIRCLE {
+                alpha
+            } else {
+                (cb - ca).atan2(d + sa - sb)
+            };
             Some([mod2pi(tmp - alpha), p2.sqrt(), mod2pi(beta - tmp)])
         }
         [R, S, R] => {
             let p2 = 2.0 + d * d - 2.0 * cab + 2.0 * d * (sb - sa);
             let p2 = touching(p2)?;
-            let tmp = (ca - cb).atan2(d - sa + sb);
+            let tmp = if p2.sqrt() < SAME_CIRCLE {
+                alpha
+            } else {
+                (ca - cb).atan2(d - sa + sb)
+            };
             Some([mod2pi(alpha - tmp), p2.sqrt(), mod2pi(tmp - beta)])
         }
         [L, S, R] => {

@@ -60,6 +60,9 @@ pub const END_TOLERANCE: f64 = 1e-7;
 /// Pieces shorter than this many turning radii are dropped.
 pub const PIECE_EPSILON: f64 = 1e-10;
 
+/// Distance between centres (radii) below which two turning circles are one (8.1).
+const SAME_CIRCLE: f64 = 1e-9;
+
 /// Slack of the formulas' sign tests (radius units).
 const ZERO: f64 = 1e-10;
 
@@ -173,6 +176,8 @@ fn base_lengths(base: usize, x: f64, y: f64, phi: f64) -> Option<Vec<f64>> {
         // 8.1: L+ S+ L+.
         0 => {
             let (u, t) = polar(x - sp, y - 1.0 + cp);
+            // Both circles one: the line has no direction, the path is one arc.
+            let t = if u < SAME_CIRCLE { phi } else { t };
             let v = wrap(phi - t);
             (t >= -ZERO && v >= -ZERO).then(|| vec![t, u, v])
         }
