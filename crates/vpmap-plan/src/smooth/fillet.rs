@@ -30,8 +30,8 @@
 use std::f64::consts::TAU;
 
 use super::clearance::Field;
+use super::connect::{self, MAX_WORDS};
 use super::curve::{Pose, SmoothCurve, pose_along};
-use super::dubins::{word_curve, word_table};
 use crate::grid::CellXy;
 
 /// Heading offsets from a corner's bisector tried as candidate poses, degrees.
@@ -67,24 +67,56 @@ pub struct FilletStats {
     pub words_tested: usize,
 }
 
-/// An edge's state: its six word lengths (infinite once tested and blocked) and whether
-/// its current shortest word is known to be clear.
+/// An edge's state: its shortest word not yet found blocked (index into
+/// [`connect::table`] and length), the words found blocked (a bit each), and whether the
+/// current word is known to be clear. The table is recomputed when a word is blocked
+/// rather than stored: it is a few closed forms, and 50 lengths an edge would not fit the
+/// dense edge table.
 #[derive(Clone, Copy, Debug)]
 struct Edge {
-    lengths: [f64; 6],
+    word: usize,
+    length: f64,
+    blocked: u64,
     clear: bool,
 }
 
+// Every word has a bit in `Edge::blocked`.
+const _: () = assert!(MAX_WORDS <= 64);
+
 impl Edge {
-    fn best(&self) -> (usize, f64) {
-        self.lengths
+    fn new(pa: Pose, pb: Pose, radius: f64, reverse: bool) -> Self {
+        let mut e = Self {
+            word: 0,
+            length: f64::INFINITY,
+            blocked: 0,
+            clear: false,
+        };
+        e.pick(pa, pb, radius, reverse);
+        e
+    }
+
+    /// The shortest word not blocked (the first of equal ones).
+    fn pick(&mut self, pa: Pose, pb: Pose, radius: f64, reverse: bool) {
+        let (word, length) = connect::table(pa, pb, radius, reverse)
             .iter()
             .copied()
             .enumerate()
+            .filter(|&(i, _)| self.blocked & (1 << i) == 0)
             .fold(
                 (0, f64::INFINITY),
                 |b, (i, l)| if l < b.1 { (i, l) } else { b },
-            )
+            );
+        (self.word, self.length) = (word, length);
+    }
+
+    fn best(&self) -> (usize, f64) {
+        (self.word, self.length)
+    }
+
+    /// Mark the current word blocked and pick the next.
+    fn block(&mut self, pa: Pose, pb: Pose, radius: f64, reverse: bool) {
+        self.blocked |= 1 << self.word;
+        self.pick(pa, pb, radius, reverse);
     }
 }
 
@@ -182,13 +214,16 @@ fn escapes(end: Pose, radius: f64, direction: f64) -> Vec<Pose> {
 
 /// A clear curvature-bounded path from `start` to `goal` along the taut path `waypoints`
 /// (from the start's cell to the goal's), or `None` when the lazy search finds none
-/// within [`MAX_ROUNDS`] rounds (see the [module docs](self)).
+/// within [`MAX_ROUNDS`] rounds (see the [module docs](self)). With `reverse`, an edge's
+/// words are the Reeds-Shepp candidates besides the Dubins words ([`connect`]), so the
+/// path may back up (cusps) between two corners.
 #[must_use]
 pub fn fillet(
     field: &Field,
     waypoints: &[CellXy],
     ends: (Pose, bool, Pose, bool),
     radius: f64,
+    reverse: bool,
     stats: &mut FilletStats,
 ) -> Option<SmoothCurve> {
     let (start, start_free, goal, goal_free) = ends;
@@ -239,10 +274,7 @@ pub fn fillet(
                         let Some(entry) = edges.get_mut(slot((i, a, j, b))) else {
                             continue;
                         };
-                        let edge = entry.get_or_insert_with(|| Edge {
-                            lengths: word_table(pa, pb, radius),
-                            clear: false,
-                        });
+                        let edge = entry.get_or_insert_with(|| Edge::new(pa, pb, radius, reverse));
                         let cand = da + edge.best().1;
                         if cand < best.0 {
                             best = (cand, Some((i, a)));
@@ -290,13 +322,11 @@ pub fn fillet(
             let (pa, pb) = pose_pair(&layers, *key)?;
             let (w, _) = edge.best();
             stats.words_tested += 1;
-            let ok = word_curve(pa, pb, radius, w).is_some_and(|c| field.curve_clear(&c));
+            let ok = connect::curve(pa, pb, radius, w).is_some_and(|c| field.curve_clear(&c));
             if ok {
                 edge.clear = true;
             } else {
-                if let Some(l) = edge.lengths.get_mut(w) {
-                    *l = f64::INFINITY;
-                }
+                edge.block(pa, pb, radius, reverse);
                 from = from.min(key.2);
                 all_clear = false;
             }
@@ -306,7 +336,7 @@ pub fn fillet(
             for key in &chain {
                 let (pa, pb) = pose_pair(&layers, *key)?;
                 let (w, _) = edges.get(slot(*key))?.as_ref()?.best();
-                curve.extend(&word_curve(pa, pb, radius, w)?);
+                curve.extend(&connect::curve(pa, pb, radius, w)?);
             }
             return Some(curve);
         }

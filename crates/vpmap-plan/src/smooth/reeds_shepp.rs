@@ -342,7 +342,11 @@ fn build(start: Pose, pieces: &[(Steer, f64)], radius: f64) -> SmoothCurve {
                 Steer::Right => -1.0 / radius,
             },
             length: l.abs() * radius,
-            gear: if l >= 0.0 { Gear::Forward } else { Gear::Reverse },
+            gear: if l >= 0.0 {
+                Gear::Forward
+            } else {
+                Gear::Reverse
+            },
         };
         pose = seg.end();
         curve.push(seg);

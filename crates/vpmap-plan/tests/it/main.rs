@@ -17,8 +17,8 @@ mod movingai_benchmarks;
 mod movingai_files;
 mod navigate;
 mod navigate_smooth;
-mod ros_files;
 mod reeds_shepp;
+mod ros_files;
 mod smooth;
 
 use std::path::PathBuf;

@@ -80,7 +80,10 @@ fn rules(p: Pose, q: Pose, r: f64) -> SmoothRules {
 /// hold it) and measured right; the first is the shortest.
 fn check_all(p: Pose, q: Pose, r: f64) -> f64 {
     let paths = rs_paths(p, q, r);
-    assert!(!paths.is_empty(), "no Reeds-Shepp path {p:?} -> {q:?} R {r}");
+    assert!(
+        !paths.is_empty(),
+        "no Reeds-Shepp path {p:?} -> {q:?} R {r}"
+    );
     let grid = OccupancyGrid::new(400, 400, 1.0, [0.0; 2], Occupancy::Free).unwrap();
     for w in paths.windows(2) {
         assert!(w[0].length <= w[1].length);
@@ -121,8 +124,13 @@ fn reeds_shepp_is_never_longer_than_either_gear_of_dubins_and_never_below_the_bo
         let (p, q) = (random_pose(&mut rng, 8.0), random_pose(&mut rng, 8.0));
         let rs = check_all(p, q, r);
         let (fwd, bwd) = (reference_dubins(p, q, r), backward_dubins(p, q, r));
-        assert!(rs <= fwd.min(bwd) + 1e-9, "{p:?} {q:?} R {r}: {rs} > {fwd} / {bwd}");
-        let bound = p.distance(&q).max(r * heading_gap(p.heading_rad, q.heading_rad));
+        assert!(
+            rs <= fwd.min(bwd) + 1e-9,
+            "{p:?} {q:?} R {r}: {rs} > {fwd} / {bwd}"
+        );
+        let bound = p
+            .distance(&q)
+            .max(r * heading_gap(p.heading_rad, q.heading_rad));
         assert!(rs >= bound - 1e-9, "{p:?} {q:?} R {r}: {rs} < {bound}");
         if rs < fwd.min(bwd) - 1e-6 {
             shorter += 1;
@@ -161,7 +169,8 @@ fn reeds_shepp_equals_a_forward_path_that_meets_the_lower_bound() {
         let ahead = Pose::new(p.x + d * c, p.y + d * s, p.heading_rad);
         assert_relative_eq!(check_all(p, ahead, r), d, epsilon = 1e-8);
         // One arc of at most pi: the length is R times the heading change.
-        let turn = rng.random_range(0.05..PI - 1e-3) * if rng.random_bool(0.5) { 1.0 } else { -1.0 };
+        let turn =
+            rng.random_range(0.05..PI - 1e-3) * if rng.random_bool(0.5) { 1.0 } else { -1.0 };
         let k = turn.signum() / r;
         let end = vpmap_plan::smooth::curve::pose_along(p, k, turn.abs() * r);
         let rs = check_all(p, end, r);
@@ -198,7 +207,11 @@ fn reeds_shepp_lengths_keep_the_symmetries_of_the_problem() {
                 s.heading_rad + 0.7,
             )
         };
-        assert_relative_eq!(rs_distance(moved(p), moved(q), 2.0 * r), 2.0 * l, epsilon = 1e-8);
+        assert_relative_eq!(
+            rs_distance(moved(p), moved(q), 2.0 * r),
+            2.0 * l,
+            epsilon = 1e-8
+        );
     }
 }
 
@@ -212,4 +225,3 @@ fn backing_into_a_pose_beside_the_start_uses_cusps() {
     assert!(path.curve.segments.iter().any(|s| s.gear == Gear::Reverse));
     assert!(path.length < reference_dubins(p, q, 1.0) - 1.0);
 }
-
