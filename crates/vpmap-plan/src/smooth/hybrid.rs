@@ -37,7 +37,7 @@ use std::f64::consts::{SQRT_2, TAU};
 use super::clearance::Field;
 use super::connect;
 use super::curve::{Gear, Pose, Segment, SmoothCurve};
-use super::dubins::free_end_candidates;
+use super::dubins::{free_end_candidates, word_tables_to_headings};
 use crate::budget::{Budget, STOP_CHECK_INTERVAL, Stop};
 use crate::error::{PlanError, Result};
 
@@ -415,29 +415,47 @@ pub fn hybrid_astar(
 /// Dubins words (and with reverse the Reeds-Shepp ones) to a fixed goal heading, or to the
 /// goal point at the candidate free headings.
 fn analytic_shot(field: &Field, from: Pose, q: &HybridQuery) -> Option<SmoothCurve> {
-    let goals: Vec<Pose> = if q.goal_free {
+    let headings: Vec<f64> = if q.goal_free {
         free_end_candidates(from, q.goal.x, q.goal.y, q.radius)
-            .into_iter()
-            .map(|h| Pose::new(q.goal.x, q.goal.y, h))
-            .collect()
     } else {
-        vec![q.goal]
+        vec![q.goal.heading_rad]
     };
     let mut words: Vec<(f64, usize, usize)> = Vec::new();
-    for (gi, g) in goals.iter().enumerate() {
-        for (wi, l) in connect::table(from, *g, q.radius, q.reverse)
-            .into_iter()
-            .enumerate()
-        {
-            if l.is_finite() {
-                words.push((l, gi, wi));
+    if q.reverse {
+        for (gi, &h) in headings.iter().enumerate() {
+            let g = Pose::new(q.goal.x, q.goal.y, h);
+            for (wi, l) in connect::table(from, g, q.radius, true)
+                .into_iter()
+                .enumerate()
+            {
+                if l.is_finite() {
+                    words.push((l, gi, wi));
+                }
+            }
+        }
+    } else {
+        // The Dubins words only: their tables to every heading at once.
+        let tables = word_tables_to_headings(from, q.goal.x, q.goal.y, &headings, q.radius);
+        for (gi, t) in tables.iter().enumerate() {
+            for (wi, &l) in t.iter().enumerate() {
+                if l.is_finite() {
+                    words.push((l, gi, wi));
+                }
             }
         }
     }
-    words.sort_by(|a, b| a.0.total_cmp(&b.0));
-    // A free goal heading offers hundreds of words: the shortest few decide.
-    for &(_, gi, wi) in words.iter().take(12) {
-        let goal = *goals.get(gi)?;
+    // A free goal heading offers hundreds of words: the shortest few decide. Ties are broken
+    // by heading and word index (the order they were listed), as a stable sort would.
+    let key = |a: &(f64, usize, usize), b: &(f64, usize, usize)| {
+        a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2))
+    };
+    if words.len() > SHOTS_TRIED {
+        words.select_nth_unstable_by(SHOTS_TRIED, key);
+        words.truncate(SHOTS_TRIED);
+    }
+    words.sort_unstable_by(key);
+    for &(_, gi, wi) in &words {
+        let goal = Pose::new(q.goal.x, q.goal.y, *headings.get(gi)?);
         if let Some(c) = connect::curve(from, goal, q.radius, wi)
             && field.curve_clear(&c)
         {
@@ -446,3 +464,6 @@ fn analytic_shot(field: &Field, from: Pose, q: &HybridQuery) -> Option<SmoothCur
     }
     None
 }
+
+/// How many of the shortest words an analytic expansion tests for collision.
+const SHOTS_TRIED: usize = 12;
