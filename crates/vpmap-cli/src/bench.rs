@@ -144,10 +144,7 @@ fn run_smooth(args: &BenchArgs) -> Result<()> {
         loads[1].map_or_else(|| "unknown".to_owned(), |v| format!("{v:.2}")),
     );
     if let Some(path) = &args.publish {
-        println!(
-            "published the {SMOOTH_SECTION} section of {}",
-            path.display()
-        );
+        println!("published the {section_name} section of {}", path.display());
     }
     Ok(())
 }
