@@ -78,6 +78,10 @@ pub struct BenchArgs {
     /// section).
     #[arg(long, conflicts_with = "navigate")]
     smooth: bool,
+    /// `--smooth` with both planners allowed to drive in reverse (Reeds-Shepp curves, cusps);
+    /// `--publish` writes the `bench-smooth-reverse` section.
+    #[arg(long, requires = "smooth")]
+    reverse: bool,
     /// Queries per map of `--smooth` (each at every radius, with both planners).
     #[arg(long, default_value_t = 6)]
     queries: usize,
@@ -85,7 +89,14 @@ pub struct BenchArgs {
 
 /// `vpmap bench --smooth`.
 fn run_smooth(args: &BenchArgs) -> Result<()> {
-    use vpmap_eval::smooth::{SMOOTH_SECTION, SmoothBenchOptions, load_average};
+    use vpmap_eval::smooth::{
+        SMOOTH_REVERSE_SECTION, SMOOTH_SECTION, SmoothBenchOptions, load_average,
+    };
+    let section_name = if args.reverse {
+        SMOOTH_REVERSE_SECTION
+    } else {
+        SMOOTH_SECTION
+    };
     if !args.inputs.is_empty() {
         bail!("--smooth runs on its own maps; give no map files");
     }
@@ -96,12 +107,13 @@ fn run_smooth(args: &BenchArgs) -> Result<()> {
         bail!("--out {}: it is a file, not a folder", args.out.display());
     }
     if let Some(p) = &args.publish {
-        check_publish_target(p, SMOOTH_SECTION)?;
+        check_publish_target(p, section_name)?;
     }
     let opts = SmoothBenchOptions {
         queries: args.queries,
         movingai_dir: vpmap_eval::bench::maps::movingai_dir().ok(),
         seed: args.seed,
+        reverse: args.reverse,
         command: command_line(),
         ..SmoothBenchOptions::default()
     };
@@ -114,9 +126,14 @@ fn run_smooth(args: &BenchArgs) -> Result<()> {
     vpmap_eval::smooth::smooth_report(&trials).write_all(&args.out)?;
     let table = vpmap_eval::smooth::smooth_table(&trials);
     if let Some(path) = &args.publish {
-        let section =
-            vpmap_eval::smooth::smooth_published_section(&table, elapsed, &opts.command, loads);
-        vpmap_eval::publish::replace_section(path, SMOOTH_SECTION, &section)?;
+        let section = vpmap_eval::smooth::smooth_published_section(
+            &table,
+            elapsed,
+            &opts.command,
+            loads,
+            args.reverse,
+        );
+        vpmap_eval::publish::replace_section(path, section_name, &section)?;
     }
     print!("{table}");
     println!(
@@ -127,10 +144,7 @@ fn run_smooth(args: &BenchArgs) -> Result<()> {
         loads[1].map_or_else(|| "unknown".to_owned(), |v| format!("{v:.2}")),
     );
     if let Some(path) = &args.publish {
-        println!(
-            "published the {SMOOTH_SECTION} section of {}",
-            path.display()
-        );
+        println!("published the {section_name} section of {}", path.display());
     }
     Ok(())
 }

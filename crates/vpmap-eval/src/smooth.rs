@@ -31,7 +31,7 @@ use rand::{RngExt, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use vpmap_plan::smooth::{
     Pose, SmoothMethod, SmoothOptions, SmoothOutcome, SmoothPlanner, SmoothRules, dubins_distance,
-    validate_smooth,
+    rs_distance, validate_smooth,
 };
 use vpmap_plan::{Budget, CellXy, ExactPlanner, Occupancy, OccupancyGrid, PlanError};
 
@@ -42,6 +42,9 @@ use crate::stats::quantile_of;
 
 /// The section of a results file (`docs/results.md`) the benchmark publishes into.
 pub const SMOOTH_SECTION: &str = "bench-smooth";
+
+/// The section the benchmark with reverse allowed publishes into.
+pub const SMOOTH_REVERSE_SECTION: &str = "bench-smooth-reverse";
 
 /// Options of [`run_smooth`].
 #[derive(Clone, Debug)]
@@ -65,6 +68,9 @@ pub struct SmoothBenchOptions {
     pub smooth_budget: usize,
     /// Seed of the maps and queries.
     pub seed: u64,
+    /// Allow both planners to drive in reverse (Reeds-Shepp; cusps); the length ratio's
+    /// bound is then the Reeds-Shepp distance instead of the Dubins one (default `false`).
+    pub reverse: bool,
     /// The command line, for the report.
     pub command: String,
 }
@@ -80,6 +86,7 @@ impl Default for SmoothBenchOptions {
             hybrid_budget: 6_000_000,
             smooth_budget: vpmap_plan::budget::DEFAULT_MAX_EXPANSIONS,
             seed: 1,
+            reverse: false,
             command: String::new(),
         }
     }
@@ -271,6 +278,7 @@ fn trial(
         goal_heading_rad: q.headings.map(|h| h.1),
         method,
         budget,
+        reverse: opts.reverse,
         ..SmoothOptions::default()
     };
     let began = Instant::now();
@@ -316,14 +324,16 @@ fn trial(
         start_heading: q.headings.is_some(),
         goal,
         goal_heading: q.headings.is_some(),
-        reverse: false,
+        reverse: opts.reverse,
         unknown_passable: false,
     };
     let taut = exact.plan(q.start, q.goal, &Budget::default())?;
     let (taut_length, turns) = taut.map_or((0.0, 0), |t| {
         (t.length_cells, t.waypoints.len().saturating_sub(2))
     });
-    let dubins = if q.headings.is_some() {
+    let dubins = if q.headings.is_some() && opts.reverse {
+        rs_distance(start, goal, *r)
+    } else if q.headings.is_some() {
         dubins_distance(start, goal, *r)
     } else {
         0.0
@@ -549,16 +559,28 @@ pub fn smooth_published_section(
     elapsed: std::time::Duration,
     command: &str,
     loads: [Option<f64>; 2],
+    reverse: bool,
 ) -> String {
     let load = |v: Option<f64>| v.map_or_else(|| "unknown".to_owned(), |v| format!("{v:.2}"));
+    let (title, bound) = if reverse {
+        (
+            "Smooth paths with reverse (Reeds-Shepp) against Hybrid-A* with reverse (`vpmap bench --smooth --reverse`)",
+            "Reeds-Shepp",
+        )
+    } else {
+        (
+            "Smooth paths against Hybrid-A* (`vpmap bench --smooth`)",
+            "Dubins",
+        )
+    };
     crate::publish::published(
-        "Smooth paths against Hybrid-A* (`vpmap bench --smooth`)",
+        title,
         &format!(
             "Method: [planning.md](planning.md#smooth-paths-a-robot-can-drive---planner-smooth); \
              maps, queries and columns: `vpmap_eval::smooth`. Load average (1 min) {} before the \
              run and {} after it: the machine is shared, the times are one thread's wall times and \
              the ratios are what compares. **length ratio** = length / max(exact any-angle \
-             length, Dubins distance between the poses); **vs reference** = length / the \
+             length, {bound} distance between the poses); **vs reference** = length / the \
              Hybrid-A*'s on the queries both solved; **missed** = solved by the reference, not by \
              the smooth planner; **wobbly** = more curvature sign changes than the taut path's \
              turns + 1; **max curvature × R** at most 1.\n\n{table}",
@@ -624,5 +646,39 @@ mod tests {
         assert!(!cells.is_empty(), "{csv}");
         assert!(cells.iter().all(|c| *c == "6.000000"), "{csv}");
         assert!(run_smooth(&SmoothBenchOptions { queries: 0, ..opts }, &crate::Silent).is_err());
+    }
+
+    #[test]
+    fn with_reverse_every_path_is_validated_with_reverse_and_no_shorter_than_the_bound() {
+        let opts = SmoothBenchOptions {
+            queries: 2,
+            nav2_maps: 1,
+            nav2_side: 120,
+            built: false,
+            hybrid_budget: 200_000,
+            smooth_budget: 200_000,
+            reverse: true,
+            ..SmoothBenchOptions::default()
+        };
+        let trials = run_smooth(&opts, &crate::Silent).unwrap();
+        assert_eq!(trials.len(), 12);
+        let mut found = 0;
+        for t in &trials {
+            if t.length_cells.is_some() {
+                found += 1;
+                // Validated with reverse allowed; the ratio's bound is the Reeds-Shepp one.
+                assert!(t.validated, "{t:?}");
+                assert!(t.ratio.unwrap() >= 1.0 - 1e-9, "{t:?}");
+            }
+        }
+        assert!(found >= 6, "{found} of 12");
+        let section = smooth_published_section(
+            &smooth_table(&trials),
+            std::time::Duration::from_secs(1),
+            "vpmap bench --smooth --reverse",
+            [None, None],
+            true,
+        );
+        assert!(section.contains("Reeds-Shepp distance"), "{section}");
     }
 }

@@ -7,7 +7,7 @@
 //! |---|---|---|
 //! | [`floor_plan_svg`] | an SVG floor plan, `+y` up the page: free space, hidden floor (hatched), floor outline, labelled objects, station point, field of view, grid, axes, scale bar, legend, title | hand-written SVG, greedy label placement |
 //! | [`plan_svg()`] | an SVG of a plan on its occupancy grid: cells, path, start and goal; MBPP's bug tracks, hits, leave points and alternatives; a title, axes in metres or cells and a legend | hand-written SVG, one unit per cell, straight runs of a track merged |
-//! | [`smooth_svg()`] | the same picture of a smooth (curvature-bounded) path: the curve through its poses and its tightest turn's circle | [`plan_svg()`] plus a polyline at most a quarter cell between points |
+//! | [`smooth_svg()`] | the same picture of a smooth (curvature-bounded) path: the curve through its poses, its tightest turn's circle and its cusps | [`plan_svg()`] plus a polyline at most a quarter cell between points |
 //! | [`detection_overlay_png`] | PNG bytes of a photo with what `vpmap_vision::detect` found drawn on it: segments coloured by vanishing point, horizon, vanishing points, principal point, and a legend strip under the photo | `imageproc` antialiased lines and circles on the half-desaturated photo; the legend an SVG rendered by [`svg_to_png`] |
 //! | [`svg_to_png`] | PNG bytes of any SVG | resvg / tiny-skia, system fonts with `sans-serif` mapped to DejaVu Sans |
 //! | [`model_glb`] | a glTF 2.0 binary model: floor mesh, one prism per object, camera pyramid | ear-cut triangulation (`earcutr`), `gltf-json`, GLB chunks written here; glTF `(X, Y, Z)` = map `(x, z, -y)` |

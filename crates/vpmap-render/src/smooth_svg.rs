@@ -1,13 +1,14 @@
 //! The picture of a smooth path ([`smooth_svg`]): the grid as [`crate::plan_svg()`] draws
 //! it, the path as a polyline through its poses, and its tightest turn marked by the arc's
-//! whole turning circle (dashed) and a ring where the turn is.
+//! whole turning circle (dashed) and a ring where the turn is; each cusp (where the robot
+//! changes between forward and reverse) marked by a square.
 
 use std::fmt::Write as _;
 
 use vpmap_plan::Planned;
 use vpmap_plan::grid::{CellXy, OccupancyGrid};
 use vpmap_plan::plan::Plan;
-use vpmap_plan::smooth::SmoothPlan;
+use vpmap_plan::smooth::{Gear, SmoothPlan};
 
 use crate::plan_svg::{GridCoordinates, plan_svg};
 
@@ -15,10 +16,13 @@ use crate::plan_svg::{GridCoordinates, plan_svg};
 const PATH_COLOUR: &str = "#d62728";
 /// Colour of the tightest turn's marks.
 const TURN_COLOUR: &str = "#ff7f0e";
+/// Colour of the cusp marks.
+const CUSP_COLOUR: &str = "#9467bd";
 
 /// The grid, start and goal as [`plan_svg()`] draws them (its subtitle giving the path's
 /// length), with `plan`'s curve through its poses (one SVG unit per cell, cell `(x, y)`
-/// spanning `x..x + 1`) and its tightest turn's circle; `plan: None` draws "no path".
+/// spanning `x..x + 1`), its tightest turn's circle and a square at each cusp; `plan: None`
+/// draws "no path".
 #[must_use]
 pub fn smooth_svg(
     grid: &OccupancyGrid,
@@ -75,8 +79,34 @@ pub fn smooth_svg(
             (6.0 / px).max(0.6),
         );
     }
+    let half = (4.0 / px).max(0.4);
+    for w in p.curve.segments.windows(2) {
+        if let [a, b] = w
+            && a.gear != b.gear
+        {
+            let _ = writeln!(
+                drawn,
+                r#"<rect class="cusp" x="{:.3}" y="{:.3}" width="{:.3}" height="{:.3}" fill="{CUSP_COLOUR}"><title>cusp: from {} to {} at ({:.2}, {:.2})</title></rect>"#,
+                b.start.x + 0.5 - half,
+                b.start.y + 0.5 - half,
+                2.0 * half,
+                2.0 * half,
+                gear_name(a.gear),
+                gear_name(b.gear),
+                b.start.x,
+                b.start.y,
+            );
+        }
+    }
     if let Some(at) = out.find(r#"<circle class="start""#) {
         out.insert_str(at, &drawn);
     }
     out
+}
+
+fn gear_name(g: Gear) -> &'static str {
+    match g {
+        Gear::Forward => "forward",
+        Gear::Reverse => "reverse",
+    }
 }

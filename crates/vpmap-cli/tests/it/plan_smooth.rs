@@ -284,3 +284,48 @@ fn smooth_no_room_and_bad_input() {
     assert_eq!(o.status.code(), Some(1));
     assert!(String::from_utf8_lossy(&o.stderr).contains("are for --planner smooth"));
 }
+
+#[test]
+fn smooth_reverse_backs_out_of_the_dead_end_with_its_cusps_in_the_json_and_the_svg() {
+    let dir = tempfile::tempdir().unwrap();
+    let map = dir.path().join("room.map");
+    let g = grid();
+    std::fs::write(&map, movingai_text(&g)).unwrap();
+    let svg = dir.path().join("p.svg");
+    let v = json(&[
+        "plan",
+        map.to_str().unwrap(),
+        "--planner",
+        "smooth",
+        "--turning-radius",
+        "2",
+        "--from",
+        "1,17,180",
+        "--to",
+        "25,5,-90",
+        "--reverse",
+        "--svg",
+        svg.to_str().unwrap(),
+        "--json",
+    ]);
+    assert_eq!(v["found"], true, "{v}");
+    let curve = curve_of(&v);
+    let rules = SmoothRules {
+        radius_cells: 2.0,
+        start: Pose::new(1.0, 17.0, PI),
+        start_heading: true,
+        goal: Pose::new(25.0, 5.0, -PI / 2.0),
+        goal_heading: true,
+        reverse: true,
+        unknown_passable: false,
+    };
+    assert_eq!(validate_smooth(&g, &curve, &rules), Ok(()));
+    assert_eq!(curve.segments[0].gear, Gear::Reverse);
+    let cusps = v["cusps"].as_u64().unwrap();
+    // It backs out facing the dead end's wall and arrives driving up the map: it must
+    // change gear on the way.
+    assert!(cusps >= 1, "{v}");
+    assert_eq!(cusps as usize, curve.cusps());
+    let text = std::fs::read_to_string(&svg).unwrap();
+    assert_eq!(text.matches(r#"class="cusp""#).count(), curve.cusps());
+}

@@ -66,16 +66,24 @@ pub struct DubinsPath {
     pub length: f64,
 }
 
+/// An angle wrapped into `[0, 2 pi)`, with angles within [`LOOP_SLACK`] below `2 pi`
+/// taken as zero: a turn of `-1e-16` from round-off is no turn, not a full loop.
 fn mod2pi(a: f64) -> f64 {
     let m = a.rem_euclid(TAU);
-    // rem_euclid may round up to TAU itself.
-    if m >= TAU { 0.0 } else { m }
+    if m >= TAU - LOOP_SLACK { 0.0 } else { m }
 }
+
+/// How close (radians) below a full turn an arc counts as none (see [`mod2pi`]).
+const LOOP_SLACK: f64 = 1e-9;
 
 /// Round-off slack of the words' feasibility tests: a squared length down to `-SLACK`
 /// counts as zero (a word whose line vanishes, as a single arc), a cosine up to
 /// `1 + SLACK` as one.
 const SLACK: f64 = 1e-10;
+
+/// Distance between the centres (in radii) below which `LSL`'s or `RSR`'s two turning
+/// circles are one: the direction between them is round-off, and the path is one arc.
+const SAME_CIRCLE: f64 = 1e-9;
 
 /// A squared length, with round-off below zero taken as zero; `None` when negative.
 fn touching(p2: f64) -> Option<f64> {
@@ -90,21 +98,69 @@ fn unit(c: f64) -> Option<f64> {
 /// The normalised lengths `(t, p, q)` of `word` from `(0, 0, alpha)` to `(d, 0, beta)` with
 /// unit radius, or `None` when the word has no solution.
 fn word_lengths(word: [Steer; 3], d: f64, alpha: f64, beta: f64) -> Option<[f64; 3]> {
+    word_lengths_with(word, d, Trig::new(alpha, beta))
+}
+
+/// The sines and cosines [`word_lengths`] needs, computed once for all six words.
+#[derive(Clone, Copy, Debug)]
+struct Trig {
+    alpha: f64,
+    beta: f64,
+    sa: f64,
+    ca: f64,
+    sb: f64,
+    cb: f64,
+    cab: f64,
+}
+
+impl Trig {
+    fn new(alpha: f64, beta: f64) -> Self {
+        let (sa, ca) = alpha.sin_cos();
+        let (sb, cb) = beta.sin_cos();
+        Self {
+            alpha,
+            beta,
+            sa,
+            ca,
+            sb,
+            cb,
+            cab: (alpha - beta).cos(),
+        }
+    }
+}
+
+/// [`word_lengths`] with the trigonometry given.
+fn word_lengths_with(word: [Steer; 3], d: f64, trig: Trig) -> Option<[f64; 3]> {
     use Steer::{Left as L, Right as R, Straight as S};
-    let (sa, ca) = alpha.sin_cos();
-    let (sb, cb) = beta.sin_cos();
-    let cab = (alpha - beta).cos();
+    let Trig {
+        alpha,
+        beta,
+        sa,
+        ca,
+        sb,
+        cb,
+        cab,
+    } = trig;
     match word {
         [L, S, L] => {
             let p2 = 2.0 + d * d - 2.0 * cab + 2.0 * d * (sa - sb);
             let p2 = touching(p2)?;
-            let tmp = (cb - ca).atan2(d + sa - sb);
+            // Both circles one: the line has no direction, the path is one arc.
+            let tmp = if p2.sqrt() < SAME_CIRCLE {
+                alpha
+            } else {
+                (cb - ca).atan2(d + sa - sb)
+            };
             Some([mod2pi(tmp - alpha), p2.sqrt(), mod2pi(beta - tmp)])
         }
         [R, S, R] => {
             let p2 = 2.0 + d * d - 2.0 * cab + 2.0 * d * (sb - sa);
             let p2 = touching(p2)?;
-            let tmp = (ca - cb).atan2(d - sa + sb);
+            let tmp = if p2.sqrt() < SAME_CIRCLE {
+                alpha
+            } else {
+                (ca - cb).atan2(d - sa + sb)
+            };
             Some([mod2pi(alpha - tmp), p2.sqrt(), mod2pi(tmp - beta)])
         }
         [L, S, R] => {
@@ -182,13 +238,58 @@ fn frame(start: Pose, goal: Pose, radius: f64) -> Option<(f64, f64, f64)> {
 pub fn word_table(start: Pose, goal: Pose, radius: f64) -> [f64; 6] {
     let mut out = [f64::INFINITY; 6];
     if let Some((d, alpha, beta)) = frame(start, goal, radius) {
-        for (slot, word) in out.iter_mut().zip(WORDS) {
-            if let Some(l) = word_lengths(word, d, alpha, beta) {
-                *slot = l.iter().sum::<f64>() * radius;
-            }
-        }
+        fill_table(&mut out, d, Trig::new(alpha, beta), radius);
     }
     out
+}
+
+fn fill_table(out: &mut [f64; 6], d: f64, trig: Trig, radius: f64) {
+    for (slot, word) in out.iter_mut().zip(WORDS) {
+        if let Some(l) = word_lengths_with(word, d, trig) {
+            *slot = l.iter().sum::<f64>() * radius;
+        }
+    }
+}
+
+/// [`word_table`] from `start` to the point `(x, y)` at each of `headings` (radians), the
+/// trigonometry of the start's side computed once: the same numbers, fewer sines.
+#[must_use]
+pub fn word_tables_to_headings(
+    start: Pose,
+    x: f64,
+    y: f64,
+    headings: &[f64],
+    radius: f64,
+) -> Vec<[f64; 6]> {
+    let Some((d, alpha, _)) = frame(start, Pose::new(x, y, 0.0), radius) else {
+        return vec![[f64::INFINITY; 6]; headings.len()];
+    };
+    // As `frame` computes it.
+    let (dx, dy) = (x - start.x, y - start.y);
+    let phi = if d > 0.0 { dy.atan2(dx) } else { 0.0 };
+    let (sa, ca) = alpha.sin_cos();
+    headings
+        .iter()
+        .map(|&h| {
+            let mut out = [f64::INFINITY; 6];
+            if !h.is_finite() {
+                return out;
+            }
+            let beta = mod2pi(h - phi);
+            let (sb, cb) = beta.sin_cos();
+            let trig = Trig {
+                alpha,
+                beta,
+                sa,
+                ca,
+                sb,
+                cb,
+                cab: (alpha - beta).cos(),
+            };
+            fill_table(&mut out, d, trig, radius);
+            out
+        })
+        .collect()
 }
 
 /// The curve of word `WORDS[index]` from `start` to `goal` (`None` when it has none).
@@ -236,10 +337,13 @@ pub fn dubins_shortest(start: Pose, goal: Pose, radius: f64) -> Option<DubinsPat
     dubins_words(start, goal, radius).into_iter().next()
 }
 
-/// The Dubins distance from `start` to `goal`, cells (infinite when there is none).
+/// The Dubins distance from `start` to `goal`, cells (infinite when there is none): the
+/// shortest of [`word_table`], no curve built.
 #[must_use]
 pub fn dubins_distance(start: Pose, goal: Pose, radius: f64) -> f64 {
-    dubins_shortest(start, goal, radius).map_or(f64::INFINITY, |p| p.length)
+    word_table(start, goal, radius)
+        .into_iter()
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Headings tried for a free end by [`dubins_to_point`] besides the analytic ones.

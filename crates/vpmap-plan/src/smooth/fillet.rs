@@ -15,9 +15,14 @@
 //! poses beside it (one arc of 45 to 270 degrees or one line of `R` or `2 R` away), through
 //! which the path may first turn away from what the end faces.
 //!
+//! With reverse allowed, a corner's layer also holds the bisector's and the legs' poses
+//! turned by 180 degrees (the robot backing through the corner), and the escape poses are
+//! also those reached in reverse.
+//!
 //! An edge joins a pose of layer `i` to a pose of layer `j` for `i < j <= i + LOOKAHEAD`
 //! (skipping a corner lets the path swing wide of a tight cluster of corners) and costs its
-//! shortest Dubins word whose curve is clear, the words tried shortest first. The search
+//! shortest word whose curve is clear, the words tried shortest first: the Dubins words,
+//! and with reverse also the Reeds-Shepp words ([`connect`]). The search
 //! is **lazy**: the shortest path over the layers is found with every edge at its shortest
 //! untested word, the edges on it are then tested (exactly, by [`Field`]), a blocked word
 //! is replaced by the edge's next one, and the search repeats until its path is clear or
@@ -25,13 +30,13 @@
 //!
 //! # Complexity
 //! `O(corners x LOOKAHEAD x K^2)` word tables per round (`K` poses a layer, each table six
-//! closed forms), plus the collision tests of the edges on the rounds' paths.
+//! closed forms, 50 with reverse), plus the collision tests of the edges on the rounds' paths.
 
 use std::f64::consts::TAU;
 
 use super::clearance::Field;
+use super::connect::{self, MAX_WORDS};
 use super::curve::{Pose, SmoothCurve, pose_along};
-use super::dubins::{word_curve, word_table};
 use crate::grid::CellXy;
 
 /// Heading offsets from a corner's bisector tried as candidate poses, degrees.
@@ -67,35 +72,65 @@ pub struct FilletStats {
     pub words_tested: usize,
 }
 
-/// An edge's state: its six word lengths (infinite once tested and blocked) and whether
-/// its current shortest word is known to be clear.
+/// An edge's state: its shortest word not yet found blocked (index into
+/// [`connect::table`] and length), the words found blocked (a bit each), and whether the
+/// current word is known to be clear. The table is recomputed when a word is blocked
+/// rather than stored: it is a few closed forms, and 50 lengths an edge would not fit the
+/// dense edge table.
 #[derive(Clone, Copy, Debug)]
 struct Edge {
-    lengths: [f64; 6],
+    word: usize,
+    length: f64,
+    blocked: u64,
     clear: bool,
 }
 
+// Every word has a bit in `Edge::blocked`.
+const _: () = assert!(MAX_WORDS <= 64);
+
 impl Edge {
-    fn best(&self) -> (usize, f64) {
-        self.lengths
+    fn new(pa: Pose, pb: Pose, radius: f64, reverse: bool) -> Self {
+        let mut e = Self {
+            word: 0,
+            length: f64::INFINITY,
+            blocked: 0,
+            clear: false,
+        };
+        e.pick(pa, pb, radius, reverse);
+        e
+    }
+
+    /// The shortest word not blocked (the first of equal ones).
+    fn pick(&mut self, pa: Pose, pb: Pose, radius: f64, reverse: bool) {
+        let (word, length) = connect::table(pa, pb, radius, reverse)
             .iter()
             .copied()
             .enumerate()
+            .filter(|&(i, _)| self.blocked & (1 << i) == 0)
             .fold(
                 (0, f64::INFINITY),
                 |b, (i, l)| if l < b.1 { (i, l) } else { b },
-            )
+            );
+        (self.word, self.length) = (word, length);
+    }
+
+    fn best(&self) -> (usize, f64) {
+        (self.word, self.length)
+    }
+
+    /// Mark the current word blocked and pick the next.
+    fn block(&mut self, pa: Pose, pb: Pose, radius: f64, reverse: bool) {
+        self.blocked |= 1 << self.word;
+        self.pick(pa, pb, radius, reverse);
     }
 }
 
 /// The candidate poses of every layer.
 fn layers(
     waypoints: &[CellXy],
-    start: Pose,
-    start_free: bool,
-    goal: Pose,
-    goal_free: bool,
+    (start, start_free, goal, goal_free): (Pose, bool, Pose, bool),
     radius: f64,
+    reverse: bool,
 ) -> Vec<Vec<Pose>> {
     let pts: Vec<(f64, f64)> = waypoints.iter().map(|c| (c.x as f64, c.y as f64)).collect();
     let dir = |a: (f64, f64), b: (f64, f64)| (b.1 - a.1).atan2(b.0 - a.0);
@@ -119,14 +154,14 @@ fn layers(
                 out.push(free(p, leg));
             } else {
                 out.push(vec![start]);
-                out.push(escapes(start, radius, 1.0));
+                out.push(escapes(start, radius, 1.0, reverse));
             }
         } else if i + 1 == n {
             let leg = pts.get(i - 1).map_or(goal.heading_rad, |&q| dir(q, p));
             if goal_free {
                 out.push(free(p, leg));
             } else {
-                out.push(escapes(goal, radius, -1.0));
+                out.push(escapes(goal, radius, -1.0, reverse));
                 out.push(vec![goal]);
             }
         } else if let (Some(&a), Some(&b)) = (pts.get(i - 1), pts.get(i + 1)) {
@@ -141,6 +176,13 @@ fn layers(
             // exactly along the leg through it.
             poses.push(Pose::new(p.0, p.1, h_in));
             poses.push(Pose::new(p.0, p.1, h_out));
+            // Backing through the corner: the same directions of travel, the robot facing
+            // the other way.
+            if reverse {
+                for h in [bisector, h_in, h_out] {
+                    poses.push(Pose::new(p.0, p.1, h + std::f64::consts::PI));
+                }
+            }
             // Outward: to the right of the bisector for a left turn, and back.
             let side = if turn > 0.0 { -1.0 } else { 1.0 };
             let normal = (bisector + side * std::f64::consts::FRAC_PI_2).sin_cos();
@@ -161,41 +203,47 @@ const ESCAPE_TURNS_DEG: [f64; 4] = [45.0, 90.0, 180.0, 270.0];
 
 /// Poses one arc (left or right, by [`ESCAPE_TURNS_DEG`]) or one straight line (`R`, `2 R`)
 /// away from a fixed-heading end: after it (`direction` 1, the start) or before it (-1, the
-/// goal). They let the path first turn away from an obstacle the end faces, a manoeuvre one
-/// Dubins word cannot make.
-fn escapes(end: Pose, radius: f64, direction: f64) -> Vec<Pose> {
+/// goal); with `reverse` also those driven in reverse. They let the path first turn away
+/// from an obstacle the end faces, a manoeuvre one Dubins word cannot make.
+fn escapes(end: Pose, radius: f64, direction: f64, reverse: bool) -> Vec<Pose> {
     let mut v = Vec::new();
-    for curvature in [1.0 / radius, -1.0 / radius] {
-        for t in ESCAPE_TURNS_DEG {
-            v.push(pose_along(
-                end,
-                curvature,
-                direction * t.to_radians() * radius,
-            ));
+    let gears: &[f64] = if reverse { &[1.0, -1.0] } else { &[1.0] };
+    for &gear in gears {
+        let direction = direction * gear;
+        for curvature in [1.0 / radius, -1.0 / radius] {
+            for t in ESCAPE_TURNS_DEG {
+                v.push(pose_along(
+                    end,
+                    curvature,
+                    direction * t.to_radians() * radius,
+                ));
+            }
         }
-    }
-    for l in [radius, 2.0 * radius] {
-        v.push(pose_along(end, 0.0, direction * l));
+        for l in [radius, 2.0 * radius] {
+            v.push(pose_along(end, 0.0, direction * l));
+        }
     }
     v
 }
 
 /// A clear curvature-bounded path from `start` to `goal` along the taut path `waypoints`
 /// (from the start's cell to the goal's), or `None` when the lazy search finds none
-/// within [`MAX_ROUNDS`] rounds (see the [module docs](self)).
+/// within [`MAX_ROUNDS`] rounds (see the [module docs](self)). With `reverse`, an edge's
+/// words are the Reeds-Shepp candidates besides the Dubins words ([`connect`]), so the
+/// path may back up (cusps) between two corners.
 #[must_use]
 pub fn fillet(
     field: &Field,
     waypoints: &[CellXy],
     ends: (Pose, bool, Pose, bool),
     radius: f64,
+    reverse: bool,
     stats: &mut FilletStats,
 ) -> Option<SmoothCurve> {
-    let (start, start_free, goal, goal_free) = ends;
     if waypoints.len() < 2 {
         return None;
     }
-    let layers = layers(waypoints, start, start_free, goal, goal_free, radius);
+    let layers = layers(waypoints, ends, radius, reverse);
     let n = layers.len();
     // Edges in one dense table, each made when first relaxed: (i, a, j - i - 1, b).
     let k_max = layers.iter().map(Vec::len).max().unwrap_or(0);
@@ -239,10 +287,7 @@ pub fn fillet(
                         let Some(entry) = edges.get_mut(slot((i, a, j, b))) else {
                             continue;
                         };
-                        let edge = entry.get_or_insert_with(|| Edge {
-                            lengths: word_table(pa, pb, radius),
-                            clear: false,
-                        });
+                        let edge = entry.get_or_insert_with(|| Edge::new(pa, pb, radius, reverse));
                         let cand = da + edge.best().1;
                         if cand < best.0 {
                             best = (cand, Some((i, a)));
@@ -290,13 +335,11 @@ pub fn fillet(
             let (pa, pb) = pose_pair(&layers, *key)?;
             let (w, _) = edge.best();
             stats.words_tested += 1;
-            let ok = word_curve(pa, pb, radius, w).is_some_and(|c| field.curve_clear(&c));
+            let ok = connect::curve(pa, pb, radius, w).is_some_and(|c| field.curve_clear(&c));
             if ok {
                 edge.clear = true;
             } else {
-                if let Some(l) = edge.lengths.get_mut(w) {
-                    *l = f64::INFINITY;
-                }
+                edge.block(pa, pb, radius, reverse);
                 from = from.min(key.2);
                 all_clear = false;
             }
@@ -306,7 +349,7 @@ pub fn fillet(
             for key in &chain {
                 let (pa, pb) = pose_pair(&layers, *key)?;
                 let (w, _) = edges.get(slot(*key))?.as_ref()?.best();
-                curve.extend(&word_curve(pa, pb, radius, w)?);
+                curve.extend(&connect::curve(pa, pb, radius, w)?);
             }
             return Some(curve);
         }

@@ -9,8 +9,9 @@
 //! every successor leaves its cell. Costs are path lengths (no penalties: the reference is
 //! for length). Every primitive is tested exactly for collision by [`Field`].
 //!
-//! The heuristic is the larger of the obstacle-free Dubins distance to the goal pose
-//! (Euclidean distance for a free goal heading) and an obstacle-aware bound: the
+//! The heuristic is the larger of the obstacle-free Dubins distance to the goal pose (the
+//! Reeds-Shepp distance when reverse is allowed: the Dubins one would overestimate; the
+//! Euclidean distance for a free goal heading) and an obstacle-aware bound: the
 //! 8-connected octile distance from the goal over free cells, computed by a Dijkstra
 //! search that runs only as far as the queried cells need, divided by the largest ratio of
 //! octile to Euclidean length (`(sqrt 2 - 1) ... 1.0824`) and less 1.5 cells (states are
@@ -18,9 +19,9 @@
 //!
 //! **Analytic expansion**: every [`HybridOptions::shot_every`] expansions, and at every
 //! expansion within `6 R` of the goal, the Dubins words (or the free-heading paths) to the
-//! goal are tried, shortest first; the first clear one ends the search. The goal is only
-//! reached this way, so the path ends exactly at the goal pose. Reverse primitives are
-//! searched when allowed; the analytic expansion is forward (Dubins) only.
+//! goal are tried, shortest first, and with reverse allowed the Reeds-Shepp words too
+//! ([`super::connect`]); the first clear one ends the search. The goal is only reached
+//! this way, so the path ends exactly at the goal pose.
 //!
 //! Every expanded state and every state pushed on the open list counts against
 //! [`Budget::max_expansions`]; at most [`MAX_STATES`] states are kept.
@@ -34,8 +35,9 @@ use std::collections::{BinaryHeap, HashMap};
 use std::f64::consts::{SQRT_2, TAU};
 
 use super::clearance::Field;
+use super::connect;
 use super::curve::{Gear, Pose, Segment, SmoothCurve};
-use super::dubins::{dubins_distance, free_end_candidates, word_curve, word_table};
+use super::dubins::{free_end_candidates, word_tables_to_headings};
 use crate::budget::{Budget, STOP_CHECK_INTERVAL, Stop};
 use crate::error::{PlanError, Result};
 
@@ -264,7 +266,7 @@ pub fn hybrid_astar(
         let pose_h = if q.goal_free {
             free
         } else {
-            dubins_distance(*p, q.goal, r)
+            connect::distance(*p, q.goal, r, q.reverse)
         };
         let oct = grid_h.octile(p.x.round() as i64, p.y.round() as i64);
         let grid_bound = if oct.is_finite() {
@@ -410,30 +412,51 @@ pub fn hybrid_astar(
 }
 
 /// The first clear obstacle-free path from `from` to the goal, shortest first: the six
-/// Dubins words to a fixed goal heading, or the paths to the goal point at the candidate
-/// free headings.
+/// Dubins words (and with reverse the Reeds-Shepp ones) to a fixed goal heading, or to the
+/// goal point at the candidate free headings.
 fn analytic_shot(field: &Field, from: Pose, q: &HybridQuery) -> Option<SmoothCurve> {
-    let goals: Vec<Pose> = if q.goal_free {
+    let headings: Vec<f64> = if q.goal_free {
         free_end_candidates(from, q.goal.x, q.goal.y, q.radius)
-            .into_iter()
-            .map(|h| Pose::new(q.goal.x, q.goal.y, h))
-            .collect()
     } else {
-        vec![q.goal]
+        vec![q.goal.heading_rad]
     };
     let mut words: Vec<(f64, usize, usize)> = Vec::new();
-    for (gi, g) in goals.iter().enumerate() {
-        for (wi, l) in word_table(from, *g, q.radius).into_iter().enumerate() {
-            if l.is_finite() {
-                words.push((l, gi, wi));
+    if q.reverse {
+        for (gi, &h) in headings.iter().enumerate() {
+            let g = Pose::new(q.goal.x, q.goal.y, h);
+            for (wi, l) in connect::table(from, g, q.radius, true)
+                .into_iter()
+                .enumerate()
+            {
+                if l.is_finite() {
+                    words.push((l, gi, wi));
+                }
+            }
+        }
+    } else {
+        // The Dubins words only: their tables to every heading at once.
+        let tables = word_tables_to_headings(from, q.goal.x, q.goal.y, &headings, q.radius);
+        for (gi, t) in tables.iter().enumerate() {
+            for (wi, &l) in t.iter().enumerate() {
+                if l.is_finite() {
+                    words.push((l, gi, wi));
+                }
             }
         }
     }
-    words.sort_by(|a, b| a.0.total_cmp(&b.0));
-    // A free goal heading offers hundreds of words: the shortest few decide.
-    for &(_, gi, wi) in words.iter().take(12) {
-        let goal = *goals.get(gi)?;
-        if let Some(c) = word_curve(from, goal, q.radius, wi)
+    // A free goal heading offers hundreds of words: the shortest few decide. Ties are broken
+    // by heading and word index (the order they were listed), as a stable sort would.
+    let key = |a: &(f64, usize, usize), b: &(f64, usize, usize)| {
+        a.0.total_cmp(&b.0).then(a.1.cmp(&b.1)).then(a.2.cmp(&b.2))
+    };
+    if words.len() > SHOTS_TRIED {
+        words.select_nth_unstable_by(SHOTS_TRIED, key);
+        words.truncate(SHOTS_TRIED);
+    }
+    words.sort_unstable_by(key);
+    for &(_, gi, wi) in &words {
+        let goal = Pose::new(q.goal.x, q.goal.y, *headings.get(gi)?);
+        if let Some(c) = connect::curve(from, goal, q.radius, wi)
             && field.curve_clear(&c)
         {
             return Some(c);
@@ -441,3 +464,6 @@ fn analytic_shot(field: &Field, from: Pose, q: &HybridQuery) -> Option<SmoothCur
     }
     None
 }
+
+/// How many of the shortest words an analytic expansion tests for collision.
+const SHOTS_TRIED: usize = 12;

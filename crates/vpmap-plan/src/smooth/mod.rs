@@ -11,13 +11,18 @@
 //!    shortest path over those layers that may skip corners; collision tests exact by
 //!    [`clearance::Field`].
 //! 3. When that finds nothing: [`hybrid`], a Hybrid-A* with analytic Dubins expansion
-//!    (Dolgov et al. 2008), complete up to its resolution; with reverse allowed its
-//!    primitives also back up (cusps).
+//!    (Dolgov et al. 2008), complete up to its resolution.
+//!
+//! With reverse allowed ([`SmoothOptions::reverse`]) both methods may back up (cusps): the
+//! fillet's edges and the Hybrid-A*'s analytic expansion also try the Reeds-Shepp words
+//! ([`reeds_shepp`], through [`connect`]), the Hybrid-A*'s primitives also run in reverse
+//! and its heuristic is the Reeds-Shepp distance.
 //! 4. Every returned path is checked by the independent validator [`check`]; a path that
 //!    fails it is never returned.
 //!
-//! Modules, bottom-up: [`curve`] (poses, segments), [`dubins`], [`check`] (the
-//! validator), [`clearance`] (the planner's collision test), [`fillet`], [`hybrid`].
+//! Modules, bottom-up: [`curve`] (poses, segments), [`dubins`], [`reeds_shepp`],
+//! [`connect`] (the words both methods try), [`check`] (the validator), [`clearance`]
+//! (the planner's collision test), [`fillet`], [`hybrid`].
 //!
 //! Coordinates are cell-centre coordinates (cell `(x, y)`'s centre at `(x, y)`, `y` down
 //! the rows), headings `atan2(dy, dx)` in them; see [`curve`].
@@ -40,15 +45,18 @@
 
 pub mod check;
 pub mod clearance;
+pub mod connect;
 pub mod curve;
 pub mod dubins;
 pub mod fillet;
 pub mod hybrid;
+pub mod reeds_shepp;
 
 pub use check::{SmoothRules, SmoothViolation, validate_smooth};
 pub use curve::{Gear, Pose, Segment, SmoothCurve};
 pub use dubins::{DubinsPath, dubins_distance, dubins_shortest, dubins_words};
 pub use hybrid::{HybridOptions, HybridStats};
+pub use reeds_shepp::{ReedsSheppPath, rs_distance, rs_paths, rs_shortest};
 
 use std::f64::consts::PI;
 
@@ -414,8 +422,14 @@ impl SmoothPlanner {
                 goal_pose,
                 !rules.goal_heading,
             );
-            if let Some(curve) = fillet::fillet(field, &taut.waypoints, ends, r, &mut stats.fillet)
-            {
+            if let Some(curve) = fillet::fillet(
+                field,
+                &taut.waypoints,
+                ends,
+                r,
+                opts.reverse,
+                &mut stats.fillet,
+            ) {
                 match validate_smooth(grid, &curve, &rules) {
                     Ok(()) => {
                         return Ok(SmoothOutcome::Path(finish(

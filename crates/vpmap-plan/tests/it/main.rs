@@ -17,6 +17,7 @@ mod movingai_benchmarks;
 mod movingai_files;
 mod navigate;
 mod navigate_smooth;
+mod reeds_shepp;
 mod ros_files;
 mod smooth;
 

@@ -84,7 +84,7 @@ fn ccc_by_circles(p: Pose, q: Pose, s: f64, r: f64) -> Option<f64> {
     best
 }
 
-fn reference_dubins(p: Pose, q: Pose, r: f64) -> f64 {
+pub(crate) fn reference_dubins(p: Pose, q: Pose, r: f64) -> f64 {
     let mut best = f64::INFINITY;
     for (s1, s2) in [(1.0, 1.0), (-1.0, -1.0), (1.0, -1.0), (-1.0, 1.0)] {
         if let Some(l) = csc_by_tangents(p, q, s1, s2, r) {
@@ -328,6 +328,7 @@ fn validator_catches_an_arc_bulging_into_a_cell_between_samples() {
 use rand::RngExt;
 use vpmap_plan::smooth::{
     SmoothMethod, SmoothOptions, SmoothOutcome, SmoothPlan, dubins_distance, plan_smooth,
+    rs_distance,
 };
 use vpmap_plan::{PlanError, reachable};
 
@@ -383,12 +384,16 @@ fn check_plan(
     assert_eq!(validate_smooth(grid, &plan.curve, &rules), Ok(()));
     assert!(plan.length_cells >= plan.any_angle_length_cells - 1e-6);
     if let (Some(a), Some(b)) = (opts.start_heading_rad, opts.goal_heading_rad) {
-        let d = dubins_distance(
-            rules.start,
+        let (from, to) = (
+            Pose::new(s.0 as f64, s.1 as f64, a),
             Pose::new(g.0 as f64, g.1 as f64, b),
-            opts.turning_radius_cells,
         );
-        let _ = a;
+        // With reverse the Reeds-Shepp distance is the bound (the Dubins one is not).
+        let d = if opts.reverse {
+            rs_distance(from, to, opts.turning_radius_cells)
+        } else {
+            dubins_distance(from, to, opts.turning_radius_cells)
+        };
         assert!(plan.length_cells >= d - 1e-6);
     }
     assert!(plan.max_curvature <= 1.0 / opts.turning_radius_cells * (1.0 + 1e-12));
@@ -456,6 +461,132 @@ fn smooth_paths_on_random_maps_are_drivable_and_no_shorter_than_the_bounds() {
         }
     }
     assert!(found >= 30, "only {found} of 48 queries found a path");
+}
+
+#[test]
+fn reverse_paths_on_random_maps_are_drivable_never_longer_than_forward_and_found_when_the_reference_finds_one()
+ {
+    let mut rng = crate::rng(43);
+    let (mut found, mut with_cusps, mut shorter, mut fillet) = (0, 0, 0, 0);
+    for seed in 0..12u64 {
+        let grid = random_grid(100 + seed, 60, 45, 0.12);
+        for k in 0..4 {
+            let (s, g) = (free_cell(&grid, &mut rng), free_cell(&grid, &mut rng));
+            let headings = match k % 3 {
+                0 => (None, None),
+                1 => (Some(rng.random_range(-PI..PI)), None),
+                _ => (
+                    Some(rng.random_range(-PI..PI)),
+                    Some(rng.random_range(-PI..PI)),
+                ),
+            };
+            let forward = SmoothOptions {
+                turning_radius_cells: [1.0, 2.5, 4.0][k % 3],
+                start_heading_rad: headings.0,
+                goal_heading_rad: headings.1,
+                ..SmoothOptions::default()
+            };
+            let opts = SmoothOptions {
+                reverse: true,
+                ..forward.clone()
+            };
+            let out = plan_smooth(&grid, s, g, &opts).unwrap();
+            let fwd = plan_smooth(&grid, s, g, &forward).unwrap();
+            let reference = plan_smooth(
+                &grid,
+                s,
+                g,
+                &SmoothOptions {
+                    method: SmoothMethod::HybridAstar,
+                    ..opts.clone()
+                },
+            )
+            .unwrap();
+            let what = format!(
+                "seed {seed} {s:?} -> {g:?} {headings:?} R {}",
+                opts.turning_radius_cells
+            );
+            if let SmoothOutcome::Path(p) = &reference {
+                check_plan(&grid, p, &opts, s, g);
+            }
+            match (&out, &reference, &fwd) {
+                (SmoothOutcome::Path(p), _, _) => {
+                    check_plan(&grid, p, &opts, s, g);
+                    if let (Some(a), Some(b)) = headings {
+                        let d = rs_distance(
+                            Pose::new(s.0 as f64, s.1 as f64, a),
+                            Pose::new(g.0 as f64, g.1 as f64, b),
+                            opts.turning_radius_cells,
+                        );
+                        assert!(p.length_cells >= d - 1e-6, "{what}");
+                    }
+                    found += 1;
+                    with_cusps += usize::from(p.cusps > 0);
+                    fillet += usize::from(p.method == "fillet");
+                    if let SmoothOutcome::Path(f) = &fwd {
+                        // Every forward word is among the reverse words, so when both come
+                        // from the fillet search the reverse path is no longer.
+                        if p.method == "fillet" && f.method == "fillet" {
+                            assert!(p.length_cells <= f.length_cells + 1e-6, "{what}");
+                        }
+                        shorter += usize::from(p.length_cells < f.length_cells - 1e-6);
+                    }
+                }
+                (SmoothOutcome::NoPath(n), SmoothOutcome::Path(_), _) => {
+                    panic!(
+                        "{what}: the reference found a path, the planner none: {}",
+                        n.reason
+                    );
+                }
+                (SmoothOutcome::NoPath(n), _, SmoothOutcome::Path(_)) => {
+                    panic!(
+                        "{what}: a forward path exists, the reverse planner found none: {}",
+                        n.reason
+                    );
+                }
+                (SmoothOutcome::NoPath(n), _, _) => assert!(!n.reason.is_empty()),
+            }
+        }
+    }
+    println!(
+        "reverse: {found} of 48 found ({fillet} by fillet), {with_cusps} with cusps, {shorter} shorter than forward"
+    );
+    assert!(found >= 30, "only {found} of 48 queries found a path");
+    assert!(with_cusps > 0 && shorter > 0);
+}
+
+#[test]
+fn a_robot_facing_a_dead_end_backs_out_when_reverse_is_allowed() {
+    // A dead-end corridor one cell wide, the robot in it facing the closed end.
+    let mut grid = OccupancyGrid::new(30, 15, 1.0, [0.0; 2], Occupancy::Free).unwrap();
+    for x in 0..10 {
+        for y in [6, 8] {
+            grid.set(x, y, Occupancy::Occupied).unwrap();
+        }
+    }
+    grid.set(0, 7, Occupancy::Occupied).unwrap();
+    let opts = SmoothOptions {
+        turning_radius_cells: 3.0,
+        start_heading_rad: Some(PI),
+        goal_heading_rad: Some(PI / 2.0),
+        reverse: true,
+        ..SmoothOptions::default()
+    };
+    let (s, g) = ((3, 7), (22, 12));
+    let SmoothOutcome::Path(p) = plan_smooth(&grid, s, g, &opts).unwrap() else {
+        panic!("no path backing out of the dead end");
+    };
+    check_plan(&grid, &p, &opts, s, g);
+    assert_eq!(p.curve.segments[0].gear, Gear::Reverse);
+    assert!(p.cusps >= 1, "{:?}", p.curve);
+    let forward = SmoothOptions {
+        reverse: false,
+        ..opts.clone()
+    };
+    assert!(matches!(
+        plan_smooth(&grid, s, g, &forward).unwrap(),
+        SmoothOutcome::NoPath(_)
+    ));
 }
 
 #[test]
