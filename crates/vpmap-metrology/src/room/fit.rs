@@ -151,11 +151,11 @@ fn place_all(fits: &[PhotoFit], order: &[usize], h: &Hypothesis) -> Placement {
 /// The problem, its start and index maps for one placement.
 pub(super) struct Built {
     pub(super) problem: RoomProblem,
-    x0: Vec<f64>,
-    object_of: Vec<Vec<usize>>,
-    floor_distance_parts: Vec<Option<[usize; 2]>>,
+    pub(super) x0: Vec<f64>,
+    pub(super) object_of: Vec<Vec<usize>>,
+    pub(super) floor_distance_parts: Vec<Option<[usize; 2]>>,
     pub(super) names: Vec<String>,
-    photo_axes: Vec<Vec<Option<BoxAxes>>>,
+    pub(super) photo_axes: Vec<Vec<Option<BoxAxes>>>,
 }
 
 /// Each photo's camera height in metres, where its scale gives one.
@@ -347,7 +347,7 @@ pub(super) fn solve(
 /// Every photo's floor corners below its fitted camera's horizon: a hypothesis whose joint fit
 /// puts one on or above it is refused (and the next one tried), naming the corner and how
 /// far above the horizon it came out.
-fn floor_below_horizons(scene: &Scene, problem: &RoomProblem, x: &[f64]) -> Result<()> {
+pub(super) fn floor_below_horizons(scene: &Scene, problem: &RoomProblem, x: &[f64]) -> Result<()> {
     let views = problem.views(&x[..problem.camera_len]);
     for (k, p) in scene.photos().enumerate() {
         let Some(v) = views.get(k) else { continue };
@@ -520,7 +520,7 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
         interrupt,
     )?;
     warnings.extend(cameras_inside_objects(scene, &best));
-    let mut fitted = finish(scene, best, warnings)?;
+    let mut fitted = finish(scene, best.built, best.x, best.iterations, warnings)?;
     fitted.alternatives = alternatives;
     Ok(fitted)
 }
@@ -583,14 +583,14 @@ fn hold_known_heights(
     }
 }
 
-fn finish(scene: &Scene, solved: Solved, mut warnings: Vec<String>) -> Result<RoomFitted> {
-    let Solved {
-        built,
-        x,
-        cost: _,
-        iterations,
-        ..
-    } = solved;
+/// The room fitted at `x` (the minimiser's answer to `built`'s problem after `iterations`).
+pub(super) fn finish(
+    scene: &Scene,
+    built: Built,
+    x: Vec<f64>,
+    iterations: usize,
+    mut warnings: Vec<String>,
+) -> Result<RoomFitted> {
     let problem = &built.problem;
     let photos: Vec<&Scene> = scene.photos().collect();
     let nc = problem.camera_len;
