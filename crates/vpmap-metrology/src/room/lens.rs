@@ -126,3 +126,91 @@ impl RoomFitted {
         finish(scene, built, solution.x, solution.iterations, Vec::new())
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::room::fit_room;
+    use crate::scene::LensDistortion;
+    use crate::synth::{RoomSynthOptions, VanishingPointForm, synthesize_room};
+
+    /// Largest difference of two fits' object corners, heights and camera places, camera
+    /// heights.
+    fn difference(a: &RoomFitted, b: &RoomFitted) -> f64 {
+        let mut worst = 0.0f64;
+        assert_eq!(a.objects.len(), b.objects.len());
+        for (p, q) in a.objects.iter().zip(&b.objects) {
+            assert_eq!(p.name, q.name);
+            for (u, v) in p.footprint.iter().zip(&q.footprint) {
+                worst = worst.max((u - v).norm());
+            }
+            if let (Some(g), Some(h)) = (p.height, q.height) {
+                worst = worst.max((g - h).abs());
+            }
+        }
+        for (p, q) in a.photos.iter().zip(&b.photos) {
+            worst = worst
+                .max((p.position - q.position).norm())
+                .max((p.height - q.height).abs());
+        }
+        worst
+    }
+
+    #[test]
+    fn a_refit_at_another_k_is_the_fresh_fit_of_the_clicks_undistorted_by_it() {
+        // Noisy clicks (so the answer depends on every pixel and weight), photo 2's with
+        // covariances of their own, vanishing points as clicked segments, every photo through
+        // a lens: the refit with photo 2's k changed (pixels, segments and whitenings moved
+        // in place) must land where the whole room fit of the scene undistorted by that k
+        // lands (its own placement search, its own undistortion of clicks and covariances).
+        let (mut scene, _) = synthesize_room(&RoomSynthOptions {
+            seed: 3,
+            photos: 3,
+            boxes: 6,
+            noise_px: 0.7,
+            vanishing_points: VanishingPointForm::Lines,
+            ..RoomSynthOptions::default()
+        })
+        .unwrap_or_else(|e| panic!("{e}"));
+        let lens = |k: f64| Some(LensDistortion { k, k_sd: None });
+        scene.lens_distortion = lens(-0.05);
+        for (n, p) in scene.other_photos.iter_mut().enumerate() {
+            p.lens_distortion = lens(-0.04 - 0.01 * n as f64);
+        }
+        let second = &mut scene.other_photos[0];
+        let fields: Vec<String> = second.clicks_by_field().into_keys().collect();
+        assert!(fields.len() >= 8, "{fields:?}");
+        for (i, f) in fields.into_iter().enumerate() {
+            let s = 0.5 + 0.1 * (i % 5) as f64;
+            second
+                .click_covariances_px2
+                .insert(f, [[s * s, 0.3 * s], [0.3 * s, 0.6]]);
+        }
+        let fitted = fit_room(&scene.undistorted()).unwrap_or_else(|e| panic!("{e}"));
+        let mut shifted = scene.clone();
+        shifted.other_photos[0].lens_distortion = lens(-0.09);
+        let pinhole = shifted.undistorted();
+        let fresh = fit_room(&pinhole).unwrap_or_else(|e| panic!("{e}"));
+        let (Some(from), Some(to)) = (
+            scene.other_photos[0].division_model(),
+            shifted.other_photos[0].division_model(),
+        ) else {
+            panic!("no lens")
+        };
+        let refit = fitted
+            .refit_with_lens(&pinhole, 1, &from, &to, &Interrupt::default())
+            .unwrap_or_else(|e| panic!("{e}"));
+        let moved_by_k = difference(&fitted, &fresh);
+        let off = difference(&refit, &fresh);
+        assert!(moved_by_k > 1e-3, "the k change moved the room by {moved_by_k:e} only");
+        assert!(
+            off < 1e-7,
+            "refit {off:e} camera heights from the fresh fit (k moved it {moved_by_k:e})"
+        );
+        // The same lens again: the fit itself.
+        let same = fitted
+            .refit_with_lens(&scene.undistorted(), 1, &from, &from, &Interrupt::default())
+            .unwrap_or_else(|e| panic!("{e}"));
+        assert!(difference(&same, &fitted) < 1e-9);
+    }
+}
