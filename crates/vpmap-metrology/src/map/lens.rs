@@ -121,7 +121,8 @@ fn add_camera_spread(camera: &mut CameraReport, a: &CameraReport, b: &CameraRepo
             *s = quadrature(*s, scale * (a.position[axis] - b.position[axis]));
         }
     }
-    if let (Some(sd), Some(ha), Some(hb)) = (u.heading_deg_sd.as_mut(), a.heading_deg, b.heading_deg)
+    if let (Some(sd), Some(ha), Some(hb)) =
+        (u.heading_deg_sd.as_mut(), a.heading_deg, b.heading_deg)
     {
         *sd = quadrature(*sd, scale * angle_difference_deg(ha, hb, 360.0));
     }
@@ -131,8 +132,8 @@ fn add_camera_spread(camera: &mut CameraReport, a: &CameraReport, b: &CameraRepo
 /// that exists with `map` itself and 1 (a one-sided difference); `None` without either.
 fn sides<'a>(
     map: &'a FloorMap,
-    plus: &'a Option<FloorMap>,
-    minus: &'a Option<FloorMap>,
+    plus: Option<&'a FloorMap>,
+    minus: Option<&'a FloorMap>,
 ) -> Option<(&'a FloorMap, &'a FloorMap, f64)> {
     match (plus, minus) {
         (Some(p), Some(m)) => Some((p, m, 0.5)),
@@ -182,7 +183,7 @@ pub(super) fn add_lens_spread(
     };
     // Half the central difference, or the whole one-sided one when a side is out of reach.
     let (plus, minus) = (shifted(sd), shifted(-sd));
-    let Some((hi, lo, scale)) = sides(map, &plus, &minus) else {
+    let Some((hi, lo, scale)) = sides(map, plus.as_ref(), minus.as_ref()) else {
         map.warnings.push(format!(
             "the lens distortion's sd ({sd}) is not in the error bars: the map could not be rebuilt with k = {} or {}",
             k + sd,
@@ -247,7 +248,7 @@ pub(super) fn add_room_lens_spread(
             }
         };
         let (plus, minus) = (shifted(sd)?, shifted(-sd)?);
-        let Some((hi, lo, scale)) = sides(map, &plus, &minus) else {
+        let Some((hi, lo, scale)) = sides(map, plus.as_ref(), minus.as_ref()) else {
             map.warnings.push(format!(
                 "photo {}'s lens distortion sd ({sd}) is not in the error bars: the room could not be refitted with its k = {} or {}",
                 n + 1,

@@ -104,16 +104,17 @@ impl RoomFitted {
             });
         }
         problem.interrupt = Interrupt::default();
-        let solution = solution
-            .filter(|s| s.converged)
-            .ok_or_else(|| MetrologyError::Degenerate {
-                field: format!("photos[{photo}].lens_distortion.k"),
-                reason: format!(
-                    "the room fit with photo {}'s lens k = {} does not converge",
-                    photo + 1,
-                    to.k
-                ),
-            })?;
+        let solution =
+            solution
+                .filter(|s| s.converged)
+                .ok_or_else(|| MetrologyError::Degenerate {
+                    field: format!("photos[{photo}].lens_distortion.k"),
+                    reason: format!(
+                        "the room fit with photo {}'s lens k = {} does not converge",
+                        photo + 1,
+                        to.k
+                    ),
+                })?;
         floor_below_horizons(scene, &problem, &solution.x)?;
         let built = Built {
             problem,
@@ -202,7 +203,10 @@ mod tests {
             .unwrap_or_else(|e| panic!("{e}"));
         let moved_by_k = difference(&fitted, &fresh);
         let off = difference(&refit, &fresh);
-        assert!(moved_by_k > 1e-3, "the k change moved the room by {moved_by_k:e} only");
+        assert!(
+            moved_by_k > 1e-3,
+            "the k change moved the room by {moved_by_k:e} only"
+        );
         assert!(
             off < 1e-7,
             "refit {off:e} camera heights from the fresh fit (k moved it {moved_by_k:e})"

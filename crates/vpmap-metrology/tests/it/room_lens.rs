@@ -9,9 +9,7 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use vpmap_metrology::map::{BuildOptions, FloorMap, build_map};
 use vpmap_metrology::scene::{DivisionModel, LensDistortion, Scene};
-use vpmap_metrology::synth::{
-    RoomSynthOptions, RoomTruth, VanishingPointForm, synthesize_room,
-};
+use vpmap_metrology::synth::{RoomSynthOptions, RoomTruth, VanishingPointForm, synthesize_room};
 
 /// The 95 % point of the chi-square distribution with two degrees of freedom: the map's
 /// ellipse.
@@ -120,7 +118,9 @@ fn a_room_s_error_bars_carry_what_each_photo_s_k_sd_may_move() {
         }
         let map = build_map(&scene, &options).unwrap();
         assert!(
-            !map.warnings.iter().any(|w| w.contains("not in the error bars")),
+            !map.warnings
+                .iter()
+                .any(|w| w.contains("not in the error bars")),
             "trial {trial}: {:?}",
             map.warnings
         );
