@@ -8,7 +8,7 @@ use super::align::{
     place_objects, placed_index, record_maps, room_axes, sightings,
 };
 use super::choose::{
-    break_ties, cameras_inside_objects, refuse_if_inconsistent, refuse_unconverged,
+    break_ties, cameras_inside_objects, other_turn_of, refuse_if_inconsistent, refuse_unconverged,
 };
 use super::hypotheses::{Hypothesis, Search, Ties, join_order, starts};
 use super::model::{Place, RoomPart, RoomProblem, Shape, Sighting};
@@ -506,7 +506,23 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
         .saturating_sub(results[0].built.problem.len())
         .max(1);
     let variance = (best_cost / dof as f64).max(crate::fit::MIN_CLICK_SIGMA_PX.powi(2));
-    let alternatives = break_ties(scene, &fits, &ties, &mut results, variance, &mut warnings);
+    // A tied photo's other turn with every other photo as chosen, from the beam's hypotheses
+    // (one joint fit each), for the physical checks to compare placements that differ in it alone.
+    let mut flip = |chosen: &Solved, k: usize| {
+        let h = all.iter().find(|h| other_turn_of(h, &chosen.quarters, k))?;
+        solve(scene, &fits, &order, h, false, interrupt)
+            .ok()
+            .filter(|s| s.converged)
+    };
+    let alternatives = break_ties(
+        scene,
+        &fits,
+        &ties,
+        &mut results,
+        variance,
+        &mut warnings,
+        &mut flip,
+    );
     let best = results.swap_remove(0);
     let best = hold_known_heights(scene, &fits, &order, best, variance, interrupt)?;
     refuse_if_inconsistent(
@@ -523,25 +539,6 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
     let mut fitted = finish(scene, best.built, best.x, best.iterations, warnings)?;
     fitted.alternatives = alternatives;
     Ok(fitted)
-}
-
-/// Each clicked point's part, photo and squared residual, for the residuals of `problem`
-/// whose points start at `at` (after the vanishing-point groups).
-pub(crate) fn point_residuals_of(
-    problem: &RoomProblem,
-    residuals: &[f64],
-    mut at: usize,
-) -> Vec<(usize, (usize, f64))> {
-    let mut out = Vec::new();
-    for (i, part) in problem.parts.iter().enumerate() {
-        for s in &part.sightings {
-            let r = residuals.get(at).copied().unwrap_or(0.0).powi(2)
-                + residuals.get(at + 1).copied().unwrap_or(0.0).powi(2);
-            out.push((i, (s.photo, r)));
-            at += 2;
-        }
-    }
-    out
 }
 
 /// The upper 1 % point of the chi-square distribution with `m` degrees of freedom
