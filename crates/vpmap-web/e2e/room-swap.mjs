@@ -13,7 +13,13 @@
 //      against the first map; the shared box where it was), the plan draws photo 2's camera at
 //      its new place, the page lists photo 2 as pinned (with Unpin), and the plan, re-run on
 //      the new map, goes round the box that now stands in its way;
-//   4. Unpin: the first map again.
+//   4. Unpin: the first map again;
+//   5. two tied photos swapped together: the same room with a third photo, a copy of photo 2
+//      whose objects other than the shared box are named apart, so that photos 2 and 3 are
+//      each tied by one box: two alternatives, each with a check box; both checked and
+//      **Swap checked together**: one build, the room file pins both, both cameras move to the
+//      first map's turned by a half turn about the shared box, both photos listed as pinned,
+//      and the map's warnings that they are pinned are not said again in the warnings list.
 //
 // No console error or warning is allowed. Same environment as e2e.mjs (VPMAP_BIN, VPMAP_URL,
 // VPMAP_E2E_CHROMIUM, VPMAP_E2E_SCREENSHOT, VPMAP_E2E_HEADED); screenshots go next to the
@@ -287,6 +293,71 @@ async function main() {
     const map = await mapNow();
     check(dist(camera2(map), camera2(first)) < 1e-6, `photo 2's camera at ${camera2(map)}, first at ${camera2(first)}`);
     check((await page.locator('#placements li.alternative[data-photo="1"]').count()) === 1, 'the alternative is not offered again');
+    check((await page.locator('#placements input.swap-pick').count()) === 0, 'check boxes for a single alternative');
+    noProblems();
+  });
+
+  // Photo 3: photo 2 again, its objects other than the shared box named apart.
+  const three = JSON.parse(JSON.stringify(room));
+  const copy = JSON.parse(JSON.stringify(room.photos[1]));
+  for (const o of copy.objects) if (o.name !== SHARED) o.name = `${o.name}-seen-from-3`;
+  three.photos.push(copy);
+  const threeFile = join(tmp, 'two-ties.room.json');
+  await writeFile(threeFile, JSON.stringify(three));
+  const cameraOf = (map, k) => map.cameras[k].position.slice(0, 2);
+
+  const tied = await step('5a. a room with two tied photos: two alternatives, each with a check box', async () => {
+    const s0 = await status();
+    await page.setInputFiles('#scene-input', threeFile);
+    await page.waitForFunction((n) => window.vpmap.status().photos === n, three.photos.length, { timeout: 10_000 });
+    const s = await settle('building the room of two ties', 'builds', s0.builds);
+    check(!s.buildError, `the room did not build: ${s.buildError}`);
+    const map = await mapNow();
+    const photos = (map.alternatives || []).map((a) => a.photo).sort();
+    check(photos.length === 2 && photos[0] === 2 && photos[1] === 3, `map.alternatives: ${JSON.stringify(map.alternatives)}`);
+    check(map.alternatives.every((a) => a.turn_deg === 180), `the turns: ${JSON.stringify(map.alternatives)}`);
+    for (const photo of [1, 2]) {
+      check((await page.locator(`#placements li.alternative[data-photo="${photo}"] input.swap-pick`).count()) === 1, `no check box for photo ${photo + 1}`);
+    }
+    const together = page.locator('#placements button.swap-together');
+    check((await together.count()) === 1 && (await together.isDisabled()), 'Swap checked together is missing or enabled with nothing checked');
+    await page.locator('#placements').scrollIntoViewIfNeeded();
+    await page.screenshot({ path: SHOT('two-ties') });
+    noProblems();
+    return map;
+  });
+
+  await step('5b. both checked and swapped together: one build, both pinned, both cameras turned', async () => {
+    const c3 = centroid(tied, SHARED);
+    const s0 = await status();
+    await page.check('#placements li.alternative[data-photo="1"] input.swap-pick');
+    await page.check('#placements li.alternative[data-photo="2"] input.swap-pick');
+    check(await page.isEnabled('#placements button.swap-together'), 'Swap checked together stays disabled');
+    await page.click('#placements button.swap-together');
+    const s = await settle('building the room with both photos swapped', 'builds', s0.builds);
+    check(!s.buildError, `the swapped room did not build: ${s.buildError}`);
+    check(s.builds === s0.builds + 1, `${s.builds - s0.builds} builds for one swap of two photos`);
+    const sent = await roomNow();
+    for (const a of tied.alternatives) {
+      check(sent.photos[a.photo - 1].placement_turn_deg === a.placement_turn_deg, `photo ${a.photo}'s placement_turn_deg: ${sent.photos[a.photo - 1].placement_turn_deg}, its alternative's: ${a.placement_turn_deg}`);
+    }
+    const map = await mapNow();
+    check(!map.alternatives || map.alternatives.length === 0, `alternatives after the swap: ${JSON.stringify(map.alternatives)}`);
+    check(dist(centroid(map, SHARED), c3) < 1e-6, `the shared box moved: ${centroid(map, SHARED)} vs ${c3}`);
+    for (const k of [1, 2]) {
+      const want = turned(cameraOf(tied, k), c3);
+      check(dist(cameraOf(map, k), want) < 1e-6, `photo ${k + 1}'s camera at ${cameraOf(map, k)}, its alternative puts it at ${want}`);
+      check(dist(cameraOf(map, k), cameraOf(tied, k)) > 0.5, `photo ${k + 1}'s camera did not move`);
+      check((await page.locator(`#placements li.pinned[data-photo="${k}"] button.unpin`).count()) === 1, `photo ${k + 1} is not listed as pinned with Unpin`);
+      check(map.warnings.some((w) => w.startsWith(`photo ${k + 1}'s placement is pinned`)), `the map does not warn that photo ${k + 1} is pinned`);
+    }
+    // Said once: the pinned rows, not the warnings list as well.
+    const listed = await page.locator('#warnings li').allTextContents();
+    check(!listed.some((w) => w.includes('placement is pinned')), `the warnings list says the pins again: ${JSON.stringify(listed)}`);
+    check((await page.locator('#placements li.alternative').count()) === 0, 'an alternative is still offered');
+    await page.locator('#placements').scrollIntoViewIfNeeded();
+    await page.waitForTimeout(200);
+    await page.screenshot({ path: SHOT('together') });
     noProblems();
   });
 }

@@ -51,16 +51,19 @@ pub fn build_map_until(
     scene.validate()?;
     let pinhole = scene.undistorted();
     if !scene.other_photos.is_empty() {
-        let mut map = super::room::build_room_map(&pinhole, options, interrupt)?;
+        let fitted = super::room::fit_room_map(&pinhole, options, interrupt)?;
+        let mut map = super::room::room_map(&pinhole, &fitted, options)?;
+        super::lens::add_room_lens_spread(
+            scene,
+            &fitted,
+            &mut map,
+            |s, f| super::room::room_map(s, f, options),
+            interrupt,
+        )?;
         for (report, photo) in map.cameras.iter_mut().zip(scene.photos()) {
             report.lens_distortion = photo.lens_distortion;
         }
-        if scene.photos().any(|p| {
-            p.lens_distortion
-                .is_some_and(|l| l.k_sd.is_some_and(|sd| sd > 0.0))
-        }) {
-            map.warnings.push("a room's error bars leave out the lens distortion's k_sd (a single photo's include it)".to_owned());
-        }
+        map.camera.lens_distortion = scene.lens_distortion;
         return Ok(map);
     }
     let mut map = build_photo(&pinhole, options, true, interrupt)?;

@@ -5,14 +5,19 @@
 //! error bars it computes leave out what `k` itself may be off by. `k` is a *consider*
 //! parameter here: the map is rebuilt with `k + k_sd` and `k - k_sd`, and half the change of
 //! every reported value (an object's centroid, sides, height and yaw; the camera's focal
-//! length, pitch, roll, height and the room's yaw) is added in quadrature to its error bar,
-//! the centroid's as a rank-one covariance. Central differences of a full refit: exact for a
-//! value linear in `k` over one sd, and they carry every correlation the refit sees.
+//! length, principal point when fitted, pitch, roll, height and the room's yaw; a room's
+//! station points and headings) is added in quadrature to its error bar, the centroid's as a
+//! rank-one covariance. Central differences of a full refit: exact for a value linear in `k`
+//! over one sd, and they carry every correlation the refit sees. In a room each photo's `k`
+//! is its own consider parameter: the joint fit again at that photo's `k +- k_sd` with the
+//! chosen placement held, the photos' spreads added (their lenses are independent).
 
-use super::types::FloorMap;
-use crate::error::Result;
+use super::types::{CameraReport, FloorMap};
+use crate::error::{MetrologyError, Result};
 use crate::fit::ellipse_95;
-use crate::scene::{LensDistortion, MAX_DIVISION_STRETCH, Scene};
+use crate::interrupt::Interrupt;
+use crate::room::RoomFitted;
+use crate::scene::{DivisionModel, LensDistortion, MAX_DIVISION_STRETCH, Scene};
 
 /// The yaw of a box footprint's longer side, degrees in `[0, 180)`.
 fn longer_side_yaw_deg(footprint: &[[f64; 2]]) -> Option<f64> {
@@ -40,56 +45,12 @@ fn quadrature(sd: f64, extra: f64) -> f64 {
     sd.hypot(extra)
 }
 
-/// Adds the spread of `scene`'s `k_sd` to `map`'s error bars, rebuilding the map with
-/// `build` at `k +- k_sd` (a side whose model would fold the image is left out; with
-/// neither, the error bars stay and a warning says so). Nothing to do without a `k_sd` or
-/// without error bars.
-///
-/// # Errors
-/// None of its own; a rebuild's error is not one (the side is left out).
-pub(super) fn add_lens_spread(
-    scene: &Scene,
-    map: &mut FloorMap,
-    build: impl Fn(&Scene) -> Result<FloorMap>,
-) {
-    let Some(LensDistortion { k, k_sd: Some(sd) }) = scene.lens_distortion else {
-        return;
-    };
-    if sd <= 0.0 || map.objects.iter().all(|o| o.uncertainty.is_none()) {
-        return;
-    }
-    let shifted = |dk: f64| -> Option<FloorMap> {
-        let mut s = scene.clone();
-        s.lens_distortion = Some(LensDistortion {
-            k: k + dk,
-            k_sd: None,
-        });
-        let model = s.division_model()?;
-        if model.stretch(s.image) > MAX_DIVISION_STRETCH {
-            return None;
-        }
-        let pinhole = s.undistorted();
-        build(&pinhole)
-            .ok()
-            .filter(|m| m.objects.len() == map.objects.len() && m.units == map.units)
-    };
-    // Half the central difference, or the whole one-sided one when a side is out of reach.
-    let (plus, minus) = (shifted(sd), shifted(-sd));
-    let (hi, lo, scale) = match (&plus, &minus) {
-        (Some(p), Some(m)) => (p, m, 0.5),
-        (Some(p), None) => (p, &*map, 1.0),
-        (None, Some(m)) => (&*map, m, 1.0),
-        (None, None) => {
-            map.warnings.push(format!(
-                "the lens distortion's sd ({sd}) is not in the error bars: the map could not be rebuilt with k = {} or {}",
-                k + sd,
-                k - sd
-            ));
-            return;
-        }
-    };
-    let hi = hi.clone();
-    let lo = lo.clone();
+/// Adds half the change from `lo` to `hi` (times `scale`: 0.5 for a central difference, 1 for
+/// a one-sided one) of every reported value to `map`'s error bars in quadrature: every
+/// object's centroid (as a rank-one covariance), sides, height and yaw, and every camera's
+/// (`camera`, and a room's `cameras`) focal length, principal point (when fitted), pitch,
+/// roll, height, room yaw, and a room's station points and headings.
+fn add_spread(map: &mut FloorMap, hi: &FloorMap, lo: &FloorMap, scale: f64) {
     for (i, o) in map.objects.iter_mut().enumerate() {
         let (Some(a), Some(b)) = (hi.objects.get(i), lo.objects.get(i)) else {
             continue;
@@ -124,19 +85,182 @@ pub(super) fn add_lens_spread(
             *sd = quadrature(*sd, scale * angle_difference_deg(ya, yb, 180.0));
         }
     }
-    if let Some(u) = map.camera.uncertainty.as_mut() {
-        let (a, b) = (&hi.camera, &lo.camera);
-        u.focal_px_sd = quadrature(u.focal_px_sd, scale * (a.focal_px - b.focal_px));
-        u.pitch_deg_sd = quadrature(u.pitch_deg_sd, scale * (a.pitch_deg - b.pitch_deg));
-        u.roll_deg_sd = quadrature(u.roll_deg_sd, scale * (a.roll_deg - b.roll_deg));
-        u.room_yaw_deg_sd = quadrature(
-            u.room_yaw_deg_sd,
-            scale * angle_difference_deg(a.room_yaw_deg, b.room_yaw_deg, 90.0),
-        );
-        if u.height_sd > 0.0 {
-            u.height_sd = quadrature(u.height_sd, scale * (a.height - b.height));
+    add_camera_spread(&mut map.camera, &hi.camera, &lo.camera, scale);
+    for (i, c) in map.cameras.iter_mut().enumerate() {
+        if let (Some(a), Some(b)) = (hi.cameras.get(i), lo.cameras.get(i)) {
+            add_camera_spread(c, a, b, scale);
         }
     }
+}
+
+/// [`add_spread`] for one camera.
+fn add_camera_spread(camera: &mut CameraReport, a: &CameraReport, b: &CameraReport, scale: f64) {
+    let Some(u) = camera.uncertainty.as_mut() else {
+        return;
+    };
+    u.focal_px_sd = quadrature(u.focal_px_sd, scale * (a.focal_px - b.focal_px));
+    u.pitch_deg_sd = quadrature(u.pitch_deg_sd, scale * (a.pitch_deg - b.pitch_deg));
+    u.roll_deg_sd = quadrature(u.roll_deg_sd, scale * (a.roll_deg - b.roll_deg));
+    u.room_yaw_deg_sd = quadrature(
+        u.room_yaw_deg_sd,
+        scale * angle_difference_deg(a.room_yaw_deg, b.room_yaw_deg, 90.0),
+    );
+    if u.height_sd > 0.0 {
+        u.height_sd = quadrature(u.height_sd, scale * (a.height - b.height));
+    }
+    if let Some(sd) = u.principal_point_px_sd.as_mut() {
+        for (axis, s) in sd.iter_mut().enumerate() {
+            *s = quadrature(
+                *s,
+                scale * (a.principal_point[axis] - b.principal_point[axis]),
+            );
+        }
+    }
+    if let Some(sd) = u.position_sd.as_mut() {
+        for (axis, s) in sd.iter_mut().enumerate() {
+            *s = quadrature(*s, scale * (a.position[axis] - b.position[axis]));
+        }
+    }
+    if let (Some(sd), Some(ha), Some(hb)) =
+        (u.heading_deg_sd.as_mut(), a.heading_deg, b.heading_deg)
+    {
+        *sd = quadrature(*sd, scale * angle_difference_deg(ha, hb, 360.0));
+    }
+}
+
+/// The maps at `k + sd` and `k - sd` as `add_spread` takes them: both and 0.5, or the one
+/// that exists with `map` itself and 1 (a one-sided difference); `None` without either.
+fn sides<'a>(
+    map: &'a FloorMap,
+    plus: Option<&'a FloorMap>,
+    minus: Option<&'a FloorMap>,
+) -> Option<(&'a FloorMap, &'a FloorMap, f64)> {
+    match (plus, minus) {
+        (Some(p), Some(m)) => Some((p, m, 0.5)),
+        (Some(p), None) => Some((p, map, 1.0)),
+        (None, Some(m)) => Some((map, m, 1.0)),
+        (None, None) => None,
+    }
+}
+
+/// Whether a rebuilt map reports the same things as `map` (objects, cameras, units).
+fn comparable(map: &FloorMap, other: &FloorMap) -> bool {
+    other.objects.len() == map.objects.len()
+        && other.cameras.len() == map.cameras.len()
+        && other.units == map.units
+}
+
+/// Adds the spread of `scene`'s `k_sd` to `map`'s error bars, rebuilding the map with
+/// `build` at `k +- k_sd` (a side whose model would fold the image is left out; with
+/// neither, the error bars stay and a warning says so). Nothing to do without a `k_sd` or
+/// without error bars.
+///
+/// # Errors
+/// None of its own; a rebuild's error is not one (the side is left out).
+pub(super) fn add_lens_spread(
+    scene: &Scene,
+    map: &mut FloorMap,
+    build: impl Fn(&Scene) -> Result<FloorMap>,
+) {
+    let Some(LensDistortion { k, k_sd: Some(sd) }) = scene.lens_distortion else {
+        return;
+    };
+    if sd <= 0.0 || map.objects.iter().all(|o| o.uncertainty.is_none()) {
+        return;
+    }
+    let shifted = |dk: f64| -> Option<FloorMap> {
+        let mut s = scene.clone();
+        s.lens_distortion = Some(LensDistortion {
+            k: k + dk,
+            k_sd: None,
+        });
+        let model = s.division_model()?;
+        if model.stretch(s.image) > MAX_DIVISION_STRETCH {
+            return None;
+        }
+        let pinhole = s.undistorted();
+        build(&pinhole).ok().filter(|m| comparable(map, m))
+    };
+    // Half the central difference, or the whole one-sided one when a side is out of reach.
+    let (plus, minus) = (shifted(sd), shifted(-sd));
+    let Some((hi, lo, scale)) = sides(map, plus.as_ref(), minus.as_ref()) else {
+        map.warnings.push(format!(
+            "the lens distortion's sd ({sd}) is not in the error bars: the map could not be rebuilt with k = {} or {}",
+            k + sd,
+            k - sd
+        ));
+        return;
+    };
+    let (hi, lo) = (hi.clone(), lo.clone());
+    add_spread(map, &hi, &lo, scale);
+}
+
+/// Adds the spread of every `k_sd` of a room's photos to its map's error bars: for each photo
+/// with a `k_sd`, the joint fit `fitted` again with that photo's clicks undistorted by
+/// `k + k_sd` and by `k - k_sd`, every photo's placement as chosen
+/// ([`RoomFitted::refit_with_lens`]: two joint fits, no placement search), and `map_of` its
+/// map; each photo's spread added in quadrature (the photos' lenses are independent). A side
+/// whose model would fold the image, whose refit fails or whose map differs in what it
+/// reports is left out; with neither side, the error bars stay and a warning names the photo.
+///
+/// # Errors
+/// [`MetrologyError::Interrupted`] when `interrupt` fires during a refit; no other (a refit's
+/// error leaves its side out).
+pub(super) fn add_room_lens_spread(
+    scene: &Scene,
+    fitted: &RoomFitted,
+    map: &mut FloorMap,
+    map_of: impl Fn(&Scene, &RoomFitted) -> Result<FloorMap>,
+    interrupt: &Interrupt,
+) -> Result<()> {
+    if map.objects.iter().all(|o| o.uncertainty.is_none()) {
+        return Ok(());
+    }
+    for (n, photo) in scene.photos().enumerate() {
+        let Some(LensDistortion { k, k_sd: Some(sd) }) = photo.lens_distortion else {
+            continue;
+        };
+        let Some(from) = photo.division_model().filter(|_| sd > 0.0) else {
+            continue;
+        };
+        let shifted = |dk: f64| -> Result<Option<FloorMap>> {
+            let lens = LensDistortion {
+                k: k + dk,
+                k_sd: None,
+            };
+            let to = DivisionModel::new(lens.k, photo.image, photo.principal_point);
+            if to.stretch(photo.image) > MAX_DIVISION_STRETCH {
+                return Ok(None);
+            }
+            let mut s = scene.clone();
+            if n == 0 {
+                s.lens_distortion = Some(lens);
+            } else if let Some(p) = s.other_photos.get_mut(n - 1) {
+                p.lens_distortion = Some(lens);
+            }
+            let pinhole = s.undistorted();
+            match fitted.refit_with_lens(&pinhole, n, &from, &to, interrupt) {
+                Ok(refitted) => Ok(map_of(&pinhole, &refitted)
+                    .ok()
+                    .filter(|m| comparable(map, m))),
+                Err(e @ MetrologyError::Interrupted { .. }) => Err(e),
+                Err(_) => Ok(None),
+            }
+        };
+        let (plus, minus) = (shifted(sd)?, shifted(-sd)?);
+        let Some((hi, lo, scale)) = sides(map, plus.as_ref(), minus.as_ref()) else {
+            map.warnings.push(format!(
+                "photo {}'s lens distortion sd ({sd}) is not in the error bars: the room could not be refitted with its k = {} or {}",
+                n + 1,
+                k + sd,
+                k - sd
+            ));
+            continue;
+        };
+        let (hi, lo) = (hi.clone(), lo.clone());
+        add_spread(map, &hi, &lo, scale);
+    }
+    Ok(())
 }
 
 #[cfg(test)]

@@ -15,7 +15,7 @@ use crate::error::{MetrologyError, Result};
 use crate::fit::FitOptions;
 use crate::interrupt::Interrupt;
 use crate::reconstruct::{Method, ObjectKind};
-use crate::room::fit_room_until;
+use crate::room::{RoomFitted, fit_room_until};
 use crate::scene::Scene;
 
 fn polygon(points: &[Vector2<f64>]) -> Polygon<f64> {
@@ -30,12 +30,13 @@ fn union(polygons: &[Polygon<f64>]) -> MultiPolygon<f64> {
     }
 }
 
-/// The map of a room file ([`super::build_map`] for a scene with other photos).
-pub(super) fn build_room_map(
+/// The joint fit of a room file for its map ([`super::build_map`] for a scene with other
+/// photos; [`room_map`] makes the map of it).
+pub(super) fn fit_room_map(
     scene: &Scene,
     options: &BuildOptions,
     interrupt: &Interrupt,
-) -> Result<FloorMap> {
+) -> Result<RoomFitted> {
     if options.method != Method::Fit {
         return Err(MetrologyError::InvalidField {
             field: "photos".to_owned(),
@@ -53,6 +54,15 @@ pub(super) fn build_room_map(
             reason,
         });
     }
+    Ok(fitted)
+}
+
+/// The map of a room file from its joint fit `fitted` (of `scene`, clicks undistorted).
+pub(super) fn room_map(
+    scene: &Scene,
+    fitted: &RoomFitted,
+    options: &BuildOptions,
+) -> Result<FloorMap> {
     let u = fitted.uncertainty(
         scene,
         &FitOptions {

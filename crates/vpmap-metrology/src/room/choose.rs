@@ -60,75 +60,143 @@ pub(super) fn refuse_unconverged(
     })
 }
 
+/// Whether hypothesis `h` turns photo `k` otherwise than `quarters` and every other photo as
+/// they do.
+pub(super) fn other_turn_of(h: &Hypothesis, quarters: &[u8], k: usize) -> bool {
+    quarters.iter().enumerate().all(|(m, &q)| {
+        let own = h.quarters.get(m).copied().flatten().unwrap_or(0);
+        if m == k { own != q } else { own == q }
+    })
+}
+
+/// Whether `a` places photo `k` otherwise than `b` and every other photo as `b` does.
+fn differs_only_in(a: &Solved, b: &Solved, k: usize) -> bool {
+    a.quarters.len() == b.quarters.len()
+        && a.quarters
+            .iter()
+            .zip(&b.quarters)
+            .enumerate()
+            .all(|(m, (p, q))| (m == k) != (p == q))
+}
+
+/// Most rounds of [`break_ties`]'s search for a placement the physical checks favour.
+const MAX_TIE_ROUNDS: usize = 8;
+
 /// Hypotheses (`results`, converged, sorted by cost) that fit about equally: the likelihood
 /// cannot choose, so the walls do (the one that keeps every camera and floor inside every
 /// photo's walls), and the build says so. The chosen one is put first; the ties no check
 /// decides are returned as alternatives, and every tie is said in `warnings`.
+///
+/// A photo's tie is judged against the chosen placement with that photo alone turned
+/// otherwise (`flip` fits it from the beam's hypothesis when the started ones do not hold it;
+/// at most one joint fit per photo and round), so that the checks' counts differ by what that
+/// photo's turn does, not by other photos placed otherwise too; a turn the checks favour is
+/// taken and the photos are looked at again (the violations fall every round, at most
+/// [`MAX_TIE_ROUNDS`]). Without such a placement, the most likely tied one that places the
+/// photo otherwise is the comparison.
 pub(super) fn break_ties(
     scene: &Scene,
     fits: &[PhotoFit],
     ties: &Ties,
-    results: &mut [Solved],
+    results: &mut Vec<Solved>,
     variance: f64,
     warnings: &mut Vec<String>,
+    flip: &mut dyn FnMut(&Solved, usize) -> Option<Solved>,
 ) -> Vec<RoomAlternative> {
     let n = fits.len();
     let best_cost = results.first().map_or(0.0, |r| r.cost);
-    let tied = results
-        .iter()
-        .take_while(|r| (r.cost - best_cost) / variance < TIE_CHI2)
-        .count();
+    let in_tie = |r: &Solved| (r.cost - best_cost) / variance < TIE_CHI2;
+    let mut tied = results.iter().take_while(|r| in_tie(r)).count();
     let mut alternatives = Vec::new();
-    if tied > 1 {
-        let mut violations: Vec<usize> = results[..tied]
-            .iter()
-            .map(|r| physical(scene, &r.built.problem, &r.x, &r.built.names).total())
-            .collect();
-        let pick = (0..tied).min_by_key(|&i| (violations[i], i)).unwrap_or(0);
-        results.swap(0, pick);
-        violations.swap(0, pick);
-        let chosen = &results[0];
-        // Photo by photo, the most likely of the tied hypotheses that places it otherwise:
-        // the runner-up of the whole room may differ in other photos only, and a photo whose
-        // other turn fits as well must still be said.
+    if tied <= 1 {
+        return alternatives;
+    }
+    let count = |r: &Solved| physical(scene, &r.built.problem, &r.x, &r.built.names).total();
+    let mut violations: Vec<usize> = results[..tied].iter().map(count).collect();
+    let pick = (0..tied).min_by_key(|&i| (violations[i], i)).unwrap_or(0);
+    results.swap(0, pick);
+    violations.swap(0, pick);
+    let mut tried: Vec<Vec<u8>> = results[..tied].iter().map(|r| r.quarters.clone()).collect();
+    for _ in 0..MAX_TIE_ROUNDS {
         for k in 1..n {
-            let Some(j) = (1..tied)
-                .filter(|&j| results[j].quarters[k] != chosen.quarters[k])
-                .min_by(|&a, &b| results[a].cost.total_cmp(&results[b].cost))
-            else {
+            if (1..tied).any(|j| differs_only_in(&results[j], &results[0], k)) {
+                continue;
+            }
+            let Some(s) = flip(&results[0], k) else {
                 continue;
             };
-            let second = &results[j];
-            let decided = violations[0] < violations[j];
-            let turn = (4 + i32::from(second.quarters[k]) - i32::from(chosen.quarters[k])) % 4 * 90;
-            let shared = ties.shared_by(k);
-            warnings.push(format!(
-                "photo {} is tied to the room only by {}, which fit{} about as well with photo {} turned by {turn} degrees (cost {:.3} against {:.3} px^2): {}; to be sure, name one more object seen in photo {} and another photo",
-                k + 1,
-                quoted(&shared),
-                if shared.len() == 1 { "s" } else { "" },
-                k + 1,
-                second.cost,
-                chosen.cost,
-                if decided {
-                    format!(
-                        "the map takes the turn the room's physical checks favour ({} violations against {}: cameras, floor corners and boxes inside the walls the photos' floor outlines show, boxes not overlapping, no camera inside a box)",
-                        violations[0], violations[j]
-                    )
-                } else {
-                    "the map uses the better one".to_owned()
-                },
-                k + 1
-            ));
-            if !decided {
-                alternatives.push(RoomAlternative {
-                    photo: k,
-                    turn_deg: turn,
-                    placement_turn_deg: i32::from(second.quarters[k]) * 90,
-                    cost_px2: second.cost,
-                    chosen_cost_px2: chosen.cost,
-                });
+            if tried.contains(&s.quarters) || !in_tie(&s) {
+                continue;
             }
+            tried.push(s.quarters.clone());
+            violations.insert(tied, count(&s));
+            results.insert(tied, s);
+            tied += 1;
+        }
+        // A placement differing in one photo that the checks favour is taken.
+        let better = (1..tied)
+            .filter(|&j| violations[j] < violations[0])
+            .filter(|&j| (1..n).any(|k| differs_only_in(&results[j], &results[0], k)))
+            .min_by_key(|&j| (violations[j], j));
+        let Some(j) = better else { break };
+        results.swap(0, j);
+        violations.swap(0, j);
+    }
+    // The rest by cost again (the refusal names the best other placement first).
+    let mut rest: Vec<(Solved, usize)> = results
+        .drain(1..)
+        .zip(violations.drain(1..).chain(std::iter::repeat(usize::MAX)))
+        .collect();
+    rest.sort_by(|a, b| a.0.cost.total_cmp(&b.0.cost));
+    tied = 1 + rest.iter().filter(|(r, _)| in_tie(r)).count();
+    for (r, v) in rest {
+        results.push(r);
+        violations.push(v);
+    }
+    let chosen = &results[0];
+    // Photo by photo: the placement that turns it alone otherwise, else the most likely of the
+    // tied that places it otherwise (the runner-up of the whole room may differ in other
+    // photos only, and a photo whose other turn fits as well must still be said).
+    for k in 1..n {
+        let other = |j: &usize| results[*j].quarters[k] != chosen.quarters[k];
+        let by_cost = |a: &usize, b: &usize| results[*a].cost.total_cmp(&results[*b].cost);
+        let Some(j) = (1..tied)
+            .filter(|&j| differs_only_in(&results[j], chosen, k))
+            .min_by(by_cost)
+            .or_else(|| (1..tied).filter(other).min_by(by_cost))
+        else {
+            continue;
+        };
+        let second = &results[j];
+        let decided = violations[0] < violations[j];
+        let turn = (4 + i32::from(second.quarters[k]) - i32::from(chosen.quarters[k])) % 4 * 90;
+        let shared = ties.shared_by(k);
+        warnings.push(format!(
+            "photo {} is tied to the room only by {}, which fit{} about as well with photo {} turned by {turn} degrees (cost {:.3} against {:.3} px^2): {}; to be sure, name one more object seen in photo {} and another photo",
+            k + 1,
+            quoted(&shared),
+            if shared.len() == 1 { "s" } else { "" },
+            k + 1,
+            second.cost,
+            chosen.cost,
+            if decided {
+                format!(
+                    "the map takes the turn the room's physical checks favour ({} violations against {}: cameras, floor corners and boxes inside the walls the photos' floor outlines show, boxes not overlapping, no camera inside a box)",
+                    violations[0], violations[j]
+                )
+            } else {
+                "the map uses the better one".to_owned()
+            },
+            k + 1
+        ));
+        if !decided {
+            alternatives.push(RoomAlternative {
+                photo: k,
+                turn_deg: turn,
+                placement_turn_deg: i32::from(second.quarters[k]) * 90,
+                cost_px2: second.cost,
+                chosen_cost_px2: chosen.cost,
+            });
         }
     }
     alternatives

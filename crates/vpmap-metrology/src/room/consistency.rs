@@ -18,13 +18,31 @@
 //! worse**: the joint fit's click sigma (`sqrt(C / d)`) at least [`FAR_WORSE_SIGMA_RATIO`]
 //! times the photos' own `s`.
 
-use super::fit::point_residuals_of;
 use super::model::RoomProblem;
 use crate::error::MetrologyError;
 use crate::fit::MIN_CLICK_SIGMA_PX;
 use crate::fit::solve::Model;
 
 use super::align::PhotoFit;
+
+/// Each clicked point's part, photo and squared residual, for the residuals of `problem`
+/// whose points start at `at` (after the vanishing-point groups).
+fn point_residuals_of(
+    problem: &RoomProblem,
+    residuals: &[f64],
+    mut at: usize,
+) -> Vec<(usize, (usize, f64))> {
+    let mut out = Vec::new();
+    for (i, part) in problem.parts.iter().enumerate() {
+        for s in &part.sightings {
+            let r = residuals.get(at).copied().unwrap_or(0.0).powi(2)
+                + residuals.get(at + 1).copied().unwrap_or(0.0).powi(2);
+            out.push((i, (s.photo, r)));
+            at += 2;
+        }
+    }
+    out
+}
 
 /// The test's level: the share of consistent rooms its F test alone would refuse.
 pub const LEVEL: f64 = 0.001;

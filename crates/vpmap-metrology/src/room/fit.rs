@@ -8,7 +8,7 @@ use super::align::{
     place_objects, placed_index, record_maps, room_axes, sightings,
 };
 use super::choose::{
-    break_ties, cameras_inside_objects, refuse_if_inconsistent, refuse_unconverged,
+    break_ties, cameras_inside_objects, other_turn_of, refuse_if_inconsistent, refuse_unconverged,
 };
 use super::hypotheses::{Hypothesis, Search, Ties, join_order, starts};
 use super::model::{Place, RoomPart, RoomProblem, Shape, Sighting};
@@ -151,11 +151,11 @@ fn place_all(fits: &[PhotoFit], order: &[usize], h: &Hypothesis) -> Placement {
 /// The problem, its start and index maps for one placement.
 pub(super) struct Built {
     pub(super) problem: RoomProblem,
-    x0: Vec<f64>,
-    object_of: Vec<Vec<usize>>,
-    floor_distance_parts: Vec<Option<[usize; 2]>>,
+    pub(super) x0: Vec<f64>,
+    pub(super) object_of: Vec<Vec<usize>>,
+    pub(super) floor_distance_parts: Vec<Option<[usize; 2]>>,
     pub(super) names: Vec<String>,
-    photo_axes: Vec<Vec<Option<BoxAxes>>>,
+    pub(super) photo_axes: Vec<Vec<Option<BoxAxes>>>,
 }
 
 /// Each photo's camera height in metres, where its scale gives one.
@@ -347,7 +347,7 @@ pub(super) fn solve(
 /// Every photo's floor corners below its fitted camera's horizon: a hypothesis whose joint fit
 /// puts one on or above it is refused (and the next one tried), naming the corner and how
 /// far above the horizon it came out.
-fn floor_below_horizons(scene: &Scene, problem: &RoomProblem, x: &[f64]) -> Result<()> {
+pub(super) fn floor_below_horizons(scene: &Scene, problem: &RoomProblem, x: &[f64]) -> Result<()> {
     let views = problem.views(&x[..problem.camera_len]);
     for (k, p) in scene.photos().enumerate() {
         let Some(v) = views.get(k) else { continue };
@@ -506,7 +506,23 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
         .saturating_sub(results[0].built.problem.len())
         .max(1);
     let variance = (best_cost / dof as f64).max(crate::fit::MIN_CLICK_SIGMA_PX.powi(2));
-    let alternatives = break_ties(scene, &fits, &ties, &mut results, variance, &mut warnings);
+    // A tied photo's other turn with every other photo as chosen, from the beam's hypotheses
+    // (one joint fit each), for the physical checks to compare placements that differ in it alone.
+    let mut flip = |chosen: &Solved, k: usize| {
+        let h = all.iter().find(|h| other_turn_of(h, &chosen.quarters, k))?;
+        solve(scene, &fits, &order, h, false, interrupt)
+            .ok()
+            .filter(|s| s.converged)
+    };
+    let alternatives = break_ties(
+        scene,
+        &fits,
+        &ties,
+        &mut results,
+        variance,
+        &mut warnings,
+        &mut flip,
+    );
     let best = results.swap_remove(0);
     let best = hold_known_heights(scene, &fits, &order, best, variance, interrupt)?;
     refuse_if_inconsistent(
@@ -520,28 +536,9 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
         interrupt,
     )?;
     warnings.extend(cameras_inside_objects(scene, &best));
-    let mut fitted = finish(scene, best, warnings)?;
+    let mut fitted = finish(scene, best.built, best.x, best.iterations, warnings)?;
     fitted.alternatives = alternatives;
     Ok(fitted)
-}
-
-/// Each clicked point's part, photo and squared residual, for the residuals of `problem`
-/// whose points start at `at` (after the vanishing-point groups).
-pub(crate) fn point_residuals_of(
-    problem: &RoomProblem,
-    residuals: &[f64],
-    mut at: usize,
-) -> Vec<(usize, (usize, f64))> {
-    let mut out = Vec::new();
-    for (i, part) in problem.parts.iter().enumerate() {
-        for s in &part.sightings {
-            let r = residuals.get(at).copied().unwrap_or(0.0).powi(2)
-                + residuals.get(at + 1).copied().unwrap_or(0.0).powi(2);
-            out.push((i, (s.photo, r)));
-            at += 2;
-        }
-    }
-    out
 }
 
 /// The upper 1 % point of the chi-square distribution with `m` degrees of freedom
@@ -583,14 +580,14 @@ fn hold_known_heights(
     }
 }
 
-fn finish(scene: &Scene, solved: Solved, mut warnings: Vec<String>) -> Result<RoomFitted> {
-    let Solved {
-        built,
-        x,
-        cost: _,
-        iterations,
-        ..
-    } = solved;
+/// The room fitted at `x` (the minimiser's answer to `built`'s problem after `iterations`).
+pub(super) fn finish(
+    scene: &Scene,
+    built: Built,
+    x: Vec<f64>,
+    iterations: usize,
+    mut warnings: Vec<String>,
+) -> Result<RoomFitted> {
     let problem = &built.problem;
     let photos: Vec<&Scene> = scene.photos().collect();
     let nc = problem.camera_len;

@@ -19,8 +19,12 @@
 //! (`room/consistency.rs`). Error bars (`room/uncertainty.rs`): the covariance of the whole
 //! fit, propagated as for one photo.
 //!
+//! Lens distortion (`room/lens.rs`): the joint fit again with one photo's clicks undistorted
+//! by another `k`, the chosen placement held, for the map's error bars to carry each photo's
+//! `k_sd` as a consider parameter (as [`crate::map::build_map`] does for one photo).
+//!
 //! Files: `model`, then `align` and `hypotheses`, then `fit` (with `choose`, which uses
-//! `checks` and `consistency`), then `uncertainty`.
+//! `checks` and `consistency`), then `uncertainty` and `lens`.
 
 mod align;
 mod checks;
@@ -28,6 +32,7 @@ mod choose;
 mod consistency;
 mod fit;
 mod hypotheses;
+mod lens;
 mod model;
 mod uncertainty;
 

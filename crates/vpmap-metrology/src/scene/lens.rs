@@ -240,7 +240,7 @@ impl Scene {
 
     /// Every clicked point by its field path (the keys of `click_covariances_px2` may be
     /// any of them).
-    pub(super) fn clicks_by_field(&self) -> std::collections::BTreeMap<String, PixelPoint> {
+    pub(crate) fn clicks_by_field(&self) -> std::collections::BTreeMap<String, PixelPoint> {
         let mut out = std::collections::BTreeMap::new();
         for (i, o) in self.objects.iter().enumerate() {
             if let Some(b) = &o.base {

@@ -10,6 +10,7 @@ mod fit;
 mod lens;
 mod measured_vps;
 mod random_scenes;
+mod room_lens;
 mod room_synth;
 mod rooms;
 mod shared_data;

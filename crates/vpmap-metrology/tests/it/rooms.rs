@@ -435,9 +435,11 @@ fn shared_data_ties_the_physical_checks_decide_are_resolved_right() {
     // and with 1 px of noise on every click (two seeds). A tie the checks decide leaves no
     // alternative in the map; one they cannot decide lists the other turn. Among the decided,
     // the placement must be the true one (camera within 0.25 m) at least 95 % of the time; an
-    // undecided one must name its alternative and may be either. (Measured 2026-11-29: 93 of
-    // 95 decided right; the two wrong, mv07's photo 4 tied by box1 at 1 px or by box2, are
-    // named in the tie warning.)
+    // undecided one must name its alternative and may be either. (Measured 2026-11-29, each
+    // tie judged against the placement with that photo alone turned: 92 of 93 decided right,
+    // 18 left open; the wrong one, mv07's photo 4 tied by box1 at 1 px, seed 1, is named in the
+    // tie warning: the true placement overlaps box0 with the same box under another name,
+    // whose 1 px sides come out 11 % apart, over the 10 % the checks take for one box.)
     use rand::SeedableRng;
     use vpmap_metrology::synth::add_noise;
     let (mut decided, mut right, mut said, mut refused) = (0, 0, 0, 0);

@@ -510,7 +510,8 @@ export function installPanels(app) {
   function renderWarnings(list) {
     const ul = $('warnings');
     const det = (state.detection?.warnings || []).map((w) => `Detection: ${w}`);
-    ul.replaceChildren(...[...new Set([...det, ...list])].map((w) => h('li', { text: w })));
+    // A warning the placements panel already says (a pinned photo) is said there only.
+    ul.replaceChildren(...[...new Set([...det, ...list])].filter((w) => !app.saidByPlacements?.(w)).map((w) => h('li', { text: w })));
   }
 
   function renderPlanButtons() {

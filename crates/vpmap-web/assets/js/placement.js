@@ -4,9 +4,12 @@
 // several photos"). The panel under the warnings lists each with one button: **Swap** writes
 // the alternative's `placement_turn_deg` into that photo's scene (one undoable edit of that
 // photo), so the next build places the photo so turned and the map, the plan and everything
-// drawn follow it; **Unpin** removes the field and lets the fit choose again.
+// drawn follow it; **Unpin** removes the field and lets the fit choose again. With several
+// alternatives each has a check box, and **Swap checked together** pins every checked photo in
+// one rebuild (an undoable edit of each). A pinned photo is said once: its row, not also the
+// map's warning that it is pinned (`saidByPlacements`).
 //
-// placementRows and the scene edits are pure (no DOM), so the unit tests
+// placementRows, pinnedWarningPhoto and the scene edits are pure (no DOM), so the unit tests
 // (e2e/unit/placement.test.mjs) run them in Node.
 
 import { $, h, fmt } from './util.js';
@@ -61,12 +64,24 @@ export function pinPlacement(scene, placementTurnDeg) {
   scene.placement_turn_deg = placementTurnDeg;
 }
 
+/**
+ * The photo (0-based) whose pin a map warning reports ("photo N's placement is pinned by its
+ * `placement_turn_deg` ...", vpmap-metrology's room fit), or null for any other warning.
+ */
+export function pinnedWarningPhoto(warning) {
+  const m = /^photo (\d+)'s placement is pinned by its `placement_turn_deg`/.exec(String(warning));
+  return m ? Number(m[1]) - 1 : null;
+}
+
 /** Let the fit choose the photo's placement again. */
 export function unpinPlacement(scene) {
   delete scene.placement_turn_deg;
 }
 
-/** Add `renderPlacements` to `app`: the panel `#placements`, redrawn after every build. */
+/**
+ * Add `renderPlacements` to `app` (the panel `#placements`, redrawn after every build) and
+ * `saidByPlacements(warning)` (whether the panel already says a warning).
+ */
 export function installPlacements(app) {
   const { state } = app;
 
@@ -88,31 +103,64 @@ export function installPlacements(app) {
     renderPlacements();
   }
 
+  /** Pin every photo of `picks` (alternative rows) at once: an undoable edit of each photo, one rebuild. */
+  function swapTogether(picks) {
+    if (picks.length === 0) return;
+    // Each edit schedules the build; the schedule's debounce makes it one build of them all.
+    for (const r of picks) editPhoto(r.photo, (s) => pinPlacement(s, r.placement_turn_deg));
+    app.setStatus(`Photos ${picks.map((r) => r.photo + 1).join(', ')} placed as their alternatives turn them: rebuilding…`);
+  }
+
+  /** The rows for the current build and scenes. */
+  const currentRows = () => placementRows(state.build?.map, sceneSlots().map((s) => s.scene), { stale: !!state.buildError });
+
+  /** Whether `warning` says what a row of the panel says (a pinned photo is said once). */
+  function saidByPlacements(warning) {
+    const photo = pinnedWarningPhoto(warning);
+    return photo !== null && currentRows().some((r) => r.kind === 'pinned' && r.photo === photo);
+  }
+
   function renderPlacements() {
     const host = $('placements');
     if (!host) return;
-    const scenes = sceneSlots().map((s) => s.scene);
-    const rows = placementRows(state.build?.map, scenes, { stale: !!state.buildError });
+    const rows = currentRows();
+    const alternatives = rows.filter((r) => r.kind === 'alternative');
+    const together = alternatives.length >= 2;
     host.hidden = rows.length === 0;
-    host.replaceChildren(
-      ...rows.map((r) => {
-        const button = r.kind === 'alternative'
-          ? h('button', { type: 'button', class: 'swap', text: 'Swap', title: `Place photo ${r.photo + 1} turned by ${r.turn_deg}° and rebuild (photo ${r.photo + 1}'s Undo takes it back)` })
-          : h('button', { type: 'button', class: 'unpin', text: 'Unpin', title: `Let the fit choose photo ${r.photo + 1}'s placement again` });
-        button.dataset.photo = String(r.photo);
-        button.addEventListener('click', () => {
-          if (r.kind === 'alternative') {
-            editPhoto(r.photo, (s) => pinPlacement(s, r.placement_turn_deg));
-            app.setStatus(`Photo ${r.photo + 1} placed turned by ${r.turn_deg}°: rebuilding…`);
-          } else {
-            editPhoto(r.photo, unpinPlacement);
-            app.setStatus(`Photo ${r.photo + 1}'s placement is the fit's choice again: rebuilding…`);
-          }
+    const all = together
+      ? h('button', { type: 'button', class: 'swap-together', text: 'Swap checked together', disabled: true, title: 'Place every checked photo as its alternative turns it, in one rebuild (each photo\'s Undo takes its own back)' })
+      : null;
+    const picks = [];
+    const items = rows.map((r) => {
+      const button = r.kind === 'alternative'
+        ? h('button', { type: 'button', class: 'swap', text: 'Swap', title: `Place photo ${r.photo + 1} turned by ${r.turn_deg}° and rebuild (photo ${r.photo + 1}'s Undo takes it back)` })
+        : h('button', { type: 'button', class: 'unpin', text: 'Unpin', title: `Let the fit choose photo ${r.photo + 1}'s placement again` });
+      button.dataset.photo = String(r.photo);
+      button.addEventListener('click', () => {
+        if (r.kind === 'alternative') {
+          editPhoto(r.photo, (s) => pinPlacement(s, r.placement_turn_deg));
+          app.setStatus(`Photo ${r.photo + 1} placed turned by ${r.turn_deg}°: rebuilding…`);
+        } else {
+          editPhoto(r.photo, unpinPlacement);
+          app.setStatus(`Photo ${r.photo + 1}'s placement is the fit's choice again: rebuilding…`);
+        }
+      });
+      let pick = null;
+      if (all && r.kind === 'alternative') {
+        pick = h('input', { type: 'checkbox', class: 'swap-pick', title: `Swap photo ${r.photo + 1} together with the other checked photos`, 'aria-label': `Swap photo ${r.photo + 1} together with the other checked photos`, dataset: { photo: String(r.photo) } });
+        pick.addEventListener('change', () => {
+          all.disabled = !picks.some(([box]) => box.checked);
         });
-        return h('li', { class: r.kind, dataset: { photo: String(r.photo), kind: r.kind } }, h('span', { text: r.text }), ' ', button);
-      }),
-    );
+        picks.push([pick, r]);
+      }
+      return h('li', { class: r.kind, dataset: { photo: String(r.photo), kind: r.kind } }, pick, pick ? ' ' : null, h('span', { text: r.text }), ' ', button);
+    });
+    if (all) {
+      all.addEventListener('click', () => swapTogether(picks.filter(([box]) => box.checked).map(([, r]) => r)));
+      items.push(h('li', { class: 'together' }, h('span', { text: `${alternatives.length} photos are tied: check the ones to swap at once (one at a time, each swap re-fits the room and may change what the others' alternatives are).` }), ' ', all));
+    }
+    host.replaceChildren(...items);
   }
 
-  Object.assign(app, { renderPlacements });
+  Object.assign(app, { renderPlacements, saidByPlacements });
 }

@@ -2,7 +2,7 @@
 // `alternatives` and the photos' `placement_turn_deg`, and the edits Swap and Unpin make.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { placementRows, pinPlacement, unpinPlacement } from '../../assets/js/placement.js';
+import { placementRows, pinPlacement, pinnedWarningPhoto, unpinPlacement } from '../../assets/js/placement.js';
 import { roomBody } from '../../assets/js/room.js';
 
 const scene = (extra = {}) => ({ version: 1, image: { width: 800, height: 600 }, vanishing_points: [], objects: [], floor: [], ...extra });
@@ -40,4 +40,28 @@ test('Swap pins the photo to the alternative and the room file carries it; Unpin
   unpinPlacement(scenes[1]);
   assert.equal('placement_turn_deg' in scenes[1], false);
   assert.deepEqual(placementRows({}, scenes), []);
+});
+
+test('several tied photos pinned together: the room file carries each pin and each is listed as pinned', () => {
+  const alt3 = { photo: 3, turn_deg: 90, placement_turn_deg: 90, cost_px2: 0.6, chosen_cost_px2: 0.51 };
+  const scenes = [scene(), scene(), scene()];
+  const map = { alternatives: [alt, alt3] };
+  const rows = placementRows(map, scenes);
+  assert.deepEqual(rows.map((r) => [r.kind, r.photo, r.placement_turn_deg]), [['alternative', 1, 270], ['alternative', 2, 90]]);
+  for (const r of rows) pinPlacement(scenes[r.photo], r.placement_turn_deg);
+  const body = roomBody(scenes);
+  assert.deepEqual(body.photos.map((p) => p.placement_turn_deg), [undefined, 270, 90]);
+  assert.deepEqual(placementRows(map, scenes).map((r) => [r.kind, r.photo]), [['pinned', 1], ['pinned', 2]]);
+  // One unpinned: its alternative is offered again, the other stays pinned.
+  unpinPlacement(scenes[2]);
+  assert.deepEqual(placementRows(map, scenes).map((r) => [r.kind, r.photo]), [['alternative', 2], ['pinned', 1]]);
+});
+
+test('the map warning of a pinned photo is recognised (the page says the pin once, in its row)', () => {
+  // vpmap-metrology's words (room/fit.rs), photo 3 of the room file.
+  const w = "photo 3's placement is pinned by its `placement_turn_deg` (90 degrees): the room fit tried no other turn of it; remove the field to let the fit choose";
+  assert.equal(pinnedWarningPhoto(w), 2);
+  assert.equal(pinnedWarningPhoto("photo 2 is tied to the room only by \"box2\", which fit about as well with photo 2 turned by 180 degrees"), null);
+  assert.equal(pinnedWarningPhoto("photo 12's placement is pinned by its `placement_turn_deg` (0 degrees)"), 11);
+  assert.equal(pinnedWarningPhoto(undefined), null);
 });
