@@ -19,12 +19,12 @@ use rand_chacha::ChaCha8Rng;
 use rand_distr::{Distribution, Normal};
 use vpmap_metrology::map::{BuildOptions, FloorMap, build_map};
 use vpmap_metrology::scene::{ImageSize, LensDistortion, Scene};
-use vpmap_metrology::synth::{SynthOptions, synthesize};
+use vpmap_metrology::synth::{SynthOptions, Truth, synthesize};
 use vpmap_vision::clicks::{scene_clicks, set_scene_click};
 use vpmap_vision::scene::detected_scene;
 use vpmap_vision::snap::scene::{snap_scene, write_snapped};
 use vpmap_vision::snap::{SnapImage, SnapOptions};
-use vpmap_vision::synthetic::photo::{PhotoOptions, render_photo};
+use vpmap_vision::synthetic::photo::{PhotoOptions, RenderedPhoto, render_photo};
 use vpmap_vision::uncertainty::VP_FLOOR_SD_DEG;
 use vpmap_vision::{DetectOptions, detect};
 
@@ -48,8 +48,9 @@ struct Row {
     weighed_d2: f64,
 }
 
-/// Per object of room `seed`: its [`Row`]. `None` when detection fails.
-fn room(seed: u64) -> Option<Vec<Row>> {
+/// Room `seed` of the renders: the synthetic scene, its truth and its photo rendered with what
+/// real photos have (`PhotoOptions::cluttered`). `None` when the scene cannot be drawn.
+fn rendered_room(seed: u64) -> Option<(Scene, Truth, RenderedPhoto)> {
     let (scene, truth) = synthesize(&SynthOptions {
         seed,
         image: ImageSize {
@@ -61,7 +62,13 @@ fn room(seed: u64) -> Option<Vec<Row>> {
         ..SynthOptions::default()
     })
     .ok()?;
-    let rendered = render_photo(&scene, &truth, &PhotoOptions::cluttered(seed)).unwrap();
+    let rendered = render_photo(&scene, &truth, &PhotoOptions::cluttered(seed)).ok()?;
+    Some((scene, truth, rendered))
+}
+
+/// Per object of room `seed`: its [`Row`]. `None` when detection fails.
+fn room(seed: u64) -> Option<Vec<Row>> {
+    let (scene, truth, rendered) = rendered_room(seed)?;
     // The clicks: the true corners in the photo (through its lens), 1 px off.
     let mut rng = ChaCha8Rng::seed_from_u64(seed + 500);
     let noise = Normal::new(0.0, CLICK_SIGMA_PX).unwrap();
@@ -177,7 +184,7 @@ fn room(seed: u64) -> Option<Vec<Row>> {
 
 /// The room's true vanishing directions (camera frame, unit): the scene's exact vanishing
 /// points through the true pinhole camera.
-fn true_directions(scene: &Scene, truth: &vpmap_metrology::synth::Truth) -> Vec<[f64; 3]> {
+fn true_directions(scene: &Scene, truth: &Truth) -> Vec<[f64; 3]> {
     let camera = truth.camera.pinhole(scene.image);
     let pp = camera.principal_point_px;
     scene
@@ -329,19 +336,7 @@ fn rendered_rooms_with_clutter_and_a_lens_keep_their_error_bars_honest() {
 /// pinhole camera of `vpmap_metrology::synth`.
 #[test]
 fn bars_across_the_photo_do_not_choose_the_frame() {
-    let seed = 10;
-    let (scene, truth) = synthesize(&SynthOptions {
-        seed,
-        image: ImageSize {
-            width: 800,
-            height: 600,
-        },
-        focal_px: 620.0,
-        pitch_deg: 12.0 + 4.0 * (seed % 4) as f64,
-        ..SynthOptions::default()
-    })
-    .unwrap();
-    let rendered = render_photo(&scene, &truth, &PhotoOptions::cluttered(seed)).unwrap();
+    let (scene, truth, rendered) = rendered_room(10).unwrap();
     let det = detect(&rendered.image, &DetectOptions::default()).unwrap();
     let off = directions_off_deg(&det, &true_directions(&scene, &truth));
     assert_eq!(off.len(), 3);
