@@ -338,7 +338,9 @@ fn trial(
     });
     t.forced_sign_changes = match (q.headings.is_some(), opts.reverse) {
         (false, _) => 0,
-        (true, true) => rs_shortest(start, goal, *r).map_or(0, |p| p.curve.curvature_sign_changes()),
+        (true, true) => {
+            rs_shortest(start, goal, *r).map_or(0, |p| p.curve.curvature_sign_changes())
+        }
         (true, false) => {
             dubins_shortest(start, goal, *r).map_or(0, |p| p.curve.curvature_sign_changes())
         }

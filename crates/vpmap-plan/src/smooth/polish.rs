@@ -106,13 +106,11 @@ fn shortcut(field: &Field, curve: &SmoothCurve, radius: f64, reverse: bool) -> O
         let mut step = 2;
         let mut fail = n;
         while a + step < n {
-            match try_join(a, a + step) {
-                Some(w) => best = (a + step, Some(w)),
-                None => {
-                    fail = a + step;
-                    break;
-                }
-            }
+            let Some(w) = try_join(a, a + step) else {
+                fail = a + step;
+                break;
+            };
+            best = (a + step, Some(w));
             step *= 2;
         }
         // Binary search between the last success and the first failure (or the end).
@@ -127,21 +125,18 @@ fn shortcut(field: &Field, curve: &SmoothCurve, radius: f64, reverse: bool) -> O
                 None => hi = mid,
             }
         }
-        match best {
-            (j, Some(w)) => {
-                chain.poses.push(*poses.get(j)?);
-                chain.words.push(w);
-                a = j;
-            }
-            (_, None) => {
-                // Keep the segment as it is: the word of its own shape (it is one of them).
-                let end = seg.end();
-                let w = clear_word(field, (seg.start, end), radius, reverse, seg.length + slack)
-                    .unwrap_or((usize::MAX, seg.length));
-                chain.poses.push(end);
-                chain.words.push(w);
-                a += 1;
-            }
+        if let (j, Some(w)) = best {
+            chain.poses.push(*poses.get(j)?);
+            chain.words.push(w);
+            a = j;
+        } else {
+            // Keep the segment as it is: the word of its own shape (it is one of them).
+            let end = seg.end();
+            let w = clear_word(field, (seg.start, end), radius, reverse, seg.length + slack)
+                .unwrap_or((usize::MAX, seg.length));
+            chain.poses.push(end);
+            chain.words.push(w);
+            a += 1;
         }
     }
     Some(chain)
@@ -278,7 +273,10 @@ fn headings(
             if let Some(slot) = chain.poses.get_mut(i) {
                 *slot = at(h);
             }
-            if let (Some(w), Some(slot)) = (new_in, i.checked_sub(1).and_then(|k| chain.words.get_mut(k))) {
+            if let (Some(w), Some(slot)) = (
+                new_in,
+                i.checked_sub(1).and_then(|k| chain.words.get_mut(k)),
+            ) {
                 *slot = w;
             }
             if let (Some(w), Some(slot)) = (new_out, chain.words.get_mut(i)) {
