@@ -17,8 +17,8 @@
 //!    the search's round-off, and arcs shorter than [`SLIVER_CELLS`] are then left out
 //!    (their ends are that close, far inside the validator's 1e-6).
 //!
-//! A change is kept only when the new words are tested clear by [`Field`] and the whole is
-//! no longer; the caller validates the result and keeps the unpolished path if it fails.
+//! A change is kept only when the new words are tested clear by [`Field`], have no more
+//! cusps than what they replace, and the whole is no longer and has no more cusps; the caller validates the result and keeps the unpolished path if it fails.
 //!
 //! # Complexity
 //! `O(n log n)` word tables and collision tests for the shortcut over `n` segments, then
@@ -53,14 +53,14 @@ struct Chain {
     words: Vec<(usize, f64)>,
 }
 
-/// The shortest clear word from `a` to `b` no longer than `limit`, trying at most
-/// [`WORDS_TRIED`] words.
+/// The shortest clear word from `a` to `b` no longer than `limit` and with at most
+/// `max_cusps` cusps, trying at most [`WORDS_TRIED`] words.
 fn clear_word(
     field: &Field,
     (a, b): (Pose, Pose),
     radius: f64,
     reverse: bool,
-    limit: f64,
+    (limit, max_cusps): (f64, usize),
 ) -> Option<(usize, f64)> {
     let table = connect::table(a, b, radius, reverse);
     let mut order: Vec<(usize, f64)> = table
@@ -70,10 +70,10 @@ fn clear_word(
         .filter(|&(_, l)| l.is_finite() && l <= limit)
         .collect();
     order.sort_by(|x, y| x.1.total_cmp(&y.1));
-    order
-        .into_iter()
-        .take(WORDS_TRIED)
-        .find(|&(w, _)| connect::curve(a, b, radius, w).is_some_and(|c| field.curve_clear(&c)))
+    order.into_iter().take(WORDS_TRIED).find(|&(w, _)| {
+        connect::curve(a, b, radius, w)
+            .is_some_and(|c| c.cusps() <= max_cusps && field.curve_clear(&c))
+    })
 }
 
 /// The path of `curve`'s segments, shortened by shortcuts (step 1 of the
@@ -92,7 +92,13 @@ fn shortcut(field: &Field, curve: &SmoothCurve, radius: f64, reverse: bool) -> O
     let try_join = |a: usize, j: usize| -> Option<(usize, f64)> {
         let (pa, pj) = (*poses.get(a)?, *poses.get(j)?);
         let limit = along.get(j)? - along.get(a)? + slack;
-        clear_word(field, (pa, pj), radius, reverse, limit)
+        // No more cusps than the path it replaces (counting one where the segments meet).
+        let cusps = segs
+            .get(a..j)?
+            .windows(2)
+            .filter(|w| matches!(w, [x, y] if x.gear != y.gear))
+            .count();
+        clear_word(field, (pa, pj), radius, reverse, (limit, cusps))
     };
     let mut chain = Chain {
         poses: vec![first.start],
@@ -132,8 +138,14 @@ fn shortcut(field: &Field, curve: &SmoothCurve, radius: f64, reverse: bool) -> O
         } else {
             // Keep the segment as it is: the word of its own shape (it is one of them).
             let end = seg.end();
-            let w = clear_word(field, (seg.start, end), radius, reverse, seg.length + slack)
-                .unwrap_or((usize::MAX, seg.length));
+            let w = clear_word(
+                field,
+                (seg.start, end),
+                radius,
+                reverse,
+                (seg.length + slack, 0),
+            )
+            .unwrap_or((usize::MAX, seg.length));
             chain.poses.push(end);
             chain.words.push(w);
             a += 1;
@@ -252,15 +264,25 @@ fn headings(
                 continue;
             }
             let limit = old + 1e-9;
+            // No more cusps than the old words had.
+            let cusps_of = |a: Pose, b: Pose, w: Option<(usize, f64)>| {
+                w.and_then(|(w, _)| connect::curve(a, b, radius, w))
+                    .map_or(0, |c| c.cusps())
+            };
+            let cusps_in = prev.map_or(0, |q| cusps_of(q, p, words_in));
+            let cusps_out = next.map_or(0, |q| cusps_of(p, q, words_out));
             let new_in = match prev {
-                Some(q) => match clear_word(field, (q, at(h)), radius, reverse, limit) {
-                    Some(w) => Some(w),
-                    None => continue,
-                },
+                Some(q) => {
+                    match clear_word(field, (q, at(h)), radius, reverse, (limit, cusps_in)) {
+                        Some(w) => Some(w),
+                        None => continue,
+                    }
+                }
                 None => None,
             };
             let new_out = match next {
-                Some(q) => match clear_word(field, (at(h), q), radius, reverse, limit) {
+                Some(q) => match clear_word(field, (at(h), q), radius, reverse, (limit, cusps_out))
+                {
                     Some(w) => Some(w),
                     None => continue,
                 },
@@ -320,5 +342,8 @@ pub fn polish(
             }
         }
     }
-    (out.length() <= curve.length() + 1e-8 && !out.segments.is_empty()).then_some(out)
+    (out.length() <= curve.length() + 1e-8
+        && out.cusps() <= curve.cusps()
+        && !out.segments.is_empty())
+    .then_some(out)
 }
