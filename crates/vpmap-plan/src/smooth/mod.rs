@@ -13,7 +13,7 @@
 //! 3. When that finds nothing: [`hybrid`], a Hybrid-A* with analytic Dubins expansion
 //!    (Dolgov et al. 2008), complete up to its resolution.
 //! 4. [`polish`] on the path of either (not on the Hybrid-A* run as the reference,
-//!    [`SmoothMethod::HybridAstar`]): shortcuts by clear Dubins words, then each pose's
+//!    [`SmoothMethod::HybridAstar`], nor with unknown cells passable): shortcuts by clear Dubins words, then each pose's
 //!    heading tuned to the shortest, which removes wobble (curvature sign changes that
 //!    steer nowhere); never longer, kept only when it passes the validator.
 //!
@@ -494,12 +494,18 @@ impl SmoothPlanner {
 
 /// The measures and poses of a validated curve.
 /// `curve` after [`polish::polish`] when the result passes the validator, else `curve`.
+/// Not with unknown cells passable (navigation on a map being discovered): there the
+/// polish's shortcuts cut through unknown space, and in `vpmap navigate`'s test drive
+/// that left the robot facing a wall it then found, with no room to turn.
 fn polished(
     field: &Field,
     grid: &OccupancyGrid,
     curve: SmoothCurve,
     rules: &SmoothRules,
 ) -> SmoothCurve {
+    if rules.unknown_passable {
+        return curve;
+    }
     let free = (!rules.start_heading, !rules.goal_heading);
     match polish::polish(field, &curve, free, rules.radius_cells, rules.reverse) {
         Some(p) if validate_smooth(grid, &p, rules).is_ok() => p,
