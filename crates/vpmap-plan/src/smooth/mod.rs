@@ -12,17 +12,21 @@
 //!    [`clearance::Field`].
 //! 3. When that finds nothing: [`hybrid`], a Hybrid-A* with analytic Dubins expansion
 //!    (Dolgov et al. 2008), complete up to its resolution.
+//! 4. [`polish`] on the path of either (not on the Hybrid-A* run as the reference,
+//!    [`SmoothMethod::HybridAstar`], nor with unknown cells passable): shortcuts by clear Dubins words, then each pose's
+//!    heading tuned to the shortest, which removes wobble (curvature sign changes that
+//!    steer nowhere); never longer, kept only when it passes the validator.
 //!
 //! With reverse allowed ([`SmoothOptions::reverse`]) both methods may back up (cusps): the
 //! fillet's edges and the Hybrid-A*'s analytic expansion also try the Reeds-Shepp words
 //! ([`reeds_shepp`], through [`connect`]), the Hybrid-A*'s primitives also run in reverse
 //! and its heuristic is the Reeds-Shepp distance.
-//! 4. Every returned path is checked by the independent validator [`check`]; a path that
+//! 5. Every returned path is checked by the independent validator [`check`]; a path that
 //!    fails it is never returned.
 //!
 //! Modules, bottom-up: [`curve`] (poses, segments), [`dubins`], [`reeds_shepp`],
 //! [`connect`] (the words both methods try), [`check`] (the validator), [`clearance`]
-//! (the planner's collision test), [`fillet`], [`hybrid`].
+//! (the planner's collision test), [`fillet`], [`hybrid`], [`polish`].
 //!
 //! Coordinates are cell-centre coordinates (cell `(x, y)`'s centre at `(x, y)`, `y` down
 //! the rows), headings `atan2(dy, dx)` in them; see [`curve`].
@@ -50,6 +54,7 @@ pub mod curve;
 pub mod dubins;
 pub mod fillet;
 pub mod hybrid;
+pub mod polish;
 pub mod reeds_shepp;
 
 pub use check::{SmoothRules, SmoothViolation, validate_smooth};
@@ -430,6 +435,7 @@ impl SmoothPlanner {
                 opts.reverse,
                 &mut stats.fillet,
             ) {
+                let curve = polished(field, grid, curve, &rules);
                 match validate_smooth(grid, &curve, &rules) {
                     Ok(()) => {
                         return Ok(SmoothOutcome::Path(finish(
@@ -456,6 +462,12 @@ impl SmoothPlanner {
         if let Some(curve) =
             hybrid::hybrid_astar(field, &query, &opts.hybrid, &opts.budget, &mut stats.hybrid)?
         {
+            // The reference (`HybridAstar`) is left as searched; the fallback is polished.
+            let curve = if opts.method == SmoothMethod::Auto {
+                polished(field, grid, curve, &rules)
+            } else {
+                curve
+            };
             match validate_smooth(grid, &curve, &rules) {
                 Ok(()) => {
                     return Ok(SmoothOutcome::Path(finish(
@@ -481,6 +493,26 @@ impl SmoothPlanner {
 }
 
 /// The measures and poses of a validated curve.
+/// `curve` after [`polish::polish`] when the result passes the validator, else `curve`.
+/// Not with unknown cells passable (navigation on a map being discovered): there the
+/// polish's shortcuts cut through unknown space, and in `vpmap navigate`'s test drive
+/// that left the robot facing a wall it then found, with no room to turn.
+fn polished(
+    field: &Field,
+    grid: &OccupancyGrid,
+    curve: SmoothCurve,
+    rules: &SmoothRules,
+) -> SmoothCurve {
+    if rules.unknown_passable {
+        return curve;
+    }
+    let free = (!rules.start_heading, !rules.goal_heading);
+    match polish::polish(field, &curve, free, rules.radius_cells, rules.reverse) {
+        Some(p) if validate_smooth(grid, &p, rules).is_ok() => p,
+        _ => curve,
+    }
+}
+
 fn finish(
     field: &Field,
     curve: SmoothCurve,
