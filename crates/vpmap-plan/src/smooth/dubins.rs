@@ -116,6 +116,11 @@ struct Trig {
 impl Trig {
     fn new(alpha: f64, beta: f64) -> Self {
         let (sa, ca) = alpha.sin_cos();
+        Self::with_alpha((alpha, sa, ca), beta)
+    }
+
+    /// With `alpha`'s sine and cosine already computed (shared by many goal headings).
+    fn with_alpha((alpha, sa, ca): (f64, f64, f64), beta: f64) -> Self {
         let (sb, cb) = beta.sin_cos();
         Self {
             alpha,
@@ -276,17 +281,7 @@ pub fn word_tables_to_headings(
                 return out;
             }
             let beta = mod2pi(h - phi);
-            let (sb, cb) = beta.sin_cos();
-            let trig = Trig {
-                alpha,
-                beta,
-                sa,
-                ca,
-                sb,
-                cb,
-                cab: (alpha - beta).cos(),
-            };
-            fill_table(&mut out, d, trig, radius);
+            fill_table(&mut out, d, Trig::with_alpha((alpha, sa, ca), beta), radius);
             out
         })
         .collect()
