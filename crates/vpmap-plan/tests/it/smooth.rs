@@ -407,6 +407,25 @@ fn check_plan(
     assert_eq!((last.x, last.y), (g.0 as f64, g.1 as f64));
 }
 
+/// Query `k` of the random-map tests: the turning radius 1, 2.5 or 4 cells, and free headings,
+/// the start's only, or both, drawn from `rng`.
+fn random_query_options(rng: &mut impl RngExt, k: usize) -> SmoothOptions {
+    let headings = match k % 3 {
+        0 => (None, None),
+        1 => (Some(rng.random_range(-PI..PI)), None),
+        _ => (
+            Some(rng.random_range(-PI..PI)),
+            Some(rng.random_range(-PI..PI)),
+        ),
+    };
+    SmoothOptions {
+        turning_radius_cells: [1.0, 2.5, 4.0][k % 3],
+        start_heading_rad: headings.0,
+        goal_heading_rad: headings.1,
+        ..SmoothOptions::default()
+    }
+}
+
 #[test]
 fn smooth_paths_on_random_maps_are_drivable_and_no_shorter_than_the_bounds() {
     let mut found = 0;
@@ -415,20 +434,7 @@ fn smooth_paths_on_random_maps_are_drivable_and_no_shorter_than_the_bounds() {
         let grid = random_grid(seed, 60, 45, 0.12);
         for k in 0..4 {
             let (s, g) = (free_cell(&grid, &mut rng), free_cell(&grid, &mut rng));
-            let headings = match k % 3 {
-                0 => (None, None),
-                1 => (Some(rng.random_range(-PI..PI)), None),
-                _ => (
-                    Some(rng.random_range(-PI..PI)),
-                    Some(rng.random_range(-PI..PI)),
-                ),
-            };
-            let opts = SmoothOptions {
-                turning_radius_cells: [1.0, 2.5, 4.0][k % 3],
-                start_heading_rad: headings.0,
-                goal_heading_rad: headings.1,
-                ..SmoothOptions::default()
-            };
+            let opts = random_query_options(&mut rng, k);
             let out = plan_smooth(&grid, s, g, &opts).unwrap();
             let reference = plan_smooth(
                 &grid,
@@ -472,20 +478,8 @@ fn reverse_paths_on_random_maps_are_drivable_never_longer_than_forward_and_found
         let grid = random_grid(100 + seed, 60, 45, 0.12);
         for k in 0..4 {
             let (s, g) = (free_cell(&grid, &mut rng), free_cell(&grid, &mut rng));
-            let headings = match k % 3 {
-                0 => (None, None),
-                1 => (Some(rng.random_range(-PI..PI)), None),
-                _ => (
-                    Some(rng.random_range(-PI..PI)),
-                    Some(rng.random_range(-PI..PI)),
-                ),
-            };
-            let forward = SmoothOptions {
-                turning_radius_cells: [1.0, 2.5, 4.0][k % 3],
-                start_heading_rad: headings.0,
-                goal_heading_rad: headings.1,
-                ..SmoothOptions::default()
-            };
+            let forward = random_query_options(&mut rng, k);
+            let headings = (forward.start_heading_rad, forward.goal_heading_rad);
             let opts = SmoothOptions {
                 reverse: true,
                 ..forward.clone()
