@@ -115,7 +115,7 @@ pub struct YudClick {
     pub label_offsets_px: [Option<f64>; 2],
     /// A snapped point's edges: root-mean-square distance of their points from their lines,
     /// pixels, and mean gradient across them, grey levels per pixel.
-    pub edges: Vec<(f64, f64)>,
+    pub edges: Vec<(f64, f64, f64)>,
 }
 
 /// Every click of a run, and what the run found of the photos.
@@ -433,7 +433,11 @@ pub fn run_yud(dir: &Path, config: &YudConfig, progress: &dyn Progress) -> Resul
                     snap.point_px[1] - corner.point_px[1],
                 ],
                 label_offsets_px,
-                edges: snap.edges.iter().map(|e| (e.rms_px, e.gradient)).collect(),
+                edges: snap
+                    .edges
+                    .iter()
+                    .map(|e| (e.rms_px, e.gradient, e.gap_px))
+                    .collect(),
             });
         }
         progress.step();

@@ -20,6 +20,8 @@ pub(crate) struct CornerEdge {
     pub(crate) support_px: f64,
     pub(crate) strength: f64,
     pub(crate) rms_px: f64,
+    /// The distance from the corner to the nearest point where the edge was seen, pixels.
+    pub(crate) gap_px: f64,
     /// The angle between the fitted line and its pencil's direction, radians, and one
     /// standard deviation of it from the fit (`None` for a free direction).
     pub(crate) off_pencil: Option<(f64, f64)>,
@@ -109,6 +111,8 @@ pub(crate) struct CornerSearch {
     pub(crate) covariance_scale: f64,
     /// Added to the corner's standard deviation per axis, pixels.
     pub(crate) covariance_floor: f64,
+    /// Standard deviation added per pixel of an edge not seen next to the corner.
+    pub(crate) unseen_sd_per_px: f64,
     /// The least support of each edge beside the corner for a snap, pixels.
     pub(crate) min_edge_px: f64,
     /// The largest root-mean-square distance of an edge's points from its line, pixels.
@@ -127,6 +131,15 @@ const AMBIGUITY_PX: f64 = 1.0;
 
 /// A rival corner farther than this from the chosen one can make the snap unsure, pixels.
 const RIVAL_PX: f64 = 2.0;
+
+/// The part of an edge next to a corner that blur alone hides, in edge widths: within about
+/// two widths of the corner the other edge's gradient turns this one's by more than the
+/// angle tolerance allows.
+const UNSEEN_BLUR_WIDTHS: f64 = 2.0;
+
+/// The spacing of an edge's points along it, pixels (one a pixel): the nearest seen point
+/// may lie this much beyond where the blur stops hiding the edge.
+const POINT_SPACING_PX: f64 = 1.0;
 
 /// How far past a piece's end the corner may lie, pixels (the blur eats the last pixels).
 const END_SLACK_PX: f64 = 3.0;
@@ -148,6 +161,16 @@ fn near_corner(
         })
         .copied()
         .collect()
+}
+
+/// The distance along a piece from `x` to its nearest point, pixels.
+fn seen_gap(piece: &Piece, x: [f64; 2]) -> f64 {
+    let tc = piece.t_of(x);
+    piece
+        .points
+        .iter()
+        .map(|q| (q.t - tc).abs())
+        .fold(f64::INFINITY, f64::min)
 }
 
 /// Whether a piece ends at (or passes through) `t` and whether it ends there.
@@ -325,7 +348,16 @@ fn corner_of(
             cov[r][c] = s;
         }
     }
-    let floor = search.covariance_floor * search.covariance_floor;
+    let unseen = |piece: &Piece| -> f64 {
+        let width = piece.width_px().unwrap_or(1.0);
+        (seen_gap(piece, x) - UNSEEN_BLUR_WIDTHS * width - POINT_SPACING_PX).max(0.0)
+    };
+    // What the edges do not show: the corner is carried along each line over the stretch
+    // next to it where the edge was not seen, beyond what the blur hides; a junction's own
+    // structure (a frame, a moulding, a rounded edge) can sit there.
+    let kappa = search.unseen_sd_per_px;
+    let floor = search.covariance_floor * search.covariance_floor
+        + kappa * kappa * (unseen(a).powi(2) + unseen(b).powi(2));
     cov[0][0] += floor;
     cov[1][1] += floor;
     let edge = |piece: &Piece, fit: &LineFit, points: &[super::edges::EdgePoint]| {
@@ -339,6 +371,7 @@ fn corner_of(
             support_px: points.len() as f64,
             strength: points.iter().map(|q| q.weight).sum::<f64>() / points.len().max(1) as f64,
             rms_px: fit.rms,
+            gap_px: seen_gap(piece, x),
             off_pencil: matches!(piece.kind, EdgeDirection::VanishingPoint(_)).then(|| {
                 (
                     fit.beta.atan(),

@@ -71,6 +71,10 @@ pub(crate) struct EdgePoint {
     pub(crate) t: f64,
     pub(crate) s: f64,
     pub(crate) weight: f64,
+    /// The width of the edge there: the standard deviation of the Gaussian through the
+    /// gradient's largest sample and its neighbours across the line (the photo's blur, the
+    /// smoothing and the pixel together), pixels; NaN where a neighbour is not positive.
+    pub(crate) width: f64,
 }
 
 /// A straight piece of edge in a local frame: the line `origin + t u + (alpha + beta t) n`.
@@ -162,6 +166,19 @@ impl Piece {
     /// Along-line coordinate of an image point.
     pub(crate) fn t_of(&self, p: [f64; 2]) -> f64 {
         (p[0] - self.origin[0]) * self.u[0] + (p[1] - self.origin[1]) * self.u[1]
+    }
+
+    /// The median width of its points' gradient profiles, pixels (`None` when no point has
+    /// one): how blurred the edge is, the smoothing included.
+    pub(crate) fn width_px(&self) -> Option<f64> {
+        let mut w: Vec<f64> = self
+            .points
+            .iter()
+            .map(|p| p.width)
+            .filter(|w| w.is_finite())
+            .collect();
+        w.sort_by(f64::total_cmp);
+        w.get(w.len() / 2).copied()
     }
 
     /// First and last `t` of its points.
@@ -400,7 +417,23 @@ fn profile_points(
             0.0
         };
         let s = samples.get(i).map_or(0.0, |x| x.0) + offset * PROFILE_STEP_PX;
-        points.push(EdgePoint { t, s, weight: gn });
+        // A Gaussian's logarithm is a parabola: `sigma^2 = -h^2 / (ln a - 2 ln b + ln c)`.
+        let curvature = if a.0 > 0.0 && c.0 > 0.0 {
+            a.0.ln() - 2.0 * gn.ln() + c.0.ln()
+        } else {
+            f64::NAN
+        };
+        let width = if curvature < 0.0 {
+            PROFILE_STEP_PX / (-curvature).sqrt()
+        } else {
+            f64::NAN
+        };
+        points.push(EdgePoint {
+            t,
+            s,
+            weight: gn,
+            width,
+        });
     }
     points
 }
@@ -498,6 +531,7 @@ mod tests {
                         t,
                         s: 0.3 + 0.05 * t + wiggle,
                         weight: 10.0,
+                        width: 1.0,
                     }
                 })
                 .collect()

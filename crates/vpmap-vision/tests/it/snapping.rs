@@ -350,3 +350,79 @@ fn a_distorted_render_shows_its_corners_where_its_truth_says() {
         "no corner snapped where the distorted truth is far from the pinhole point"
     );
 }
+
+/// A dark rectangle whose corner at (60, 50) is rounded off by a quarter disc of `cut_px`
+/// (zero: a sharp corner), on a light background.
+fn rounded_corner(cut_px: f64) -> SnapImage {
+    let img = GrayImage::from_fn(200, 160, |x, y| {
+        let (px, py) = (f64::from(x) + 0.5, f64::from(y) + 0.5);
+        let inside = px >= 60.0 && py >= 50.0;
+        let (dx, dy) = (px - 60.0, py - 50.0);
+        let cut = dx < cut_px && dy < cut_px && (cut_px - dx).hypot(cut_px - dy) > cut_px;
+        Luma([if inside && !cut { 40 } else { 200 }])
+    });
+    SnapImage::new(&DynamicImage::ImageLuma8(img))
+}
+
+#[test]
+fn a_corner_the_photo_does_not_show_is_held_less_sure_by_what_is_unseen() {
+    // Both edges run straight to the rounded part: their lines still cross at (60, 50), but
+    // the last `cut_px` of each is not seen, and the corner is only extrapolated there.
+    let vps = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+    let opts = SnapOptions {
+        edge_length_px: 24.0,
+        ..SnapOptions::default()
+    };
+    let click = [62.0, 52.5];
+    let sharp = snap_click(&rounded_corner(0.0), &vps, click, &opts).unwrap();
+    let cut_px = 5.0;
+    let rounded = snap_click(&rounded_corner(cut_px), &vps, click, &opts).unwrap();
+    assert!(sharp.snapped(), "{:?}", sharp.outcome);
+    assert!(rounded.snapped(), "{:?}", rounded.outcome);
+    for s in [&sharp, &rounded] {
+        assert!(
+            (s.point_px[0] - 60.0).abs() < 0.3 && (s.point_px[1] - 50.0).abs() < 0.3,
+            "{:?}",
+            s.point_px
+        );
+    }
+    // The sharp corner's edges are seen to within the blur; the rounded one's stop near
+    // where the rounding begins (the arc's first pixels still vote for the lines).
+    assert!(
+        sharp.edges.iter().all(|e| e.gap_px <= 3.5),
+        "{:?}",
+        sharp.edges
+    );
+    assert!(
+        rounded.edges.iter().all(|e| e.gap_px >= cut_px - 3.0),
+        "{:?}",
+        rounded.edges
+    );
+    // The unseen stretch beyond the blur (two edge widths, at most 1.5 px each on this
+    // sharp step smoothed by 1 px, plus the points' 1 px spacing) adds
+    // `unseen_sd_per_px^2` per pixel squared on each axis.
+    let added: f64 = rounded
+        .edges
+        .iter()
+        .map(|e| (e.gap_px - 2.0 * 1.5 - 1.0).max(0.0).powi(2))
+        .sum::<f64>()
+        * opts.unseen_sd_per_px.powi(2);
+    assert!(added > 0.1, "{added}");
+    let (cs, cr) = (
+        sharp.covariance_px2.unwrap(),
+        rounded.covariance_px2.unwrap(),
+    );
+    for k in 0..2 {
+        assert!(cr[k][k] >= cs[k][k] + added, "{cr:?} vs {cs:?} + {added}");
+    }
+    // Without the term the two corners would be held almost equally sure.
+    let plain = SnapOptions {
+        unseen_sd_per_px: 0.0,
+        ..opts
+    };
+    let c0 = snap_click(&rounded_corner(cut_px), &vps, click, &plain)
+        .unwrap()
+        .covariance_px2
+        .unwrap();
+    assert!(c0[0][0] < cs[0][0] + 0.5 * added, "{c0:?}");
+}
