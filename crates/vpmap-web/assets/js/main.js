@@ -368,6 +368,7 @@ window.vpmap = Object.freeze({
     goal: state.plan.goal,
     turningRadius: state.plan.turning_radius,
     headings: [state.plan.start_heading, state.plan.goal_heading],
+    reverse: state.plan.reverse,
     drive: state.drive.result,
     driveError: state.drive.error,
   }),
