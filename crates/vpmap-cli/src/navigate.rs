@@ -7,15 +7,13 @@ use anyhow::{Context, Result, bail};
 use vpmap_pipeline::{
     DriveMap, DriveReport, Endpoint, EndpointRules, OptionNames, PipelineError, PlanningMap,
     SmoothDriveReport, drive_maps, endpoint_cell, navigate_json, navigate_smooth_json,
-    smooth_options,
+    navigate_smooth_svg, smooth_options,
 };
 use vpmap_plan::budget::{Budget, Stop};
 use vpmap_plan::grid::{CellXy, OccupancyGrid};
 use vpmap_plan::navigate::{
     NavigateOptions, OnlinePlanner, SmoothNavigateOptions, navigate, navigate_smooth, truth_optimum,
 };
-use vpmap_plan::smooth::{SmoothPlan, SmoothStats};
-use vpmap_render::{GridCoordinates, smooth_svg};
 
 use crate::output::OutputSet;
 use crate::plan::{check_robot_radius, parse_point, parse_pose};
@@ -284,29 +282,6 @@ fn run_smooth(args: &NavigateArgs) -> Result<()> {
         sensor_range_cells: range_cells,
     };
     let json = navigate_smooth_json(&believed, &report);
-    // The picture: the true map and the driven curve, its tightest turn marked.
-    let driven = SmoothPlan {
-        curve: run.driven.clone(),
-        poses: run.poses.clone(),
-        length_cells: run.length_cells,
-        max_curvature: run.max_curvature,
-        min_clearance_cells: run.min_clearance_cells,
-        cusps: run.cusps,
-        curvature_sign_changes: run.curvature_sign_changes,
-        method: "navigate",
-        any_angle_length_cells: optimum.any_angle_cells.unwrap_or(0.0),
-        stats: SmoothStats::default(),
-    };
-    let grid_coordinates = if believed.in_cells {
-        GridCoordinates::Cells
-    } else {
-        GridCoordinates::World
-    };
-    let title = format!(
-        "Smooth navigation ({}; turning radius {} {unit})",
-        run.outcome.as_str(),
-        vpmap_pipeline::num(radius)
-    );
     let mut outputs = OutputSet::default();
     outputs.add(
         "navigate.json",
@@ -314,7 +289,7 @@ fn run_smooth(args: &NavigateArgs) -> Result<()> {
     );
     outputs.add(
         "navigate.svg",
-        smooth_svg(&truth, Some(&driven), start, goal, grid_coordinates, &title),
+        navigate_smooth_svg(&believed, &truth, &report, [start, goal], radius),
     );
     outputs.write_all(&args.out)?;
     let reason = run

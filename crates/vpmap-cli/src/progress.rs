@@ -60,6 +60,14 @@ impl vpmap_eval::Progress for Bar {
         }
     }
 
+    fn milestone(&self, line: &str) {
+        // A bar on a terminal already says where the run is.
+        match self.shown.get() {
+            Some(bar) if !bar.is_hidden() => {}
+            _ => eprintln!("{line}"),
+        }
+    }
+
     fn warn(&self, line: &str) {
         eprintln!("warning: {line}");
     }

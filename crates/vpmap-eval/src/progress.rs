@@ -20,6 +20,11 @@ pub trait Progress: Sync {
     fn note(&self, line: &str) {
         let _ = line;
     }
+    /// Where a long run is, once per stage (a map begins), for a log with no progress bar
+    /// to show it (the command line prints it only when stderr is not a terminal).
+    fn milestone(&self, line: &str) {
+        let _ = line;
+    }
     /// A warning: the run goes on with less than asked ("no Moving AI data; generated maps
     /// only").
     fn warn(&self, line: &str) {

@@ -377,8 +377,21 @@ pub fn run_smooth(opts: &SmoothBenchOptions, progress: &dyn Progress) -> Result<
     let maps = maps(opts)?;
     let total: usize = maps.iter().map(|m| m.radii.len() * opts.queries * 2).sum();
     progress.start(total as u64);
+    let began = Instant::now();
     let mut trials = Vec::new();
     for (mi, map) in maps.iter().enumerate() {
+        progress.milestone(&format!(
+            "map {}/{}: {} ({} x {} cells), {} queries x {} radii x 2 planners; {}/{total} planner runs done, {:.1} s",
+            mi + 1,
+            maps.len(),
+            map.name,
+            map.grid.width(),
+            map.grid.height(),
+            opts.queries,
+            map.radii.len(),
+            trials.len(),
+            began.elapsed().as_secs_f64()
+        ));
         let qs = queries(map, opts.seed.wrapping_mul(1000) + mi as u64, opts.queries)?;
         let mut planner = SmoothPlanner::new(&map.grid, false);
         let mut exact = ExactPlanner::new(&map.grid, false);
@@ -619,6 +632,22 @@ pub fn smooth_published_section(
 mod tests {
     use super::*;
 
+    /// The milestones and the number of steps a run reports.
+    #[derive(Default)]
+    struct Recorder {
+        milestones: std::sync::Mutex<Vec<String>>,
+        steps: std::sync::Mutex<usize>,
+    }
+
+    impl Progress for Recorder {
+        fn milestone(&self, line: &str) {
+            self.milestones.lock().unwrap().push(line.to_owned());
+        }
+        fn step(&self) {
+            *self.steps.lock().unwrap() += 1;
+        }
+    }
+
     #[test]
     fn a_small_run_pairs_every_query_and_validates_every_path() {
         let opts = SmoothBenchOptions {
@@ -630,9 +659,20 @@ mod tests {
             smooth_budget: 300_000,
             ..SmoothBenchOptions::default()
         };
-        let trials = run_smooth(&opts, &crate::Silent).unwrap();
+        let log = Recorder::default();
+        let trials = run_smooth(&opts, &log).unwrap();
         // 1 map x 3 radii x 3 queries x 2 planners.
         assert_eq!(trials.len(), 18);
+        // One milestone a map (a log without a bar sees where the run is), not one a query.
+        let milestones = log.milestones.lock().unwrap().clone();
+        assert_eq!(milestones.len(), 1, "{milestones:?}");
+        assert!(
+            milestones[0].starts_with(
+                "map 1/1: nav2-kind-1 (160 x 160 cells), 3 queries x 3 radii x 2 planners; 0/18 planner runs done, "
+            ),
+            "{milestones:?}"
+        );
+        assert_eq!(*log.steps.lock().unwrap(), 18);
         for pair in trials.chunks(2) {
             assert_eq!(pair[0].planner, "smooth");
             assert_eq!(pair[1].planner, "hybrid-astar");

@@ -66,8 +66,8 @@ pub use options::{
 pub use planning::{Limits, PlanningMap, mbpp_stats, plan_json, read_planning_map, run_planner};
 pub use scene::{ParsedScene, parse_scene};
 pub use smooth::{
-    SmoothDriveReport, navigate_smooth_json, no_path_reason, smooth_json, smooth_options,
-    smooth_text,
+    SmoothDriveReport, navigate_smooth_json, navigate_smooth_svg, no_path_reason, smooth_json,
+    smooth_options, smooth_text,
 };
 pub use summary::map_summary;
 pub use text::{num, units_name};

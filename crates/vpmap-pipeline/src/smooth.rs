@@ -1,6 +1,7 @@
 //! Smooth paths in a map's own coordinates: turning radius and headings in, segments and
 //! poses out ([`smooth_options`], [`smooth_json`]), and the report of a drive with the smooth
-//! planner ([`navigate_smooth_json`], `vpmap navigate --planner smooth`).
+//! planner ([`navigate_smooth_json`] and its picture [`navigate_smooth_svg`],
+//! `vpmap navigate --planner smooth` and `vpmap.navigate(..., planner="smooth")`).
 //!
 //! A Moving AI map's coordinates are cells `(column, row)`, `y` down the rows, so a heading
 //! `atan2(dy, dx)` there is the planner's heading. A ROS map's or a `map.json`'s
@@ -8,10 +9,13 @@
 //! resolution, headings and curvatures change sign. A `turn` of `left` always means the
 //! heading (in the map's coordinates) increases.
 
+use vpmap_plan::grid::{CellXy, OccupancyGrid};
 use vpmap_plan::navigate::{Outcome, SmoothNavigation, TruthOptimum};
 use vpmap_plan::smooth::{
-    Gear, NoDrivablePath, NoPathKind, Pose, Segment, SmoothOptions, SmoothOutcome,
+    Gear, NoDrivablePath, NoPathKind, Pose, Segment, SmoothOptions, SmoothOutcome, SmoothPlan,
+    SmoothStats,
 };
+use vpmap_render::{GridCoordinates, smooth_svg};
 
 use crate::error::PipelineError;
 use crate::planning::PlanningMap;
@@ -279,7 +283,7 @@ pub fn navigate_smooth_json(
     } = *report;
     let scale = map.scale();
     let unit = map.unit();
-    let at = |c: vpmap_plan::grid::CellXy| {
+    let at = |c: CellXy| {
         let p = pose_in_map(map, Pose::new(c.x as f64, c.y as f64, 0.0));
         [p[0], p[1]]
     };
@@ -332,4 +336,43 @@ pub fn navigate_smooth_json(
         "events": events,
         "seen_cells": run.belief.seen.iter().filter(|&&s| s).count(),
     })
+}
+
+/// `navigate.svg` of a drive with the smooth planner: the true map and the driven curve, its
+/// tightest turn marked, titled with the outcome and the turning radius (the map's units).
+/// `start` and `goal` are the cells the drive was asked between; `turning_radius` is as
+/// given (the map's units), for the title.
+#[must_use]
+pub fn navigate_smooth_svg(
+    map: &PlanningMap,
+    truth: &OccupancyGrid,
+    report: &SmoothDriveReport<'_>,
+    ends: [CellXy; 2],
+    turning_radius: f64,
+) -> String {
+    let run = report.run;
+    let driven = SmoothPlan {
+        curve: run.driven.clone(),
+        poses: run.poses.clone(),
+        length_cells: run.length_cells,
+        max_curvature: run.max_curvature,
+        min_clearance_cells: run.min_clearance_cells,
+        cusps: run.cusps,
+        curvature_sign_changes: run.curvature_sign_changes,
+        method: "navigate",
+        any_angle_length_cells: report.optimum.any_angle_cells.unwrap_or(0.0),
+        stats: SmoothStats::default(),
+    };
+    let coordinates = if map.in_cells {
+        GridCoordinates::Cells
+    } else {
+        GridCoordinates::World
+    };
+    let title = format!(
+        "Smooth navigation ({}; turning radius {} {})",
+        run.outcome.as_str(),
+        num(turning_radius),
+        map.unit()
+    );
+    smooth_svg(truth, Some(&driven), ends[0], ends[1], coordinates, &title)
 }

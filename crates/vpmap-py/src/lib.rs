@@ -13,6 +13,7 @@
 //! | `vpmap.plan(..., planner="smooth")`, `vpmap.SmoothPath` | `vpmap_pipeline::smooth_options`, `vpmap_plan::smooth::plan_smooth`, `vpmap_pipeline::smooth_json` (as `vpmap plan --planner smooth`) | `smooth` |
 //! | `vpmap.detect` | `vpmap_vision::detect`, `vpmap_vision::scene::detected_scene` (as `vpmap detect`) | `detect` |
 //! | `vpmap.navigate` | `vpmap_plan::navigate`, `vpmap_pipeline::navigate_json` (as `vpmap navigate`) | `navigate` |
+//! | `vpmap.navigate(..., planner="smooth")` | `vpmap_pipeline::smooth_options`, `vpmap_plan::navigate::navigate_smooth`, `vpmap_pipeline::navigate_smooth_json` (as `vpmap navigate --planner smooth`) | `navigate` |
 //!
 //! Errors: every library error becomes `vpmap.VpmapError` (a `ValueError`) with the message
 //! the command line prints, option names written as the Python keywords. No panic crosses into

@@ -5,7 +5,7 @@
 //      outline (the room fit's fixture `room-mv00.json` with photo 2's second shared box named
 //      apart and the floors left out): the map has one `alternative` (photo 2 turned by 180°),
 //      and the page lists it under the warnings with its photo, turn and both costs and a Swap
-//      button;
+//      button, the map's tie warning's advice in that row and not again in the warnings list;
 //   2. a plan from one side of where a box only photo 2 shows goes after the swap to the
 //      other, on a line clear of every box of the first map (unknown cells passable): straight;
 //   3. Swap: the room file sent has photo 2's `placement_turn_deg`, the map follows it (photo
@@ -169,6 +169,13 @@ async function main() {
     const text = await row.textContent();
     check(/Photo 2 fits about as well turned by 180°/.test(text) && text.includes(`${alt.cost_px2.toFixed(3)} against the map's ${alt.chosen_cost_px2.toFixed(3)} px²`), `the row says: ${text}`);
     check(await row.locator('button.swap').isVisible(), 'no Swap button');
+    // The tie is said once: the map warns of it, the row carries its advice, and the
+    // warnings list does not say it again (issue 39).
+    const tie = map.warnings.find((w) => w.startsWith('photo 2 is tied to the room only by'));
+    check(tie, `the map does not warn of the tie: ${JSON.stringify(map.warnings)}`);
+    const listed = await page.locator('#warnings li').allTextContents();
+    check(!listed.some((w) => w.includes('is tied to the room only by')), `the warnings list says the tie again: ${JSON.stringify(listed)}`);
+    check(text.includes('Photo 2 is tied to the room only by') && text.includes('to be sure, name one more object seen in photo 2 and another photo'), `the row does not carry the tie's advice: ${text}`);
     await page.locator('#placements').scrollIntoViewIfNeeded();
     await page.screenshot({ path: SHOT('tie') });
     noProblems();

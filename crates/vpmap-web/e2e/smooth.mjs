@@ -8,7 +8,13 @@
 //      (screenshot `-smooth-path.png`);
 //   3. drag the start's heading arrow to point up the map (+y): the page plans again and the
 //      answer's first pose leaves at the dragged heading (screenshot `-smooth-dragged.png`);
-//   4. double-click the arrow: the heading is free again and the path re-planned without it.
+//   4. double-click the arrow: the heading is free again and the path re-planned without it;
+//   5. with the start heading up the map, a goal 2 m up heading down and a radius of 0.5 m,
+//      tick "reverse allowed": the request carries `reverse: true`, the path backs up (a
+//      shorter one than forward only), each cusp is marked on the plan where the answer's
+//      segments change direction and the row counts them (screenshots `-smooth-reverse.png`
+//      and, the plan zoomed in, `-smooth-reverse-zoom.png`);
+//      unticked, the request has no `reverse` and no cusp is marked.
 //
 // No console error or warning is allowed. Environment as e2e.mjs (VPMAP_BIN, VPMAP_URL,
 // VPMAP_E2E_CHROMIUM, VPMAP_E2E_SCREENSHOT, VPMAP_E2E_HEADED). Prints `SMOOTH PASSED`.
@@ -21,6 +27,8 @@ const SHOT = (what) => (process.env.VPMAP_E2E_SCREENSHOT || '/tmp/vpmap-e2e.png'
 const START = [-1.5, 2.0];
 const GOAL = [2.0, 7.5];
 const RADIUS_M = 0.2;
+/** Step 5: from START heading up the map to 2 m further up heading down, radius 0.5 m. */
+const REVERSE = { goal: [-1.5, 4.0], radius: 0.5 };
 
 let server = null;
 let browser = null;
@@ -154,6 +162,69 @@ async function main() {
     check(Math.abs(s.start[0] - START[0]) < 1e-9 && Math.abs(s.start[1] - START[1]) < 1e-9, `the double-click moved the start to ${s.start}`);
     const r = smoothOf(s);
     check(r && r.found && Math.abs(wrap(r.smooth.poses[0][2] - free.poses[0][2])) < 1e-6, 'the freed path does not leave as the first free one did');
+    noProblems();
+  });
+
+  await step('5. reverse allowed: the path backs up and its cusps are marked and counted', async () => {
+    const bodies = [];
+    const onRequest = (req) => {
+      if (req.url().endsWith('/api/plan') && req.method() === 'POST') bodies.push(JSON.parse(req.postData() || '{}'));
+    };
+    page.on('request', onRequest);
+    const replan = async (what, act) => {
+      const before = (await status()).plans;
+      await act();
+      return settle(what, before);
+    };
+    const setField = (id, text) => replan(`typing ${text} into #${id}`, async () => {
+      await page.fill(`#${id}`, text);
+      await page.press(`#${id}`, 'Enter');
+      await page.locator(`#${id}`).blur();
+    });
+    // The goal first: every plan on the way is a short one.
+    const moved = await setField('plan-goal', REVERSE.goal.join(', '));
+    check(Math.hypot(moved.goal[0] - REVERSE.goal[0], moved.goal[1] - REVERSE.goal[1]) < 1e-9, `the goal is ${moved.goal}`);
+    await setField('plan-turning-radius', String(REVERSE.radius));
+    await setField('plan-start-heading', '90');
+    const forward = await setField('plan-goal-heading', '-90');
+    const f = smoothOf(forward);
+    check(f && f.found, `no forward smooth path: ${f?.note}`);
+    check(f.smooth.cusps === 0 && (await page.locator('#plan-host svg .vp-cusp').count()) === 0, 'cusps without reverse');
+    check(!('reverse' in bodies[bodies.length - 1]), 'the request asked for reverse before the box was ticked');
+    const s = await replan('ticking reverse allowed', () => page.check('#plan-reverse'));
+    check(s.reverse === true, 'the page state did not take reverse');
+    const body = bodies[bodies.length - 1];
+    check(body.reverse === true && body.turning_radius === REVERSE.radius, `the request was ${JSON.stringify({ reverse: body.reverse, turning_radius: body.turning_radius })}`);
+    const r = smoothOf(s);
+    check(r && r.found, `no smooth path with reverse: ${r?.note}`);
+    const segs = r.smooth.segments;
+    const changes = segs.filter((g, i) => i > 0 && g.direction !== segs[i - 1].direction);
+    check(r.smooth.cusps >= 1 && changes.length === r.smooth.cusps, `cusps ${r.smooth.cusps}, direction changes ${changes.length}`);
+    check(r.smooth.length < f.smooth.length, `backing up (${r.smooth.length} m) is not shorter than forward only (${f.smooth.length} m)`);
+    const marks = page.locator('#plan-host svg .vp-cusp');
+    check((await marks.count()) === r.smooth.cusps, `${await marks.count()} cusp marks for ${r.smooth.cusps} cusps`);
+    // Each mark sits where its segment starts (the ring's centre in the plan's SVG units).
+    for (let i = 0; i < changes.length; i++) {
+      const ring = marks.nth(i).locator('circle').first();
+      const [cx, cy] = [Number(await ring.getAttribute('cx')), Number(await ring.getAttribute('cy'))];
+      const [ex, ey] = await page.evaluate(([x, y]) => window.vpmap.planMapToSvg(x, y), changes[i].start);
+      check(Math.hypot(cx - ex, cy - ey) < 1e-6, `cusp mark ${i} at ${cx}, ${cy}, its segment starts at ${ex}, ${ey}`);
+    }
+    const row = await page.locator('#plan-table tbody tr[data-planner="smooth"]').textContent();
+    const counted = `${r.smooth.cusps} cusp${r.smooth.cusps === 1 ? '' : 's'} (`;
+    check(row.includes(counted) && /[\d.]+ m in reverse\)/.test(row), `the smooth row says ${row}`);
+    log(`  reverse: ${r.smooth.length.toFixed(3)} m with ${r.smooth.cusps} cusp(s) vs ${f.smooth.length.toFixed(3)} m forward only; row: ${row}`);
+    await page.screenshot({ path: SHOT('reverse') });
+    // A closer look (for a person reading the screenshots): the plan zoomed in on the path.
+    const centre = await toClient([(START[0] + REVERSE.goal[0]) / 2 - 0.3, (START[1] + REVERSE.goal[1]) / 2]);
+    await page.mouse.move(centre[0], centre[1]);
+    for (let i = 0; i < 3; i++) await page.mouse.wheel(0, -240);
+    await page.mouse.move(5, 5); // no hover label over the path
+    await page.locator('#plan-host').screenshot({ path: SHOT('reverse-zoom') });
+    const off = await replan('unticking reverse allowed', () => page.uncheck('#plan-reverse'));
+    check(!('reverse' in bodies[bodies.length - 1]), 'the request still asked for reverse');
+    check(smoothOf(off).smooth.cusps === 0 && (await page.locator('#plan-host svg .vp-cusp').count()) === 0, 'cusps after unticking reverse');
+    page.off('request', onRequest);
     noProblems();
   });
 }

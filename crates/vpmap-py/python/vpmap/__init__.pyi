@@ -231,7 +231,7 @@ def navigate(
     start: Point,
     goal: Point,
     *,
-    planner: OnlinePlannerName = "dstar-lite",
+    planner: Union[OnlinePlannerName, Literal["smooth"]] = "dstar-lite",
     sensor_range: Optional[float] = None,
     unknown_blocked: bool = False,
     robot_radius: Optional[float] = None,
@@ -241,6 +241,13 @@ def navigate(
     max_expansions: Optional[int] = None,
     timeout: Optional[float] = None,
     svg: bool = False,
+    turning_radius: Optional[float] = None,
+    start_heading: Optional[float] = None,
+    goal_heading: Optional[float] = None,
+    reverse: bool = False,
 ) -> Dict[str, Any]:
     """Drive a robot across a believed map sensing the true one, as vpmap navigate; with
-    svg=True the dict's "svg" holds the picture vpmap navigate writes as navigate.svg."""
+    svg=True the dict's "svg" holds the picture vpmap navigate writes as navigate.svg.
+    planner="smooth" (with turning_radius; headings and reverse as vpmap.plan's) drives
+    curvature-bounded curves as vpmap navigate --planner smooth; its dict's "poses" are an
+    (N, 3) float64 array of (x, y, heading_deg)."""

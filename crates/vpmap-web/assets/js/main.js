@@ -333,6 +333,8 @@ window.vpmap = Object.freeze({
   imageToClient: (x, y) => app.photoView.imageToClient([x, y]),
   /** Viewport coordinates of a map point on the floor plan (null before a build). */
   planMapToClient: (x, y) => app.planView.mapToClient([x, y]),
+  /** The floor plan's SVG coordinates of a map point (where its marks are drawn). */
+  planMapToSvg: (x, y) => app.planView.mapToSvg([x, y]),
   /** The floor plan as downloaded (SVG text, with the overlay), or null. */
   planSvg: () => app.planView.serialize(),
   /** A copy of the last build's map (map.json), or null. */
@@ -368,6 +370,7 @@ window.vpmap = Object.freeze({
     goal: state.plan.goal,
     turningRadius: state.plan.turning_radius,
     headings: [state.plan.start_heading, state.plan.goal_heading],
+    reverse: state.plan.reverse,
     drive: state.drive.result,
     driveError: state.drive.error,
   }),

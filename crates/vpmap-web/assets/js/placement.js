@@ -7,17 +7,22 @@
 // drawn follow it; **Unpin** removes the field and lets the fit choose again. With several
 // alternatives each has a check box, and **Swap checked together** pins every checked photo in
 // one rebuild (an undoable edit of each). A pinned photo is said once: its row, not also the
-// map's warning that it is pinned (`saidByPlacements`).
+// map's warning that it is pinned (`saidByPlacements`). So is a tie: an alternative's row
+// carries the advice of the map's tie warning for that photo ("photo N is tied to the room
+// only by ...; to be sure, name one more object ..."), and the warnings list leaves that
+// warning out (issue 39). A tie warning with no alternative (the physical checks decided it)
+// stays in the list.
 //
-// placementRows, pinnedWarningPhoto and the scene edits are pure (no DOM), so the unit tests
+// placementRows, pinnedWarningPhoto, tieWarning and the scene edits are pure (no DOM), so the unit tests
 // (e2e/unit/placement.test.mjs) run them in Node.
 
 import { $, h, fmt } from './util.js';
 
 /**
  * What the panel lists for a build answer's `map` and the room's `scenes` (0-based photos):
- * `[{kind: 'alternative', photo, turn_deg, placement_turn_deg, cost_px2, chosen_cost_px2, text}]`
- * for each alternative (none while `stale`, i.e. the last build failed), then
+ * `[{kind: 'alternative', photo, turn_deg, placement_turn_deg, cost_px2, chosen_cost_px2, text, warning}]`
+ * for each alternative (none while `stale`, i.e. the last build failed; `warning` the map's tie
+ * warning for that photo whose advice `text` repeats, or null when there is none), then
  * `[{kind: 'pinned', photo, placement_turn_deg, text}]` for each pinned photo (photo 2..n).
  * A room of one photo has none.
  */
@@ -25,11 +30,14 @@ export function placementRows(map, scenes, { stale = false } = {}) {
   if (!Array.isArray(scenes) || scenes.length < 2) return [];
   const rows = [];
   const alternatives = !stale && Array.isArray(map?.alternatives) ? map.alternatives : [];
+  const warnings = Array.isArray(map?.warnings) ? map.warnings : [];
   for (const a of alternatives) {
     const photo = Number(a.photo) - 1;
     if (!(photo >= 1 && photo < scenes.length) || ![0, 90, 180, 270].includes(a.placement_turn_deg)) continue;
     // A photo already pinned to this very placement is listed as pinned, below.
     if (scenes[photo]?.placement_turn_deg === a.placement_turn_deg) continue;
+    const tie = warnings.map(tieWarning).find((t) => t && t.photo === photo) ?? null;
+    const advice = tie ? ` Photo ${photo + 1} is tied to the room only by ${tie.by}: ${tie.advice}.` : '';
     rows.push({
       kind: 'alternative',
       photo,
@@ -37,7 +45,8 @@ export function placementRows(map, scenes, { stale = false } = {}) {
       placement_turn_deg: a.placement_turn_deg,
       cost_px2: a.cost_px2,
       chosen_cost_px2: a.chosen_cost_px2,
-      text: `Photo ${photo + 1} fits about as well turned by ${a.turn_deg}° (cost ${costText(a.cost_px2)} against the map's ${costText(a.chosen_cost_px2)} px²): the clicks and the room's walls cannot tell which is right.`,
+      text: `Photo ${photo + 1} fits about as well turned by ${a.turn_deg}° (cost ${costText(a.cost_px2)} against the map's ${costText(a.chosen_cost_px2)} px²): the clicks and the room's walls cannot tell which is right.${advice}`,
+      warning: tie ? tie.warning : null,
     });
   }
   scenes.forEach((scene, photo) => {
@@ -71,6 +80,19 @@ export function pinPlacement(scene, placementTurnDeg) {
 export function pinnedWarningPhoto(warning) {
   const m = /^photo (\d+)'s placement is pinned by its `placement_turn_deg`/.exec(String(warning));
   return m ? Number(m[1]) - 1 : null;
+}
+
+/**
+ * A map warning that a photo is tied to the room by few objects (vpmap-metrology's room fit,
+ * room/choose.rs: "photo N is tied to the room only by "a", which fits about as well with
+ * photo N turned by T degrees (...): ...; to be sure, name one more object seen in photo N
+ * and another photo"), read as `{ photo (0-based), by, advice, warning }`, or null for any
+ * other warning (or one worded otherwise: then the list keeps saying it).
+ */
+export function tieWarning(warning) {
+  const w = String(warning);
+  const m = /^photo (\d+) is tied to the room only by (.+?), which fits? about as well with photo \1 turned by .*; (to be sure, name one more object .+)$/.exec(w);
+  return m ? { photo: Number(m[1]) - 1, by: m[2], advice: m[3], warning: w } : null;
 }
 
 /** Let the fit choose the photo's placement again. */
@@ -114,10 +136,15 @@ export function installPlacements(app) {
   /** The rows for the current build and scenes. */
   const currentRows = () => placementRows(state.build?.map, sceneSlots().map((s) => s.scene), { stale: !!state.buildError });
 
-  /** Whether `warning` says what a row of the panel says (a pinned photo is said once). */
+  /**
+   * Whether `warning` says what a row of the panel says: a pinned photo, and a tie whose
+   * alternative's row carries its advice, are said once (in the row).
+   */
   function saidByPlacements(warning) {
+    const rows = currentRows();
+    if (rows.some((r) => r.kind === 'alternative' && r.warning === warning)) return true;
     const photo = pinnedWarningPhoto(warning);
-    return photo !== null && currentRows().some((r) => r.kind === 'pinned' && r.photo === photo);
+    return photo !== null && rows.some((r) => r.kind === 'pinned' && r.photo === photo);
   }
 
   function renderPlacements() {

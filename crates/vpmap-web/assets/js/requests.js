@@ -306,6 +306,11 @@ export function installRequests(app) {
     renderHeadings();
     schedulePlan();
   });
+  $('plan-reverse').addEventListener('change', (e) => {
+    state.plan.reverse = e.target.checked;
+    // Only the smooth planner drives in reverse: without a turning radius nothing changes.
+    if (Number.isFinite(state.plan.turning_radius)) schedulePlan();
+  });
   for (const [id, which] of [['plan-start-heading', 'start'], ['plan-goal-heading', 'goal']]) {
     $(id).addEventListener('change', (e) => {
       const d = parseHeading(e.target.value);

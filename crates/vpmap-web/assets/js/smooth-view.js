@@ -10,6 +10,8 @@ import { svgEl, fmt } from './util.js';
 export const SMOOTH_COLOUR = '#1565c0';
 /** The tightest turn's mark. */
 export const TIGHTEST_COLOUR = '#d81b60';
+/** A cusp's mark (a change between forward and reverse). */
+export const CUSP_COLOUR = '#ef6c00';
 /** Length of a heading arrow on screen, px. */
 const ARROW_PX = 34;
 
@@ -52,14 +54,38 @@ export function headingTowards(from, to) {
 
 /**
  * The planners and fields a plan request adds for the smooth planner, from the plan state
- * (`turning_radius`, `start_heading`, `goal_heading`): none without a turning radius.
+ * (`turning_radius`, `start_heading`, `goal_heading`, `reverse`): none without a turning
+ * radius; `reverse: true` only when reverse driving is allowed.
  */
 export function smoothRequest(plan, planners) {
   if (!(plan && Number.isFinite(plan.turning_radius) && plan.turning_radius > 0)) return { planners: [...planners] };
   const out = { planners: [...planners, 'smooth'], turning_radius: plan.turning_radius };
   if (Number.isFinite(plan.start_heading)) out.start_heading_deg = plan.start_heading;
   if (Number.isFinite(plan.goal_heading)) out.goal_heading_deg = plan.goal_heading;
+  if (plan.reverse === true) out.reverse = true;
   return out;
+}
+
+/**
+ * The cusps of a smooth answer: where one segment's `direction` (forward or reverse) differs
+ * from the one before it, `{ at: [x, y], from, to }` with `at` the later segment's start.
+ */
+export function cuspPoints(smooth) {
+  const segs = Array.isArray(smooth?.segments) ? smooth.segments : [];
+  const out = [];
+  for (let i = 1; i < segs.length; i++) {
+    const [a, b] = [segs[i - 1], segs[i]];
+    if (a?.direction && b?.direction && a.direction !== b.direction && Array.isArray(b.start)) {
+      out.push({ at: [b.start[0], b.start[1]], from: a.direction, to: b.direction });
+    }
+  }
+  return out;
+}
+
+/** The length a smooth answer drives in reverse (sum of its reverse segments), map units. */
+export function reverseLength(smooth) {
+  const segs = Array.isArray(smooth?.segments) ? smooth.segments : [];
+  return segs.filter((s) => s?.direction === 'reverse').reduce((sum, s) => sum + (Number.isFinite(s.length) ? s.length : 0), 0);
 }
 
 /**
@@ -88,7 +114,9 @@ export function smoothDetail(smooth, units) {
   if (!smooth?.found) return '';
   const k = smooth.max_curvature;
   const turn = k > 0 ? `max curvature ${fmt(k, 2)} /${units} (radius ${fmt(1 / k, 2)} ${units})` : 'straight';
-  return `${turn}, min clearance ${fmt(smooth.min_clearance, 2)} ${units}, ${smooth.cusps} cusp${smooth.cusps === 1 ? '' : 's'}`;
+  const back = reverseLength(smooth);
+  const reversing = back > 0 ? ` (${fmt(back, 2)} ${units} in reverse)` : '';
+  return `${turn}, min clearance ${fmt(smooth.min_clearance, 2)} ${units}, ${smooth.cusps} cusp${smooth.cusps === 1 ? '' : 's'}${reversing}`;
 }
 
 /** The path's poses as an SVG path through their points (the curve at a quarter cell). */
@@ -125,6 +153,18 @@ export function drawSmooth(v, g, r) {
     mark.append(svgEl('circle', { cx: mx, cy: my, r: v.u(5), fill: 'none', stroke: TIGHTEST_COLOUR, 'stroke-width': v.u(2) }));
     const title = svgEl('title');
     title.textContent = `tightest turn: radius ${fmt(t.radius, 2)}`;
+    mark.append(title);
+    wrap.append(mark);
+  }
+  // Each cusp (the robot stops and changes between forward and reverse): a bar across the
+  // path with a ring, its title saying which way it changes.
+  for (const c of cuspPoints(s)) {
+    const [x, y] = v.mapToSvg(c.at);
+    const mark = svgEl('g', { class: 'vp-cusp', 'data-from': c.from, 'data-to': c.to });
+    mark.append(svgEl('circle', { cx: x, cy: y, r: v.u(6), fill: '#fff', stroke: CUSP_COLOUR, 'stroke-width': v.u(2) }));
+    mark.append(svgEl('circle', { cx: x, cy: y, r: v.u(2.2), fill: CUSP_COLOUR, stroke: 'none' }));
+    const title = svgEl('title');
+    title.textContent = `cusp: the robot stops and changes from ${c.from} to ${c.to}`;
     mark.append(title);
     wrap.append(mark);
   }

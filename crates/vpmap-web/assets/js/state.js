@@ -60,8 +60,9 @@ export function createState() {
     // may cross unknown cells (plan only).
     settings: { method: null, resolution: 0.05, robot_radius: 0.2, click_sigma: null, hidden_free: false },
     // turning_radius (map units) turns the smooth planner on; start_heading / goal_heading:
-    // its headings in degrees, atan2(dy, dx) in map coordinates, null when free.
-    plan: { start: null, goal: null, result: null, error: null, unknown_passable: false, turning_radius: null, start_heading: null, goal_heading: null },
+    // its headings in degrees, atan2(dy, dx) in map coordinates, null when free; reverse:
+    // whether it may drive backwards (cusps).
+    plan: { start: null, goal: null, result: null, error: null, unknown_passable: false, turning_radius: null, start_heading: null, goal_heading: null, reverse: false },
     // The last drive on the true map (/api/navigate).
     drive: { result: null, error: null },
     counters: { builds: 0, plans: 0, detects: 0, drives: 0 },

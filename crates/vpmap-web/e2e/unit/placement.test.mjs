@@ -2,7 +2,7 @@
 // `alternatives` and the photos' `placement_turn_deg`, and the edits Swap and Unpin make.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { placementRows, pinPlacement, pinnedWarningPhoto, unpinPlacement } from '../../assets/js/placement.js';
+import { placementRows, pinPlacement, pinnedWarningPhoto, tieWarning, unpinPlacement } from '../../assets/js/placement.js';
 import { roomBody } from '../../assets/js/room.js';
 
 const scene = (extra = {}) => ({ version: 1, image: { width: 800, height: 600 }, vanishing_points: [], objects: [], floor: [], ...extra });
@@ -64,4 +64,29 @@ test('the map warning of a pinned photo is recognised (the page says the pin onc
   assert.equal(pinnedWarningPhoto("photo 2 is tied to the room only by \"box2\", which fit about as well with photo 2 turned by 180 degrees"), null);
   assert.equal(pinnedWarningPhoto("photo 12's placement is pinned by its `placement_turn_deg` (0 degrees)"), 11);
   assert.equal(pinnedWarningPhoto(undefined), null);
+});
+
+// vpmap-metrology's words (room/choose.rs) for photo 2 tied by one box, undecided and decided.
+const TIE = 'photo 2 is tied to the room only by object "box2", which fits about as well with photo 2 turned by 180 degrees (cost 0.520 against 0.510 px^2): the map uses the better one; to be sure, name one more object seen in photo 2 and another photo';
+const DECIDED = 'photo 3 is tied to the room only by objects "a", "b", which fit about as well with photo 3 turned by 90 degrees (cost 0.600 against 0.510 px^2): the map takes the turn the room\'s physical checks favour (0 violations against 2: cameras, floor corners and boxes inside the walls the photos\' floor outlines show, boxes not overlapping, no camera inside a box); to be sure, name one more object seen in photo 3 and another photo';
+
+test('a tie warning is read: its photo, the objects tying it and its advice', () => {
+  assert.deepEqual(tieWarning(TIE), { photo: 1, by: 'object "box2"', advice: 'to be sure, name one more object seen in photo 2 and another photo', warning: TIE });
+  const d = tieWarning(DECIDED);
+  assert.equal(d.photo, 2);
+  assert.equal(d.by, 'objects "a", "b"');
+  assert.equal(tieWarning("photo 3's placement is pinned by its `placement_turn_deg` (90 degrees)"), null);
+  assert.equal(tieWarning('photo 2 is tied to the room only by object "box2"'), null, 'worded otherwise: not taken');
+  assert.equal(tieWarning(undefined), null);
+});
+
+test('the alternative\'s row carries its tie warning\'s advice, so the tie is said once', () => {
+  const map = { alternatives: [alt], warnings: ['the floor is poorly fixed', TIE, DECIDED] };
+  const [r] = placementRows(map, [scene(), scene(), scene()]);
+  assert.equal(r.warning, TIE, 'the row takes the warning of its own photo only');
+  assert.ok(r.text.endsWith(' Photo 2 is tied to the room only by object "box2": to be sure, name one more object seen in photo 2 and another photo.'), r.text);
+  // No tie warning for the photo: the row as before, and no warning taken.
+  const [plain] = placementRows({ alternatives: [alt], warnings: [DECIDED] }, [scene(), scene(), scene()]);
+  assert.equal(plain.warning, null);
+  assert.match(plain.text, /cannot tell which is right\.$/);
 });

@@ -1,8 +1,8 @@
 // The smooth planner's pure page logic (smooth-view.js): fields typed, the request's extra
-// fields, the tightest turn's mark and the row's words.
+// fields, the tightest turn's mark, the cusps and the row's words.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { arcMidpoint, headingTowards, parseHeading, parseTurningRadius, pathHeadings, smoothDetail, smoothRequest, tightestTurn, wrapHeading } from '../../assets/js/smooth-view.js';
+import { arcMidpoint, cuspPoints, headingTowards, parseHeading, parseTurningRadius, pathHeadings, reverseLength, smoothDetail, smoothRequest, tightestTurn, wrapHeading } from '../../assets/js/smooth-view.js';
 
 const near = (a, b, tol = 1e-9) => assert.ok(Math.abs(a - b) <= tol, `${a} vs ${b}`);
 
@@ -39,6 +39,30 @@ test('a turning radius adds the smooth planner and only the headings that are se
     planners: [...base, 'smooth'], turning_radius: 0.3, start_heading_deg: -90, goal_heading_deg: 0,
   });
   assert.deepEqual(base, ['mbpp', 'optimal']);
+});
+
+test('reverse is asked for only when allowed, and only with a turning radius', () => {
+  const base = ['optimal'];
+  assert.deepEqual(smoothRequest({ turning_radius: 0.5, reverse: true }, base), { planners: ['optimal', 'smooth'], turning_radius: 0.5, reverse: true });
+  assert.deepEqual(smoothRequest({ turning_radius: 0.5, reverse: false }, base), { planners: ['optimal', 'smooth'], turning_radius: 0.5 });
+  assert.deepEqual(smoothRequest({ turning_radius: null, reverse: true }, base), { planners: ['optimal'] });
+});
+
+test('cusps are where the direction changes, at the later segment\'s start', () => {
+  const seg = (direction, start, length = 1) => ({ type: 'line', direction, start, length });
+  const s = { segments: [seg('forward', [0, 0, 0]), seg('forward', [1, 0, 0]), seg('reverse', [2, 0, 0], 0.5), seg('reverse', [1.5, 0, 0], 0.25), seg('forward', [1.25, 0, 0], 2)] };
+  assert.deepEqual(cuspPoints(s), [
+    { at: [2, 0], from: 'forward', to: 'reverse' },
+    { at: [1.25, 0], from: 'reverse', to: 'forward' },
+  ]);
+  near(reverseLength(s), 0.75);
+  assert.deepEqual(cuspPoints({ segments: [seg('forward', [0, 0, 0]), seg('forward', [1, 0, 0])] }), []);
+  assert.deepEqual(cuspPoints(undefined), []);
+  assert.equal(reverseLength({ segments: [] }), 0);
+  assert.equal(
+    smoothDetail({ found: true, max_curvature: 2, min_clearance: 0.1, cusps: 2, segments: s.segments }, 'm'),
+    'max curvature 2.00 /m (radius 0.50 m), min clearance 0.10 m, 2 cusps (0.75 m in reverse)',
+  );
 });
 
 test('the middle of an arc: a quarter circle each way about the origin', () => {

@@ -49,7 +49,7 @@ const DEFAULT_PLANNERS: [PlannerKind; 3] = [
 ];
 
 /// The fields a plan request may have.
-const PLAN_FIELDS: [&str; 13] = [
+const PLAN_FIELDS: [&str; 14] = [
     "scene",
     "method",
     "resolution",
@@ -63,6 +63,7 @@ const PLAN_FIELDS: [&str; 13] = [
     "turning_radius",
     "start_heading_deg",
     "goal_heading_deg",
+    "reverse",
 ];
 
 /// The name of the smooth planner in `planners` (not a [`PlannerKind`]: it plans poses).
@@ -73,7 +74,7 @@ const SMOOTH: &str = "smooth";
 pub(crate) enum PlannerChoice {
     /// A grid planner.
     Grid(PlannerKind),
-    /// The smooth planner (`turning_radius`, headings).
+    /// The smooth planner (`turning_radius`, headings, `reverse`).
     Smooth,
 }
 
@@ -92,6 +93,7 @@ pub(super) struct PlanRequest {
     pub(super) turning_radius: Option<f64>,
     pub(super) start_heading_deg: Option<f64>,
     pub(super) goal_heading_deg: Option<f64>,
+    pub(super) reverse: Option<bool>,
 }
 
 fn field_error(key: &str, wanted: &str, got: &serde_json::Value) -> ApiError {
@@ -183,6 +185,7 @@ impl PlanRequest {
             turning_radius: number("turning_radius")?,
             start_heading_deg: number("start_heading_deg")?,
             goal_heading_deg: number("goal_heading_deg")?,
+            reverse: flag("reverse")?,
         })
     }
 }
@@ -520,6 +523,7 @@ pub(crate) fn checked_plan_request(
         kinds.contains(&PlannerChoice::Smooth),
         request.turning_radius,
         [request.start_heading_deg, request.goal_heading_deg],
+        request.reverse,
     )?;
     let unknown_passable = request.unknown_passable.unwrap_or(false);
     let parsed = scene_from_value(&request.scene)?;

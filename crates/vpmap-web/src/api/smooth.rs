@@ -1,6 +1,7 @@
 //! The smooth planner on `/api/plan`: `"smooth"` among the `planners`, with a
 //! `turning_radius` (map units) and optional `start_heading_deg` / `goal_heading_deg`
-//! (degrees, `atan2(dy, dx)` in the map's coordinates, `y` up). Its result row carries the
+//! (degrees, `atan2(dy, dx)` in the map's coordinates, `y` up) and `reverse` (driving
+//! backwards allowed, cusps reported). Its result row carries the
 //! answer of `vpmap plan --planner smooth --json` ([`vpmap_pipeline::smooth::smooth_json`]).
 
 use std::time::Instant;
@@ -19,14 +20,17 @@ pub(crate) struct SmoothAsk {
     pub turning_radius: f64,
     /// The start and goal headings, degrees in the map's coordinates (`None`: free).
     pub headings_deg: [Option<f64>; 2],
+    /// Whether the robot may drive in reverse (cusps allowed).
+    pub reverse: bool,
 }
 
 fn shown(v: f64) -> String {
     vpmap_pipeline::num(v)
 }
 
-/// Check the smooth fields of a plan request: `turning_radius` is needed (and only allowed)
-/// when `"smooth"` is among the planners; headings must be finite. The radius is checked
+/// Check the smooth fields of a plan request: `turning_radius` is needed (and, like the
+/// headings and `reverse`, only allowed) when `"smooth"` is among the planners; headings must
+/// be finite. The radius is checked
 /// against the map later ([`smooth_plan_options`]).
 ///
 /// # Errors
@@ -35,14 +39,16 @@ pub(crate) fn smooth_ask(
     wanted: bool,
     turning_radius: Option<f64>,
     headings_deg: [Option<f64>; 2],
+    reverse: Option<bool>,
 ) -> Result<Option<SmoothAsk>, ApiError> {
     if !wanted {
         let given = [
-            ("turning_radius", turning_radius),
-            ("start_heading_deg", headings_deg[0]),
-            ("goal_heading_deg", headings_deg[1]),
+            ("turning_radius", turning_radius.is_some()),
+            ("start_heading_deg", headings_deg[0].is_some()),
+            ("goal_heading_deg", headings_deg[1].is_some()),
+            ("reverse", reverse.is_some()),
         ];
-        if let Some((name, _)) = given.iter().find(|(_, v)| v.is_some()) {
+        if let Some((name, _)) = given.iter().find(|(_, v)| *v) {
             return Err(ApiError::bad_request(format!(
                 "field `{name}` is only used by the smooth planner; add \"smooth\" to `planners`"
             )));
@@ -76,6 +82,7 @@ pub(crate) fn smooth_ask(
     Ok(Some(SmoothAsk {
         turning_radius: radius,
         headings_deg,
+        reverse: reverse.unwrap_or(false),
     }))
 }
 
@@ -120,7 +127,7 @@ pub(crate) fn smooth_plan_options(
         ask.turning_radius,
         "field `turning_radius`",
         ask.headings_deg,
-        false,
+        ask.reverse,
     )
     .map_err(|e| ApiError::bad_request(e.to_string()))?;
     opts.unknown_passable = unknown_passable;

@@ -322,3 +322,83 @@ fn the_fuzzing_entry_point_checks_the_smooth_fields() {
     let split = corpus.iter().position(|&b| b == b'\n').unwrap();
     assert!(vpmap_web::fuzzing::plan_request(&corpus[split + 1..], 20_000.0).is_ok());
 }
+
+#[test]
+fn reverse_lets_the_robot_back_up_with_cusps_where_forward_goes_round() {
+    // From (-1.5, 2) heading up the map to (-1.5, 4) heading down, radius 0.5 m: forward only
+    // the robot must loop round; allowed to reverse it can turn and back in (a cusp).
+    let grid = grid();
+    let mut body = request(Some(90.0));
+    body["goal"] = json!([-1.5, 4.0]);
+    body["goal_heading_deg"] = json!(-90.0);
+    body["turning_radius"] = json!(0.5);
+    body["planners"] = json!(["smooth"]);
+    let forward = plan(&body);
+    body["reverse"] = json!(true);
+    let backing = plan(&body);
+    let measures = |v: &Value| {
+        let s = &v["results"][0]["smooth"];
+        assert_eq!(s["found"], true, "{s}");
+        let poses: Vec<[f64; 3]> = s["poses"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| [0, 1, 2].map(|i| p[i].as_f64().unwrap()))
+            .collect();
+        // Each step: a quarter cell at most, turning within step / R, running along the
+        // heading (+1) or against it (-1); every pose clear on the grid.
+        let mut gears = Vec::new();
+        for w in poses.windows(2) {
+            let step = (w[1][0] - w[0][0]).hypot(w[1][1] - w[0][1]);
+            assert!(step <= RESOLUTION / 4.0 + 1e-9, "step {step} at {w:?}");
+            let turn = wrap_deg(w[1][2] - w[0][2]).abs().to_radians();
+            assert!(turn <= step / 0.5 * 1.001 + 1e-9, "turn {turn} at {w:?}");
+            if step < 1e-9 {
+                continue;
+            }
+            let going = (w[1][1] - w[0][1]).atan2(w[1][0] - w[0][0]).to_degrees();
+            let mid = w[0][2] + wrap_deg(w[1][2] - w[0][2]) / 2.0;
+            if wrap_deg(going - mid).abs() < 1.0 {
+                gears.push(1);
+            } else {
+                assert!(
+                    wrap_deg(going - mid - 180.0).abs() < 1.0,
+                    "a step neither along nor against its heading at {w:?}"
+                );
+                gears.push(-1);
+            }
+        }
+        for p in &poses {
+            assert!(grid.square_clear(p[0], p[1]), "pose {p:?} is not clear");
+        }
+        let last = poses[poses.len() - 1];
+        assert!(wrap_deg(last[2] + 90.0).abs() < 1e-6, "{last:?}");
+        let cusps = gears.windows(2).filter(|g| g[0] != g[1]).count();
+        assert_eq!(s["cusps"].as_u64().unwrap() as usize, cusps);
+        (s["length"].as_f64().unwrap(), cusps, gears.contains(&-1))
+    };
+    let (forward_length, forward_cusps, forward_backs) = measures(&forward);
+    let (backing_length, backing_cusps, backing_backs) = measures(&backing);
+    assert_eq!((forward_cusps, forward_backs), (0, false));
+    assert!(backing_cusps >= 1 && backing_backs);
+    assert!(
+        backing_length < forward_length,
+        "{backing_length} vs {forward_length}"
+    );
+    // `reverse` is the smooth planner's, and a flag.
+    let mut not_smooth = request(None);
+    not_smooth["planners"] = json!(["optimal"]);
+    not_smooth.as_object_mut().unwrap().remove("turning_radius");
+    not_smooth["reverse"] = json!(false);
+    let message = post_json("/api/plan", &not_smooth.to_string()).error(400);
+    assert!(
+        message.contains("field `reverse` is only used by the smooth planner"),
+        "{message}"
+    );
+    body["reverse"] = json!("yes");
+    let message = post_json("/api/plan", &body.to_string()).error(400);
+    assert!(
+        message.contains("field `reverse` must be true or false"),
+        "{message}"
+    );
+}
