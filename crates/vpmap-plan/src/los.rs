@@ -447,7 +447,11 @@ impl PassableGrid {
             for c in 0..pw {
                 let blocked = !self.cells.get(r * pw + c).copied().unwrap_or(false);
                 in_row += u32::from(blocked);
-                let above = self.blocked_sums.get(r * stride + c + 1).copied().unwrap_or(0);
+                let above = self
+                    .blocked_sums
+                    .get(r * stride + c + 1)
+                    .copied()
+                    .unwrap_or(0);
                 if let Some(slot) = self.blocked_sums.get_mut((r + 1) * stride + c + 1) {
                     *slot = above + in_row;
                 }
