@@ -67,8 +67,10 @@
 //! blocked ones, and walks runs of a few columns cell by cell. The answer is the walk's
 //! (every swept cell is either in a box proved free or looked up); the count is of table
 //! entries and cells looked up, so it falls from `O(length)` to `O(log length)` for a
-//! segment in open space. MBPP builds the index: its bugs check sight from a corner
-//! to every cell they walk, along corridors hundreds of cells long.
+//! segment in open space. MBPP builds the index when it pays
+//! ([`PassableGrid::index_boxes_when_worth_it`]: once its walks have looked up as many cells
+//! as the grid has): its bugs check sight from a corner to every cell they walk, along
+//! corridors hundreds of cells long.
 //!
 //! Any [`Passable`] answers segment queries through [`Passable::sight_counted`], which
 //! [`PassableGrid`] overrides with the fast walk, so [`line_of_sight`] and
@@ -77,6 +79,9 @@
 //! # Complexity
 //! `O(cells swept)`: `du + 1` columns of at most `|dv| / du + 3` cells, integer arithmetic
 //! only, stopping at the first blocked cell.
+
+use std::sync::OnceLock;
+use std::sync::atomic::{AtomicUsize, Ordering};
 
 use crate::grid::{CellXy, Occupancy, OccupancyGrid};
 
@@ -380,10 +385,43 @@ pub struct PassableGrid {
     width: i64,
     height: i64,
     unknown_passable: bool,
-    /// The summed-area table of blocked cells over the padded array, when built by
-    /// [`PassableGrid::index_boxes`] (empty otherwise): entry `r (padded_width + 1) + c`
-    /// counts the blocked cells in padded rows `< r` and padded columns `< c`.
-    blocked_sums: Vec<u32>,
+    /// The box index: whether and when it is built, and the table once built.
+    boxes: BoxIndex,
+}
+
+/// When [`PassableGrid`] builds its box index.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+enum BoxMode {
+    /// Never (the walk's counts are the reference's).
+    #[default]
+    Off,
+    /// Built by [`PassableGrid::index_boxes`].
+    Now,
+    /// Built once the walks have looked up as many cells as the table has entries
+    /// ([`PassableGrid::index_boxes_when_worth_it`]).
+    WhenWorthIt,
+}
+
+/// [`PassableGrid`]'s box index.
+#[derive(Debug, Default)]
+struct BoxIndex {
+    mode: BoxMode,
+    /// Cells looked up by walks since the grid was built (for [`BoxMode::WhenWorthIt`]).
+    walked: AtomicUsize,
+    /// The summed-area table of blocked cells over the padded array: entry
+    /// `r (padded_width + 1) + c` counts the blocked cells in padded rows `< r` and padded
+    /// columns `< c`.
+    blocked_sums: OnceLock<Vec<u32>>,
+}
+
+impl Clone for BoxIndex {
+    fn clone(&self) -> Self {
+        Self {
+            mode: self.mode,
+            walked: AtomicUsize::new(self.walked.load(Ordering::Relaxed)),
+            blocked_sums: self.blocked_sums.clone(),
+        }
+    }
 }
 
 impl PassableGrid {
@@ -406,7 +444,11 @@ impl PassableGrid {
         self.width = grid.width() as i64;
         self.height = grid.height() as i64;
         self.unknown_passable = unknown_passable;
-        if !self.blocked_sums.is_empty() {
+        self.boxes = BoxIndex {
+            mode: self.boxes.mode,
+            ..BoxIndex::default()
+        };
+        if self.boxes.mode == BoxMode::Now {
             self.index_boxes();
         }
     }
@@ -437,37 +479,52 @@ impl PassableGrid {
     /// assert!(!boxed.sight((0, 0), (99, 2), &mut proved));
     /// ```
     pub fn index_boxes(&mut self) {
+        self.boxes.mode = BoxMode::Now;
+        let sums = self.blocked_sums();
+        self.boxes.blocked_sums = OnceLock::from(sums);
+    }
+
+    /// Build the box index of [`PassableGrid::index_boxes`] only when it pays: at the first
+    /// query after the walks have looked up as many cells as the index has entries (so a
+    /// few short queries on a large grid never pay for it, and long ones pay at most twice
+    /// what walking alone would have cost before it). Answers stay the same; the counts of
+    /// looked-up cells depend only on the queries asked before, so they are the same on
+    /// every run.
+    pub fn index_boxes_when_worth_it(&mut self) {
+        if self.boxes.mode == BoxMode::Off {
+            self.boxes.mode = BoxMode::WhenWorthIt;
+        }
+    }
+
+    /// The summed-area table of the blocked cells (see [`BoxIndex::blocked_sums`]).
+    fn blocked_sums(&self) -> Vec<u32> {
         let pw = self.padded_width.max(0) as usize;
         let rows = self.cells.len().checked_div(pw).unwrap_or(0);
         let stride = pw + 1;
-        self.blocked_sums.clear();
-        self.blocked_sums.resize(stride * (rows + 1), 0);
+        let mut sums = vec![0u32; stride * (rows + 1)];
         for r in 0..rows {
             let mut in_row = 0u32;
             for c in 0..pw {
                 let blocked = !self.cells.get(r * pw + c).copied().unwrap_or(false);
                 in_row += u32::from(blocked);
-                let above = self
-                    .blocked_sums
-                    .get(r * stride + c + 1)
-                    .copied()
-                    .unwrap_or(0);
-                if let Some(slot) = self.blocked_sums.get_mut((r + 1) * stride + c + 1) {
+                let above = sums.get(r * stride + c + 1).copied().unwrap_or(0);
+                if let Some(slot) = sums.get_mut((r + 1) * stride + c + 1) {
                     *slot = above + in_row;
                 }
             }
         }
+        sums
     }
 
     /// Whether every cell of the box with corners `(x0, y0)` and `(x1, y1)` (inclusive,
     /// in the grid or its border, `x0 <= x1`, `y0 <= y1`) is passable, from the box index.
     #[inline]
-    fn box_free(&self, (x0, y0): (i64, i64), (x1, y1): (i64, i64)) -> bool {
+    fn box_free(&self, sums: &[u32], (x0, y0): (i64, i64), (x1, y1): (i64, i64)) -> bool {
         let stride = self.padded_width + 1;
         let at = |r: i64, c: i64| {
             usize::try_from(r * stride + c)
                 .ok()
-                .and_then(|i| self.blocked_sums.get(i))
+                .and_then(|i| sums.get(i))
                 .copied()
                 .unwrap_or(0)
         };
@@ -539,12 +596,21 @@ impl PassableGrid {
                 self.passable(x, y)
             });
         }
-        if !self.blocked_sums.is_empty() {
-            return self.boxed_walk(a, b, counter);
+        if let Some(sums) = self.boxes.blocked_sums.get() {
+            return self.boxed_walk(sums, a, b, counter);
         }
-        self.walk(a, b, counter, |index| {
+        let before = counter.cells;
+        let clear = self.walk(a, b, counter, |index| {
             self.cells.get(index).copied().unwrap_or(false)
-        })
+        });
+        if self.boxes.mode == BoxMode::WhenWorthIt {
+            let walked = counter.cells.saturating_sub(before);
+            let total = self.boxes.walked.fetch_add(walked, Ordering::Relaxed) + walked;
+            if total >= self.cells.len() {
+                self.boxes.blocked_sums.get_or_init(|| self.blocked_sums());
+            }
+        }
+        clear
     }
 
     /// The swept cells of the segment from `a` to `b` (both in the grid or its border)
@@ -552,7 +618,13 @@ impl PassableGrid {
     /// `k0 ..= k1` of the walk's frame, whose rows are monotone in `k`, lie in one box; a
     /// box the index proves free clears its columns (four look-ups counted), a blocked box
     /// is halved, and runs of at most [`BOX_LEAF_COLUMNS`] columns are walked cell by cell.
-    fn boxed_walk(&self, a: (i64, i64), b: (i64, i64), counter: &mut LosCounter) -> bool {
+    fn boxed_walk(
+        &self,
+        sums: &[u32],
+        a: (i64, i64),
+        b: (i64, i64),
+        counter: &mut LosCounter,
+    ) -> bool {
         let x_major = (b.0 - a.0).abs() >= (b.1 - a.1).abs();
         let (p0, p1) = if x_major {
             (a, b)
@@ -575,7 +647,7 @@ impl PassableGrid {
             counter.cells += 4;
             let (xa, ya) = to_xy(ua, va.min(vb));
             let (xb, yb) = to_xy(ub, va.max(vb));
-            self.box_free((xa.min(xb), ya.min(yb)), (xa.max(xb), ya.max(yb)))
+            self.box_free(sums, (xa.min(xb), ya.min(yb)), (xa.max(xb), ya.max(yb)))
         };
         // The whole segment's box first (rows 0 ..= dv): most segments in open space end here.
         if free((u0, u1), (v0, v1), counter) {

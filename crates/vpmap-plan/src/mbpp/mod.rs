@@ -184,8 +184,9 @@ pub fn mbpp(
     opts.stop.check("MBPP")?;
     let mut padded = PassableGrid::new(grid, opts.unknown_passable);
     // Bugs check sight from their anchor at every step: along a corridor that is a walk
-    // of the whole corridor per step, unless free boxes are proved in a few look-ups.
-    padded.index_boxes();
+    // of the whole corridor per step, unless free boxes are proved in a few look-ups. The
+    // index costs a pass over the grid, so it is built once the walks have cost as much.
+    padded.index_boxes_when_worth_it();
     let mut stats = MbppStats::default();
     let mut counter = LosCounter::default();
     let outcome = run(
