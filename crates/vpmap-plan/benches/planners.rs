@@ -16,6 +16,9 @@
 //!   ([`visit_swept_cells`](vpmap_plan::los::visit_swept_cells) through [`Traversable`]) on
 //!   the same segments: from each A* path's start to every fourth of its cells, clear or not.
 //!
+//!   The core is also timed with its box index ([`PassableGrid::index_boxes`], built
+//!   outside the timing; MBPP builds it), after checking it gives the same answers.
+//!
 //! - `astar_per_expansion/<map>`: the cost of one A* node expansion, on the maps where the
 //!   Python wheel's bench finds A* slowest against scikit-image and `pathfinding`
 //!   (`maze512-32-0`, `random512-20-0`, a seeded 512 x 512 grid 20 % blocked) with far-apart
@@ -507,6 +510,18 @@ fn sight_benches(c: &mut Criterion) {
             b.iter(|| {
                 for &(a, b) in &segments {
                     black_box(line_of_sight(&core, a, b));
+                }
+            });
+        });
+        let mut boxed = core.clone();
+        boxed.index_boxes();
+        for &(a, b) in &segments {
+            assert_eq!(line_of_sight(&boxed, a, b), line_of_sight(&core, a, b));
+        }
+        group.bench_function("shared_core_box_index", |b| {
+            b.iter(|| {
+                for &(a, b) in &segments {
+                    black_box(line_of_sight(&boxed, a, b));
                 }
             });
         });

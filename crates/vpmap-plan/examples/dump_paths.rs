@@ -6,8 +6,9 @@
 //! cargo run --release -p vpmap-plan --example dump_paths -- ../shared/data/movingai 10 > paths.txt
 //! ```
 //!
-//! Arguments: the Moving AI folder (with `maps/` and `scen/`), and a stride (every N-th
-//! scenario of each `.scen` file; default 10). The exact optimum is only run on maps with at
+//! Arguments: the Moving AI folder (with `maps/` and `scen/`), a stride (every N-th
+//! scenario of each `.scen` file; default 10), and optionally the planners to run, named as
+//! `vpmap plan --planner` names them, comma-separated (default: all). The exact optimum is only run on maps with at
 //! most 6,000 corner cells (its visibility graph is quadratic in them). Lengths are printed to
 //! 1e-9 cells and the waypoints in full; MBPP's alternatives are printed as their count and
 //! the sum of their lengths.
@@ -53,7 +54,7 @@ fn find_map(maps: &Path, name: &str) -> Option<PathBuf> {
 fn main() -> ExitCode {
     let args: Vec<String> = std::env::args().collect();
     let Some(root) = args.get(1).map(PathBuf::from) else {
-        eprintln!("usage: dump_paths MOVINGAI_DIR [STRIDE]");
+        eprintln!("usage: dump_paths MOVINGAI_DIR [STRIDE] [PLANNER,...]");
         return ExitCode::from(2);
     };
     let stride: usize = match args.get(2).map(|s| s.parse()) {
@@ -63,6 +64,16 @@ fn main() -> ExitCode {
             eprintln!("error: STRIDE must be a positive integer");
             return ExitCode::from(2);
         }
+    };
+    let kinds: Vec<PlannerKind> = match args.get(3) {
+        None => PlannerKind::ALL.to_vec(),
+        Some(list) => match list.split(',').map(str::parse).collect() {
+            Ok(kinds) => kinds,
+            Err(e) => {
+                eprintln!("error: {e}");
+                return ExitCode::from(2);
+            }
+        },
     };
     let mut files = Vec::new();
     if let Err(e) = scen_files(&root.join("scen"), &mut files) {
@@ -94,7 +105,7 @@ fn main() -> ExitCode {
         let with_optimal = corner_cells(&grid, false).len() <= OPTIMAL_MAX_CORNERS;
         let name = first.map_file_name().to_owned();
         for (i, sc) in scenarios.iter().enumerate().step_by(stride) {
-            for kind in PlannerKind::ALL {
+            for &kind in &kinds {
                 if kind == PlannerKind::Optimal && !with_optimal {
                     continue;
                 }

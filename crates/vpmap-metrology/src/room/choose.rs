@@ -111,7 +111,16 @@ pub(super) fn break_ties(
     if tied <= 1 {
         return alternatives;
     }
-    let count = |r: &Solved| physical(scene, &r.built.problem, &r.x, &r.built.names).total();
+    let count = |r: &Solved| {
+        physical(
+            scene,
+            &r.built.problem,
+            &r.x,
+            &r.built.names,
+            Some(variance),
+        )
+        .total()
+    };
     let mut violations: Vec<usize> = results[..tied].iter().map(count).collect();
     let pick = (0..tied).min_by_key(|&i| (violations[i], i)).unwrap_or(0);
     results.swap(0, pick);
@@ -266,7 +275,7 @@ pub(super) fn refuse_if_inconsistent(
 /// is not one box, or a pinned placement the room does not have), though its clicks fit.
 pub(super) fn cameras_inside_objects(scene: &Scene, best: &Solved) -> Vec<String> {
     let pinned = scene.placement_pins().iter().any(Option::is_some);
-    physical(scene, &best.built.problem, &best.x, &best.built.names)
+    physical(scene, &best.built.problem, &best.x, &best.built.names, None)
         .cameras_inside
         .iter()
         .map(|(k, name)| {

@@ -182,7 +182,11 @@ pub fn mbpp(
     check_endpoint(grid, "start", start, opts.unknown_passable)?;
     check_endpoint(grid, "goal", goal, opts.unknown_passable)?;
     opts.stop.check("MBPP")?;
-    let padded = PassableGrid::new(grid, opts.unknown_passable);
+    let mut padded = PassableGrid::new(grid, opts.unknown_passable);
+    // Bugs check sight from their anchor at every step: along a corridor that is a walk
+    // of the whole corridor per step, unless free boxes are proved in a few look-ups. The
+    // index costs a pass over the grid, so it is built once the walks have cost as much.
+    padded.index_boxes_when_worth_it();
     let mut stats = MbppStats::default();
     let mut counter = LosCounter::default();
     let outcome = run(

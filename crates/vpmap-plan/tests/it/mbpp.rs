@@ -330,6 +330,33 @@ fn zig_zag(width: usize, height: usize) -> OccupancyGrid {
     grid
 }
 
+/// Issue 40: on a comb, bugs walk corridors hundreds of cells long and check sight from the
+/// corridor's first corner at every step; walked cell by cell that cost the corridor's
+/// length a step (the 300 x 300 comb's MBPP-closer looked up 18 billion cells). With the
+/// box index a check in open corridor costs a few look-ups, whatever the corridor's length.
+#[test]
+fn mbpp_sight_checks_along_a_long_corridor_cost_a_few_look_ups_a_step() {
+    let grid = zig_zag(240, 41);
+    let (start, goal) = ((120, 0), (120, 40));
+    for leave in [LeaveRule::MLine, LeaveRule::Closer] {
+        let opts = MbppOptions {
+            leave,
+            ..MbppOptions::default()
+        };
+        let planned = mbpp(&grid, start, goal, &opts).unwrap();
+        let stats = planned.mbpp_stats;
+        assert!(
+            planned.best.is_some() && stats.bug_steps > 10_000,
+            "{leave:?}: {stats:?}"
+        );
+        let per_check = stats.los_cells as f64 / stats.los_checks as f64;
+        assert!(
+            per_check < 8.0,
+            "{leave:?}: {per_check:.1} look-ups a check, {stats:?}"
+        );
+    }
+}
+
 #[test]
 fn a_bug_step_budget_stops_mbpp_with_an_error_naming_it() {
     let grid = zig_zag(60, 62);
