@@ -119,6 +119,16 @@ fn plan(body: &Value) -> Value {
     reply.json()
 }
 
+/// A smooth result's `poses` as `[x, y, heading_deg]`.
+fn poses_of(smooth: &Value) -> Vec<[f64; 3]> {
+    smooth["poses"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| [0, 1, 2].map(|i| p[i].as_f64().unwrap()))
+        .collect()
+}
+
 /// The poses of the smooth result, checked: every pose's square clear on the grid, steps at
 /// most a quarter cell, heading steps within step / R, ends at the asked start and goal.
 fn checked_poses(v: &Value, grid: &Grid) -> Vec<[f64; 3]> {
@@ -126,12 +136,7 @@ fn checked_poses(v: &Value, grid: &Grid) -> Vec<[f64; 3]> {
     assert_eq!(r["planner"], "smooth");
     assert_eq!(r["found"], true, "{r}");
     let s = &r["smooth"];
-    let poses: Vec<[f64; 3]> = s["poses"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|p| [0, 1, 2].map(|i| p[i].as_f64().unwrap()))
-        .collect();
+    let poses = poses_of(s);
     assert!(poses.len() > 10);
     for p in &poses {
         assert!(grid.square_clear(p[0], p[1]), "pose {p:?} is not clear");
@@ -339,12 +344,7 @@ fn reverse_lets_the_robot_back_up_with_cusps_where_forward_goes_round() {
     let measures = |v: &Value| {
         let s = &v["results"][0]["smooth"];
         assert_eq!(s["found"], true, "{s}");
-        let poses: Vec<[f64; 3]> = s["poses"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|p| [0, 1, 2].map(|i| p[i].as_f64().unwrap()))
-            .collect();
+        let poses = poses_of(s);
         // Each step: a quarter cell at most, turning within step / R, running along the
         // heading (+1) or against it (-1); every pose clear on the grid.
         let mut gears = Vec::new();
