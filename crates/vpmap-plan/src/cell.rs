@@ -8,7 +8,8 @@ use std::fmt;
 /// to a planned path: its [`Occupancy`], the obstacle inflation's distance transform and the
 /// largest planner's search arrays (the slope of `vpmap plan`'s peak resident memory against
 /// cells, `scripts/limits-table.sh`: A* and A* PS 18 bytes a cell, also when A* expands every
-/// cell of a 4000 x 4000 map; Theta* 15, the exact planner 8-10, MBPP 2-10).
+/// cell of a 4000 x 4000 map; Theta* 15, the exact planner 8-10, MBPP 2-10, and 4 more when its line-of-sight box index
+/// is built: at most 14).
 pub const BYTES_PER_CELL: usize = 18;
 
 /// Where a grid cell is: column `x` (left to right) and row `y` (from the top), both in

@@ -600,9 +600,7 @@ impl PassableGrid {
             return self.boxed_walk(sums, a, b, counter);
         }
         let before = counter.cells;
-        let clear = self.walk(a, b, counter, |index| {
-            self.cells.get(index).copied().unwrap_or(false)
-        });
+        let clear = self.walk_cells(a, b, counter);
         if self.boxes.mode == BoxMode::WhenWorthIt {
             let walked = counter.cells.saturating_sub(before);
             let total = self.boxes.walked.fetch_add(walked, Ordering::Relaxed) + walked;
@@ -636,9 +634,7 @@ impl PassableGrid {
         let dv = (v1 - v0).abs();
         let v_sign = if v1 < v0 { -1 } else { 1 };
         if du < BOX_MIN_COLUMNS {
-            return self.walk(a, b, counter, |index| {
-                self.cells.get(index).copied().unwrap_or(false)
-            });
+            return self.walk_cells(a, b, counter);
         }
         let to_xy = |u: i64, v: i64| if x_major { (u, v) } else { (v, u) };
         // Whether the box of frame columns `ua ..= ub` and rows `va`, `vb` (either order)
@@ -689,9 +685,7 @@ impl PassableGrid {
             for half in [(mid + 1, k1), (k0, mid)] {
                 let Some(slot) = stack.get_mut(depth) else {
                     // Not reached (see above); walk the whole segment rather than skip a part.
-                    return self.walk(a, b, counter, |index| {
-                        self.cells.get(index).copied().unwrap_or(false)
-                    });
+                    return self.walk_cells(a, b, counter);
                 };
                 *slot = half;
                 depth += 1;
@@ -721,6 +715,14 @@ impl PassableGrid {
         self.walk(a, b, counter, |index| {
             let i = index as i64;
             seen(i % pw - 1, i / pw - 1);
+            self.cells.get(index).copied().unwrap_or(false)
+        })
+    }
+
+    /// [`PassableGrid::walk`] over the passable cells, cell by cell.
+    #[inline]
+    fn walk_cells(&self, a: (i64, i64), b: (i64, i64), counter: &mut LosCounter) -> bool {
+        self.walk(a, b, counter, |index| {
             self.cells.get(index).copied().unwrap_or(false)
         })
     }
