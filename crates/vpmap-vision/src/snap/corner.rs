@@ -348,19 +348,20 @@ fn corner_of(
             cov[r][c] = s;
         }
     }
-    let unseen = |piece: &Piece| -> f64 {
+    let (gap_a, gap_b) = (seen_gap(a, x), seen_gap(b, x));
+    let unseen = |piece: &Piece, gap: f64| -> f64 {
         let width = piece.width_px().unwrap_or(1.0);
-        (seen_gap(piece, x) - UNSEEN_BLUR_WIDTHS * width - POINT_SPACING_PX).max(0.0)
+        (gap - UNSEEN_BLUR_WIDTHS * width - POINT_SPACING_PX).max(0.0)
     };
     // What the edges do not show: the corner is carried along each line over the stretch
     // next to it where the edge was not seen, beyond what the blur hides; a junction's own
     // structure (a frame, a moulding, a rounded edge) can sit there.
     let kappa = search.unseen_sd_per_px;
     let floor = search.covariance_floor * search.covariance_floor
-        + kappa * kappa * (unseen(a).powi(2) + unseen(b).powi(2));
+        + kappa * kappa * (unseen(a, gap_a).powi(2) + unseen(b, gap_b).powi(2));
     cov[0][0] += floor;
     cov[1][1] += floor;
-    let edge = |piece: &Piece, fit: &LineFit, points: &[super::edges::EdgePoint]| {
+    let edge = |piece: &Piece, fit: &LineFit, points: &[super::edges::EdgePoint], gap_px: f64| {
         let (p, d) = piece.line(fit);
         // The line's point nearest the corner.
         let t = (x[0] - p[0]) * d[0] + (x[1] - p[1]) * d[1];
@@ -371,7 +372,7 @@ fn corner_of(
             support_px: points.len() as f64,
             strength: points.iter().map(|q| q.weight).sum::<f64>() / points.len().max(1) as f64,
             rms_px: fit.rms,
-            gap_px: seen_gap(piece, x),
+            gap_px,
             off_pencil: matches!(piece.kind, EdgeDirection::VanishingPoint(_)).then(|| {
                 (
                     fit.beta.atan(),
@@ -383,7 +384,7 @@ fn corner_of(
     Some(Corner {
         point: x,
         cov,
-        edges: [edge(a, fa, pa), edge(b, fb, pb)],
+        edges: [edge(a, fa, pa, gap_a), edge(b, fb, pb, gap_b)],
     })
 }
 
