@@ -37,7 +37,9 @@ use rand::{RngExt as _, SeedableRng as _};
 use rand_chacha::ChaCha8Rng;
 use serde::Deserialize;
 use vpmap_vision::photo::{PhotoLimits, decode_photo};
-use vpmap_vision::snap::{Doubt, KeptReason, SnapImage, SnapOptions, SnapOutcome, snap_click};
+use vpmap_vision::snap::{
+    Doubt, KeptReason, SnapEdge, SnapImage, SnapOptions, SnapOutcome, snap_click,
+};
 use vpmap_vision::{DetectOptions, detect};
 
 use crate::detection::find_pairs;
@@ -113,9 +115,8 @@ pub struct YudClick {
     /// The labelled lines' offsets from the photo's edges at the corner, pixels, along their
     /// normals (`None` where no edge was found).
     pub label_offsets_px: [Option<f64>; 2],
-    /// A snapped point's edges: root-mean-square distance of their points from their lines,
-    /// pixels, and mean gradient across them, grey levels per pixel.
-    pub edges: Vec<(f64, f64, f64)>,
+    /// A snapped point's edges (empty when it stayed).
+    pub edges: Vec<SnapEdge>,
 }
 
 /// Every click of a run, and what the run found of the photos.
@@ -433,11 +434,7 @@ pub fn run_yud(dir: &Path, config: &YudConfig, progress: &dyn Progress) -> Resul
                     snap.point_px[1] - corner.point_px[1],
                 ],
                 label_offsets_px,
-                edges: snap
-                    .edges
-                    .iter()
-                    .map(|e| (e.rms_px, e.gradient, e.gap_px))
-                    .collect(),
+                edges: snap.edges.clone(),
             });
         }
         progress.step();
@@ -536,7 +533,7 @@ pub fn corner_label_covariance(corner: &LabelledCorner, sd_px: f64) -> [[f64; 2]
 }
 
 /// The squared Mahalanobis distance of `e` under `cov`.
-fn mahalanobis_sq(e: [f64; 2], cov: [[f64; 2]; 2]) -> f64 {
+pub(super) fn mahalanobis_sq(e: [f64; 2], cov: [[f64; 2]; 2]) -> f64 {
     let det = cov[0][0] * cov[1][1] - cov[0][1] * cov[1][0];
     if det.is_nan() || det <= 0.0 {
         return f64::INFINITY;
@@ -545,7 +542,7 @@ fn mahalanobis_sq(e: [f64; 2], cov: [[f64; 2]; 2]) -> f64 {
 }
 
 /// The chi-square quantile with 2 degrees of freedom at 95 %.
-const CHI2_95: f64 = 5.991_464_547_107_979;
+pub(super) const CHI2_95: f64 = 5.991_464_547_107_979;
 
 /// The name of the section `--yud DIR --publish` writes.
 pub const YUD_SECTION: &str = "eval-clicks-yud";
@@ -661,6 +658,11 @@ pub fn yud_markdown(config: &YudConfig, results: &YudResults) -> String {
         show(needed(0.90)),
         show(needed(0.92))
     );
+    s.push_str(&super::yud_unseen::by_unseen_stretch(
+        &snapped,
+        sd_l,
+        snap_options(config).unseen_sd_per_px,
+    ));
     let exact: Vec<f64> = clicks.iter().map(|c| c.exact_moved_px).collect();
     let _ = writeln!(
         s,

@@ -22,6 +22,9 @@ pub(crate) struct CornerEdge {
     pub(crate) rms_px: f64,
     /// The distance from the corner to the nearest point where the edge was seen, pixels.
     pub(crate) gap_px: f64,
+    /// The part of that gap beyond what the blur hides, pixels (what the covariance's unseen
+    /// term counts).
+    pub(crate) unseen_px: f64,
     /// The angle between the fitted line and its pencil's direction, radians, and one
     /// standard deviation of it from the fit (`None` for a free direction).
     pub(crate) off_pencil: Option<(f64, f64)>,
@@ -348,20 +351,28 @@ fn corner_of(
             cov[r][c] = s;
         }
     }
-    let (gap_a, gap_b) = (seen_gap(a, x), seen_gap(b, x));
-    let unseen = |piece: &Piece, gap: f64| -> f64 {
+    // Each edge's gap to the corner and the part of it the blur does not explain.
+    let unseen = |piece: &Piece| -> (f64, f64) {
+        let gap = seen_gap(piece, x);
         let width = piece.width_px().unwrap_or(1.0);
-        (gap - UNSEEN_BLUR_WIDTHS * width - POINT_SPACING_PX).max(0.0)
+        (
+            gap,
+            (gap - UNSEEN_BLUR_WIDTHS * width - POINT_SPACING_PX).max(0.0),
+        )
     };
+    let (unseen_a, unseen_b) = (unseen(a), unseen(b));
     // What the edges do not show: the corner is carried along each line over the stretch
     // next to it where the edge was not seen, beyond what the blur hides; a junction's own
     // structure (a frame, a moulding, a rounded edge) can sit there.
     let kappa = search.unseen_sd_per_px;
     let floor = search.covariance_floor * search.covariance_floor
-        + kappa * kappa * (unseen(a, gap_a).powi(2) + unseen(b, gap_b).powi(2));
+        + kappa * kappa * (unseen_a.1.powi(2) + unseen_b.1.powi(2));
     cov[0][0] += floor;
     cov[1][1] += floor;
-    let edge = |piece: &Piece, fit: &LineFit, points: &[super::edges::EdgePoint], gap_px: f64| {
+    let edge = |piece: &Piece,
+                fit: &LineFit,
+                points: &[super::edges::EdgePoint],
+                (gap_px, unseen_px): (f64, f64)| {
         let (p, d) = piece.line(fit);
         // The line's point nearest the corner.
         let t = (x[0] - p[0]) * d[0] + (x[1] - p[1]) * d[1];
@@ -373,6 +384,7 @@ fn corner_of(
             strength: points.iter().map(|q| q.weight).sum::<f64>() / points.len().max(1) as f64,
             rms_px: fit.rms,
             gap_px,
+            unseen_px,
             off_pencil: matches!(piece.kind, EdgeDirection::VanishingPoint(_)).then(|| {
                 (
                     fit.beta.atan(),
@@ -384,7 +396,7 @@ fn corner_of(
     Some(Corner {
         point: x,
         cov,
-        edges: [edge(a, fa, pa, gap_a), edge(b, fb, pb, gap_b)],
+        edges: [edge(a, fa, pa, unseen_a), edge(b, fb, pb, unseen_b)],
     })
 }
 

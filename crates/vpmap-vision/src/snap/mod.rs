@@ -229,6 +229,10 @@ pub struct SnapEdge {
     /// how far its line is carried to the corner unseen (blur rounds every corner by a pixel
     /// or two; a junction's own structure can hide more).
     pub gap_px: f64,
+    /// The part of [`SnapEdge::gap_px`] beyond what the blur hides (two edge widths and the
+    /// points' 1 px spacing), pixels: what the covariance's unseen term counts
+    /// ([`SnapOptions::unseen_sd_per_px`] squared times its square, on each axis).
+    pub unseen_px: f64,
 }
 
 /// Why a click stayed where it was.
@@ -490,6 +494,7 @@ pub fn snap_click(
                     gradient: e.strength,
                     rms_px: e.rms_px,
                     gap_px: e.gap_px,
+                    unseen_px: e.unseen_px,
                 })
                 .collect(),
             outcome: SnapOutcome::Snapped,
