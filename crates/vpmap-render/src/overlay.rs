@@ -10,6 +10,11 @@
 //! band (the scene's camera before any click). A legend strip under the photo names each
 //! colour and symbol, with each direction's ± at 95 % (the major semi-axis of its written
 //! ellipse) and the band's half-width (the photo's own pixels keep their coordinates).
+//!
+//! When the detection applied a lens (its division model's `k` is not 0), the vanishing points,
+//! the horizon and its band are pinhole geometry: they are drawn where the photo shows them,
+//! through the lens. A straight pinhole line is then a curve in the photo, drawn as a polyline of
+//! [`LENS_CURVE_SAMPLES`] points; the segments are the photo's own and are drawn as found.
 
 use std::fmt::Write as _;
 use std::io::Cursor;
@@ -20,6 +25,7 @@ use imageproc::drawing::{
 };
 use imageproc::pixelops::interpolate;
 use vpmap_metrology::fit::CHI2_2DOF_95;
+use vpmap_metrology::scene::DivisionModel;
 use vpmap_vision::Detection;
 use vpmap_vision::scene::{DetectedScene, VP_NAMES};
 
@@ -37,6 +43,9 @@ const PRINCIPAL_POINT: Rgb<u8> = Rgb([255, 0, 255]);
 const OUTLINE: Rgb<u8> = Rgb([255, 255, 255]);
 /// The normal quantile at 97.5 % (a two-sided 95 % interval).
 const Z_95: f64 = 1.959_963_984_540_054;
+/// Points of the polyline a pinhole line is drawn as through a lens: at most about 8 px apart
+/// on a 2000 px photo, where a phone's lens bends a line by well under a pixel between them.
+pub const LENS_CURVE_SAMPLES: usize = 256;
 
 /// An error's message followed by its sources', joined by `: `.
 fn chain_text(e: &dyn std::error::Error) -> String {
@@ -88,14 +97,18 @@ pub fn detection_overlay_png(
         }
     }
 
+    // The lens the detection applied: the pinhole geometry below is drawn through it.
+    let lens = det
+        .lens
+        .as_ref()
+        .map(|l| l.model)
+        .filter(|m| m.k != 0.0 && m.k.is_finite());
     // The horizon: l = K^-T v, scaled by f.
     let f = det.intrinsics.focal_px;
     let c = det.intrinsics.principal_point_px;
     let v = scene.directions[2];
     let line = [v[0], v[1], f * v[2] - c[0] * v[0] - c[1] * v[1]];
-    if let Some((a, b)) = clip_line(line, w, h) {
-        draw_thick_segment(&mut canvas, a, b, thickness, HORIZON);
-    }
+    draw_pinhole_line(&mut canvas, line, lens.as_ref(), thickness, HORIZON);
     // Its 95 % band: the horizon moved by 1.96 sd either way (the scene's camera before any
     // click), thin lines.
     let horizon_95_px = scene
@@ -108,16 +121,19 @@ pub fn detection_overlay_png(
     {
         for side in [-1.0, 1.0] {
             let moved = [line[0], line[1], line[2] + side * d * norm];
-            if let Some((a, b)) = clip_line(moved, w, h) {
-                draw_thick_segment(&mut canvas, a, b, 1, HORIZON);
-            }
+            draw_pinhole_line(&mut canvas, moved, lens.as_ref(), 1, HORIZON);
         }
     }
 
     let radius = 2 * thickness as i32 + 2;
     for (p, &colour) in scene.points_px.iter().zip(&VP_COLOURS) {
+        let p = match (p, lens.as_ref()) {
+            (Some(p), Some(model)) => model.distort(*p),
+            (p, None) => *p,
+            (None, Some(_)) => None,
+        };
         if let Some(p) = p
-            && inside(*p, w, h)
+            && inside(p, w, h)
         {
             let centre = (p[0].round() as i32, p[1].round() as i32);
             draw_filled_circle_mut(&mut canvas, centre, radius + 1, OUTLINE);
@@ -400,6 +416,60 @@ fn clip_segment(a: [f64; 2], b: [f64; 2], w: u32, h: u32) -> Option<([f64; 2], [
 }
 
 /// The part of the line `l[0] x + l[1] y + l[2] = 0` inside the image.
+/// The pinhole line `l` (homogeneous, pixels) as the photo shows it: straight and clipped to
+/// the canvas without a lens; through `lens` a curve, the line's part inside the photo's
+/// undistorted reach sampled at [`LENS_CURVE_SAMPLES`] points, each taken to its photo pixel
+/// ([`DivisionModel::distort`]) and joined (each piece clipped to the canvas as it is drawn).
+fn draw_pinhole_line(
+    canvas: &mut RgbImage,
+    l: [f64; 3],
+    lens: Option<&DivisionModel>,
+    thickness: u32,
+    colour: Rgb<u8>,
+) {
+    let (w, h) = canvas.dimensions();
+    let Some(model) = lens else {
+        if let Some((a, b)) = clip_line(l, w, h) {
+            draw_thick_segment(canvas, a, b, thickness, colour);
+        }
+        return;
+    };
+    let n = l[0].hypot(l[1]);
+    if !(n.is_finite() && n > 0.0 && l[2].is_finite()) {
+        return;
+    }
+    let c = [model.centre_px.x, model.centre_px.y];
+    // How far from the centre the photo's pixels reach once undistorted: the largest over
+    // its border (corners and 64 points a side; a division model's undistorted radius need
+    // not grow with the photo's).
+    let (wf, hf) = (f64::from(w), f64::from(h));
+    let mut reach: f64 = 0.0;
+    for i in 0..=64 {
+        let t = f64::from(i) / 64.0;
+        for p in [[t * wf, 0.0], [t * wf, hf], [0.0, t * hf], [wf, t * hf]] {
+            let u = model.undistort(p);
+            reach = reach.max((u[0] - c[0]).hypot(u[1] - c[1]));
+        }
+    }
+    let reach = 1.01 * reach;
+    let dist = (l[0] * c[0] + l[1] * c[1] + l[2]) / n;
+    if !dist.is_finite() || dist.abs() >= reach {
+        return;
+    }
+    let foot = [c[0] - dist * l[0] / n, c[1] - dist * l[1] / n];
+    let dir = [-l[1] / n, l[0] / n];
+    let half = (reach * reach - dist * dist).sqrt();
+    let mut last: Option<[f64; 2]> = None;
+    for i in 0..LENS_CURVE_SAMPLES {
+        let t = -half + 2.0 * half * i as f64 / (LENS_CURVE_SAMPLES - 1) as f64;
+        let here = model.distort([foot[0] + t * dir[0], foot[1] + t * dir[1]]);
+        if let (Some(a), Some(b)) = (last, here) {
+            draw_thick_segment(canvas, a, b, thickness, colour);
+        }
+        last = here;
+    }
+}
+
 fn clip_line(l: [f64; 3], w: u32, h: u32) -> Option<([f64; 2], [f64; 2])> {
     let n = l[0].hypot(l[1]);
     if !(n.is_finite() && n > 0.0 && l[2].is_finite()) {

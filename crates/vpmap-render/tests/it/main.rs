@@ -5,6 +5,7 @@
 
 mod bad_input;
 mod glb;
+mod overlay;
 mod png_output;
 mod snapshots;
 mod svg_output;
