@@ -23,6 +23,7 @@ mod box_edges;
 mod evidence;
 mod fitted;
 mod init;
+mod lens;
 pub(crate) mod model;
 pub(crate) mod solve;
 pub(crate) mod uncertainty;

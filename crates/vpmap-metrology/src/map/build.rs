@@ -66,28 +66,10 @@ pub fn build_map_until(
         map.camera.lens_distortion = scene.lens_distortion;
         return Ok(map);
     }
-    let mut map = build_photo(&pinhole, options, true, interrupt)?;
-    map.camera.lens_distortion = scene.lens_distortion;
-    super::lens::add_lens_spread(scene, &mut map, |s| {
-        build_photo(s, options, false, interrupt)
-    });
-    // The lens's spread leaves out a fit that failed; one that was interrupted is no map.
-    crate::fit::stop_if_interrupted(scene, interrupt)?;
-    Ok(map)
-}
-
-/// [`build_map`] of one photo as a pinhole camera saw it (clicks undistorted), with the fit's
-/// error bars when `uncertainty` (method `fit`).
-fn build_photo(
-    scene: &Scene,
-    options: &BuildOptions,
-    uncertainty: bool,
-    interrupt: &Interrupt,
-) -> Result<FloorMap> {
     let fitted = if options.method == Method::Fit {
         // The given click noise also weighs the evidence that has its own uncertainty.
         Some(fit_scene_until(
-            scene,
+            &pinhole,
             &FitOptions {
                 click_sigma_px: options.click_sigma_px,
             },
@@ -96,7 +78,29 @@ fn build_photo(
     } else {
         None
     };
-    let (cal, rec, factor) = if let Some(f) = &fitted {
+    let mut map = photo_map(&pinhole, options, fitted.as_ref(), true)?;
+    map.camera.lens_distortion = scene.lens_distortion;
+    if let Some(fitted) = &fitted {
+        // The fit again at k +- k_sd from its own answer (fit/lens.rs), mapped alike.
+        super::lens::add_lens_spread(scene, &mut map, |shifted, from, to| {
+            let refit = fitted.refit_with_lens(shifted, from, to, interrupt)?;
+            photo_map(shifted, options, Some(&refit), false)
+        });
+    }
+    // The lens's spread leaves out a fit that failed; one that was interrupted is no map.
+    crate::fit::stop_if_interrupted(scene, interrupt)?;
+    Ok(map)
+}
+
+/// The map of one photo as a pinhole camera saw it (clicks undistorted): from `fitted` (method
+/// `fit`, with its error bars when `uncertainty`), else by the scene's method.
+fn photo_map(
+    scene: &Scene,
+    options: &BuildOptions,
+    fitted: Option<&crate::fit::Fitted>,
+    uncertainty: bool,
+) -> Result<FloorMap> {
+    let (cal, rec, factor) = if let Some(f) = fitted {
         check_plausible(&f.calibration, &f.reconstruction)?;
         (
             f.calibration.clone(),
@@ -158,7 +162,7 @@ fn build_photo(
     warnings.extend(crossing_warnings(scene, &rec));
     let mut camera_uncertainty = None;
     let mut fit_report = None;
-    if let Some(f) = fitted.as_ref().filter(|_| uncertainty) {
+    if let Some(f) = fitted.filter(|_| uncertainty) {
         let fit_options = FitOptions {
             click_sigma_px: options.click_sigma_px,
         };
@@ -200,9 +204,7 @@ fn build_photo(
         camera: camera_report(
             &cal,
             scene.image,
-            fitted
-                .as_ref()
-                .map_or_else(|| room_yaw_rad(&cal), |f| f.room_yaw_rad),
+            fitted.map_or_else(|| room_yaw_rad(&cal), |f| f.room_yaw_rad),
             k,
             view_reach,
             camera_uncertainty,

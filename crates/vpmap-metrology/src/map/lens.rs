@@ -7,10 +7,13 @@
 //! every reported value (an object's centroid, sides, height and yaw; the camera's focal
 //! length, principal point when fitted, pitch, roll, height and the room's yaw; a room's
 //! station points and headings) is added in quadrature to its error bar, the centroid's as a
-//! rank-one covariance. Central differences of a full refit: exact for a value linear in `k`
-//! over one sd, and they carry every correlation the refit sees. In a room each photo's `k`
-//! is its own consider parameter: the joint fit again at that photo's `k +- k_sd` with the
-//! chosen placement held, the photos' spreads added (their lenses are independent).
+//! rank-one covariance. Central differences of a refit: exact for a value linear in `k` over
+//! one sd, and they carry every correlation the refit sees. A photo's refit starts from its
+//! fit's answer with everything the fit chose held (the vanishing-point reading, the click
+//! noise it estimated, the evidence it widened; [`crate::fit::Fitted`]'s `refit_with_lens`):
+//! only the clicks move with `k`. In a room each photo's `k` is its own consider parameter:
+//! the joint fit again at that photo's `k +- k_sd` with the chosen placement held, the photos'
+//! spreads added (their lenses are independent).
 
 use super::types::{CameraReport, FloorMap};
 use crate::error::{MetrologyError, Result};
@@ -150,17 +153,18 @@ fn comparable(map: &FloorMap, other: &FloorMap) -> bool {
         && other.units == map.units
 }
 
-/// Adds the spread of `scene`'s `k_sd` to `map`'s error bars, rebuilding the map with
-/// `build` at `k +- k_sd` (a side whose model would fold the image is left out; with
-/// neither, the error bars stay and a warning says so). Nothing to do without a `k_sd` or
-/// without error bars.
+/// Adds the spread of `scene`'s `k_sd` to `map`'s error bars, with `build` the map of the
+/// photo refitted at `k +- k_sd`: given the scene undistorted by the shifted lens, the lens
+/// the fit's clicks were undistorted by and the shifted one (a side whose model would fold the
+/// image is left out; with neither, the error bars stay and a warning says so). Nothing to do
+/// without a `k_sd` or without error bars.
 ///
 /// # Errors
 /// None of its own; a rebuild's error is not one (the side is left out).
 pub(super) fn add_lens_spread(
     scene: &Scene,
     map: &mut FloorMap,
-    build: impl Fn(&Scene) -> Result<FloorMap>,
+    build: impl Fn(&Scene, &DivisionModel, &DivisionModel) -> Result<FloorMap>,
 ) {
     let Some(LensDistortion { k, k_sd: Some(sd) }) = scene.lens_distortion else {
         return;
@@ -168,18 +172,23 @@ pub(super) fn add_lens_spread(
     if sd <= 0.0 || map.objects.iter().all(|o| o.uncertainty.is_none()) {
         return;
     }
+    let Some(from) = scene.division_model() else {
+        return;
+    };
     let shifted = |dk: f64| -> Option<FloorMap> {
         let mut s = scene.clone();
         s.lens_distortion = Some(LensDistortion {
             k: k + dk,
             k_sd: None,
         });
-        let model = s.division_model()?;
-        if model.stretch(s.image) > MAX_DIVISION_STRETCH {
+        let to = s.division_model()?;
+        if to.stretch(s.image) > MAX_DIVISION_STRETCH {
             return None;
         }
         let pinhole = s.undistorted();
-        build(&pinhole).ok().filter(|m| comparable(map, m))
+        build(&pinhole, &from, &to)
+            .ok()
+            .filter(|m| comparable(map, m))
     };
     // Half the central difference, or the whole one-sided one when a side is out of reach.
     let (plus, minus) = (shifted(sd), shifted(-sd));
