@@ -133,6 +133,34 @@ async function main() {
     log(`  detected ${scene.vanishing_points.length} vanishing points, focal ${scene.focal_px}, ${s.builds} builds so far`);
   });
 
+  await step('the detection\'s error bars on the page', async () => {
+    // Each detected vanishing point's 95 % spread in the list, from its covariance as the scene
+    // states it, and the lens's k and sd in the camera bar, as the map reports them.
+    const scene = await page.evaluate(() => window.vpmap.scene());
+    const infos = await page.locator('#vp-list .vp-info').allTextContents();
+    let shown = 0;
+    for (const [k, vp] of scene.vanishing_points.entries()) {
+      check(Array.isArray(vp.covariance_deg2), `detected vanishing point ${k + 1} has no covariance: ${JSON.stringify(vp)}`);
+      const [[a, b], [, d]] = vp.covariance_deg2;
+      const major = (a + d) / 2 + Math.sqrt(((a - d) / 2) ** 2 + b * b);
+      const want = `±${Math.sqrt(5.991 * major).toFixed(1)}° (95 %)`;
+      check(infos[k]?.includes(want), `vanishing point ${k + 1}'s row shows "${infos[k]}", not its ${want}`);
+      shown += 1;
+    }
+    check(shown >= 2, `only ${shown} vanishing points with a spread`);
+    const lens = scene.lens_distortion;
+    check(lens && Number.isFinite(lens.k) && lens.k_sd > 0, `detection wrote no lens with its sd: ${JSON.stringify(lens)}`);
+    await page.waitForFunction(() => Number.isFinite(window.vpmap.map()?.camera?.lens_distortion?.k_sd), null, { timeout: 30_000 });
+    const camLens = (await page.evaluate(() => window.vpmap.map())).camera.lens_distortion;
+    const text = (await page.textContent('#cam-lens')).trim();
+    const m = text.match(/^(-?\d+\.\d{3}) ± (<?\d+\.\d{3})$/);
+    check(m, `the camera bar's lens shows "${text}", not "k ± sd"`);
+    check(Math.abs(Number(m[1]) - camLens.k) <= 0.0005, `the camera bar's lens k ${m[1]} is not the map's ${camLens.k}`);
+    const sdShown = m[2].startsWith('<') ? 0 : Number(m[2]);
+    check(Math.abs(sdShown - camLens.k_sd) <= 0.0005, `the camera bar's lens sd ${m[2]} is not the map's ${camLens.k_sd}`);
+    log(`  ${shown} spreads in the list (${infos.map((t) => t.split(' · ')[1]).join(', ')}); lens ${text}`);
+  });
+
   await step('place the example\'s corners', async () => {
     // The example's corners exactly as its scene gives them: not moved to the photo (snap.mjs tests that).
     await page.uncheck('#snap-photo');

@@ -56,6 +56,44 @@ export function clipLine(p, q, rect) {
 }
 
 /**
+ * The lens of a photo's scene as docs/scene-format.md defines `lens_distortion` (the division
+ * model: photo pixel `p` to pinhole `c + (p - c) / (1 + k r^2)`, `r = |p - c| / h`, `c` the
+ * scene's `principal_point` or the image centre, `h` half the image diagonal), as
+ * `{k, centre, unit}`; null for a pinhole photo (no lens, or `k` 0).
+ */
+export function lensOf(scene) {
+  const l = scene?.lens_distortion;
+  const w = scene?.image?.width, h = scene?.image?.height;
+  if (!l || !Number.isFinite(l.k) || l.k === 0 || !(w > 0 && h > 0)) return null;
+  const pp = scene.principal_point;
+  const centre = Array.isArray(pp) && pp.every(Number.isFinite) ? pp : [w / 2, h / 2];
+  return { k: l.k, centre, unit: Math.hypot(w, h) / 2 };
+}
+
+/** Photo pixel `p` taken to the pinhole camera's image by `lens` (`lensOf`; null: unchanged). */
+export function undistortPx(p, lens) {
+  if (!lens) return p;
+  const d = [p[0] - lens.centre[0], p[1] - lens.centre[1]];
+  const s = 1 + lens.k * (d[0] * d[0] + d[1] * d[1]) / (lens.unit * lens.unit);
+  return [lens.centre[0] + d[0] / s, lens.centre[1] + d[1] / s];
+}
+
+/**
+ * The photo pixel of pinhole pixel `p` through `lens` (the inverse of `undistortPx`, the root
+ * nearer the pinhole radius), or null beyond the lens's reach; `p` itself without a lens.
+ */
+export function distortPx(p, lens) {
+  if (!lens) return p;
+  const d = [p[0] - lens.centre[0], p[1] - lens.centre[1]];
+  const ru = Math.hypot(d[0], d[1]) / lens.unit;
+  if (ru === 0) return p;
+  const disc = 1 - 4 * lens.k * ru * ru;
+  if (!(disc >= 0)) return null;
+  const rd = (2 * ru) / (1 + Math.sqrt(disc));
+  return [lens.centre[0] + d[0] * (rd / ru), lens.centre[1] + d[1] * (rd / ru)];
+}
+
+/**
  * How far (px) `p` lies above the horizon through `a` and `b` (image points, y down): positive
  * above it, negative below, "above" being the side away from the bottom of the image (for any
  * roll under 90 degrees). Null when `a` = `b`.

@@ -6,8 +6,11 @@
 
 import { VP_COLOURS, objectOutline, resolvedVps } from './scene.js';
 import { OFF_LINE_PX, boxEdges, boxPoints, guideOffsets } from './box.js';
-import { clipLine, vpPoint } from './geometry.js';
+import { clipLine, distortPx, lensOf, vpPoint } from './geometry.js';
 import { clamp } from './util.js';
+
+/** Points of the polyline the pinhole horizon is drawn as through a lens. */
+const HORIZON_CURVE_SAMPLES = 128;
 
 const CLICK_SLOP_PX = 4;
 const MIN_SCALE = 0.01;
@@ -379,7 +382,31 @@ export class PhotoView {
     const cam = st.camera;
     if (!cam) return;
     const { ctx } = this;
-    if (Array.isArray(cam.horizon) && cam.horizon.length === 2) {
+    const lens = lensOf(st.scene);
+    if (Array.isArray(cam.horizon) && cam.horizon.length === 2 && lens) {
+      // The pinhole horizon through the photo's lens: a curve, drawn as a polyline of points
+      // on the pinhole line across twice the photo's extent, each taken to its photo pixel.
+      const w = st.scene.image.width, h = st.scene.image.height;
+      const seg = clipLine(cam.horizon[0], cam.horizon[1], [-w / 2, -h / 2, 1.5 * w, 1.5 * h]);
+      const pts = [];
+      if (seg) {
+        for (let i = 0; i <= HORIZON_CURVE_SAMPLES; i += 1) {
+          const t = i / HORIZON_CURVE_SAMPLES;
+          const q = distortPx([seg[0][0] + t * (seg[1][0] - seg[0][0]), seg[0][1] + t * (seg[1][1] - seg[0][1])], lens);
+          if (q) pts.push(q);
+        }
+      }
+      if (pts.length >= 2) {
+        this.path(pts);
+        this.strokeHalo('#ffd400', 2, [10, 6]);
+        const inView = pts.filter((q) => { const r = this.imageToScreen(q); return r[0] >= 0 && r[0] <= this.cssW && r[1] >= 0 && r[1] <= this.cssH; });
+        if (inView.length) {
+          const left = inView.reduce((a, b) => (b[0] < a[0] ? b : a));
+          const q = this.imageToScreen(left);
+          this.label(this.screenToImage([Math.max(q[0], 4) + 4, q[1]]), 'horizon', '#ffd400', 0, -6);
+        }
+      }
+    } else if (Array.isArray(cam.horizon) && cam.horizon.length === 2) {
       const view = [this.screenToImage([0, 0]), this.screenToImage([this.cssW, this.cssH])];
       const seg = clipLine(cam.horizon[0], cam.horizon[1], [view[0][0], view[0][1], view[1][0], view[1][1]]);
       if (seg) {

@@ -8,7 +8,7 @@
 // `setStatus(msg)`.
 
 import { VP_COLOURS } from './scene.js';
-import { aboveHorizon, vpPoint } from './geometry.js';
+import { aboveHorizon, lensOf, undistortPx, vpPoint } from './geometry.js';
 import { hexAlpha } from './photo-view.js';
 
 /** Draw a rubber band and guide lines in image coordinates. */
@@ -51,7 +51,9 @@ export function clearRefusal(app) {
 export function refuseAboveHorizon(app, p) {
   const hz = app.state.camera?.horizon;
   if (!Array.isArray(hz) || hz.length !== 2) return false;
-  const up = aboveHorizon(p, hz[0], hz[1]);
+  // The horizon is the pinhole camera's: the click is taken there through the photo's lens
+  // (the distance is then in pinhole pixels, within a few per cent of the photo's).
+  const up = aboveHorizon(undistortPx(p, lensOf(app.state.scene)), hz[0], hz[1]);
   if (up === null || up < 0) return false;
   app.showError(`${HORIZON_REFUSAL}${up.toFixed(0)} px above the horizon (the yellow dashed line): a point on the floor must lie below it. Click it again below the horizon.`);
   return true;

@@ -134,7 +134,7 @@ export function roomFileName(firstPhotoName) {
 /**
  * The camera of photo `index` in a build answer, in the shape of the answer's `camera` (what the
  * camera bar and the horizon on the photo use): `{pitch_deg, roll_deg, focal_px,
- * principal_point, height, horizon, uncertainty}`. Photo 0, or an answer without `map.cameras`
+ * principal_point, height, horizon, lens_distortion, uncertainty}`. Photo 0, or an answer without `map.cameras`
  * (a single photo): the answer's own camera. Null when the answer has no camera for it.
  */
 export function cameraOf(build, index) {
@@ -153,6 +153,7 @@ export function cameraOf(build, index) {
     principal_point: c.principal_point,
     height: c.height,
     horizon: vps.length >= 2 ? [vps[0], vps[1]] : null,
+    lens_distortion: c.lens_distortion ?? null,
     uncertainty: c.uncertainty ?? null,
   };
 }

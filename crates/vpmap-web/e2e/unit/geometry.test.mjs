@@ -1,7 +1,7 @@
 // Plane geometry for drawing and hit testing.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { aboveHorizon, segmentCorners, intersectSegments, vpPoint, clipLine, distToSegment, pointInPolygon } from '../../assets/js/geometry.js';
+import { aboveHorizon, distortPx, lensOf, undistortPx, segmentCorners, intersectSegments, vpPoint, clipLine, distToSegment, pointInPolygon } from '../../assets/js/geometry.js';
 
 const near = (a, b, tol = 1e-9) => assert.ok(a.length === b.length && a.every((v, i) => Math.abs(v - b[i]) <= tol), `${a} != ${b}`);
 
@@ -64,4 +64,26 @@ test('segmentCorners: where edges of different directions meet near their ends',
   for (const c of corners) assert.ok(Math.hypot(c[0], c[1]) < 3, `corner ${c}`);
   assert.deepEqual(segmentCorners([a, b], 0.9), []); // too far from b's end (1.02)
   assert.deepEqual(segmentCorners([a, a], 5).length, 0); // parallel lines do not meet
+});
+
+test('a photo\'s lens: the division model of docs/scene-format.md, both ways', () => {
+  // 1600 x 1200: half the diagonal is 1000 px; no principal point: the image centre.
+  const scene = { image: { width: 1600, height: 1200 }, lens_distortion: { k: -0.1, k_sd: 0.01 } };
+  const lens = lensOf(scene);
+  near(lens.centre, [800, 600]);
+  assert.equal(lens.unit, 1000);
+  // The photo's corner (0, 0) lies r = 1 from the centre: its pinhole pixel is c + (p - c) / 0.9.
+  near(undistortPx([0, 0], lens), [800 - 800 / 0.9, 600 - 600 / 0.9]);
+  // And back: the photo pixel of that pinhole pixel is the corner again.
+  near(distortPx([800 - 800 / 0.9, 600 - 600 / 0.9], lens), [0, 0], 1e-9);
+  near(distortPx([800, 600], lens), [800, 600]);
+  // A given principal point is the centre.
+  near(lensOf({ ...scene, principal_point: [790, 610] }).centre, [790, 610]);
+  // No lens, k = 0, or no image size: a pinhole, points unchanged.
+  assert.equal(lensOf({ image: scene.image }), null);
+  assert.equal(lensOf({ ...scene, lens_distortion: { k: 0 } }), null);
+  assert.equal(lensOf({ lens_distortion: { k: -0.1 } }), null);
+  near(undistortPx([3, 4], null), [3, 4]);
+  // Pincushion far out: beyond the lens's reach, no photo pixel.
+  assert.equal(distortPx([800 + 5000, 600], lensOf({ ...scene, lens_distortion: { k: 0.5 } })), null);
 });

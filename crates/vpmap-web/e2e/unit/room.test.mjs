@@ -121,8 +121,11 @@ test('the camera of each photo: the answer\'s own for photo 1 and single photos,
   const second = { pitch_deg: 10, roll_deg: -2, focal_px: 900, principal_point: [790, 610], height: 1.2, vanishing_points: [[-1000, 600], [4000, 580], [800, 8000]], heading_deg: 90 };
   const room = { camera, map: { camera: {}, cameras: [{ ...camera, heading_deg: 0 }, second] } };
   assert.equal(cameraOf(room, 0).pitch_deg, 20);
-  assert.deepEqual(cameraOf(room, 1), { pitch_deg: 10, roll_deg: -2, focal_px: 900, principal_point: [790, 610], height: 1.2, horizon: [[-1000, 600], [4000, 580]], uncertainty: null });
+  assert.deepEqual(cameraOf(room, 1), { pitch_deg: 10, roll_deg: -2, focal_px: 900, principal_point: [790, 610], height: 1.2, horizon: [[-1000, 600], [4000, 580]], lens_distortion: null, uncertainty: null });
   assert.equal(cameraOf(room, 2), null);
+  // A photo's lens, as the map reports it, goes with its camera (the camera bar shows it).
+  const lensed = { camera, map: { camera: {}, cameras: [{ ...camera, heading_deg: 0 }, { ...second, lens_distortion: { k: -0.05, k_sd: 0.01 } }] } };
+  assert.deepEqual(cameraOf(lensed, 1).lens_distortion, { k: -0.05, k_sd: 0.01 });
 });
 
 test('the state keeps a room: the active photo\'s fields are its slot\'s', () => {

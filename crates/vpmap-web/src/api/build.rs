@@ -14,6 +14,7 @@ use base64::engine::general_purpose::STANDARD as BASE64;
 use serde::Serialize;
 use vpmap_metrology::interrupt::Interrupt;
 use vpmap_metrology::map::{CameraReport, FloorMap};
+use vpmap_metrology::scene::LensDistortion;
 use vpmap_pipeline::{MapOptions, units_name};
 
 use super::answer::{elapsed_ms, respond, to_json};
@@ -45,6 +46,10 @@ struct CameraSummary {
     principal_point: [f64; 2],
     height: f64,
     horizon: Option<[[f64; 2]; 2]>,
+    /// The lens the photo's clicks were undistorted by (`map.camera.lens_distortion`), so that
+    /// the page can show it and draw the pinhole `horizon` where the photo shows it.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    lens_distortion: Option<LensDistortion>,
 }
 
 #[derive(Serialize)]
@@ -92,6 +97,7 @@ fn camera_summary(camera: &CameraReport) -> CameraSummary {
         principal_point: camera.principal_point,
         height: camera.height,
         horizon: horizon(camera),
+        lens_distortion: camera.lens_distortion,
     }
 }
 
@@ -189,5 +195,30 @@ mod tests {
         }
         // 3 degrees of roll: the horizon falls to the right.
         assert!(((b[1] - a[1]) / 1600.0 - 3f64.to_radians().tan()).abs() < 1e-9);
+    }
+
+    #[test]
+    fn the_answer_s_camera_carries_the_photo_s_lens() {
+        let answer = |scene: &str| -> serde_json::Value {
+            let bytes = build_answer(
+                scene.as_bytes(),
+                &MapOptions::default(),
+                &Interrupt::default(),
+            )
+            .unwrap_or_else(|e| panic!("{e:?}"));
+            serde_json::from_slice(&bytes).unwrap_or_else(|e| panic!("{e}"))
+        };
+        let plain = answer(OFFICE_SCENE);
+        assert!(
+            plain["camera"].get("lens_distortion").is_none(),
+            "{}",
+            plain["camera"]
+        );
+        let mut scene: serde_json::Value =
+            serde_json::from_str(OFFICE_SCENE).unwrap_or_else(|e| panic!("{e}"));
+        scene["lens_distortion"] = serde_json::json!({"k": -0.02, "k_sd": 0.004});
+        let lensed = answer(&scene.to_string());
+        assert_eq!(lensed["camera"]["lens_distortion"]["k"], -0.02);
+        assert_eq!(lensed["camera"]["lens_distortion"]["k_sd"], 0.004);
     }
 }
