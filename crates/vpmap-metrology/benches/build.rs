@@ -75,7 +75,8 @@ fn bench_build(c: &mut Criterion) {
         });
     }
     // As `vpmap detect` writes a scene: measured vanishing points, the principal point a
-    // prior, and the lens's k with its sd (k_sd's spread costs two more fits, map/lens.rs).
+    // prior, and the lens's k with its sd (k_sd's spread costs two refits from the fit's answer,
+    // map/lens.rs and fit/lens.rs).
     let measured = measured_vanishing_points(&scene);
     let mut with_lens = measured.clone();
     with_lens.lens_distortion = Some(LensDistortion {

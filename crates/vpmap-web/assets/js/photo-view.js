@@ -333,9 +333,12 @@ export class PhotoView {
     const vps = st.scene?.vanishing_points || [];
     const sel = st.selection;
     const active = this.app.tool.vpIndex;
+    // A vanishing `point` is the pinhole camera's (docs/scene-format.md): through a lens it is
+    // drawn where the photo shows it; one found from the drawn lines is in the photo already.
+    const lens = lensOf(st.scene);
     vps.forEach((vp, k) => {
       const colour = VP_COLOURS[k] || '#fff';
-      const point = vpPoint(vp);
+      const point = Array.isArray(vp.point) && lens ? distortPx(vp.point, lens) : vpPoint(vp);
       const lines = vp.lines || [];
       const focus = active === k || (sel && sel.type === 'vpline' && sel.vp === k);
       // Extensions towards the vanishing point for the VP being edited.
