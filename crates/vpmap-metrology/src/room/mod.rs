@@ -27,6 +27,7 @@
 //! `checks` and `consistency`), then `uncertainty` and `lens`.
 
 mod align;
+mod canonical;
 mod checks;
 mod choose;
 mod consistency;
