@@ -440,14 +440,19 @@ fn shared_data_ties_the_physical_checks_decide_are_resolved_right() {
     // 18 left open; the wrong one, mv07's photo 4 tied by box1 at 1 px, seed 1, is named in the
     // tie warning: the true placement overlaps box0 with the same box under another name,
     // whose 1 px sides come out 11 % apart, over the 10 % the checks take for one box.)
+    // VPMAP_TIE_SIGMA_PX=0.5 (or 2) for the noisy trials at another level (docs/results.md).
     use rand::SeedableRng;
     use vpmap_metrology::synth::add_noise;
+    let noise: f64 = std::env::var("VPMAP_TIE_SIGMA_PX")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1.0);
     let (mut decided, mut right, mut said, mut refused) = (0, 0, 0, 0);
     let mut wrong_warned = 0;
     for tie in one_box_ties() {
         let (r, k, keep, truth) = (tie.room, tie.photo, &tie.keep, &tie.truth);
         let exact = Scene::from_json_str(&tie.value.to_string()).unwrap();
-        for (sigma, seed) in [(0.0, 0_u64), (1.0, 1), (1.0, 2)] {
+        for (sigma, seed) in [(0.0, 0_u64), (noise, 1), (noise, 2)] {
             let mut scene = exact.clone();
             let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(
                 seed * 1000 + 100 * r as u64 + 10 * k as u64,
@@ -483,7 +488,7 @@ fn shared_data_ties_the_physical_checks_decide_are_resolved_right() {
         }
     }
     println!(
-        "ties by one box, exact and 1 px clicks: {decided} decided by the checks, {right} of them right ({wrong_warned} of the wrong ones with the tie warning); {said} left open with the alternative named; {refused} refused"
+        "ties by one box, exact and {noise} px clicks: {decided} decided by the checks, {right} of them right ({wrong_warned} of the wrong ones with the tie warning); {said} left open with the alternative named; {refused} refused"
     );
     assert!(decided >= 30, "{decided}");
     assert!(right * 100 >= decided * 95, "{right} of {decided}");
