@@ -1,5 +1,6 @@
 //! Choosing among a room's converged placements: ties the clicks leave open broken by the
-//! physical checks (`room/checks.rs`) and said when they remain (a warning, an alternative);
+//! physical checks (`room/checks.rs`) and said when they remain (a warning, an alternative),
+//! exact ties by a choice that no order of the photos changes (`room/canonical.rs`);
 //! the consistency test (`room/consistency.rs`) refusing a room whose photos do not fit
 //! together, naming the photos, the objects and the best other placement; and the refusal of
 //! a room none of whose placements converged.
@@ -140,7 +141,9 @@ const MAX_TIE_ROUNDS: usize = 8;
 
 /// Hypotheses (`results`, converged, sorted by cost) that fit about equally: the likelihood
 /// cannot choose, so the walls do (the one that keeps every camera and floor inside every
-/// photo's walls), and the build says so. The chosen one is put first; the ties no check
+/// photo's walls), and the build says so. Between equal violation counts the lower cost wins
+/// only beyond its numerical noise, then the least placement key (`room/canonical.rs`): the
+/// chosen placement and the alternative said are the same for every order of photos 2..n. The chosen one is put first; the ties no check
 /// decides are returned as alternatives, and every tie is said in `warnings`.
 ///
 /// A photo's tie is judged against the chosen placement with that photo alone turned
@@ -287,8 +290,14 @@ pub(super) fn refuse_if_inconsistent(
     let n = fits.len();
     let test = consistency::test(fits, &best.built.problem, &best.x, &best.built.names);
     if test.refused() {
-        // The best other placement, fitted if it was not.
-        let mut other = results.into_iter().find(|r| r.quarters != best.quarters);
+        // The best other placement (the least cost, as `break_ties` chooses), fitted if it
+        // was not.
+        let mut others: Vec<Solved> = results
+            .into_iter()
+            .filter(|r| r.quarters != best.quarters)
+            .collect();
+        let mut other = preferred(&others, None, 0..others.len(), &PhotoKeys::new(scene))
+            .map(|i| others.swap_remove(i));
         if other.is_none()
             && let Some(h) = all.iter().find(|h| {
                 h.quarters
