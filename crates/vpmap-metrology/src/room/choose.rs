@@ -1,10 +1,12 @@
 //! Choosing among a room's converged placements: ties the clicks leave open broken by the
-//! physical checks (`room/checks.rs`) and said when they remain (a warning, an alternative);
+//! physical checks (`room/checks.rs`) and said when they remain (a warning, an alternative),
+//! exact ties by a choice that no order of the photos changes (`room/canonical.rs`);
 //! the consistency test (`room/consistency.rs`) refusing a room whose photos do not fit
 //! together, naming the photos, the objects and the best other placement; and the refusal of
 //! a room none of whose placements converged.
 
 use super::align::PhotoFit;
+use super::canonical::{COST_RELATIVE_TOLERANCE, PhotoKeys, least};
 use super::checks::{OVERLAP_SHARE, physical};
 use super::consistency;
 use super::fit::{RoomAlternative, Solved, solve};
@@ -62,11 +64,66 @@ pub(super) fn refuse_unconverged(
 
 /// Whether hypothesis `h` turns photo `k` otherwise than `quarters` and every other photo as
 /// they do.
-pub(super) fn other_turn_of(h: &Hypothesis, quarters: &[u8], k: usize) -> bool {
+fn other_turn_of(h: &Hypothesis, quarters: &[u8], k: usize) -> bool {
     quarters.iter().enumerate().all(|(m, &q)| {
         let own = h.quarters.get(m).copied().flatten().unwrap_or(0);
         if m == k { own != q } else { own == q }
     })
+}
+
+/// Of the beam's hypotheses `all`, the one that turns photo `k` otherwise than `quarters` and
+/// every other photo as they do, of the least score beyond [`BEAM_SCORE_TOLERANCE_PX2`] (a
+/// rectangle's other half turn before its quarter turns), then of photo `k`'s least turn (a
+/// square box's turns tied exactly): the same for every order of the photos.
+pub(super) fn flip_start<'a>(
+    all: &'a [Hypothesis],
+    quarters: &[u8],
+    k: usize,
+) -> Option<&'a Hypothesis> {
+    let turns: Vec<&Hypothesis> = all
+        .iter()
+        .filter(|h| other_turn_of(h, quarters, k))
+        .collect();
+    let best = turns.iter().map(|h| h.score).min_by(f64::total_cmp)?;
+    let near = |h: &&&Hypothesis| {
+        h.score - best <= BEAM_SCORE_TOLERANCE_PX2 + COST_RELATIVE_TOLERANCE * h.score.abs()
+    };
+    turns
+        .iter()
+        .filter(near)
+        .min_by_key(|h| h.quarters.get(k).copied().flatten())
+        .copied()
+}
+
+/// Absolute tolerance of two placement hypotheses' scores (`room/hypotheses.rs`, roughly
+/// squared pixels of click noise), squared pixels: the score is a difference of sums of
+/// weighted squares of up to `1e9` px^2, which rounding leaves about `1e-7` px^2 uncertain;
+/// `1e-4` is above that and far below what tells hypotheses apart (the starts are taken
+/// within 25 px^2 of the best).
+const BEAM_SCORE_TOLERANCE_PX2: f64 = 1e-4;
+
+/// Of the placements `candidates` (indices into `results`), those with the fewest
+/// `violations` (all, without), then the least cost beyond its numerical noise, then the
+/// least placement key (`room/canonical.rs`): a function of the room, not of the order its
+/// photos are listed in.
+fn preferred(
+    results: &[Solved],
+    violations: Option<&[usize]>,
+    candidates: impl Iterator<Item = usize>,
+    keys: &PhotoKeys,
+) -> Option<usize> {
+    let candidates: Vec<usize> = candidates.filter(|&i| i < results.len()).collect();
+    let count = |i: usize| violations.map_or(0, |v| v.get(i).copied().unwrap_or(usize::MAX));
+    let fewest = candidates.iter().map(|&i| count(i)).min()?;
+    let residuals = results
+        .first()
+        .map_or(0, |r| r.built.problem.residual_count());
+    least(
+        candidates.into_iter().filter(|&i| count(i) == fewest),
+        |i| results[i].cost,
+        residuals,
+        |i| keys.placement(&results[i].quarters),
+    )
 }
 
 /// Whether `a` places photo `k` otherwise than `b` and every other photo as `b` does.
@@ -84,7 +141,9 @@ const MAX_TIE_ROUNDS: usize = 8;
 
 /// Hypotheses (`results`, converged, sorted by cost) that fit about equally: the likelihood
 /// cannot choose, so the walls do (the one that keeps every camera and floor inside every
-/// photo's walls), and the build says so. The chosen one is put first; the ties no check
+/// photo's walls), and the build says so. Between equal violation counts the lower cost wins
+/// only beyond its numerical noise, then the least placement key (`room/canonical.rs`): the
+/// chosen placement and the alternative said are the same for every order of photos 2..n. The chosen one is put first; the ties no check
 /// decides are returned as alternatives, and every tie is said in `warnings`.
 ///
 /// A photo's tie is judged against the chosen placement with that photo alone turned
@@ -121,8 +180,9 @@ pub(super) fn break_ties(
         )
         .total()
     };
+    let keys = PhotoKeys::new(scene);
     let mut violations: Vec<usize> = results[..tied].iter().map(count).collect();
-    let pick = (0..tied).min_by_key(|&i| (violations[i], i)).unwrap_or(0);
+    let pick = preferred(results, Some(&violations), 0..tied, &keys).unwrap_or(0);
     results.swap(0, pick);
     violations.swap(0, pick);
     let mut tried: Vec<Vec<u8>> = results[..tied].iter().map(|r| r.quarters.clone()).collect();
@@ -143,10 +203,14 @@ pub(super) fn break_ties(
             tied += 1;
         }
         // A placement differing in one photo that the checks favour is taken.
-        let better = (1..tied)
-            .filter(|&j| violations[j] < violations[0])
-            .filter(|&j| (1..n).any(|k| differs_only_in(&results[j], &results[0], k)))
-            .min_by_key(|&j| (violations[j], j));
+        let better = preferred(
+            results,
+            Some(&violations),
+            (1..tied)
+                .filter(|&j| violations[j] < violations[0])
+                .filter(|&j| (1..n).any(|k| differs_only_in(&results[j], &results[0], k))),
+            &keys,
+        );
         let Some(j) = better else { break };
         results.swap(0, j);
         violations.swap(0, j);
@@ -168,11 +232,9 @@ pub(super) fn break_ties(
     // photos only, and a photo whose other turn fits as well must still be said).
     for k in 1..n {
         let other = |j: &usize| results[*j].quarters[k] != chosen.quarters[k];
-        let by_cost = |a: &usize, b: &usize| results[*a].cost.total_cmp(&results[*b].cost);
-        let Some(j) = (1..tied)
-            .filter(|&j| differs_only_in(&results[j], chosen, k))
-            .min_by(by_cost)
-            .or_else(|| (1..tied).filter(other).min_by(by_cost))
+        let only = (1..tied).filter(|&j| differs_only_in(&results[j], chosen, k));
+        let Some(j) = preferred(results, None, only, &keys)
+            .or_else(|| preferred(results, None, (1..tied).filter(other), &keys))
         else {
             continue;
         };
@@ -228,8 +290,14 @@ pub(super) fn refuse_if_inconsistent(
     let n = fits.len();
     let test = consistency::test(fits, &best.built.problem, &best.x, &best.built.names);
     if test.refused() {
-        // The best other placement, fitted if it was not.
-        let mut other = results.into_iter().find(|r| r.quarters != best.quarters);
+        // The best other placement (the least cost, as `break_ties` chooses), fitted if it
+        // was not.
+        let mut others: Vec<Solved> = results
+            .into_iter()
+            .filter(|r| r.quarters != best.quarters)
+            .collect();
+        let mut other = preferred(&others, None, 0..others.len(), &PhotoKeys::new(scene))
+            .map(|i| others.swap_remove(i));
         if other.is_none()
             && let Some(h) = all.iter().find(|h| {
                 h.quarters

@@ -7,8 +7,9 @@ use super::align::{
     PhotoFit, Placed, Pose, average_boxes, candidate_poses, heading, in_photo, photo_block,
     place_objects, placed_index, record_maps, room_axes, sightings,
 };
+use super::canonical::PhotoKeys;
 use super::choose::{
-    break_ties, cameras_inside_objects, other_turn_of, refuse_if_inconsistent, refuse_unconverged,
+    break_ties, cameras_inside_objects, flip_start, refuse_if_inconsistent, refuse_unconverged,
 };
 use super::hypotheses::{Hypothesis, Search, Ties, join_order, starts};
 use super::model::{Place, RoomPart, RoomProblem, Shape, Sighting};
@@ -447,7 +448,7 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
         fits.push(PhotoFit::new(fitted, p));
     }
     let ties = Ties::new(&fits);
-    let order = join_order(&fits, &ties);
+    let order = join_order(&fits, &ties, &PhotoKeys::new(scene));
     let pins = scene.placement_pins();
     let pinned = |k: usize| pins.get(k).copied().flatten();
     let all = Search::new(&fits, &ties)
@@ -509,7 +510,7 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
     // A tied photo's other turn with every other photo as chosen, from the beam's hypotheses
     // (one joint fit each), for the physical checks to compare placements that differ in it alone.
     let mut flip = |chosen: &Solved, k: usize| {
-        let h = all.iter().find(|h| other_turn_of(h, &chosen.quarters, k))?;
+        let h = flip_start(&all, &chosen.quarters, k)?;
         solve(scene, &fits, &order, h, false, interrupt)
             .ok()
             .filter(|s| s.converged)

@@ -18,8 +18,8 @@
 //! the clicks, roughly.
 //!
 //! Search: photos are joined strongest tie first (most shared corners with the photos
-//! already joined; equal ties by their objects' names, so the order of the file does not
-//! matter), keeping the best [`BEAM`] partial hypotheses at each step (every one of them
+//! already joined; equal ties by their objects' names, then their content, so the order of
+//! the file does not matter), keeping the best [`BEAM`] partial hypotheses at each step (every one of them
 //! for rooms of up to four photos) among those scoring within the bound a greedy pass sets
 //! (a photo joining never lowers a score, so a partial hypothesis above `2 S +
 //! NEAR_SCORE_PX2`, `S` the greedy hypothesis's score, can never be started from). A photo
@@ -28,6 +28,7 @@
 use nalgebra::{DMatrix, DVector, Vector2};
 
 use super::align::{PhotoFit, footprint_map, own_corners, room_axes};
+use super::canonical::PhotoKeys;
 use crate::fit::model::{BoxAxes, Part};
 
 /// Partial hypotheses kept at each step of the search (`4^3`: every hypothesis of a room of
@@ -119,16 +120,18 @@ fn tie_points(fits: &[PhotoFit], a: (usize, usize)) -> usize {
 }
 
 /// The order photos are joined in: photo 1 first, then repeatedly the photo with the most
-/// shared points with the photos joined (ties by its sorted object names, then its index).
-/// Photos that share nothing with the joined ones are left out.
-pub(crate) fn join_order(fits: &[PhotoFit], ties: &Ties) -> Vec<usize> {
+/// shared points with the photos joined (ties by its sorted object names, then by its content,
+/// `photos`: never by where the file lists it). Photos that share nothing with the joined
+/// ones are left out.
+pub(crate) fn join_order(fits: &[PhotoFit], ties: &Ties, photos: &PhotoKeys) -> Vec<usize> {
     let n = fits.len();
-    let keys: Vec<Vec<&str>> = fits
+    let keys: Vec<(Vec<&str>, &str)> = fits
         .iter()
-        .map(|f| {
+        .enumerate()
+        .map(|(k, f)| {
             let mut v: Vec<&str> = f.objects.iter().map(|o| o.name.as_str()).collect();
             v.sort_unstable();
-            v
+            (v, photos.photo(k))
         })
         .collect();
     let mut order = vec![0];

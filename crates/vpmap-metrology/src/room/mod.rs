@@ -15,6 +15,8 @@
 //! shared corner and height, independent of the photos' order; the joint fit started from the
 //! best few, the most likely kept. Ties between hypotheses that fit about equally are broken by
 //! physical checks (`room/checks.rs`), and said (a warning, `alternatives`) when they remain;
+//! placements that fit exactly as well (to the costs' numerical noise) by a key of the
+//! placement that no order of photos 2..n changes (`room/canonical.rs`);
 //! a room whose joint fit is far worse than its photos alone is refused
 //! (`room/consistency.rs`). Error bars (`room/uncertainty.rs`): the covariance of the whole
 //! fit, propagated as for one photo.
@@ -23,10 +25,11 @@
 //! by another `k`, the chosen placement held, for the map's error bars to carry each photo's
 //! `k_sd` as a consider parameter (as [`crate::map::build_map`] does for one photo).
 //!
-//! Files: `model`, then `align` and `hypotheses`, then `fit` (with `choose`, which uses
-//! `checks` and `consistency`), then `uncertainty` and `lens`.
+//! Files: `model`, then `canonical`, `align` and `hypotheses`, then `fit` (with `choose`,
+//! which uses `checks` and `consistency`), then `uncertainty` and `lens`.
 
 mod align;
+mod canonical;
 mod checks;
 mod choose;
 mod consistency;

@@ -354,3 +354,195 @@ fn a_photo_tied_to_the_first_by_one_box_is_placed_by_its_ties_to_the_others_in_e
     println!("{cases} rooms with a photo tied to the first by one box");
     assert!(cases >= 5, "{cases}");
 }
+
+/// Synthetic room `seed` of four photos with photo `k + 2` (`other_photos[k]`) tied to photo 1
+/// by box `keep` alone: its other objects dropped, and no photo's floor outline, so that no
+/// wall, overlap or camera can tell its two half turns apart about `keep`'s centre, each of
+/// which reproduces its exact clicks exactly.
+fn exact_symmetric_tie(seed: u64, k: usize, keep: &str) -> (Scene, RoomTruth) {
+    let (mut scene, truth) = synthesize_room(&RoomSynthOptions {
+        seed,
+        photos: 4,
+        boxes: 8,
+        ..RoomSynthOptions::default()
+    })
+    .unwrap();
+    // One other box of the photo's is seen by it alone (taken out of the other photos).
+    let own = scene.other_photos[k]
+        .objects
+        .iter()
+        .map(|o| o.name.clone())
+        .find(|n| n != keep)
+        .unwrap();
+    scene.objects.retain(|o| o.name != own);
+    for (j, p) in scene.other_photos.iter_mut().enumerate() {
+        if j != k {
+            p.objects.retain(|o| o.name != own);
+        }
+    }
+    let photo = &mut scene.other_photos[k];
+    photo.objects.retain(|o| o.name == keep || o.name == own);
+    photo.click_covariances_px2.clear();
+    scene.floor.clear();
+    for p in &mut scene.other_photos {
+        p.floor.clear();
+    }
+    (scene, truth)
+}
+
+fn distance(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
+}
+
+#[test]
+fn an_exact_symmetric_tie_is_chosen_and_said_alike_for_every_order_of_photos_2_to_n() {
+    // Issue 39: two placements that reproduce the exact clicks exactly (photo k + 2 tied by
+    // one box, either half turn about the box's centre) have costs float noise apart, and the
+    // noise follows the order the photos are listed in. The map and its alternative must not:
+    // every order of photos 2..4 gives the same boxes and cameras to 1e-9 m and names the same
+    // photo and turn as the alternative. Checked against the synthesizer's truth: the tied
+    // photo's camera and its own box are either true or turned by a half turn about the
+    // shared box's true centre, and the firmly tied photos are true.
+    use crate::rooms::{map_difference, permutations};
+    for (seed, k, keep) in [(3, 1, "box6"), (4, 0, "box6"), (3, 0, "box3")] {
+        let (scene, truth) = exact_symmetric_tie(seed, k, keep);
+        let own = scene.other_photos[k]
+            .objects
+            .iter()
+            .find(|o| o.name != keep)
+            .unwrap()
+            .name
+            .clone();
+        let centre = |name: &str| {
+            let o = truth.objects.iter().find(|o| o.name == name).unwrap();
+            let n = o.footprint.len() as f64;
+            [
+                o.footprint.iter().map(|p| p[0]).sum::<f64>() / n,
+                o.footprint.iter().map(|p| p[1]).sum::<f64>() / n,
+            ]
+        };
+        let c = centre(keep);
+        let turned = |p: [f64; 2]| [2.0 * c[0] - p[0], 2.0 * c[1] - p[1]];
+        let mut first: Option<(FloorMap, [f64; 2], i32)> = None;
+        for order in permutations(&[0usize, 1, 2]) {
+            let context = format!(
+                "seed {seed}, photo {} tied by {keep}, order {order:?}",
+                k + 2
+            );
+            let mut s = scene.clone();
+            s.other_photos = order
+                .iter()
+                .map(|&j| scene.other_photos[j].clone())
+                .collect();
+            let map = build_map(&s, &BuildOptions::default())
+                .unwrap_or_else(|e| panic!("{context}: {e}"));
+            // The tied photo, where this order lists it.
+            let i = order.iter().position(|&j| j == k).unwrap() + 1;
+            let here = [map.cameras[i].position[0], map.cameras[i].position[1]];
+            let t = truth.cameras[k + 1].position;
+            assert!(
+                distance(here, t) < 1e-9 || distance(here, turned(t)) < 1e-9,
+                "{context}: camera at {here:?}, neither {t:?} nor {:?}",
+                turned(t)
+            );
+            let o = map.objects.iter().find(|o| o.name == own).unwrap();
+            let (at, true_at) = ([o.centroid[0], o.centroid[1]], centre(&own));
+            assert!(
+                distance(at, true_at) < 1e-9 || distance(at, turned(true_at)) < 1e-9,
+                "{context}: {own} at {at:?}"
+            );
+            for (m, &j) in order.iter().enumerate().filter(|&(_, &j)| j != k) {
+                let p = [
+                    map.cameras[m + 1].position[0],
+                    map.cameras[m + 1].position[1],
+                ];
+                let t = truth.cameras[j + 1].position;
+                assert!(distance(p, t) < 1e-9, "{context}: photo {} at {p:?}", j + 2);
+            }
+            // The other half turn is said, for the tied photo.
+            assert_eq!(map.alternatives.len(), 1, "{context}: {:?}", map.warnings);
+            let alt = &map.alternatives[0];
+            assert_eq!((alt.photo, alt.turn_deg), (i + 1, 180), "{context}");
+            match &first {
+                None => first = Some((map.clone(), here, alt.placement_turn_deg)),
+                Some((reference, camera, placement_turn_deg)) => {
+                    let d = map_difference(&map, reference);
+                    assert!(d < 1e-9, "{context}: boxes {d} m from the first order's");
+                    let d = distance(here, *camera);
+                    assert!(
+                        d < 1e-9,
+                        "{context}: tied camera {d} m from the first order's"
+                    );
+                    assert_eq!(
+                        alt.placement_turn_deg, *placement_turn_deg,
+                        "{context}: another alternative than the first order's"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+#[ignore = "a measurement, 618 builds (minutes in debug): cargo test -p vpmap-metrology --release --test it experiment_exact_one_box_ties -- --ignored --nocapture"]
+fn experiment_exact_one_box_ties_are_chosen_alike_in_every_order_of_photos_2_to_n() {
+    // Every one-box tie of six synthetic rooms of four photos (each photo after the first tied
+    // to photo 1 by each box it shares with it, as `exact_symmetric_tie` makes it), every
+    // order of photos 2..4: the same boxes and tied camera to 1e-9 m and the same alternatives
+    // (photo and `placement_turn_deg`, the photo named as in the first order) as the first
+    // order. Measured 2026-11-29: 103 rooms (86 with a tie left open), 0 differ; before the
+    // canonical choice (`room/canonical.rs`) 51 differed in some order.
+    use crate::rooms::{map_difference, permutations};
+    let (mut cases, mut open, mut differ) = (0, 0, Vec::new());
+    for seed in 0..6 {
+        let (scene, _) = synthesize_room(&RoomSynthOptions {
+            seed,
+            photos: 4,
+            boxes: 8,
+            ..RoomSynthOptions::default()
+        })
+        .unwrap();
+        let first: Vec<String> = scene.objects.iter().map(|o| o.name.clone()).collect();
+        for k in 0..3 {
+            let shared: Vec<String> = scene.other_photos[k]
+                .objects
+                .iter()
+                .map(|o| o.name.clone())
+                .filter(|n| first.contains(n))
+                .collect();
+            for keep in &shared {
+                let context = format!("seed {seed}, photo {} tied by {keep}", k + 2);
+                let (s, _) = exact_symmetric_tie(seed, k, keep);
+                let reference = build_map(&s, &BuildOptions::default())
+                    .unwrap_or_else(|e| panic!("{context}: {e}"));
+                cases += 1;
+                open += usize::from(!reference.alternatives.is_empty());
+                let said = |m: &FloorMap, order: &[usize]| -> Vec<(usize, i32)> {
+                    m.alternatives
+                        .iter()
+                        .map(|a| (order[a.photo - 2] + 2, a.placement_turn_deg))
+                        .collect()
+                };
+                let first_said = said(&reference, &[0, 1, 2]);
+                for order in permutations(&[0usize, 1, 2]) {
+                    let mut o = s.clone();
+                    o.other_photos = order.iter().map(|&j| s.other_photos[j].clone()).collect();
+                    let map = build_map(&o, &BuildOptions::default())
+                        .unwrap_or_else(|e| panic!("{context}, order {order:?}: {e}"));
+                    let i = order.iter().position(|&j| j == k).unwrap() + 1;
+                    let (p, q) = (map.cameras[i].position, reference.cameras[k + 1].position);
+                    let d = map_difference(&map, &reference).max((p[0] - q[0]).hypot(p[1] - q[1]));
+                    if d > 1e-9 || said(&map, &order) != first_said {
+                        differ.push(format!("{context}, order {order:?}: {d} m"));
+                    }
+                }
+            }
+        }
+    }
+    println!(
+        "{cases} rooms with a one-box tie ({open} left open), {} orders differ from the first: {differ:#?}",
+        differ.len()
+    );
+    assert!(cases >= 100, "{cases}");
+    assert!(differ.is_empty());
+}

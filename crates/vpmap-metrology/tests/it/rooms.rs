@@ -404,27 +404,53 @@ fn one_box_ties() -> Vec<OneBoxTie> {
 #[ignore = "needs ../shared/data/multiview-scenes (absent from a fresh clone): cargo test -- --ignored shared_data"]
 fn shared_data_rooms_tied_by_one_box_are_placed_by_their_walls_or_warned() {
     // Each photo after the first tied to the others by one shared box only (every shared box
-    // in turn): the likelihood cannot tell a half turn; the walls choose, and the build warns.
-    let (mut right, mut cases) = (0, 0);
+    // in turn), exact clicks: the likelihood cannot tell a half turn; the walls choose, and the
+    // build warns. A tie the walls decide (no alternative) must be right in at least 80 % of
+    // cases; one they leave open is a coin toss the map names, so its alternative, pinned by its
+    // `placement_turn_deg`, must be the truth when the map's placement is not. (Before issue
+    // 39's canonical choice of exact ties this asserted 80 % right over every case, open ones
+    // included, and passed with 31 of 37: three open ties were right by the float noise of the
+    // file's order. Measured 2026-11-29: 27 decided, all right; 10 open, the map's placement
+    // the truth in 1, the alternative in the other 9.)
+    let (mut decided, mut right, mut open, mut open_right) = (0, 0, 0, 0);
+    let distance = |p: [f64; 3], t: [f64; 2]| (p[0] - t[0]).hypot(p[1] - t[1]);
     for tie in one_box_ties() {
         let (r, k, keep) = (tie.room, tie.photo, &tie.keep);
-        let map = build_value(&tie.value).unwrap_or_else(|e| panic!("mv0{r} photo {k}: {e}"));
-        let (p, t) = (map.cameras[k].position, tie.truth.cameras[k].position);
-        cases += 1;
-        if (p[0] - t[0]).hypot(p[1] - t[1]) < 1e-6 {
-            right += 1;
-        } else {
+        let context = format!("mv0{r} photo {} tied by {keep:?}", k + 1);
+        let map = build_value(&tie.value).unwrap_or_else(|e| panic!("{context}: {e}"));
+        let t = tie.truth.cameras[k].position;
+        let here = distance(map.cameras[k].position, t) < 1e-6;
+        if !here {
             assert!(
                 map.warnings
                     .iter()
                     .any(|w| w.contains("tied to the room only")),
-                "mv0{r} photo {k} tied by {keep:?}: placed wrong without a warning"
+                "{context}: placed wrong without a warning"
+            );
+        }
+        let Some(alt) = map.alternatives.iter().find(|a| a.photo == k + 1) else {
+            decided += 1;
+            right += usize::from(here);
+            continue;
+        };
+        open += 1;
+        open_right += usize::from(here);
+        if !here {
+            let mut pinned = tie.value.clone();
+            pinned["photos"][k]["placement_turn_deg"] = serde_json::json!(alt.placement_turn_deg);
+            let other = build_value(&pinned).unwrap_or_else(|e| panic!("{context}, pinned: {e}"));
+            let d = distance(other.cameras[k].position, t);
+            assert!(
+                d < 1e-6,
+                "{context}: neither placement is the truth ({d} m)"
             );
         }
     }
-    println!("tied by one box: {right} of {cases} placed right, the others warned");
-    assert!(cases >= 30, "{cases}");
-    assert!(right * 5 >= cases * 4, "{right} of {cases}");
+    println!(
+        "tied by one box: {decided} decided by the walls, {right} of them right; {open} left open with the alternative named, the map's placement the truth in {open_right}, the alternative in the others"
+    );
+    assert!(decided + open >= 30, "{}", decided + open);
+    assert!(right * 5 >= decided * 4, "{right} of {decided}");
 }
 
 #[test]
@@ -440,14 +466,19 @@ fn shared_data_ties_the_physical_checks_decide_are_resolved_right() {
     // 18 left open; the wrong one, mv07's photo 4 tied by box1 at 1 px, seed 1, is named in the
     // tie warning: the true placement overlaps box0 with the same box under another name,
     // whose 1 px sides come out 11 % apart, over the 10 % the checks take for one box.)
+    // VPMAP_TIE_SIGMA_PX=0.5 (or 2) for the noisy trials at another level (docs/results.md).
     use rand::SeedableRng;
     use vpmap_metrology::synth::add_noise;
+    let noise: f64 = std::env::var("VPMAP_TIE_SIGMA_PX")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(1.0);
     let (mut decided, mut right, mut said, mut refused) = (0, 0, 0, 0);
     let mut wrong_warned = 0;
     for tie in one_box_ties() {
         let (r, k, keep, truth) = (tie.room, tie.photo, &tie.keep, &tie.truth);
         let exact = Scene::from_json_str(&tie.value.to_string()).unwrap();
-        for (sigma, seed) in [(0.0, 0_u64), (1.0, 1), (1.0, 2)] {
+        for (sigma, seed) in [(0.0, 0_u64), (noise, 1), (noise, 2)] {
             let mut scene = exact.clone();
             let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(
                 seed * 1000 + 100 * r as u64 + 10 * k as u64,
@@ -483,7 +514,7 @@ fn shared_data_ties_the_physical_checks_decide_are_resolved_right() {
         }
     }
     println!(
-        "ties by one box, exact and 1 px clicks: {decided} decided by the checks, {right} of them right ({wrong_warned} of the wrong ones with the tie warning); {said} left open with the alternative named; {refused} refused"
+        "ties by one box, exact and {noise} px clicks: {decided} decided by the checks, {right} of them right ({wrong_warned} of the wrong ones with the tie warning); {said} left open with the alternative named; {refused} refused"
     );
     assert!(decided >= 30, "{decided}");
     assert!(right * 100 >= decided * 95, "{right} of {decided}");
