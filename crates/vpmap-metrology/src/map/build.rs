@@ -93,7 +93,9 @@ pub fn build_map_until(
 }
 
 /// The map of one photo as a pinhole camera saw it (clicks undistorted): from `fitted` (method
-/// `fit`, with its error bars when `uncertainty`), else by the scene's method.
+/// `fit`, with its error bars when `uncertainty`), else by the scene's method. Without
+/// `uncertainty` (a lens spread's refit, [`super::lens`]) only the objects and the camera are
+/// reported: the free floor and the hidden regions are left empty.
 fn photo_map(
     scene: &Scene,
     options: &BuildOptions,
@@ -139,24 +141,30 @@ fn photo_map(
         footprints.push(fp);
     }
     let floor: Vec<Vector2<f64>> = rec.floor.iter().map(scaled).collect();
-    let free_mp = free_space(&floor, &footprints);
     let reach = 2.0
         * floor
             .iter()
             .chain(footprints.iter().flatten())
             .map(Vector2::norm)
             .fold(k, f64::max);
-    let shadows: Vec<Polygon<f64>> = footprints
-        .iter()
-        .zip(&objects)
-        .filter_map(|(fp, o)| occlusion_shadow(fp, o.height, k, reach))
-        .collect();
-    let hidden = if shadows.is_empty() || free_mp.0.is_empty() {
-        Vec::new()
+    // The free floor and what the objects hide from the camera: polygon operations that a
+    // lens spread's map (its objects and camera only, `uncertainty` false) goes without.
+    let (free, hidden) = if uncertainty {
+        let free_mp = free_space(&floor, &footprints);
+        let shadows: Vec<Polygon<f64>> = footprints
+            .iter()
+            .zip(&objects)
+            .filter_map(|(fp, o)| occlusion_shadow(fp, o.height, k, reach))
+            .collect();
+        let hidden = if shadows.is_empty() || free_mp.0.is_empty() {
+            Vec::new()
+        } else {
+            to_polygons(&free_mp.intersection(&geo::unary_union(&shadows)))
+        };
+        (to_polygons(&free_mp), hidden)
     } else {
-        to_polygons(&free_mp.intersection(&geo::unary_union(&shadows)))
+        (Vec::new(), Vec::new())
     };
-    let free = to_polygons(&free_mp);
     let view_reach = 0.75 * reach.max(3.0 * k);
     let mut warnings = cal.warnings.clone();
     warnings.extend(crossing_warnings(scene, &rec));
