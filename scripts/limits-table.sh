@@ -7,8 +7,9 @@
 #   VPMAP=path/to/vpmap bash scripts/limits-table.sh
 #
 # Needs GNU time (`/usr/bin/time`, Debian package `time`) for peak memory, and python3 for the
-# photos and covariances of issue 40's cases. Writes only to a temporary folder, removed at the
-# end.
+# photos and covariances of issue 40's cases and for the server's cases (scripts/limits_server.py,
+# which reads the server's memory from /proc: Linux). Writes only to a temporary folder, removed
+# at the end.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 if [[ -z "${VPMAP:-}" ]]; then
@@ -157,6 +158,15 @@ row "\`build\`, a room of 4 photos and 99 boxes (385 objects in all)" "$VPMAP" b
 row "\`build\`, a room of 10 photos, 979 objects in all (within the limit)" "$VPMAP" build "$tmp/room-most.json" --out "$tmp/room-out"
 row "\`build\`, a room of 16 photos, 992 objects in all (16 x 100 took 50 s)" "$VPMAP" build "$tmp/room-16.json" --out "$tmp/room-out"
 row "\`build\`, a room of 11 photos, 1078 objects in all (over the limit)" "$VPMAP" build "$tmp/room-over.json" --out "$tmp/room-out"
+echo
+
+# The server's cases (issue 40: /api/propose, the photo store, room builds and plans on the
+# server): `vpmap serve` on a free loopback port, each request timed and its peak memory read
+# from /proc (scripts/limits_server.py).
+echo "The server's cases (\`vpmap serve\`, one request at a time on a fresh connection; the peak is the"
+echo "server process's resident memory at its highest during the request):"
+echo
+python3 scripts/limits_server.py "$VPMAP" "$tmp"
 echo
 
 # Memory a cell takes: the office map.json planned on at two resolutions by each planner; the
