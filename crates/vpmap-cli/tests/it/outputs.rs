@@ -104,6 +104,51 @@ fn detect_refuses_a_fifo_as_output() {
     assert!(is_fifo(&pipe));
 }
 
+/// `snap -o` a FIFO or a device: refused by name and left as it is, with inputs that snap and
+/// write a scene when `-o` is a regular file (so the refusal is the output's, not the inputs').
+#[cfg(unix)]
+#[test]
+fn snap_refuses_a_fifo_or_a_device_as_output_and_leaves_it_alone() {
+    use std::os::unix::fs::FileTypeExt;
+    let dir = tempfile::tempdir().unwrap();
+    let Some(pipe) = fifo(dir.path(), "snapped.json") else {
+        eprintln!("SKIPPED: mkfifo is not available");
+        return;
+    };
+    let scene = dir.path().join("scene.json");
+    let o = vpmap(&["synth", "--seed", "3", "-o", scene.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let parsed: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&scene).unwrap()).unwrap();
+    let (w, h) = (
+        u32::try_from(parsed["image"]["width"].as_u64().unwrap()).unwrap(),
+        u32::try_from(parsed["image"]["height"].as_u64().unwrap()).unwrap(),
+    );
+    let photo = dir.path().join("photo.png");
+    image::GrayImage::from_pixel(w, h, image::Luma([128]))
+        .save(&photo)
+        .unwrap();
+    let (photo, scene) = (photo.to_str().unwrap(), scene.to_str().unwrap());
+    for out in [pipe.to_str().unwrap(), "/dev/null"] {
+        let o = vpmap(&["snap", photo, scene, "-o", out]);
+        let stderr = String::from_utf8_lossy(&o.stderr);
+        assert!(!o.status.success(), "snap -o {out} succeeded");
+        assert!(
+            stderr.contains("it is a FIFO")
+                || stderr.contains("/dev/null: it is a character device"),
+            "snap -o {out}: {stderr}"
+        );
+        assert!(is_fifo(&pipe), "snap -o {out}: the FIFO was replaced");
+        let null = std::fs::metadata("/dev/null").unwrap();
+        assert!(null.file_type().is_char_device(), "/dev/null was replaced");
+    }
+    // The same inputs to a regular file: written.
+    let written = dir.path().join("written.json");
+    let o = vpmap(&["snap", photo, scene, "-o", written.to_str().unwrap()]);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    assert!(written.is_file());
+}
+
 /// Regression: `synth --truth X -o X` wrote the truth, then the scene over it.
 #[test]
 fn synth_refuses_one_path_for_the_scene_and_its_truth() {
