@@ -706,7 +706,9 @@ fn more_tied_placements_than_starts_give_the_same_map_for_every_order_of_photos_
 #[test]
 #[ignore = "a measurement, 6 builds a room: cargo test -p vpmap-metrology --release --test it experiment_more_tied_placements -- --ignored --nocapture"]
 fn experiment_more_tied_placements_than_starts_give_the_same_map_in_every_order() {
-    // As the test above over twenty synthetic rooms.
+    // As the test above over twenty synthetic rooms. Measured 2026-11-29: 39 rooms (every tie
+    // left open), 0 orders differ; before the beam's order was a function of the room
+    // (`Search::rank`), 20 of the 195 orders other than the first did (8 of the 20 chains).
     let (mut cases, mut open, mut differ) = (0, 0, Vec::new());
     for seed in 0..20 {
         for (kind, scene) in [
