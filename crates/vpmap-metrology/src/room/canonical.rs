@@ -36,6 +36,20 @@ pub(super) fn same_cost(a: f64, b: f64, residuals: usize) -> bool {
             + COST_RELATIVE_TOLERANCE * a.abs().max(b.abs())
 }
 
+/// Absolute tolerance of two placement hypotheses' scores (`room/hypotheses.rs`, roughly
+/// squared pixels of click noise), squared pixels: the score is a difference of sums of
+/// weighted squares of up to `1e9` px^2, which rounding leaves about `1e-7` px^2 uncertain
+/// (exact ties measured `0` to `2e-9` px^2 apart); `1e-4` is above that and far below what
+/// tells hypotheses apart (the starts are taken within 25 px^2 of the best).
+pub(super) const SCORE_TOLERANCE_PX2: f64 = 1e-4;
+
+/// Whether two placement hypotheses' scores (squared pixels) are equal to within their
+/// numerical noise: `|a - b| <=` [`SCORE_TOLERANCE_PX2`] `+` [`COST_RELATIVE_TOLERANCE`]
+/// `max(a, b)`.
+pub(super) fn same_score(a: f64, b: f64) -> bool {
+    (a - b).abs() <= SCORE_TOLERANCE_PX2 + COST_RELATIVE_TOLERANCE * a.abs().max(b.abs())
+}
+
 /// Each photo's identity in the room: its annotations as the room file gives them (its JSON:
 /// image size, vanishing points, objects and their clicks, floor, scale, pins), which a room
 /// file does not otherwise name. Two photos with the same key are the same annotations, and
@@ -56,6 +70,16 @@ impl PhotoKeys {
     /// Photo `k`'s key (empty past the last photo).
     pub fn photo(&self, k: usize) -> &str {
         self.0.get(k).map_or("", String::as_str)
+    }
+
+    /// Each photo's rank among the keys: how many photos have a lesser key (equal keys, equal
+    /// ranks). Ranks order as the keys do, so [`Self::placement`] with ranks in place of keys
+    /// orders placements alike, without comparing the keys' long strings each time.
+    pub fn ranks(&self) -> Vec<usize> {
+        self.0
+            .iter()
+            .map(|k| self.0.iter().filter(|o| *o < k).count())
+            .collect()
     }
 
     /// A placement's key, the same for every order of photos 2..n: each photo after the
@@ -102,6 +126,21 @@ mod tests {
         // A hundredth of a 1 px click variance apart is a real difference.
         assert!(!same_cost(400.0, 400.01, 400));
         assert!(!same_cost(0.0, 0.01, 400));
+    }
+
+    #[test]
+    fn scores_float_noise_apart_are_the_same_and_a_hundredth_of_a_pixel_squared_is_not() {
+        // Exact ties measured 0 to 2e-9 px^2 apart.
+        assert!(same_score(0.0, 2e-9));
+        assert!(same_score(1e6, 1e6 * (1.0 + 1e-12)));
+        assert!(!same_score(0.0, 0.01));
+        assert!(!same_score(30.0, 30.01));
+    }
+
+    #[test]
+    fn ranks_order_photos_as_their_keys_and_equal_keys_share_one() {
+        let keys = PhotoKeys(vec!["c".into(), "a".into(), "b".into(), "a".into()]);
+        assert_eq!(keys.ranks(), vec![3, 0, 2, 0]);
     }
 
     #[test]

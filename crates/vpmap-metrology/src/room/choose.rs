@@ -6,7 +6,7 @@
 //! a room none of whose placements converged.
 
 use super::align::PhotoFit;
-use super::canonical::{COST_RELATIVE_TOLERANCE, PhotoKeys, least};
+use super::canonical::{PhotoKeys, least, same_score};
 use super::checks::{OVERLAP_SHARE, physical};
 use super::consistency;
 use super::fit::{RoomAlternative, Solved, solve};
@@ -72,7 +72,7 @@ fn other_turn_of(h: &Hypothesis, quarters: &[u8], k: usize) -> bool {
 }
 
 /// Of the beam's hypotheses `all`, the one that turns photo `k` otherwise than `quarters` and
-/// every other photo as they do, of the least score beyond [`BEAM_SCORE_TOLERANCE_PX2`] (a
+/// every other photo as they do, of the least score beyond [`same_score`]'s tolerance (a
 /// rectangle's other half turn before its quarter turns), then of photo `k`'s least turn (a
 /// square box's turns tied exactly): the same for every order of the photos.
 pub(super) fn flip_start<'a>(
@@ -85,22 +85,13 @@ pub(super) fn flip_start<'a>(
         .filter(|h| other_turn_of(h, quarters, k))
         .collect();
     let best = turns.iter().map(|h| h.score).min_by(f64::total_cmp)?;
-    let near = |h: &&&Hypothesis| {
-        h.score - best <= BEAM_SCORE_TOLERANCE_PX2 + COST_RELATIVE_TOLERANCE * h.score.abs()
-    };
+    let near = |h: &&&Hypothesis| same_score(h.score, best);
     turns
         .iter()
         .filter(near)
         .min_by_key(|h| h.quarters.get(k).copied().flatten())
         .copied()
 }
-
-/// Absolute tolerance of two placement hypotheses' scores (`room/hypotheses.rs`, roughly
-/// squared pixels of click noise), squared pixels: the score is a difference of sums of
-/// weighted squares of up to `1e9` px^2, which rounding leaves about `1e-7` px^2 uncertain;
-/// `1e-4` is above that and far below what tells hypotheses apart (the starts are taken
-/// within 25 px^2 of the best).
-const BEAM_SCORE_TOLERANCE_PX2: f64 = 1e-4;
 
 /// Of the placements `candidates` (indices into `results`), those with the fewest
 /// `violations` (all, without), then the least cost beyond its numerical noise, then the

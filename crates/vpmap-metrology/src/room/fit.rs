@@ -448,10 +448,11 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
         fits.push(PhotoFit::new(fitted, p));
     }
     let ties = Ties::new(&fits);
-    let order = join_order(&fits, &ties, &PhotoKeys::new(scene));
+    let keys = PhotoKeys::new(scene);
+    let order = join_order(&fits, &ties, &keys);
     let pins = scene.placement_pins();
     let pinned = |k: usize| pins.get(k).copied().flatten();
-    let all = Search::new(&fits, &ties)
+    let all = Search::new(&fits, &ties, &keys)
         .with_pins(pins.clone())
         .run(&order)
         .map_err(|k| MetrologyError::Degenerate {

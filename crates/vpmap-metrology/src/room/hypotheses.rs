@@ -20,7 +20,10 @@
 //! Search: photos are joined strongest tie first (most shared corners with the photos
 //! already joined; equal ties by their objects' names, then their content, so the order of
 //! the file does not matter), keeping the best [`BEAM`] partial hypotheses at each step (every one of them
-//! for rooms of up to four photos) among those scoring within the bound a greedy pass sets
+//! for rooms of up to four photos; best by score, scores within their numerical noise of each
+//! other by the placement key of `room/canonical.rs`, so that which are kept and which the
+//! joint fit starts from do not follow the file's order either) among those scoring within
+//! the bound a greedy pass sets
 //! (a photo joining never lowers a score, so a partial hypothesis above `2 S +
 //! NEAR_SCORE_PX2`, `S` the greedy hypothesis's score, can never be started from). A photo
 //! whose room file pins its turn (`placement_turn_deg`) is tried at that turn only.
@@ -28,7 +31,7 @@
 use nalgebra::{DMatrix, DVector, Vector2};
 
 use super::align::{PhotoFit, footprint_map, own_corners, room_axes};
-use super::canonical::PhotoKeys;
+use super::canonical::{PhotoKeys, same_score};
 use crate::fit::model::{BoxAxes, Part};
 
 /// Partial hypotheses kept at each step of the search (`4^3`: every hypothesis of a room of
@@ -214,10 +217,12 @@ pub(crate) struct Search<'a> {
     /// Per photo, its pinned quarter turn (the room file's `placement_turn_deg`), `None`
     /// where every turn is tried.
     pins: Vec<Option<u8>>,
+    /// Per photo, its rank among the photos' content keys ([`PhotoKeys::ranks`]).
+    ranks: Vec<usize>,
 }
 
 impl<'a> Search<'a> {
-    pub fn new(fits: &'a [PhotoFit], ties: &'a Ties) -> Self {
+    pub fn new(fits: &'a [PhotoFit], ties: &'a Ties, photos: &PhotoKeys) -> Self {
         let cams: Vec<_> = fits.iter().map(PhotoFit::camera).collect();
         let own = ties
             .seen
@@ -240,6 +245,7 @@ impl<'a> Search<'a> {
             focals: cams.iter().map(|c| c.focal_px).collect(),
             own,
             pins: Vec::new(),
+            ranks: photos.ranks(),
         }
     }
 
@@ -446,6 +452,47 @@ impl<'a> Search<'a> {
     }
 }
 
+impl Search<'_> {
+    /// A hypothesis's placement key: [`PhotoKeys::placement`] with the photos' ranks for their
+    /// keys, a photo not yet joined at turn `u8::MAX` (every hypothesis of one step of the
+    /// search joins the same photos: the join order is a function of the room).
+    fn placement_key(&self, h: &Hypothesis) -> Vec<(usize, u8)> {
+        let mut key: Vec<(usize, u8)> = h
+            .quarters
+            .iter()
+            .enumerate()
+            .skip(1)
+            .map(|(k, q)| {
+                let rank = self.ranks.get(k).copied().unwrap_or(usize::MAX);
+                (rank, q.unwrap_or(u8::MAX))
+            })
+            .collect();
+        key.sort_unstable();
+        key
+    }
+
+    /// Order `hypotheses` best first as a function of the room, not of the order its photos
+    /// are listed in: by score, but scores within their numerical noise of the least score
+    /// not yet placed ([`same_score`]: the noise follows the order of the sums, which follows
+    /// the listing) as one group, ordered by placement key. The beam's truncation and the
+    /// starts ([`starts`]) then take the same hypotheses in every order.
+    fn rank(&self, hypotheses: &mut Vec<Hypothesis>) {
+        hypotheses.sort_by(|a, b| a.score.total_cmp(&b.score));
+        let mut ranked = Vec::with_capacity(hypotheses.len());
+        let mut rest = std::mem::take(hypotheses).into_iter().peekable();
+        while let Some(first) = rest.next() {
+            let mut group = vec![first];
+            let least = group.first().map_or(0.0, |h| h.score);
+            while let Some(h) = rest.next_if(|h| same_score(h.score, least)) {
+                group.push(h);
+            }
+            group.sort_by_cached_key(|h| self.placement_key(h));
+            ranked.append(&mut group);
+        }
+        *hypotheses = ranked;
+    }
+}
+
 /// Most whole-room hypotheses the joint fit is started from.
 pub(crate) const MAX_STARTS: usize = 4;
 
@@ -454,8 +501,9 @@ pub(crate) const MAX_STARTS: usize = 4;
 pub(crate) const NEAR_SCORE_PX2: f64 = 25.0;
 
 impl Search<'_> {
-    /// Every whole-room hypothesis the beam keeps, best first (ties by the photos' turns in
-    /// join order); `Err(k)` names a photo that no hypothesis places.
+    /// Every whole-room hypothesis the beam keeps, best first (scores within their numerical
+    /// noise by placement key, [`Self::rank`]); `Err(k)` names a photo that no hypothesis
+    /// places.
     pub fn run(&self, order: &[usize]) -> std::result::Result<Vec<Hypothesis>, usize> {
         // A greedy pass bounds the search: a photo joining never lowers a hypothesis's score
         // (it adds residuals and unknowns of its own), so a partial hypothesis scoring above
@@ -503,17 +551,7 @@ impl Search<'_> {
             if next.is_empty() {
                 return Err(k);
             }
-            let key = |h: &Hypothesis| -> Vec<u8> {
-                order
-                    .iter()
-                    .map(|&p| h.quarters.get(p).copied().flatten().unwrap_or(0))
-                    .collect()
-            };
-            next.sort_by(|a, b| {
-                a.score
-                    .total_cmp(&b.score)
-                    .then_with(|| key(a).cmp(&key(b)))
-            });
+            self.rank(&mut next);
             next.truncate(width);
             beam = next;
         }

@@ -546,3 +546,185 @@ fn experiment_exact_one_box_ties_are_chosen_alike_in_every_order_of_photos_2_to_
     assert!(cases >= 100, "{cases}");
     assert!(differ.is_empty());
 }
+
+/// Synthetic room `seed` of four photos in which each photo after the first is tied to photo 1
+/// by one box alone (a box of its own choosing, `None` when the room has too few) and sees one
+/// more box nobody else sees; no floor outlines. Each of the three photos fits its exact
+/// clicks exactly at either half turn about its box's centre: `2^3 = 8` whole-room placements
+/// tie, more than the joint fit starts from.
+fn three_one_box_ties(seed: u64) -> Option<Scene> {
+    let (mut scene, _) = synthesize_room(&RoomSynthOptions {
+        seed,
+        photos: 4,
+        boxes: 8,
+        ..RoomSynthOptions::default()
+    })
+    .unwrap();
+    let names = |s: &Scene| -> Vec<String> { s.objects.iter().map(|o| o.name.clone()).collect() };
+    let first = names(&scene);
+    let mut used: Vec<String> = Vec::new();
+    let mut picks = Vec::new();
+    for k in 0..3 {
+        let mine = names(&scene.other_photos[k]);
+        let keep = mine
+            .iter()
+            .find(|n| first.contains(n) && !used.contains(n))?
+            .clone();
+        used.push(keep.clone());
+        let own = mine.iter().find(|n| !used.contains(n))?.clone();
+        used.push(own.clone());
+        picks.push((keep, own));
+    }
+    let owns: Vec<&String> = picks.iter().map(|(_, own)| own).collect();
+    scene.objects.retain(|o| !owns.contains(&&o.name));
+    scene.floor.clear();
+    for (k, p) in scene.other_photos.iter_mut().enumerate() {
+        let (keep, own) = &picks[k];
+        p.objects.retain(|o| &o.name == keep || &o.name == own);
+        p.click_covariances_px2.clear();
+        p.floor.clear();
+    }
+    Some(scene)
+}
+
+/// Synthetic room `seed` of four photos tied in a chain by one box a link: photo 2 to photo 1
+/// by box A, photo 3 to photo 2 by box B, photo 4 to photo 3 by box D (B and D unseen by
+/// photo 1, so their place among the room's objects follows the order the photos are listed
+/// in), photo 4 with a box of its own; no floor outlines. Each link fits the exact clicks
+/// exactly at either half turn: `2^3 = 8` whole-room placements tie. `None` when the room
+/// has no such chain.
+fn chain_of_one_box_ties(seed: u64) -> Option<Scene> {
+    let (mut scene, _) = synthesize_room(&RoomSynthOptions {
+        seed,
+        photos: 4,
+        boxes: 8,
+        ..RoomSynthOptions::default()
+    })
+    .unwrap();
+    let names = |s: &Scene| -> Vec<String> { s.objects.iter().map(|o| o.name.clone()).collect() };
+    let seen: Vec<Vec<String>> = std::iter::once(names(&scene))
+        .chain(scene.other_photos.iter().map(names))
+        .collect();
+    let mut links: Vec<String> = Vec::new();
+    for k in 0..3 {
+        let link = seen[k + 1]
+            .iter()
+            .find(|n| seen[k].contains(n) && !links.contains(n))?
+            .clone();
+        links.push(link);
+    }
+    let own = seen[3].iter().find(|n| !links.contains(n))?.clone();
+    scene
+        .objects
+        .retain(|o| o.name != links[1] && o.name != links[2] && o.name != own);
+    scene.floor.clear();
+    for (k, p) in scene.other_photos.iter_mut().enumerate() {
+        // Photo k + 2 keeps its links to photos k + 1 and k + 3 (and photo 4 its own box).
+        let keep: Vec<&String> = [links.get(k), links.get(k + 1), (k == 2).then_some(&own)]
+            .into_iter()
+            .flatten()
+            .collect();
+        p.objects.retain(|o| keep.contains(&&o.name));
+        p.click_covariances_px2.clear();
+        p.floor.clear();
+    }
+    Some(scene)
+}
+
+/// The map's alternatives as (the photo's place in `scene_order`'s listing, counted from 2,
+/// its `placement_turn_deg`), sorted; `order[i]` is the listing place of the map's photo
+/// `i + 2`.
+fn alternatives_said(map: &FloorMap, order: &[usize]) -> Vec<(usize, i32)> {
+    let mut said: Vec<(usize, i32)> = map
+        .alternatives
+        .iter()
+        .map(|a| (order[a.photo - 2] + 2, a.placement_turn_deg))
+        .collect();
+    said.sort_unstable();
+    said
+}
+
+/// Over every order of photos 2..4 of `scene`, the orders whose map differs from the first
+/// order's (boxes or cameras beyond 1e-9 m, or other alternatives said); also whether the
+/// first order's map left a tie open.
+fn orders_that_differ(scene: &Scene, context: &str) -> (Vec<String>, bool) {
+    use crate::rooms::{map_difference, permutations};
+    let reference =
+        build_map(scene, &BuildOptions::default()).unwrap_or_else(|e| panic!("{context}: {e}"));
+    let first_said = alternatives_said(&reference, &[0, 1, 2]);
+    let mut differ = Vec::new();
+    for order in permutations(&[0usize, 1, 2]).into_iter().skip(1) {
+        let mut s = scene.clone();
+        s.other_photos = order
+            .iter()
+            .map(|&j| scene.other_photos[j].clone())
+            .collect();
+        let map = build_map(&s, &BuildOptions::default())
+            .unwrap_or_else(|e| panic!("{context}, order {order:?}: {e}"));
+        let mut d = map_difference(&map, &reference);
+        for (i, &j) in order.iter().enumerate() {
+            let (p, q) = (
+                map.cameras[i + 1].position,
+                reference.cameras[j + 1].position,
+            );
+            d = d.max(distance([p[0], p[1]], [q[0], q[1]]));
+        }
+        let said = alternatives_said(&map, &order);
+        if d > 1e-9 || said != first_said {
+            differ.push(format!(
+                "{context}, order {order:?}: {d} m, alternatives {said:?} vs {first_said:?}"
+            ));
+        }
+    }
+    (differ, !reference.alternatives.is_empty())
+}
+
+#[test]
+fn more_tied_placements_than_starts_give_the_same_map_for_every_order_of_photos_2_to_n() {
+    // Issue 39: photos 2, 3 and 4 each tied by one box, to photo 1 or in a chain: eight
+    // whole-room placements fit the exact clicks exactly, their placement scores float noise
+    // apart, and the joint fit starts from four of them. Which four, and so the map and the
+    // alternatives it says, must not follow the order photos 2..4 are listed in (in a chain,
+    // the boxes photo 1 does not see are summed in listing order, and so is the noise).
+    let mut cases = 0;
+    let mut differ = Vec::new();
+    for seed in 0..3 {
+        for (kind, scene) in [
+            ("three ties to photo 1", three_one_box_ties(seed)),
+            ("a chain of ties", chain_of_one_box_ties(seed)),
+        ] {
+            let Some(scene) = scene else { continue };
+            cases += 1;
+            let (d, _) = orders_that_differ(&scene, &format!("seed {seed}, {kind}"));
+            differ.extend(d);
+        }
+    }
+    assert!(cases >= 4, "{cases}");
+    assert!(differ.is_empty(), "{differ:#?}");
+}
+
+#[test]
+#[ignore = "a measurement, 6 builds a room: cargo test -p vpmap-metrology --release --test it experiment_more_tied_placements -- --ignored --nocapture"]
+fn experiment_more_tied_placements_than_starts_give_the_same_map_in_every_order() {
+    // As the test above over twenty synthetic rooms. Measured 2026-11-29: 39 rooms (every tie
+    // left open), 0 orders differ; before the beam's order was a function of the room
+    // (`Search::rank`), 20 of the 195 orders other than the first did (8 of the 20 chains).
+    let (mut cases, mut open, mut differ) = (0, 0, Vec::new());
+    for seed in 0..20 {
+        for (kind, scene) in [
+            ("three ties to photo 1", three_one_box_ties(seed)),
+            ("a chain of ties", chain_of_one_box_ties(seed)),
+        ] {
+            let Some(scene) = scene else { continue };
+            let (d, o) = orders_that_differ(&scene, &format!("seed {seed}, {kind}"));
+            cases += 1;
+            open += usize::from(o);
+            differ.extend(d);
+        }
+    }
+    println!(
+        "{cases} rooms with three one-box ties to photo 1 or in a chain ({open} left open), {} orders differ from the first: {differ:#?}",
+        differ.len()
+    );
+    assert!(differ.is_empty());
+}
