@@ -141,29 +141,31 @@ def main():
         with open(path, "rb") as f:
             return f.read()
 
+    def photo_then_propose(what, path, propose_what):
+        """`/api/photo` with the PNG at `path`, then, when kept, `/api/propose` on it."""
+        status, data = row(what, "/api/photo", photo(path), "image/png")
+        if status == 200:
+            pid = json.loads(data)["id"]
+            body = json.dumps({"photo": pid, "vanishing_points": vps, "max_proposals": 10})
+            row(propose_what, "/api/propose", body)
+
     try:
         for side in (1000, 2000):
             p = png(f"{tmp}/checker{side}.png", side, 8, "checker")
-            status, data = row(f"`/api/photo`, a {side} x {side} checkerboard PNG", "/api/photo", photo(p), "image/png")
-            if status == 200:
-                pid = json.loads(data)["id"]
-                body = json.dumps({"photo": pid, "vanishing_points": vps, "max_proposals": 10})
-                row(f"`/api/propose` on it (was 29 s at 1000, 130 s at 2000)", "/api/propose", body)
+            photo_then_propose(
+                f"`/api/photo`, a {side} x {side} checkerboard PNG", p,
+                "`/api/propose` on it (was 29 s at 1000, 130 s at 2000)",
+            )
         for n in range(4):
             p = png(f"{tmp}/rgba16-{n}.png", 4000, 16, "grey")
             row(f"`/api/photo`, 16-bit RGBA 4000 x 4000 PNG {n + 1} of 4 (four left the server at 706 MB)", "/api/photo", photo(p), "image/png")
         p = png(f"{tmp}/grey8000.png", 8000, 8, "grey")
-        status, data = row("`/api/photo`, an 8000 x 8000 photo (the page's largest side)", "/api/photo", photo(p), "image/png")
-        if status == 200:
-            pid = json.loads(data)["id"]
-            body = json.dumps({"photo": pid, "vanishing_points": vps, "max_proposals": 10})
-            row("`/api/propose` on it (peaked at 1.75 GB)", "/api/propose", body)
+        photo_then_propose(
+            "`/api/photo`, an 8000 x 8000 photo (the page's largest side)", p,
+            "`/api/propose` on it (peaked at 1.75 GB)",
+        )
         p = png(f"{tmp}/checker8000.png", 8000, 8, "checker")
-        status, data = row("`/api/photo`, an 8000 x 8000 checkerboard PNG", "/api/photo", photo(p), "image/png")
-        if status == 200:
-            pid = json.loads(data)["id"]
-            body = json.dumps({"photo": pid, "vanishing_points": vps, "max_proposals": 10})
-            row("`/api/propose` on it", "/api/propose", body)
+        photo_then_propose("`/api/photo`, an 8000 x 8000 checkerboard PNG", p, "`/api/propose` on it")
         row("`/api/detect`, the same 8000 x 8000 checkerboard", "/api/detect", photo(p), "image/png")
         with open(f"{tmp}/room-16.json") as f:
             room = f.read()
