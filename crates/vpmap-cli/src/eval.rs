@@ -117,7 +117,7 @@ pub struct EvalArgs {
     #[arg(long, allow_negative_numbers = true)]
     pub grow_confidence: Option<f64>,
     /// Rooms of several photos instead (see docs/results.md, "Rooms of several photos"):
-    /// numbers of photos, comma separated, each 1 to 4 (e.g. 1,2,3,4). --trials rooms per
+    /// numbers of photos, comma separated, each 1 to 8 (e.g. 1,2,3,4). --trials rooms per
     /// number, each at every --sigma, mapped jointly and from its first photo alone; writes
     /// rooms.md and rooms.csv; --publish writes the `eval-rooms` section.
     #[arg(long)]
@@ -146,7 +146,8 @@ fn run_rooms(args: &EvalArgs, photos: &str) -> Result<()> {
                 counts.push(n);
             }
             _ => bail!(
-                "--photos {part:?} must be whole numbers of photos from 1 to 4, each once (e.g. 1,2,3,4)"
+                "--photos {part:?} must be whole numbers of photos from 1 to {}, each once (e.g. 1,2,3,4)",
+                vpmap_metrology::synth::MAX_ROOM_PHOTOS
             ),
         }
     }

@@ -42,7 +42,7 @@ pub struct SynthArgs {
     /// boxes only).
     #[arg(long)]
     prisms: Option<usize>,
-    /// Photos of the room, 1 to 4. One: the single-photo scene the other flags describe. More:
+    /// Photos of the room, 1 to 8. One: the single-photo scene the other flags describe. More:
     /// a rectangular room (4-7 m a side) with --boxes boxes along its walls, photographed from
     /// near its corners looking in, each camera its own height (1.1-1.7 m), pitch (8-35 deg),
     /// roll (up to 4 deg) and focal length (700-1300 px), drawn from --seed (--pitch, --roll,

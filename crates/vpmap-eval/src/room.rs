@@ -36,7 +36,7 @@ pub struct RoomEvalOptions {
     pub trials: u64,
     /// Seed of the run.
     pub seed: u64,
-    /// Numbers of photos, each 1 to 4.
+    /// Numbers of photos, each 1 to [`vpmap_metrology::synth::MAX_ROOM_PHOTOS`].
     pub photos: Vec<usize>,
     /// Noise levels, pixels.
     pub sigmas_px: Vec<f64>,

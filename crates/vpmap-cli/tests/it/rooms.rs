@@ -46,7 +46,7 @@ fn synth_photos_writes_a_room_file_that_builds() {
         std::fs::read_to_string(&plain).unwrap()
     );
     for bad in [
-        &["synth", "--photos", "5"][..],
+        &["synth", "--photos", "9"][..],
         &["synth", "--photos", "2", "--prisms", "1"],
     ] {
         let mut args = bad.to_vec();

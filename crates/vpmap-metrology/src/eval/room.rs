@@ -63,7 +63,7 @@ pub fn room_scene_seed(seed: u64, photos: usize, trial: u64) -> u64 {
 /// Options of [`run_room_trial`].
 #[derive(Debug, Clone, PartialEq)]
 pub struct RoomTrialOptions {
-    /// Photos of each room, 1 to 4.
+    /// Photos of each room, 1 to [`crate::synth::MAX_ROOM_PHOTOS`].
     pub photos: usize,
     /// Boxes in each room.
     pub boxes: usize,

@@ -21,16 +21,29 @@ use crate::scene::Scene;
 const TIE_CHI2: f64 = 4.0;
 
 /// The refusal of a room none of whose placements converged: by the consistency test's names
-/// when the photos are far from fitting together (the least-cost unconverged fit), else the
-/// fit's failure, else the first error met (`failure`).
+/// when the photos are far from fitting together (the least-cost unconverged fit, costs within
+/// their numerical noise by the placement key, so that no order of the photos changes which),
+/// else the fit's failure, else the first error met in the starts' order (`failure`).
 pub(super) fn refuse_unconverged(
     fits: &[PhotoFit],
+    keys: &PhotoKeys,
     unconverged: &[Solved],
     failure: Option<MetrologyError>,
 ) -> MetrologyError {
     // A fit that did not converge: refused, by the consistency test's names when its
     // photos are far from fitting together.
-    if let Some(u) = unconverged.iter().min_by(|a, b| a.cost.total_cmp(&b.cost)) {
+    let residuals = unconverged
+        .iter()
+        .map(|u| u.built.problem.residual_count())
+        .max()
+        .unwrap_or(0);
+    let pick = least(
+        0..unconverged.len(),
+        |i| unconverged[i].cost,
+        residuals,
+        |i| keys.placement(&unconverged[i].quarters),
+    );
+    if let Some(u) = pick.and_then(|i| unconverged.get(i)) {
         let rms = (u.cost / u.built.problem.residual_count().max(1) as f64).sqrt();
         let test = consistency::test(fits, &u.built.problem, &u.x, &u.built.names);
         let objects: Vec<Vec<String>> = fits

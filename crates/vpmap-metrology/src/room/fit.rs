@@ -482,7 +482,7 @@ pub fn fit_room_until(scene: &Scene, interrupt: &Interrupt) -> Result<RoomFitted
     let (mut results, unconverged): (Vec<Solved>, Vec<Solved>) =
         results.into_iter().partition(|s| s.converged);
     if results.is_empty() {
-        return Err(refuse_unconverged(&fits, &unconverged, failure));
+        return Err(refuse_unconverged(&fits, &keys, &unconverged, failure));
     }
     results.sort_by(|a, b| a.cost.total_cmp(&b.cost));
     let mut warnings: Vec<String> = Vec::new();

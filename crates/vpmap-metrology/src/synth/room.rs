@@ -1,6 +1,6 @@
 //! A random room photographed several times: [`synthesize_room`] places a rectangular room
-//! aligned with its Manhattan axes, boxes aligned with the room, and up to four cameras standing
-//! near the room's corners looking in, and annotates each photo as a single-photo scene through
+//! aligned with its Manhattan axes, boxes aligned with the room, and up to eight cameras standing
+//! near the room's corners looking in (two a corner at most), and annotates each photo as a single-photo scene through
 //! the same independent pinhole camera as [`synthesize`](super::synthesize).
 //!
 //! # Frames
@@ -15,8 +15,11 @@
 //! 4-7 m a side (times `sqrt(boxes / 6)` for more than six boxes); boxes 0.3-1.2 m a side and 0.2-1.0 m high (furniture lower than every
 //! camera: tables, beds, cabinets), at least 0.3 m apart, inside the middle 60 % of the room
 //! on each axis. Cameras 0.3-0.9 m from two walls near a corner (the first at a random
-//! corner, the second at the opposite one, then the other two), looking at the room's centre
-//! turned by up to 12 degrees, at least 15 degrees off both room axes.
+//! corner, the second at the opposite one, then the other two; photos 5-8 go round the corners
+//! again in the same order, each from its own spot, height, pitch and focal length), looking at
+//! the room's centre turned by up to 12 degrees, at least 15 degrees off both room axes. A room
+//! of one to four photos is the same room whatever the most photos allowed (the random draws of
+//! photos 5-8 come after theirs).
 //!
 //! # What each photo shows
 //! A box is listed in a photo when its four base corners lie inside the image (2 % margin) and
@@ -42,8 +45,8 @@ use super::vp_edges::vanishing_points_as_lines;
 use crate::error::{MetrologyError, Result};
 use crate::scene::{ImageSize, ScaleSpec, Scene};
 
-/// Most photos of a synthetic room (one per corner of the room).
-pub const MAX_ROOM_PHOTOS: usize = 4;
+/// Most photos of a synthetic room (two per corner of the room).
+pub const MAX_ROOM_PHOTOS: usize = 8;
 
 /// Attempts at drawing a room before [`synthesize_room`] gives up.
 const ROOM_ATTEMPTS: usize = 500;
@@ -304,10 +307,11 @@ fn try_room(options: &RoomSynthOptions, rng: &mut ChaCha8Rng) -> Option<(Scene, 
     // Cameras near the room's corners, the first at a random one, the second at the opposite,
     // then the other two; each looks at the room's centre, turned a little.
     let first = rng.random_range(0..4usize);
-    let order = [first, (first + 2) % 4, (first + 1) % 4, (first + 3) % 4];
+    let corners = [first, (first + 2) % 4, (first + 1) % 4, (first + 3) % 4];
+    let order = corners.iter().chain(&corners);
     let centre = room / 2.0;
     let mut placed = Vec::with_capacity(options.photos);
-    for &corner in order.iter().take(options.photos) {
+    for &corner in order.take(options.photos) {
         let inset = Vector2::new(rng.random_range(0.3..0.9), rng.random_range(0.3..0.9));
         let position = Vector2::new(
             if corner == 1 || corner == 2 {
