@@ -3,7 +3,8 @@
 
 import { resolvedVps, uniqueName } from './scene.js';
 import { h } from './util.js';
-import { BOX_STEPS, BoxAnnotation, CORNER_HELP, boxEdges, boxPoints, cornerWords, guideLines, neighbourCorner, offLine } from './box.js';
+import { BOX_STEPS, BoxAnnotation, CORNER_HELP, boxEdges, boxPoints, cornerWords, guideLines, neighbourCorner, offLineThroughLens } from './box.js';
+import { lensOf } from './geometry.js';
 import { SNAP_PX, cornerSnap, drawSnap } from './snap.js';
 import { PlacementTool, band, clearRefusal, guide, refuseAboveHorizon } from './placement-tool.js';
 import { PendingCovariances } from './covariances.js';
@@ -86,9 +87,10 @@ export class BoxTool extends PlacementTool {
     const c = this.box.current;
     if (!c || free || !view) return { p, line: null, snapped: false };
     const vps = resolvedVps(this.app.state.scene);
+    const lens = lensOf(this.app.state.scene);
     let best = null;
     for (const g of guideLines(this.box.partial, c.part, c.corner, vps, this.box.ownYaw)) {
-      const r = offLine(p, g.from, vps[g.vp]);
+      const r = offLineThroughLens(p, g.from, vps[g.vp], lens);
       if (r && r.px * view.s <= SNAP_PX && (!best || r.px < best.r.px)) best = { r, g };
     }
     if (best) return { p: best.r.foot, line: best.g, snapped: true };

@@ -7,6 +7,8 @@
 // (e2e/unit/box.test.mjs) run it in Node. The server decides whether the corners fix the box
 // and names the corner to add when they do not.
 
+import { distortPx, undistortPx } from './geometry.js';
+
 /** The corner names of each view, in the order of the box's 2 x 2 grid of vertical edges. */
 export const BOX_VIEWS = {
   corner: ['near', 'right', 'left', 'far'],
@@ -144,6 +146,20 @@ export function offLine(p, a, b) {
   return { px: Math.hypot(p[0] - foot[0], p[1] - foot[1]), foot };
 }
 
+/**
+ * As `offLine` for a photo with a lens (`lensOf`; null: `offLine` itself): photo pixel `p` from
+ * the line that runs from photo pixel `a` towards pinhole point `v` in the pinhole camera's
+ * image, where such a line is straight. The foot is found there and taken back to its photo
+ * pixel; `px` is the photo's pixels from `p` to it. Null when `a` is `v` or the foot lies beyond
+ * the lens's reach.
+ */
+export function offLineThroughLens(p, a, v, lens) {
+  if (!lens) return offLine(p, a, v);
+  const r = offLine(undistortPx(p, lens), undistortPx(a, lens), v);
+  const foot = r ? distortPx(r.foot, lens) : null;
+  return foot ? { px: Math.hypot(p[0] - foot[0], p[1] - foot[1]), foot } : null;
+}
+
 /** The sine of the angle between the lines p->q and p->v (1 when either is empty), as the server's side view measures it. */
 function misalignment(p, q, v) {
   const a = [q[0] - p[0], q[1] - p[1]], b = [v[0] - p[0], v[1] - p[1]];
@@ -157,9 +173,11 @@ function misalignment(p, q, v) {
  * vanishing point, `vps[0]` or `vps[1]` (not for a box with its own yaw), and each
  * top corner from the vertical line through its base corner (towards `vps[2]`). A list of
  * `{part, corner, from, vp, px, foot}`: `from` the corner the line starts at, `vp` its index,
- * `foot` the nearest point on it. Vanishing points may be null (then no line is checked).
+ * `foot` the nearest point on it. Vanishing points may be null (then no line is checked). With
+ * `lens` (`lensOf`) the corners are photo pixels, the vanishing points the pinhole camera's
+ * (`pinholeVp`), and the lines straight in the pinhole image (`offLineThroughLens`).
  */
-export function guideOffsets(o, vps) {
+export function guideOffsets(o, vps, lens = null) {
   const out = [];
   const base = o?.base || {};
   const view = boxView(o);
@@ -171,19 +189,19 @@ export function guideOffsets(o, vps) {
     // for a corner alone.
     const [ai, aj] = GRID[anchor];
     const next = BOX_VIEWS[view].filter((c) => Math.abs(GRID[c][0] - ai) + Math.abs(GRID[c][1] - aj) === 1 && isPoint(base[c]));
-    const mis = (c, k) => misalignment(a, base[c], vps[k]);
+    const mis = (c, k) => misalignment(undistortPx(a, lens), undistortPx(base[c], lens), vps[k]);
     let ks;
     if (next.length === 2) ks = mis(next[0], 0) + mis(next[1], 1) <= mis(next[0], 1) + mis(next[1], 0) ? [0, 1] : [1, 0];
     else ks = next.map((c) => (mis(c, 0) <= mis(c, 1) ? 0 : 1));
     next.forEach((c, i) => {
-      const r = offLine(base[c], a, vps[ks[i]]);
+      const r = offLineThroughLens(base[c], a, vps[ks[i]], lens);
       if (r) out.push({ part: 'base', corner: c, from: anchor, vp: ks[i], ...r });
     });
   }
   const vv = vps?.[2];
   for (const [c, p] of Object.entries(o?.top || {})) {
     const b = base[c];
-    const r = isPoint(p) && isPoint(b) && isPoint(vv) ? offLine(p, b, vv) : null;
+    const r = isPoint(p) && isPoint(b) && isPoint(vv) ? offLineThroughLens(p, b, vv, lens) : null;
     if (r) out.push({ part: 'top', corner: c, from: c, vp: 2, ...r });
   }
   return out;

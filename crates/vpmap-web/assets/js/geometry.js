@@ -25,6 +25,44 @@ export function intersectSegments(segs) {
   return p.every(Number.isFinite) ? p : null;
 }
 
+/**
+ * A scene entry's vanishing point in the pinhole camera's image, as the server reads it: its
+ * `point` as given (a point is the pinhole camera's), else its lines' intersection after each
+ * segment's ends are taken through `lens` (`lensOf`; segments are photo pixels). Without a lens
+ * the same as `vpPoint`.
+ */
+export function pinholeVp(vp, lens) {
+  if (!lens || !Array.isArray(vp?.lines)) return vpPoint(vp);
+  return intersectSegments(vp.lines.map((s) => {
+    const a = undistortPx([s[0], s[1]], lens), b = undistortPx([s[2], s[3]], lens);
+    return [a[0], a[1], b[0], b[1]];
+  }));
+}
+
+/**
+ * The photo pixels of the straight line that runs from photo pixel `from` towards pinhole point
+ * `vp` in the pinhole camera's image (`lens`, see `lensOf`), `reach` pinhole pixels either side
+ * of `from` (not past `vp` when it is nearer): `samples + 1` points of the pinhole line, each taken
+ * to its photo pixel (points beyond the lens's reach are left out). Without a lens the two ends.
+ * Null when `from` is `vp`.
+ */
+export function lineThroughLens(from, vp, lens, reach, samples = 64) {
+  const a = undistortPx(from, lens);
+  const d = [vp[0] - a[0], vp[1] - a[1]];
+  const len = Math.hypot(d[0], d[1]);
+  if (!(len > 1e-9)) return null;
+  const u = [d[0] / len, d[1] / len];
+  const t0 = -reach, t1 = Math.min(reach, len);
+  if (!lens) return [[a[0] + u[0] * t0, a[1] + u[1] * t0], [a[0] + u[0] * t1, a[1] + u[1] * t1]];
+  const out = [];
+  for (let i = 0; i <= samples; i += 1) {
+    const t = t0 + ((t1 - t0) * i) / samples;
+    const q = distortPx([a[0] + u[0] * t, a[1] + u[1] * t], lens);
+    if (q) out.push(q);
+  }
+  return out;
+}
+
 /** The resolved vanishing point of a scene entry: its `point`, else its lines' intersection. */
 export function vpPoint(vp) {
   if (!vp) return null;

@@ -188,7 +188,7 @@ export function installPanels(app) {
     // Corners off the lines they should lie on: the map's box cannot pass through them, so
     // its sizes differ from distances measured on the clicked points. Said with the distance.
     if (o.base) {
-      for (const g of guideOffsets(o, resolvedVps(state.scene))) {
+      for (const g of guideOffsets(o, resolvedVps(state.scene), lensOf(state.scene))) {
         if (g.px < OFF_LINE_PX) continue;
         const towards = g.part === 'top' ? `the vertical through base.${g.corner}` : `the line from base.${g.from} towards ${['A', 'B'][g.vp]}`;
         lines.push(`⚠ ${g.part}.${g.corner} is ${g.px.toFixed(1)} px off ${towards}`);

@@ -474,7 +474,7 @@ export class PhotoView {
         const pts = boxPoints(o);
         for (const { p } of pts) this.dot(p, selected ? 4.5 : 3.5, colour);
         // A corner off the line it should lie on: the line, and by how much (the object list says it too).
-        for (const g of guideOffsets(o, resolvedVps(st.scene))) {
+        for (const g of guideOffsets(o, resolvedVps(st.scene), lensOf(st.scene))) {
           if (g.px < OFF_LINE_PX) continue;
           const p = o[g.part][g.corner];
           this.path([g.part === 'top' ? o.base[g.from] : o.base[g.from], g.foot, p]);

@@ -8,7 +8,7 @@
 // `setStatus(msg)`.
 
 import { VP_COLOURS } from './scene.js';
-import { aboveHorizon, lensOf, undistortPx, vpPoint } from './geometry.js';
+import { aboveHorizon, lensOf, lineThroughLens, pinholeVp, undistortPx } from './geometry.js';
 import { hexAlpha } from './photo-view.js';
 
 /** Draw a rubber band and guide lines in image coordinates. */
@@ -17,25 +17,31 @@ export function band(view, a, b, colour, dash = [6, 4]) {
   view.strokeHalo(colour, 1.5, dash);
 }
 
-/** A faint line from `from` towards the vanishing point `k` (where an edge from `from` must run). */
+/**
+ * A faint line from `from` towards the vanishing point `k` (where an edge from `from` must run):
+ * straight in the pinhole camera's image, so through a photo's lens (`lens_distortion`) a curve,
+ * as the photo shows the edge.
+ */
 export function guide(view, app, from, k) {
-  const vp = vpPoint(app.state.scene?.vanishing_points?.[k]);
+  const scene = app.state.scene;
+  const lens = lensOf(scene);
+  const vp = pinholeVp(scene?.vanishing_points?.[k], lens);
   if (!vp || !from) return;
-  const d = [vp[0] - from[0], vp[1] - from[1]];
-  const len = Math.hypot(d[0], d[1]);
-  if (!(len > 1)) return;
+  const a = undistortPx(from, lens);
+  if (!(Math.hypot(vp[0] - a[0], vp[1] - a[1]) > 1)) return;
   // Both ways: the corner may lie on either side of `from`.
-  const reach = 4000 / view.s;
-  const u = [d[0] / len, d[1] / len];
-  const a = [from[0] - u[0] * reach, from[1] - u[1] * reach];
-  const b = len < reach ? vp : [from[0] + u[0] * reach, from[1] + u[1] * reach];
-  view.path([a, b]);
+  const pts = lineThroughLens(from, vp, lens, 4000 / view.s, GUIDE_CURVE_SAMPLES);
+  if (!pts || pts.length < 2) return;
+  view.path(pts);
   view.ctx.strokeStyle = hexAlpha(VP_COLOURS[k], 0.55);
   view.ctx.lineWidth = 1;
   view.ctx.setLineDash([2, 4]);
   view.ctx.stroke();
   view.ctx.setLineDash([]);
 }
+
+/** Points of a guide line drawn through a photo's lens (a curve; straight without a lens). */
+const GUIDE_CURVE_SAMPLES = 96;
 
 const HORIZON_REFUSAL = 'That point is ';
 

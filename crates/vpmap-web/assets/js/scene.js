@@ -1,7 +1,7 @@
 // The scene file (docs/scene-format.md) as the page edits it. The page keeps the scene in
 // exactly the file's shape, so saving is `JSON.stringify` and unknown fields survive a round trip.
 
-import { vpPoint } from './geometry.js';
+import { lensOf, pinholeVp, vpPoint } from './geometry.js';
 import { boxOutline, boxPoints, convexHull } from './box.js';
 
 export const VP_NAMES = ['Horizontal A', 'Horizontal B', 'Vertical'];
@@ -141,9 +141,14 @@ export function polygonArea(ring) {
   return Math.abs(a) / 2;
 }
 
-/** The resolved vanishing points of the scene (null entries where unknown). */
+/**
+ * The resolved vanishing points of the scene (null entries where unknown), in the pinhole
+ * camera's image: with a lens (`lens_distortion`) a `lines` entry's segments are taken through
+ * it before they are intersected, as the server reads them (`pinholeVp`).
+ */
 export function resolvedVps(scene) {
-  return (scene?.vanishing_points || []).map(vpPoint);
+  const lens = lensOf(scene);
+  return (scene?.vanishing_points || []).map((vp) => pinholeVp(vp, lens));
 }
 
 /**

@@ -5,7 +5,8 @@
 
 import { resolvedVps } from './scene.js';
 import { segmentCorners } from './geometry.js';
-import { guideLines, offLine } from './box.js';
+import { guideLines, offLineThroughLens } from './box.js';
+import { lensOf } from './geometry.js';
 
 /** How near (screen px) the pointer must be to a point to grab it or to close a polygon on it. */
 export const HIT_PX = 8;
@@ -91,9 +92,10 @@ export function dragSnap(app, hd, p, view, free) {
   const o = hd.kind === 'object' ? app.state.scene?.objects?.[i] : null;
   if (o?.base && (part === 'base' || part === 'top')) {
     const vps = resolvedVps(app.state.scene);
+    const lens = lensOf(app.state.scene);
     let best = null;
     for (const g of guideLines(o, part, corner, vps, !!o.own_yaw)) {
-      const r = offLine(p, g.from, vps[g.vp]);
+      const r = offLineThroughLens(p, g.from, vps[g.vp], lens);
       if (r && r.px * view.s <= SNAP_PX && (!best || r.px < best.px)) best = r;
     }
     if (best) return { p: best.foot, snapped: true };

@@ -3,8 +3,9 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import {
-  BOX_STEPS, BoxAnnotation, boxBaseOutline, boxEdges, boxOutline, boxPoints, boxView, convexHull, describeBox, guideLines, guideOffsets, neighbourCorner,
+  BOX_STEPS, BoxAnnotation, boxBaseOutline, boxEdges, boxOutline, boxPoints, boxView, convexHull, describeBox, guideLines, guideOffsets, neighbourCorner, offLineThroughLens,
 } from '../../assets/js/box.js';
+import { lensOf } from '../../assets/js/geometry.js';
 import { handles, objectOutline } from '../../assets/js/scene.js';
 import { fmtSd } from '../../assets/js/util.js';
 
@@ -171,4 +172,37 @@ test('guideLines: base corners next to the anchor run towards A or B, top corner
   assert.deepEqual(guideLines(o, 'top', 'near', vps), [{ from: [0, 0], vp: 2 }]);
   assert.deepEqual(guideLines(o, 'top', 'left', vps), []); // no base.left yet
   assert.deepEqual(guideLines({}, 'base', 'right', vps), []);
+});
+
+test('on a photo with a lens, corners on their pinhole lines are on their lines, and one off is off by what the photo shows', () => {
+  // The division model written out (docs/scene-format.md), not taken from geometry.js.
+  const C = [800, 600], H = 1000, K = -0.12;
+  const toPhoto = (q) => {
+    const d = [q[0] - C[0], q[1] - C[1]];
+    const ru = Math.hypot(d[0], d[1]) / H;
+    let lo = 0, hi = ru;
+    for (let i = 0; i < 200; i += 1) {
+      const mid = (lo + hi) / 2;
+      if (mid / (1 + K * mid * mid) < ru) lo = mid; else hi = mid;
+    }
+    const r = (lo + hi) / 2;
+    return ru === 0 ? q : [C[0] + d[0] * (r / ru), C[1] + d[1] * (r / ru)];
+  };
+  const lens = lensOf({ image: { width: 1600, height: 1200 }, lens_distortion: { k: K } });
+  const vps = [[5200, 760], [-2600, 420], [820, 40000]]; // pinhole
+  const along = (a, v, t) => [a[0] + t * (v[0] - a[0]), a[1] + t * (v[1] - a[1])];
+  const nearU = [250, 1050];
+  const rightU = along(nearU, vps[0], 0.22);
+  const topU = along(nearU, vps[2], -0.018); // up the vertical
+  const o = { base: { near: toPhoto(nearU), right: toPhoto(rightU) }, top: { near: toPhoto(topU) } };
+  const through = guideOffsets(o, vps, lens);
+  assert.equal(through.length, 2);
+  for (const g of through) assert.ok(g.px < 1e-6, `${g.part}.${g.corner} ${g.px} px`);
+  // Measured straight on the photo, the bowed edge puts the right corner off its line.
+  const straight = guideOffsets(o, vps).find((g) => g.corner === 'right');
+  assert.ok(straight.px > 2, `${straight.px} px`);
+  // A corner 3 px (photo pixels) across the line is 3 px off, its foot on the line.
+  const r = offLineThroughLens([o.base.right[0], o.base.right[1] - 3], o.base.near, vps[0], lens);
+  assert.ok(Math.abs(r.px - 3) < 0.05, `${r.px}`);
+  assert.ok(Math.hypot(r.foot[0] - o.base.right[0], r.foot[1] - o.base.right[1]) < 0.05);
 });

@@ -1,7 +1,7 @@
 // Plane geometry for drawing and hit testing.
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
-import { aboveHorizon, distortPx, lensOf, undistortPx, segmentCorners, intersectSegments, vpPoint, clipLine, distToSegment, pointInPolygon } from '../../assets/js/geometry.js';
+import { aboveHorizon, distortPx, lensOf, lineThroughLens, pinholeVp, undistortPx, segmentCorners, intersectSegments, vpPoint, clipLine, distToSegment, pointInPolygon } from '../../assets/js/geometry.js';
 
 const near = (a, b, tol = 1e-9) => assert.ok(a.length === b.length && a.every((v, i) => Math.abs(v - b[i]) <= tol), `${a} != ${b}`);
 
@@ -86,4 +86,73 @@ test('a photo\'s lens: the division model of docs/scene-format.md, both ways', (
   near(undistortPx([3, 4], null), [3, 4]);
   // Pincushion far out: beyond the lens's reach, no photo pixel.
   assert.equal(distortPx([800 + 5000, 600], lensOf({ ...scene, lens_distortion: { k: 0.5 } })), null);
+});
+
+// The division model written out here, not taken from geometry.js: photo pixel p -> pinhole
+// c + (p - c) / (1 + k r^2), r = |p - c| / h (docs/scene-format.md); its inverse by bisection on
+// the photo radius.
+const LENS_SCENE = { image: { width: 1600, height: 1200 }, lens_distortion: { k: -0.1 } };
+const C = [800, 600], H = 1000, K = -0.1;
+const toPinhole = (p) => {
+  const d = [p[0] - C[0], p[1] - C[1]];
+  const s = 1 + K * (d[0] * d[0] + d[1] * d[1]) / (H * H);
+  return [C[0] + d[0] / s, C[1] + d[1] / s];
+};
+const toPhoto = (q) => {
+  const d = [q[0] - C[0], q[1] - C[1]];
+  const ru = Math.hypot(d[0], d[1]) / H;
+  if (ru === 0) return q;
+  // r / (1 + K r^2) = ru, r in [0, ru] for barrel (K < 0: the photo radius is the smaller).
+  let lo = 0, hi = ru;
+  for (let i = 0; i < 200; i += 1) {
+    const mid = (lo + hi) / 2;
+    if (mid / (1 + K * mid * mid) < ru) lo = mid; else hi = mid;
+  }
+  const r = (lo + hi) / 2;
+  return [C[0] + d[0] * (r / ru), C[1] + d[1] * (r / ru)];
+};
+const offPinholeLine = (p, a, v) => {
+  // Distance of pinhole point p from the line through a and v.
+  const d = [v[0] - a[0], v[1] - a[1]];
+  return Math.abs((p[0] - a[0]) * d[1] - (p[1] - a[1]) * d[0]) / Math.hypot(d[0], d[1]);
+};
+
+test('a guide line through a lens: every point is on the straight pinhole line, drawn where the photo shows it', () => {
+  const lens = lensOf(LENS_SCENE);
+  const vp = [5200, 760]; // pinhole
+  const from = toPhoto([300, 1000]);
+  const pts = lineThroughLens(from, vp, lens, 600, 32);
+  assert.equal(pts.length, 33);
+  const a = toPinhole(from);
+  for (const q of pts) assert.ok(offPinholeLine(toPinhole(q), a, vp) < 1e-6, `${q}`);
+  // It runs 600 pinhole px both ways from the corner.
+  near(toPinhole(pts[0]), [a[0] - 600 * (vp[0] - a[0]) / Math.hypot(vp[0] - a[0], vp[1] - a[1]), a[1] - 600 * (vp[1] - a[1]) / Math.hypot(vp[0] - a[0], vp[1] - a[1])], 1e-6);
+  // The photo shows it bowed: its middle lies off the chord between its ends.
+  const mid = pts[16], chord = offPinholeLine(mid, pts[0], pts[32]);
+  assert.ok(chord > 3, `bow ${chord} px`);
+  // No lens: the two ends of the straight line, not past the vanishing point.
+  const plain = lineThroughLens([0, 0], [100, 0], null, 600);
+  near(plain[0], [-600, 0]);
+  near(plain[1], [100, 0]);
+  // From the vanishing point itself (as the photo shows it): no line.
+  assert.equal(lineThroughLens(toPhoto([900, 700]), [900, 700], lens, 10), null);
+});
+
+test('a vanishing point given as lines through a lens is where their pinhole lines meet', () => {
+  const lens = lensOf(LENS_SCENE);
+  const vp = [-2600, 420]; // pinhole
+  // Two scene edges towards it, clicked on the photo: their ends are photo pixels.
+  const seg = (a, t) => {
+    const b = [a[0] + t * (vp[0] - a[0]), a[1] + t * (vp[1] - a[1])];
+    const [pa, pb] = [toPhoto(a), toPhoto(b)];
+    return [pa[0], pa[1], pb[0], pb[1]];
+  };
+  const entry = { lines: [seg([1500, 1100], 0.2), seg([1400, 150], 0.2)] };
+  near(pinholeVp(entry, lens), vp, 1e-6);
+  // Intersected as photo pixels, the bowed edges' chords meet elsewhere.
+  const raw = vpPoint(entry);
+  assert.ok(Math.hypot(raw[0] - vp[0], raw[1] - vp[1]) > 50, `${raw}`);
+  // Without a lens, or a point (the pinhole camera's already): as vpPoint.
+  near(pinholeVp(entry, null), raw);
+  near(pinholeVp({ point: [1, 2] }, lens), [1, 2]);
 });
