@@ -628,6 +628,10 @@ fn noisy_room(v: &serde_json::Value, sigma_px: f64, seed: u64, edges: bool) -> S
     scene
 }
 
+/// The chi-square quantile of 95 % with 2 degrees of freedom: a 95 % ellipse's squared
+/// Mahalanobis radius.
+const CHI2_2_95: f64 = 5.991_464_547_107_979;
+
 /// How the noisy trials of the shared rooms came out.
 #[derive(Debug, Default)]
 struct NoisyCount {
@@ -638,6 +642,10 @@ struct NoisyCount {
     beyond_quarter_metre: usize,
     worst_m: f64,
     worst_d2: f64,
+    /// Objects of the maps built, and of them those whose true centroid lies inside the map's
+    /// 95 % ellipse (d^2 at most 5.991, chi-square with 2 degrees of freedom).
+    objects: usize,
+    inside: usize,
 }
 
 fn noisy_shared_rooms(sigma_px: f64, trials: u64, edges: bool) -> NoisyCount {
@@ -678,6 +686,8 @@ fn noisy_shared_rooms(sigma_px: f64, trials: u64, edges: bool) -> NoisyCount {
                             + k[0][0] * d[1] * d[1])
                             / det;
                         worst_d2 = worst_d2.max(d2);
+                        count.objects += 1;
+                        count.inside += usize::from(d2 <= CHI2_2_95);
                     }
                     count.worst_m = count.worst_m.max(worst);
                     count.worst_d2 = count.worst_d2.max(worst_d2);
@@ -716,13 +726,16 @@ fn shared_data_rooms_with_noisy_clicks_are_mapped_not_refused() {
     ] {
         let c = noisy_shared_rooms(sigma, trials, edges);
         println!(
-            "{sigma} px, vanishing points from edges {edges}: {} trials, {} refused, {} silently wrong (d^2 > 30), {} a box > 0.25 m inside its error bars, worst box {:.3} m, worst d^2 {:.1}\n{:#?}\n{:#?}",
+            "{sigma} px, vanishing points from edges {edges}: {} trials, {} refused, {} silently wrong (d^2 > 30), {} a box > 0.25 m inside its error bars, worst box {:.3} m, worst d^2 {:.1}, truth inside the 95 % ellipse {} of {} ({:.1} %)\n{:#?}\n{:#?}",
             c.trials,
             c.refused.len(),
             c.silent_wrong.len(),
             c.beyond_quarter_metre,
             c.worst_m,
             c.worst_d2,
+            c.inside,
+            c.objects,
+            100.0 * c.inside as f64 / c.objects.max(1) as f64,
             c.refused,
             c.silent_wrong
         );
