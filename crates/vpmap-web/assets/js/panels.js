@@ -5,7 +5,7 @@
 import { $, h, fmt, fmtSd, parsePair, formatPair } from './util.js';
 import { VP_NAMES, resolvedVps, vpUsable } from './scene.js';
 import { OFF_LINE_PX, boxEdgeNames, describeBox, edgeChoice, guideOffsets, parseEdgeChoice } from './box.js';
-import { vpPoint } from './geometry.js';
+import { lensOf, vpPoint } from './geometry.js';
 import { VpLineTool } from './vp-line-tool.js';
 import { BUG_COLOURS, PLANNER_STYLE } from './plan-view.js';
 import { smoothDetail } from './smooth-view.js';
