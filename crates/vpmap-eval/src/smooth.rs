@@ -790,3 +790,42 @@ mod tests {
         }
     }
 }
+
+#[cfg(test)]
+#[allow(clippy::unwrap_used)]
+mod repro {
+    use super::*;
+    #[test]
+    #[ignore]
+    fn dump_nav2_q2() {
+        let opts = SmoothBenchOptions { built: false, nav2_maps: 1, ..SmoothBenchOptions::default() };
+        let maps = maps(&opts).unwrap();
+        let map = &maps[0];
+        let qs = queries(map, opts.seed.wrapping_mul(1000), 6).unwrap();
+        let q = qs[2];
+        eprintln!("query {q:?}");
+        let mut planner = SmoothPlanner::new(&map.grid, false);
+        let mut exact = ExactPlanner::new(&map.grid, false);
+        let taut = exact.plan(q.start, q.goal, &Budget::default()).unwrap().unwrap();
+        eprintln!("taut {:?} len {}", taut.waypoints, taut.length_cells);
+        for r in &map.radii[..2] {
+            let o = SmoothOptions {
+                turning_radius_cells: r.0,
+                start_heading_rad: q.headings.map(|h| h.0),
+                goal_heading_rad: q.headings.map(|h| h.1),
+                ..SmoothOptions::default()
+            };
+            let SmoothOutcome::Path(p) = planner.plan(q.start, q.goal, &o).unwrap() else { panic!() };
+            eprintln!("R {} len {} sc {} method {}", r.0, p.length_cells, p.curvature_sign_changes, p.method);
+            for s in &p.curve.segments {
+                eprintln!("  ({:.3},{:.3},{:.2}deg) k {:+.4} len {:.4}", s.start.x, s.start.y, s.start.heading_rad.to_degrees(), s.curvature, s.length);
+            }
+            let (a, b) = (Pose::new(q.start.x as f64, q.start.y as f64, q.headings.unwrap().0), Pose::new(q.goal.x as f64, q.goal.y as f64, q.headings.unwrap().1));
+            let d = dubins_shortest(a, b, r.0).unwrap();
+            eprintln!(" dubins len {} sc {}", d.curve.length(), d.curve.curvature_sign_changes());
+            for s in &d.curve.segments {
+                eprintln!("  ({:.3},{:.3},{:.2}deg) k {:+.4} len {:.4}", s.start.x, s.start.y, s.start.heading_rad.to_degrees(), s.curvature, s.length);
+            }
+        }
+    }
+}

@@ -47,10 +47,14 @@ const TIE_CELLS: f64 = 1e-12;
 const WORDS_TRIED: usize = 3;
 
 /// A path as poses joined by words (index into [`connect::table`]) of known length.
+#[derive(Clone)]
 struct Chain {
     poses: Vec<Pose>,
     /// `words[i]` joins `poses[i]` to `poses[i + 1]`: (word, length).
     words: Vec<(usize, f64)>,
+    /// `orig[i]`: the index of `poses[i]` among the unpolished path's segment ends (its
+    /// start first), or of the one it was moved from.
+    orig: Vec<usize>,
 }
 
 /// The shortest clear word from `a` to `b` no longer than `limit` and with at most
@@ -76,15 +80,21 @@ fn clear_word(
     })
 }
 
+/// The poses where `curve`'s segments meet, its start first and its end last.
+fn segment_ends(curve: &SmoothCurve) -> Vec<Pose> {
+    let mut poses: Vec<Pose> = curve.segments.first().map(|s| s.start).into_iter().collect();
+    poses.extend(curve.segments.iter().map(|s| s.end()));
+    poses
+}
+
 /// The path of `curve`'s segments, shortened by shortcuts (step 1 of the
 /// [module docs](self)).
 fn shortcut(field: &Field, curve: &SmoothCurve, radius: f64, reverse: bool) -> Option<Chain> {
     let segs = &curve.segments;
     let first = segs.first()?;
-    let mut poses = vec![first.start];
+    let poses = segment_ends(curve);
     let mut along = vec![0.0];
     for s in segs {
-        poses.push(s.end());
         along.push(along.last().copied().unwrap_or(0.0) + s.length);
     }
     let n = poses.len();
@@ -103,6 +113,7 @@ fn shortcut(field: &Field, curve: &SmoothCurve, radius: f64, reverse: bool) -> O
     let mut chain = Chain {
         poses: vec![first.start],
         words: Vec::new(),
+        orig: vec![0],
     };
     let mut a = 0;
     while a + 1 < n {
@@ -134,6 +145,7 @@ fn shortcut(field: &Field, curve: &SmoothCurve, radius: f64, reverse: bool) -> O
         if let (j, Some(w)) = best {
             chain.poses.push(*poses.get(j)?);
             chain.words.push(w);
+            chain.orig.push(j);
             a = j;
         } else {
             // Keep the segment as it is: the word of its own shape (it is one of them).
@@ -149,6 +161,7 @@ fn shortcut(field: &Field, curve: &SmoothCurve, radius: f64, reverse: bool) -> O
             chain.poses.push(end);
             chain.words.push(w);
             a += 1;
+            chain.orig.push(a);
         }
     }
     Some(chain)
@@ -211,6 +224,120 @@ fn end_sliver(a: Pose, b: Pose, radius: f64, reverse: bool, at_end: bool) -> f64
     }
 }
 
+/// A pose placed between its neighbours: the pose, the words from the previous pose and to
+/// the next one, and their total length.
+struct Placed {
+    pose: Pose,
+    word_in: Option<(usize, f64)>,
+    word_out: Option<(usize, f64)>,
+    length: f64,
+}
+
+/// The heading at `p`'s position that makes the shortest words from `prev` and to `next`
+/// shortest: golden-section search within [`HEADING_WINDOW_DEG`] of `p`'s heading, then
+/// slivers snapped away ([`end_sliver`]).
+fn best_heading(
+    (prev, p, next): (Option<Pose>, Pose, Option<Pose>),
+    radius: f64,
+    reverse: bool,
+) -> f64 {
+    let at = |h: f64| Pose::new(p.x, p.y, h);
+    let cost = |h: f64| {
+        prev.map_or(0.0, |q| connect::distance(q, at(h), radius, reverse))
+            + next.map_or(0.0, |q| connect::distance(at(h), q, radius, reverse))
+    };
+    let w = HEADING_WINDOW_DEG.to_radians();
+    let mut h = golden(&cost, p.heading_rad - w, p.heading_rad + w);
+    // The search leaves slivers of about sqrt(round-off) where the cost is flat:
+    // turn the pose by each sliver's own angle until none is left.
+    for _ in 0..SNAPS {
+        let turn = prev.map_or(0.0, |q| end_sliver(q, at(h), radius, reverse, true))
+            + next.map_or(0.0, |q| end_sliver(at(h), q, radius, reverse, false));
+        if turn == 0.0 {
+            break;
+        }
+        h += turn;
+    }
+    h
+}
+
+/// `p` joined to `prev` and `next` by their shortest clear words (at most [`WORDS_TRIED`]
+/// each), with at most `cusps` cusps each and in all no longer than `old` (+ round-off).
+fn place(
+    field: &Field,
+    (prev, p, next): (Option<Pose>, Pose, Option<Pose>),
+    radius: f64,
+    reverse: bool,
+    (old, (cusps_in, cusps_out)): (f64, (usize, usize)),
+) -> Option<Placed> {
+    let tie = |l: f64| l <= old + TIE_CELLS;
+    let word_length = |a: Pose, b: Pose| connect::distance(a, b, radius, reverse);
+    let lower = prev.map_or(0.0, |q| word_length(q, p)) + next.map_or(0.0, |q| word_length(p, q));
+    if !tie(lower) {
+        return None;
+    }
+    let limit = old + 1e-9;
+    let word_in = match prev {
+        Some(q) => Some(clear_word(field, (q, p), radius, reverse, (limit, cusps_in))?),
+        None => None,
+    };
+    let word_out = match next {
+        Some(q) => Some(clear_word(field, (p, q), radius, reverse, (limit, cusps_out))?),
+        None => None,
+    };
+    let length = word_in.map_or(0.0, |w| w.1) + word_out.map_or(0.0, |w| w.1);
+    tie(length).then_some(Placed {
+        pose: p,
+        word_in,
+        word_out,
+        length,
+    })
+}
+
+/// The neighbours of `chain`'s pose `i` and its words' total length and cusps, or `None`
+/// where a word is a kept segment of the unpolished path (its word is not known).
+#[allow(clippy::type_complexity)]
+fn around(
+    chain: &Chain,
+    i: usize,
+    radius: f64,
+) -> Option<((Option<Pose>, Pose, Option<Pose>), (f64, (usize, usize)))> {
+    let p = *chain.poses.get(i)?;
+    let prev = i.checked_sub(1).and_then(|k| chain.poses.get(k).copied());
+    let next = chain.poses.get(i + 1).copied();
+    let words_in = i.checked_sub(1).and_then(|k| chain.words.get(k).copied());
+    let words_out = chain.words.get(i).copied();
+    if words_in.is_some_and(|w| w.0 == usize::MAX) || words_out.is_some_and(|w| w.0 == usize::MAX)
+    {
+        return None;
+    }
+    let old = words_in.map_or(0.0, |w| w.1) + words_out.map_or(0.0, |w| w.1);
+    // No more cusps than the old words had.
+    let cusps_of = |a: Pose, b: Pose, w: Option<(usize, f64)>| {
+        w.and_then(|(w, _)| connect::curve(a, b, radius, w))
+            .map_or(0, |c| c.cusps())
+    };
+    let cusps_in = prev.map_or(0, |q| cusps_of(q, p, words_in));
+    let cusps_out = next.map_or(0, |q| cusps_of(p, q, words_out));
+    Some(((prev, p, next), (old, (cusps_in, cusps_out))))
+}
+
+/// Put `placed` in `chain` as its pose `i`.
+fn put(chain: &mut Chain, i: usize, placed: &Placed) {
+    if let Some(slot) = chain.poses.get_mut(i) {
+        *slot = placed.pose;
+    }
+    if let (Some(w), Some(slot)) = (
+        placed.word_in,
+        i.checked_sub(1).and_then(|k| chain.words.get_mut(k)),
+    ) {
+        *slot = w;
+    }
+    if let (Some(w), Some(slot)) = (placed.word_out, chain.words.get_mut(i)) {
+        *slot = w;
+    }
+}
+
 /// Step 2 of the [module docs](self) on `chain`, in place.
 fn headings(
     field: &Field,
@@ -229,98 +356,110 @@ fn headings(
             } else {
                 true
             };
+            if !free {
+                continue;
+            }
             // Only poses where the words already known are usable (not a kept segment).
-            let prev = i.checked_sub(1).and_then(|k| chain.poses.get(k).copied());
-            let next = chain.poses.get(i + 1).copied();
-            let (Some(&p), true) = (chain.poses.get(i), free) else {
+            let Some(((prev, p, next), budget)) = around(chain, i, radius) else {
                 continue;
             };
-            let words_in = i.checked_sub(1).and_then(|k| chain.words.get(k).copied());
-            let words_out = chain.words.get(i).copied();
-            let old = words_in.map_or(0.0, |w| w.1) + words_out.map_or(0.0, |w| w.1);
-            if words_in.is_some_and(|w| w.0 == usize::MAX)
-                || words_out.is_some_and(|w| w.0 == usize::MAX)
-            {
-                continue;
-            }
-            let at = |h: f64| Pose::new(p.x, p.y, h);
-            let cost = |h: f64| {
-                prev.map_or(0.0, |q| connect::distance(q, at(h), radius, reverse))
-                    + next.map_or(0.0, |q| connect::distance(at(h), q, radius, reverse))
-            };
-            let w = HEADING_WINDOW_DEG.to_radians();
-            let mut h = golden(&cost, p.heading_rad - w, p.heading_rad + w);
-            // The search leaves slivers of about sqrt(round-off) where the cost is flat:
-            // turn the pose by each sliver's own angle until none is left.
-            for _ in 0..SNAPS {
-                let turn = prev.map_or(0.0, |q| end_sliver(q, at(h), radius, reverse, true))
-                    + next.map_or(0.0, |q| end_sliver(at(h), q, radius, reverse, false));
-                if turn == 0.0 {
-                    break;
-                }
-                h += turn;
-            }
-            if cost(h) > old + TIE_CELLS {
-                continue;
-            }
-            let limit = old + 1e-9;
-            // No more cusps than the old words had.
-            let cusps_of = |a: Pose, b: Pose, w: Option<(usize, f64)>| {
-                w.and_then(|(w, _)| connect::curve(a, b, radius, w))
-                    .map_or(0, |c| c.cusps())
-            };
-            let cusps_in = prev.map_or(0, |q| cusps_of(q, p, words_in));
-            let cusps_out = next.map_or(0, |q| cusps_of(p, q, words_out));
-            let new_in = match prev {
-                Some(q) => {
-                    match clear_word(field, (q, at(h)), radius, reverse, (limit, cusps_in)) {
-                        Some(w) => Some(w),
-                        None => continue,
-                    }
-                }
-                None => None,
-            };
-            let new_out = match next {
-                Some(q) => match clear_word(field, (at(h), q), radius, reverse, (limit, cusps_out))
-                {
-                    Some(w) => Some(w),
-                    None => continue,
-                },
-                None => None,
-            };
-            let new = new_in.map_or(0.0, |w| w.1) + new_out.map_or(0.0, |w| w.1);
-            if new > old + TIE_CELLS {
-                continue;
-            }
-            if let Some(slot) = chain.poses.get_mut(i) {
-                *slot = at(h);
-            }
-            if let (Some(w), Some(slot)) = (
-                new_in,
-                i.checked_sub(1).and_then(|k| chain.words.get_mut(k)),
-            ) {
-                *slot = w;
-            }
-            if let (Some(w), Some(slot)) = (new_out, chain.words.get_mut(i)) {
-                *slot = w;
+            let h = best_heading((prev, p, next), radius, reverse);
+            let at = Pose::new(p.x, p.y, h);
+            if let Some(placed) = place(field, (prev, at, next), radius, reverse, budget) {
+                put(chain, i, &placed);
             }
         }
     }
 }
 
-/// `curve` polished (see the [module docs](self)): never longer, every new word tested
-/// clear by `field`; `None` when nothing could be built (the caller keeps `curve`).
-/// `free` says whether the start's and the goal's headings are free.
-#[must_use]
-pub fn polish(
+/// Most unpolished segment ends tried on either side of a pose by [`anchors`].
+pub const ANCHOR_CANDIDATES: usize = 4;
+
+/// Step 3 of the [module docs](self) on `chain`, in place: each pose between the ends whose
+/// words change curvature sign is moved to a nearby segment end of the unpolished path
+/// `ends` (at most [`ANCHOR_CANDIDATES`] on either side, between its neighbours), at that
+/// end's heading or at the best one there ([`best_heading`]), where that leaves the whole
+/// path with fewer sign changes and no longer.
+fn anchors(
     field: &Field,
-    curve: &SmoothCurve,
-    free: (bool, bool),
+    chain: &mut Chain,
+    (ends, curve): (&[Pose], &SmoothCurve),
     radius: f64,
     reverse: bool,
-) -> Option<SmoothCurve> {
-    let mut chain = shortcut(field, curve, radius, reverse)?;
-    headings(field, &mut chain, free, radius, reverse);
+) {
+    let Some(mut changes) = build(chain, curve, radius).map(|c| c.curvature_sign_changes())
+    else {
+        return;
+    };
+    for i in 1..chain.poses.len().saturating_sub(1) {
+        if changes == 0 {
+            return;
+        }
+        let Some(((prev, p, next), budget)) = around(chain, i, radius) else {
+            continue;
+        };
+        // Only where the two words change sign.
+        let mut local = SmoothCurve::default();
+        for (a, b, w) in [
+            (prev, Some(p), chain.words.get(i - 1)),
+            (Some(p), next, chain.words.get(i)),
+        ] {
+            if let (Some(a), Some(b), Some(&(w, _))) = (a, b, w)
+                && let Some(c) = connect::curve(a, b, radius, w)
+            {
+                local.extend(&c);
+            }
+        }
+        if local.curvature_sign_changes() == 0 {
+            continue;
+        }
+        let (Some(&lo), Some(&at), Some(&hi)) = (
+            chain.orig.get(i - 1),
+            chain.orig.get(i),
+            chain.orig.get(i + 1),
+        ) else {
+            continue;
+        };
+        let from = (lo + 1).max(at.saturating_sub(ANCHOR_CANDIDATES));
+        let to = (hi.saturating_sub(1)).min(at + ANCHOR_CANDIDATES);
+        let mut best: Option<(usize, f64, usize, Placed)> = None;
+        for k in from..=to {
+            let Some(&q) = ends.get(k) else { continue };
+            if k == at {
+                continue;
+            }
+            let tuned = Pose::new(q.x, q.y, best_heading((prev, q, next), radius, reverse));
+            for cand in [tuned, q] {
+                let Some(placed) = place(field, (prev, cand, next), radius, reverse, budget)
+                else {
+                    continue;
+                };
+                let mut trial = chain.clone();
+                put(&mut trial, i, &placed);
+                let Some(c) = build(&trial, curve, radius) else {
+                    continue;
+                };
+                let sc = c.curvature_sign_changes();
+                let better = best
+                    .as_ref()
+                    .is_none_or(|b| (sc, placed.length) < (b.0, b.1));
+                if sc < changes && better {
+                    best = Some((sc, placed.length, k, placed));
+                }
+            }
+        }
+        if let Some((sc, _, k, placed)) = best {
+            put(chain, i, &placed);
+            if let Some(slot) = chain.orig.get_mut(i) {
+                *slot = k;
+            }
+            changes = sc;
+        }
+    }
+}
+
+/// The curve of `chain` (kept segments taken from `curve`), slivers left out.
+fn build(chain: &Chain, curve: &SmoothCurve, radius: f64) -> Option<SmoothCurve> {
     let mut out = SmoothCurve::default();
     for (k, &(w, _)) in chain.words.iter().enumerate() {
         let (a, b) = (*chain.poses.get(k)?, *chain.poses.get(k + 1)?);
@@ -342,6 +481,25 @@ pub fn polish(
             }
         }
     }
+    Some(out)
+}
+
+/// `curve` polished (see the [module docs](self)): never longer, every new word tested
+/// clear by `field`; `None` when nothing could be built (the caller keeps `curve`).
+/// `free` says whether the start's and the goal's headings are free.
+#[must_use]
+pub fn polish(
+    field: &Field,
+    curve: &SmoothCurve,
+    free: (bool, bool),
+    radius: f64,
+    reverse: bool,
+) -> Option<SmoothCurve> {
+    let mut chain = shortcut(field, curve, radius, reverse)?;
+    headings(field, &mut chain, free, radius, reverse);
+    anchors(field, &mut chain, (&segment_ends(curve), curve), radius, reverse);
+    headings(field, &mut chain, free, radius, reverse);
+    let out = build(&chain, curve, radius)?;
     (out.length() <= curve.length() + 1e-8
         && out.cusps() <= curve.cusps()
         && !out.segments.is_empty())
