@@ -1,4 +1,4 @@
-//! Polishing a found path (issue 41's "no wobble" target): two passes over the poses where
+//! Polishing a found path (issue 41's "no wobble" target): passes over the poses where
 //! its segments meet, each keeping the path clear and never making it longer.
 //!
 //! 1. **Shortcut.** From each kept pose, the farthest later pose (found by doubling the
@@ -16,13 +16,25 @@
 //!    curvature sign change that steers nowhere. At the best heading that sliver shrinks to
 //!    the search's round-off, and arcs shorter than [`SLIVER_CELLS`] are then left out
 //!    (their ends are that close, far inside the validator's 1e-6).
+//! 3. **Anchors.** The shortcut may drop the pose at a corner's vertex (where the path
+//!    touches the obstacle) for one a little past it, joined by the same curve; at that pose
+//!    no other heading is clear (turning it swings the arc into the corner), so a sliver
+//!    turning the other way stays (nav2-kind-1 query 2 of the 2026-11-29 bench run: 5 sign
+//!    changes against the taut path's turns + 1 = 4). Each pose between the ends whose two
+//!    words change curvature sign is tried at the unpolished path's segment ends near it
+//!    (at most [`ANCHOR_CANDIDATES`] on either side, between its neighbours, so the vertex
+//!    among them), at their own heading and at the best one there (as in 2), and moved to
+//!    the one that leaves the whole path with the fewest sign changes, when that is fewer
+//!    than before. Then step 2 runs again.
 //!
 //! A change is kept only when the new words are tested clear by [`Field`], have no more
 //! cusps than what they replace, and the whole is no longer and has no more cusps; the caller validates the result and keeps the unpolished path if it fails.
 //!
 //! # Complexity
 //! `O(n log n)` word tables and collision tests for the shortcut over `n` segments, then
-//! [`HEADING_PASSES`] x `n` golden-section searches of [`GOLDEN_STEPS`] word tables each.
+//! [`HEADING_PASSES`] x `n` golden-section searches of [`GOLDEN_STEPS`] word tables each
+//! (twice), and for the anchors at most `2 x` [`ANCHOR_CANDIDATES`] searches, placements and
+//! `O(n)` rebuilds of the path per pose whose words change sign.
 
 use super::clearance::Field;
 use super::connect;
