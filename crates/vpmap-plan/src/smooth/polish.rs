@@ -25,7 +25,8 @@
 //!    (at most [`ANCHOR_CANDIDATES`] on either side, between its neighbours, so the vertex
 //!    among them), at their own heading and at the best one there (as in 2), and moved to
 //!    the one that leaves the whole path with the fewest sign changes, when that is fewer
-//!    than before. Then step 2 runs again.
+//!    than before (looked at first without collision tests, with the shortest words at the
+//!    end's own heading). Then step 2 runs again on the moved poses and their neighbours.
 //!
 //! A change is kept only when the new words are tested clear by [`Field`], have no more
 //! cusps than what they replace, and the whole is no longer and has no more cusps; the caller validates the result and keeps the unpolished path if it fails.
@@ -38,7 +39,7 @@
 
 use super::clearance::Field;
 use super::connect;
-use super::curve::{Pose, SmoothCurve};
+use super::curve::{Pose, Segment, SmoothCurve};
 
 /// Half-width of the heading search around a pose's heading, degrees.
 pub const HEADING_WINDOW_DEG: f64 = 10.0;
@@ -94,7 +95,12 @@ fn clear_word(
 
 /// The poses where `curve`'s segments meet, its start first and its end last.
 fn segment_ends(curve: &SmoothCurve) -> Vec<Pose> {
-    let mut poses: Vec<Pose> = curve.segments.first().map(|s| s.start).into_iter().collect();
+    let mut poses: Vec<Pose> = curve
+        .segments
+        .first()
+        .map(|s| s.start)
+        .into_iter()
+        .collect();
     poses.extend(curve.segments.iter().map(|s| s.end()));
     poses
 }
@@ -290,11 +296,23 @@ fn place(
     }
     let limit = old + 1e-9;
     let word_in = match prev {
-        Some(q) => Some(clear_word(field, (q, p), radius, reverse, (limit, cusps_in))?),
+        Some(q) => Some(clear_word(
+            field,
+            (q, p),
+            radius,
+            reverse,
+            (limit, cusps_in),
+        )?),
         None => None,
     };
     let word_out = match next {
-        Some(q) => Some(clear_word(field, (p, q), radius, reverse, (limit, cusps_out))?),
+        Some(q) => Some(clear_word(
+            field,
+            (p, q),
+            radius,
+            reverse,
+            (limit, cusps_out),
+        )?),
         None => None,
     };
     let length = word_in.map_or(0.0, |w| w.1) + word_out.map_or(0.0, |w| w.1);
@@ -319,8 +337,7 @@ fn around(
     let next = chain.poses.get(i + 1).copied();
     let words_in = i.checked_sub(1).and_then(|k| chain.words.get(k).copied());
     let words_out = chain.words.get(i).copied();
-    if words_in.is_some_and(|w| w.0 == usize::MAX) || words_out.is_some_and(|w| w.0 == usize::MAX)
-    {
+    if words_in.is_some_and(|w| w.0 == usize::MAX) || words_out.is_some_and(|w| w.0 == usize::MAX) {
         return None;
     }
     let old = words_in.map_or(0.0, |w| w.1) + words_out.map_or(0.0, |w| w.1);
@@ -351,16 +368,21 @@ fn put(chain: &mut Chain, i: usize, placed: &Placed) {
 }
 
 /// Step 2 of the [module docs](self) on `chain`, in place.
+/// Only the poses `only` says (all when `None`).
 fn headings(
     field: &Field,
     chain: &mut Chain,
     (start_free, goal_free): (bool, bool),
     radius: f64,
     reverse: bool,
+    only: Option<&[usize]>,
 ) {
     let n = chain.poses.len();
     for _ in 0..HEADING_PASSES {
         for i in 0..n {
+            if only.is_some_and(|o| !o.contains(&i)) {
+                continue;
+            }
             let free = if i == 0 {
                 start_free
             } else if i + 1 == n {
@@ -398,31 +420,31 @@ fn anchors(
     (ends, curve): (&[Pose], &SmoothCurve),
     radius: f64,
     reverse: bool,
-) {
-    let Some(mut changes) = build(chain, curve, radius).map(|c| c.curvature_sign_changes())
-    else {
-        return;
-    };
+) -> Vec<usize> {
+    let mut moved = Vec::new();
     for i in 1..chain.poses.len().saturating_sub(1) {
-        if changes == 0 {
-            return;
-        }
         let Some(((prev, p, next), budget)) = around(chain, i, radius) else {
             continue;
         };
-        // Only where the two words change sign.
-        let mut local = SmoothCurve::default();
-        for (a, b, w) in [
-            (prev, Some(p), chain.words.get(i - 1)),
-            (Some(p), next, chain.words.get(i)),
-        ] {
-            if let (Some(a), Some(b), Some(&(w, _))) = (a, b, w)
-                && let Some(c) = connect::curve(a, b, radius, w)
-            {
-                local.extend(&c);
-            }
-        }
-        if local.curvature_sign_changes() == 0 {
+        let (Some(prev), Some(next)) = (prev, next) else {
+            continue;
+        };
+        let word_curve = |a: Pose, b: Pose, w: Option<&(usize, f64)>| {
+            w.and_then(|&(w, _)| connect::curve(a, b, radius, w))
+        };
+        let (Some(old_in), Some(old_out)) = (
+            word_curve(prev, p, chain.words.get(i - 1)),
+            word_curve(p, next, chain.words.get(i)),
+        ) else {
+            continue;
+        };
+        let context = (
+            last_sign(chain, curve, radius, i - 1, true),
+            last_sign(chain, curve, radius, i + 1, false),
+        );
+        // Only where the two words, with the turns on either side, change sign.
+        let changes = local_changes(context, &old_in, &old_out);
+        if changes == 0 {
             continue;
         }
         let (Some(&lo), Some(&at), Some(&hi)) = (
@@ -434,24 +456,51 @@ fn anchors(
         };
         let from = (lo + 1).max(at.saturating_sub(ANCHOR_CANDIDATES));
         let to = (hi.saturating_sub(1)).min(at + ANCHOR_CANDIDATES);
+        let shortest = |a: Pose, b: Pose| {
+            let table = connect::table(a, b, radius, reverse);
+            let (w, _) = table
+                .iter()
+                .copied()
+                .enumerate()
+                .min_by(|x, y| x.1.total_cmp(&y.1))?;
+            connect::curve(a, b, radius, w)
+        };
         let mut best: Option<(usize, f64, usize, Placed)> = None;
         for k in from..=to {
             let Some(&q) = ends.get(k) else { continue };
             if k == at {
                 continue;
             }
-            let tuned = Pose::new(q.x, q.y, best_heading((prev, q, next), radius, reverse));
+            // A cheap first look, no collision test: the shortest words at the end's own
+            // heading must already change sign less often.
+            let (Some(c_in), Some(c_out)) = (shortest(prev, q), shortest(q, next)) else {
+                continue;
+            };
+            if local_changes(context, &c_in, &c_out) >= changes {
+                continue;
+            }
+            let tuned = Pose::new(
+                q.x,
+                q.y,
+                best_heading((Some(prev), q, Some(next)), radius, reverse),
+            );
             for cand in [tuned, q] {
-                let Some(placed) = place(field, (prev, cand, next), radius, reverse, budget)
-                else {
+                let Some(placed) = place(
+                    field,
+                    (Some(prev), cand, Some(next)),
+                    radius,
+                    reverse,
+                    budget,
+                ) else {
                     continue;
                 };
-                let mut trial = chain.clone();
-                put(&mut trial, i, &placed);
-                let Some(c) = build(&trial, curve, radius) else {
+                let (Some(c_in), Some(c_out)) = (
+                    word_curve(prev, cand, placed.word_in.as_ref()),
+                    word_curve(cand, next, placed.word_out.as_ref()),
+                ) else {
                     continue;
                 };
-                let sc = c.curvature_sign_changes();
+                let sc = local_changes(context, &c_in, &c_out);
                 let better = best
                     .as_ref()
                     .is_none_or(|b| (sc, placed.length) < (b.0, b.1));
@@ -460,14 +509,78 @@ fn anchors(
                 }
             }
         }
-        if let Some((sc, _, k, placed)) = best {
+        if let Some((_, _, k, placed)) = best {
             put(chain, i, &placed);
             if let Some(slot) = chain.orig.get_mut(i) {
                 *slot = k;
             }
-            changes = sc;
+            moved.push(i);
         }
     }
+    moved
+}
+
+/// The signed curvature (curvature x gear) of the last turning segment of `chain`'s words
+/// before pose `i` (`backwards`), or of the first from pose `i` on; `None` if there is none.
+/// Segments shorter than [`SLIVER_CELLS`] do not count (the polished path leaves them out).
+fn last_sign(
+    chain: &Chain,
+    curve: &SmoothCurve,
+    radius: f64,
+    i: usize,
+    backwards: bool,
+) -> Option<f64> {
+    let word = |k: usize| -> Option<SmoothCurve> {
+        let one = Chain {
+            poses: chain.poses.get(k..k + 2)?.to_vec(),
+            words: vec![*chain.words.get(k)?],
+            orig: Vec::new(),
+        };
+        build(&one, curve, radius)
+    };
+    let turning = |s: &&Segment| s.curvature != 0.0 && s.length >= SLIVER_CELLS;
+    let signed = |c: &SmoothCurve, rev: bool| {
+        if rev {
+            c.segments.iter().rev().find(turning)
+        } else {
+            c.segments.iter().find(turning)
+        }
+        .map(|s| s.curvature * s.gear.sign())
+    };
+    if backwards {
+        (0..i)
+            .rev()
+            .find_map(|k| word(k).and_then(|c| signed(&c, true)))
+    } else {
+        (i..chain.words.len()).find_map(|k| word(k).and_then(|c| signed(&c, false)))
+    }
+}
+
+/// Curvature sign changes along `before`, the curves `a` and `b`, and `after` (signed
+/// curvatures of the turns on either side), slivers left out as in [`build`].
+fn local_changes(
+    (before, after): (Option<f64>, Option<f64>),
+    a: &SmoothCurve,
+    b: &SmoothCurve,
+) -> usize {
+    let signs = a
+        .segments
+        .iter()
+        .chain(&b.segments)
+        .filter(|s| s.length >= SLIVER_CELLS)
+        .map(|s| s.curvature * s.gear.sign())
+        .chain(after);
+    let mut last = before.unwrap_or(0.0);
+    let mut changes = 0;
+    for k in signs {
+        if k != 0.0 {
+            if last != 0.0 && (k > 0.0) != (last > 0.0) {
+                changes += 1;
+            }
+            last = k;
+        }
+    }
+    changes
 }
 
 /// The curve of `chain` (kept segments taken from `curve`), slivers left out.
@@ -508,9 +621,22 @@ pub fn polish(
     reverse: bool,
 ) -> Option<SmoothCurve> {
     let mut chain = shortcut(field, curve, radius, reverse)?;
-    headings(field, &mut chain, free, radius, reverse);
-    anchors(field, &mut chain, (&segment_ends(curve), curve), radius, reverse);
-    headings(field, &mut chain, free, radius, reverse);
+    headings(field, &mut chain, free, radius, reverse, None);
+    let moved = anchors(
+        field,
+        &mut chain,
+        (&segment_ends(curve), curve),
+        radius,
+        reverse,
+    );
+    if !moved.is_empty() {
+        // Again at the moved poses and their neighbours.
+        let again: Vec<usize> = moved
+            .iter()
+            .flat_map(|&i| [i.saturating_sub(1), i, i + 1])
+            .collect();
+        headings(field, &mut chain, free, radius, reverse, Some(&again));
+    }
     let out = build(&chain, curve, radius)?;
     (out.length() <= curve.length() + 1e-8
         && out.cusps() <= curve.cusps()
