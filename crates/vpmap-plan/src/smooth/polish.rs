@@ -101,7 +101,7 @@ fn segment_ends(curve: &SmoothCurve) -> Vec<Pose> {
         .map(|s| s.start)
         .into_iter()
         .collect();
-    poses.extend(curve.segments.iter().map(|s| s.end()));
+    poses.extend(curve.segments.iter().map(Segment::end));
     poses
 }
 
