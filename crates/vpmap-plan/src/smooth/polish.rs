@@ -406,7 +406,7 @@ fn headings(
     }
 }
 
-/// Most unpolished segment ends tried on either side of a pose by [`anchors`].
+/// Most unpolished segment ends tried on either side of a pose by the anchors step (3 of the [module docs](self)).
 pub const ANCHOR_CANDIDATES: usize = 4;
 
 /// Step 3 of the [module docs](self) on `chain`, in place: each pose between the ends whose
