@@ -789,4 +789,44 @@ mod tests {
             assert!(t.length_cells.unwrap() <= before_cells + 1e-6, "{t:?}");
         }
     }
+
+    /// Issue 41's wobbly paths with both headings given, of the 2026-11-29 bench run
+    /// (`/tmp/bench41g`): nav2-kind-1 query 2 at 0.3 and 0.5 m, 5 curvature sign changes
+    /// against the taut path's turns + 1 = 4. The shortcut of the polish had dropped the pose
+    /// at the taut path's second corner for one just past it, where no heading was clear, and
+    /// the out-word kept a sliver turning the other way. Now the path changes sign no more than
+    /// turns + 1, passes the validator and is no longer than that run's.
+    #[test]
+    fn regression_nav2_kind_query_2_wobble_is_polished_away() {
+        let opts = SmoothBenchOptions {
+            nav2_maps: 1,
+            built: false,
+            ..SmoothBenchOptions::default()
+        };
+        let maps = maps(&opts).unwrap();
+        let map = &maps[0];
+        assert_eq!(map.name, "nav2-kind-1");
+        let qs = queries(map, opts.seed.wrapping_mul(1000), 3).unwrap();
+        let mut planner = SmoothPlanner::new(&map.grid, false);
+        let mut exact = ExactPlanner::new(&map.grid, false);
+        for (label, before_cells) in [("0.3 m", 1_131.795_777_85), ("0.5 m", 1_132.211_045_48)] {
+            let radius = map.radii.iter().find(|r| r.1 == label).unwrap();
+            let t = trial(
+                map,
+                &mut planner,
+                &mut exact,
+                radius,
+                (2, &qs[2]),
+                SmoothMethod::Auto,
+                &opts,
+            )
+            .unwrap();
+            assert!(t.headings, "{t:?}");
+            assert_eq!(t.method, "fillet", "{t:?}");
+            assert!(t.validated, "{t:?}");
+            assert_eq!(t.turns_plus_one, 4, "{t:?}");
+            assert!(t.sign_changes <= t.turns_plus_one, "{t:?}");
+            assert!(t.length_cells.unwrap() <= before_cells + 1e-6, "{t:?}");
+        }
+    }
 }

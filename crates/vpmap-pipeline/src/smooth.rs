@@ -206,7 +206,7 @@ pub fn no_path_reason(map: &PlanningMap, n: &NoDrivablePath, start_goal: [Pose; 
             pose(start_goal[1])
         ),
         NoPathKind::TooNarrow => format!(
-            "no path with turning radius {radius} {unit} exists: start and goal are connected, but the passages between them are too narrow to turn in (a turn needs a clear space about {room} {unit} wide)"
+            "no path with turning radius {radius} {unit} was found: start and goal are connected, but neither the corner fillets nor the Hybrid-A* (complete only up to its cells and headings) fit a turn through the passages between them (a turn needs a clear space about {room} {unit} wide)"
         ),
         _ => n.reason.clone(),
     }

@@ -172,7 +172,9 @@ pub enum NoPathKind {
     StartHasNoRoom,
     /// The goal pose cannot be entered with its heading.
     GoalHasNoRoom,
-    /// Both poses can move, but the passages between them are too narrow to turn in.
+    /// Both poses can move, but neither method found a path: the passages between them are
+    /// too narrow for the corner fillets and for the Hybrid-A* at its resolution (not a proof
+    /// that none exists).
     TooNarrow,
     /// A path was found but failed the independent check (a bug; it is not returned).
     FailedCheck,
@@ -652,7 +654,7 @@ fn no_room(
         pose: None,
         room_cells: room,
         reason: format!(
-            "no path with turning radius {r} cells exists between them: the any-angle path ({any_angle:.2} cells) passes where a turn of that radius does not fit (a turn needs a clear space about {room:.1} cells wide)"
+            "no path with turning radius {r} cells was found between them: the any-angle path ({any_angle:.2} cells) passes where neither the corner fillets nor the Hybrid-A* (complete only up to its cells and headings) fit a turn of that radius (a turn needs a clear space about {room:.1} cells wide)"
         ),
         stats,
     }

@@ -1,4 +1,4 @@
-//! Polishing a found path (issue 41's "no wobble" target): two passes over the poses where
+//! Polishing a found path (issue 41's "no wobble" target): passes over the poses where
 //! its segments meet, each keeping the path clear and never making it longer.
 //!
 //! 1. **Shortcut.** From each kept pose, the farthest later pose (found by doubling the
@@ -16,17 +16,30 @@
 //!    curvature sign change that steers nowhere. At the best heading that sliver shrinks to
 //!    the search's round-off, and arcs shorter than [`SLIVER_CELLS`] are then left out
 //!    (their ends are that close, far inside the validator's 1e-6).
+//! 3. **Anchors.** The shortcut may drop the pose at a corner's vertex (where the path
+//!    touches the obstacle) for one a little past it, joined by the same curve; at that pose
+//!    no other heading is clear (turning it swings the arc into the corner), so a sliver
+//!    turning the other way stays (nav2-kind-1 query 2 of the 2026-11-29 bench run: 5 sign
+//!    changes against the taut path's turns + 1 = 4). Each pose between the ends whose two
+//!    words change curvature sign is tried at the unpolished path's segment ends near it
+//!    (at most [`ANCHOR_CANDIDATES`] on either side, between its neighbours, so the vertex
+//!    among them), at their own heading and at the best one there (as in 2), and moved to
+//!    the one that leaves the whole path with the fewest sign changes, when that is fewer
+//!    than before (looked at first without collision tests, with the shortest words at the
+//!    end's own heading). Then step 2 runs again on the moved poses and their neighbours.
 //!
 //! A change is kept only when the new words are tested clear by [`Field`], have no more
 //! cusps than what they replace, and the whole is no longer and has no more cusps; the caller validates the result and keeps the unpolished path if it fails.
 //!
 //! # Complexity
 //! `O(n log n)` word tables and collision tests for the shortcut over `n` segments, then
-//! [`HEADING_PASSES`] x `n` golden-section searches of [`GOLDEN_STEPS`] word tables each.
+//! [`HEADING_PASSES`] x `n` golden-section searches of [`GOLDEN_STEPS`] word tables each
+//! (twice), and for the anchors at most `2 x` [`ANCHOR_CANDIDATES`] searches, placements and
+//! `O(n)` rebuilds of the path per pose whose words change sign.
 
 use super::clearance::Field;
 use super::connect;
-use super::curve::{Pose, SmoothCurve};
+use super::curve::{Pose, Segment, SmoothCurve};
 
 /// Half-width of the heading search around a pose's heading, degrees.
 pub const HEADING_WINDOW_DEG: f64 = 10.0;
@@ -47,10 +60,14 @@ const TIE_CELLS: f64 = 1e-12;
 const WORDS_TRIED: usize = 3;
 
 /// A path as poses joined by words (index into [`connect::table`]) of known length.
+#[derive(Clone)]
 struct Chain {
     poses: Vec<Pose>,
     /// `words[i]` joins `poses[i]` to `poses[i + 1]`: (word, length).
     words: Vec<(usize, f64)>,
+    /// `orig[i]`: the index of `poses[i]` among the unpolished path's segment ends (its
+    /// start first), or of the one it was moved from.
+    orig: Vec<usize>,
 }
 
 /// The shortest clear word from `a` to `b` no longer than `limit` and with at most
@@ -76,15 +93,26 @@ fn clear_word(
     })
 }
 
+/// The poses where `curve`'s segments meet, its start first and its end last.
+fn segment_ends(curve: &SmoothCurve) -> Vec<Pose> {
+    let mut poses: Vec<Pose> = curve
+        .segments
+        .first()
+        .map(|s| s.start)
+        .into_iter()
+        .collect();
+    poses.extend(curve.segments.iter().map(Segment::end));
+    poses
+}
+
 /// The path of `curve`'s segments, shortened by shortcuts (step 1 of the
 /// [module docs](self)).
 fn shortcut(field: &Field, curve: &SmoothCurve, radius: f64, reverse: bool) -> Option<Chain> {
     let segs = &curve.segments;
     let first = segs.first()?;
-    let mut poses = vec![first.start];
+    let poses = segment_ends(curve);
     let mut along = vec![0.0];
     for s in segs {
-        poses.push(s.end());
         along.push(along.last().copied().unwrap_or(0.0) + s.length);
     }
     let n = poses.len();
@@ -103,6 +131,7 @@ fn shortcut(field: &Field, curve: &SmoothCurve, radius: f64, reverse: bool) -> O
     let mut chain = Chain {
         poses: vec![first.start],
         words: Vec::new(),
+        orig: vec![0],
     };
     let mut a = 0;
     while a + 1 < n {
@@ -134,6 +163,7 @@ fn shortcut(field: &Field, curve: &SmoothCurve, radius: f64, reverse: bool) -> O
         if let (j, Some(w)) = best {
             chain.poses.push(*poses.get(j)?);
             chain.words.push(w);
+            chain.orig.push(j);
             a = j;
         } else {
             // Keep the segment as it is: the word of its own shape (it is one of them).
@@ -149,6 +179,7 @@ fn shortcut(field: &Field, curve: &SmoothCurve, radius: f64, reverse: bool) -> O
             chain.poses.push(end);
             chain.words.push(w);
             a += 1;
+            chain.orig.push(a);
         }
     }
     Some(chain)
@@ -211,17 +242,147 @@ fn end_sliver(a: Pose, b: Pose, radius: f64, reverse: bool, at_end: bool) -> f64
     }
 }
 
+/// A pose placed between its neighbours: the pose, the words from the previous pose and to
+/// the next one, and their total length.
+struct Placed {
+    pose: Pose,
+    word_in: Option<(usize, f64)>,
+    word_out: Option<(usize, f64)>,
+    length: f64,
+}
+
+/// The heading at `p`'s position that makes the shortest words from `prev` and to `next`
+/// shortest: golden-section search within [`HEADING_WINDOW_DEG`] of `p`'s heading, then
+/// slivers snapped away ([`end_sliver`]).
+fn best_heading(
+    (prev, p, next): (Option<Pose>, Pose, Option<Pose>),
+    radius: f64,
+    reverse: bool,
+) -> f64 {
+    let at = |h: f64| Pose::new(p.x, p.y, h);
+    let cost = |h: f64| {
+        prev.map_or(0.0, |q| connect::distance(q, at(h), radius, reverse))
+            + next.map_or(0.0, |q| connect::distance(at(h), q, radius, reverse))
+    };
+    let w = HEADING_WINDOW_DEG.to_radians();
+    let mut h = golden(&cost, p.heading_rad - w, p.heading_rad + w);
+    // The search leaves slivers of about sqrt(round-off) where the cost is flat:
+    // turn the pose by each sliver's own angle until none is left.
+    for _ in 0..SNAPS {
+        let turn = prev.map_or(0.0, |q| end_sliver(q, at(h), radius, reverse, true))
+            + next.map_or(0.0, |q| end_sliver(at(h), q, radius, reverse, false));
+        if turn == 0.0 {
+            break;
+        }
+        h += turn;
+    }
+    h
+}
+
+/// `p` joined to `prev` and `next` by their shortest clear words (at most [`WORDS_TRIED`]
+/// each), with at most `cusps` cusps each and in all no longer than `old` (+ round-off).
+fn place(
+    field: &Field,
+    (prev, p, next): (Option<Pose>, Pose, Option<Pose>),
+    radius: f64,
+    reverse: bool,
+    (old, (cusps_in, cusps_out)): (f64, (usize, usize)),
+) -> Option<Placed> {
+    let tie = |l: f64| l <= old + TIE_CELLS;
+    let word_length = |a: Pose, b: Pose| connect::distance(a, b, radius, reverse);
+    let lower = prev.map_or(0.0, |q| word_length(q, p)) + next.map_or(0.0, |q| word_length(p, q));
+    if !tie(lower) {
+        return None;
+    }
+    let limit = old + 1e-9;
+    let word_in = match prev {
+        Some(q) => Some(clear_word(
+            field,
+            (q, p),
+            radius,
+            reverse,
+            (limit, cusps_in),
+        )?),
+        None => None,
+    };
+    let word_out = match next {
+        Some(q) => Some(clear_word(
+            field,
+            (p, q),
+            radius,
+            reverse,
+            (limit, cusps_out),
+        )?),
+        None => None,
+    };
+    let length = word_in.map_or(0.0, |w| w.1) + word_out.map_or(0.0, |w| w.1);
+    tie(length).then_some(Placed {
+        pose: p,
+        word_in,
+        word_out,
+        length,
+    })
+}
+
+/// The neighbours of `chain`'s pose `i` and its words' total length and cusps, or `None`
+/// where a word is a kept segment of the unpolished path (its word is not known).
+#[allow(clippy::type_complexity)]
+fn around(
+    chain: &Chain,
+    i: usize,
+    radius: f64,
+) -> Option<((Option<Pose>, Pose, Option<Pose>), (f64, (usize, usize)))> {
+    let p = *chain.poses.get(i)?;
+    let prev = i.checked_sub(1).and_then(|k| chain.poses.get(k).copied());
+    let next = chain.poses.get(i + 1).copied();
+    let words_in = i.checked_sub(1).and_then(|k| chain.words.get(k).copied());
+    let words_out = chain.words.get(i).copied();
+    if words_in.is_some_and(|w| w.0 == usize::MAX) || words_out.is_some_and(|w| w.0 == usize::MAX) {
+        return None;
+    }
+    let old = words_in.map_or(0.0, |w| w.1) + words_out.map_or(0.0, |w| w.1);
+    // No more cusps than the old words had.
+    let cusps_of = |a: Pose, b: Pose, w: Option<(usize, f64)>| {
+        w.and_then(|(w, _)| connect::curve(a, b, radius, w))
+            .map_or(0, |c| c.cusps())
+    };
+    let cusps_in = prev.map_or(0, |q| cusps_of(q, p, words_in));
+    let cusps_out = next.map_or(0, |q| cusps_of(p, q, words_out));
+    Some(((prev, p, next), (old, (cusps_in, cusps_out))))
+}
+
+/// Put `placed` in `chain` as its pose `i`.
+fn put(chain: &mut Chain, i: usize, placed: &Placed) {
+    if let Some(slot) = chain.poses.get_mut(i) {
+        *slot = placed.pose;
+    }
+    if let (Some(w), Some(slot)) = (
+        placed.word_in,
+        i.checked_sub(1).and_then(|k| chain.words.get_mut(k)),
+    ) {
+        *slot = w;
+    }
+    if let (Some(w), Some(slot)) = (placed.word_out, chain.words.get_mut(i)) {
+        *slot = w;
+    }
+}
+
 /// Step 2 of the [module docs](self) on `chain`, in place.
+/// Only the poses `only` says (all when `None`).
 fn headings(
     field: &Field,
     chain: &mut Chain,
     (start_free, goal_free): (bool, bool),
     radius: f64,
     reverse: bool,
+    only: Option<&[usize]>,
 ) {
     let n = chain.poses.len();
     for _ in 0..HEADING_PASSES {
         for i in 0..n {
+            if only.is_some_and(|o| !o.contains(&i)) {
+                continue;
+            }
             let free = if i == 0 {
                 start_free
             } else if i + 1 == n {
@@ -229,98 +390,201 @@ fn headings(
             } else {
                 true
             };
+            if !free {
+                continue;
+            }
             // Only poses where the words already known are usable (not a kept segment).
-            let prev = i.checked_sub(1).and_then(|k| chain.poses.get(k).copied());
-            let next = chain.poses.get(i + 1).copied();
-            let (Some(&p), true) = (chain.poses.get(i), free) else {
+            let Some(((prev, p, next), budget)) = around(chain, i, radius) else {
                 continue;
             };
-            let words_in = i.checked_sub(1).and_then(|k| chain.words.get(k).copied());
-            let words_out = chain.words.get(i).copied();
-            let old = words_in.map_or(0.0, |w| w.1) + words_out.map_or(0.0, |w| w.1);
-            if words_in.is_some_and(|w| w.0 == usize::MAX)
-                || words_out.is_some_and(|w| w.0 == usize::MAX)
-            {
-                continue;
-            }
-            let at = |h: f64| Pose::new(p.x, p.y, h);
-            let cost = |h: f64| {
-                prev.map_or(0.0, |q| connect::distance(q, at(h), radius, reverse))
-                    + next.map_or(0.0, |q| connect::distance(at(h), q, radius, reverse))
-            };
-            let w = HEADING_WINDOW_DEG.to_radians();
-            let mut h = golden(&cost, p.heading_rad - w, p.heading_rad + w);
-            // The search leaves slivers of about sqrt(round-off) where the cost is flat:
-            // turn the pose by each sliver's own angle until none is left.
-            for _ in 0..SNAPS {
-                let turn = prev.map_or(0.0, |q| end_sliver(q, at(h), radius, reverse, true))
-                    + next.map_or(0.0, |q| end_sliver(at(h), q, radius, reverse, false));
-                if turn == 0.0 {
-                    break;
-                }
-                h += turn;
-            }
-            if cost(h) > old + TIE_CELLS {
-                continue;
-            }
-            let limit = old + 1e-9;
-            // No more cusps than the old words had.
-            let cusps_of = |a: Pose, b: Pose, w: Option<(usize, f64)>| {
-                w.and_then(|(w, _)| connect::curve(a, b, radius, w))
-                    .map_or(0, |c| c.cusps())
-            };
-            let cusps_in = prev.map_or(0, |q| cusps_of(q, p, words_in));
-            let cusps_out = next.map_or(0, |q| cusps_of(p, q, words_out));
-            let new_in = match prev {
-                Some(q) => {
-                    match clear_word(field, (q, at(h)), radius, reverse, (limit, cusps_in)) {
-                        Some(w) => Some(w),
-                        None => continue,
-                    }
-                }
-                None => None,
-            };
-            let new_out = match next {
-                Some(q) => match clear_word(field, (at(h), q), radius, reverse, (limit, cusps_out))
-                {
-                    Some(w) => Some(w),
-                    None => continue,
-                },
-                None => None,
-            };
-            let new = new_in.map_or(0.0, |w| w.1) + new_out.map_or(0.0, |w| w.1);
-            if new > old + TIE_CELLS {
-                continue;
-            }
-            if let Some(slot) = chain.poses.get_mut(i) {
-                *slot = at(h);
-            }
-            if let (Some(w), Some(slot)) = (
-                new_in,
-                i.checked_sub(1).and_then(|k| chain.words.get_mut(k)),
-            ) {
-                *slot = w;
-            }
-            if let (Some(w), Some(slot)) = (new_out, chain.words.get_mut(i)) {
-                *slot = w;
+            let h = best_heading((prev, p, next), radius, reverse);
+            let at = Pose::new(p.x, p.y, h);
+            if let Some(placed) = place(field, (prev, at, next), radius, reverse, budget) {
+                put(chain, i, &placed);
             }
         }
     }
 }
 
-/// `curve` polished (see the [module docs](self)): never longer, every new word tested
-/// clear by `field`; `None` when nothing could be built (the caller keeps `curve`).
-/// `free` says whether the start's and the goal's headings are free.
-#[must_use]
-pub fn polish(
+/// Most unpolished segment ends tried on either side of a pose by the anchors step (3 of the [module docs](self)).
+pub const ANCHOR_CANDIDATES: usize = 4;
+
+/// Step 3 of the [module docs](self) on `chain`, in place: each pose between the ends whose
+/// words change curvature sign is moved to a nearby segment end of the unpolished path
+/// `ends` (at most [`ANCHOR_CANDIDATES`] on either side, between its neighbours), at that
+/// end's heading or at the best one there ([`best_heading`]), where that leaves the whole
+/// path with fewer sign changes and no longer.
+fn anchors(
     field: &Field,
-    curve: &SmoothCurve,
-    free: (bool, bool),
+    chain: &mut Chain,
+    (ends, curve): (&[Pose], &SmoothCurve),
     radius: f64,
     reverse: bool,
-) -> Option<SmoothCurve> {
-    let mut chain = shortcut(field, curve, radius, reverse)?;
-    headings(field, &mut chain, free, radius, reverse);
+) -> Vec<usize> {
+    let mut moved = Vec::new();
+    for i in 1..chain.poses.len().saturating_sub(1) {
+        let Some(((prev, p, next), budget)) = around(chain, i, radius) else {
+            continue;
+        };
+        let (Some(prev), Some(next)) = (prev, next) else {
+            continue;
+        };
+        let word_curve = |a: Pose, b: Pose, w: Option<&(usize, f64)>| {
+            w.and_then(|&(w, _)| connect::curve(a, b, radius, w))
+        };
+        let (Some(old_in), Some(old_out)) = (
+            word_curve(prev, p, chain.words.get(i - 1)),
+            word_curve(p, next, chain.words.get(i)),
+        ) else {
+            continue;
+        };
+        let context = (
+            last_sign(chain, curve, radius, i - 1, true),
+            last_sign(chain, curve, radius, i + 1, false),
+        );
+        // Only where the two words, with the turns on either side, change sign.
+        let changes = local_changes(context, &old_in, &old_out);
+        if changes == 0 {
+            continue;
+        }
+        let (Some(&lo), Some(&at), Some(&hi)) = (
+            chain.orig.get(i - 1),
+            chain.orig.get(i),
+            chain.orig.get(i + 1),
+        ) else {
+            continue;
+        };
+        let from = (lo + 1).max(at.saturating_sub(ANCHOR_CANDIDATES));
+        let to = (hi.saturating_sub(1)).min(at + ANCHOR_CANDIDATES);
+        let shortest = |a: Pose, b: Pose| {
+            let table = connect::table(a, b, radius, reverse);
+            let (w, _) = table
+                .iter()
+                .copied()
+                .enumerate()
+                .min_by(|x, y| x.1.total_cmp(&y.1))?;
+            connect::curve(a, b, radius, w)
+        };
+        let mut best: Option<(usize, f64, usize, Placed)> = None;
+        for k in from..=to {
+            let Some(&q) = ends.get(k) else { continue };
+            if k == at {
+                continue;
+            }
+            // A cheap first look, no collision test: the shortest words at the end's own
+            // heading must already change sign less often.
+            let (Some(c_in), Some(c_out)) = (shortest(prev, q), shortest(q, next)) else {
+                continue;
+            };
+            if local_changes(context, &c_in, &c_out) >= changes {
+                continue;
+            }
+            let tuned = Pose::new(
+                q.x,
+                q.y,
+                best_heading((Some(prev), q, Some(next)), radius, reverse),
+            );
+            for cand in [tuned, q] {
+                let Some(placed) = place(
+                    field,
+                    (Some(prev), cand, Some(next)),
+                    radius,
+                    reverse,
+                    budget,
+                ) else {
+                    continue;
+                };
+                let (Some(c_in), Some(c_out)) = (
+                    word_curve(prev, cand, placed.word_in.as_ref()),
+                    word_curve(cand, next, placed.word_out.as_ref()),
+                ) else {
+                    continue;
+                };
+                let sc = local_changes(context, &c_in, &c_out);
+                let better = best
+                    .as_ref()
+                    .is_none_or(|b| (sc, placed.length) < (b.0, b.1));
+                if sc < changes && better {
+                    best = Some((sc, placed.length, k, placed));
+                }
+            }
+        }
+        if let Some((_, _, k, placed)) = best {
+            put(chain, i, &placed);
+            if let Some(slot) = chain.orig.get_mut(i) {
+                *slot = k;
+            }
+            moved.push(i);
+        }
+    }
+    moved
+}
+
+/// The signed curvature (curvature x gear) of the last turning segment of `chain`'s words
+/// before pose `i` (`backwards`), or of the first from pose `i` on; `None` if there is none.
+/// Segments shorter than [`SLIVER_CELLS`] do not count (the polished path leaves them out).
+fn last_sign(
+    chain: &Chain,
+    curve: &SmoothCurve,
+    radius: f64,
+    i: usize,
+    backwards: bool,
+) -> Option<f64> {
+    let word = |k: usize| -> Option<SmoothCurve> {
+        let one = Chain {
+            poses: chain.poses.get(k..k + 2)?.to_vec(),
+            words: vec![*chain.words.get(k)?],
+            orig: Vec::new(),
+        };
+        build(&one, curve, radius)
+    };
+    let turning = |s: &&Segment| s.curvature != 0.0 && s.length >= SLIVER_CELLS;
+    let signed = |c: &SmoothCurve, rev: bool| {
+        if rev {
+            c.segments.iter().rev().find(turning)
+        } else {
+            c.segments.iter().find(turning)
+        }
+        .map(|s| s.curvature * s.gear.sign())
+    };
+    if backwards {
+        (0..i)
+            .rev()
+            .find_map(|k| word(k).and_then(|c| signed(&c, true)))
+    } else {
+        (i..chain.words.len()).find_map(|k| word(k).and_then(|c| signed(&c, false)))
+    }
+}
+
+/// Curvature sign changes along `before`, the curves `a` and `b`, and `after` (signed
+/// curvatures of the turns on either side), slivers left out as in [`build`].
+fn local_changes(
+    (before, after): (Option<f64>, Option<f64>),
+    a: &SmoothCurve,
+    b: &SmoothCurve,
+) -> usize {
+    let signs = a
+        .segments
+        .iter()
+        .chain(&b.segments)
+        .filter(|s| s.length >= SLIVER_CELLS)
+        .map(|s| s.curvature * s.gear.sign())
+        .chain(after);
+    let mut last = before.unwrap_or(0.0);
+    let mut changes = 0;
+    for k in signs {
+        if k != 0.0 {
+            if last != 0.0 && (k > 0.0) != (last > 0.0) {
+                changes += 1;
+            }
+            last = k;
+        }
+    }
+    changes
+}
+
+/// The curve of `chain` (kept segments taken from `curve`), slivers left out.
+fn build(chain: &Chain, curve: &SmoothCurve, radius: f64) -> Option<SmoothCurve> {
     let mut out = SmoothCurve::default();
     for (k, &(w, _)) in chain.words.iter().enumerate() {
         let (a, b) = (*chain.poses.get(k)?, *chain.poses.get(k + 1)?);
@@ -342,6 +606,38 @@ pub fn polish(
             }
         }
     }
+    Some(out)
+}
+
+/// `curve` polished (see the [module docs](self)): never longer, every new word tested
+/// clear by `field`; `None` when nothing could be built (the caller keeps `curve`).
+/// `free` says whether the start's and the goal's headings are free.
+#[must_use]
+pub fn polish(
+    field: &Field,
+    curve: &SmoothCurve,
+    free: (bool, bool),
+    radius: f64,
+    reverse: bool,
+) -> Option<SmoothCurve> {
+    let mut chain = shortcut(field, curve, radius, reverse)?;
+    headings(field, &mut chain, free, radius, reverse, None);
+    let moved = anchors(
+        field,
+        &mut chain,
+        (&segment_ends(curve), curve),
+        radius,
+        reverse,
+    );
+    if !moved.is_empty() {
+        // Again at the moved poses and their neighbours.
+        let again: Vec<usize> = moved
+            .iter()
+            .flat_map(|&i| [i.saturating_sub(1), i, i + 1])
+            .collect();
+        headings(field, &mut chain, free, radius, reverse, Some(&again));
+    }
+    let out = build(&chain, curve, radius)?;
     (out.length() <= curve.length() + 1e-8
         && out.cusps() <= curve.cusps()
         && !out.segments.is_empty())
