@@ -84,44 +84,24 @@ impl PhotoFit {
     /// The photo's fit, its boxes turned so both sides are positive (a negative side is the
     /// same box with that axis the other way round).
     pub fn new(fitted: Fitted, scene: &Scene) -> Self {
-        let cam = fitted.problem.camera(&fitted.x);
         let mut objects = Vec::with_capacity(scene.objects.len());
         for (index, o) in scene.objects.iter().enumerate() {
             let k = fitted.object_parts[index];
             let off = fitted.problem.offsets[k];
             let mut part = fitted.problem.parts[k].clone();
             let mut params = fitted.x[off..off + part.len()].to_vec();
-            if let Part::Box {
-                axes,
-                clicks,
-                own_yaw,
-                has_top,
-                ..
-            } = &mut part
-            {
-                let yaw = if *own_yaw {
-                    params[4 + usize::from(*has_top)]
-                } else {
-                    0.0
-                };
-                let (e1, e2) = Part::box_axes(&cam, *axes, yaw);
+            if let Part::Box { axes, .. } = &mut part {
+                // A side `s < 0` along axis `e` is the side `-s` along `-e` from the same
+                // origin: every corner, and so every click's place, stays where it was.
+                // (Moving the origin by `s e` as well, as this once did, mirrored the box
+                // about its origin's edge.)
                 if params[2] < 0.0 {
-                    params[0] += params[2] * e1.x;
-                    params[1] += params[2] * e1.y;
                     params[2] = -params[2];
                     axes.sign1 = -axes.sign1;
-                    for c in clicks.iter_mut() {
-                        c.place.0 = 1 - c.place.0;
-                    }
                 }
                 if params[3] < 0.0 {
-                    params[0] += params[3] * e2.x;
-                    params[1] += params[3] * e2.y;
                     params[3] = -params[3];
                     axes.sign2 = -axes.sign2;
-                    for c in clicks.iter_mut() {
-                        c.place.1 = 1 - c.place.1;
-                    }
                 }
             }
             let weights = fitted.problem.weights.get(k).cloned().unwrap_or_default();
@@ -682,6 +662,86 @@ pub(crate) fn average_boxes(fits: &[PhotoFit], poses: &[Option<Pose>], placed: &
             && let Some(p) = w.params.get_mut(4)
         {
             *p = height.0 / height.1;
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fit::{FitOptions, fit_scene};
+    use crate::synth::{SynthOptions, synthesize};
+
+    /// Each corner of each box of `fit`, in its own frame, keyed by the clicks' grid places:
+    /// the point of every clicked base corner.
+    fn clicked_corners(fit: &PhotoFit) -> Vec<Vector2<f64>> {
+        let cam = fit.camera();
+        let mut out = Vec::new();
+        for o in &fit.objects {
+            if let Part::Box {
+                axes,
+                clicks,
+                own_yaw,
+                has_top,
+                ..
+            } = &o.part
+            {
+                for c in clicks {
+                    let v = Part::box_corner(&cam, *axes, *own_yaw, *has_top, &o.params, c.place);
+                    out.push(Vector2::new(v.x, v.y));
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn a_fitted_box_with_a_negative_side_is_the_same_box_with_positive_sides() {
+        // A fit may end with a box's side negative: side `-s` along axis `-e` is the same
+        // box as side `s` along `e` from the same origin. Its photo's boxes are made positive
+        // for the room fit, and every clicked corner must stay where the fit put it. Checked
+        // against the same fit with the side positive, written the other way round by hand
+        // (the part's axis sign and the side both negated; the clicks as they were).
+        let scene = synthesize(&SynthOptions {
+            seed: 3,
+            ..SynthOptions::default()
+        })
+        .map_or_else(|e| panic!("{e}"), |(scene, _)| scene);
+        let fitted = fit_scene(&scene, &FitOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+        let plain = PhotoFit::new(fitted.clone(), &scene);
+        let mut flipped = fitted;
+        let mut changed = 0;
+        for k in 0..flipped.problem.parts.len() {
+            let off = flipped.problem.offsets[k];
+            let Part::Box { axes, .. } = &mut flipped.problem.parts[k] else {
+                continue;
+            };
+            // The first box: its first side negative; the second: both.
+            axes.sign1 = -axes.sign1;
+            flipped.x[off + 2] = -flipped.x[off + 2];
+            if changed == 1 {
+                axes.sign2 = -axes.sign2;
+                flipped.x[off + 3] = -flipped.x[off + 3];
+            }
+            changed += 1;
+            if changed == 2 {
+                break;
+            }
+        }
+        assert_eq!(changed, 2, "the scene has two boxes");
+        let turned = PhotoFit::new(flipped, &scene);
+        let (a, b) = (clicked_corners(&plain), clicked_corners(&turned));
+        assert_eq!(a.len(), b.len());
+        assert!(!a.is_empty());
+        for (p, q) in a.iter().zip(&b) {
+            assert!((p - q).norm() < 1e-9, "{p} moved to {q}");
+        }
+        for o in &turned.objects {
+            assert!(
+                o.params
+                    .get(2..4)
+                    .is_none_or(|s| s.iter().all(|v| *v >= 0.0))
+            );
         }
     }
 }

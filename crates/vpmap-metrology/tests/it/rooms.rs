@@ -747,18 +747,19 @@ fn shared_data_rooms_with_noisy_clicks_are_mapped_not_refused() {
             "{sigma} px: {:?}",
             c.silent_wrong
         );
-        if (sigma, edges) == (2.0, true) {
-            // Short of the issue's target (at most 1 % refused) in 8 trials a room: with
-            // vanishing points from the boxes' own short edges at 2 px, mv06 trial 2 is
-            // refused (F = 44, its joint click sigma 4 times the photos' own: photo 1's misfit
-            // grows 57-fold; a poorer minimum of the joint fit or a real limit of two boxes'
-            // short edges, not settled); 4 of 400 (1.0 %) in 50 trials a room. Held here at
-            // that one refusal so that it does not grow unnoticed (1 % of 64 trials would
-            // allow none).
-            assert!(c.refused.len() <= 1, "{sigma} px: {:?}", c.refused);
-        } else {
-            assert!(c.refused.is_empty(), "{sigma} px: {:?}", c.refused);
-        }
+        // Issue 39's target: at most 1 % of the rooms refused (none of 64 in 8 trials a
+        // room). Until a room's photos had their boxes made positive without mirroring them
+        // (`room/align.rs`, `PhotoFit::new`), a photo whose fit ended with a negative side put
+        // that box on the wrong side of its edge: 5 of 2,400 trials of 50 a room were refused
+        // (mv06 trial 2 among the first 8 with vanishing points from the boxes' edges at
+        // 2 px); now 1 (mv01 trial 32 at 2 px: its photo 3 alone does not converge).
+        assert!(
+            c.refused.len() * 100 <= c.trials,
+            "{sigma} px, edges {edges}: {} of {} refused: {:?}",
+            c.refused.len(),
+            c.trials,
+            c.refused
+        );
     }
 }
 
