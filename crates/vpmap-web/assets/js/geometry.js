@@ -53,12 +53,21 @@ export function lineThroughLens(from, vp, lens, reach, samples = 64) {
   if (!(len > 1e-9)) return null;
   const u = [d[0] / len, d[1] / len];
   const t0 = -reach, t1 = Math.min(reach, len);
-  if (!lens) return [[a[0] + u[0] * t0, a[1] + u[1] * t0], [a[0] + u[0] * t1, a[1] + u[1] * t1]];
+  return segmentThroughLens([a[0] + u[0] * t0, a[1] + u[1] * t0], [a[0] + u[0] * t1, a[1] + u[1] * t1], lens, samples);
+}
+
+/**
+ * The photo pixels of the pinhole segment from `p` to `q` through `lens` (`lensOf`): `samples + 1`
+ * evenly spaced points of it, each taken to its photo pixel (those beyond the lens's reach left
+ * out); without a lens, its two ends.
+ */
+export function segmentThroughLens(p, q, lens, samples = 64) {
+  if (!lens) return [p, q];
   const out = [];
   for (let i = 0; i <= samples; i += 1) {
-    const t = t0 + ((t1 - t0) * i) / samples;
-    const q = distortPx([a[0] + u[0] * t, a[1] + u[1] * t], lens);
-    if (q) out.push(q);
+    const t = i / samples;
+    const r = distortPx([p[0] + t * (q[0] - p[0]), p[1] + t * (q[1] - p[1])], lens);
+    if (r) out.push(r);
   }
   return out;
 }

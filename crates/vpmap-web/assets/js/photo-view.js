@@ -6,7 +6,7 @@
 
 import { VP_COLOURS, objectOutline, resolvedVps } from './scene.js';
 import { OFF_LINE_PX, boxEdges, boxPoints, guideOffsets } from './box.js';
-import { clipLine, distortPx, lensOf, vpPoint } from './geometry.js';
+import { clipLine, distortPx, lensOf, segmentThroughLens, vpPoint } from './geometry.js';
 import { clamp } from './util.js';
 
 /** Points of the polyline the pinhole horizon is drawn as through a lens. */
@@ -391,14 +391,7 @@ export class PhotoView {
       // on the pinhole line across twice the photo's extent, each taken to its photo pixel.
       const w = st.scene.image.width, h = st.scene.image.height;
       const seg = clipLine(cam.horizon[0], cam.horizon[1], [-w / 2, -h / 2, 1.5 * w, 1.5 * h]);
-      const pts = [];
-      if (seg) {
-        for (let i = 0; i <= HORIZON_CURVE_SAMPLES; i += 1) {
-          const t = i / HORIZON_CURVE_SAMPLES;
-          const q = distortPx([seg[0][0] + t * (seg[1][0] - seg[0][0]), seg[0][1] + t * (seg[1][1] - seg[0][1])], lens);
-          if (q) pts.push(q);
-        }
-      }
+      const pts = seg ? segmentThroughLens(seg[0], seg[1], lens, HORIZON_CURVE_SAMPLES) : [];
       if (pts.length >= 2) {
         this.path(pts);
         this.strokeHalo('#ffd400', 2, [10, 6]);
