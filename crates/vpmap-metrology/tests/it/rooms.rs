@@ -608,11 +608,35 @@ fn shared_data_rooms_give_the_same_map_for_every_order_of_photos_2_to_n() {
     assert!(orders >= 8 + 6, "{orders}");
 }
 
+/// How the noisy trials of the shared rooms give each photo its vanishing points.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum VpSource {
+    /// The file's points as they are: bare points, whose accuracy the fit does not know (it
+    /// weighs one as a click's error at a focal length's distance).
+    FilePoints,
+    /// The file's points with what they are stated: the simulator's exact points, given a
+    /// covariance of (0.001 degree)² (`covariance_deg2`), as a user states a calibrated
+    /// point's accuracy.
+    FilePointsStatedExact,
+    /// Each photo's boxes' edges through the noisy corners, as the evaluations do.
+    Edges,
+}
+
 /// Room `v` with Gaussian noise of `sigma_px` on every click of every photo (box and
-/// footprint corners, floor corners), seeded; with `edges`, each photo's vanishing points
-/// written as its boxes' edges through the noisy corners (as the evaluations do).
-fn noisy_room(v: &serde_json::Value, sigma_px: f64, seed: u64, edges: bool) -> Scene {
+/// footprint corners, floor corners), seeded; its vanishing points from `vps`.
+fn noisy_room(v: &serde_json::Value, sigma_px: f64, seed: u64, vps: VpSource) -> Scene {
     use rand::SeedableRng;
+    let mut v = v.clone();
+    if vps == VpSource::FilePointsStatedExact {
+        for p in v["photos"].as_array_mut().unwrap() {
+            for vp in p["vanishing_points"].as_array_mut().unwrap() {
+                assert!(vp.get("point").is_some(), "{vp}");
+                vp["covariance_deg2"] = serde_json::json!([[1e-6, 0.0], [0.0, 1e-6]]);
+            }
+        }
+    }
+    let v = &v;
+    let edges = vps == VpSource::Edges;
     let mut scene = Scene::from_json_str(&v.to_string()).unwrap();
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
     vpmap_metrology::synth::add_noise(&mut scene, sigma_px, &mut rng);
@@ -638,8 +662,10 @@ struct NoisyCount {
     trials: usize,
     refused: Vec<String>,
     silent_wrong: Vec<String>,
-    /// Maps with a box more than 0.25 m off inside its error bars (d^2 <= 30).
-    beyond_quarter_metre: usize,
+    /// Maps with a box more than 0.25 m off inside its error bars (d^2 <= 30): for each, the
+    /// worst such box, its error, d^2, the 95 % ellipse's major semi-axis and whether a
+    /// warning names it.
+    beyond_quarter_metre: Vec<String>,
     worst_m: f64,
     worst_d2: f64,
     /// Objects of the maps built, and of them those whose true centroid lies inside the map's
@@ -648,7 +674,7 @@ struct NoisyCount {
     inside: usize,
 }
 
-fn noisy_shared_rooms(sigma_px: f64, trials: u64, edges: bool) -> NoisyCount {
+fn noisy_shared_rooms(sigma_px: f64, trials: u64, vps: VpSource) -> NoisyCount {
     let dir = shared("multiview-scenes");
     let mut count = NoisyCount::default();
     for r in 0..8 {
@@ -661,7 +687,7 @@ fn noisy_shared_rooms(sigma_px: f64, trials: u64, edges: bool) -> NoisyCount {
         .unwrap();
         for t in 0..trials {
             count.trials += 1;
-            let mut scene = noisy_room(&room, sigma_px, 1000 * r + t, edges);
+            let mut scene = noisy_room(&room, sigma_px, 1000 * r + t, vps);
             // Photos 2..n in an order of the trial's own.
             let orders = permutations(&scene.other_photos);
             scene
@@ -672,9 +698,10 @@ fn noisy_shared_rooms(sigma_px: f64, trials: u64, edges: bool) -> NoisyCount {
                 Ok(map) => {
                     let mut worst = 0.0f64;
                     let mut worst_d2 = 0.0f64;
+                    let mut worst_said = String::new();
                     for o in &truth.objects {
                         let m = map.objects.iter().find(|m| m.name == o.name).unwrap();
-                        worst = worst.max(footprint_error(&m.footprint, &o.footprint));
+                        let e = footprint_error(&m.footprint, &o.footprint);
                         let c = o
                             .footprint
                             .iter()
@@ -686,6 +713,20 @@ fn noisy_shared_rooms(sigma_px: f64, trials: u64, edges: bool) -> NoisyCount {
                             + k[0][0] * d[1] * d[1])
                             / det;
                         worst_d2 = worst_d2.max(d2);
+                        if e > worst {
+                            worst = e;
+                            // The 95 % ellipse's major semi-axis.
+                            let (a, b, c2) = (k[0][0], k[1][1], k[0][1]);
+                            let major = (f64::midpoint(a, b)
+                                + ((a - b) * (a - b) / 4.0 + c2 * c2).sqrt())
+                            .max(0.0);
+                            let named = map.warnings.iter().any(|w| w.contains(&o.name));
+                            worst_said = format!(
+                                "mv0{r} trial {t}: {} {e:.2} m off, d^2 {d2:.1}, 95 % semi-axis {:.2} m, named in a warning: {named}",
+                                o.name,
+                                (CHI2_2_95 * major).sqrt()
+                            );
+                        }
                         count.objects += 1;
                         count.inside += usize::from(d2 <= CHI2_2_95);
                     }
@@ -693,7 +734,7 @@ fn noisy_shared_rooms(sigma_px: f64, trials: u64, edges: bool) -> NoisyCount {
                     count.worst_d2 = count.worst_d2.max(worst_d2);
                     let said = map.warnings.iter().any(|w| w.contains("turned by"));
                     if worst > 0.25 && worst_d2 <= 30.0 {
-                        count.beyond_quarter_metre += 1;
+                        count.beyond_quarter_metre.push(worst_said);
                     }
                     if worst_d2 > 30.0 && !said {
                         count
@@ -716,21 +757,24 @@ fn shared_data_rooms_with_noisy_clicks_are_mapped_not_refused() {
         .and_then(|t| t.parse().ok())
         .unwrap_or(8);
     let mut counts = Vec::new();
-    for (sigma, edges) in [
-        (0.5, false),
-        (1.0, false),
-        (2.0, false),
-        (0.5, true),
-        (1.0, true),
-        (2.0, true),
+    let mut cases = Vec::new();
+    for vps in [
+        VpSource::FilePoints,
+        VpSource::FilePointsStatedExact,
+        VpSource::Edges,
     ] {
+        for sigma in [0.5, 1.0, 2.0] {
+            cases.push((sigma, vps));
+        }
+    }
+    for (sigma, edges) in cases {
         let c = noisy_shared_rooms(sigma, trials, edges);
         println!(
-            "{sigma} px, vanishing points from edges {edges}: {} trials, {} refused, {} silently wrong (d^2 > 30), {} a box > 0.25 m inside its error bars, worst box {:.3} m, worst d^2 {:.1}, truth inside the 95 % ellipse {} of {} ({:.1} %)\n{:#?}\n{:#?}",
+            "{sigma} px, vanishing points {edges:?}: {} trials, {} refused, {} silently wrong (d^2 > 30), {} a box > 0.25 m inside its error bars, worst box {:.3} m, worst d^2 {:.1}, truth inside the 95 % ellipse {} of {} ({:.1} %)\n{:#?}\n{:#?}",
             c.trials,
             c.refused.len(),
             c.silent_wrong.len(),
-            c.beyond_quarter_metre,
+            c.beyond_quarter_metre.len(),
             c.worst_m,
             c.worst_d2,
             c.inside,
@@ -739,6 +783,9 @@ fn shared_data_rooms_with_noisy_clicks_are_mapped_not_refused() {
             c.refused,
             c.silent_wrong
         );
+        for b in &c.beyond_quarter_metre {
+            println!("  a box > 0.25 m: {b}");
+        }
         counts.push((sigma, edges, c));
     }
     for (sigma, edges, c) in counts {
@@ -753,9 +800,27 @@ fn shared_data_rooms_with_noisy_clicks_are_mapped_not_refused() {
         // that box on the wrong side of its edge: 5 of 2,400 trials of 50 a room were refused
         // (mv06 trial 2 among the first 8 with vanishing points from the boxes' edges at
         // 2 px); now 1 (mv01 trial 32 at 2 px: its photo 3 alone does not converge).
+        // The 95 % ellipses: in the 92-98 % band of issue 39 over 50 trials a room (1,700
+        // objects a level; 94.1-94.2 % with the boxes' edges, 93.5-94.1 % with the files' points
+        // stated exact); over CI's 8 (272 objects, about 1.3 points of binomial sd, and the
+        // objects of one trial share its cameras) asked within 90-98.5 %. The files' bare points
+        // are weighed as measured with a click's error while they are exact, so their ellipses
+        // are wider than the realised error (99.2 %): asked only not to be too tight.
+        let coverage = c.inside as f64 / c.objects.max(1) as f64;
+        let band = if edges == VpSource::FilePoints {
+            0.92..=1.0
+        } else {
+            0.90..=0.985
+        };
+        assert!(
+            band.contains(&coverage),
+            "{sigma} px, {edges:?}: the truth inside the 95 % ellipse for {} of {} objects",
+            c.inside,
+            c.objects
+        );
         assert!(
             c.refused.len() * 100 <= c.trials,
-            "{sigma} px, edges {edges}: {} of {} refused: {:?}",
+            "{sigma} px, {edges:?}: {} of {} refused: {:?}",
             c.refused.len(),
             c.trials,
             c.refused
