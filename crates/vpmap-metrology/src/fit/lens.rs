@@ -12,7 +12,7 @@
 
 use nalgebra::Vector2;
 
-use super::model::{Part, VpEvidence};
+use super::model::Part;
 use super::{Fitted, Solved, finish, minimise};
 use crate::error::{MetrologyError, Result};
 use crate::interrupt::Interrupt;
@@ -30,8 +30,9 @@ fn unmovable(k: f64) -> MetrologyError {
 
 /// Pinhole pixel `p` of lens `from` moved to lens `to` in place; the photo pixel it came from.
 fn move_pixel(from: &DivisionModel, to: &DivisionModel, p: &mut Vector2<f64>) -> Result<[f64; 2]> {
-    let raw = from.distort([p.x, p.y]).ok_or_else(|| unmovable(from.k))?;
-    let q = to.undistort(raw);
+    let (raw, q) = from
+        .move_to(to, [p.x, p.y])
+        .ok_or_else(|| unmovable(from.k))?;
     *p = Vector2::new(q[0], q[1]);
     Ok(raw)
 }
@@ -75,30 +76,17 @@ impl Fitted {
             }
             raws.push(here);
         }
-        // The covariance in pinhole pixels is J C J^T with J the undistortion's Jacobian at
-        // the photo pixel; its whitening W (W^T W = the inverse) follows as W J_from J_to^-1.
         for (weights, raws) in problem.weights.iter_mut().zip(&raws) {
             for (w, raw) in weights.iter_mut().zip(raws) {
                 if let Some(w) = w.as_mut() {
-                    let to_inverse = to
-                        .undistort_jacobian(*raw)
-                        .try_inverse()
+                    *w = from
+                        .whitening_moved_to(to, *raw, *w)
                         .ok_or_else(|| unmovable(to.k))?;
-                    *w = *w * from.undistort_jacobian(*raw) * to_inverse;
                 }
             }
         }
-        // Points and priors are the pinhole camera's already; segments were clicked.
         for vp in &mut problem.vps {
-            if let VpEvidence::Lines(segments) = vp {
-                for l in segments.iter_mut() {
-                    let mut a = Vector2::new(l[0], l[1]);
-                    let mut b = Vector2::new(l[2], l[3]);
-                    move_pixel(from, to, &mut a)?;
-                    move_pixel(from, to, &mut b)?;
-                    *l = [a.x, a.y, b.x, b.y];
-                }
-            }
+            vp.move_lens(from, to).ok_or_else(|| unmovable(from.k))?;
         }
         problem.interrupt = interrupt.clone();
         let solution = minimise(&problem, self.x.clone());

@@ -9,7 +9,7 @@
 use nalgebra::{Matrix2, Matrix3, Vector2, Vector3};
 
 use crate::camera::rotation_map_from_camera;
-use crate::scene::{BoxView, PixelPoint, VpChart};
+use crate::scene::{BoxView, DivisionModel, PixelPoint, VpChart};
 
 /// The camera as the model sees it.
 #[derive(Debug, Clone, Copy)]
@@ -294,6 +294,22 @@ pub(crate) enum VpEvidence {
         /// The click noise the residual is expressed in, pixels.
         scale_px: f64,
     },
+}
+
+impl VpEvidence {
+    /// Segments clicked through the lens `from` moved to the lens `to` (points, directions and
+    /// priors are the pinhole camera's already and stay); `None` when an end lies beyond
+    /// `from`'s reach.
+    pub(crate) fn move_lens(&mut self, from: &DivisionModel, to: &DivisionModel) -> Option<()> {
+        if let Self::Lines(segments) = self {
+            for l in segments.iter_mut() {
+                let (_, a) = from.move_to(to, [l[0], l[1]])?;
+                let (_, b) = from.move_to(to, [l[2], l[3]])?;
+                *l = [a[0], a[1], b[0], b[1]];
+            }
+        }
+        Some(())
+    }
 }
 
 impl VpEvidence {

@@ -12,18 +12,9 @@ use nalgebra::Vector2;
 
 use super::fit::{Built, RoomFitted, finish, floor_below_horizons};
 use crate::error::{MetrologyError, Result};
-use crate::fit::model::VpEvidence;
 use crate::fit::solve::minimise;
 use crate::interrupt::Interrupt;
 use crate::scene::{DivisionModel, Scene};
-
-/// Where a pinhole pixel of the lens `from` lies for the lens `to`: the photo pixel it came
-/// from (`from` undistorted it) undistorted by `to`; `None` beyond `from`'s reach.
-fn moved(from: &DivisionModel, to: &DivisionModel, p: Vector2<f64>) -> Option<Vector2<f64>> {
-    let raw = from.distort([p.x, p.y])?;
-    let q = to.undistort(raw);
-    Some(Vector2::new(q[0], q[1]))
-}
 
 /// Why a refit has no answer (the side of the lens's spread is left out).
 fn unmovable(photo: usize, k: f64) -> MetrologyError {
@@ -61,33 +52,20 @@ impl RoomFitted {
             .flat_map(|p| p.sightings.iter_mut())
             .filter(|s| s.photo == photo)
         {
-            let raw = from
-                .distort([s.pixel.x, s.pixel.y])
+            let (raw, q) = from
+                .move_to(to, [s.pixel.x, s.pixel.y])
                 .ok_or_else(|| unmovable(photo, from.k))?;
-            s.pixel = moved(from, to, s.pixel).ok_or_else(|| unmovable(photo, from.k))?;
-            // The covariance in pinhole pixels is J C J^T with J the undistortion's Jacobian at
-            // the photo pixel; its whitening W (W^T W = the inverse) follows as W J_from J_to^-1.
+            s.pixel = Vector2::new(q[0], q[1]);
             if let Some(w) = s.weight.as_mut() {
-                let to_inverse = to
-                    .undistort_jacobian(raw)
-                    .try_inverse()
+                *w = from
+                    .whitening_moved_to(to, raw, *w)
                     .ok_or_else(|| unmovable(photo, to.k))?;
-                *w = *w * from.undistort_jacobian(raw) * to_inverse;
             }
         }
         if let Some(block) = problem.photos.get_mut(photo) {
             for vp in &mut block.vps {
-                // Points and priors are the pinhole camera's already; segments were clicked.
-                if let VpEvidence::Lines(segments) = vp {
-                    for l in segments.iter_mut() {
-                        let a = moved(from, to, Vector2::new(l[0], l[1]));
-                        let b = moved(from, to, Vector2::new(l[2], l[3]));
-                        let (Some(a), Some(b)) = (a, b) else {
-                            return Err(unmovable(photo, from.k));
-                        };
-                        *l = [a.x, a.y, b.x, b.y];
-                    }
-                }
+                vp.move_lens(from, to)
+                    .ok_or_else(|| unmovable(photo, from.k))?;
             }
         }
         problem.interrupt = interrupt.clone();

@@ -104,6 +104,32 @@ impl DivisionModel {
         Some([q.x, q.y])
     }
 
+    /// Pinhole pixel `p` of this lens moved to the lens `to`: the photo pixel it came from
+    /// (this lens undistorted it there) and where `to` undistorts that photo pixel, as
+    /// `(photo pixel, pinhole pixel of to)`; `None` beyond this lens's reach. The one place the
+    /// fit and the room fit move a click between two values of `k` (the error bars'
+    /// `k +- k_sd` refits).
+    #[must_use]
+    pub fn move_to(&self, to: &Self, p: PixelPoint) -> Option<(PixelPoint, PixelPoint)> {
+        let raw = self.distort(p)?;
+        Some((raw, to.undistort(raw)))
+    }
+
+    /// A click covariance's whitening `w` (`w^T w` the inverse covariance in this lens's
+    /// pinhole pixels) moved to the lens `to` at photo pixel `raw`: the covariance in pinhole
+    /// pixels is `J C J^T` with `J` the undistortion's Jacobian at the photo pixel, so the
+    /// whitening follows as `w J_self J_to^-1`; `None` where `to`'s Jacobian is singular.
+    #[must_use]
+    pub fn whitening_moved_to(
+        &self,
+        to: &Self,
+        raw: PixelPoint,
+        w: Matrix2<f64>,
+    ) -> Option<Matrix2<f64>> {
+        let to_inverse = to.undistort_jacobian(raw).try_inverse()?;
+        Some(w * self.undistort_jacobian(raw) * to_inverse)
+    }
+
     /// The Jacobian of [`Self::undistort`] at photo pixel `p`.
     #[must_use]
     pub fn undistort_jacobian(&self, p: PixelPoint) -> Matrix2<f64> {
