@@ -8,9 +8,16 @@
 //! (`docs/scene-format.md`). A click that stays keeps its entry if it had one, else gets the
 //! click noise's (`sigma^2 I`, when given). Floor corners get no entry: the fit does not weigh
 //! them.
+//!
+//! A scene with a lens (`lens_distortion`) gives its vanishing points as the pinhole camera's
+//! while its clicks and the photo are the lens's: [`vanishing_points_at`] turns them into the
+//! points the photo's edges run to near one click (each edge is straight in the pinhole image
+//! and bowed in the photo), so the edges are searched along, and checked against, the
+//! directions the photo shows there.
 
+use nalgebra::Vector2;
 use serde_json::{Map, Value, json};
-use vpmap_metrology::scene::Scene;
+use vpmap_metrology::scene::{DivisionModel, Scene};
 
 use super::{Snap, SnapImage, SnapOptions, snap_click};
 use crate::clicks::{ClickPlace, scene_clicks};
@@ -41,7 +48,59 @@ pub fn scene_vanishing_points(scene: &Scene) -> Result<Vec<[f64; 3]>> {
         })
 }
 
-/// Snap every click of `scene` on its photo, with the scene's vanishing points.
+/// The vanishing points the photo's edges run to near photo pixel `click_px`, for `vanishing_points`
+/// of the pinhole camera (homogeneous, as [`scene_vanishing_points`] gives them) seen through
+/// the lens `lens`. An edge towards a vanishing point is a straight line in the pinhole image,
+/// bowed by the lens in the photo; near the click it runs along the line's image under the
+/// lens, whose direction there is the pinhole direction mapped by the inverse of the
+/// undistortion's Jacobian at the click. Each point is returned where that direction, scaled
+/// the same way, puts it: a finite point at `click + J^-1 (v - p)` (`p` the click's pinhole
+/// pixel, `v` the point), a point at infinity as the direction `J^-1 d`. A two-point scene gets
+/// its vertical here too (perpendicular to the pinhole horizon, then mapped), so
+/// [`super::snap_click`] takes the three as the photo shows them. Without a lens, or where
+/// the Jacobian is singular (beyond the lens's reach), the points are returned as given.
+#[must_use]
+pub fn vanishing_points_at(
+    vanishing_points: &[[f64; 3]],
+    lens: Option<&DivisionModel>,
+    click_px: [f64; 2],
+) -> Vec<[f64; 3]> {
+    let Some(lens) = lens.filter(|l| l.k != 0.0) else {
+        return vanishing_points.to_vec();
+    };
+    let Some(to_photo) = lens.undistort_jacobian(click_px).try_inverse() else {
+        return vanishing_points.to_vec();
+    };
+    let p = lens.undistort(click_px);
+    let mut out: Vec<[f64; 3]> = vanishing_points
+        .iter()
+        .map(|v| {
+            if v[2].abs() > f64::EPSILON * v[0].hypot(v[1]) {
+                let d = to_photo * Vector2::new(v[0] / v[2] - p[0], v[1] / v[2] - p[1]);
+                [click_px[0] + d.x, click_px[1] + d.y, 1.0]
+            } else {
+                let d = to_photo * Vector2::new(v[0], v[1]);
+                [d.x, d.y, 0.0]
+            }
+        })
+        .collect();
+    if let [a, b] = vanishing_points {
+        // The pinhole horizon l = a x b; its normal (l0, l1) is the vertical's direction.
+        let l = [
+            a[1] * b[2] - a[2] * b[1],
+            a[2] * b[0] - a[0] * b[2],
+            a[0] * b[1] - a[1] * b[0],
+        ];
+        if l[0].hypot(l[1]) > 0.0 {
+            let d = to_photo * Vector2::new(l[0], l[1]);
+            out.push([d.x, d.y, 0.0]);
+        }
+    }
+    out
+}
+
+/// Snap every click of `scene` on its photo, with the scene's vanishing points (seen through
+/// its lens near each click, [`vanishing_points_at`], when it gives one).
 ///
 /// # Errors
 /// [`VisionError::ImageSizeMismatch`] when the scene's image size is not the photo's,
@@ -84,12 +143,14 @@ pub fn snap_scene(
         vp_direction_sd_deg: opts.vp_direction_sd_deg.max(largest_vp_sd_deg(scene)),
         ..*opts
     };
+    let lens = scene.division_model();
     clicks
         .into_iter()
         .map(|c| {
+            let here = vanishing_points_at(&vps, lens.as_ref(), c.point_px);
             Ok(SnappedClick {
                 place: c.place,
-                snap: snap_click(image, &vps, c.point_px, &opts)?,
+                snap: snap_click(image, &here, c.point_px, &opts)?,
             })
         })
         .collect()

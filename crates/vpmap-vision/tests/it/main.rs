@@ -4,5 +4,6 @@
 mod bad_input;
 mod real_photos;
 mod rendered_rooms;
+mod snap_lens;
 mod snapping;
 mod synthetic_scenes;

@@ -94,7 +94,7 @@ export function uploadPhoto(photo, signal) {
   return call('api/photo', { method: 'POST', body: photo, type: photo.type || 'application/octet-stream', signal });
 }
 
-/** `POST /api/snap` `{photo, click, vanishing_points, click_sigma?}` -> `{point, snapped, covariance_px2, edges, note}`. */
+/** `POST /api/snap` `{photo, click, vanishing_points, click_sigma?, lens_distortion?, principal_point?}` -> `{point, snapped, covariance_px2, edges, note}`. */
 export function snapClick(request, signal) {
   return call('api/snap', { method: 'POST', body: JSON.stringify(request), type: 'application/json', signal });
 }

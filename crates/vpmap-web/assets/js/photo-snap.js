@@ -8,6 +8,7 @@
 
 import { proposeBoxes, snapClick, uploadPhoto } from './api.js';
 import { resolvedVps } from './scene.js';
+import { lensOf } from './geometry.js';
 import { $ } from './util.js';
 import { pathKey, setCovariance } from './covariances.js';
 
@@ -24,6 +25,21 @@ export function knownVps(scene) {
     out.push([p[0], p[1]]);
   }
   return out;
+}
+
+/**
+ * The `/api/snap` body for a click at `raw` on photo `id` of `scene`: its known vanishing points
+ * (the pinhole camera's) and, for a photo with a lens, the lens and its centre, so that the
+ * server looks along the edges as the photo bows them.
+ */
+export function snapRequest(scene, id, raw, clickSigma) {
+  const body = { photo: id, click: raw, vanishing_points: knownVps(scene), click_sigma: clickSigma ?? undefined };
+  const lens = lensOf(scene);
+  if (lens) {
+    body.lens_distortion = { k: lens.k };
+    body.principal_point = lens.centre;
+  }
+  return body;
 }
 
 /** Install the toggle and `app.photoSnap` (enabled, flash, pending, and whether a build
@@ -94,7 +110,7 @@ export async function snapPlaced(app, raw, { get, set }) {
   if (snap.failed === slot) return null;
   snap.pending++;
   try {
-    const request = (id) => snapClick({ photo: id, click: raw, vanishing_points: knownVps(st.scene), click_sigma: st.settings.click_sigma ?? undefined });
+    const request = (id) => snapClick(snapRequest(st.scene, id, raw, st.settings.click_sigma));
     const ans = await withPhoto(app, slot, request);
     st.counters.snaps = (st.counters.snaps || 0) + 1;
     snap.last = ans;

@@ -3,7 +3,7 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { COV_FIELD, PendingCovariances, dropCovariance, dropFloor, objectRemoved, pathKey, setCovariance } from '../../assets/js/covariances.js';
-import { knownVps, placedTarget } from '../../assets/js/photo-snap.js';
+import { knownVps, placedTarget, snapRequest } from '../../assets/js/photo-snap.js';
 import { BoxAnnotation, guideLines, offLine } from '../../assets/js/box.js';
 import { History } from '../../assets/js/state.js';
 import { setAt } from '../../assets/js/scene.js';
@@ -142,4 +142,18 @@ test('the vanishing points sent for snapping: the known ones up to the first unk
   const s = scene();
   s.vanishing_points = [{ point: [1, 2] }, { lines: [] }, { point: [3, 4] }];
   assert.deepEqual(knownVps(s), [[1, 2]]);
+});
+
+test('a snap request carries the photo\'s lens and its centre, and nothing of a lens without one', () => {
+  const plain = snapRequest(scene(), 'p1', [10, 20], 1.5);
+  assert.deepEqual(plain, { photo: 'p1', click: [10, 20], vanishing_points: [[-500, 10], [600, 12], [50, 4000]], click_sigma: 1.5 });
+  const s = scene();
+  s.lens_distortion = { k: -0.12, k_sd: 0.01 };
+  const lensed = snapRequest(s, 'p1', [10, 20]);
+  assert.deepEqual(lensed.lens_distortion, { k: -0.12 });
+  assert.deepEqual(lensed.principal_point, [50, 40], 'the image centre without a principal point');
+  s.principal_point = [48, 41];
+  assert.deepEqual(snapRequest(s, 'p1', [10, 20]).principal_point, [48, 41]);
+  s.lens_distortion = { k: 0 };
+  assert.equal(snapRequest(s, 'p1', [10, 20]).lens_distortion, undefined, 'k = 0 is a pinhole');
 });

@@ -14,8 +14,11 @@ use axum::http::{HeaderMap, StatusCode};
 use axum::response::Response;
 use serde::{Deserialize, Serialize};
 use vpmap_metrology::interrupt::Interrupt;
-use vpmap_metrology::scene::BoxCorners;
+use vpmap_metrology::scene::{
+    BoxCorners, DivisionModel, ImageSize, LensDistortion, MAX_DIVISION_K, MAX_DIVISION_STRETCH,
+};
 use vpmap_vision::proposals::{ProposalOptions, propose_boxes};
+use vpmap_vision::snap::scene::vanishing_points_at;
 use vpmap_vision::snap::{Snap, SnapOptions, SnapOutcome, snap_click};
 use vpmap_vision::{DetectOptions, VisionError, detect_segments};
 
@@ -97,6 +100,11 @@ pub(crate) struct SnapRequest {
     vanishing_points: Vec<Option<Vec<f64>>>,
     click_sigma: Option<f64>,
     radius: Option<f64>,
+    /// The photo's lens, as the scene's `lens_distortion` (`k`; `k_sd` is read and not
+    /// used): the vanishing points are then the pinhole camera's and the click the photo's.
+    lens_distortion: Option<LensDistortion>,
+    /// The lens's centre (the scene's `principal_point`); the image centre without it.
+    principal_point: Option<[f64; 2]>,
 }
 
 /// A `/api/propose` request.
@@ -206,6 +214,42 @@ fn snap_options(req: &SnapRequest) -> Result<SnapOptions, ApiError> {
     Ok(opts)
 }
 
+/// The request's lens on a photo of `width` x `height` pixels: `None` without one; 400 for a
+/// `k` or centre that is not finite, a `k` beyond +-1, or one that folds the photo (the
+/// scene file's rules, `docs/scene-format.md`).
+fn lens_model(
+    req: &SnapRequest,
+    width: u32,
+    height: u32,
+) -> Result<Option<DivisionModel>, ApiError> {
+    let Some(lens) = req.lens_distortion else {
+        return Ok(None);
+    };
+    if !(lens.k.is_finite() && lens.k.abs() <= MAX_DIVISION_K) {
+        return Err(ApiError::bad_request(format!(
+            "lens_distortion.k is {}; the division model's k lies within -{MAX_DIVISION_K} to {MAX_DIVISION_K} (phone lenses about -0.15 to 0)",
+            lens.k
+        )));
+    }
+    if let Some(c) = req.principal_point
+        && !c.iter().all(|v| v.is_finite() && v.abs() <= 1e7)
+    {
+        return Err(ApiError::bad_request(format!(
+            "principal_point is {c:?}; give the lens's centre in pixels"
+        )));
+    }
+    let image = ImageSize { width, height };
+    let model = DivisionModel::new(lens.k, image, req.principal_point);
+    let stretch = model.stretch(image);
+    if stretch >= MAX_DIVISION_STRETCH {
+        return Err(ApiError::bad_request(format!(
+            "lens_distortion.k = {} folds this {width} x {height} photo (|k| r^2 = {stretch:.3} at a corner; at most {MAX_DIVISION_STRETCH})",
+            lens.k
+        )));
+    }
+    Ok(Some(model))
+}
+
 /// The kept photo of `id`, or 404 naming it.
 fn stored(state: &AppState, id: &str) -> Result<std::sync::Arc<StoredPhoto>, ApiError> {
     state.0.photos.get(id).ok_or_else(|| {
@@ -259,6 +303,8 @@ pub(crate) fn snap_request(state: &AppState, body: &[u8]) -> Result<Bytes, ApiEr
     let vps = vanishing_points(&req.vanishing_points)?;
     let opts = snap_options(&req)?;
     let photo = stored(state, &req.photo)?;
+    let lens = lens_model(&req, photo.snap.width(), photo.snap.height())?;
+    let vps = vanishing_points_at(&vps, lens.as_ref(), req.click);
     let snap = snap_click(&photo.snap, &vps, req.click, &opts).map_err(|e| vision_error(&e))?;
     to_json(&snap_answer(&snap, started))
 }
@@ -438,6 +484,90 @@ mod tests {
         assert_eq!(v["point"], serde_json::json!([400.0, 595.0]));
         assert!(v["covariance_px2"].is_null());
         assert!(v["note"].as_str().is_some_and(|n| !n.is_empty()), "{v}");
+    }
+
+    #[test]
+    fn a_lens_in_the_request_snaps_the_bowed_corners_of_a_wide_lens() {
+        // A render through a wide lens (k = -0.15): the scene's vanishing points are the
+        // pinhole camera's, so the photo's edges near its corners run off them by degrees.
+        let k = -0.15;
+        let (mut near_without, mut near_with) = (0, 0);
+        for seed in 0..4 {
+            let (scene, truth) = synthesize(&SynthOptions {
+                seed,
+                image: ImageSize {
+                    width: 800,
+                    height: 600,
+                },
+                focal_px: 480.0,
+                pitch_deg: 20.0,
+                ..SynthOptions::default()
+            })
+            .unwrap();
+            let photo = render_photo(
+                &scene,
+                &truth,
+                &PhotoOptions {
+                    seed,
+                    distortion_k: k,
+                    ..PhotoOptions::default()
+                },
+            )
+            .unwrap();
+            let state = AppState::new(None, true, ServerLimits::default());
+            assert_eq!(state.0.photos.insert(StoredPhoto::new(&photo.image)), "p1");
+            let vps = scene_vanishing_points(&scene).unwrap();
+            for c in photo
+                .corners
+                .iter()
+                .filter(|c| c.visible && c.kind == CornerKind::BoxCorner)
+            {
+                let t = c.point_px;
+                let click = [t[0] + 1.2, t[1] - 0.9];
+                let near = |v: serde_json::Value| {
+                    let p = [
+                        v["point"][0].as_f64().unwrap(),
+                        v["point"][1].as_f64().unwrap(),
+                    ];
+                    usize::from(v["snapped"] == true && (p[0] - t[0]).hypot(p[1] - t[1]) < 1.0)
+                };
+                near_without += near(ask(&state, &snap_body(click, &vps)).unwrap());
+                let mut body: serde_json::Value =
+                    serde_json::from_str(&snap_body(click, &vps)).unwrap();
+                body["lens_distortion"] = serde_json::json!({"k": k, "k_sd": 0.01});
+                body["principal_point"] = serde_json::json!([400.0, 300.0]);
+                near_with += near(ask(&state, &body.to_string()).unwrap());
+            }
+        }
+        assert!(
+            near_with > near_without,
+            "{near_with} within 1 px with the lens, {near_without} without"
+        );
+    }
+
+    #[test]
+    fn a_lens_that_is_not_one_is_refused_naming_it() {
+        let (state, vps, _) = rendered();
+        let with = |lens: serde_json::Value| {
+            let mut body: serde_json::Value =
+                serde_json::from_str(&snap_body([100.0, 100.0], &vps)).unwrap();
+            body["lens_distortion"] = lens;
+            ask(&state, &body.to_string()).unwrap_err()
+        };
+        let e = with(serde_json::json!({"k": 3.0}));
+        assert!(
+            e.message.contains("lens_distortion.k is 3") && e.message.contains("-1 to 1"),
+            "{}",
+            e.message
+        );
+        let e = with(serde_json::json!({"k": -0.95}));
+        assert!(
+            e.message.contains("folds this 800 x 600 photo"),
+            "{}",
+            e.message
+        );
+        let e = with(serde_json::json!({"k": -0.1, "bend": 2}));
+        assert!(e.message.contains("bend"), "{}", e.message);
     }
 
     #[test]
