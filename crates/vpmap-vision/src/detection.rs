@@ -1,5 +1,5 @@
-//! What detection takes and gives: [`Segment`], [`Intrinsics`], [`VanishingPoint`],
-//! [`Detection`] and the options [`DetectOptions`].
+//! What detection takes and gives: [`Segment`], [`Intrinsics`], [`VanishingPoint`] (and its
+//! [`OwnPoint`]), [`Detection`] and the options [`DetectOptions`].
 
 use vpmap_metrology::calibration::Perspective;
 
@@ -41,6 +41,28 @@ pub struct VanishingPoint {
     pub segments: Vec<usize>,
     /// Whether this is the vertical direction.
     pub vertical: bool,
+    /// The direction's own vanishing point: the robust least-squares point of its
+    /// [`segments`](Self::segments) alone, not held orthogonal to the other two
+    /// ([`crate::uncertainty::own_point`]), in the pinhole image of
+    /// [`Detection::intrinsics`] (the segments undistorted by [`Detection::lens`]). `None` when
+    /// the segments do not fix a point. The frame's [`point_px`](Self::point_px) is what
+    /// `vpmap detect` writes: the metric fit assumes a Manhattan room.
+    pub own_point: Option<OwnPoint>,
+}
+
+/// A direction's own vanishing point, from its supporting segments alone
+/// ([`VanishingPoint::own_point`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OwnPoint {
+    /// The point in the pinhole image, pixels (`None` when it is at infinity).
+    pub point_px: Option<[f64; 2]>,
+    /// Its unit direction in the camera frame of [`Detection::intrinsics`], sign chosen as
+    /// [`VanishingPoint::direction_camera`]'s.
+    pub direction_camera: [f64; 3],
+    /// Its angle from the frame's direction, degrees.
+    pub from_frame_deg: f64,
+    /// The independent edges that fix it (pieces of one edge counted once; outliers dropped).
+    pub edges: usize,
 }
 
 /// What [`detect`](crate::detect) found.

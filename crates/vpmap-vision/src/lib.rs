@@ -20,7 +20,7 @@
 //! | refinement | [`manhattan`] | joint Levenberg-Marquardt of the rotation (orthogonality built in), focal length and principal point on the segment-to-vanishing-point distances, Cauchy-reweighted | Triggs et al., "Bundle adjustment — a modern synthesis", 2000 (robust LM); Hartley and Zisserman, *Multiple View Geometry*, 2nd ed., 8.8 (calibration from vanishing points) |
 //! | lens distortion | [`distortion`] | the division model's `k` minimising the segments' robust distance to their refitted vanishing points, its sd from the cost's curvature, with a prior of real lenses; the vanishing points and camera found again from the undistorted segments | Fitzgibbon, CVPR 2001 (division model); Antunes et al., CVPR 2017 |
 //! | 2PP / 3PP | [`detect`] | tilt of the vertical direction against the image plane vs [`DetectOptions::two_point_tolerance_deg`] (default 0: three-point whenever the vertical point is finite) | |
-//! | vanishing-point uncertainty | [`uncertainty`] | each point's covariance from its segments (robust noise estimate, 3-sigma re-selection, pieces of one edge counted once) plus a model-error floor measured on York Urban | Hartley and Zisserman, *Multiple View Geometry*, 2nd ed., 5.2 |
+//! | vanishing-point uncertainty | [`uncertainty`] | each point's covariance from its segments (robust noise estimate, 4-sigma re-selection, pieces of one edge counted once) plus a model-error floor measured on York Urban; the segments' own least-squares point, not held orthogonal (`own_point`) | Hartley and Zisserman, *Multiple View Geometry*, 2nd ed., 5.2 |
 //! | scene file | [`scene`] | the detected directions made orthogonal (never levelled: the horizon written is the measured one), written as a `docs/scene-format.md` scene that calibrates | |
 //! | test scenes | [`synthetic`] | ray-cast tiled floor and boxes, anti-aliased, from a known camera | |
 //! | test photos | [`synthetic::photo`] | a `vpmap_metrology::synth` room ray-cast with shaded, textured faces, blur, noise and a JPEG round trip, with every click's true corner | |
@@ -74,7 +74,9 @@ pub mod snap;
 pub mod synthetic;
 pub mod uncertainty;
 
-pub use detection::{DetectOptions, Detection, Intrinsics, LensOption, Segment, VanishingPoint};
+pub use detection::{
+    DetectOptions, Detection, Intrinsics, LensOption, OwnPoint, Segment, VanishingPoint,
+};
 pub use detector::{detect, detect_from_segments};
 pub use error::{Result, VisionError};
 pub use prepare::{MAX_SIDE_PX, MIN_SIDE_PX};

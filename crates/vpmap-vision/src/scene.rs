@@ -526,6 +526,7 @@ mod tests {
                     direction_camera: frame[i].into(),
                     segments: if i == 0 { vec![0] } else { vec![] },
                     vertical: i == 2,
+                    own_point: None,
                 })
                 .collect(),
             intrinsics: Intrinsics {

@@ -22,13 +22,17 @@
 //! is a **floor** added to the covariance, [`VP_FLOOR_SD_DEG`] (1 sd on each axis), measured on
 //! York Urban's labelled photos (`docs/detection.md`, "How sure a vanishing point is").
 //!
+//! The least-squares point itself, not held orthogonal to the other directions, is
+//! [`own_point`]: each detected direction's own vanishing point
+//! ([`VanishingPoint::own_point`](crate::VanishingPoint::own_point)).
+//!
 //! Hartley and Zisserman, *Multiple View Geometry*, 2nd ed., 5.2 (covariance of a
 //! least-squares estimate) and 8.6.1 (vanishing points from segments).
 
 use nalgebra::{Matrix2, Vector2, Vector3};
 use vpmap_metrology::scene::VpChart;
 
-use crate::detection::Segment;
+use crate::detection::{OwnPoint, Segment};
 
 /// The model-error floor of a detected vanishing point, degrees: one standard deviation on
 /// each axis of its chart, added to the segments' own covariance. Measured on the 51 York
@@ -208,36 +212,22 @@ fn median(mut values: Vec<f64>) -> f64 {
     }
 }
 
-/// The covariance of the vanishing point written at homogeneous pixel `point` (in `chart`),
-/// from its supporting `segments`, plus the floor [`VP_FLOOR_SD_DEG`].
-#[must_use]
-pub fn vp_covariance(chart: &VpChart, point: Vector3<f64>, segments: &[&Segment]) -> VpCovariance {
-    let floor_rad2 = VP_FLOOR_SD_DEG.to_radians().powi(2);
-    let with_floor = |stat: Option<Matrix2<f64>>| {
-        let m = stat.unwrap_or_else(Matrix2::zeros) + Matrix2::identity() * floor_rad2;
-        let deg = |v: f64| v.to_degrees().to_degrees();
-        [
-            [deg(m[(0, 0)]), deg(m[(0, 1)])],
-            [deg(m[(1, 0)]), deg(m[(1, 1)])],
-        ]
-    };
-    let to_deg2 = |m: Matrix2<f64>| {
-        let deg = |v: f64| v.to_degrees().to_degrees();
-        [
-            [deg(m[(0, 0)]), deg(m[(0, 1)])],
-            [deg(m[(1, 0)]), deg(m[(1, 1)])],
-        ]
-    };
-    let no_segments = |inliers: usize, edges: usize| VpCovariance {
-        covariance_deg2: with_floor(None),
-        segments_deg2: None,
-        sigma_px: MIN_SEGMENT_SIGMA_PX,
-        inliers,
-        edges,
-    };
-    let Some(g) = chart.direction(point) else {
-        return no_segments(0, 0);
-    };
+/// The segments' least-squares point ([`segments_fit`]): how far it lies from the starting
+/// direction, which segments it kept and their noise.
+struct SegmentsFit<'a> {
+    /// The point's angles from the starting direction along its chart's *across* and
+    /// *radial* axes, radians ([`moved`]).
+    delta: Vector2<f64>,
+    /// The segments kept (within [`OUTLIER_SIGMAS`] sigma of the first fit).
+    kept: Vec<&'a Segment>,
+    /// The kept residuals' noise, pixels (at least [`MIN_SEGMENT_SIGMA_PX`]).
+    sigma: f64,
+}
+
+/// The robust least-squares point of `segments`, from unit direction `g` of `chart` (see the
+/// module docs): Gauss-Newton on the weighted segment residuals (pieces of one edge weighing
+/// one), the segments beyond [`OUTLIER_SIGMAS`] robust sigmas dropped, and again.
+fn segments_fit<'a>(chart: &VpChart, g: Vector3<f64>, segments: &[&'a Segment]) -> SegmentsFit<'a> {
     let mut kept: Vec<&Segment> = segments
         .iter()
         .copied()
@@ -245,7 +235,7 @@ pub fn vp_covariance(chart: &VpChart, point: Vector3<f64>, segments: &[&Segment]
         .collect();
     let mut delta = Vector2::zeros();
     let mut sigma = MIN_SEGMENT_SIGMA_PX;
-    // Twice: fit and estimate the noise, drop the segments beyond 3 sigma, again.
+    // Twice: fit and estimate the noise, drop the segments beyond OUTLIER_SIGMAS, again.
     for round in 0..2 {
         let (weights, _) = edge_weights(&kept);
         for _ in 0..STEPS {
@@ -294,15 +284,61 @@ pub fn vp_covariance(chart: &VpChart, point: Vector3<f64>, segments: &[&Segment]
             }
         }
     }
-    // The covariance at the written point (the segments' information does not depend much
-    // on where in the few-degree neighbourhood it is taken).
-    let (weights, edges) = edge_weights(&kept);
-    let (_, j) = linearise(chart, g, Vector2::zeros(), &kept);
+    SegmentsFit { delta, kept, sigma }
+}
+
+/// The segments' information about the point at angles `delta` from `g`, `J^T W J` per
+/// radian squared (pieces of one edge weighing one), and the number of independent edges.
+fn information(
+    chart: &VpChart,
+    g: Vector3<f64>,
+    delta: Vector2<f64>,
+    segments: &[&Segment],
+) -> (Matrix2<f64>, usize) {
+    let (weights, edges) = edge_weights(segments);
+    let (_, j) = linearise(chart, g, delta, segments);
     let mut info = Matrix2::zeros();
     for (ji, w) in j.iter().zip(&weights) {
         let jv = Vector2::new(ji[0], ji[1]);
         info += jv * jv.transpose() * *w;
     }
+    (info, edges)
+}
+
+/// The covariance of the vanishing point written at homogeneous pixel `point` (in `chart`),
+/// from its supporting `segments`, plus the floor [`VP_FLOOR_SD_DEG`].
+#[must_use]
+pub fn vp_covariance(chart: &VpChart, point: Vector3<f64>, segments: &[&Segment]) -> VpCovariance {
+    let floor_rad2 = VP_FLOOR_SD_DEG.to_radians().powi(2);
+    let with_floor = |stat: Option<Matrix2<f64>>| {
+        let m = stat.unwrap_or_else(Matrix2::zeros) + Matrix2::identity() * floor_rad2;
+        let deg = |v: f64| v.to_degrees().to_degrees();
+        [
+            [deg(m[(0, 0)]), deg(m[(0, 1)])],
+            [deg(m[(1, 0)]), deg(m[(1, 1)])],
+        ]
+    };
+    let to_deg2 = |m: Matrix2<f64>| {
+        let deg = |v: f64| v.to_degrees().to_degrees();
+        [
+            [deg(m[(0, 0)]), deg(m[(0, 1)])],
+            [deg(m[(1, 0)]), deg(m[(1, 1)])],
+        ]
+    };
+    let no_segments = |inliers: usize, edges: usize| VpCovariance {
+        covariance_deg2: with_floor(None),
+        segments_deg2: None,
+        sigma_px: MIN_SEGMENT_SIGMA_PX,
+        inliers,
+        edges,
+    };
+    let Some(g) = chart.direction(point) else {
+        return no_segments(0, 0);
+    };
+    let SegmentsFit { kept, sigma, .. } = segments_fit(chart, g, segments);
+    // The covariance at the written point (the segments' information does not depend much
+    // on where in the few-degree neighbourhood it is taken).
+    let (info, edges) = information(chart, g, Vector2::zeros(), &kept);
     // With the noise estimated from few edges, the 95 % ellipse of known noise is too small:
     // widen it to the F quantile's (Hotelling), `2 F(2, nu)` for `nu = edges - 2`, whose 95 %
     // point has the closed form `nu (0.05^(-2/nu) - 1)`.
@@ -329,6 +365,66 @@ pub fn vp_covariance(chart: &VpChart, point: Vector3<f64>, segments: &[&Segment]
         inliers: kept.len(),
         edges,
     }
+}
+
+/// A direction's own vanishing point: the least-squares point of its `segments` alone,
+/// starting from homogeneous pixel `point` of `chart` (the frame's point), not held
+/// orthogonal to any other direction. It is the point [`vp_covariance`] moves to for the
+/// segments' noise: the same robust fit (segments beyond [`OUTLIER_SIGMAS`] robust sigmas
+/// dropped, pieces of one edge weighing one).
+///
+/// `None` when `point` has no direction, or the kept segments do not fix a point (fewer than
+/// two independent edges, or all through one line).
+///
+/// # Example
+/// Three edges meeting at (900, 200), the frame's point 20 px away:
+/// ```
+/// use nalgebra::{Vector2, Vector3};
+/// use vpmap_metrology::scene::VpChart;
+/// use vpmap_vision::Segment;
+/// use vpmap_vision::uncertainty::own_point;
+///
+/// let chart = VpChart { focal_px: 500.0, centre_px: Vector2::new(320.0, 240.0) };
+/// let edge = |y0: f64| {
+///     // From (100, y0) a third of the way towards (900, 200).
+///     let end = [100.0 + 800.0 / 3.0, y0 + (200.0 - y0) / 3.0];
+///     Segment { start_px: [100.0, y0], end_px: end, strength: 1.0 }
+/// };
+/// let segments = [edge(50.0), edge(250.0), edge(420.0)];
+/// let refs: Vec<&Segment> = segments.iter().collect();
+/// let own = own_point(&chart, Vector3::new(920.0, 200.0, 1.0), &refs).expect("fixed");
+/// let p = own.point_px.expect("finite");
+/// assert!((p[0] - 900.0).abs() < 1e-6 && (p[1] - 200.0).abs() < 1e-6, "{p:?}");
+/// assert_eq!(own.edges, 3);
+/// ```
+#[must_use]
+pub fn own_point(chart: &VpChart, point: Vector3<f64>, segments: &[&Segment]) -> Option<OwnPoint> {
+    let g = chart.direction(point)?;
+    let SegmentsFit { delta, kept, .. } = segments_fit(chart, g, segments);
+    let (info, edges) = information(chart, g, delta, &kept);
+    if edges < 2
+        || info
+            .try_inverse()
+            .is_none_or(|m| !m.iter().all(|v| v.is_finite()))
+    {
+        return None;
+    }
+    let mut d = chart.direction(moved(chart, g, delta))?;
+    if d.z < 0.0 || (d.z == 0.0 && d.x < 0.0) {
+        d = -d;
+    }
+    let from_frame_deg = g.cross(&d).norm().atan2(g.dot(&d).abs()).to_degrees();
+    Some(OwnPoint {
+        point_px: (d.z.abs() > 1e-12).then(|| {
+            [
+                chart.focal_px * d.x / d.z + chart.centre_px.x,
+                chart.focal_px * d.y / d.z + chart.centre_px.y,
+            ]
+        }),
+        direction_camera: [d.x, d.y, d.z],
+        from_frame_deg,
+        edges,
+    })
 }
 
 #[cfg(test)]

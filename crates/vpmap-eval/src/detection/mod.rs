@@ -14,6 +14,13 @@
 //! detector refuses, or a vanishing point it does not return, counts as a miss (error
 //! infinite) in every figure.
 //!
+//! Each direction's own vanishing point ([`vpmap_vision::VanishingPoint::own_point`], the
+//! least-squares point of its segments, not held orthogonal) is scored the same way, with the
+//! same intrinsics; a direction without one is a miss. When the label file holds the
+//! dataset's orthogonalised directions (`vp_orthogonal_dirs_camera_yup`), both are scored
+//! against those too, and the orthogonalised directions themselves against the labels (the
+//! best any exactly orthogonal frame can do against them).
+//!
 //! The horizon error ([`horizon`]) is that of the scene file `vpmap detect` would write for the
 //! detection ([`vpmap_vision::scene::detected_scene`]): the line through its two horizontal
 //! vanishing points, against the labelled camera's horizon `K^-T v` (`v` the labelled
@@ -76,6 +83,10 @@ pub struct Label {
     pub directions: [Vec3; 3],
     /// Which of them is vertical.
     pub vertical: usize,
+    /// The dataset's orthogonalised directions (`vp_orthogonal_dirs_camera_yup`, the labels
+    /// made exactly orthogonal), unit, y down, in the same order; `None` when the file has
+    /// none.
+    pub orthogonal_directions: Option<[Vec3; 3]>,
 }
 
 impl Label {
@@ -102,6 +113,26 @@ impl Label {
         let normal = a.zip(b).map(|(a, b)| geom::cross(a, b)).unwrap_or_default();
         horizon_of_vertical(normal, self.focal_px, self.principal_point_px)
     }
+
+    /// The same label with the orthogonalised directions in place of the labelled ones
+    /// (`None` when the file has none).
+    #[must_use]
+    pub fn orthogonalised(&self) -> Option<Self> {
+        self.orthogonal_directions.map(|directions| Self {
+            directions,
+            orthogonal_directions: None,
+            ..self.clone()
+        })
+    }
+
+    /// Each orthogonalised direction's angle from its labelled one, degrees (label order;
+    /// `None` when the file has none): the error of the best exactly orthogonal frame the
+    /// dataset gives, against its own labels.
+    #[must_use]
+    pub fn orthogonal_errors_deg(&self) -> Option<[f64; 3]> {
+        let ortho = self.orthogonal_directions?;
+        Some([0, 1, 2].map(|i| line_angle_deg(ortho[i], self.directions[i])))
+    }
 }
 
 #[derive(Deserialize)]
@@ -109,6 +140,8 @@ struct LabelFile {
     #[serde(rename = "K")]
     k: [[f64; 3]; 3],
     vp_dirs_camera_yup: Vec<[f64; 3]>,
+    #[serde(default)]
+    vp_orthogonal_dirs_camera_yup: Option<Vec<[f64; 3]>>,
     most_vertical_vp_index: usize,
 }
 
@@ -146,22 +179,42 @@ pub fn parse_label(text: &str) -> Result<Label> {
             file.most_vertical_vp_index
         );
     }
-    let mut directions = [[0.0; 3]; 3];
-    for (i, d) in file.vp_dirs_camera_yup.iter().enumerate() {
-        // y up to y down.
-        let Some(direction) = normalize([d[0], -d[1], d[2]]) else {
-            bail!("`vp_dirs_camera_yup[{i}]` is degenerate: {d:?}");
-        };
-        if let Some(slot) = directions.get_mut(i) {
-            *slot = direction;
-        }
-    }
+    let directions = y_down_directions(&file.vp_dirs_camera_yup, "vp_dirs_camera_yup")?;
+    let orthogonal_directions = file
+        .vp_orthogonal_dirs_camera_yup
+        .as_deref()
+        .map(|dirs| {
+            if dirs.len() != 3 {
+                bail!(
+                    "`vp_orthogonal_dirs_camera_yup` holds {} directions; expected 3",
+                    dirs.len()
+                );
+            }
+            y_down_directions(dirs, "vp_orthogonal_dirs_camera_yup")
+        })
+        .transpose()?;
     Ok(Label {
         focal_px: 0.5 * (fx + fy),
         principal_point_px: [k[0][2], k[1][2]],
         directions,
         vertical: file.most_vertical_vp_index,
+        orthogonal_directions,
     })
+}
+
+/// Three directions of a label file (y up) as unit directions with y down.
+fn y_down_directions(dirs: &[[f64; 3]], field: &str) -> Result<[Vec3; 3]> {
+    let mut directions = [[0.0; 3]; 3];
+    for (i, d) in dirs.iter().enumerate() {
+        // y up to y down.
+        let Some(direction) = normalize([d[0], -d[1], d[2]]) else {
+            bail!("`{field}[{i}]` is degenerate: {d:?}");
+        };
+        if let Some(slot) = directions.get_mut(i) {
+            *slot = direction;
+        }
+    }
+    Ok(directions)
 }
 
 /// The labelled photos in `dir`, in name order.
@@ -210,29 +263,55 @@ pub fn find_pairs(dir: &Path) -> Result<Vec<Pair>> {
     Ok(pairs)
 }
 
-/// The detected direction of one vanishing point through the intrinsics the detector used.
-fn detected_direction(det: &Detection, index: usize) -> Option<Vec3> {
-    let vp = det.vanishing_points.get(index)?;
-    let intr = det.intrinsics;
-    vp.point_px
-        .and_then(|p| direction_of_pixel(p, intr.focal_px, intr.principal_point_px))
-        .or_else(|| normalize(vp.direction_camera))
+/// Which of a detection's points is scored: the frame's, or each direction's own.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Points {
+    /// The orthogonal frame's points ([`vpmap_vision::VanishingPoint::point_px`]), what
+    /// `vpmap detect` writes.
+    Frame,
+    /// Each direction's own least-squares point ([`vpmap_vision::VanishingPoint::own_point`]).
+    Own,
 }
 
-/// Errors of the detected vanishing points against the labelled ones, in label order:
-/// vertical to vertical, horizontals by the assignment with the smaller total error.
+/// The detected direction of one vanishing point through the intrinsics the detector used:
+/// its point through them, or its direction when the point is at infinity (`None` for a
+/// missing point, or a missing own point).
+fn detected_direction(det: &Detection, index: usize, points: Points) -> Option<Vec3> {
+    let vp = det.vanishing_points.get(index)?;
+    let (point_px, direction) = match points {
+        Points::Frame => (vp.point_px, vp.direction_camera),
+        Points::Own => {
+            let own = vp.own_point?;
+            (own.point_px, own.direction_camera)
+        }
+    };
+    let intr = det.intrinsics;
+    point_px
+        .and_then(|p| direction_of_pixel(p, intr.focal_px, intr.principal_point_px))
+        .or_else(|| normalize(direction))
+}
+
+/// Errors of the detected vanishing points (the frame's) against the labelled ones, in label
+/// order: vertical to vertical, horizontals by the assignment with the smaller total error.
 #[must_use]
 pub fn match_errors(det: &Detection, label: &Label) -> [Option<f64>; 3] {
+    match_points(det, label, Points::Frame)
+}
+
+/// Errors of the detection's `points` against the labelled directions, matched as
+/// [`match_errors`] does.
+#[must_use]
+pub fn match_points(det: &Detection, label: &Label, points: Points) -> [Option<f64>; 3] {
     let mut errors = [None; 3];
     let vertical = (0..det.vanishing_points.len())
         .find(|&i| det.vanishing_points[i].vertical)
-        .and_then(|i| detected_direction(det, i));
+        .and_then(|i| detected_direction(det, i, points));
     if let Some(d) = vertical {
         errors[label.vertical] = Some(line_angle_deg(d, label.directions[label.vertical]));
     }
     let horizontals: Vec<Vec3> = (0..det.vanishing_points.len())
         .filter(|&i| !det.vanishing_points[i].vertical)
-        .filter_map(|i| detected_direction(det, i))
+        .filter_map(|i| detected_direction(det, i, points))
         .take(2)
         .collect();
     let labelled: Vec<usize> = (0..3).filter(|&i| i != label.vertical).collect();
@@ -303,8 +382,12 @@ fn run_one(
     let elapsed = started.elapsed();
     let outcome = result.map(|det| {
         let scene = detected_scene(&det).ok();
+        let orthogonal = label.orthogonalised();
         RunOk {
             errors_deg: match_errors(&det, label),
+            own_errors_deg: match_points(&det, label, Points::Own),
+            against_orthogonal_deg: orthogonal
+                .map(|o| [Points::Frame, Points::Own].map(|points| match_points(&det, &o, points))),
             ellipse_d2: scene
                 .as_ref()
                 .map_or([None; 3], |s| coverage::direction_distances(s, label)),
@@ -362,6 +445,7 @@ pub fn evaluate(
                     name: pair.name.clone(),
                     size_px: Some([image.width(), image.height()]),
                     vertical: label.vertical,
+                    orthogonal_label_errors_deg: label.orthogonal_errors_deg(),
                     runs: Intrinsics::BOTH
                         .map(|which| run_one(image, label, which, &opts.detect, prior)),
                 }
@@ -375,6 +459,7 @@ pub fn evaluate(
                     name: pair.name.clone(),
                     size_px: None,
                     vertical: label.vertical,
+                    orthogonal_label_errors_deg: label.orthogonal_errors_deg(),
                     runs: [failed.clone(), failed],
                 }
             }
@@ -466,5 +551,40 @@ mod tests {
             ))
             .is_err()
         );
+        assert_eq!(l.orthogonal_directions, None);
+        assert_eq!(l.orthogonal_errors_deg(), None);
+    }
+
+    #[test]
+    fn orthogonalised_labels_are_read_and_scored_by_index() {
+        // The first orthogonalised direction flipped (sign-free) and turned; the other two
+        // as labelled; then only two of them, which is refused.
+        let one = 1f64.to_radians();
+        let text = LABEL.replace(
+            "\"most_vertical_vp_index\"",
+            &format!(
+                "\"vp_orthogonal_dirs_camera_yup\": [[{}, 0.0, {}], [0.02, 0.97, 0.22], [0.54, -0.2, 0.82]], \"most_vertical_vp_index\"",
+                -one.cos(),
+                -one.sin()
+            ),
+        );
+        let l = parse_label(&text).unwrap_or_else(|e| panic!("{e:#}"));
+        let errors = l.orthogonal_errors_deg().unwrap_or_default();
+        let expected = line_angle_deg([one.cos(), 0.0, one.sin()], l.directions[0]);
+        assert!(
+            (errors[0] - expected).abs() < 1e-9,
+            "{errors:?} vs {expected}"
+        );
+        assert!(errors[0] > 1.0, "{errors:?}");
+        assert!(errors[1] < 1e-9 && errors[2] < 1e-9, "{errors:?}");
+        let o = l
+            .orthogonalised()
+            .unwrap_or_else(|| panic!("no orthogonalised label"));
+        assert_eq!(o.vertical, l.vertical);
+        assert!(line_angle_deg(o.directions[1], l.directions[1]) < 1e-9);
+        // The y axis is turned down as the labels' are.
+        assert!(o.directions[1][1] < -0.9);
+        let two = text.replace(", [0.54, -0.2, 0.82]]", "]");
+        assert!(parse_label(&two).is_err(), "two orthogonalised directions");
     }
 }

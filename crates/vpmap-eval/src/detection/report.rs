@@ -8,7 +8,10 @@
 //! * horizon error: of the scene file written, in image heights ([`super::horizon`]), its median
 //!   and the area under its cumulative curve from 0 to [`HORIZON_AUC_LIMIT`] image heights,
 //!   divided by that limit (Lezama et al. 2014); a photo with no scene counts as infinite;
-//! * time: wall time of `detect` per call (both runs of every photo that could be read).
+//! * time: wall time of `detect` per call (both runs of every photo that could be read);
+//! * the same angular figures ([`Accuracy`]) for each direction's own least-squares point, and,
+//!   where the labels hold orthogonalised directions, for the frame and the own points against
+//!   those, and for those against the labels (the same in both runs).
 
 use std::fmt::Write as _;
 
@@ -39,6 +42,54 @@ pub struct Context {
     pub max_side: u32,
     /// Whether the estimated run took each photo's EXIF focal length as a prior (`--exif`).
     pub exif: bool,
+}
+
+/// The angular figures of one set of directions against one set of labels.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Accuracy {
+    /// Labelled vanishing points (3 per photo).
+    pub vanishing_points: usize,
+    /// Of them, not detected (refused photo or missing point).
+    pub missed: usize,
+    /// `(threshold, fraction within)`, [`WITHIN_DEG`].
+    pub within: Vec<(f64, f64)>,
+    /// `(limit, area)`, [`AUC_DEG`].
+    pub auc: Vec<(f64, f64)>,
+    /// Median error of the vertical vanishing points, degrees (infinite when most missed).
+    pub median_vertical_deg: f64,
+    /// Median error of the horizontal vanishing points, degrees.
+    pub median_horizontal_deg: f64,
+}
+
+/// The figures of `photos`' errors: each photo's three errors in label order (`None`: a
+/// miss) and which is vertical.
+#[must_use]
+pub fn accuracy(photos: &[([Option<f64>; 3], usize)]) -> Accuracy {
+    let mut errors = Vec::new();
+    let mut vertical = Vec::new();
+    let mut horizontal = Vec::new();
+    for (photo_errors, v) in photos {
+        for (i, e) in photo_errors.iter().enumerate() {
+            let e = e.unwrap_or(f64::INFINITY);
+            errors.push(e);
+            if i == *v {
+                vertical.push(e);
+            } else {
+                horizontal.push(e);
+            }
+        }
+    }
+    Accuracy {
+        vanishing_points: errors.len(),
+        missed: errors.iter().filter(|e| e.is_infinite()).count(),
+        within: WITHIN_DEG
+            .iter()
+            .map(|&t| (t, fraction_at_most(&errors, t)))
+            .collect(),
+        auc: AUC_DEG.iter().map(|&l| (l, auc(&errors, l))).collect(),
+        median_vertical_deg: quantile_of(&vertical, 0.5).unwrap_or(f64::INFINITY),
+        median_horizontal_deg: quantile_of(&horizontal, 0.5).unwrap_or(f64::INFINITY),
+    }
 }
 
 /// The summary of one kind of run over every photo.
@@ -81,15 +132,21 @@ pub struct Summary {
     /// The lens estimates' consistency over the photos (one camera, one `k`;
     /// [`super::coverage::lens_consistency`]), and their median `k`.
     pub lens: Option<(super::coverage::LensConsistency, f64)>,
+    /// Each direction's own least-squares point against the labels (a missing own point is a
+    /// miss).
+    pub own: Accuracy,
+    /// Over the photos whose labels hold orthogonalised directions (`None`: none do): the
+    /// frame against them, the own points against them, and they against the labels.
+    pub orthogonal: Option<[Accuracy; 3]>,
 }
 
 /// Summarise one kind of run.
 #[must_use]
 pub fn summarise(results: &[ImageResult], which: Intrinsics) -> Summary {
     let slot = usize::from(which == Intrinsics::Estimated);
-    let mut errors = Vec::new();
-    let mut vertical = Vec::new();
-    let mut horizontal = Vec::new();
+    let mut frame = Vec::new();
+    let mut own = Vec::new();
+    let mut orthogonal: [Vec<([Option<f64>; 3], usize)>; 3] = Default::default();
     let mut focal = Vec::new();
     let mut horizon = Vec::new();
     let mut horizon_of_horizontals = Vec::new();
@@ -111,29 +168,25 @@ pub fn summarise(results: &[ImageResult], which: Intrinsics) -> Summary {
         if run.outcome.is_err() {
             failed += 1;
         }
-        let (vp_errors, focal_error, horizon_error) =
-            run.outcome.as_ref().map_or(([None; 3], None, None), |ok| {
-                (ok.errors_deg, ok.focal_error, ok.horizon_error)
-            });
+        let ok = run.outcome.as_ref().ok();
+        let (focal_error, horizon_error) =
+            ok.map_or((None, None), |ok| (ok.focal_error, ok.horizon_error));
         let [h, hh] = horizon_error.unwrap_or([f64::INFINITY; 2]);
         horizon.push(h);
         horizon_of_horizontals.push(hh);
-        for (i, e) in vp_errors.iter().enumerate() {
-            let e = e.unwrap_or(f64::INFINITY);
-            errors.push(e);
-            if i == r.vertical {
-                vertical.push(e);
-            } else {
-                horizontal.push(e);
-            }
+        frame.push((ok.map_or([None; 3], |ok| ok.errors_deg), r.vertical));
+        own.push((ok.map_or([None; 3], |ok| ok.own_errors_deg), r.vertical));
+        if let Some(labels) = r.orthogonal_label_errors_deg {
+            let [f, o] = ok
+                .and_then(|ok| ok.against_orthogonal_deg)
+                .unwrap_or([[None; 3]; 2]);
+            orthogonal[0].push((f, r.vertical));
+            orthogonal[1].push((o, r.vertical));
+            orthogonal[2].push((labels.map(Some), r.vertical));
         }
         focal.push(focal_error.unwrap_or(f64::INFINITY));
     }
-    let within = WITHIN_DEG
-        .iter()
-        .map(|&t| (t, fraction_at_most(&errors, t)))
-        .collect();
-    let auc = AUC_DEG.iter().map(|&l| (l, auc(&errors, l))).collect();
+    let frame = accuracy(&frame);
     let focal = (which == Intrinsics::Estimated && !focal.is_empty()).then(|| {
         (
             quantile_of(&focal, 0.5).unwrap_or(f64::INFINITY),
@@ -145,12 +198,12 @@ pub fn summarise(results: &[ImageResult], which: Intrinsics) -> Summary {
         which,
         images: results.len(),
         failed,
-        vanishing_points: errors.len(),
-        missed: errors.iter().filter(|e| e.is_infinite()).count(),
-        within,
-        auc,
-        median_vertical_deg: quantile_of(&vertical, 0.5).unwrap_or(f64::INFINITY),
-        median_horizontal_deg: quantile_of(&horizontal, 0.5).unwrap_or(f64::INFINITY),
+        vanishing_points: frame.vanishing_points,
+        missed: frame.missed,
+        within: frame.within,
+        auc: frame.auc,
+        median_vertical_deg: frame.median_vertical_deg,
+        median_horizontal_deg: frame.median_horizontal_deg,
         focal,
         median_horizon: quantile_of(&horizon, 0.5).unwrap_or(f64::INFINITY),
         horizon_auc: crate::stats::auc(&horizon, HORIZON_AUC_LIMIT),
@@ -166,6 +219,8 @@ pub fn summarise(results: &[ImageResult], which: Intrinsics) -> Summary {
             let ks: Vec<f64> = lenses.iter().map(|l| l[0]).collect();
             (c, quantile_of(&ks, 0.5).unwrap_or(f64::NAN))
         }),
+        own: accuracy(&own),
+        orthogonal: (!orthogonal[0].is_empty()).then(|| orthogonal.map(|o| accuracy(&o))),
     }
 }
 
@@ -239,6 +294,7 @@ fn rows(summaries: &[Summary; 2]) -> Vec<(String, [String; 2], String)> {
         cells(&|s| deg(s.median_horizontal_deg)),
         String::new(),
     ));
+    own_rows(&mut rows, summaries);
     rows.push((
         "horizon error, median (image heights)".to_owned(),
         cells(&|s| {
@@ -325,6 +381,83 @@ fn rows(summaries: &[Summary; 2]) -> Vec<(String, [String; 2], String)> {
         String::new(),
     ));
     rows
+}
+
+/// The rows of the own points ([`Summary::own`]) and of the orthogonalised labels
+/// ([`Summary::orthogonal`]).
+fn own_rows(rows: &mut Vec<(String, [String; 2], String)>, summaries: &[Summary; 2]) {
+    let own = |f: &dyn Fn(&Accuracy) -> String| [f(&summaries[0].own), f(&summaries[1].own)];
+    rows.push((
+        "own points: missed".to_owned(),
+        own(&|a| format!("{} of {}", a.missed, a.vanishing_points)),
+        String::new(),
+    ));
+    for (i, t) in WITHIN_DEG.iter().enumerate() {
+        rows.push((
+            format!("own points: within {t} deg"),
+            own(&|a| pct(a.within[i].1)),
+            String::new(),
+        ));
+    }
+    for (i, l) in AUC_DEG.iter().enumerate() {
+        rows.push((
+            format!("own points: AUC@{l} deg"),
+            own(&|a| pct(a.auc[i].1)),
+            String::new(),
+        ));
+    }
+    rows.push((
+        "own points: median error, vertical (deg)".to_owned(),
+        own(&|a| deg(a.median_vertical_deg)),
+        String::new(),
+    ));
+    rows.push((
+        "own points: median error, horizontal (deg)".to_owned(),
+        own(&|a| deg(a.median_horizontal_deg)),
+        String::new(),
+    ));
+    let triple = |a: &Accuracy| {
+        let [x, y, z] = [0, 1, 2].map(|i| a.auc.get(i).map_or(f64::NAN, |v| v.1));
+        format!("{:.1} / {:.1} / {:.1} %", 100.0 * x, 100.0 * y, 100.0 * z)
+    };
+    let quadruple = |a: &Accuracy| {
+        let w: Vec<String> = a
+            .within
+            .iter()
+            .map(|v| format!("{:.1}", 100.0 * v.1))
+            .collect();
+        format!("{} %", w.join(" / "))
+    };
+    let limits = |v: &[f64]| {
+        v.iter()
+            .map(ToString::to_string)
+            .collect::<Vec<_>>()
+            .join("/")
+    };
+    let against = [
+        "frame vs orthogonal labels",
+        "own vs orthogonal labels",
+        "orthogonal labels vs labels",
+    ];
+    for (k, what) in against.iter().enumerate() {
+        let cell = |f: &dyn Fn(&Accuracy) -> String| {
+            summaries.each_ref().map(|s| {
+                s.orthogonal
+                    .as_ref()
+                    .map_or_else(|| "-".to_owned(), |o| f(&o[k]))
+            })
+        };
+        rows.push((
+            format!("{what}: within {} deg", limits(&WITHIN_DEG)),
+            cell(&quadruple),
+            String::new(),
+        ));
+        rows.push((
+            format!("{what}: AUC@{} deg", limits(&AUC_DEG)),
+            cell(&triple),
+            String::new(),
+        ));
+    }
 }
 
 const HEADERS: [&str; 4] = [
@@ -423,7 +556,7 @@ pub fn markdown(ctx: &Context, results: &[ImageResult], summaries: &[Summary; 2]
     }
     let _ = writeln!(
         out,
-        "\nError: the angle between the detected and the labelled vanishing direction (`vp_dirs_camera_yup`), sign-free; vertical matched to vertical, horizontals by the better assignment; with estimated intrinsics the detected points are turned into directions with the estimated K. A refused photo or a missing vanishing point counts as a miss in every figure. AUC@L is the area under the curve \"fraction of vanishing points with error <= x\" for x from 0 to L, divided by L. Horizon error (Barinova et al. 2010, Lezama et al. 2014): the largest vertical distance, over the image's width, between the horizon of the scene file `vpmap detect` writes (the line through its two horizontal vanishing points) and the true one (`K^-T v`, v the labelled vertical), divided by the image height; horizon AUC@{HORIZON_AUC_LIMIT}: the area under the curve \"fraction of photos with horizon error <= x\" for x from 0 to {HORIZON_AUC_LIMIT}, divided by {HORIZON_AUC_LIMIT}; a refused photo is a miss. The last row measures the same against the line through the two labelled horizontal vanishing points instead, which differs because the labelled directions are not exactly orthogonal. Time: wall time of `detect` only.\n\nReference: {REFERENCE}.\n"
+        "\nError: the angle between the detected and the labelled vanishing direction (`vp_dirs_camera_yup`), sign-free; vertical matched to vertical, horizontals by the better assignment; with estimated intrinsics the detected points are turned into directions with the estimated K. A refused photo or a missing vanishing point counts as a miss in every figure. AUC@L is the area under the curve \"fraction of vanishing points with error <= x\" for x from 0 to L, divided by L. Horizon error (Barinova et al. 2010, Lezama et al. 2014): the largest vertical distance, over the image's width, between the horizon of the scene file `vpmap detect` writes (the line through its two horizontal vanishing points) and the true one (`K^-T v`, v the labelled vertical), divided by the image height; horizon AUC@{HORIZON_AUC_LIMIT}: the area under the curve \"fraction of photos with horizon error <= x\" for x from 0 to {HORIZON_AUC_LIMIT}, divided by {HORIZON_AUC_LIMIT}; a refused photo is a miss. The row \"horizon AUC@{HORIZON_AUC_LIMIT}, labelled horizontal VPs\" measures the same against the line through the two labelled horizontal vanishing points instead, which differs because the labelled directions are not exactly orthogonal. Own points: each direction's own least-squares point of its supporting segments, not held orthogonal to the others (`VanishingPoint::own_point`; `vpmap detect` writes the frame's points, not these), scored the same way with the same intrinsics. Orthogonal labels: the dataset's `vp_orthogonal_dirs_camera_yup`, the labels made exactly orthogonal; the frame and the own points (\"own\") against them (same matching), and they against the labels (the dataset's own orthogonal fit to its labels: about the best an exactly orthogonal frame does against them; the same in both runs). Time: wall time of `detect` only.\n\nReference: {REFERENCE}.\n"
     );
     let refused: Vec<String> = results
         .iter()
@@ -453,6 +586,17 @@ fn finite(v: f64) -> serde_json::Value {
     }
 }
 
+fn accuracy_json(a: &Accuracy) -> serde_json::Value {
+    json!({
+        "vanishing_points": a.vanishing_points,
+        "missed": a.missed,
+        "within_deg": a.within.iter().map(|(t, f)| json!({"deg": t, "fraction": f})).collect::<Vec<_>>(),
+        "auc": a.auc.iter().map(|(l, v)| json!({"deg": l, "area": v})).collect::<Vec<_>>(),
+        "median_error_vertical_deg": finite(a.median_vertical_deg),
+        "median_error_horizontal_deg": finite(a.median_horizontal_deg),
+    })
+}
+
 fn summary_json(s: &Summary) -> serde_json::Value {
     json!({
         "images": s.images,
@@ -480,6 +624,12 @@ fn summary_json(s: &Summary) -> serde_json::Value {
             "inside_95_of_the_others_mean": c.inside,
             "rms_z": c.rms_z,
         })),
+        "own_points": accuracy_json(&s.own),
+        "against_orthogonal_labels": s.orthogonal.as_ref().map(|[f, o, l]| json!({
+            "frame": accuracy_json(f),
+            "own_points": accuracy_json(o),
+            "orthogonal_labels_against_labels": accuracy_json(l),
+        })),
     })
 }
 
@@ -495,12 +645,16 @@ pub fn json(ctx: &Context, results: &[ImageResult], summaries: &[Summary; 2]) ->
                 "name": r.name,
                 "size_px": r.size_px,
                 "vertical_index": r.vertical,
+                "orthogonal_label_errors_deg": r.orthogonal_label_errors_deg,
             });
             for (which, run) in Intrinsics::BOTH.iter().zip(&r.runs) {
                 row[which.key()] = match &run.outcome {
                     Ok(ok) => json!({
                         "time_ms": run.time_ms,
                         "errors_deg": ok.errors_deg.map(|e| e.and_then(|e| e.is_finite().then_some(e))),
+                        "own_errors_deg": ok.own_errors_deg.map(|e| e.and_then(|e| e.is_finite().then_some(e))),
+                        "errors_deg_against_orthogonal_labels": ok.against_orthogonal_deg.map(|[f, _]| f),
+                        "own_errors_deg_against_orthogonal_labels": ok.against_orthogonal_deg.map(|[_, o]| o),
                         "focal_px": ok.focal_px,
                         "focal_error": ok.focal_error,
                         "principal_point_px": ok.principal_point_px,
@@ -562,6 +716,8 @@ mod tests {
             time_ms: Some(10.0),
             outcome: Ok(RunOk {
                 errors_deg: errors,
+                own_errors_deg: errors.map(|e| e.map(|e| 0.5 * e)),
+                against_orthogonal_deg: Some([errors, [Some(0.1), None, Some(0.2)]]),
                 ellipse_d2: [Some(1.0), Some(7.0), None],
                 focal_z: (which == Intrinsics::Estimated).then_some(10.0 * focal_error),
                 focal_px: 500.0,
@@ -578,6 +734,7 @@ mod tests {
             name: "x".to_owned(),
             size_px: Some([640, 480]),
             vertical: 1,
+            orthogonal_label_errors_deg: Some([0.5, 1.0, 4.0]),
             runs: [ok(Intrinsics::Given), ok(Intrinsics::Estimated)],
         }
     }
@@ -615,5 +772,24 @@ mod tests {
         // Horizon: 0.05 and a miss; AUC@0.25 = (1 - 0.05 / 0.25) / 2 = 0.4.
         assert!((s.horizon_auc - 0.4).abs() < 1e-12, "{}", s.horizon_auc);
         assert!(s.horizon_auc_of_horizontals.abs() < 1e-12);
+        // Own points: 0.25, 1.0 and a miss, then the refused photo's three misses.
+        assert_eq!((s.own.vanishing_points, s.own.missed), (6, 4));
+        assert!((s.own.within[0].1 - 2.0 / 6.0).abs() < 1e-12);
+        // AUC@3 of the own points: (1 - 0.25 / 3 + 1 - 1 / 3) / 6.
+        assert!((s.own.auc[0].1 - (2.0 - 1.25 / 3.0) / 6.0).abs() < 1e-12);
+        // Against the orthogonalised labels: both photos have them; the refused one misses.
+        let Some([frame, own, labels]) = &s.orthogonal else {
+            panic!("no orthogonal figures: {s:?}")
+        };
+        assert_eq!((frame.missed, own.missed, labels.missed), (4, 4, 0));
+        assert!((frame.within[0].1 - 1.0 / 6.0).abs() < 1e-12);
+        assert!((own.within[0].1 - 2.0 / 6.0).abs() < 1e-12);
+        // The labels' own figures count every photo, refused or not: 0.5, 1.0, 4.0 twice.
+        assert!((labels.within[1].1 - 4.0 / 6.0).abs() < 1e-12);
+        assert!((labels.within[2].1 - 1.0).abs() < 1e-12);
+        // A photo without orthogonalised labels adds nothing to those figures.
+        let mut plain = result([Some(0.5), Some(2.0), None], 0.01);
+        plain.orthogonal_label_errors_deg = None;
+        assert!(summarise(&[plain], Intrinsics::Given).orthogonal.is_none());
     }
 }

@@ -38,6 +38,12 @@ pub struct Run {
 pub struct RunOk {
     /// Error of each labelled vanishing point (label order), degrees; `None`: not detected.
     pub errors_deg: [Option<f64>; 3],
+    /// The same for each direction's own least-squares point
+    /// ([`vpmap_vision::VanishingPoint::own_point`]); `None`: no own point.
+    pub own_errors_deg: [Option<f64>; 3],
+    /// Against the dataset's orthogonalised labels instead ([`super::Label::orthogonalised`]):
+    /// the frame's errors, then the own points'; `None` when the label file has none.
+    pub against_orthogonal_deg: Option<[[Option<f64>; 3]; 2]>,
     /// Each labelled direction's Mahalanobis distance squared from the written scene's
     /// vanishing point, under its covariance (label order; `None`: not written)
     /// ([`super::coverage`]).
@@ -77,6 +83,9 @@ pub struct ImageResult {
     pub size_px: Option<[u32; 2]>,
     /// Which labelled vanishing point is the vertical one.
     pub vertical: usize,
+    /// The dataset's orthogonalised directions' errors against its labels
+    /// ([`super::Label::orthogonal_errors_deg`]); `None` when the label file has none.
+    pub orthogonal_label_errors_deg: Option<[f64; 3]>,
     /// Runs in [`Intrinsics::BOTH`] order.
     pub runs: [Run; 2],
 }

@@ -113,6 +113,13 @@ fn run(
         time_ms: Some(time_ms),
         outcome: Ok(RunOk {
             errors_deg,
+            // Own points a little closer to the labels, one of them missing.
+            own_errors_deg: [errors_deg[0].map(|e| 0.6 * e), errors_deg[1], None],
+            // Against the orthogonalised labels: the frame closer, the own points farther.
+            against_orthogonal_deg: Some([
+                errors_deg.map(|e| e.map(|e| 0.5 * e)),
+                errors_deg.map(|e| e.map(|e| e + 0.3)),
+            ]),
             // Distances squared that some ellipses hold (5.991 at 95 %) and some do not.
             ellipse_d2: errors_deg.map(|e| e.map(|e| 4.0 * e * e)),
             focal_z: focal_error.map(|e| 40.0 * e),
@@ -136,6 +143,7 @@ fn detection_summary() {
             name: "P0000001".to_owned(),
             size_px: Some([640, 480]),
             vertical: 1,
+            orthogonal_label_errors_deg: Some([0.4, 0.9, 2.0]),
             runs: [
                 run(
                     [Some(0.4), Some(0.2), Some(1.5)],
@@ -155,6 +163,7 @@ fn detection_summary() {
             name: "P0000002".to_owned(),
             size_px: Some([640, 480]),
             vertical: 0,
+            orthogonal_label_errors_deg: Some([0.2, 3.5, 0.7]),
             runs: [
                 run([Some(0.1), Some(6.0), None], None, None, 25.0),
                 Run {
@@ -167,6 +176,7 @@ fn detection_summary() {
             name: "P0000003".to_owned(),
             size_px: None,
             vertical: 2,
+            orthogonal_label_errors_deg: None,
             runs: [0, 1].map(|_| Run {
                 time_ms: None,
                 outcome: Err("P0000003.jpg: not a JPEG or PNG".to_owned()),

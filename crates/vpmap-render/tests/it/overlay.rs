@@ -70,6 +70,7 @@ fn detection(k: f64) -> Detection {
             direction_camera: [d.x, d.y, d.z],
             segments: Vec::new(),
             vertical: i == 2,
+            own_point: None,
         })
         .collect();
     let model = DivisionModel {
