@@ -24,6 +24,11 @@
 //!    segments times the share of its corners that snapped; proposals sharing a base near
 //!    corner (within 4 px) keep the best.
 //!
+//! On a photo with a lens ([`ProposalOptions::lens`]) the vanishing points are the pinhole
+//! camera's while the segments are the photo's: each segment, edge and corner is matched with
+//! the directions the photo's bowed edges have where it lies
+//! ([`crate::snap::scene::vanishing_points_at`]).
+//!
 //! # Bounded work
 //! Only the [`ProposalOptions::max_segments`] longest segments are used, and only the
 //! [`ProposalOptions::max_corners`] longest vertical edges are tried as near edges (each
@@ -36,10 +41,11 @@
 //! snap (a patch of about 13 x 13 pixels).
 
 use vpmap_metrology::interrupt::Interrupt;
-use vpmap_metrology::scene::BoxCorners;
+use vpmap_metrology::scene::{BoxCorners, DivisionModel};
 
 use crate::detection::Segment;
 use crate::error::{Result, VisionError};
+use crate::snap::scene::vanishing_points_at;
 use crate::snap::{SnapImage, SnapOptions, snap_click};
 
 /// Options of [`propose_boxes`].
@@ -59,6 +65,11 @@ pub struct ProposalOptions {
     pub max_corners: usize,
     /// Stops the search early ([`VisionError::Interrupted`]); looked at before each near edge.
     pub interrupt: Interrupt,
+    /// The photo's lens (`None`: a pinhole's). With one, the vanishing points are the pinhole
+    /// camera's while the segments and the photo are the lens's: each segment, edge and corner
+    /// is matched with the directions the photo's bowed edges have where it lies
+    /// ([`vanishing_points_at`]).
+    pub lens: Option<DivisionModel>,
 }
 
 /// [`ProposalOptions::max_segments`] by default.
@@ -76,6 +87,7 @@ impl Default for ProposalOptions {
             max_segments: DEFAULT_MAX_SEGMENTS,
             max_corners: DEFAULT_MAX_CORNERS,
             interrupt: Interrupt::default(),
+            lens: None,
         }
     }
 }
@@ -192,7 +204,8 @@ pub fn propose_boxes(
     let mut by_length: Vec<&Segment> = segments.iter().collect();
     by_length.sort_by(|a, b| b.length_px().total_cmp(&a.length_px()));
     by_length.truncate(opts.max_segments);
-    let mut vps: Vec<[f64; 3]> = vanishing_points.iter().take(3).copied().collect();
+    let given: Vec<[f64; 3]> = vanishing_points.iter().take(3).copied().collect();
+    let mut vps = given.clone();
     if let [a, b] = vanishing_points {
         let l = [
             a[1] * b[2] - a[2] * b[1],
@@ -201,6 +214,13 @@ pub fn propose_boxes(
         ];
         vps.push([l[0], l[1], 0.0]);
     }
+    // The vanishing points as the photo shows them at `p` (the three, the vertical added).
+    let vps_at = |p: [f64; 2]| -> Vec<[f64; 3]> {
+        match opts.lens.as_ref() {
+            Some(lens) => vanishing_points_at(&given, Some(lens), p),
+            None => vps.clone(),
+        }
+    };
     let cos_tol = opts.angle_tolerance_deg.to_radians().cos();
     let edges: Vec<Edge> = by_length
         .into_iter()
@@ -217,7 +237,7 @@ pub fn propose_boxes(
                 0.5 * (s.start_px[0] + s.end_px[0]),
                 0.5 * (s.start_px[1] + s.end_px[1]),
             ];
-            let (dir, c) = vps
+            let (dir, c) = vps_at(mid)
                 .iter()
                 .enumerate()
                 .filter_map(|(k, v)| {
@@ -241,7 +261,7 @@ pub fn propose_boxes(
         if !(p[0] >= 0.0 && p[1] >= 0.0 && p[0] <= w && p[1] <= h) {
             return None;
         }
-        let s = snap_click(image, &vps, p, &snap_opts).ok()?;
+        let s = snap_click(image, &vps_at(p), p, &snap_opts).ok()?;
         Some((s.point_px, s.snapped()))
     };
     let mut out: Vec<BoxProposal> = Vec::new();
@@ -285,8 +305,9 @@ pub fn propose_boxes(
                 }
             }
         }
-        let base_a = edge_from(&edges, &vps, 0, bottom, opts.join_px, true);
-        let base_b = edge_from(&edges, &vps, 1, bottom, opts.join_px, true);
+        let at_bottom = vps_at(bottom);
+        let base_a = edge_from(&edges, &at_bottom, 0, bottom, opts.join_px, true);
+        let base_b = edge_from(&edges, &at_bottom, 1, bottom, opts.join_px, true);
         let (right, left, la, lb) = match (base_a, base_b) {
             (Some((fa, la)), Some((fb, lb))) => {
                 if fa[0] >= fb[0] {
@@ -305,8 +326,9 @@ pub fn propose_boxes(
             }
             (None, None) => continue,
         };
-        let top_a = edge_from(&edges, &vps, 0, top, opts.join_px, false);
-        let top_b = edge_from(&edges, &vps, 1, top, opts.join_px, false);
+        let at_top = vps_at(top);
+        let top_a = edge_from(&edges, &at_top, 0, top, opts.join_px, false);
+        let top_b = edge_from(&edges, &at_top, 1, top, opts.join_px, false);
         let mut corners = vec![("base.near", bottom)];
         corners.extend(right.map(|p| ("base.right", p)));
         corners.extend(left.map(|p| ("base.left", p)));

@@ -99,7 +99,7 @@ export function snapClick(request, signal) {
   return call('api/snap', { method: 'POST', body: JSON.stringify(request), type: 'application/json', signal });
 }
 
-/** `POST /api/propose` `{photo, vanishing_points}` -> `{proposals: [{corners: {base, top}, score}]}`. */
+/** `POST /api/propose` `{photo, vanishing_points, lens_distortion?, principal_point?}` -> `{proposals: [{corners: {base, top}, score}]}`. */
 export function proposeBoxes(request, signal) {
   return call('api/propose', { method: 'POST', body: JSON.stringify(request), type: 'application/json', signal });
 }

@@ -33,7 +33,11 @@ export function knownVps(scene) {
  * server looks along the edges as the photo bows them.
  */
 export function snapRequest(scene, id, raw, clickSigma) {
-  const body = { photo: id, click: raw, vanishing_points: knownVps(scene), click_sigma: clickSigma ?? undefined };
+  return withLens(scene, { photo: id, click: raw, vanishing_points: knownVps(scene), click_sigma: clickSigma ?? undefined });
+}
+
+/** `body` with the scene's lens and its centre when it has one (/api/snap, /api/propose). */
+export function withLens(scene, body) {
   const lens = lensOf(scene);
   if (lens) {
     body.lens_distortion = { k: lens.k };
@@ -148,7 +152,7 @@ export async function fetchProposals(app) {
   const slot = st.photos[st.active];
   const vps = knownVps(st.scene);
   if (vps.length < 2) throw new Error('box proposals need the two horizontal vanishing points: detect them or draw their lines first');
-  const ans = await withPhoto(app, slot, (id) => proposeBoxes({ photo: id, vanishing_points: vps }));
+  const ans = await withPhoto(app, slot, (id) => proposeBoxes(withLens(st.scene, { photo: id, vanishing_points: vps })));
   return ans.proposals || [];
 }
 

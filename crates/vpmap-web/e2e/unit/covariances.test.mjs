@@ -3,7 +3,7 @@
 import { test } from 'node:test';
 import assert from 'node:assert/strict';
 import { COV_FIELD, PendingCovariances, dropCovariance, dropFloor, objectRemoved, pathKey, setCovariance } from '../../assets/js/covariances.js';
-import { knownVps, placedTarget, snapRequest } from '../../assets/js/photo-snap.js';
+import { knownVps, placedTarget, snapRequest, withLens } from '../../assets/js/photo-snap.js';
 import { BoxAnnotation, guideLines, offLine } from '../../assets/js/box.js';
 import { History } from '../../assets/js/state.js';
 import { setAt } from '../../assets/js/scene.js';
@@ -156,4 +156,11 @@ test('a snap request carries the photo\'s lens and its centre, and nothing of a 
   assert.deepEqual(snapRequest(s, 'p1', [10, 20]).principal_point, [48, 41]);
   s.lens_distortion = { k: 0 };
   assert.equal(snapRequest(s, 'p1', [10, 20]).lens_distortion, undefined, 'k = 0 is a pinhole');
+});
+
+test('a propose request carries the lens too', () => {
+  const s = scene();
+  assert.deepEqual(withLens(s, { photo: 'p1' }), { photo: 'p1' });
+  s.lens_distortion = { k: -0.1 };
+  assert.deepEqual(withLens(s, { photo: 'p1' }), { photo: 'p1', lens_distortion: { k: -0.1 }, principal_point: [50, 40] });
 });

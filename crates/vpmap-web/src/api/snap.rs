@@ -114,6 +114,10 @@ pub(crate) struct ProposeRequest {
     photo: String,
     vanishing_points: Vec<Option<Vec<f64>>>,
     max_proposals: Option<usize>,
+    /// The photo's lens, as in [`SnapRequest`].
+    lens_distortion: Option<LensDistortion>,
+    /// The lens's centre, as in [`SnapRequest`].
+    principal_point: Option<[f64; 2]>,
 }
 
 #[derive(Serialize)]
@@ -214,15 +218,16 @@ fn snap_options(req: &SnapRequest) -> Result<SnapOptions, ApiError> {
     Ok(opts)
 }
 
-/// The request's lens on a photo of `width` x `height` pixels: `None` without one; 400 for a
+/// A request's lens on a photo of `width` x `height` pixels: `None` without one; 400 for a
 /// `k` or centre that is not finite, a `k` beyond +-1, or one that folds the photo (the
 /// scene file's rules, `docs/scene-format.md`).
 fn lens_model(
-    req: &SnapRequest,
+    lens: Option<LensDistortion>,
+    principal_point: Option<[f64; 2]>,
     width: u32,
     height: u32,
 ) -> Result<Option<DivisionModel>, ApiError> {
-    let Some(lens) = req.lens_distortion else {
+    let Some(lens) = lens else {
         return Ok(None);
     };
     if !(lens.k.is_finite() && lens.k.abs() <= MAX_DIVISION_K) {
@@ -231,7 +236,7 @@ fn lens_model(
             lens.k
         )));
     }
-    if let Some(c) = req.principal_point
+    if let Some(c) = principal_point
         && !c.iter().all(|v| v.is_finite() && v.abs() <= 1e7)
     {
         return Err(ApiError::bad_request(format!(
@@ -239,7 +244,7 @@ fn lens_model(
         )));
     }
     let image = ImageSize { width, height };
-    let model = DivisionModel::new(lens.k, image, req.principal_point);
+    let model = DivisionModel::new(lens.k, image, principal_point);
     let stretch = model.stretch(image);
     if stretch >= MAX_DIVISION_STRETCH {
         return Err(ApiError::bad_request(format!(
@@ -303,7 +308,12 @@ pub(crate) fn snap_request(state: &AppState, body: &[u8]) -> Result<Bytes, ApiEr
     let vps = vanishing_points(&req.vanishing_points)?;
     let opts = snap_options(&req)?;
     let photo = stored(state, &req.photo)?;
-    let lens = lens_model(&req, photo.snap.width(), photo.snap.height())?;
+    let lens = lens_model(
+        req.lens_distortion,
+        req.principal_point,
+        photo.snap.width(),
+        photo.snap.height(),
+    )?;
     let vps = vanishing_points_at(&vps, lens.as_ref(), req.click);
     let snap = snap_click(&photo.snap, &vps, req.click, &opts).map_err(|e| vision_error(&e))?;
     to_json(&snap_answer(&snap, started))
@@ -344,9 +354,16 @@ pub(crate) fn propose_request(
         })
         .as_ref()
         .map_err(|e| ApiError::bad_request(format!("no line segments found: {e}")))?;
+    let lens = lens_model(
+        req.lens_distortion,
+        req.principal_point,
+        photo.snap.width(),
+        photo.snap.height(),
+    )?;
     let opts = ProposalOptions {
         max_proposals: max,
         interrupt: interrupt.clone(),
+        lens,
         ..ProposalOptions::default()
     };
     let found = propose_boxes(&photo.snap, segments, &vps, &opts).map_err(|e| vision_error(&e))?;
@@ -568,6 +585,17 @@ mod tests {
         );
         let e = with(serde_json::json!({"k": -0.1, "bend": 2}));
         assert!(e.message.contains("bend"), "{}", e.message);
+        let e = propose_request(
+            &state,
+            br#"{"photo": "p1", "vanishing_points": [[1, 2], [900, 2]], "lens_distortion": {"k": -3}}"#,
+            &Interrupt::default(),
+        )
+        .unwrap_err();
+        assert!(
+            e.message.contains("lens_distortion.k is -3"),
+            "{}",
+            e.message
+        );
     }
 
     #[test]
