@@ -11,7 +11,7 @@ use vpmap_metrology::synth::{SynthOptions, Truth, synthesize};
 use vpmap_vision::proposals::{ProposalOptions, propose_boxes};
 use vpmap_vision::snap::scene::{scene_vanishing_points, snap_scene, vanishing_points_at};
 use vpmap_vision::snap::{SnapImage, SnapOptions, snap_click};
-use vpmap_vision::synthetic::photo::{CornerKind, PhotoOptions, render_photo};
+use vpmap_vision::synthetic::photo::{CornerKind, PhotoOptions, RenderedPhoto, render_photo};
 
 const W: f64 = 800.0;
 const H: f64 = 600.0;
@@ -124,6 +124,23 @@ fn scene(seed: u64) -> (Scene, Truth) {
     .unwrap()
 }
 
+/// Synthetic scene `seed` rendered through the lens `k`; the scene says its lens.
+fn through_lens(seed: u64, k: f64) -> (Scene, RenderedPhoto) {
+    let (mut scene, truth) = scene(seed);
+    let rendered = render_photo(
+        &scene,
+        &truth,
+        &PhotoOptions {
+            seed,
+            distortion_k: k,
+            ..PhotoOptions::default()
+        },
+    )
+    .unwrap();
+    scene.lens_distortion = Some(LensDistortion { k, k_sd: None });
+    (scene, rendered)
+}
+
 #[test]
 fn box_corners_of_a_wide_lens_snap_with_the_lens_where_the_pinhole_points_miss_them() {
     // Renders through a wide lens (k = -0.15); each visible box corner clicked 1.2 px off,
@@ -131,18 +148,7 @@ fn box_corners_of_a_wide_lens_snap_with_the_lens_where_the_pinhole_points_miss_t
     let k = -0.15;
     let (mut near_without, mut near_with, mut bowed, mut checked_scenes) = (0, 0, 0, 0);
     for seed in 0..6 {
-        let (mut scene, truth) = scene(seed);
-        let rendered = render_photo(
-            &scene,
-            &truth,
-            &PhotoOptions {
-                seed,
-                distortion_k: k,
-                ..PhotoOptions::default()
-            },
-        )
-        .unwrap();
-        scene.lens_distortion = Some(LensDistortion { k, k_sd: None });
+        let (scene, rendered) = through_lens(seed, k);
         let lens = scene.division_model().unwrap();
         let image = SnapImage::new(&rendered.image);
         let vps = scene_vanishing_points(&scene).unwrap();
@@ -206,18 +212,7 @@ fn box_proposals_on_a_wide_lens_find_more_true_boxes_with_the_lens() {
     let k = -0.15;
     let (mut true_without, mut true_with) = (0, 0);
     for seed in 0..16 {
-        let (mut scene, truth) = scene(seed);
-        let rendered = render_photo(
-            &scene,
-            &truth,
-            &PhotoOptions {
-                seed,
-                distortion_k: k,
-                ..PhotoOptions::default()
-            },
-        )
-        .unwrap();
-        scene.lens_distortion = Some(LensDistortion { k, k_sd: None });
+        let (scene, rendered) = through_lens(seed, k);
         let image = SnapImage::new(&rendered.image);
         let vps = scene_vanishing_points(&scene).unwrap();
         let segments = vpmap_vision::detect_segments(
