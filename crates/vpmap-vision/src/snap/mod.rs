@@ -422,45 +422,8 @@ pub fn snap_click(
     opts: &SnapOptions,
 ) -> Result<Snap> {
     opts.check()?;
-    let (w, h) = (f64::from(image.width()), f64::from(image.height()));
-    if !(click_px.iter().all(|v| v.is_finite())
-        && (0.0..=w).contains(&click_px[0])
-        && (0.0..=h).contains(&click_px[1]))
-    {
-        return Err(VisionError::ClickOutsidePhoto {
-            field: "click".to_owned(),
-            x: click_px[0],
-            y: click_px[1],
-            width: image.width(),
-            height: image.height(),
-        });
-    }
-    let reach = opts.search_radius_px + opts.edge_length_px;
-    let half = (reach + 3.0).ceil() as usize;
-    let patch = Patch::new(image, click_px, half, opts.smoothing_sigma_px);
-    let sigma_total = opts.smoothing_sigma_px.hypot(0.8);
-    let min_gradient = opts.min_contrast / (sigma_total * (2.0 * std::f64::consts::PI).sqrt());
-    let min_points = opts.min_support_px.round().max(3.0) as usize;
-    let search = EdgeSearch {
-        click: click_px,
-        radius: opts.search_radius_px,
-        reach,
-        min_gradient,
-        tan_tolerance: opts.angle_tolerance_deg.to_radians().tan(),
-        min_points,
-        min_vote: 0.5 * opts.min_contrast * opts.min_support_px,
-    };
-    let mut all = pencils(vanishing_points);
-    // A vanishing point inside the patch: its pencil's direction changes too fast to vote.
-    all.retain(|p| p.distance_from(click_px) > 2.0 * reach);
-    if opts.free_directions {
-        let free = free_pencils(&patch, &search, &all);
-        all.extend(free);
-    }
-    let found: Vec<_> = all
-        .iter()
-        .flat_map(|p| pieces(&patch, &search, p))
-        .collect();
+    check_click(image, click_px)?;
+    let found = find_pieces(image, vanishing_points, click_px, opts);
     let corner = find_corner(
         &found,
         &CornerSearch {
@@ -468,7 +431,7 @@ pub fn snap_click(
             radius: opts.search_radius_px,
             gap: opts.corner_gap_px,
             length: opts.edge_length_px,
-            min_points,
+            min_points: min_points(opts),
             covariance_scale: opts.covariance_scale,
             covariance_floor: opts.covariance_floor_px,
             unseen_sd_per_px: opts.unseen_sd_per_px,
@@ -515,5 +478,112 @@ pub fn snap_click(
                 NoCorner::Unsure(corner_px, doubt) => KeptReason::Unsure { corner_px, doubt },
             }),
         },
+    })
+}
+
+/// The edge pieces found near a click (steps 1 to 4 of the [module docs](self)); `opts` is
+/// checked by the caller.
+fn find_pieces(
+    image: &SnapImage,
+    vanishing_points: &[[f64; 3]],
+    click_px: [f64; 2],
+    opts: &SnapOptions,
+) -> Vec<edges::Piece> {
+    let reach = opts.search_radius_px + opts.edge_length_px;
+    let half = (reach + 3.0).ceil() as usize;
+    let patch = Patch::new(image, click_px, half, opts.smoothing_sigma_px);
+    let sigma_total = opts.smoothing_sigma_px.hypot(0.8);
+    let min_gradient = opts.min_contrast / (sigma_total * (2.0 * std::f64::consts::PI).sqrt());
+    let search = EdgeSearch {
+        click: click_px,
+        radius: opts.search_radius_px,
+        reach,
+        min_gradient,
+        tan_tolerance: opts.angle_tolerance_deg.to_radians().tan(),
+        min_points: min_points(opts),
+        min_vote: 0.5 * opts.min_contrast * opts.min_support_px,
+    };
+    let mut all = pencils(vanishing_points);
+    // A vanishing point inside the patch: its pencil's direction changes too fast to vote.
+    all.retain(|p| p.distance_from(click_px) > 2.0 * reach);
+    if opts.free_directions {
+        let free = free_pencils(&patch, &search, &all);
+        all.extend(free);
+    }
+    all.iter()
+        .flat_map(|p| pieces(&patch, &search, p))
+        .collect()
+}
+
+/// One straight edge piece found near a click, as snapping saw it (before any corner is
+/// chosen): for looking at why a click stayed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FoundEdge {
+    /// Where its direction comes from.
+    pub direction: EdgeDirection,
+    /// Its first and last points on its fitted line, pixels.
+    pub ends_px: [[f64; 2]; 2],
+    /// Points seen along it (one a pixel).
+    pub support_px: f64,
+    /// Mean gradient across it, grey levels per pixel.
+    pub gradient: f64,
+}
+
+/// Every straight edge piece [`snap_click`] finds near a click, whether or not two of them
+/// make a corner: what a person (or a diagnosis) looks at when a click stays.
+///
+/// # Errors
+/// As [`snap_click`].
+pub fn edges_near_click(
+    image: &SnapImage,
+    vanishing_points: &[[f64; 3]],
+    click_px: [f64; 2],
+    opts: &SnapOptions,
+) -> Result<Vec<FoundEdge>> {
+    opts.check()?;
+    check_click(image, click_px)?;
+    Ok(find_pieces(image, vanishing_points, click_px, opts)
+        .iter()
+        .filter_map(|p| {
+            let fit = edges::fit_line(&p.points, 0.05)?;
+            let (point, d) = p.line(&fit);
+            let (t0, t1) = p.range();
+            let along = |t: f64| {
+                // `t` runs along the piece's frame; its line's point nearest the frame's `t`.
+                let q = [p.origin[0] + t * p.u[0], p.origin[1] + t * p.u[1]];
+                let k = (q[0] - point[0]) * d[0] + (q[1] - point[1]) * d[1];
+                [point[0] + k * d[0], point[1] + k * d[1]]
+            };
+            Some(FoundEdge {
+                direction: p.kind,
+                ends_px: [along(t0), along(t1)],
+                support_px: p.points.len() as f64,
+                gradient: p.points.iter().map(|q| q.weight).sum::<f64>()
+                    / p.points.len().max(1) as f64,
+            })
+        })
+        .collect())
+}
+
+/// The fewest points of an edge piece.
+fn min_points(opts: &SnapOptions) -> usize {
+    opts.min_support_px.round().max(3.0) as usize
+}
+
+/// A click outside the photo or not finite is refused.
+fn check_click(image: &SnapImage, click_px: [f64; 2]) -> Result<()> {
+    let (w, h) = (f64::from(image.width()), f64::from(image.height()));
+    if click_px.iter().all(|v| v.is_finite())
+        && (0.0..=w).contains(&click_px[0])
+        && (0.0..=h).contains(&click_px[1])
+    {
+        return Ok(());
+    }
+    Err(VisionError::ClickOutsidePhoto {
+        field: "click".to_owned(),
+        x: click_px[0],
+        y: click_px[1],
+        width: image.width(),
+        height: image.height(),
     })
 }
