@@ -105,8 +105,8 @@ fn shared_data_yud_photos_with_and_without_the_true_intrinsics() {
 
 /// Snapping on the labelled corners of all 51 training photos, as `vpmap eval-clicks --yud`
 /// publishes it in `docs/results.md` (bounds about 1.5 times the measured figures: label bias
-/// (-0.02, +0.02) px, its spread 0.64 px, 2.8 % of clicks made worse by more than 1 px, 35 %
-/// snapped, the snapped points a median 0.71 px from their corners). Without the labels'
+/// (-0.02, +0.02) px, its spread 0.64 px, 2.4 % of clicks made worse by more than 1 px, 36 %
+/// snapped, the snapped points a median 0.72 px from their corners). Without the labels'
 /// half-pixel shift their bias is about 0.4 px, which the first bound catches.
 #[test]
 #[ignore = "needs ../shared/data/yud-train (absent from a fresh clone): cargo test -- --ignored shared_data"]

@@ -228,8 +228,13 @@ const PEAKS_PER_DIRECTION: usize = 3;
 const PROFILE_PX: [f64; 2] = [3.0, 1.5];
 /// Profile sampling step, pixels.
 const PROFILE_STEP_PX: f64 = 0.5;
-/// Largest gap in an edge piece, pixels.
-const MAX_GAP_PX: f64 = 2.0;
+/// Largest gap in an edge piece, pixels: up to three missing points in a row. A stroke, a
+/// pipe or a clutter line across an edge turns the gradient over its own width and the
+/// blur's on each side, so a few points in a row fail the angle test; with 2 px (one missing
+/// point) every such crossing cut the edge, and the piece next to the corner was often too
+/// short to keep (issue 38). Chosen on York Urban and the cluttered renders together (2, 3
+/// and 4 px; `docs/snapping.md`).
+const MAX_GAP_PX: f64 = 4.0;
 
 /// Dominant gradient directions around the click that none of `pencils` explains: up to two
 /// free pencils (constant directions).

@@ -23,7 +23,8 @@
 //!    by a parabola through it and its neighbours (0.5 px samples); the points are fitted by
 //!    weighted least squares (weights: the squared gradient, Huber-reweighted), then sampled
 //!    again in a narrow profile around the fitted line and refitted. Runs of points without
-//!    gaps longer than 2 px, at least [`SnapOptions::min_support_px`] long, are edge pieces.
+//!    gaps longer than 4 px (up to three points in a row missing: a stroke or a pipe across an
+//!    edge), at least [`SnapOptions::min_support_px`] long, are edge pieces.
 //!    The fitted line's direction is free: the vanishing point only chooses the candidates,
 //!    so a vanishing point a little off does not pull the corner.
 //! 5. **Corner**: every pair of pieces along different directions whose lines meet within
@@ -422,45 +423,8 @@ pub fn snap_click(
     opts: &SnapOptions,
 ) -> Result<Snap> {
     opts.check()?;
-    let (w, h) = (f64::from(image.width()), f64::from(image.height()));
-    if !(click_px.iter().all(|v| v.is_finite())
-        && (0.0..=w).contains(&click_px[0])
-        && (0.0..=h).contains(&click_px[1]))
-    {
-        return Err(VisionError::ClickOutsidePhoto {
-            field: "click".to_owned(),
-            x: click_px[0],
-            y: click_px[1],
-            width: image.width(),
-            height: image.height(),
-        });
-    }
-    let reach = opts.search_radius_px + opts.edge_length_px;
-    let half = (reach + 3.0).ceil() as usize;
-    let patch = Patch::new(image, click_px, half, opts.smoothing_sigma_px);
-    let sigma_total = opts.smoothing_sigma_px.hypot(0.8);
-    let min_gradient = opts.min_contrast / (sigma_total * (2.0 * std::f64::consts::PI).sqrt());
-    let min_points = opts.min_support_px.round().max(3.0) as usize;
-    let search = EdgeSearch {
-        click: click_px,
-        radius: opts.search_radius_px,
-        reach,
-        min_gradient,
-        tan_tolerance: opts.angle_tolerance_deg.to_radians().tan(),
-        min_points,
-        min_vote: 0.5 * opts.min_contrast * opts.min_support_px,
-    };
-    let mut all = pencils(vanishing_points);
-    // A vanishing point inside the patch: its pencil's direction changes too fast to vote.
-    all.retain(|p| p.distance_from(click_px) > 2.0 * reach);
-    if opts.free_directions {
-        let free = free_pencils(&patch, &search, &all);
-        all.extend(free);
-    }
-    let found: Vec<_> = all
-        .iter()
-        .flat_map(|p| pieces(&patch, &search, p))
-        .collect();
+    check_click(image, click_px)?;
+    let found = find_pieces(image, vanishing_points, click_px, opts);
     let corner = find_corner(
         &found,
         &CornerSearch {
@@ -468,7 +432,7 @@ pub fn snap_click(
             radius: opts.search_radius_px,
             gap: opts.corner_gap_px,
             length: opts.edge_length_px,
-            min_points,
+            min_points: min_points(opts),
             covariance_scale: opts.covariance_scale,
             covariance_floor: opts.covariance_floor_px,
             unseen_sd_per_px: opts.unseen_sd_per_px,
@@ -516,4 +480,162 @@ pub fn snap_click(
             }),
         },
     })
+}
+
+/// The edge pieces found near a click (steps 1 to 4 of the [module docs](self)); `opts` is
+/// checked by the caller.
+fn find_pieces(
+    image: &SnapImage,
+    vanishing_points: &[[f64; 3]],
+    click_px: [f64; 2],
+    opts: &SnapOptions,
+) -> Vec<edges::Piece> {
+    let reach = opts.search_radius_px + opts.edge_length_px;
+    let half = (reach + 3.0).ceil() as usize;
+    let patch = Patch::new(image, click_px, half, opts.smoothing_sigma_px);
+    let sigma_total = opts.smoothing_sigma_px.hypot(0.8);
+    let min_gradient = opts.min_contrast / (sigma_total * (2.0 * std::f64::consts::PI).sqrt());
+    let search = EdgeSearch {
+        click: click_px,
+        radius: opts.search_radius_px,
+        reach,
+        min_gradient,
+        tan_tolerance: opts.angle_tolerance_deg.to_radians().tan(),
+        min_points: min_points(opts),
+        min_vote: 0.5 * opts.min_contrast * opts.min_support_px,
+    };
+    let mut all = pencils(vanishing_points);
+    // A vanishing point inside the patch: its pencil's direction changes too fast to vote.
+    all.retain(|p| p.distance_from(click_px) > 2.0 * reach);
+    if opts.free_directions {
+        let free = free_pencils(&patch, &search, &all);
+        all.extend(free);
+    }
+    all.iter()
+        .flat_map(|p| pieces(&patch, &search, p))
+        .collect()
+}
+
+/// One straight edge piece found near a click, as snapping saw it (before any corner is
+/// chosen): for looking at why a click stayed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FoundEdge {
+    /// Where its direction comes from.
+    pub direction: EdgeDirection,
+    /// Its first and last points on its fitted line, pixels.
+    pub ends_px: [[f64; 2]; 2],
+    /// Points seen along it (one a pixel).
+    pub support_px: f64,
+    /// Mean gradient across it, grey levels per pixel.
+    pub gradient: f64,
+}
+
+/// Every straight edge piece [`snap_click`] finds near a click, whether or not two of them
+/// make a corner: what a person (or a diagnosis) looks at when a click stays.
+///
+/// # Errors
+/// As [`snap_click`].
+pub fn edges_near_click(
+    image: &SnapImage,
+    vanishing_points: &[[f64; 3]],
+    click_px: [f64; 2],
+    opts: &SnapOptions,
+) -> Result<Vec<FoundEdge>> {
+    opts.check()?;
+    check_click(image, click_px)?;
+    Ok(find_pieces(image, vanishing_points, click_px, opts)
+        .iter()
+        .filter_map(|p| {
+            let fit = edges::fit_line(&p.points, 0.05)?;
+            let (point, d) = p.line(&fit);
+            let (t0, t1) = p.range();
+            let along = |t: f64| {
+                // `t` runs along the piece's frame; its line's point nearest the frame's `t`.
+                let q = [p.origin[0] + t * p.u[0], p.origin[1] + t * p.u[1]];
+                let k = (q[0] - point[0]) * d[0] + (q[1] - point[1]) * d[1];
+                [point[0] + k * d[0], point[1] + k * d[1]]
+            };
+            Some(FoundEdge {
+                direction: p.kind,
+                ends_px: [along(t0), along(t1)],
+                support_px: p.points.len() as f64,
+                gradient: p.points.iter().map(|q| q.weight).sum::<f64>()
+                    / p.points.len().max(1) as f64,
+            })
+        })
+        .collect())
+}
+
+/// The fewest points of an edge piece.
+fn min_points(opts: &SnapOptions) -> usize {
+    opts.min_support_px.round().max(3.0) as usize
+}
+
+/// A click outside the photo or not finite is refused.
+fn check_click(image: &SnapImage, click_px: [f64; 2]) -> Result<()> {
+    let (w, h) = (f64::from(image.width()), f64::from(image.height()));
+    if click_px.iter().all(|v| v.is_finite())
+        && (0.0..=w).contains(&click_px[0])
+        && (0.0..=h).contains(&click_px[1])
+    {
+        return Ok(());
+    }
+    Err(VisionError::ClickOutsidePhoto {
+        field: "click".to_owned(),
+        x: click_px[0],
+        y: click_px[1],
+        width: image.width(),
+        height: image.height(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use image::{DynamicImage, GrayImage, Luma};
+
+    /// A dark square whose top-left corner is at (30, 20), its top edge crossed by a thin
+    /// vertical stroke `stroke_px` wide starting `at_px` right of the corner.
+    fn corner_with_stroke(at_px: u32, stroke_px: u32) -> SnapImage {
+        let img = GrayImage::from_fn(100, 80, |x, y| {
+            let inside = x >= 30 && y >= 20 && x < 70 && y < 60;
+            let stroke = x >= 30 + at_px && x < 30 + at_px + stroke_px && (12..28).contains(&y);
+            Luma([match (stroke, inside) {
+                (true, _) => 120,
+                (false, true) => 40,
+                (false, false) => 200,
+            }])
+        });
+        SnapImage::new(&DynamicImage::ImageLuma8(img))
+    }
+
+    #[test]
+    fn an_edge_crossed_by_a_thin_stroke_is_one_piece() {
+        // Regression (issue 38): a stroke across an edge turns the gradient over its width
+        // and the blur's, so three points in a row are missing; pieces broke at gaps over
+        // 2 px, and the edge next to the corner was lost.
+        let vps = [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0]];
+        for at in [6, 8, 10] {
+            let photo = corner_with_stroke(at, 3);
+            let edges = match edges_near_click(
+                &photo,
+                &vps,
+                [31.5, 21.0],
+                &SnapOptions::for_click_sigma(2.0),
+            ) {
+                Ok(e) => e,
+                Err(e) => panic!("{e}"),
+            };
+            let across = edges.iter().any(|e| {
+                let (x0, x1) = (
+                    e.ends_px[0][0].min(e.ends_px[1][0]),
+                    e.ends_px[0][0].max(e.ends_px[1][0]),
+                );
+                (e.ends_px[0][1] - 20.0).abs() < 0.5
+                    && x0 < f64::from(30 + at)
+                    && x1 > f64::from(33 + at)
+            });
+            assert!(across, "stroke at {at} px: {edges:?}");
+        }
+    }
 }
