@@ -6,13 +6,13 @@ use rand_chacha::ChaCha8Rng;
 use vpmap_metrology::eval::{evaluate_map, noise_seed};
 use vpmap_metrology::map::{BuildOptions, build_map};
 use vpmap_metrology::reconstruct::{Method, ObjectKind};
-use vpmap_metrology::scene::{ImageSize, LensDistortion, Scene};
+use vpmap_metrology::scene::{DivisionModel, ImageSize, LensDistortion, Scene};
 use vpmap_metrology::synth::{
     SynthOptions, Truth, add_noise, synthesize, vanishing_points_as_lines,
 };
 use vpmap_vision::clicks::{ClickPlace, set_scene_click};
 use vpmap_vision::proposals::{ProposalOptions, propose_boxes};
-use vpmap_vision::snap::scene::scene_vanishing_points;
+use vpmap_vision::snap::scene::{scene_vanishing_points, vanishing_points_at};
 use vpmap_vision::snap::{SnapImage, SnapOptions, snap_click};
 use vpmap_vision::synthetic::photo::{CornerKind, PhotoOptions, TrueCorner, render_photo};
 use vpmap_vision::{DetectOptions, detect};
@@ -152,18 +152,32 @@ pub fn run_clicks_trial(config: &Config, trial: u64) -> TrialResult {
     };
     let image = SnapImage::new(&photo.image);
     let detection = detect(&photo.image, &DetectOptions::default()).ok();
-    let vps: Vec<[f64; 3]> = match &detection {
+    // The vanishing points and the lens they are the pinhole camera's for: detect's applied
+    // lens with its points, the renderer's with the scene's; snapping looks through it
+    // (`vanishing_points_at`), as `vpmap snap` does with the scene detect writes.
+    let (vps, lens): (Vec<[f64; 3]>, Option<DivisionModel>) = match &detection {
         Some(d) if d.vanishing_points.len() >= 2 => {
             out.detected = true;
-            d.vanishing_points
-                .iter()
-                .filter_map(|v| v.point_px.map(|p| [p[0], p[1], 1.0]))
-                .collect()
+            (
+                d.vanishing_points
+                    .iter()
+                    .filter_map(|v| v.point_px.map(|p| [p[0], p[1], 1.0]))
+                    .collect(),
+                d.lens.map(|l| l.model),
+            )
         }
-        _ => scene_vanishing_points(&scene).unwrap_or_default(),
+        _ => (
+            scene_vanishing_points(&scene).unwrap_or_default(),
+            Some(DivisionModel::new(
+                photo.distortion_k,
+                scene.image,
+                scene.principal_point,
+            )),
+        ),
     };
     if let Some(d) = &detection {
-        out.proposals = proposal_record(&photo.image, &image, d, &vps, &photo.corners);
+        out.proposals =
+            proposal_record(&photo.image, &image, d, &vps, lens.as_ref(), &photo.corners);
     }
     for &sigma in &config.sigmas_px {
         let mut noisy = scene.clone();
@@ -191,7 +205,8 @@ pub fn run_clicks_trial(config: &Config, trial: u64) -> TrialResult {
                 p
             };
             let raw_error = dist(click_px, t.point_px);
-            let snap = snap_click(&image, &vps, click_px, &opts).ok();
+            let here = vanishing_points_at(&vps, lens.as_ref(), click_px);
+            let snap = snap_click(&image, &here, click_px, &opts).ok();
             let (point, snapped_here, chi2) = match &snap {
                 Some(s) if s.snapped() => (
                     s.point_px,
@@ -372,6 +387,7 @@ fn proposal_record(
     image: &SnapImage,
     detection: &vpmap_vision::Detection,
     vps: &[[f64; 3]],
+    lens: Option<&DivisionModel>,
     corners: &[TrueCorner],
 ) -> ProposalRecord {
     // The segments at the photo's full size (the detector works on a smaller copy).
@@ -381,8 +397,11 @@ fn proposal_record(
     };
     let segments = vpmap_vision::detect_segments(photo, &full).unwrap_or_default();
     let _ = detection;
-    let proposals =
-        propose_boxes(image, &segments, vps, &ProposalOptions::default()).unwrap_or_default();
+    let options = ProposalOptions {
+        lens: lens.copied(),
+        ..ProposalOptions::default()
+    };
+    let proposals = propose_boxes(image, &segments, vps, &options).unwrap_or_default();
     let objects: Vec<usize> = {
         let mut o: Vec<usize> = corners
             .iter()

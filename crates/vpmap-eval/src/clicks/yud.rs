@@ -36,7 +36,9 @@ use std::path::Path;
 use rand::{RngExt as _, SeedableRng as _};
 use rand_chacha::ChaCha8Rng;
 use serde::Deserialize;
+use vpmap_metrology::scene::DivisionModel;
 use vpmap_vision::photo::{PhotoLimits, decode_photo};
+use vpmap_vision::snap::scene::vanishing_points_at;
 use vpmap_vision::snap::{
     Doubt, KeptReason, SnapEdge, SnapImage, SnapOptions, SnapOutcome, snap_click,
 };
@@ -366,23 +368,32 @@ pub fn run_yud(dir: &Path, config: &YudConfig, progress: &dyn Progress) -> Resul
             .map_err(|e| EvalError::Invalid(format!("{}: {e}", pair.image.display())))?;
         let image = SnapImage::new(&photo.image);
         let grad = Gradient::new(&photo.image);
-        let detected: Vec<[f64; 3]> = detect(&photo.image, &DetectOptions::default())
-            .map(|d| {
-                let (f, c) = (d.intrinsics.focal_px, d.intrinsics.principal_point_px);
-                d.vanishing_points
-                    .iter()
-                    .map(|v| {
-                        let k = v.direction_camera;
-                        [f * k[0] + c[0] * k[2], f * k[1] + c[1] * k[2], k[2]]
-                    })
-                    .collect()
-            })
-            .unwrap_or_default();
-        let vps = if detected.len() >= 2 {
+        // Detect's points are the pinhole camera's of the lens it applied (none unless the
+        // edges show one at 99 %); snapping looks through that lens, as `vpmap snap` does with
+        // the scene detect writes.
+        let (detected, lens): (Vec<[f64; 3]>, Option<DivisionModel>) =
+            detect(&photo.image, &DetectOptions::default())
+                .map(|d| {
+                    let (f, c) = (d.intrinsics.focal_px, d.intrinsics.principal_point_px);
+                    let points = d
+                        .vanishing_points
+                        .iter()
+                        .map(|v| {
+                            let k = v.direction_camera;
+                            [f * k[0] + c[0] * k[2], f * k[1] + c[1] * k[2], k[2]]
+                        })
+                        .collect();
+                    (points, d.lens.map(|l| l.model))
+                })
+                .unwrap_or_default();
+        let (vps, lens) = if detected.len() >= 2 {
             out.detected += 1;
-            detected
+            (detected, lens)
         } else {
-            label.vp_px.iter().map(|p| [p[0], p[1], 1.0]).collect()
+            (
+                label.vp_px.iter().map(|p| [p[0], p[1], 1.0]).collect(),
+                None,
+            )
         };
         out.photos += 1;
         // The labels put pixel centres at whole numbers (MATLAB's 1-based pixels); here they
@@ -406,10 +417,20 @@ pub fn run_yud(dir: &Path, config: &YudConfig, progress: &dyn Progress) -> Resul
             let Some(truth_click) = inside(corner.point_px, &image) else {
                 continue;
             };
-            let snap = snap_click(&image, &vps, click, &opts)
-                .map_err(|e| EvalError::Invalid(format!("{}: snapping a click: {e}", pair.name)))?;
-            let exact = snap_click(&image, &vps, truth_click, &opts)
-                .map_err(|e| EvalError::Invalid(format!("{}: snapping a click: {e}", pair.name)))?;
+            let snap = snap_click(
+                &image,
+                &vanishing_points_at(&vps, lens.as_ref(), click),
+                click,
+                &opts,
+            )
+            .map_err(|e| EvalError::Invalid(format!("{}: snapping a click: {e}", pair.name)))?;
+            let exact = snap_click(
+                &image,
+                &vanishing_points_at(&vps, lens.as_ref(), truth_click),
+                truth_click,
+                &opts,
+            )
+            .map_err(|e| EvalError::Invalid(format!("{}: snapping a click: {e}", pair.name)))?;
             let label_offsets_px = [0, 1].map(|k| {
                 let s = corner.segments[k];
                 segments
