@@ -207,12 +207,8 @@ pub fn propose_boxes(
     let given: Vec<[f64; 3]> = vanishing_points.iter().take(3).copied().collect();
     let mut vps = given.clone();
     if let [a, b] = vanishing_points {
-        let l = [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ];
-        vps.push([l[0], l[1], 0.0]);
+        // No horizon (the two points coincide): the vertical direction is (0, 0), as before.
+        vps.push(crate::snap::two_point_vertical(*a, *b).unwrap_or([0.0; 3]));
     }
     // The vanishing points as the photo shows them at `p` (the three, the vertical added).
     let vps_at = |p: [f64; 2]| -> Vec<[f64; 3]> {

@@ -371,20 +371,25 @@ fn pencils(vanishing_points: &[[f64; 3]]) -> Vec<Pencil> {
         .enumerate()
         .filter_map(|(i, v)| Pencil::new(EdgeDirection::VanishingPoint(i), *v))
         .collect();
-    if let [a, b] = vanishing_points {
-        // Horizon l = a x b; its normal (l0, l1) is the image direction of the vertical.
-        let l = [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ];
-        if l[0].hypot(l[1]) > 0.0
-            && let Some(p) = Pencil::new(EdgeDirection::VanishingPoint(2), [l[0], l[1], 0.0])
-        {
-            out.push(p);
-        }
+    if let [a, b] = vanishing_points
+        && let Some(v) = two_point_vertical(*a, *b)
+        && let Some(p) = Pencil::new(EdgeDirection::VanishingPoint(2), v)
+    {
+        out.push(p);
     }
     out
+}
+
+/// A two-point scene's vertical, for horizontal vanishing points `a` and `b` (homogeneous):
+/// the direction at infinity `(l0, l1, 0)` perpendicular to the horizon `l = a x b`; `None`
+/// when the two points give no horizon.
+pub(crate) fn two_point_vertical(a: [f64; 3], b: [f64; 3]) -> Option<[f64; 3]> {
+    let l = [
+        a[1] * b[2] - a[2] * b[1],
+        a[2] * b[0] - a[0] * b[2],
+        a[0] * b[1] - a[1] * b[0],
+    ];
+    (l[0].hypot(l[1]) > 0.0).then_some([l[0], l[1], 0.0])
 }
 
 /// Snap one click to the image corner it means (see the [module docs](self)).

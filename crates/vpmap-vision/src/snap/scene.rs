@@ -84,17 +84,12 @@ pub fn vanishing_points_at(
             }
         })
         .collect();
-    if let [a, b] = vanishing_points {
-        // The pinhole horizon l = a x b; its normal (l0, l1) is the vertical's direction.
-        let l = [
-            a[1] * b[2] - a[2] * b[1],
-            a[2] * b[0] - a[0] * b[2],
-            a[0] * b[1] - a[1] * b[0],
-        ];
-        if l[0].hypot(l[1]) > 0.0 {
-            let d = to_photo * Vector2::new(l[0], l[1]);
-            out.push([d.x, d.y, 0.0]);
-        }
+    // The pinhole camera's vertical, perpendicular to its horizon, mapped the same way.
+    if let [a, b] = vanishing_points
+        && let Some(v) = super::two_point_vertical(*a, *b)
+    {
+        let d = to_photo * Vector2::new(v[0], v[1]);
+        out.push([d.x, d.y, 0.0]);
     }
     out
 }
