@@ -101,18 +101,9 @@ pub struct Summary {
     pub images: usize,
     /// Photos the detector refused (or that could not be read).
     pub failed: usize,
-    /// Labelled vanishing points (3 per photo).
-    pub vanishing_points: usize,
-    /// Of them, not detected (refused photo or missing point).
-    pub missed: usize,
-    /// `(threshold, fraction within)`.
-    pub within: Vec<(f64, f64)>,
-    /// `(limit, area)`.
-    pub auc: Vec<(f64, f64)>,
-    /// Median error of the vertical vanishing points, degrees (infinite when most missed).
-    pub median_vertical_deg: f64,
-    /// Median error of the horizontal vanishing points, degrees.
-    pub median_horizontal_deg: f64,
+    /// The detected frame's directions against the labels (a refused photo or a missing
+    /// point is a miss).
+    pub frame: Accuracy,
     /// Focal error median, p90 and fraction within [`FOCAL_TOLERANCE`] (estimated runs only).
     pub focal: Option<(f64, f64, f64)>,
     /// Median horizon error, image heights (infinite when most photos give no scene).
@@ -186,7 +177,6 @@ pub fn summarise(results: &[ImageResult], which: Intrinsics) -> Summary {
         }
         focal.push(focal_error.unwrap_or(f64::INFINITY));
     }
-    let frame = accuracy(&frame);
     let focal = (which == Intrinsics::Estimated && !focal.is_empty()).then(|| {
         (
             quantile_of(&focal, 0.5).unwrap_or(f64::INFINITY),
@@ -198,12 +188,7 @@ pub fn summarise(results: &[ImageResult], which: Intrinsics) -> Summary {
         which,
         images: results.len(),
         failed,
-        vanishing_points: frame.vanishing_points,
-        missed: frame.missed,
-        within: frame.within,
-        auc: frame.auc,
-        median_vertical_deg: frame.median_vertical_deg,
-        median_horizontal_deg: frame.median_horizontal_deg,
+        frame: accuracy(&frame),
         focal,
         median_horizon: quantile_of(&horizon, 0.5).unwrap_or(f64::INFINITY),
         horizon_auc: crate::stats::auc(&horizon, HORIZON_AUC_LIMIT),
@@ -257,43 +242,14 @@ fn rows(summaries: &[Summary; 2]) -> Vec<(String, [String; 2], String)> {
         cells(&|s| format!("{} of {}", s.failed, s.images)),
         String::new(),
     )];
-    rows.push((
-        "vanishing points missed".to_owned(),
-        cells(&|s| format!("{} of {}", s.missed, s.vanishing_points)),
-        String::new(),
-    ));
-    for (i, t) in WITHIN_DEG.iter().enumerate() {
-        rows.push((
-            format!("within {t} deg"),
-            cells(&|s| pct(s.within[i].1)),
-            if (*t - 3.0).abs() < 1e-9 {
-                "95 % / -".to_owned()
-            } else {
-                String::new()
-            },
-        ));
-    }
-    for (i, l) in AUC_DEG.iter().enumerate() {
-        rows.push((
-            format!("AUC@{l} deg"),
-            cells(&|s| pct(s.auc[i].1)),
-            if (*l - 10.0).abs() < 1e-9 {
-                "87 % / 47 %".to_owned()
-            } else {
-                String::new()
-            },
-        ));
-    }
-    rows.push((
-        "median error, vertical (deg)".to_owned(),
-        cells(&|s| deg(s.median_vertical_deg)),
-        String::new(),
-    ));
-    rows.push((
-        "median error, horizontal (deg)".to_owned(),
-        cells(&|s| deg(s.median_horizontal_deg)),
-        String::new(),
-    ));
+    accuracy_rows(
+        &mut rows,
+        summaries,
+        &|s| &s.frame,
+        "vanishing points missed",
+        "",
+        true,
+    );
     own_rows(&mut rows, summaries);
     rows.push((
         "horizon error, median (image heights)".to_owned(),
@@ -383,39 +339,66 @@ fn rows(summaries: &[Summary; 2]) -> Vec<(String, [String; 2], String)> {
     rows
 }
 
-/// The rows of the own points ([`Summary::own`]) and of the orthogonalised labels
-/// ([`Summary::orthogonal`]).
-fn own_rows(rows: &mut Vec<(String, [String; 2], String)>, summaries: &[Summary; 2]) {
-    let own = |f: &dyn Fn(&Accuracy) -> String| [f(&summaries[0].own), f(&summaries[1].own)];
+/// The rows of one set of directions' [`Accuracy`] (`pick` from each run's summary), their
+/// labels after `prefix`; with `references`, the reference's figures beside the frame's.
+fn accuracy_rows(
+    rows: &mut Vec<(String, [String; 2], String)>,
+    summaries: &[Summary; 2],
+    pick: &dyn Fn(&Summary) -> &Accuracy,
+    missed_label: &str,
+    prefix: &str,
+    references: bool,
+) {
+    let cells = |f: &dyn Fn(&Accuracy) -> String| [f(pick(&summaries[0])), f(pick(&summaries[1]))];
+    let reference = |shown: bool, text: &str| {
+        if references && shown {
+            text.to_owned()
+        } else {
+            String::new()
+        }
+    };
     rows.push((
-        "own points: missed".to_owned(),
-        own(&|a| format!("{} of {}", a.missed, a.vanishing_points)),
+        missed_label.to_owned(),
+        cells(&|a| format!("{} of {}", a.missed, a.vanishing_points)),
         String::new(),
     ));
     for (i, t) in WITHIN_DEG.iter().enumerate() {
         rows.push((
-            format!("own points: within {t} deg"),
-            own(&|a| pct(a.within[i].1)),
-            String::new(),
+            format!("{prefix}within {t} deg"),
+            cells(&|a| pct(a.within[i].1)),
+            reference((*t - 3.0).abs() < 1e-9, "95 % / -"),
         ));
     }
     for (i, l) in AUC_DEG.iter().enumerate() {
         rows.push((
-            format!("own points: AUC@{l} deg"),
-            own(&|a| pct(a.auc[i].1)),
-            String::new(),
+            format!("{prefix}AUC@{l} deg"),
+            cells(&|a| pct(a.auc[i].1)),
+            reference((*l - 10.0).abs() < 1e-9, "87 % / 47 %"),
         ));
     }
     rows.push((
-        "own points: median error, vertical (deg)".to_owned(),
-        own(&|a| deg(a.median_vertical_deg)),
+        format!("{prefix}median error, vertical (deg)"),
+        cells(&|a| deg(a.median_vertical_deg)),
         String::new(),
     ));
     rows.push((
-        "own points: median error, horizontal (deg)".to_owned(),
-        own(&|a| deg(a.median_horizontal_deg)),
+        format!("{prefix}median error, horizontal (deg)"),
+        cells(&|a| deg(a.median_horizontal_deg)),
         String::new(),
     ));
+}
+
+/// The rows of the own points ([`Summary::own`]) and of the orthogonalised labels
+/// ([`Summary::orthogonal`]).
+fn own_rows(rows: &mut Vec<(String, [String; 2], String)>, summaries: &[Summary; 2]) {
+    accuracy_rows(
+        rows,
+        summaries,
+        &|s| &s.own,
+        "own points: missed",
+        "own points: ",
+        false,
+    );
     let triple = |a: &Accuracy| {
         let [x, y, z] = [0, 1, 2].map(|i| a.auc.get(i).map_or(f64::NAN, |v| v.1));
         format!("{:.1} / {:.1} / {:.1} %", 100.0 * x, 100.0 * y, 100.0 * z)
@@ -598,15 +581,10 @@ fn accuracy_json(a: &Accuracy) -> serde_json::Value {
 }
 
 fn summary_json(s: &Summary) -> serde_json::Value {
-    json!({
+    let mut out = accuracy_json(&s.frame);
+    let rest = json!({
         "images": s.images,
         "refused": s.failed,
-        "vanishing_points": s.vanishing_points,
-        "missed": s.missed,
-        "within_deg": s.within.iter().map(|(t, f)| json!({"deg": t, "fraction": f})).collect::<Vec<_>>(),
-        "auc": s.auc.iter().map(|(l, a)| json!({"deg": l, "area": a})).collect::<Vec<_>>(),
-        "median_error_vertical_deg": finite(s.median_vertical_deg),
-        "median_error_horizontal_deg": finite(s.median_horizontal_deg),
         "focal_error": s.focal.map(|(m, p, w)| json!({
             "median": finite(m), "p90": finite(p), "within_fraction": w, "tolerance": FOCAL_TOLERANCE,
         })),
@@ -630,7 +608,12 @@ fn summary_json(s: &Summary) -> serde_json::Value {
             "own_points": accuracy_json(o),
             "orthogonal_labels_against_labels": accuracy_json(l),
         })),
-    })
+    });
+    // The frame's figures at the top level, beside the run's own.
+    if let (Some(out), serde_json::Value::Object(rest)) = (out.as_object_mut(), rest) {
+        out.extend(rest);
+    }
+    out
 }
 
 /// `eval-detect.json`: the summary and one row per photo.
@@ -757,17 +740,21 @@ mod tests {
         let results = [result([Some(0.5), Some(2.0), None], 0.01), refused];
         let s = summarise(&results, Intrinsics::Estimated);
         assert_eq!(
-            (s.images, s.failed, s.vanishing_points, s.missed),
+            (s.images, s.failed, s.frame.vanishing_points, s.frame.missed),
             (2, 1, 6, 4)
         );
-        assert!((s.within[0].1 - 1.0 / 6.0).abs() < 1e-12);
-        assert!((s.within[1].1 - 2.0 / 6.0).abs() < 1e-12);
+        assert!((s.frame.within[0].1 - 1.0 / 6.0).abs() < 1e-12);
+        assert!((s.frame.within[1].1 - 2.0 / 6.0).abs() < 1e-12);
         // AUC@10: (0.95 + 0.8) / 6.
-        assert!((s.auc[2].1 - 1.75 / 6.0).abs() < 1e-12, "{:?}", s.auc);
+        assert!(
+            (s.frame.auc[2].1 - 1.75 / 6.0).abs() < 1e-12,
+            "{:?}",
+            s.frame.auc
+        );
         let (median, _, within) = s.focal.unwrap_or_default();
         assert!(median.is_infinite() || (median - 0.01).abs() < 1e-12);
         assert!((within - 0.5).abs() < 1e-12);
-        assert!(s.median_vertical_deg.is_infinite());
+        assert!(s.frame.median_vertical_deg.is_infinite());
         assert!(summarise(&results, Intrinsics::Given).focal.is_none());
         // Horizon: 0.05 and a miss; AUC@0.25 = (1 - 0.05 / 0.25) / 2 = 0.4.
         assert!((s.horizon_auc - 0.4).abs() < 1e-12, "{}", s.horizon_auc);
