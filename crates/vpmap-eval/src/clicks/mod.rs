@@ -37,6 +37,7 @@
 mod report;
 mod trial;
 pub mod yud;
+mod yud_labels;
 mod yud_unseen;
 
 use rayon::prelude::*;
