@@ -40,6 +40,8 @@
 //! `O(n log n + c (n + s))` for `n` segments used, `c` near edges tried and `s` the cost of a
 //! snap (a patch of about 13 x 13 pixels).
 
+use std::borrow::Cow;
+
 use vpmap_metrology::interrupt::Interrupt;
 use vpmap_metrology::scene::{BoxCorners, DivisionModel};
 
@@ -211,10 +213,11 @@ pub fn propose_boxes(
         vps.push(crate::snap::two_point_vertical(*a, *b).unwrap_or([0.0; 3]));
     }
     // The vanishing points as the photo shows them at `p` (the three, the vertical added).
-    let vps_at = |p: [f64; 2]| -> Vec<[f64; 3]> {
-        match opts.lens.as_ref() {
-            Some(lens) => vanishing_points_at(&given, Some(lens), p),
-            None => vps.clone(),
+    // Without a lens they are the same everywhere: borrowed, not copied for every segment.
+    let vps_at = |p: [f64; 2]| -> Cow<'_, [[f64; 3]]> {
+        match opts.lens.as_ref().filter(|l| l.k != 0.0) {
+            Some(lens) => Cow::Owned(vanishing_points_at(&given, Some(lens), p)),
+            None => Cow::Borrowed(&vps),
         }
     };
     let cos_tol = opts.angle_tolerance_deg.to_radians().cos();
