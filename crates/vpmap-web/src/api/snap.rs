@@ -100,8 +100,9 @@ pub(crate) struct SnapRequest {
     vanishing_points: Vec<Option<Vec<f64>>>,
     click_sigma: Option<f64>,
     radius: Option<f64>,
-    /// The photo's lens, as the scene's `lens_distortion` (`k`; `k_sd` is read and not
-    /// used): the vanishing points are then the pinhole camera's and the click the photo's.
+    /// The photo's lens, as the scene's `lens_distortion` (`k`; `k_sd` is checked as the
+    /// scene's and not used): the vanishing points are then the pinhole camera's and the
+    /// click the photo's.
     lens_distortion: Option<LensDistortion>,
     /// The lens's centre (the scene's `principal_point`); the image centre without it.
     principal_point: Option<[f64; 2]>,
@@ -234,6 +235,13 @@ fn lens_model(
         return Err(ApiError::bad_request(format!(
             "lens_distortion.k is {}; the division model's k lies within -{MAX_DIVISION_K} to {MAX_DIVISION_K} (phone lenses about -0.15 to 0)",
             lens.k
+        )));
+    }
+    if let Some(sd) = lens.k_sd
+        && !(sd.is_finite() && (0.0..=MAX_DIVISION_K).contains(&sd))
+    {
+        return Err(ApiError::bad_request(format!(
+            "lens_distortion.k_sd is {sd}; a standard deviation lies within 0 to {MAX_DIVISION_K}"
         )));
     }
     if let Some(c) = principal_point
@@ -580,6 +588,12 @@ mod tests {
         let e = with(serde_json::json!({"k": -0.95}));
         assert!(
             e.message.contains("folds this 800 x 600 photo"),
+            "{}",
+            e.message
+        );
+        let e = with(serde_json::json!({"k": -0.1, "k_sd": -0.5}));
+        assert!(
+            e.message.contains("lens_distortion.k_sd is -0.5"),
             "{}",
             e.message
         );
