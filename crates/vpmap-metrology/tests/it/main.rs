@@ -13,6 +13,7 @@ mod random_scenes;
 mod room_lens;
 mod room_synth;
 mod rooms;
+mod rooms_noisy;
 mod shared_data;
 mod views;
 
