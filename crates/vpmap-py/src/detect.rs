@@ -163,7 +163,10 @@ impl PyDetection {
     /// for a point the scene writes, ``covariance_deg2`` (its 2 x 2 covariance, degrees squared,
     /// across and radial in the scene's chart, as the scene file holds it), ``sd_deg`` (the
     /// ellipse's largest standard deviation, degrees) and ``edges`` (independent edges behind
-    /// it); ``None`` for one not written.
+    /// it); ``None`` for one not written. ``own_point``: the direction's own vanishing point,
+    /// its segments alone not held orthogonal to the other two, a dict of ``point`` (pixels in
+    /// the pinhole image, or ``None`` at infinity), ``direction``, ``from_frame_deg`` (its angle
+    /// from ``direction``) and ``edges``; ``None`` when the segments do not fix one.
     #[getter]
     fn vanishing_points<'py>(&self, py: Python<'py>) -> PyResult<Bound<'py, PyList>> {
         let list = PyList::empty(py);
@@ -203,6 +206,25 @@ impl PyDetection {
             )?;
             d.set_item("sd_deg", cov.map(|c| c.major_sd_deg()))?;
             d.set_item("edges", cov.map(|c| c.edges))?;
+            let own = match vp.own_point {
+                Some(o) => {
+                    let od = PyDict::new(py);
+                    od.set_item("point", o.point_px.map(|[x, y]| (x, y)))?;
+                    od.set_item(
+                        "direction",
+                        (
+                            o.direction_camera[0],
+                            o.direction_camera[1],
+                            o.direction_camera[2],
+                        ),
+                    )?;
+                    od.set_item("from_frame_deg", o.from_frame_deg)?;
+                    od.set_item("edges", o.edges)?;
+                    Some(od)
+                }
+                None => None,
+            };
+            d.set_item("own_point", own)?;
             list.append(d)?;
         }
         Ok(list)

@@ -152,6 +152,16 @@ def test_detect_reports_how_sure_it_is():
         assert a > 0 and d > 0 and a * d - b * c > 0 and b == c
         assert vp["sd_deg"] >= 1.0  # never below the measured floor
         assert vp["edges"] >= 3
+    # Each direction's own point, its edges alone: the drawn room is Manhattan, so it lies
+    # inside the frame's 95 % cone; its stated angle is the one between the two directions.
+    for vp in det.vanishing_points:
+        own = vp["own_point"]
+        assert own is not None and own["edges"] >= 2
+        dot = abs(sum(a * b for a, b in zip(vp["direction"], own["direction"])))
+        angle = math.degrees(math.acos(min(dot, 1.0)))
+        assert own["from_frame_deg"] == pytest.approx(angle, abs=1e-6)
+        if vp["sd_deg"] is not None:
+            assert own["from_frame_deg"] <= vp["sd_deg"] * math.sqrt(5.991)
     scene = det.scene()
     assert all("covariance_deg2" in v for v in scene["vanishing_points"])
     assert scene["principal_point_sd_px"] > 0

@@ -356,10 +356,16 @@ fn summary(
         } else {
             String::new()
         };
+        // The edges alone, not held orthogonal to the other directions: far from the frame's
+        // point, the room is not quite Manhattan there, or the focal length is off.
+        let alone = det.vanishing_points[vp]
+            .own_point
+            .map(|o| format!("; alone they meet {:.2} deg from it", o.from_frame_deg))
+            .unwrap_or_default();
         let within = scene.covariances[role]
             .map(|c| {
                 format!(
-                    " +-{:.2} deg at 95 % ({} independent edges)",
+                    " +-{:.2} deg at 95 % ({} independent edges{alone})",
                     c.major_sd_deg() * CHI2_2DOF_95.sqrt(),
                     c.edges
                 )

@@ -146,6 +146,17 @@ struct VanishingPointOut {
     segments: Vec<usize>,
     vertical: bool,
     direction_camera: [f64; 3],
+    /// The direction's own vanishing point: its segments alone, not held orthogonal
+    /// (`vpmap_vision::VanishingPoint::own_point`); `null` when they do not fix one.
+    own_point: Option<OwnPointOut>,
+}
+
+#[derive(Serialize)]
+struct OwnPointOut {
+    point: Option<[f64; 2]>,
+    direction_camera: [f64; 3],
+    from_frame_deg: f64,
+    edges: usize,
 }
 
 #[derive(Serialize)]
@@ -229,6 +240,12 @@ fn detect_answer(bytes: &[u8], query: &DetectQuery) -> Result<Bytes, ApiError> {
                 segments: v.segments.clone(),
                 vertical: v.vertical,
                 direction_camera: v.direction_camera,
+                own_point: v.own_point.map(|o| OwnPointOut {
+                    point: o.point_px,
+                    direction_camera: o.direction_camera,
+                    from_frame_deg: o.from_frame_deg,
+                    edges: o.edges,
+                }),
             })
             .collect(),
         perspective: scene.perspective.name(),

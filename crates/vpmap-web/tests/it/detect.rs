@@ -67,6 +67,36 @@ fn example_photo_gives_three_vanishing_points_and_a_scene() {
     }
     // The office was photographed with a 1100 px lens at 25 degrees pitch.
     let f = v["focal_px"].as_f64().unwrap();
+    // Each direction's own point: its edges alone. The office is a Manhattan room, so they
+    // meet close to the frame's point; its angle and its pixel follow from its direction.
+    let pp = v["principal_point"].as_array().unwrap();
+    let (cx, cy) = (pp[0].as_f64().unwrap(), pp[1].as_f64().unwrap());
+    let unit = |a: &serde_json::Value| -> [f64; 3] {
+        let a: Vec<f64> = a
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|x| x.as_f64().unwrap())
+            .collect();
+        [a[0], a[1], a[2]]
+    };
+    for p in vps {
+        let own = &p["own_point"];
+        assert!(own["edges"].as_u64().unwrap() >= 2, "{own}");
+        let (d, o) = (unit(&p["direction_camera"]), unit(&own["direction_camera"]));
+        let dot = (d[0] * o[0] + d[1] * o[1] + d[2] * o[2]).clamp(-1.0, 1.0);
+        let angle = dot.abs().acos().to_degrees();
+        let said = own["from_frame_deg"].as_f64().unwrap();
+        assert!((angle - said).abs() < 1e-6, "{angle} against {said}");
+        assert!(said < 1.0, "own point {said} degrees from the frame's");
+        if let Some(point) = own["point"].as_array() {
+            let x = point[0].as_f64().unwrap();
+            assert!(
+                (x - (cx + f * o[0] / o[2])).abs() < 1e-6 * x.abs().max(1.0),
+                "{own}"
+            );
+        }
+    }
     assert!((f / 1100.0 - 1.0).abs() < 0.05, "focal {f}");
     assert_eq!(v["image"]["width"], 1600);
     // The scene is what `vpmap detect` writes: it calibrates, with three vanishing points.
