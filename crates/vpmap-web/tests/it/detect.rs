@@ -90,9 +90,13 @@ fn example_photo_gives_three_vanishing_points_and_a_scene() {
         assert!((angle - said).abs() < 1e-6, "{angle} against {said}");
         assert!(said < 1.0, "own point {said} degrees from the frame's");
         if let Some(point) = own["point"].as_array() {
-            let x = point[0].as_f64().unwrap();
+            let (x, y) = (point[0].as_f64().unwrap(), point[1].as_f64().unwrap());
             assert!(
                 (x - (cx + f * o[0] / o[2])).abs() < 1e-6 * x.abs().max(1.0),
+                "{own}"
+            );
+            assert!(
+                (y - (cy + f * o[1] / o[2])).abs() < 1e-6 * y.abs().max(1.0),
                 "{own}"
             );
         }
