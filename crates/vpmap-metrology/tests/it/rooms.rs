@@ -42,6 +42,16 @@ pub(crate) fn shared(sub: &str) -> PathBuf {
     dir
 }
 
+/// Shared room `mv0{r}` of `dir` (`shared("multiview-scenes")`): its file and its truth.
+pub(crate) fn shared_room(dir: &std::path::Path, r: usize) -> (serde_json::Value, RoomTruth) {
+    let path = dir.join(format!("mv0{r}.json"));
+    let room = serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
+    let truth =
+        serde_json::from_str(&std::fs::read_to_string(path.with_extension("truth.json")).unwrap())
+            .unwrap();
+    (room, truth)
+}
+
 /// Largest distance from a truth corner to the nearest corner of the map's object.
 pub(crate) fn footprint_error(map: &[[f64; 2]], truth: &[[f64; 2]]) -> f64 {
     truth
@@ -358,13 +368,7 @@ fn one_box_ties() -> Vec<OneBoxTie> {
     let dir = shared("multiview-scenes");
     let mut out = Vec::new();
     for r in 0..8 {
-        let path = dir.join(format!("mv0{r}.json"));
-        let room: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
-        let truth: RoomTruth = serde_json::from_str(
-            &std::fs::read_to_string(path.with_extension("truth.json")).unwrap(),
-        )
-        .unwrap();
+        let (room, truth) = shared_room(&dir, r);
         let photos = room["photos"].as_array().unwrap();
         let names = |p: &serde_json::Value| -> Vec<String> {
             p["objects"]
@@ -565,13 +569,7 @@ fn shared_data_rooms_give_the_same_map_for_every_order_of_photos_2_to_n() {
     let dir = shared("multiview-scenes");
     let mut orders = 0;
     for r in 0..8 {
-        let path = dir.join(format!("mv0{r}.json"));
-        let room: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
-        let truth: RoomTruth = serde_json::from_str(
-            &std::fs::read_to_string(path.with_extension("truth.json")).unwrap(),
-        )
-        .unwrap();
+        let (room, truth) = shared_room(&dir, r);
         let photos = room["photos"].as_array().unwrap().clone();
         let reference = build_value(&room).unwrap_or_else(|e| panic!("mv0{r}: {e}"));
         let rest: Vec<usize> = (1..photos.len()).collect();

@@ -5,7 +5,7 @@
 use vpmap_metrology::map::{BuildOptions, build_map};
 use vpmap_metrology::scene::Scene;
 
-use crate::rooms::{RoomTruth, footprint_error, permutations, shared};
+use crate::rooms::{footprint_error, permutations, shared, shared_room};
 
 /// How the noisy trials of the shared rooms give each photo its vanishing points.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -77,21 +77,15 @@ fn noisy_shared_rooms(sigma_px: f64, trials: u64, vps: VpSource) -> NoisyCount {
     let dir = shared("multiview-scenes");
     let mut count = NoisyCount::default();
     for r in 0..8 {
-        let path = dir.join(format!("mv0{r}.json"));
-        let room: serde_json::Value =
-            serde_json::from_str(&std::fs::read_to_string(&path).unwrap()).unwrap();
-        let truth: RoomTruth = serde_json::from_str(
-            &std::fs::read_to_string(path.with_extension("truth.json")).unwrap(),
-        )
-        .unwrap();
+        let (room, truth) = shared_room(&dir, r);
         for t in 0..trials {
             count.trials += 1;
-            let mut scene = noisy_room(&room, sigma_px, 1000 * r + t, vps);
+            let mut scene = noisy_room(&room, sigma_px, 1000 * r as u64 + t, vps);
             // Photos 2..n in an order of the trial's own.
             let orders = permutations(&scene.other_photos);
             scene
                 .other_photos
-                .clone_from(&orders[(t as usize * 7 + r as usize) % orders.len()]);
+                .clone_from(&orders[(t as usize * 7 + r) % orders.len()]);
             match build_map(&scene, &BuildOptions::default()) {
                 Err(e) => count.refused.push(format!("mv0{r} trial {t}: {e}")),
                 Ok(map) => {
