@@ -360,7 +360,12 @@ fn summary(
         // point, the room is not quite Manhattan there, or the focal length is off.
         let alone = det.vanishing_points[vp]
             .own_point
-            .map(|o| format!("; alone they meet {:.2} deg from it", o.from_frame_deg))
+            .map(|o| {
+                format!(
+                    "; alone they meet {:.2} deg from the frame's",
+                    o.from_frame_deg
+                )
+            })
             .unwrap_or_default();
         let within = scene.covariances[role]
             .map(|c| {
