@@ -415,6 +415,33 @@ pub(super) fn mahalanobis_sq(e: [f64; 2], cov: [[f64; 2]; 2]) -> f64 {
 /// The chi-square quantile with 2 degrees of freedom at 95 %.
 pub(super) const CHI2_95: f64 = 5.991_464_547_107_979;
 
+/// What the median distance after snapping is made of: the share of clicks within 1 px of
+/// their labelled corner (the median is at most 1 px exactly when it reaches half), of the
+/// snapped ones and of those that stayed, and what an all-precise snap would give at this
+/// share snapped.
+fn within_one_px(clicks: &[YudClick]) -> String {
+    let share = |set: &[&YudClick]| {
+        let near = set.iter().filter(|c| c.error_px <= 1.0).count();
+        (
+            near,
+            set.len(),
+            100.0 * near as f64 / set.len().max(1) as f64,
+        )
+    };
+    let all: Vec<&YudClick> = clicks.iter().collect();
+    let (snapped, stayed): (Vec<&YudClick>, Vec<&YudClick>) =
+        clicks.iter().partition(|c| c.snapped);
+    let (a, n, a_pct) = share(&all);
+    let (b, m, b_pct) = share(&snapped);
+    let (c, k, c_pct) = share(&stayed);
+    // Were every snapped point within 1 px, the share within 1 px would be the snapped share
+    // plus the clicks that stayed and lie within 1 px anyway.
+    let best = 100.0 * (m + c) as f64 / n.max(1) as f64;
+    format!(
+        "Within 1 px of the labelled corner after snapping: {a} of {n} clicks ({a_pct:.1} %; the median distance is at most 1 px when this reaches 50 %): {b} of the {m} snapped ({b_pct:.1} %), {c} of the {k} that stayed ({c_pct:.1} %). Were every snapped point within 1 px, {best:.1} % would be."
+    )
+}
+
 /// The name of the section `--yud DIR --publish` writes.
 pub const YUD_SECTION: &str = "eval-clicks-yud";
 
@@ -523,6 +550,7 @@ pub fn yud_markdown(config: &YudConfig, results: &YudResults) -> String {
     };
     let show =
         |f: Option<f64>| f.map_or_else(|| "more than 4 px".to_owned(), |f| format!("{f:.1} px"));
+    let _ = writeln!(s, "\n{}", within_one_px(clicks));
     let _ = writeln!(
         s,
         "\nThe covariance floor (`SnapOptions::covariance_floor_px`, {floor} px in this run) these photos need for the snapped points' 95 % ellipses to hold their labelled corner (labels' error added) 90 % of the time: {}; 92 %: {}.",
@@ -698,6 +726,43 @@ fn clamp_into(p: [f64; 2], image: &SnapImage) -> [f64; 2] {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_share_within_1_px_counts_snapped_and_stayed_clicks_apart() {
+        let click = |error_px: f64, snapped: bool| YudClick {
+            photo: "p".to_owned(),
+            corner: LabelledCorner {
+                point_px: [10.0, 10.0],
+                segments: [0, 1],
+                normals: [[1.0, 0.0], [0.0, 1.0]],
+            },
+            raw_error_px: 2.0,
+            error_px,
+            snapped,
+            sd_px: None,
+            covariance_px2: None,
+            kept: None,
+            exact_moved_px: 0.0,
+            error_vec_px: [error_px, 0.0],
+            label_offsets_px: [None, None],
+            edges: Vec::new(),
+        };
+        // Snapped: 0.5 and 1.0 px within, 1.5 px not; stayed: 0.9 within, 2.5 and 3.0 not.
+        let clicks = [
+            click(0.5, true),
+            click(1.0, true),
+            click(1.5, true),
+            click(0.9, false),
+            click(2.5, false),
+            click(3.0, false),
+        ];
+        let text = within_one_px(&clicks);
+        assert!(text.contains("3 of 6 clicks (50.0 %"), "{text}");
+        assert!(text.contains("2 of the 3 snapped (66.7 %)"), "{text}");
+        assert!(text.contains("1 of the 3 that stayed (33.3 %)"), "{text}");
+        // Every snapped point within 1 px: the three snapped and the one that stayed.
+        assert!(text.contains("66.7 % would be"), "{text}");
+    }
 
     #[test]
     fn a_label_is_an_outlier_only_where_the_photo_shows_its_line_off() {
