@@ -723,6 +723,30 @@ fn clamp_into(p: [f64; 2], image: &SnapImage) -> [f64; 2] {
     ]
 }
 
+/// A click for unit tests: a corner at (10, 10) on two axis-aligned lines, clicked 2 px off
+/// and left there 1 px off, not snapped, no label offsets measured.
+#[cfg(test)]
+pub(super) fn test_click() -> YudClick {
+    YudClick {
+        photo: "p".to_owned(),
+        corner: LabelledCorner {
+            point_px: [10.0, 10.0],
+            segments: [0, 1],
+            normals: [[1.0, 0.0], [0.0, 1.0]],
+        },
+        raw_error_px: 2.0,
+        error_px: 1.0,
+        snapped: false,
+        sd_px: None,
+        covariance_px2: None,
+        kept: None,
+        exact_moved_px: 0.0,
+        error_vec_px: [1.0, 0.0],
+        label_offsets_px: [None, None],
+        edges: Vec::new(),
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -730,22 +754,10 @@ mod tests {
     #[test]
     fn the_share_within_1_px_counts_snapped_and_stayed_clicks_apart() {
         let click = |error_px: f64, snapped: bool| YudClick {
-            photo: "p".to_owned(),
-            corner: LabelledCorner {
-                point_px: [10.0, 10.0],
-                segments: [0, 1],
-                normals: [[1.0, 0.0], [0.0, 1.0]],
-            },
-            raw_error_px: 2.0,
             error_px,
             snapped,
-            sd_px: None,
-            covariance_px2: None,
-            kept: None,
-            exact_moved_px: 0.0,
             error_vec_px: [error_px, 0.0],
-            label_offsets_px: [None, None],
-            edges: Vec::new(),
+            ..test_click()
         };
         // Snapped: 0.5 and 1.0 px within, 1.5 px not; stayed: 0.9 within, 2.5 and 3.0 not.
         let clicks = [
@@ -767,22 +779,8 @@ mod tests {
     #[test]
     fn a_label_is_an_outlier_only_where_the_photo_shows_its_line_off() {
         let click = |offsets: [Option<f64>; 2]| YudClick {
-            photo: "p".to_owned(),
-            corner: LabelledCorner {
-                point_px: [10.0, 10.0],
-                segments: [0, 1],
-                normals: [[1.0, 0.0], [0.0, 1.0]],
-            },
-            raw_error_px: 1.0,
-            error_px: 1.0,
-            snapped: false,
-            sd_px: None,
-            covariance_px2: None,
-            kept: None,
-            exact_moved_px: 0.0,
-            error_vec_px: [0.0; 2],
             label_offsets_px: offsets,
-            edges: Vec::new(),
+            ..test_click()
         };
         let sd = 0.5;
         // 3 sd = 1.5 px; a bias of 0.2 px along x moves the first line's allowance.

@@ -89,7 +89,7 @@ mod tests {
     use vpmap_vision::snap::{EdgeDirection, SnapEdge};
 
     use super::*;
-    use crate::clicks::yud::LabelledCorner;
+    use crate::clicks::yud::test_click;
 
     /// A snapped click 2 px off its labelled corner whose edges stop `unseen_px` beyond the
     /// blur, its covariance a 0.4 px floor plus the unseen term.
@@ -106,22 +106,15 @@ mod tests {
         };
         let variance = 0.16 + 2.0 * (kappa * unseen_px).powi(2);
         YudClick {
-            photo: "p".to_owned(),
-            corner: LabelledCorner {
-                point_px: [10.0, 10.0],
-                segments: [0, 1],
-                normals: [[1.0, 0.0], [0.0, 1.0]],
-            },
             raw_error_px: 2.5,
             error_px: 2.0,
             snapped: true,
             sd_px: Some(variance.sqrt()),
             covariance_px2: Some([[variance, 0.0], [0.0, variance]]),
-            kept: None,
-            exact_moved_px: 0.0,
             error_vec_px: [2.0, 0.0],
             label_offsets_px: [Some(0.0); 2],
             edges: vec![edge([1.0, 0.0]), edge([0.0, 1.0])],
+            ..test_click()
         }
     }
 
