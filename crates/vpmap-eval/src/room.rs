@@ -20,7 +20,7 @@ use std::fmt::Write as _;
 
 use rayon::prelude::*;
 use vpmap_metrology::eval::{
-    RoomMapErrors, RoomTrial, RoomTrialOptions, SharedObject, run_room_trial,
+    RoomMapErrors, RoomObjectErrors, RoomTrial, RoomTrialOptions, SharedObject, run_room_trial,
 };
 
 use crate::progress::Progress;
@@ -130,11 +130,14 @@ pub struct RoomRow {
     /// photo's frame, below that photo's map alone.
     pub shared_better_in_frame: Vec<bool>,
     /// Joint maps (photos 2..n shuffled) with a box more than [`WRONG_BOX_M`] off or a
-    /// centroid at a squared Mahalanobis distance above [`WRONG_MAHALANOBIS_SQ`], that say
-    /// no tie.
+    /// centroid at a squared Mahalanobis distance above [`WRONG_MAHALANOBIS_SQ`] that say
+    /// no tie and do not warn that box's place or size uncertain.
     pub silent_wrong: usize,
     /// The same, off by the Mahalanobis distance (the error bars do not cover it).
     pub silent_wrong_mahalanobis: usize,
+    /// Joint maps wrong so, with no tie said, whose every wrong box a warning names as
+    /// uncertain ([`FloorMap::warns_uncertain`](vpmap_metrology::map::FloorMap::warns_uncertain)).
+    pub wrong_said: usize,
     /// Joint maps that say a tie (alternatives or the tie warning).
     pub ties_said: usize,
     /// Of those, the ones whose every box is within [`WRONG_BOX_M`] and its error bars.
@@ -213,25 +216,31 @@ pub fn room_row(trials: &[RoomTrial], sigma_px: f64) -> RoomRow {
         );
         r.shared_better_in_frame
             .extend(ev.shared.iter().flat_map(SharedObject::better_in_frames));
-        let far = ev
+        let is_far = |o: &&RoomObjectErrors| o.corner_error_m > WRONG_BOX_M;
+        let is_outside =
+            |o: &&RoomObjectErrors| o.mahalanobis_sq.is_some_and(|m| m > WRONG_MAHALANOBIS_SQ);
+        let wrong: Vec<&RoomObjectErrors> = ev
             .joint
             .objects
             .iter()
-            .any(|o| o.corner_error_m > WRONG_BOX_M);
-        let outside = ev
-            .joint
-            .objects
-            .iter()
-            .any(|o| o.mahalanobis_sq.is_some_and(|m| m > WRONG_MAHALANOBIS_SQ));
+            .filter(|o| is_far(o) || is_outside(o))
+            .collect();
         if ev.tie_said {
             r.ties_said += 1;
-            if !(far || outside) {
+            if wrong.is_empty() {
                 r.ties_right += 1;
             }
-        } else if far || outside {
-            r.silent_wrong += 1;
-            if outside {
-                r.silent_wrong_mahalanobis += 1;
+        } else if !wrong.is_empty() {
+            // Wrong boxes the map names as uncertain are said, not silent.
+            let unsaid: Vec<&&RoomObjectErrors> =
+                wrong.iter().filter(|o| !o.uncertainty_said).collect();
+            if unsaid.is_empty() {
+                r.wrong_said += 1;
+            } else {
+                r.silent_wrong += 1;
+                if unsaid.iter().any(|o| is_outside(o)) {
+                    r.silent_wrong_mahalanobis += 1;
+                }
             }
         }
     }
@@ -315,9 +324,10 @@ fn placement(options: &RoomEvalOptions, trials: &[Vec<RoomTrial>]) -> String {
         "### Placement (issue 39): photos 2..n in a shuffled order\n\n\
          A joint map is wrong when a box's worst corner is more than {WRONG_BOX_M} m from the truth \
          or its centroid at a squared Mahalanobis distance above {WRONG_MAHALANOBIS_SQ}; silent when \
-         it says no tie (no `alternatives`, no tie warning).\n\n\
-         | sigma | photos | rooms | refused | silent wrong (of them beyond the error bars) | ties said | ties said and right | truth in 95 % ellipse |\n\
-         |---|---|---|---|---|---|---|---|\n"
+         it says no tie (no `alternatives`, no tie warning) and no warning names that box's place or \
+         size as uncertain.\n\n\
+         | sigma | photos | rooms | refused | silent wrong (of them beyond the error bars) | wrong, the box named uncertain | ties said | ties said and right | truth in 95 % ellipse |\n\
+         |---|---|---|---|---|---|---|---|---|\n"
     );
     for &sigma in &options.sigmas_px {
         for (&n, list) in options.photos.iter().zip(trials) {
@@ -327,11 +337,12 @@ fn placement(options: &RoomEvalOptions, trials: &[Vec<RoomTrial>]) -> String {
             let r = room_row(list, sigma);
             let _ = writeln!(
                 md,
-                "| {sigma} px | {n} | {} | {} | {} ({}) | {} | {} | {} |",
+                "| {sigma} px | {n} | {} | {} | {} ({}) | {} | {} | {} | {} |",
                 r.rooms + r.refused,
                 r.refused,
                 r.silent_wrong,
                 r.silent_wrong_mahalanobis,
+                r.wrong_said,
                 r.ties_said,
                 r.ties_right,
                 pct(share(&r.joint_covered)),

@@ -94,6 +94,9 @@ pub struct RoomObjectErrors {
     pub mahalanobis_sq: Option<f64>,
     /// The largest distance from a true footprint corner to the nearest of the map's, metres.
     pub corner_error_m: f64,
+    /// Whether a warning of the map says the object's place or a size of it is uncertain
+    /// ([`FloorMap::warns_uncertain`]).
+    pub uncertainty_said: bool,
 }
 
 /// A map of the room (joint or one photo alone) against its truth.
@@ -541,6 +544,7 @@ fn map_errors(
                 in_ellipse_95,
                 mahalanobis_sq,
                 corner_error_m,
+                uncertainty_said: map.warns_uncertain(&t.name),
             })
         })
         .collect();

@@ -11,7 +11,7 @@ use super::reconstruction::{
 };
 use super::regions::{free_space, occlusion_shadow, ring, to_polygons};
 use super::types::{FitReport, FloorMap, MapObject, Units};
-use super::warnings::{crossing_warnings, fit_warnings};
+use super::warnings::{crossing_warnings, fit_warnings, position_warnings};
 use crate::camera::room_yaw_rad;
 use crate::error::Result;
 use crate::fit::{FitOptions, fit_scene_until};
@@ -179,6 +179,12 @@ fn photo_map(
         for (o, ou) in objects.iter_mut().zip(&u.objects) {
             o.uncertainty = Some(ou.clone());
         }
+        warnings.extend(position_warnings(
+            &objects,
+            units,
+            u.click_sigma_px,
+            "snap its corners and click all it shows, or add a photo that sees it from nearer",
+        ));
         camera_uncertainty = Some(u.camera);
         fit_report = Some(FitReport {
             click_sigma_px: u.click_sigma_px,

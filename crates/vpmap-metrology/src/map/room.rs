@@ -10,7 +10,9 @@ use super::options::BuildOptions;
 use super::reconstruction::box_size;
 use super::regions::{occlusion_shadow, ring, to_polygons};
 use super::types::{FitReport, FloorMap, MapAlternative, MapObject, Units};
-use super::warnings::{WARN_RELATIVE_SD, WARN_RESIDUAL_SIGMAS, poorly_fixed_camera};
+use super::warnings::{
+    WARN_RELATIVE_SD, WARN_RESIDUAL_SIGMAS, poorly_fixed_camera, position_warnings,
+};
 use crate::error::{MetrologyError, Result};
 use crate::fit::FitOptions;
 use crate::interrupt::Interrupt;
@@ -229,6 +231,12 @@ pub(super) fn room_map(
             ));
         }
     }
+    warnings.extend(position_warnings(
+        &objects,
+        units,
+        u.click_sigma_px,
+        "snap its corners and click all they show in every photo that shows it, or add a photo that sees it from nearer",
+    ));
     for (r, weighted) in fitted
         .point_residuals
         .iter()

@@ -220,6 +220,18 @@ impl FloorMap {
         Ok(map)
     }
 
+    /// Whether a warning says that object `name`'s place or one of its sizes is uncertain
+    /// (beyond [`WARN_POSITION_M`](super::WARN_POSITION_M) or
+    /// [`WARN_RELATIVE_SD`](super::WARN_RELATIVE_SD)): the map then says the object may be
+    /// off.
+    #[must_use]
+    pub fn warns_uncertain(&self, name: &str) -> bool {
+        let prefix = format!("object {name:?}: its ");
+        self.warnings
+            .iter()
+            .any(|w| w.starts_with(&prefix) && w.contains(" is uncertain by +-"))
+    }
+
     /// The map as pretty-printed JSON.
     #[must_use]
     pub fn to_json_string(&self) -> String {

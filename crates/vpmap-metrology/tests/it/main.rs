@@ -9,6 +9,7 @@ mod eval;
 mod fit;
 mod lens;
 mod measured_vps;
+mod placed_poorly;
 mod random_scenes;
 mod room_lens;
 mod room_synth;

@@ -55,12 +55,22 @@ fn noisy_room(v: &serde_json::Value, sigma_px: f64, seed: u64, vps: VpSource) ->
 /// Mahalanobis radius.
 const CHI2_2_95: f64 = 5.991_464_547_107_979;
 
+/// A box wrong with nothing said: where, how far off, and its Mahalanobis distance squared.
+#[derive(Debug)]
+struct SilentBox {
+    trial: String,
+    error_m: f64,
+    d2: f64,
+}
+
 /// How the noisy trials of the shared rooms came out.
 #[derive(Debug, Default)]
 struct NoisyCount {
     trials: usize,
     refused: Vec<String>,
-    silent_wrong: Vec<String>,
+    /// Boxes more than 0.25 m off or at d^2 > 30 in maps that say no tie and no warning of
+    /// which names the box as uncertain (issue 39's "silent wrong").
+    silent_wrong: Vec<SilentBox>,
     /// Maps with a box more than 0.25 m off inside its error bars (d^2 <= 30): for each, the
     /// worst such box, its error, d^2, the 95 % ellipse's major semi-axis and whether a
     /// warning names it.
@@ -71,6 +81,8 @@ struct NoisyCount {
     /// 95 % ellipse (d^2 at most 5.991, chi-square with 2 degrees of freedom).
     objects: usize,
     inside: usize,
+    /// Objects a warning names as placed no better than a quarter metre.
+    place_warned: usize,
 }
 
 fn noisy_shared_rooms(sigma_px: f64, trials: u64, vps: VpSource) -> NoisyCount {
@@ -92,6 +104,9 @@ fn noisy_shared_rooms(sigma_px: f64, trials: u64, vps: VpSource) -> NoisyCount {
                     let mut worst = 0.0f64;
                     let mut worst_d2 = 0.0f64;
                     let mut worst_said = String::new();
+                    // Boxes wrong (more than 0.25 m off, or d^2 > 30) that no warning names as
+                    // uncertain.
+                    let mut unsaid = Vec::new();
                     for o in &truth.objects {
                         let m = map.objects.iter().find(|m| m.name == o.name).unwrap();
                         let e = footprint_error(&m.footprint, &o.footprint);
@@ -113,13 +128,19 @@ fn noisy_shared_rooms(sigma_px: f64, trials: u64, vps: VpSource) -> NoisyCount {
                             let major = (f64::midpoint(a, b)
                                 + ((a - b) * (a - b) / 4.0 + c2 * c2).sqrt())
                             .max(0.0);
-                            let named = map.warnings.iter().any(|w| w.contains(&o.name));
+                            let named = map.warns_uncertain(&o.name);
                             worst_said = format!(
-                                "mv0{r} trial {t}: {} {e:.2} m off, d^2 {d2:.1}, 95 % semi-axis {:.2} m, named in a warning: {named}",
+                                "mv0{r} trial {t}: {} {e:.2} m off, d^2 {d2:.1}, 95 % semi-axis {:.2} m, named uncertain in a warning: {named}",
                                 o.name,
                                 (CHI2_2_95 * major).sqrt()
                             );
                         }
+                        if (e > 0.25 || d2 > 30.0) && !map.warns_uncertain(&o.name) {
+                            unsaid.push((o.name.clone(), e, d2));
+                        }
+                        count.place_warned += usize::from(map.warnings.iter().any(|w| {
+                            w.starts_with(&format!("object {:?}: its place is uncertain", o.name))
+                        }));
                         count.objects += 1;
                         count.inside += usize::from(d2 <= CHI2_2_95);
                     }
@@ -129,10 +150,14 @@ fn noisy_shared_rooms(sigma_px: f64, trials: u64, vps: VpSource) -> NoisyCount {
                     if worst > 0.25 && worst_d2 <= 30.0 {
                         count.beyond_quarter_metre.push(worst_said);
                     }
-                    if worst_d2 > 30.0 && !said {
-                        count
-                            .silent_wrong
-                            .push(format!("mv0{r} trial {t}: {worst:.2} m, d^2 {worst_d2:.1}"));
+                    if !said {
+                        for (name, e, d2) in unsaid {
+                            count.silent_wrong.push(SilentBox {
+                                trial: format!("mv0{r} trial {t}: {name}"),
+                                error_m: e,
+                                d2,
+                            });
+                        }
                     }
                 }
             }
@@ -163,7 +188,7 @@ fn shared_data_rooms_with_noisy_clicks_are_mapped_not_refused() {
     for (sigma, edges) in cases {
         let c = noisy_shared_rooms(sigma, trials, edges);
         println!(
-            "{sigma} px, vanishing points {edges:?}: {} trials, {} refused, {} silently wrong (d^2 > 30), {} a box > 0.25 m inside its error bars, worst box {:.3} m, worst d^2 {:.1}, truth inside the 95 % ellipse {} of {} ({:.1} %)\n{:#?}\n{:#?}",
+            "{sigma} px, vanishing points {edges:?}: {} trials, {} refused, {} boxes wrong with nothing said, {} a box > 0.25 m inside its error bars, worst box {:.3} m, worst d^2 {:.1}, truth inside the 95 % ellipse {} of {} ({:.1} %), {} placed uncertain by a warning\n{:#?}\n{:#?}",
             c.trials,
             c.refused.len(),
             c.silent_wrong.len(),
@@ -173,6 +198,7 @@ fn shared_data_rooms_with_noisy_clicks_are_mapped_not_refused() {
             c.inside,
             c.objects,
             100.0 * c.inside as f64 / c.objects.max(1) as f64,
+            c.place_warned,
             c.refused,
             c.silent_wrong
         );
@@ -182,11 +208,22 @@ fn shared_data_rooms_with_noisy_clicks_are_mapped_not_refused() {
         counts.push((sigma, edges, c));
     }
     for (sigma, edges, c) in counts {
-        assert!(
-            c.silent_wrong.is_empty(),
-            "{sigma} px: {:?}",
-            c.silent_wrong
-        );
+        // Issue 39's "silent wrong": a box more than 0.25 m off or at d^2 > 30 with nothing
+        // said. A box whose place the error bars leave uncertain beyond a quarter metre (3
+        // sigma along its least certain direction) is named by a warning
+        // (`WARN_POSITION_M`), so a box wrong with nothing said must lie beyond its error bars
+        // (3 sigma: d^2 > 9), and none beyond d^2 = 30. (Calibrated error bars leave such a
+        // tail: over 50 trials a room one box of 1,700 at 1 px with the boxes' edges, mv03
+        // trial 17's box3, 0.251 m off at d^2 12.9; docs/results.md.)
+        for b in &c.silent_wrong {
+            assert!(
+                b.d2 > 9.0 && b.d2 <= 30.0,
+                "{sigma} px, {edges:?}: {} is {:.3} m off at d^2 {:.1} with nothing said",
+                b.trial,
+                b.error_m,
+                b.d2
+            );
+        }
         // Issue 39's target: at most 1 % of the rooms refused (none of 64 in 8 trials a
         // room). Until a room's photos had their boxes made positive without mirroring them
         // (`room/align.rs`, `PhotoFit::new`), a photo whose fit ended with a negative side put
