@@ -51,6 +51,17 @@ fn noisy_room(v: &serde_json::Value, sigma_px: f64, seed: u64, vps: VpSource) ->
     scene
 }
 
+/// The median of `v` (NaN for none).
+fn median(v: &[f64]) -> f64 {
+    let mut v = v.to_vec();
+    v.sort_by(f64::total_cmp);
+    match v.len() {
+        0 => f64::NAN,
+        n if n % 2 == 1 => v[n / 2],
+        n => f64::midpoint(v[n / 2 - 1], v[n / 2]),
+    }
+}
+
 /// The chi-square quantile of 95 % with 2 degrees of freedom: a 95 % ellipse's squared
 /// Mahalanobis radius.
 const CHI2_2_95: f64 = 5.991_464_547_107_979;
@@ -83,6 +94,10 @@ struct NoisyCount {
     inside: usize,
     /// Objects a warning names as placed no better than a quarter metre.
     place_warned: usize,
+    /// Every object's centroid error, m.
+    centroid_errors_m: Vec<f64>,
+    /// Every object's 95 % ellipse's major semi-axis, m.
+    major_95_m: Vec<f64>,
 }
 
 fn noisy_shared_rooms(sigma_px: f64, trials: u64, vps: VpSource) -> NoisyCount {
@@ -142,6 +157,14 @@ fn noisy_shared_rooms(sigma_px: f64, trials: u64, vps: VpSource) -> NoisyCount {
                             w.starts_with(&format!("object {:?}: its place is uncertain", o.name))
                         }));
                         count.objects += 1;
+                        count.centroid_errors_m.push(d[0].hypot(d[1]));
+                        count.major_95_m.push(
+                            m.uncertainty
+                                .as_ref()
+                                .unwrap()
+                                .centroid_ellipse_95
+                                .semi_axes[0],
+                        );
                         count.inside += usize::from(d2 <= CHI2_2_95);
                     }
                     count.worst_m = count.worst_m.max(worst);
@@ -201,6 +224,11 @@ fn shared_data_rooms_with_noisy_clicks_are_mapped_not_refused() {
             c.place_warned,
             c.refused,
             c.silent_wrong
+        );
+        println!(
+            "  median centroid error {:.4} m, median 95 % major semi-axis {:.4} m",
+            median(&c.centroid_errors_m),
+            median(&c.major_95_m)
         );
         for b in &c.beyond_quarter_metre {
             println!("  a box > 0.25 m: {b}");
