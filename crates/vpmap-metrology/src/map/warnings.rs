@@ -16,9 +16,10 @@ pub const WARN_RESIDUAL_SIGMAS: f64 = 3.0;
 /// distance at which issue 39 calls a box wrong (`docs/method.md`, "Objects placed poorly").
 pub const WARN_POSITION_M: f64 = 0.25;
 /// Standard deviations of an object's centroid, along its least certain direction, that must
-/// fit within [`WARN_POSITION_M`]: three (a 2-D normal lies beyond 3 sigma along a given
-/// direction 0.3 % of the time), so a box the map does not warn about lies a quarter metre off
-/// only when its error bars are wrong.
+/// fit within [`WARN_POSITION_M`]: three. A centroid the map does not warn about that lies a
+/// quarter metre off is then beyond 3 sigma in every direction, outside its error bars'
+/// ellipse of squared Mahalanobis radius 9 (where a right 2-D normal error lies 1.1 % of the
+/// time at most).
 pub const WARN_POSITION_SIGMAS: f64 = 3.0;
 
 /// The first two non-adjacent edges of a closed ring that touch or cross, as edge indices
