@@ -43,7 +43,9 @@ mod yud_unseen;
 use rayon::prelude::*;
 
 pub use report::{CLICKS_SECTION, CLUTTERED_SECTION, published_section, summary_markdown};
-pub use trial::{ClickRecord, FitRecord, ProposalRecord, TrialResult, run_clicks_trial};
+pub use trial::{
+    ClickRecord, EdgeQuality, FitRecord, ProposalRecord, TrialResult, run_clicks_trial,
+};
 
 use crate::progress::Progress;
 
@@ -139,4 +141,70 @@ pub fn example_files(config: &Config, sigma_px: f64) -> crate::Result<crate::out
         format!("{}\n", serde_json::to_string_pretty(&scene)?),
     );
     Ok(files)
+}
+
+/// The share of `rows` inside (`true`) in four groups of about equal size by their key,
+/// smallest key first, with each group's key range and how many of it are outside:
+/// `50.0 / 100.0 % (1.000-2.000: 1 of 2 outside; 3.000-4.000: 0 of 2 outside)`; `-` for no
+/// rows.
+pub(crate) fn inside_by_quarter(mut rows: Vec<(f64, bool)>) -> String {
+    if rows.is_empty() {
+        return "-".to_owned();
+    }
+    rows.sort_by(|a, b| a.0.total_cmp(&b.0));
+    let size = rows.len().div_ceil(4);
+    let (mut shares, mut ranges) = (Vec::new(), Vec::new());
+    for group in rows.chunks(size) {
+        let inside = group.iter().filter(|r| r.1).count();
+        shares.push(format!("{:.1}", 100.0 * inside as f64 / group.len() as f64));
+        if let (Some(a), Some(b)) = (group.first(), group.last()) {
+            ranges.push(format!(
+                "{:.3}-{:.3}: {} of {} outside",
+                a.0,
+                b.0,
+                group.len() - inside,
+                group.len()
+            ));
+        }
+    }
+    format!("{} % ({})", shares.join(" / "), ranges.join("; "))
+}
+
+#[cfg(test)]
+mod quarter_tests {
+    use super::inside_by_quarter;
+
+    #[test]
+    fn the_quarters_are_sorted_by_key_and_count_their_own_rows() {
+        // Keys given out of order: the smallest four are all outside, the next four half in.
+        let rows = vec![
+            (9.0, true),
+            (1.0, false),
+            (5.0, true),
+            (2.0, false),
+            (13.0, true),
+            (6.0, false),
+            (3.0, false),
+            (10.0, true),
+            (4.0, false),
+            (7.0, true),
+            (14.0, true),
+            (8.0, false),
+            (11.0, true),
+            (15.0, true),
+            (12.0, false),
+            (16.0, true),
+        ];
+        assert_eq!(
+            inside_by_quarter(rows),
+            "0.0 / 50.0 / 75.0 / 100.0 % (1.000-4.000: 4 of 4 outside; 5.000-8.000: 2 of 4 outside; 9.000-12.000: 1 of 4 outside; 13.000-16.000: 0 of 4 outside)"
+        );
+        assert_eq!(inside_by_quarter(Vec::new()), "-");
+        // Five rows: groups of two, two and one.
+        let five = (1..=5).map(|k| (f64::from(k), k % 2 == 0)).collect();
+        assert_eq!(
+            inside_by_quarter(five),
+            "50.0 / 50.0 / 0.0 % (1.000-2.000: 1 of 2 outside; 3.000-4.000: 1 of 2 outside; 5.000-5.000: 1 of 1 outside)"
+        );
+    }
 }

@@ -6,7 +6,7 @@ use std::time::Duration;
 
 use vpmap_vision::synthetic::photo::CornerKind;
 
-use super::{Config, Results};
+use super::{Config, EdgeQuality, Results, inside_by_quarter};
 use crate::stats::{median, quantile_of};
 
 /// The name of the section `--publish` writes.
@@ -92,6 +92,29 @@ pub fn summary_markdown(config: &Config, results: &Results) -> String {
             );
         }
     }
+    // Coverage by how clear the edges are (every noise level's snapped box corners).
+    let quality: Vec<(EdgeQuality, bool)> = trials
+        .iter()
+        .flat_map(|t| &t.clicks)
+        .filter(|c| c.kind == CornerKind::BoxCorner && c.visible)
+        .filter_map(|c| Some((c.edge_quality?, c.chi2? <= 5.991)))
+        .collect();
+    let _ = writeln!(
+        s,
+        "\nSnapped box corners (every noise level) inside their 95 % ellipse, in four groups of about equal size by the weaker edge's mean gradient across (grey levels per pixel, weakest first): {}; by the rougher edge's residual RMS (pixels, smoothest first): {}.",
+        inside_by_quarter(
+            quality
+                .iter()
+                .map(|(q, i)| (q.weaker_gradient, *i))
+                .collect()
+        ),
+        inside_by_quarter(
+            quality
+                .iter()
+                .map(|(q, i)| (q.rougher_rms_px, *i))
+                .collect()
+        ),
+    );
     // Fits.
     let _ = writeln!(
         s,
@@ -200,6 +223,7 @@ mod tests {
             raw_error_px: 2.0,
             error_px,
             chi2: snapped.then_some(1.0),
+            edge_quality: None,
         };
         let trial = TrialResult {
             trial: 0,

@@ -36,6 +36,33 @@ pub struct ClickRecord {
     pub error_px: f64,
     /// Squared Mahalanobis distance of a snapped point's error under its covariance.
     pub chi2: Option<f64>,
+    /// A snapped point's weaker edge: its mean gradient across, grey levels per pixel
+    /// (`SnapEdge::gradient`), and the rougher edge's residual RMS, pixels.
+    pub edge_quality: Option<EdgeQuality>,
+}
+
+/// How clear a snapped point's two edges are: the weaker one's gradient and the rougher one's
+/// residual RMS.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct EdgeQuality {
+    /// The smaller mean gradient across the two edges, grey levels per pixel.
+    pub weaker_gradient: f64,
+    /// The larger residual RMS of the two edges' points about their lines, pixels.
+    pub rougher_rms_px: f64,
+}
+
+impl EdgeQuality {
+    /// Of a snap's edges; `None` without any.
+    #[must_use]
+    pub fn of(edges: &[vpmap_vision::snap::SnapEdge]) -> Option<Self> {
+        (!edges.is_empty()).then(|| EdgeQuality {
+            weaker_gradient: edges
+                .iter()
+                .map(|e| e.gradient)
+                .fold(f64::INFINITY, f64::min),
+            rougher_rms_px: edges.iter().map(|e| e.rms_px).fold(0.0, f64::max),
+        })
+    }
 }
 
 /// One fit of one trial and noise level.
@@ -237,6 +264,10 @@ pub fn run_clicks_trial(config: &Config, trial: u64) -> TrialResult {
                 raw_error_px: raw_error,
                 error_px: dist(point, t.point_px),
                 chi2,
+                edge_quality: snap
+                    .as_ref()
+                    .filter(|_| snapped_here)
+                    .and_then(|s| EdgeQuality::of(&s.edges)),
             });
         }
         // The clicks are where the photo shows them: through its lens, which the fits are

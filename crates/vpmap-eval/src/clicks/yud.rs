@@ -562,6 +562,38 @@ pub fn yud_markdown(config: &YudConfig, results: &YudResults) -> String {
         sd_l,
         snap_options(config).unseen_sd_per_px,
     ));
+    // Coverage by how clear the edges are.
+    let quality: Vec<(super::EdgeQuality, bool)> = snapped
+        .iter()
+        .filter_map(|c| {
+            let cov = c.covariance_px2?;
+            let l = corner_label_covariance(&c.corner, sd_l);
+            let total = [
+                [cov[0][0] + l[0][0], cov[0][1] + l[0][1]],
+                [cov[1][0] + l[1][0], cov[1][1] + l[1][1]],
+            ];
+            Some((
+                super::EdgeQuality::of(&c.edges)?,
+                mahalanobis_sq(c.error_vec_px, total) <= CHI2_95,
+            ))
+        })
+        .collect();
+    let _ = writeln!(
+        s,
+        "\nThe snapped points (every corner) inside their 95 % ellipse (labels' error added), in four groups of about equal size by the weaker edge's mean gradient across (grey levels per pixel, weakest first): {}; by the rougher edge's residual RMS (pixels, smoothest first): {}.",
+        super::inside_by_quarter(
+            quality
+                .iter()
+                .map(|(q, i)| (q.weaker_gradient, *i))
+                .collect()
+        ),
+        super::inside_by_quarter(
+            quality
+                .iter()
+                .map(|(q, i)| (q.rougher_rms_px, *i))
+                .collect()
+        ),
+    );
     let exact: Vec<f64> = clicks.iter().map(|c| c.exact_moved_px).collect();
     let _ = writeln!(
         s,
