@@ -3,7 +3,7 @@
 
 use nalgebra::Vector2;
 
-use crate::fit::Fitted;
+use crate::fit::{CHI2_2DOF_95, Fitted};
 use crate::map::{MapObject, Units};
 use crate::reconstruct::{ObjectKind, Reconstruction};
 use crate::scene::Scene;
@@ -135,15 +135,6 @@ pub(super) fn fit_warnings(
     out
 }
 
-/// The standard deviation of a centroid with covariance `c` along its least certain
-/// direction: the square root of the larger eigenvalue (NaN for a NaN covariance).
-fn major_sd(c: [[f64; 2]; 2]) -> f64 {
-    let (a, b, d) = (c[0][0], c[1][1], c[0][1]);
-    let v = f64::midpoint(a, b) + (0.25 * (a - b) * (a - b) + d * d).sqrt();
-    // Rounding may leave a zero covariance slightly negative; a NaN stays NaN.
-    if v < 0.0 { 0.0 } else { v.sqrt() }
-}
-
 /// Warnings for objects whose place the fit leaves uncertain: a centroid whose standard
 /// deviation along its least certain direction, [`WARN_POSITION_SIGMAS`] times over, exceeds
 /// [`WARN_POSITION_M`]. Only in a map in metres (a map in camera heights has no metres to
@@ -161,8 +152,9 @@ pub(super) fn position_warnings(
         .iter()
         .filter_map(|o| {
             let u = o.uncertainty.as_ref()?;
-            let sd = major_sd(u.centroid_covariance);
-            // A NaN covariance warns too: its place is not known at all.
+            // The 95 % ellipse's long semi-axis, back to one sigma (infinite for a covariance
+            // that is not finite: its place is not known at all).
+            let sd = u.centroid_ellipse_95.semi_axes[0] / CHI2_2DOF_95.sqrt();
             let within = WARN_POSITION_SIGMAS * sd <= WARN_POSITION_M;
             (!within).then(|| {
                 format!(
@@ -248,7 +240,7 @@ pub(super) fn poorly_fixed_camera(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::map::{Ellipse, ObjectUncertainty};
+    use crate::map::ObjectUncertainty;
     use crate::reconstruct::ObjectKind;
 
     /// An object at the origin whose centroid has covariance `c`, metres squared.
@@ -263,11 +255,7 @@ mod tests {
             area: 1.0,
             uncertainty: Some(ObjectUncertainty {
                 centroid_covariance: c,
-                centroid_ellipse_95: Ellipse {
-                    centre: [0.5, 0.5],
-                    semi_axes: [0.0, 0.0],
-                    angle_deg: 30.0,
-                },
+                centroid_ellipse_95: crate::fit::ellipse_95([0.5, 0.5], c),
                 length_sd: None,
                 breadth_sd: None,
                 height_sd: None,
@@ -286,7 +274,6 @@ mod tests {
             [a * cs * cs + b * sn * sn, (a - b) * cs * sn],
             [(a - b) * cs * sn, a * sn * sn + b * cs * cs],
         ];
-        assert!((major_sd(c) - 0.1).abs() < 1e-12);
         // 3 x 0.1 m > 0.25 m: named, with its sd and direction.
         let w = position_warnings(&[object(c)], Units::Meters, 1.5, "do this");
         assert_eq!(w.len(), 1);

@@ -7,13 +7,7 @@ use rand::SeedableRng;
 use vpmap_metrology::map::{BuildOptions, WARN_POSITION_M, build_map};
 use vpmap_metrology::synth::{SynthOptions, add_noise, synthesize};
 
-use crate::rooms::footprint_error;
-
-/// The squared Mahalanobis distance of `d` in the covariance `c`.
-fn mahalanobis_sq(d: [f64; 2], c: [[f64; 2]; 2]) -> f64 {
-    let det = c[0][0] * c[1][1] - c[0][1] * c[1][0];
-    (c[1][1] * d[0] * d[0] - 2.0 * c[0][1] * d[0] * d[1] + c[0][0] * d[1] * d[1]) / det
-}
+use crate::rooms::{footprint_error, mahalanobis_sq};
 
 #[test]
 fn an_object_more_than_a_quarter_metre_off_is_named_or_beyond_its_error_bars() {

@@ -52,6 +52,13 @@ pub(crate) fn shared_room(dir: &std::path::Path, r: usize) -> (serde_json::Value
     (room, truth)
 }
 
+/// The squared Mahalanobis distance of the offset `d` in the covariance `c` (written out
+/// here, not taken from the library, so that the tests judge its error bars independently).
+pub(crate) fn mahalanobis_sq(d: [f64; 2], c: [[f64; 2]; 2]) -> f64 {
+    let det = c[0][0] * c[1][1] - c[0][1] * c[1][0];
+    (c[1][1] * d[0] * d[0] - 2.0 * c[0][1] * d[0] * d[1] + c[0][0] * d[1] * d[1]) / det
+}
+
 /// Largest distance from a truth corner to the nearest corner of the map's object.
 pub(crate) fn footprint_error(map: &[[f64; 2]], truth: &[[f64; 2]]) -> f64 {
     truth

@@ -5,7 +5,7 @@
 use vpmap_metrology::map::{BuildOptions, build_map};
 use vpmap_metrology::scene::Scene;
 
-use crate::rooms::{footprint_error, permutations, shared, shared_room};
+use crate::rooms::{footprint_error, mahalanobis_sq, permutations, shared, shared_room};
 
 /// How the noisy trials of the shared rooms give each photo its vanishing points.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -130,27 +130,19 @@ fn noisy_shared_rooms(sigma_px: f64, trials: u64, vps: VpSource) -> NoisyCount {
                             .iter()
                             .fold([0.0, 0.0], |a, p| [a[0] + p[0] / 4.0, a[1] + p[1] / 4.0]);
                         let d = [m.centroid[0] - c[0], m.centroid[1] - c[1]];
-                        let k = m.uncertainty.as_ref().unwrap().centroid_covariance;
-                        let det = k[0][0] * k[1][1] - k[0][1] * k[1][0];
-                        let d2 = (k[1][1] * d[0] * d[0] - 2.0 * k[0][1] * d[0] * d[1]
-                            + k[0][0] * d[1] * d[1])
-                            / det;
+                        let u = m.uncertainty.as_ref().unwrap();
+                        let d2 = mahalanobis_sq(d, u.centroid_covariance);
+                        let major_95 = u.centroid_ellipse_95.semi_axes[0];
+                        let named = map.warns_uncertain(&o.name);
                         worst_d2 = worst_d2.max(d2);
                         if e > worst {
                             worst = e;
-                            // The 95 % ellipse's major semi-axis.
-                            let (a, b, c2) = (k[0][0], k[1][1], k[0][1]);
-                            let major = (f64::midpoint(a, b)
-                                + ((a - b) * (a - b) / 4.0 + c2 * c2).sqrt())
-                            .max(0.0);
-                            let named = map.warns_uncertain(&o.name);
                             worst_said = format!(
-                                "mv0{r} trial {t}: {} {e:.2} m off, d^2 {d2:.1}, 95 % semi-axis {:.2} m, named uncertain in a warning: {named}",
-                                o.name,
-                                (CHI2_2_95 * major).sqrt()
+                                "mv0{r} trial {t}: {} {e:.2} m off, d^2 {d2:.1}, 95 % semi-axis {major_95:.2} m, named uncertain in a warning: {named}",
+                                o.name
                             );
                         }
-                        if (e > 0.25 || d2 > 30.0) && !map.warns_uncertain(&o.name) {
+                        if (e > 0.25 || d2 > 30.0) && !named {
                             unsaid.push((o.name.clone(), e, d2));
                         }
                         count.place_warned += usize::from(map.warnings.iter().any(|w| {
@@ -158,13 +150,7 @@ fn noisy_shared_rooms(sigma_px: f64, trials: u64, vps: VpSource) -> NoisyCount {
                         }));
                         count.objects += 1;
                         count.centroid_errors_m.push(d[0].hypot(d[1]));
-                        count.major_95_m.push(
-                            m.uncertainty
-                                .as_ref()
-                                .unwrap()
-                                .centroid_ellipse_95
-                                .semi_axes[0],
-                        );
+                        count.major_95_m.push(major_95);
                         count.inside += usize::from(d2 <= CHI2_2_95);
                     }
                     count.worst_m = count.worst_m.max(worst);
