@@ -412,6 +412,20 @@ pub(super) fn mahalanobis_sq(e: [f64; 2], cov: [[f64; 2]; 2]) -> f64 {
     (e[0] * e[0] * cov[1][1] - 2.0 * e[0] * e[1] * cov[0][1] + e[1] * e[1] * cov[0][0]) / det
 }
 
+/// Whether a snapped click's labelled corner lies inside its 95 % ellipse: the snap's
+/// covariance plus the labels' error at the corner (`label_sd_px`,
+/// [`corner_label_covariance`]) plus `add_px2` on each axis (a floor changed, a term taken
+/// out); `None` for a click without a covariance.
+pub(super) fn inside_95(c: &YudClick, label_sd_px: f64, add_px2: f64) -> Option<bool> {
+    let cov = c.covariance_px2?;
+    let l = corner_label_covariance(&c.corner, label_sd_px);
+    let total = [
+        [cov[0][0] + l[0][0] + add_px2, cov[0][1] + l[0][1]],
+        [cov[1][0] + l[1][0], cov[1][1] + l[1][1] + add_px2],
+    ];
+    Some(mahalanobis_sq(c.error_vec_px, total) <= CHI2_95)
+}
+
 /// The chi-square quantile with 2 degrees of freedom at 95 %.
 pub(super) const CHI2_95: f64 = 5.991_464_547_107_979;
 
@@ -534,16 +548,7 @@ pub fn yud_markdown(config: &YudConfig, results: &YudResults) -> String {
         (0..=40).map(|k| 0.1 * f64::from(k)).find(|&f| {
             let inside = snapped
                 .iter()
-                .filter_map(|c| c.covariance_px2.map(|cov| (c, cov)))
-                .filter(|(c, cov)| {
-                    let l = corner_label_covariance(&c.corner, sd_l);
-                    let add = f * f - floor * floor;
-                    let total = [
-                        [cov[0][0] + l[0][0] + add, cov[0][1] + l[0][1]],
-                        [cov[1][0] + l[1][0], cov[1][1] + l[1][1] + add],
-                    ];
-                    mahalanobis_sq(c.error_vec_px, total) <= CHI2_95
-                })
+                .filter(|c| inside_95(c, sd_l, f * f - floor * floor) == Some(true))
                 .count();
             !snapped.is_empty() && inside as f64 >= share * snapped.len() as f64
         })
@@ -565,18 +570,7 @@ pub fn yud_markdown(config: &YudConfig, results: &YudResults) -> String {
     // Coverage by how clear the edges are.
     let quality: Vec<(super::EdgeQuality, bool)> = snapped
         .iter()
-        .filter_map(|c| {
-            let cov = c.covariance_px2?;
-            let l = corner_label_covariance(&c.corner, sd_l);
-            let total = [
-                [cov[0][0] + l[0][0], cov[0][1] + l[0][1]],
-                [cov[1][0] + l[1][0], cov[1][1] + l[1][1]],
-            ];
-            Some((
-                super::EdgeQuality::of(&c.edges)?,
-                mahalanobis_sq(c.error_vec_px, total) <= CHI2_95,
-            ))
-        })
+        .filter_map(|c| Some((super::EdgeQuality::of(&c.edges)?, inside_95(c, sd_l, 0.0)?)))
         .collect();
     let _ = writeln!(
         s,
@@ -663,15 +657,10 @@ fn table_row(s: &mut String, name: &str, clicks: &[&YudClick], sd_l: f64) {
     let snapped: Vec<&&YudClick> = clicks.iter().filter(|c| c.snapped).collect();
     let (mut inside, mut inside_plain) = (0, 0);
     for c in &snapped {
-        let Some(cov) = c.covariance_px2 else {
+        let (Some(cov), Some(labelled)) = (c.covariance_px2, inside_95(c, sd_l, 0.0)) else {
             continue;
         };
-        let l = corner_label_covariance(&c.corner, sd_l);
-        let total = [
-            [cov[0][0] + l[0][0], cov[0][1] + l[0][1]],
-            [cov[1][0] + l[1][0], cov[1][1] + l[1][1]],
-        ];
-        inside += usize::from(mahalanobis_sq(c.error_vec_px, total) <= CHI2_95);
+        inside += usize::from(labelled);
         inside_plain += usize::from(mahalanobis_sq(c.error_vec_px, cov) <= CHI2_95);
     }
     let sds: Vec<f64> = snapped.iter().filter_map(|c| c.sd_px).collect();

@@ -4,7 +4,7 @@
 
 use std::fmt::Write as _;
 
-use super::yud::{CHI2_95, YudClick, corner_label_covariance, mahalanobis_sq};
+use super::yud::{YudClick, inside_95};
 use crate::stats::median;
 
 /// Groups of about equal size, by the larger unseen stretch of a snapped point's two edges.
@@ -22,11 +22,11 @@ pub(super) fn by_unseen_stretch(
     label_sd_px: f64,
     unseen_sd_per_px: f64,
 ) -> String {
-    let mut rows: Vec<(f64, &YudClick, [[f64; 2]; 2])> = snapped
+    let mut rows: Vec<(f64, &YudClick)> = snapped
         .iter()
         .filter_map(|c| {
             let gap = c.edges.iter().map(|e| e.gap_px).fold(0.0, f64::max);
-            c.covariance_px2.map(|cov| (gap, *c, cov))
+            c.covariance_px2.map(|_| (gap, *c))
         })
         .collect();
     if rows.is_empty() {
@@ -51,24 +51,19 @@ pub(super) fn by_unseen_stretch(
         let inside = |take_out: bool| {
             let count = group
                 .iter()
-                .filter(|(_, c, cov)| {
+                .filter(|(_, c)| {
                     let term = if take_out {
                         unseen_sd_per_px.powi(2)
                             * c.edges.iter().map(|e| e.unseen_px.powi(2)).sum::<f64>()
                     } else {
                         0.0
                     };
-                    let l = corner_label_covariance(&c.corner, label_sd_px);
-                    let total = [
-                        [cov[0][0] + l[0][0] - term, cov[0][1] + l[0][1]],
-                        [cov[1][0] + l[1][0], cov[1][1] + l[1][1] - term],
-                    ];
-                    mahalanobis_sq(c.error_vec_px, total) <= CHI2_95
+                    inside_95(c, label_sd_px, -term) == Some(true)
                 })
                 .count();
             format!("{:.1} %", 100.0 * count as f64 / group.len() as f64)
         };
-        let distances: Vec<f64> = group.iter().map(|(_, c, _)| c.error_px).collect();
+        let distances: Vec<f64> = group.iter().map(|(_, c)| c.error_px).collect();
         let _ = writeln!(
             s,
             "| {:.1}-{:.1} px | {} | {} | {} | {} |",
