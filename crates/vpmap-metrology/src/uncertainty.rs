@@ -25,6 +25,11 @@ pub struct ObjectUncertainty {
     pub centroid_covariance: [[f64; 2]; 2],
     /// The centroid's 95 % confidence ellipse.
     pub centroid_ellipse_95: Ellipse,
+    /// The standard deviation of the least certain floor corner (of the footprint's), along
+    /// that corner's least certain direction, map units: how far the outline may be off where
+    /// it is least known (a box's size and yaw move its corners more than its centroid).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub corner_sd: Option<f64>,
     /// Standard deviation of a box's longer side, map units.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub length_sd: Option<f64>,

@@ -5,6 +5,7 @@
 
 use nalgebra::{DMatrix, DVector, Matrix2, Matrix3, Vector2, Vector3};
 
+use super::GIVEN_POINT_SD_DEG;
 use super::model::{BoxAxes, Camera, CornerClick, Part, VpEvidence, px};
 use super::solve::{Model, Problem};
 use crate::camera::rotation_map_from_camera;
@@ -413,35 +414,31 @@ fn evidence(scene: &Scene) -> Result<(Vec<VpEvidence>, Vec<Vector3<f64>>)> {
     let all: Vec<VpEvidence> = scene
         .vanishing_points
         .iter()
-        .map(|v| match (v.point, v.direction) {
-            (Some([x, y]), None) | (None, Some([x, y])) if v.covariance_deg2.is_some() => {
-                let w = if v.point.is_some() { 1.0 } else { 0.0 };
-                let cov = v.covariance_deg2.unwrap_or_default();
-                let rad2 = cov.map(|row| row.map(|c| c.to_radians().to_radians()));
-                match whitening(rad2) {
-                    Some(whitening) => VpEvidence::Measured {
-                        at: Vector3::new(x, y, w),
+        .map(|v| {
+            // A direction (a point at infinity) before a point, as the scene reads them.
+            let given = v
+                .direction
+                .map(|[x, y]| Vector3::new(x, y, 0.0))
+                .or_else(|| v.point.map(|[x, y]| Vector3::new(x, y, 1.0)));
+            match given {
+                Some(at) if v.lines.len() < 2 || v.covariance_deg2.is_some() => {
+                    // A point without a covariance is a fact (docs/scene-format.md).
+                    let sd = GIVEN_POINT_SD_DEG.to_radians();
+                    let cov = v
+                        .covariance_deg2
+                        .map_or([[sd * sd, 0.0], [0.0, sd * sd]], |c| {
+                            c.map(|row| row.map(|c| c.to_radians().to_radians()))
+                        });
+                    VpEvidence::Measured {
+                        at,
                         chart: VpChart::of_scene(scene),
-                        whitening,
+                        // Validation refuses a covariance without a Cholesky factor.
+                        whitening: whitening(cov).unwrap_or_else(Matrix2::zeros),
                         scale_px: 1.0,
-                    },
-                    // Validation refuses a covariance without a Cholesky factor.
-                    None => VpEvidence::Point {
-                        at: Vector3::new(x, y, w),
-                        scale_px: scene.image.diagonal(),
-                    },
+                    }
                 }
+                _ => VpEvidence::Lines(v.lines.clone()),
             }
-            _ if v.lines.len() >= 2 => VpEvidence::Lines(v.lines.clone()),
-            (_, Some(d)) => VpEvidence::Point {
-                at: Vector3::new(d[0], d[1], 0.0),
-                scale_px: scene.image.diagonal(),
-            },
-            (Some(p), None) => VpEvidence::Point {
-                at: Vector3::new(p[0], p[1], 1.0),
-                scale_px: scene.image.diagonal(),
-            },
-            (None, None) => VpEvidence::Lines(v.lines.clone()),
         })
         .collect();
     let points = all
@@ -454,7 +451,7 @@ fn evidence(scene: &Scene) -> Result<(Vec<VpEvidence>, Vec<Vector3<f64>>)> {
                     reason: "the segments' coordinates are too large for their intersection to be computed: give them in pixels of the image".to_owned(),
                 })
             }
-            VpEvidence::Point { at, .. } | VpEvidence::Measured { at, .. } => Ok(*at),
+            VpEvidence::Measured { at, .. } => Ok(*at),
             VpEvidence::Intrinsics { .. } => Err(MetrologyError::Degenerate {
                 field: format!("vanishing_points[{i}]"),
                 reason: "is not a vanishing point".to_owned(),
@@ -564,7 +561,7 @@ pub(crate) fn build(
     // which fix the principal point poorly (and first-order error bars badly).
     let vertical_measured = vps.get(2).is_some_and(|e| match e {
         VpEvidence::Lines(l) => !l.is_empty(),
-        VpEvidence::Point { .. } | VpEvidence::Measured { .. } => true,
+        VpEvidence::Measured { .. } => true,
         VpEvidence::Intrinsics { .. } => false,
     });
     // A principal point with a standard deviation is a prior the fit refines (at the given
@@ -598,24 +595,7 @@ pub(crate) fn build(
     } else {
         (4, Some(pp_starts[0]))
     };
-    // One fixed scale for the given points' angular residuals: the focal length the scene
-    // gives or its vanishing points imply, else the image diagonal.
-    let scale_px = scene
-        .focal_px
-        .or_else(|| {
-            [(0, 1), (0, 2), (1, 2)]
-                .iter()
-                .filter(|(_, j)| *j < points.len())
-                .find_map(|&(i, j)| focal_from_pair(points[i], points[j], pp_starts[0]))
-        })
-        .unwrap_or_else(|| scene.image.diagonal());
-    let mut vps: Vec<VpEvidence> = vps
-        .into_iter()
-        .map(|e| match e {
-            VpEvidence::Point { at, .. } => VpEvidence::Point { at, scale_px },
-            other => other,
-        })
-        .collect();
+    let mut vps = vps;
     let focal_prior = scene.focal_px.zip(scene.focal_sd_px);
     let pp_prior = pp_prior.filter(|_| free_pp);
     if focal_prior.is_some() || pp_prior.is_some() {

@@ -261,19 +261,11 @@ impl Part {
 pub(crate) enum VpEvidence {
     /// Segments whose lines run to it.
     Lines(Vec<[f64; 4]>),
-    /// The point itself.
-    Point {
-        /// Homogeneous pixel coordinates (`w = 0` for a direction at infinity).
-        at: Vector3<f64>,
-        /// Pixels per radian of the residual: a fixed focal length (the starting camera's),
-        /// so that the residual is about the pixels near the image centre that the angle
-        /// spans, yet cannot shrink by shrinking the fitted focal length.
-        scale_px: f64,
-    },
     /// The point with its covariance (a scene's `covariance_deg2`, as `vpmap detect` writes
-    /// it): its residual is the offset of the predicted point in the scene's [`VpChart`],
-    /// whitened, times the click noise `scale_px`, so that it weighs against the clicks as
-    /// its covariance says.
+    /// it, or [`super::GIVEN_POINT_SD_DEG`] for a point given without one, a fact): its
+    /// residual is the offset of the predicted point in the scene's [`VpChart`], whitened,
+    /// times the click noise `scale_px`, so that it weighs against the clicks as its
+    /// covariance says.
     Measured {
         /// Homogeneous pixel coordinates (`w = 0` for a direction at infinity).
         at: Vector3<f64>,
@@ -319,7 +311,7 @@ impl VpEvidence {
             Self::Measured { scale_px, .. } | Self::Intrinsics { scale_px, .. } => {
                 *scale_px = sigma_px;
             }
-            Self::Lines(_) | Self::Point { .. } => {}
+            Self::Lines(_) => {}
         }
     }
 
@@ -327,7 +319,7 @@ impl VpEvidence {
     pub fn scale(&self) -> Option<f64> {
         match self {
             Self::Measured { scale_px, .. } | Self::Intrinsics { scale_px, .. } => Some(*scale_px),
-            Self::Lines(_) | Self::Point { .. } => None,
+            Self::Lines(_) => None,
         }
     }
 }
@@ -346,7 +338,7 @@ pub(crate) fn vp_direction(cam: &Camera, k: usize) -> Vector3<f64> {
 pub(crate) fn vp_residual_count(e: &VpEvidence) -> usize {
     match e {
         VpEvidence::Lines(l) => l.len(),
-        VpEvidence::Point { .. } | VpEvidence::Measured { .. } => 2,
+        VpEvidence::Measured { .. } => 2,
         VpEvidence::Intrinsics {
             focal_px,
             principal_point_px,
@@ -408,36 +400,6 @@ pub(crate) fn vp_residuals(cam: &Camera, k: usize, evidence: &VpEvidence, out: &
                     0.0
                 };
             }
-        }
-        VpEvidence::Point { at: g, scale_px } => {
-            let o = cam.principal_point_px;
-            let given = Vector3::new(
-                (g.x - o.x * g.z) / cam.focal_px,
-                (g.y - o.y * g.z) / cam.focal_px,
-                g.z,
-            )
-            .normalize();
-            let mut pred = Vector3::new(
-                (v.x - cam.principal_point_px.x * v.z) / cam.focal_px,
-                (v.y - cam.principal_point_px.y * v.z) / cam.focal_px,
-                v.z,
-            )
-            .normalize();
-            if pred.dot(&given) < 0.0 {
-                pred = -pred;
-            }
-            let t1 = {
-                let a = given.cross(&Vector3::new(0.0, 1.0, 0.0));
-                if a.norm() > 1e-6 {
-                    a.normalize()
-                } else {
-                    given.cross(&Vector3::new(1.0, 0.0, 0.0)).normalize()
-                }
-            };
-            let t2 = given.cross(&t1);
-            let d = pred - given;
-            out[0] = scale_px * d.dot(&t1);
-            out[1] = scale_px * d.dot(&t2);
         }
     }
 }

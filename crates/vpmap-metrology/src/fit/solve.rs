@@ -399,6 +399,27 @@ pub(crate) struct Factored {
 }
 
 impl Factored {
+    /// [`Factored::solve`] for a `g` that is zero outside the camera and `parts`: the camera's
+    /// block of `y` and its blocks of those parts (in their order), the others never formed.
+    /// Work independent of the number of parts.
+    pub fn solve_parts(
+        &self,
+        gc: &DVector<f64>,
+        go: &[DVector<f64>],
+        parts: &[usize],
+    ) -> (DVector<f64>, Vec<DVector<f64>>) {
+        let mut rhs = gc.clone();
+        for &i in parts {
+            rhs -= &self.wv[i] * &go[i];
+        }
+        let yc = self.s.solve(&rhs);
+        let yo = parts
+            .iter()
+            .map(|&i| &self.v_inv[i] * (&go[i] - self.w[i].transpose() * &yc))
+            .collect();
+        (yc, yo)
+    }
+
     /// Solve for `y` given `g = (g_c, g_o...)`.
     pub fn solve(
         &self,

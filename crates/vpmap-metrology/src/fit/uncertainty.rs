@@ -6,7 +6,7 @@
 //! central differences over the parameters it depends on; its variance is
 //! `sigma^2 g^T (J^T J)^-1 g`, computed with the same Schur-complement solve as a fit step.
 
-use nalgebra::{DVector, Matrix2, Vector2};
+use nalgebra::{DMatrix, DVector, Matrix2, Vector2};
 
 use super::fitted::{FitOptions, Fitted, click_sigma};
 use super::model::{Camera, Part};
@@ -163,6 +163,35 @@ pub(crate) fn part_values(cam: &Camera, part: &Part, p: &[f64]) -> [f64; 6] {
     }
 }
 
+/// The floor corners of a part with parameters `p`, for camera `cam`, in the fit's units:
+/// a box's four (`origin + i a e1 + j b e2`), a footprint's vertices, a floor point itself.
+pub(crate) fn part_corners(cam: &Camera, part: &Part, p: &[f64]) -> Vec<Vector2<f64>> {
+    match part {
+        Part::Box {
+            axes,
+            has_top,
+            own_yaw,
+            ..
+        } => {
+            let yaw = if *own_yaw {
+                p[4 + usize::from(*has_top)]
+            } else {
+                0.0
+            };
+            let (e1, e2) = Part::box_axes(cam, *axes, yaw);
+            let o = Vector2::new(p[0], p[1]);
+            [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
+                .iter()
+                .map(|&(i, j)| o + e1 * (i * p[2]) + e2 * (j * p[3]))
+                .collect()
+        }
+        Part::Footprint { vertices, .. } => (0..vertices.len())
+            .map(|k| Vector2::new(p[2 * k], p[2 * k + 1]))
+            .collect(),
+        Part::FloorPoint { .. } => vec![Vector2::new(p[0], p[1])],
+    }
+}
+
 /// Wrap an angle difference to `(-pi/2, pi/2]` (a box's yaw is defined modulo 180 degrees).
 pub(crate) fn wrap_half_turn(d: f64) -> f64 {
     let pi = std::f64::consts::PI;
@@ -184,8 +213,21 @@ pub(crate) fn gradients<const N: usize, M: Model>(
     f: impl Fn(&[f64]) -> [f64; N],
     angular: [bool; N],
 ) -> Vec<(DVector<f64>, Vec<DVector<f64>>)> {
+    gradients_of(problem, x, parts, |xs| f(xs).to_vec(), &angular)
+}
+
+/// [`gradients`] of a function with as many outputs as `angular` has entries (an output
+/// whose `angular` is true is an angle modulo a half turn).
+pub(crate) fn gradients_of<M: Model>(
+    problem: &M,
+    x: &[f64],
+    parts: &[usize],
+    f: impl Fn(&[f64]) -> Vec<f64>,
+    angular: &[bool],
+) -> Vec<(DVector<f64>, Vec<DVector<f64>>)> {
+    let n = angular.len();
     let nc = problem.camera_len();
-    let mut out: Vec<(DVector<f64>, Vec<DVector<f64>>)> = (0..N)
+    let mut out: Vec<(DVector<f64>, Vec<DVector<f64>>)> = (0..n)
         .map(|_| {
             (
                 DVector::zeros(nc),
@@ -196,27 +238,31 @@ pub(crate) fn gradients<const N: usize, M: Model>(
         })
         .collect();
     let mut xs = x.to_vec();
-    let mut column = |index: usize| -> [f64; N] {
+    let mut column = |index: usize| -> Vec<f64> {
         let h = 1e-6 * x[index].abs().max(1.0);
         xs[index] = x[index] + h;
         let plus = f(&xs);
         xs[index] = x[index] - h;
         let minus = f(&xs);
         xs[index] = x[index];
-        let mut d = [0.0; N];
-        for k in 0..N {
-            let diff = if angular[k] {
-                wrap_half_turn(plus[k] - minus[k])
-            } else {
-                plus[k] - minus[k]
-            };
-            d[k] = diff / (2.0 * h);
-        }
-        d
+        (0..n)
+            .map(|k| {
+                let (p, m) = (
+                    plus.get(k).copied().unwrap_or(f64::NAN),
+                    minus.get(k).copied().unwrap_or(f64::NAN),
+                );
+                let diff = if angular[k] {
+                    wrap_half_turn(p - m)
+                } else {
+                    p - m
+                };
+                diff / (2.0 * h)
+            })
+            .collect()
     };
     for c in (0..nc).filter(|&c| !problem.camera_fixed(c)) {
         let d = column(c);
-        for k in 0..N {
+        for k in 0..n {
             out[k].0[c] = d[k];
         }
     }
@@ -228,12 +274,44 @@ pub(crate) fn gradients<const N: usize, M: Model>(
         seen.push(part);
         for i in 0..problem.part_len(part) {
             let d = column(problem.part_offset(part) + i);
-            for k in 0..N {
+            for k in 0..n {
                 out[k].1[part][i] = d[k];
             }
         }
     }
     out
+}
+
+/// The covariance matrix of the values whose gradients are `g`: `sigma^2 G^T (J^T J)^-1 G`,
+/// one solve a gradient, made exactly symmetric.
+pub(crate) fn covariance(f: &Factored, sigma: f64, g: &[Gradient]) -> DMatrix<f64> {
+    // Only the parts some gradient touches enter (a gradient is zero outside the camera and
+    // the few parts its value depends on).
+    let parts: Vec<usize> = (0..g.first().map_or(0, |a| a.1.len()))
+        .filter(|&p| g.iter().any(|a| a.1[p].iter().any(|v| *v != 0.0)))
+        .collect();
+    let solved: Vec<Gradient> = g
+        .iter()
+        .map(|b| f.solve_parts(&b.0, &b.1, &parts))
+        .collect();
+    let dot = |a: &Gradient, y: &Gradient| {
+        a.0.dot(&y.0)
+            + parts
+                .iter()
+                .zip(&y.1)
+                .map(|(&p, q)| a.1[p].dot(q))
+                .sum::<f64>()
+    };
+    let n = g.len();
+    let mut m = DMatrix::zeros(n, n);
+    for i in 0..n {
+        for j in i..n {
+            let v = 0.5 * sigma * sigma * (dot(&g[i], &solved[j]) + dot(&g[j], &solved[i]));
+            m[(i, j)] = v;
+            m[(j, i)] = v;
+        }
+    }
+    m
 }
 
 /// `g_a^T (J^T J)^-1 g_b`.
@@ -279,20 +357,25 @@ pub fn ellipse_95(centre: [f64; 2], cov: [[f64; 2]; 2]) -> Ellipse {
 pub(crate) type Gradient = (DVector<f64>, Vec<DVector<f64>>);
 
 /// One object's error bars, in map units: `values` gives its [`part_values`] (camera heights)
-/// at a parameter vector, `k_at` the metres per camera height there, `var` the covariance of
-/// two gradients; `parts` are the parts both depend on. Also the relative standard deviations
-/// of its sides and height, for the warnings. `None` when the centroid's covariance is not
-/// finite (a singular fit). Shared by one photo's fit and a room's.
+/// at a parameter vector and `corners` its [`part_corners`] (each corner's covariance gives
+/// [`ObjectUncertainty::corner_sd`]), `k_at` the metres per camera height there, `cov` the
+/// covariance matrix of a set of gradients ([`covariance`]); `parts` are the parts they
+/// depend on. Also the relative standard deviations of its sides and height, for the
+/// warnings. `None` when the centroid's covariance is not finite (a singular fit). Shared by
+/// one photo's fit and a room's.
 pub(crate) fn object_error_bars<M: Model>(
     problem: &M,
     x: &[f64],
     parts: &[usize],
     part: &Part,
-    values: impl Fn(&[f64]) -> [f64; 6],
+    (values, corners): (
+        impl Fn(&[f64]) -> [f64; 6],
+        impl Fn(&[f64]) -> Vec<Vector2<f64>>,
+    ),
     k_at: impl Fn(&[f64]) -> f64,
-    var: impl Fn(&Gradient, &Gradient) -> f64,
+    cov: impl Fn(&[Gradient]) -> DMatrix<f64>,
 ) -> Option<(ObjectUncertainty, Vec<(&'static str, f64)>)> {
-    let g = gradients(
+    let mut g = gradients(
         problem,
         x,
         parts,
@@ -303,21 +386,46 @@ pub(crate) fn object_error_bars<M: Model>(
         },
         [false, false, false, false, false, true],
     );
-    let sd = |g: &Gradient| var(g, g).max(0.0).sqrt();
+    // Each floor corner's two coordinates in map units, after the six values.
+    let n_corners = corners(x).len();
+    g.extend(gradients_of(
+        problem,
+        x,
+        parts,
+        |xs| {
+            let k = k_at(xs);
+            corners(xs)
+                .iter()
+                .flat_map(|p| [p.x * k, p.y * k])
+                .collect()
+        },
+        &vec![false; 2 * n_corners],
+    ));
+    let m = cov(&g);
+    let sd = |i: usize| m[(i, i)].max(0.0).sqrt();
+    let block = |i: usize| {
+        [
+            [m[(i, i)], m[(i, i + 1)]],
+            [m[(i + 1, i)], m[(i + 1, i + 1)]],
+        ]
+    };
     let v = values(x);
     let k = k_at(x);
-    let c01 = 0.5 * (var(&g[0], &g[1]) + var(&g[1], &g[0]));
-    let cov = [[var(&g[0], &g[0]), c01], [c01, var(&g[1], &g[1])]];
+    let cov = block(0);
     if !cov.iter().flatten().all(|v| v.is_finite()) {
         return None;
     }
+    // Each corner's sd along its least certain direction; the largest.
+    let corner_sd = (0..n_corners)
+        .map(|c| ellipse_95([0.0, 0.0], block(6 + 2 * c)).semi_axes[0] / CHI2_2DOF_95.sqrt())
+        .fold(None, |m: Option<f64>, s| Some(m.map_or(s, |m| m.max(s))));
     let is_box = matches!(part, Part::Box { .. });
     let has_height = match part {
         Part::Box { has_top, .. } => *has_top,
         Part::Footprint { top, .. } => top.is_some(),
         Part::FloorPoint { .. } => false,
     };
-    let (len_sd, br_sd, h_sd) = (sd(&g[2]), sd(&g[3]), sd(&g[4]));
+    let (len_sd, br_sd, h_sd) = (sd(2), sd(3), sd(4));
     let mut relative = Vec::new();
     if is_box {
         relative.push(("length", len_sd / (v[2] * k)));
@@ -330,11 +438,12 @@ pub(crate) fn object_error_bars<M: Model>(
         ObjectUncertainty {
             centroid_covariance: cov,
             centroid_ellipse_95: ellipse_95([v[0] * k, v[1] * k], cov),
+            corner_sd,
             length_sd: is_box.then_some(len_sd),
             breadth_sd: is_box.then_some(br_sd),
             height_sd: has_height.then_some(h_sd),
             yaw_deg: is_box.then(|| v[5].to_degrees().rem_euclid(180.0)),
-            yaw_sd_deg: is_box.then(|| sd(&g[5]).to_degrees()),
+            yaw_sd_deg: is_box.then(|| sd(5).to_degrees()),
         },
         relative,
     ))
@@ -491,9 +600,18 @@ impl Fitted {
                 x,
                 &parts,
                 &problem.parts[part],
-                |xs| object_values(problem, xs, part),
+                (
+                    |xs: &[f64]| object_values(problem, xs, part),
+                    |xs: &[f64]| {
+                        part_corners(
+                            &problem.camera(xs),
+                            &problem.parts[part],
+                            params(problem, xs, part),
+                        )
+                    },
+                ),
                 k_at,
-                var,
+                |g: &[Gradient]| covariance(&factored, sigma, g),
             )
             .ok_or_else(singular)?;
             relative.extend(rel.into_iter().map(|(what, r)| (i, what, r)));

@@ -71,6 +71,17 @@ fn add_spread(map: &mut FloorMap, hi: &FloorMap, lo: &FloorMap, scale: f64) {
         c[1][0] += dc[1] * dc[0];
         c[1][1] += dc[1] * dc[1];
         u.centroid_ellipse_95 = ellipse_95(o.centroid, *c);
+        if let Some(sd) = u.corner_sd.as_mut() {
+            // The corner that moves most, with the least certain corner's sd: at least as
+            // large as any one corner's.
+            let moved = a
+                .footprint
+                .iter()
+                .zip(&b.footprint)
+                .map(|(p, q)| scale * (p[0] - q[0]).hypot(p[1] - q[1]))
+                .fold(0.0, f64::max);
+            *sd = quadrature(*sd, moved);
+        }
         if let (Some(sd), Some(sa), Some(sb)) = (u.length_sd.as_mut(), a.size, b.size) {
             *sd = quadrature(*sd, scale * (sa.length - sb.length));
         }

@@ -155,13 +155,21 @@ pub(super) fn position_warnings(
             // The 95 % ellipse's long semi-axis, back to one sigma (infinite for a covariance
             // that is not finite: its place is not known at all).
             let sd = u.centroid_ellipse_95.semi_axes[0] / CHI2_2DOF_95.sqrt();
-            let within = WARN_POSITION_SIGMAS * sd <= WARN_POSITION_M;
-            (!within).then(|| {
-                format!(
+            // A corner's sd; NaN (not finite) counts as unknown, as the centroid's.
+            let corner = u.corner_sd.map(|c| if c.is_nan() { f64::INFINITY } else { c });
+            let outline = corner.filter(|&c| c > sd);
+            let worst = outline.unwrap_or(sd);
+            let within = WARN_POSITION_SIGMAS * worst <= WARN_POSITION_M;
+            (!within).then(|| match outline {
+                Some(c) if WARN_POSITION_SIGMAS * sd <= WARN_POSITION_M => format!(
+                    "object {:?}: its outline is uncertain by +-{c:.2} m at its least certain corner (1 sigma along that corner's least certain direction, for {click_sigma_px:.2} px clicks; its place +-{sd:.2} m), so a corner may lie more than {WARN_POSITION_M} m off; {advice}",
+                    o.name
+                ),
+                _ => format!(
                     "object {:?}: its place is uncertain by +-{sd:.2} m (1 sigma along its least certain direction, {:.0} degrees from +x, for {click_sigma_px:.2} px clicks), so it may lie more than {WARN_POSITION_M} m off; {advice}",
                     o.name,
                     u.centroid_ellipse_95.angle_deg
-                )
+                ),
             })
         })
         .collect()
@@ -256,6 +264,7 @@ mod tests {
             uncertainty: Some(ObjectUncertainty {
                 centroid_covariance: c,
                 centroid_ellipse_95: crate::fit::ellipse_95([0.5, 0.5], c),
+                corner_sd: None,
                 length_sd: None,
                 breadth_sd: None,
                 height_sd: None,
@@ -307,5 +316,51 @@ mod tests {
         let mut bare = object(c);
         bare.uncertainty = None;
         assert!(position_warnings(&[bare], Units::Meters, 1.0, "").is_empty());
+    }
+
+    #[test]
+    fn the_least_certain_corner_decides_when_the_place_is_known() {
+        // A centroid known to 1 cm whose corners a size or yaw leaves uncertain by `corner`.
+        let with_corner = |corner: f64| {
+            let mut o = object([[1e-4, 0.0], [0.0, 1e-4]]);
+            if let Some(u) = o.uncertainty.as_mut() {
+                u.corner_sd = Some(corner);
+            }
+            o
+        };
+        let w = position_warnings(&[with_corner(0.1)], Units::Meters, 2.0, "do this");
+        assert_eq!(w.len(), 1);
+        assert!(
+            w[0].starts_with(
+                "object \"box\": its outline is uncertain by +-0.10 m at its least certain corner"
+            ) && w[0].contains("its place +-0.01 m")
+                && w[0].contains("2.00 px clicks")
+                && w[0].ends_with("; do this"),
+            "{}",
+            w[0]
+        );
+        // Both sides of the 3-sigma edge; a corner not known at all is named.
+        let edge = 0.25 / 3.0;
+        assert!(position_warnings(&[with_corner(edge - 1e-9)], Units::Meters, 1.0, "").is_empty());
+        assert_eq!(
+            position_warnings(&[with_corner(edge + 1e-9)], Units::Meters, 1.0, "").len(),
+            1
+        );
+        assert_eq!(
+            position_warnings(&[with_corner(f64::NAN)], Units::Meters, 1.0, "").len(),
+            1
+        );
+        // A place uncertain as well: the place's message, said once.
+        let mut both = object([[0.01, 0.0], [0.0, 1e-4]]);
+        if let Some(u) = both.uncertainty.as_mut() {
+            u.corner_sd = Some(0.2);
+        }
+        let w = position_warnings(&[both], Units::Meters, 1.0, "");
+        assert_eq!(w.len(), 1);
+        assert!(
+            w[0].contains("its place is uncertain by +-0.10 m"),
+            "{}",
+            w[0]
+        );
     }
 }

@@ -11,7 +11,9 @@ use super::model::{Place, RoomProblem, Shape};
 use crate::error::{MetrologyError, Result};
 use crate::fit::model::{Camera, Part};
 use crate::fit::solve::Model;
-use crate::fit::uncertainty::{gradients, object_error_bars, part_values, quad};
+use crate::fit::uncertainty::{
+    covariance, gradients, object_error_bars, part_corners, part_values, quad,
+};
 use crate::fit::{FitOptions, click_sigma};
 use crate::scene::{BoxView, Dimension, Scale, Scene};
 use crate::uncertainty::{CameraUncertainty, ObjectUncertainty};
@@ -367,9 +369,16 @@ impl RoomFitted {
                 x,
                 &parts,
                 &shape,
-                |xs| part_values(&problem.camera_at(xs, 0), &shape, params(problem, xs, part)),
+                (
+                    |xs: &[f64]| {
+                        part_values(&problem.camera_at(xs, 0), &shape, params(problem, xs, part))
+                    },
+                    |xs: &[f64]| {
+                        part_corners(&problem.camera_at(xs, 0), &shape, params(problem, xs, part))
+                    },
+                ),
                 k_at,
-                var,
+                |g: &[crate::fit::uncertainty::Gradient]| covariance(&factored, sigma, g),
             )
             .ok_or_else(singular)?;
             relative.extend(rel.into_iter().map(|(what, r)| (i, what, r)));

@@ -196,10 +196,16 @@ fn three_exact_vanishing_points_in_any_order_give_the_camera_under_every_method(
 
 #[test]
 fn a_far_vertical_vanishing_point_warns_that_the_principal_point_is_poorly_fixed() {
-    // Nearly level: the vertical vanishing point 1400 / tan(0.5 deg) = 160,000 px away.
+    // Nearly level: the vertical vanishing point 1400 / tan(0.5 deg) = 160,000 px away,
+    // each point measured to 0.05 degree (as a careful hand-drawn one is).
     let cam = Pinhole::new(1400.0, [790.0, 610.0], 0.5, 2.0);
     let vps = room(35.0).map(|d| cam.vanishing_point(d));
-    let map = build(&scene(&vps.map(point)), Method::Fit);
+    let measured = |v: Vector3<f64>| {
+        let mut p = point(v);
+        p["covariance_deg2"] = serde_json::json!([[0.0025, 0.0], [0.0, 0.0025]]);
+        p
+    };
+    let map = build(&scene(&vps.map(measured)), Method::Fit);
     let sd = map
         .camera
         .uncertainty
@@ -218,6 +224,22 @@ fn a_far_vertical_vanishing_point_warns_that_the_principal_point_is_poorly_fixed
     // ... and still exact.
     assert!((map.camera.principal_point[0] - 790.0).abs() < 1e-9);
     assert!((map.camera.focal_px - 1400.0).abs() < 1e-9);
+    // Given bare, the points are facts (held to 0.001 degree, which is still 4 px along the
+    // horizon here): they fix the principal point within the warning's 1 % of the diagonal,
+    // and nothing is said.
+    let map = build(&scene(&vps.map(point)), Method::Fit);
+    let sd = map
+        .camera
+        .uncertainty
+        .and_then(|u| u.principal_point_px_sd)
+        .expect("a fitted principal point");
+    assert!(sd[0].hypot(sd[1]) < 10.0, "sd {sd:?}");
+    assert!(
+        !map.warnings.iter().any(|w| w.contains("principal point")),
+        "{:?}",
+        map.warnings
+    );
+    assert!((map.camera.principal_point[0] - 790.0).abs() < 1e-9);
 }
 
 #[test]
