@@ -111,9 +111,9 @@ fn object_values(problem: &Problem, x: &[f64], part: usize) -> [f64; 6] {
     )
 }
 
-/// [`object_values`] of a part with parameters `p`, for camera `cam` (whose room directions
-/// the part's axes follow).
-pub(crate) fn part_values(cam: &Camera, part: &Part, p: &[f64]) -> [f64; 6] {
+/// A box part's two side directions on the floor (its own yaw applied), for parameters `p`
+/// and camera `cam`; the room's first two directions for any other part.
+fn box_frame(cam: &Camera, part: &Part, p: &[f64]) -> (Vector2<f64>, Vector2<f64>) {
     match part {
         Part::Box {
             axes,
@@ -126,7 +126,18 @@ pub(crate) fn part_values(cam: &Camera, part: &Part, p: &[f64]) -> [f64; 6] {
             } else {
                 0.0
             };
-            let (e1, e2) = Part::box_axes(cam, *axes, yaw);
+            Part::box_axes(cam, *axes, yaw)
+        }
+        _ => (Vector2::x(), Vector2::y()),
+    }
+}
+
+/// [`object_values`] of a part with parameters `p`, for camera `cam` (whose room directions
+/// the part's axes follow).
+pub(crate) fn part_values(cam: &Camera, part: &Part, p: &[f64]) -> [f64; 6] {
+    match part {
+        Part::Box { has_top, .. } => {
+            let (e1, e2) = box_frame(cam, part, p);
             let c = Vector2::new(p[0], p[1]) + e1 * (0.5 * p[2]) + e2 * (0.5 * p[3]);
             let (a, b) = (p[2].abs(), p[3].abs());
             let long_axis = if a >= b { e1 } else { e2 };
@@ -167,18 +178,8 @@ pub(crate) fn part_values(cam: &Camera, part: &Part, p: &[f64]) -> [f64; 6] {
 /// a box's four (`origin + i a e1 + j b e2`), a footprint's vertices, a floor point itself.
 pub(crate) fn part_corners(cam: &Camera, part: &Part, p: &[f64]) -> Vec<Vector2<f64>> {
     match part {
-        Part::Box {
-            axes,
-            has_top,
-            own_yaw,
-            ..
-        } => {
-            let yaw = if *own_yaw {
-                p[4 + usize::from(*has_top)]
-            } else {
-                0.0
-            };
-            let (e1, e2) = Part::box_axes(cam, *axes, yaw);
+        Part::Box { .. } => {
+            let (e1, e2) = box_frame(cam, part, p);
             let o = Vector2::new(p[0], p[1]);
             [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
                 .iter()

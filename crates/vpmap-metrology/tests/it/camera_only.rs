@@ -194,6 +194,14 @@ fn three_exact_vanishing_points_in_any_order_give_the_camera_under_every_method(
     assert_eq!(cases, 8 * 3 * 3 * 6);
 }
 
+/// The standard deviation of a map's fitted principal point, pixels.
+fn pp_sd(map: &FloorMap) -> [f64; 2] {
+    map.camera
+        .uncertainty
+        .and_then(|u| u.principal_point_px_sd)
+        .expect("a fitted principal point")
+}
+
 #[test]
 fn a_far_vertical_vanishing_point_warns_that_the_principal_point_is_poorly_fixed() {
     // Nearly level: the vertical vanishing point 1400 / tan(0.5 deg) = 160,000 px away,
@@ -206,11 +214,7 @@ fn a_far_vertical_vanishing_point_warns_that_the_principal_point_is_poorly_fixed
         p
     };
     let map = build(&scene(&vps.map(measured)), Method::Fit);
-    let sd = map
-        .camera
-        .uncertainty
-        .and_then(|u| u.principal_point_px_sd)
-        .expect("a fitted principal point");
+    let sd = pp_sd(&map);
     assert!(sd[0] > 16.0, "sd {sd:?}");
     let warning = map
         .warnings
@@ -228,11 +232,7 @@ fn a_far_vertical_vanishing_point_warns_that_the_principal_point_is_poorly_fixed
     // horizon here): they fix the principal point within the warning's 1 % of the diagonal,
     // and nothing is said.
     let map = build(&scene(&vps.map(point)), Method::Fit);
-    let sd = map
-        .camera
-        .uncertainty
-        .and_then(|u| u.principal_point_px_sd)
-        .expect("a fitted principal point");
+    let sd = pp_sd(&map);
     assert!(sd[0].hypot(sd[1]) < 10.0, "sd {sd:?}");
     assert!(
         !map.warnings.iter().any(|w| w.contains("principal point")),
