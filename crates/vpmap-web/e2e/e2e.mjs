@@ -377,6 +377,7 @@ async function main() {
     for (const o of boxes) {
       const line = info.find((t) => t.includes(`${o.size.length.toFixed(2)} ± `));
       check(line && /height \d+\.\d\d ± [<\d]/.test(line) && /at \(-?\d+\.\d\d ± [<\d.]+, -?\d+\.\d\d ± /.test(line), `no ± sizes, height and position for ${o.name} in the object list: ${JSON.stringify(info)}`);
+      check(line && /outline ± [<\d][\d.]* m at its least certain corner/.test(line), `no outline ± for ${o.name} in the object list: ${JSON.stringify(info)}`);
     }
     const labels = await page.locator('#plan-host svg [id="fp-labels"] text').allTextContents();
     check(labels.filter((t) => t.includes(' ± ')).length >= boxes.length * 2, `the floor plan's labels have no ± values: ${JSON.stringify(labels)}`);

@@ -199,7 +199,9 @@ export function installPanels(app) {
 
   /**
    * The object's sizes, height and position as the build measured them, one line each, with
-   * ± 1 sigma when the map has error bars (method fit); a box with its own yaw also gets its yaw.
+   * ± 1 sigma when the map has error bars (method fit), and then its outline's least certain
+   * corner (1 sigma along that corner's least certain direction); a box with its own yaw also
+   * gets its yaw.
    */
   function objectMeasures(m, u, ownYaw) {
     const unc = m.uncertainty || null;
@@ -214,6 +216,8 @@ export function installPanels(app) {
       const sx = cov ? Math.sqrt(cov[0][0]) : undefined, sy = cov ? Math.sqrt(cov[1][1]) : undefined;
       lines.push(`at (${pm(m.centroid[0], sx)}, ${pm(m.centroid[1], sy)}) ${u}`);
     }
+    // The least certain footprint corner (what the warning of objects placed poorly reads).
+    if (Number.isFinite(unc.corner_sd)) lines.push(`outline ± ${fmtSd(unc.corner_sd, 2)} ${u} at its least certain corner`);
     return lines;
   }
 
