@@ -196,7 +196,7 @@ pub(super) fn evidence_warnings(fitted: &Fitted, order: [usize; 3]) -> Vec<Strin
             let index = order.get(g).copied().unwrap_or(g);
             let what = if g == 2 { "vertical" } else { "horizontal" };
             format!(
-                "vanishing point {} ({what}) lies {:.2} degrees ({:.1} sigma) from where the clicks put it: the clicked corners and the detected vanishing point disagree beyond its error bars; check its edges, or the clicks of the boxes along it",
+                "vanishing point {} ({what}) lies {:.2} degrees ({:.1} sigma) from where the clicks put it: the clicked corners and the vanishing point disagree beyond its error bars; check its edges (or the point, if given), or the clicks of the boxes along it",
                 index + 1,
                 angle.to_degrees(),
                 chi2.sqrt()
@@ -219,7 +219,7 @@ pub(super) fn widened_warnings(widened: &[Widened], order: [usize; 3]) -> Vec<St
                 "horizontal"
             };
             format!(
-                "vanishing point {} ({what}) lay {:.2} degrees ({:.1} sigma) from where the clicks put it: the clicked corners and the detected vanishing point disagree far beyond its error bars (an edge of something else taken for the room's, say), so its error bars were widened {:.1} times to agree and the map's follow; check its edges, or the clicks of the boxes along it",
+                "vanishing point {} ({what}) lay {:.2} degrees ({:.1} sigma) from where the clicks put it: the clicked corners and the vanishing point disagree far beyond its error bars (an edge of something else taken for the room's, or a point given as exact that is not), so its error bars were widened {:.1} times to agree and the map's follow; check its edges, or the clicks of the boxes along it",
                 index + 1,
                 w.angle_deg,
                 w.chi2.sqrt(),
