@@ -10,10 +10,20 @@ use crate::error::PipelineError;
 use crate::options::{GRID_MARGIN_M, MapOptions};
 use crate::text::units_name;
 
-/// Radius by which an obstacle is grown at confidence `p`: the radius of the centroid's
-/// confidence circle of its larger standard deviation, `sqrt(-2 ln(1 - p))` sigmas (the
-/// chi-square quantile with 2 degrees of freedom), plus half its larger side's standard
-/// deviation at the same multiple. Conservative: the circle contains the ellipse.
+/// Radius by which an obstacle is grown at confidence `p`, `k = sqrt(-2 ln(1 - p))` sigmas
+/// (the chi-square quantile with 2 degrees of freedom): the larger of
+///
+/// * the centroid's confidence circle of its larger standard deviation plus half its larger
+///   side's standard deviation, both at `k` sigmas, and
+/// * the least certain footprint corner's confidence circle, `k` times
+///   [`ObjectUncertainty::corner_sd`] (its standard deviation along its least certain
+///   direction): the circle contains that corner's confidence ellipse, and every corner's, and
+///   a point of an edge between two corners is no less certain than the less certain of them,
+///   so the grown outline holds each point of the true one at `p`. This is what the first
+///   misses: a box's yaw turns its far corners, and a footprint's vertices are fitted one by
+///   one.
+///
+/// Conservative: each circle contains its ellipse.
 #[must_use]
 pub fn uncertainty_margin(u: &ObjectUncertainty, p: f64) -> f64 {
     let k = (-2.0 * (1.0 - p).ln()).sqrt();
@@ -22,7 +32,9 @@ pub fn uncertainty_margin(u: &ObjectUncertainty, p: f64) -> f64 {
     let det = c[0][0] * c[1][1] - c[0][1] * c[1][0];
     let largest = mean + (mean * mean - det).max(0.0).sqrt();
     let side = u.length_sd.unwrap_or(0.0).max(u.breadth_sd.unwrap_or(0.0));
-    k * (largest.max(0.0).sqrt() + 0.5 * side)
+    let centre = k * (largest.max(0.0).sqrt() + 0.5 * side);
+    let corner = k * u.corner_sd.filter(|s| s.is_finite()).unwrap_or(0.0);
+    centre.max(corner)
 }
 
 /// The map with each obstacle grown by [`uncertainty_margin`] at confidence `p` and the free
@@ -146,4 +158,45 @@ pub fn occupancy_grid(
         },
     )
     .map_err(PipelineError::Grid)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use vpmap_metrology::fit::ellipse_95;
+
+    /// Error bars with centroid covariance `c` (metres squared), a side's sd and a corner's.
+    fn bars(c: [[f64; 2]; 2], side: Option<f64>, corner: Option<f64>) -> ObjectUncertainty {
+        ObjectUncertainty {
+            centroid_covariance: c,
+            centroid_ellipse_95: ellipse_95([0.0, 0.0], c),
+            corner_sd: corner,
+            length_sd: side,
+            breadth_sd: side,
+            height_sd: None,
+            yaw_deg: None,
+            yaw_sd_deg: None,
+        }
+    }
+
+    #[test]
+    fn the_margin_holds_the_centroid_the_sides_and_the_least_certain_corner() {
+        // k at 95 %: sqrt(5.991) = 2.448.
+        let k = 5.991_464_547_107_979_f64.sqrt();
+        // Centroid sd 0.02 m (the larger axis), sides 0.01 m: 0.025 m at one sigma.
+        let c = [[0.02 * 0.02, 0.0], [0.0, 0.01 * 0.01]];
+        let m = uncertainty_margin(&bars(c, Some(0.01), None), 0.95);
+        assert!((m - k * 0.025).abs() < 1e-12, "{m}");
+        // A corner known worse than that (a yaw turning a long box's far corner) decides.
+        let m = uncertainty_margin(&bars(c, Some(0.01), Some(0.05)), 0.95);
+        assert!((m - k * 0.05).abs() < 1e-12, "{m}");
+        // A corner known better changes nothing; one not known at all is left to the rest.
+        let m = uncertainty_margin(&bars(c, Some(0.01), Some(0.001)), 0.95);
+        assert!((m - k * 0.025).abs() < 1e-12, "{m}");
+        let m = uncertainty_margin(&bars(c, Some(0.01), Some(f64::NAN)), 0.95);
+        assert!((m - k * 0.025).abs() < 1e-12, "{m}");
+        // A footprint (no sides): its vertices' own uncertainty.
+        let m = uncertainty_margin(&bars([[1e-6, 0.0], [0.0, 1e-6]], None, Some(0.03)), 0.95);
+        assert!((m - k * 0.03).abs() < 1e-12, "{m}");
+    }
 }
