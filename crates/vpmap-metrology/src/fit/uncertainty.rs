@@ -655,3 +655,93 @@ impl Fitted {
         })
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::synth::{SynthOptions, add_noise, synthesize};
+    use rand::SeedableRng as _;
+
+    #[test]
+    fn one_solve_over_the_touched_parts_equals_the_full_solve() {
+        // A noisy synthetic scene's fit: every object's corner and value gradients, their
+        // covariance by `covariance` (each gradient solved once, over the parts it touches)
+        // against `quad` (the full solve of every pair).
+        let (mut scene, _) = synthesize(&SynthOptions {
+            seed: 4,
+            ..SynthOptions::default()
+        })
+        .unwrap();
+        add_noise(
+            &mut scene,
+            1.0,
+            &mut rand_chacha::ChaCha8Rng::seed_from_u64(4),
+        );
+        let fitted = super::super::fit_scene(&scene, &FitOptions::default()).unwrap();
+        let (problem, x) = (&fitted.problem, &fitted.x);
+        let f = problem.normal(x).unwrap().factor(0.0).unwrap();
+        let sigma = 1.3;
+        let mut checked = 0;
+        let n = problem.part_count();
+        for part in 0..n {
+            // Its own part and another's (as a scale's parts join an object's).
+            let touched = [part, (part + 1) % n];
+            let mut g = gradients(
+                problem,
+                x,
+                &touched,
+                |xs| {
+                    // Its values, the first scaled by the other part's (as a scale's factor
+                    // enters an object's values in metres).
+                    let mut v = part_values(
+                        &problem.camera(xs),
+                        &problem.parts[part],
+                        params(problem, xs, part),
+                    );
+                    v[0] *= 1.0 + 0.1 * params(problem, xs, touched[1])[0];
+                    v
+                },
+                [false, false, false, false, false, true],
+            );
+            g.extend(gradients_of(
+                problem,
+                x,
+                &touched,
+                |xs| {
+                    part_corners(
+                        &problem.camera(xs),
+                        &problem.parts[part],
+                        params(problem, xs, part),
+                    )
+                    .iter()
+                    .flat_map(|p| [p.x, p.y])
+                    .collect()
+                },
+                &vec![
+                    false;
+                    2 * part_corners(
+                        &problem.camera(x),
+                        &problem.parts[part],
+                        params(problem, x, part)
+                    )
+                    .len()
+                ],
+            ));
+            let m = covariance(&f, sigma, &g);
+            for i in 0..g.len() {
+                for j in 0..g.len() {
+                    let full =
+                        sigma * sigma * 0.5 * (quad(&f, &g[i], &g[j]) + quad(&f, &g[j], &g[i]));
+                    let scale = (m[(i, i)] * m[(j, j)]).sqrt().max(1e-300);
+                    assert!(
+                        (m[(i, j)] - full).abs() <= 1e-9 * scale,
+                        "part {part} ({i}, {j}): {} against {full}",
+                        m[(i, j)]
+                    );
+                    checked += 1;
+                }
+            }
+        }
+        assert!(checked > 100, "{checked} entries");
+    }
+}
