@@ -376,32 +376,23 @@ pub(crate) fn object_error_bars<M: Model>(
     k_at: impl Fn(&[f64]) -> f64,
     cov: impl Fn(&[Gradient]) -> DMatrix<f64>,
 ) -> Option<(ObjectUncertainty, Vec<(&'static str, f64)>)> {
-    let mut g = gradients(
+    // The six values and each floor corner's two coordinates (map units), in one pass.
+    let n_corners = corners(x).len();
+    let mut angular = vec![false; 6 + 2 * n_corners];
+    angular[5] = true;
+    let g = gradients_of(
         problem,
         x,
         parts,
         |xs| {
             let v = values(xs);
             let k = k_at(xs);
-            [v[0] * k, v[1] * k, v[2] * k, v[3] * k, v[4] * k, v[5]]
+            let mut out = vec![v[0] * k, v[1] * k, v[2] * k, v[3] * k, v[4] * k, v[5]];
+            out.extend(corners(xs).iter().flat_map(|p| [p.x * k, p.y * k]));
+            out
         },
-        [false, false, false, false, false, true],
+        &angular,
     );
-    // Each floor corner's two coordinates in map units, after the six values.
-    let n_corners = corners(x).len();
-    g.extend(gradients_of(
-        problem,
-        x,
-        parts,
-        |xs| {
-            let k = k_at(xs);
-            corners(xs)
-                .iter()
-                .flat_map(|p| [p.x * k, p.y * k])
-                .collect()
-        },
-        &vec![false; 2 * n_corners],
-    ));
     let m = cov(&g);
     let sd = |i: usize| m[(i, i)].max(0.0).sqrt();
     let block = |i: usize| {
