@@ -9,7 +9,7 @@
 use nalgebra::{DMatrix, DVector, Matrix2, Vector2};
 
 use super::fitted::{FitOptions, Fitted, click_sigma};
-use super::model::{Camera, Part};
+use super::model::{BoxAxes, Camera, Part};
 use super::solve::{Factored, Model, Problem};
 use crate::error::{MetrologyError, Result};
 use crate::scene::{Dimension, Scale, Scene};
@@ -101,19 +101,27 @@ impl Measure {
     }
 }
 
-/// An object's reported values in camera heights: centroid x, y, longer side, shorter side,
-/// height, yaw of the longer side (radians).
-fn object_values(problem: &Problem, x: &[f64], part: usize) -> [f64; 6] {
-    part_values(
-        &problem.camera(x),
-        &problem.parts[part],
-        params(problem, x, part),
-    )
+/// A box's two side directions on the floor (its own yaw, the parameter after its sides and
+/// height, applied), for parameters `p` and camera `cam`.
+fn box_frame(
+    cam: &Camera,
+    axes: BoxAxes,
+    has_top: bool,
+    own_yaw: bool,
+    p: &[f64],
+) -> (Vector2<f64>, Vector2<f64>) {
+    let yaw = if own_yaw {
+        p[4 + usize::from(has_top)]
+    } else {
+        0.0
+    };
+    Part::box_axes(cam, axes, yaw)
 }
 
-/// A box part's two side directions on the floor (its own yaw applied), for parameters `p`
-/// and camera `cam`; the room's first two directions for any other part.
-fn box_frame(cam: &Camera, part: &Part, p: &[f64]) -> (Vector2<f64>, Vector2<f64>) {
+/// An object's centroid, longer and shorter side, height and yaw (camera heights, radians),
+/// for a part with parameters `p` and camera `cam` (whose room directions the part's axes
+/// follow).
+pub(crate) fn part_values(cam: &Camera, part: &Part, p: &[f64]) -> [f64; 6] {
     match part {
         Part::Box {
             axes,
@@ -121,23 +129,7 @@ fn box_frame(cam: &Camera, part: &Part, p: &[f64]) -> (Vector2<f64>, Vector2<f64
             own_yaw,
             ..
         } => {
-            let yaw = if *own_yaw {
-                p[4 + usize::from(*has_top)]
-            } else {
-                0.0
-            };
-            Part::box_axes(cam, *axes, yaw)
-        }
-        _ => (Vector2::x(), Vector2::y()),
-    }
-}
-
-/// [`object_values`] of a part with parameters `p`, for camera `cam` (whose room directions
-/// the part's axes follow).
-pub(crate) fn part_values(cam: &Camera, part: &Part, p: &[f64]) -> [f64; 6] {
-    match part {
-        Part::Box { has_top, .. } => {
-            let (e1, e2) = box_frame(cam, part, p);
+            let (e1, e2) = box_frame(cam, *axes, *has_top, *own_yaw, p);
             let c = Vector2::new(p[0], p[1]) + e1 * (0.5 * p[2]) + e2 * (0.5 * p[3]);
             let (a, b) = (p[2].abs(), p[3].abs());
             let long_axis = if a >= b { e1 } else { e2 };
@@ -178,8 +170,13 @@ pub(crate) fn part_values(cam: &Camera, part: &Part, p: &[f64]) -> [f64; 6] {
 /// a box's four (`origin + i a e1 + j b e2`), a footprint's vertices, a floor point itself.
 pub(crate) fn part_corners(cam: &Camera, part: &Part, p: &[f64]) -> Vec<Vector2<f64>> {
     match part {
-        Part::Box { .. } => {
-            let (e1, e2) = box_frame(cam, part, p);
+        Part::Box {
+            axes,
+            has_top,
+            own_yaw,
+            ..
+        } => {
+            let (e1, e2) = box_frame(cam, *axes, *has_top, *own_yaw, p);
             let o = Vector2::new(p[0], p[1]);
             [(0.0, 0.0), (1.0, 0.0), (1.0, 1.0), (0.0, 1.0)]
                 .iter()
@@ -357,27 +354,31 @@ pub fn ellipse_95(centre: [f64; 2], cov: [[f64; 2]; 2]) -> Ellipse {
 /// A gradient block as [`Factored::solve`] takes it: camera part, then per part.
 pub(crate) type Gradient = (DVector<f64>, Vec<DVector<f64>>);
 
-/// One object's error bars, in map units: `values` gives its [`part_values`] (camera heights)
-/// at a parameter vector and `corners` its [`part_corners`] (each corner's covariance gives
-/// [`ObjectUncertainty::corner_sd`]), `k_at` the metres per camera height there, `cov` the
-/// covariance matrix of a set of gradients ([`covariance`]); `parts` are the parts they
-/// depend on. Also the relative standard deviations of its sides and height, for the
-/// warnings. `None` when the centroid's covariance is not finite (a singular fit). Shared by
-/// one photo's fit and a room's.
+/// One object's error bars, in map units: `at` gives the camera and the object's parameters
+/// at a parameter vector (its [`part_values`] in camera heights, and its [`part_corners`],
+/// whose covariances give [`ObjectUncertainty::corner_sd`]), `k_at` the metres per camera
+/// height there, `cov` the covariance matrix of a set of gradients ([`covariance`]); `parts`
+/// are the parts they depend on. Also the relative standard deviations of its sides and
+/// height, for the warnings. `None` when the centroid's covariance is not finite (a singular
+/// fit). Shared by one photo's fit and a room's.
 pub(crate) fn object_error_bars<M: Model>(
     problem: &M,
     x: &[f64],
     parts: &[usize],
     part: &Part,
-    (values, corners): (
-        impl Fn(&[f64]) -> [f64; 6],
-        impl Fn(&[f64]) -> Vec<Vector2<f64>>,
-    ),
+    at: impl for<'a> Fn(&'a [f64]) -> (Camera, &'a [f64]),
     k_at: impl Fn(&[f64]) -> f64,
     cov: impl Fn(&[Gradient]) -> DMatrix<f64>,
 ) -> Option<(ObjectUncertainty, Vec<(&'static str, f64)>)> {
+    let values = |xs: &[f64]| {
+        let (cam, p) = at(xs);
+        part_values(&cam, part, p)
+    };
     // The six values and each floor corner's two coordinates (map units), in one pass.
-    let n_corners = corners(x).len();
+    let n_corners = {
+        let (cam, p) = at(x);
+        part_corners(&cam, part, p).len()
+    };
     let mut angular = vec![false; 6 + 2 * n_corners];
     angular[5] = true;
     let g = gradients_of(
@@ -385,10 +386,15 @@ pub(crate) fn object_error_bars<M: Model>(
         x,
         parts,
         |xs| {
-            let v = values(xs);
+            let (cam, p) = at(xs);
+            let v = part_values(&cam, part, p);
             let k = k_at(xs);
             let mut out = vec![v[0] * k, v[1] * k, v[2] * k, v[3] * k, v[4] * k, v[5]];
-            out.extend(corners(xs).iter().flat_map(|p| [p.x * k, p.y * k]));
+            out.extend(
+                part_corners(&cam, part, p)
+                    .iter()
+                    .flat_map(|q| [q.x * k, q.y * k]),
+            );
             out
         },
         &angular,
@@ -592,16 +598,7 @@ impl Fitted {
                 x,
                 &parts,
                 &problem.parts[part],
-                (
-                    |xs: &[f64]| object_values(problem, xs, part),
-                    |xs: &[f64]| {
-                        part_corners(
-                            &problem.camera(xs),
-                            &problem.parts[part],
-                            params(problem, xs, part),
-                        )
-                    },
-                ),
+                |xs: &[f64]| (problem.camera(xs), params(problem, xs, part)),
                 k_at,
                 |g: &[Gradient]| covariance(&factored, sigma, g),
             )

@@ -11,9 +11,7 @@ use super::model::{Place, RoomProblem, Shape};
 use crate::error::{MetrologyError, Result};
 use crate::fit::model::{Camera, Part};
 use crate::fit::solve::Model;
-use crate::fit::uncertainty::{
-    covariance, gradients, object_error_bars, part_corners, part_values, quad,
-};
+use crate::fit::uncertainty::{covariance, gradients, object_error_bars, quad};
 use crate::fit::{FitOptions, click_sigma};
 use crate::scene::{BoxView, Dimension, Scale, Scene};
 use crate::uncertainty::{CameraUncertainty, ObjectUncertainty};
@@ -369,14 +367,7 @@ impl RoomFitted {
                 x,
                 &parts,
                 &shape,
-                (
-                    |xs: &[f64]| {
-                        part_values(&problem.camera_at(xs, 0), &shape, params(problem, xs, part))
-                    },
-                    |xs: &[f64]| {
-                        part_corners(&problem.camera_at(xs, 0), &shape, params(problem, xs, part))
-                    },
-                ),
+                |xs: &[f64]| (problem.camera_at(xs, 0), params(problem, xs, part)),
                 k_at,
                 |g: &[crate::fit::uncertainty::Gradient]| covariance(&factored, sigma, g),
             )
