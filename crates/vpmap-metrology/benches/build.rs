@@ -3,7 +3,8 @@
 //! method and the projective form (the references) in one group, side by side; the fit's
 //! parts (the fit alone, then with its error bars); and calibration with reconstruction alone
 //! for the two closed-form methods. The fit also as `vpmap detect` writes a scene, with and
-//! without a lens distortion's sd.
+//! without a lens distortion's sd. And the error bars of a scene whose footprint object has
+//! many vertices (an ellipse of 100 and 200 clicked vertices), which grow with the vertices.
 #![allow(missing_docs, clippy::unwrap_used)]
 
 use criterion::{Criterion, criterion_group, criterion_main};
@@ -135,5 +136,63 @@ fn bench_build(c: &mut Criterion) {
     g.finish();
 }
 
-criterion_group!(benches, bench_build);
+/// The default synthetic scene with its footprint object's clicks replaced by `n` vertices on
+/// an ellipse around their centroid (a round table's outline clicked densely), the top click
+/// above the first.
+fn scene_with_footprint_of(n: usize) -> Scene {
+    let (mut scene, _) = synthesize(&SynthOptions {
+        seed: 3,
+        ..SynthOptions::default()
+    })
+    .unwrap();
+    let object = scene
+        .objects
+        .iter_mut()
+        .find(|o| o.footprint.is_some())
+        .unwrap();
+    let fp = object.footprint.as_ref().unwrap();
+    let k = fp.len() as f64;
+    let (cx, cy) = (
+        fp.iter().map(|p| p[0]).sum::<f64>() / k,
+        fp.iter().map(|p| p[1]).sum::<f64>() / k,
+    );
+    let vertices: Vec<[f64; 2]> = (0..n)
+        .map(|i| {
+            let t = std::f64::consts::TAU * i as f64 / n as f64;
+            [cx + 120.0 * t.cos(), cy + 50.0 * t.sin()]
+        })
+        .collect();
+    let top = [vertices[0][0], vertices[0][1] - 400.0];
+    object.footprint = Some(vertices);
+    object.top = Some(vpmap_metrology::scene::TopSpec {
+        above: Some(0),
+        point: Some(top),
+        ..Default::default()
+    });
+    scene
+}
+
+fn bench_many_vertices(c: &mut Criterion) {
+    let mut g = c.benchmark_group("footprint_vertices");
+    g.measurement_time(Duration::from_secs(3));
+    g.sample_size(10);
+    let options = FitOptions {
+        click_sigma_px: Some(SIGMA_PX),
+    };
+    for n in [100, 200] {
+        let scene = scene_with_footprint_of(n);
+        fit_scene(&scene, &options)
+            .and_then(|f| f.uncertainty(&scene, &options))
+            .unwrap();
+        g.bench_function(format!("fit_scene_and_uncertainty_{n}"), |b| {
+            b.iter(|| {
+                fit_scene(black_box(&scene), &options)
+                    .and_then(|f| f.uncertainty(black_box(&scene), &options))
+            });
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench_build, bench_many_vertices);
 criterion_main!(benches);

@@ -399,23 +399,29 @@ pub(crate) fn object_error_bars<M: Model>(
         },
         &angular,
     );
-    let m = cov(&g);
+    // The six values' covariance, and each corner's own 2 x 2 block (never the corners'
+    // cross terms, which nothing reads: a footprint of n vertices would pay n^2 products).
+    let m = cov(&g[..6]);
     let sd = |i: usize| m[(i, i)].max(0.0).sqrt();
-    let block = |i: usize| {
+    let two = |m: &DMatrix<f64>, i: usize| {
         [
             [m[(i, i)], m[(i, i + 1)]],
             [m[(i + 1, i)], m[(i + 1, i + 1)]],
         ]
     };
+    let block = |i: usize| two(&m, i);
     let v = values(x);
     let k = k_at(x);
-    let cov = block(0);
-    if !cov.iter().flatten().all(|v| v.is_finite()) {
+    let centroid = block(0);
+    if !centroid.iter().flatten().all(|v| v.is_finite()) {
         return None;
     }
     // Each corner's sd along its least certain direction; the largest.
     let corner_sd = (0..n_corners)
-        .map(|c| ellipse_95([0.0, 0.0], block(6 + 2 * c)).semi_axes[0] / CHI2_2DOF_95.sqrt())
+        .map(|c| {
+            let corner = cov(&g[6 + 2 * c..8 + 2 * c]);
+            ellipse_95([0.0, 0.0], two(&corner, 0)).semi_axes[0] / CHI2_2DOF_95.sqrt()
+        })
         .fold(None, |m: Option<f64>, s| Some(m.map_or(s, |m| m.max(s))));
     let is_box = matches!(part, Part::Box { .. });
     let has_height = match part {
@@ -434,8 +440,8 @@ pub(crate) fn object_error_bars<M: Model>(
     }
     Some((
         ObjectUncertainty {
-            centroid_covariance: cov,
-            centroid_ellipse_95: ellipse_95([v[0] * k, v[1] * k], cov),
+            centroid_covariance: centroid,
+            centroid_ellipse_95: ellipse_95([v[0] * k, v[1] * k], centroid),
             corner_sd,
             length_sd: is_box.then_some(len_sd),
             breadth_sd: is_box.then_some(br_sd),
