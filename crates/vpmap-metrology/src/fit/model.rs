@@ -206,6 +206,35 @@ impl Part {
         Vector3::new(floor.x, floor.y, f64::from(place.2) * h)
     }
 
+    /// The colouring of a footprint's Jacobian ([`super::solve::Coloring`]): its vertices' x
+    /// together, their y together, and the height. Vertex `k`'s residuals (rows `2k`, `2k + 1`)
+    /// depend on its `x`, `y` alone; the top click's on vertex `above`'s and the height. `None`
+    /// for the other parts, whose parameters each reach most of their residuals.
+    pub fn coloring(&self) -> Option<super::solve::Coloring> {
+        let Part::Footprint { vertices, top } = self else {
+            return None;
+        };
+        let n = vertices.len();
+        let rows = self.residual_count();
+        // In the x and the y colours, a residual's vertex is its column's index in the colour.
+        let vertex_of_row: Vec<Option<usize>> = (0..rows)
+            .map(|r| match top {
+                Some((above, _)) if r >= 2 * n => Some(*above),
+                _ => Some(r / 2),
+            })
+            .collect();
+        let mut colors = vec![
+            (0..n).map(|k| 2 * k).collect::<Vec<_>>(),
+            (0..n).map(|k| 2 * k + 1).collect(),
+        ];
+        let mut owners = vec![vertex_of_row.clone(), vertex_of_row];
+        if top.is_some() {
+            colors.push(vec![2 * n]);
+            owners.push((0..rows).map(|r| (r >= 2 * n).then_some(0)).collect());
+        }
+        Some(super::solve::Coloring { colors, owners })
+    }
+
     /// The residuals (predicted minus clicked, pixels) into `out`; `false` when a point falls
     /// behind the camera.
     pub fn residuals(&self, cam: &Camera, p: &[f64], out: &mut [f64]) -> bool {
