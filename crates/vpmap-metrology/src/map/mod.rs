@@ -32,6 +32,7 @@ pub use types::{
     BoxSize, CameraReport, FitReport, FloorMap, MapAlternative, MapObject, PolygonWithHoles, Units,
 };
 pub use warnings::{
-    WARN_FOCAL_SD_FRACTION, WARN_POSITION_M, WARN_POSITION_SIGMAS,
+    WARN_FOCAL_SD_FRACTION, WARN_POSITION_M, WARN_POSITION_PROBABILITY,
     WARN_PRINCIPAL_POINT_SD_DIAGONALS, WARN_RELATIVE_SD, WARN_RESIDUAL_SIGMAS, self_crossing,
+    warn_position_sigmas,
 };

@@ -15,12 +15,23 @@ pub const WARN_RESIDUAL_SIGMAS: f64 = 3.0;
 /// How far off an object may lie before the build warns, metres: a quarter metre, the
 /// distance at which issue 39 calls a box wrong (`docs/method.md`, "Objects placed poorly").
 pub const WARN_POSITION_M: f64 = 0.25;
-/// Standard deviations of an object's centroid, along its least certain direction, that must
-/// fit within [`WARN_POSITION_M`]: three. A centroid the map does not warn about that lies a
-/// quarter metre off is then beyond 3 sigma in every direction, outside its error bars'
-/// ellipse of squared Mahalanobis radius 9 (where a right 2-D normal error lies 1.1 % of the
-/// time at most).
-pub const WARN_POSITION_SIGMAS: f64 = 3.0;
+/// The chance, at most, that an object the build does not warn about lies more than
+/// [`WARN_POSITION_M`] off (its centroid, or any corner of its outline), if its error bars are
+/// right: one in a hundred.
+pub const WARN_POSITION_PROBABILITY: f64 = 0.01;
+
+/// Standard deviations, along the least certain direction, that must fit within
+/// [`WARN_POSITION_M`] for `points` points at once (the centroid: 1; an outline: its corners):
+/// `sqrt(2 ln(points / p))`, `p` = [`WARN_POSITION_PROBABILITY`]. A 2-D normal error whose
+/// covariance has largest standard deviation `s` lies beyond `r` with probability at most
+/// `exp(-r^2 / 2 s^2)` (a chi-square of two degrees of freedom, the covariance bounded by
+/// `s^2 I`), so beyond this many sigmas at most `p / points` of the time, and by the union
+/// bound some one of the points at most `p`. The centroid takes 3.03; a box's four corners
+/// 3.46; an outline of eight vertices 3.66.
+#[must_use]
+pub fn warn_position_sigmas(points: usize) -> f64 {
+    (2.0 * (points.max(1) as f64 / WARN_POSITION_PROBABILITY).ln()).sqrt()
+}
 
 /// The first two non-adjacent edges of a closed ring that touch or cross, as edge indices
 /// (edge `i` runs from point `i` to point `i + 1`), or `None` for a simple ring.
@@ -135,10 +146,11 @@ pub(super) fn fit_warnings(
     out
 }
 
-/// Warnings for objects whose place the fit leaves uncertain: a centroid whose standard
-/// deviation along its least certain direction, [`WARN_POSITION_SIGMAS`] times over, exceeds
-/// [`WARN_POSITION_M`]. Only in a map in metres (a map in camera heights has no metres to
-/// compare with). `advice` says what would help.
+/// Warnings for objects whose place the fit leaves uncertain: a centroid, or the least certain
+/// corner of the outline, whose standard deviation along its least certain direction,
+/// [`warn_position_sigmas`] times over (for the one centroid, or for the outline's corners
+/// together), exceeds [`WARN_POSITION_M`]. Only in a map in metres (a map in camera heights has
+/// no metres to compare with). `advice` says what would help.
 pub(super) fn position_warnings(
     objects: &[MapObject],
     units: Units,
@@ -157,20 +169,22 @@ pub(super) fn position_warnings(
             let sd = u.centroid_ellipse_95.semi_axes[0] / CHI2_2DOF_95.sqrt();
             // A corner's sd; NaN (not finite) counts as unknown, as the centroid's.
             let corner = u.corner_sd.map(|c| if c.is_nan() { f64::INFINITY } else { c });
-            let outline = corner.filter(|&c| c > sd);
-            let worst = outline.unwrap_or(sd);
-            let within = WARN_POSITION_SIGMAS * worst <= WARN_POSITION_M;
-            (!within).then(|| match outline {
-                Some(c) if WARN_POSITION_SIGMAS * sd <= WARN_POSITION_M => format!(
-                    "object {:?}: its outline is uncertain by +-{c:.2} m at its least certain corner (1 sigma along that corner's least certain direction, for {click_sigma_px:.2} px clicks; its place +-{sd:.2} m), so a corner may lie more than {WARN_POSITION_M} m off; {advice}",
-                    o.name
-                ),
-                _ => format!(
+            // NaN counted as far (a semi-axis is infinite, never NaN, for a covariance not
+            // finite; a NaN corner became infinite above).
+            let far = |sigmas: f64, s: f64| s.is_nan() || sigmas * s > WARN_POSITION_M;
+            let corners = warn_position_sigmas(o.footprint.len());
+            if far(warn_position_sigmas(1), sd) {
+                Some(format!(
                     "object {:?}: its place is uncertain by +-{sd:.2} m (1 sigma along its least certain direction, {:.0} degrees from +x, for {click_sigma_px:.2} px clicks), so it may lie more than {WARN_POSITION_M} m off; {advice}",
                     o.name,
                     u.centroid_ellipse_95.angle_deg
-                ),
-            })
+                ))
+            } else {
+                corner.filter(|&c| far(corners, c)).map(|c| format!(
+                    "object {:?}: its outline is uncertain by +-{c:.2} m at its least certain corner (1 sigma along that corner's least certain direction, for {click_sigma_px:.2} px clicks; its place +-{sd:.2} m), so a corner may lie more than {WARN_POSITION_M} m off; {advice}",
+                    o.name
+                ))
+            }
         })
         .collect()
 }
@@ -283,7 +297,7 @@ mod tests {
             [a * cs * cs + b * sn * sn, (a - b) * cs * sn],
             [(a - b) * cs * sn, a * sn * sn + b * cs * cs],
         ];
-        // 3 x 0.1 m > 0.25 m: named, with its sd and direction.
+        // 3.03 x 0.1 m > 0.25 m: named, with its sd and direction.
         let w = position_warnings(&[object(c)], Units::Meters, 1.5, "do this");
         assert_eq!(w.len(), 1);
         assert!(
@@ -294,11 +308,11 @@ mod tests {
             "{}",
             w[0]
         );
-        // Just within a quarter metre at 3 sigma: nothing said.
-        let s = 0.25 / 3.0 - 1e-9;
+        // Just within a quarter metre at 3.03 sigma: nothing said.
+        let s = 0.25 / warn_position_sigmas(1) - 1e-9;
         let fine = [[s * s, 0.0], [0.0, 1e-6]];
         assert!(position_warnings(&[object(fine)], Units::Meters, 1.0, "").is_empty());
-        let s = 0.25 / 3.0 + 1e-9;
+        let s = 0.25 / warn_position_sigmas(1) + 1e-9;
         let poor = [[1e-6, 0.0], [0.0, s * s]];
         assert_eq!(
             position_warnings(&[object(poor)], Units::Meters, 1.0, "").len(),
@@ -316,6 +330,40 @@ mod tests {
         let mut bare = object(c);
         bare.uncertainty = None;
         assert!(position_warnings(&[bare], Units::Meters, 1.0, "").is_empty());
+    }
+
+    #[test]
+    fn an_object_not_warned_lies_a_quarter_metre_off_at_most_one_time_in_a_hundred() {
+        // Simulated: n corners with independent isotropic normal errors (the case the bound is
+        // tight for) at the largest sd the warning lets pass; the share of objects with some
+        // corner beyond a quarter metre must not exceed the stated probability (the exact
+        // value is 1 - (1 - p / n)^n, a little under p).
+        use rand::SeedableRng as _;
+        use rand_distr::{Distribution as _, StandardNormal};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(39);
+        for n in [1usize, 4, 8] {
+            let s = WARN_POSITION_M / warn_position_sigmas(n);
+            let trials = 200_000usize;
+            let mut far = 0usize;
+            for _ in 0..trials {
+                let any = (0..n).any(|_| {
+                    let (x, y): (f64, f64) = (
+                        StandardNormal.sample(&mut rng),
+                        StandardNormal.sample(&mut rng),
+                    );
+                    s * x.hypot(y) > WARN_POSITION_M
+                });
+                far += usize::from(any);
+            }
+            let share = far as f64 / trials as f64;
+            let exact = 1.0 - (1.0 - WARN_POSITION_PROBABILITY / n as f64).powf(n as f64);
+            // Four standard errors of the simulated share.
+            let se = (exact * (1.0 - exact) / trials as f64).sqrt();
+            assert!(
+                (share - exact).abs() < 4.0 * se && exact <= WARN_POSITION_PROBABILITY + 1e-12,
+                "{n} corners: {share} of objects beyond, {exact} exact"
+            );
+        }
     }
 
     #[test]
@@ -339,8 +387,10 @@ mod tests {
             "{}",
             w[0]
         );
-        // Both sides of the 3-sigma edge; a corner not known at all is named.
-        let edge = 0.25 / 3.0;
+        // Both sides of the edge for a box's four corners (3.46 sigma); a corner not known at
+        // all is named.
+        let edge = 0.25 / warn_position_sigmas(4);
+        assert!((warn_position_sigmas(4) - 3.4616).abs() < 1e-4);
         assert!(position_warnings(&[with_corner(edge - 1e-9)], Units::Meters, 1.0, "").is_empty());
         assert_eq!(
             position_warnings(&[with_corner(edge + 1e-9)], Units::Meters, 1.0, "").len(),

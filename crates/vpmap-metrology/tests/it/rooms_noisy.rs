@@ -80,6 +80,8 @@ struct NoisyCount {
     inside: usize,
     /// Objects a warning names as placed no better than a quarter metre.
     place_warned: usize,
+    /// Objects a warning names for their outline (a corner) alone.
+    outline_warned: usize,
     /// Every object's centroid error, m.
     centroid_errors_m: Vec<f64>,
     /// Every object's 95 % ellipse's major semi-axis, m.
@@ -134,6 +136,9 @@ fn noisy_shared_rooms(sigma_px: f64, trials: u64, vps: VpSource) -> NoisyCount {
                         count.place_warned += usize::from(map.warnings.iter().any(|w| {
                             w.starts_with(&format!("object {:?}: its place is uncertain", o.name))
                         }));
+                        count.outline_warned += usize::from(map.warnings.iter().any(|w| {
+                            w.starts_with(&format!("object {:?}: its outline is uncertain", o.name))
+                        }));
                         count.objects += 1;
                         count.centroid_errors_m.push(d[0].hypot(d[1]));
                         count.major_95_m.push(major_95);
@@ -179,7 +184,7 @@ fn shared_data_rooms_with_noisy_clicks_are_mapped_not_refused() {
     for (sigma, edges) in cases {
         let c = noisy_shared_rooms(sigma, trials, edges);
         println!(
-            "{sigma} px, vanishing points {edges:?}: {} trials, {} refused, {} boxes wrong with nothing said, {} a box > 0.25 m inside its error bars, worst box {:.3} m, worst d^2 {:.1}, truth inside the 95 % ellipse {} of {} ({:.1} %), {} placed uncertain by a warning\n{:#?}\n{:#?}",
+            "{sigma} px, vanishing points {edges:?}: {} trials, {} refused, {} boxes wrong with nothing said, {} a box > 0.25 m inside its error bars, worst box {:.3} m, worst d^2 {:.1}, truth inside the 95 % ellipse {} of {} ({:.1} %), {} placed uncertain by a warning, {} more for their outline\n{:#?}\n{:#?}",
             c.trials,
             c.refused.len(),
             c.silent_wrong.len(),
@@ -190,6 +195,7 @@ fn shared_data_rooms_with_noisy_clicks_are_mapped_not_refused() {
             c.objects,
             100.0 * c.inside as f64 / c.objects.max(1) as f64,
             c.place_warned,
+            c.outline_warned,
             c.refused,
             c.silent_wrong
         );
