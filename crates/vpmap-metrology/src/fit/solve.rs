@@ -49,6 +49,14 @@ pub(crate) struct Normal {
     go: Vec<DVector<f64>>,
 }
 
+/// A part's own Jacobian in [`Model::normal`]: dense, or column by column its non-zero
+/// entries (a coloured part's, [`Model::coloured_jacobian`]), never stored densely (a footprint
+/// of 1,000 vertices would be 2,002 x 2,001).
+enum OwnJacobian {
+    Dense(DMatrix<f64>),
+    Sparse(Vec<Vec<(usize, f64)>>),
+}
+
 /// Columns of a part's Jacobian in colours (Curtis, Powell & Reid, "On the estimation of sparse
 /// Jacobian matrices", 1974): no residual depends on two columns of one colour, so one
 /// central difference perturbs a whole colour and gives each column exactly the values it
@@ -146,6 +154,73 @@ impl PartBlock {
         Self {
             len: k,
             groups: Some(groups),
+            blocks,
+        }
+    }
+
+    /// [`PartBlock::gram`] of a Jacobian given column by column as its non-zero entries
+    /// (`(row, value)`, rows ascending).
+    fn gram_sparse(columns: &[Vec<(usize, f64)>]) -> Self {
+        let k = columns.len();
+        let mut parent: Vec<usize> = (0..k).collect();
+        let mut first_in_row: std::collections::HashMap<usize, usize> =
+            std::collections::HashMap::new();
+        for (c, column) in columns.iter().enumerate() {
+            for &(row, _) in column {
+                match first_in_row.entry(row) {
+                    std::collections::hash_map::Entry::Vacant(e) => {
+                        e.insert(c);
+                    }
+                    std::collections::hash_map::Entry::Occupied(e) => {
+                        let (a, b) = (root(&mut parent, *e.get()), root(&mut parent, c));
+                        parent[a.max(b)] = a.min(b);
+                    }
+                }
+            }
+        }
+        let mut group_of = vec![usize::MAX; k];
+        let mut groups: Vec<Vec<usize>> = Vec::new();
+        for c in 0..k {
+            let r = root(&mut parent, c);
+            if group_of[r] == usize::MAX {
+                group_of[r] = groups.len();
+                groups.push(Vec::new());
+            }
+            groups[group_of[r]].push(c);
+        }
+        // Each entry of a group's block: the dot product of two sparse columns.
+        let dot = |a: &[(usize, f64)], b: &[(usize, f64)]| {
+            let (mut i, mut j, mut sum) = (0, 0, 0.0);
+            while i < a.len() && j < b.len() {
+                match a[i].0.cmp(&b[j].0) {
+                    std::cmp::Ordering::Less => i += 1,
+                    std::cmp::Ordering::Greater => j += 1,
+                    std::cmp::Ordering::Equal => {
+                        sum += a[i].1 * b[j].1;
+                        i += 1;
+                        j += 1;
+                    }
+                }
+            }
+            sum
+        };
+        let blocks = groups
+            .iter()
+            .map(|cols| {
+                let mut b = DMatrix::zeros(cols.len(), cols.len());
+                for (x, &ca) in cols.iter().enumerate() {
+                    for (y, &cb) in cols.iter().enumerate().skip(x) {
+                        let v = dot(&columns[ca], &columns[cb]);
+                        b[(x, y)] = v;
+                        b[(y, x)] = v;
+                    }
+                }
+                b
+            })
+            .collect();
+        Self {
+            len: k,
+            groups: (groups.len() > 1).then_some(groups),
             blocks,
         }
     }
@@ -322,6 +397,50 @@ pub(crate) trait Model {
         None
     }
 
+    /// Part `i`'s own Jacobian at `cameras` and parameters `own` by one central difference a
+    /// colour of `coloring`, as its non-zero entries column by column (`(row, value)`, rows
+    /// ascending); `None` where a residual fails.
+    fn coloured_jacobian(
+        &self,
+        i: usize,
+        cameras: &Self::Cameras,
+        own: &[f64],
+        coloring: &Coloring,
+    ) -> Option<Vec<Vec<(usize, f64)>>> {
+        let m = self.part_residual_count(i);
+        let mut columns = vec![Vec::new(); own.len()];
+        let (mut plus, mut minus) = (vec![0.0; m], vec![0.0; m]);
+        let mut p = own.to_vec();
+        // A colour's columns perturbed together: each residual moves with at most one of them,
+        // by exactly what it would alone.
+        for (colour, owner) in coloring.colors.iter().zip(&coloring.owners) {
+            let h: Vec<f64> = colour.iter().map(|&c| step_size(own[c])).collect();
+            for (&c, h) in colour.iter().zip(&h) {
+                p[c] = own[c] + h;
+            }
+            let ok_p = self.part_residuals_with(i, cameras, &p, &mut plus);
+            for (&c, h) in colour.iter().zip(&h) {
+                p[c] = own[c] - h;
+            }
+            let ok_m = self.part_residuals_with(i, cameras, &p, &mut minus);
+            for &c in colour {
+                p[c] = own[c];
+            }
+            if !(ok_p && ok_m) {
+                return None;
+            }
+            for (row, slot) in owner.iter().enumerate() {
+                if let Some(j) = *slot {
+                    let value = (plus[row] - minus[row]) / (2.0 * h[j]);
+                    if value != 0.0 {
+                        columns[colour[j]].push((row, value));
+                    }
+                }
+            }
+        }
+        Some(columns)
+    }
+
     /// Total number of parameters.
     fn len(&self) -> usize {
         self.camera_len()
@@ -416,39 +535,16 @@ pub(crate) trait Model {
             if !self.part_residuals_with(i, &base, own, &mut r) {
                 return None;
             }
+            if let Some(coloring) = self.part_coloring(i) {
+                rs.push(r);
+                jos.push(OwnJacobian::Sparse(
+                    self.coloured_jacobian(i, &base, own, &coloring)?,
+                ));
+                continue;
+            }
             let (mut plus, mut minus) = (vec![0.0; m], vec![0.0; m]);
             let mut jo = DMatrix::zeros(m, k);
             let mut p = own.to_vec();
-            if let Some(coloring) = self.part_coloring(i) {
-                // A colour's columns perturbed together: each residual moves with at most one
-                // of them, by exactly what it would alone.
-                for (columns, owner) in coloring.colors.iter().zip(&coloring.owners) {
-                    let h: Vec<f64> = columns.iter().map(|&c| step_size(p[c])).collect();
-                    for (&c, h) in columns.iter().zip(&h) {
-                        p[c] = x[off + c] + h;
-                    }
-                    let ok_p = self.part_residuals_with(i, &base, &p, &mut plus);
-                    for (&c, h) in columns.iter().zip(&h) {
-                        p[c] = x[off + c] - h;
-                    }
-                    let ok_m = self.part_residuals_with(i, &base, &p, &mut minus);
-                    for &c in columns {
-                        p[c] = x[off + c];
-                    }
-                    if !(ok_p && ok_m) {
-                        return None;
-                    }
-                    for (row, slot) in owner.iter().enumerate() {
-                        if let Some(j) = *slot {
-                            let c = columns[j];
-                            jo[(row, c)] = (plus[row] - minus[row]) / (2.0 * h[j]);
-                        }
-                    }
-                }
-                rs.push(r);
-                jos.push(jo);
-                continue;
-            }
             for c in 0..k {
                 let h = step_size(p[c]);
                 p[c] = x[off + c] + h;
@@ -464,7 +560,7 @@ pub(crate) trait Model {
                 }
             }
             rs.push(r);
-            jos.push(jo);
+            jos.push(OwnJacobian::Dense(jo));
         }
         let mut jcs: Vec<DMatrix<f64>> = (0..parts)
             .map(|i| DMatrix::zeros(self.part_residual_count(i), nc))
@@ -511,9 +607,28 @@ pub(crate) trait Model {
             let r = DVector::from_vec(r);
             u += jc.transpose() * &jc;
             gc += jc.transpose() * &r;
-            v.push(PartBlock::gram(&jo));
-            w.push(jc.transpose() * &jo);
-            go.push(jo.transpose() * r);
+            match jo {
+                OwnJacobian::Dense(jo) => {
+                    v.push(PartBlock::gram(&jo));
+                    w.push(jc.transpose() * &jo);
+                    go.push(jo.transpose() * r);
+                }
+                OwnJacobian::Sparse(columns) => {
+                    v.push(PartBlock::gram_sparse(&columns));
+                    let mut wi = DMatrix::zeros(jc.ncols(), columns.len());
+                    let mut gi = DVector::zeros(columns.len());
+                    for (c, column) in columns.iter().enumerate() {
+                        for &(row, value) in column {
+                            for a in 0..jc.ncols() {
+                                wi[(a, c)] += jc[(row, a)] * value;
+                            }
+                            gi[c] += value * r[row];
+                        }
+                    }
+                    w.push(wi);
+                    go.push(gi);
+                }
+            }
         }
         // A held parameter: a unit row and column, so its step is 0 and it carries no
         // variance into what is reported (the gradients skip it too).
@@ -876,7 +991,8 @@ mod tests {
     #[test]
     fn a_footprints_coloured_differences_equal_its_columns_one_by_one() {
         // The footprint's own Jacobian by one central difference a column, against the three
-        // colours `normal` perturbs at once: the same bits, so the same `J^T J` blocks.
+        // colours `normal` perturbs at once: the same bits, and so the same `J^T J` blocks to
+        // rounding (summed sparsely).
         let (problem, x) = fitted();
         let normal = problem.normal(&x).unwrap();
         let camera = problem.camera(&x);
@@ -905,9 +1021,28 @@ mod tests {
                 jo[(row, c)] = (plus[row] - minus[row]) / (2.0 * h);
             }
         }
-        let one_by_one = PartBlock::gram(&jo);
-        assert_eq!(one_by_one.groups, normal.v[i].groups);
-        assert_eq!(one_by_one.blocks, normal.v[i].blocks);
+        // Every entry the same bits, and nothing else non-zero.
+        let coloured = problem
+            .coloured_jacobian(
+                i,
+                &camera,
+                &x[off..off + k],
+                &problem.part_coloring(i).unwrap(),
+            )
+            .unwrap();
+        let mut sparse = DMatrix::zeros(m, k);
+        for (c, column) in coloured.iter().enumerate() {
+            for &(row, value) in column {
+                sparse[(row, c)] = value;
+            }
+        }
+        assert_eq!(sparse, jo);
+        // Its blocks from the sparse columns, against the dense product of the same Jacobian.
+        let dense = PartBlock::gram(&jo);
+        assert_eq!(dense.groups, normal.v[i].groups);
+        for (a, b) in dense.blocks.iter().zip(&normal.v[i].blocks) {
+            assert!((a - b).amax() <= 1e-12 * a.amax(), "{a} vs {b}");
+        }
     }
 
     #[test]
