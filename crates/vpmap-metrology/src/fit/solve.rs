@@ -102,33 +102,23 @@ impl PartBlock {
                 blocks: vec![jo.transpose() * jo],
             };
         }
-        // Union-find over the columns, joined by the rows they share.
-        let mut parent: Vec<usize> = (0..k).collect();
-        // Column by column (the matrix is column-major): each row joins its columns to the
-        // first column it was seen in.
-        let mut first_in_row = vec![usize::MAX; m];
-        for c in 0..k {
-            for (row, v) in jo.column(c).iter().enumerate() {
-                if *v != 0.0 {
-                    if first_in_row[row] == usize::MAX {
-                        first_in_row[row] = c;
-                    } else {
-                        let (a, b) = (root(&mut parent, first_in_row[row]), root(&mut parent, c));
-                        parent[a.max(b)] = a.min(b);
-                    }
-                }
-            }
-        }
-        let mut group_of = vec![usize::MAX; k];
-        let mut groups: Vec<Vec<usize>> = Vec::new();
-        for c in 0..k {
-            let r = root(&mut parent, c);
-            if group_of[r] == usize::MAX {
-                group_of[r] = groups.len();
-                groups.push(Vec::new());
-            }
-            groups[group_of[r]].push(c);
-        }
+        // Column by column (the matrix is column-major).
+        let ColumnGroups {
+            groups,
+            group_of_column,
+            first_in_row,
+        } = column_groups(
+            m,
+            k,
+            (0..k).flat_map(|c| {
+                jo.column(c)
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, v)| **v != 0.0)
+                    .map(move |(row, _)| (row, c))
+                    .collect::<Vec<_>>()
+            }),
+        );
         if groups.len() <= 1 {
             return Self {
                 len: k,
@@ -140,7 +130,7 @@ impl PartBlock {
         let mut rows: Vec<Vec<usize>> = vec![Vec::new(); groups.len()];
         for (row, &c) in first_in_row.iter().enumerate() {
             if c != usize::MAX {
-                rows[group_of[root(&mut parent, c)]].push(row);
+                rows[group_of_column[c]].push(row);
             }
         }
         let blocks = groups
@@ -160,34 +150,16 @@ impl PartBlock {
 
     /// [`PartBlock::gram`] of a Jacobian given column by column as its non-zero entries
     /// (`(row, value)`, rows ascending).
-    fn gram_sparse(columns: &[Vec<(usize, f64)>]) -> Self {
+    fn gram_sparse(m: usize, columns: &[Vec<(usize, f64)>]) -> Self {
         let k = columns.len();
-        let mut parent: Vec<usize> = (0..k).collect();
-        let mut first_in_row: std::collections::HashMap<usize, usize> =
-            std::collections::HashMap::new();
-        for (c, column) in columns.iter().enumerate() {
-            for &(row, _) in column {
-                match first_in_row.entry(row) {
-                    std::collections::hash_map::Entry::Vacant(e) => {
-                        e.insert(c);
-                    }
-                    std::collections::hash_map::Entry::Occupied(e) => {
-                        let (a, b) = (root(&mut parent, *e.get()), root(&mut parent, c));
-                        parent[a.max(b)] = a.min(b);
-                    }
-                }
-            }
-        }
-        let mut group_of = vec![usize::MAX; k];
-        let mut groups: Vec<Vec<usize>> = Vec::new();
-        for c in 0..k {
-            let r = root(&mut parent, c);
-            if group_of[r] == usize::MAX {
-                group_of[r] = groups.len();
-                groups.push(Vec::new());
-            }
-            groups[group_of[r]].push(c);
-        }
+        let ColumnGroups { groups, .. } = column_groups(
+            m,
+            k,
+            columns
+                .iter()
+                .enumerate()
+                .flat_map(|(c, column)| column.iter().map(move |&(row, _)| (row, c))),
+        );
         // Each entry of a group's block: the dot product of two sparse columns.
         let dot = |a: &[(usize, f64)], b: &[(usize, f64)]| {
             let (mut i, mut j, mut sum) = (0, 0, 0.0);
@@ -270,6 +242,53 @@ impl PartBlock {
             .iter()
             .map(scaled_min_eigenvalue)
             .fold(1.0, f64::min)
+    }
+}
+
+/// The groups of a part's columns that no residual couples, from the non-zero entries of its
+/// Jacobian (`(row, column)`, any order): union-find over the columns, each row joining its
+/// columns to the first one it was seen with.
+struct ColumnGroups {
+    /// Each group's columns, ascending; groups in the order of their first column.
+    groups: Vec<Vec<usize>>,
+    /// Each column's group.
+    group_of_column: Vec<usize>,
+    /// Each row's first column seen (`usize::MAX` for a row of zeros).
+    first_in_row: Vec<usize>,
+}
+
+fn column_groups(
+    m: usize,
+    k: usize,
+    entries: impl Iterator<Item = (usize, usize)>,
+) -> ColumnGroups {
+    let mut parent: Vec<usize> = (0..k).collect();
+    let mut first_in_row = vec![usize::MAX; m];
+    for (row, c) in entries {
+        if first_in_row[row] == usize::MAX {
+            first_in_row[row] = c;
+        } else {
+            let (a, b) = (root(&mut parent, first_in_row[row]), root(&mut parent, c));
+            parent[a.max(b)] = a.min(b);
+        }
+    }
+    let mut group_of_root = vec![usize::MAX; k];
+    let mut groups: Vec<Vec<usize>> = Vec::new();
+    let group_of_column: Vec<usize> = (0..k)
+        .map(|c| {
+            let r = root(&mut parent, c);
+            if group_of_root[r] == usize::MAX {
+                group_of_root[r] = groups.len();
+                groups.push(Vec::new());
+            }
+            groups[group_of_root[r]].push(c);
+            group_of_root[r]
+        })
+        .collect();
+    ColumnGroups {
+        groups,
+        group_of_column,
+        first_in_row,
     }
 }
 
@@ -614,7 +633,7 @@ pub(crate) trait Model {
                     go.push(jo.transpose() * r);
                 }
                 OwnJacobian::Sparse(columns) => {
-                    v.push(PartBlock::gram_sparse(&columns));
+                    v.push(PartBlock::gram_sparse(r.len(), &columns));
                     let mut wi = DMatrix::zeros(jc.ncols(), columns.len());
                     let mut gi = DVector::zeros(columns.len());
                     for (c, column) in columns.iter().enumerate() {
@@ -941,14 +960,14 @@ pub(crate) fn minimise<M: Model + ?Sized>(problem: &M, x0: Vec<f64>) -> Option<S
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::fit::{FitOptions, fit_scene};
     use crate::synth::{SynthOptions, add_noise, synthesize};
     use rand::SeedableRng as _;
 
     /// A noisy synthetic scene's fit (four boxes and a pentagonal footprint with a top).
-    fn fitted() -> (Problem, Vec<f64>) {
+    pub(crate) fn fitted() -> (Problem, Vec<f64>) {
         let (mut scene, _) = synthesize(&SynthOptions {
             seed: 4,
             ..SynthOptions::default()

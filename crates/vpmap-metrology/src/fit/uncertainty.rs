@@ -653,26 +653,14 @@ impl Fitted {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::synth::{SynthOptions, add_noise, synthesize};
-    use rand::SeedableRng as _;
 
     #[test]
     fn one_solve_over_the_touched_parts_equals_the_full_solve() {
         // A noisy synthetic scene's fit: every object's corner and value gradients, their
         // covariance by `covariance` (each gradient solved once, over the parts it touches)
         // against `quad` (the full solve of every pair).
-        let (mut scene, _) = synthesize(&SynthOptions {
-            seed: 4,
-            ..SynthOptions::default()
-        })
-        .unwrap();
-        add_noise(
-            &mut scene,
-            1.0,
-            &mut rand_chacha::ChaCha8Rng::seed_from_u64(4),
-        );
-        let fitted = super::super::fit_scene(&scene, &FitOptions::default()).unwrap();
-        let (problem, x) = (&fitted.problem, &fitted.x);
+        let (problem, x) = crate::fit::solve::tests::fitted();
+        let (problem, x) = (&problem, &x);
         let f = problem.normal(x).unwrap().factor(0.0).unwrap();
         let sigma = 1.3;
         let mut checked = 0;
