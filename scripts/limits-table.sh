@@ -158,6 +158,29 @@ row "\`build\`, a room of 4 photos and 99 boxes (385 objects in all)" "$VPMAP" b
 row "\`build\`, a room of 10 photos, 979 objects in all (within the limit)" "$VPMAP" build "$tmp/room-most.json" --out "$tmp/room-out"
 row "\`build\`, a room of 16 photos, 992 objects in all (16 x 100 took 50 s)" "$VPMAP" build "$tmp/room-16.json" --out "$tmp/room-out"
 row "\`build\`, a room of 11 photos, 1078 objects in all (over the limit)" "$VPMAP" build "$tmp/room-over.json" --out "$tmp/room-out"
+# A footprint of 1,000 vertices (the limit): the synthetic scene's chair clicked as an ellipse of
+# 1,000 points, alone in one photo and added to the bundled room's first photo (before
+# 2026-11-30 its block of the fit was dense: 20 s at 300 vertices, 75-129 s at 1,000).
+"$VPMAP" synth --seed 3 -o "$tmp/fp.json" > /dev/null
+python3 - "$tmp" <<'PY'
+import json, math, sys
+tmp = sys.argv[1]
+def ellipse(cx, cy, a, b, n=1000):
+    return [[cx + a * math.cos(2 * math.pi * k / n), cy + b * math.sin(2 * math.pi * k / n)] for k in range(n)]
+scene = json.load(open(f"{tmp}/fp.json"))
+chair = next(o for o in scene["objects"] if "footprint" in o)
+fp = chair["footprint"]
+pts = ellipse(sum(p[0] for p in fp) / len(fp), sum(p[1] for p in fp) / len(fp), 120, 50)
+chair["footprint"] = pts
+chair["top"] = {"above": 0, "point": [pts[0][0], pts[0][1] - 400]}
+json.dump(scene, open(f"{tmp}/fp1000.json", "w"))
+room = json.load(open("examples/room.json"))
+pts = ellipse(500, 1000, 80, 30)
+room["photos"][0]["objects"].append({"name": "table", "footprint": pts, "top": {"above": 0, "point": [pts[0][0], pts[0][1] - 150]}})
+json.dump(room, open(f"{tmp}/room-fp1000.json", "w"))
+PY
+row "\`build\`, a footprint of 1,000 vertices (the limit; 75-129 s before 2026-11-30)" "$VPMAP" build "$tmp/fp1000.json" --out "$tmp/fp-out"
+row "\`build\`, the bundled room with a footprint of 1,000 vertices added" "$VPMAP" build "$tmp/room-fp1000.json" --out "$tmp/fp-out"
 echo
 
 # The server's cases (issue 40: /api/propose, the photo store, room builds and plans on the
