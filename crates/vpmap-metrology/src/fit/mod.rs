@@ -19,6 +19,7 @@
 //! variance, propagated to each reported quantity by its gradient (first order), as in
 //! Criminisi, Reid & Zisserman, "Single view metrology", IJCV 40(2), 2000, section 5.
 
+mod blocks;
 mod box_edges;
 mod evidence;
 mod fitted;

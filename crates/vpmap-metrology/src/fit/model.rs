@@ -30,8 +30,8 @@ pub(crate) struct Camera {
 }
 
 impl Camera {
-    /// The camera for parameters `x` (see [`CAMERA_FIXED`]); `fixed_pp` when the principal
-    /// point is not among them.
+    /// The camera for parameters `x` (focal length px, pitch, roll, room yaw (radians), then the
+    /// principal point px); `fixed_pp` when the principal point is not among them.
     pub fn from_params(x: &[f64], fixed_pp: Option<Vector2<f64>>) -> Self {
         let principal_point_px = match fixed_pp {
             Some(p) => p,
@@ -206,11 +206,11 @@ impl Part {
         Vector3::new(floor.x, floor.y, f64::from(place.2) * h)
     }
 
-    /// The colouring of a footprint's Jacobian ([`super::solve::Coloring`]): its vertices' x
+    /// The colouring of a footprint's Jacobian ([`super::blocks::Coloring`]): its vertices' x
     /// together, their y together, and the height. Vertex `k`'s residuals (rows `2k`, `2k + 1`)
     /// depend on its `x`, `y` alone; the top click's on vertex `above`'s and the height. `None`
     /// for the other parts, whose parameters each reach most of their residuals.
-    pub fn coloring(&self) -> Option<super::solve::Coloring> {
+    pub fn coloring(&self) -> Option<super::blocks::Coloring> {
         let Part::Footprint { vertices, top } = self else {
             return None;
         };
@@ -232,7 +232,7 @@ impl Part {
             colors.push(vec![2 * n]);
             owners.push((0..rows).map(|r| (r >= 2 * n).then_some(0)).collect());
         }
-        Some(super::solve::Coloring { colors, owners })
+        Some(super::blocks::Coloring { colors, owners })
     }
 
     /// The residuals (predicted minus clicked, pixels) into `out`; `false` when a point falls

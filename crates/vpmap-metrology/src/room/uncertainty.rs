@@ -429,7 +429,7 @@ impl RoomFitted {
 }
 
 /// A room shape as a one-photo part of the same parameter layout, for
-/// [`part_values`].
+/// [`crate::fit::uncertainty::part_values`].
 fn as_part(shape: Shape) -> Part {
     match shape {
         Shape::Box {
