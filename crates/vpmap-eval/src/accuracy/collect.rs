@@ -5,7 +5,8 @@ use std::collections::BTreeMap;
 
 use vpmap_metrology::calibration::Perspective;
 use vpmap_metrology::eval::{
-    COVERAGE_METRICS, MapEvaluation, OBJECT_METRICS, SCENE_METRICS, TRUE_SCALE_SUFFIX,
+    CAMERA_COVERAGE_METRICS, COVERAGE_METRICS, MapEvaluation, OBJECT_METRICS, SCENE_METRICS,
+    TRUE_SCALE_SUFFIX,
 };
 
 use super::config::{Config, Results};
@@ -117,18 +118,23 @@ pub const DESCRIBED: [Described; 7] = [
 
 /// The error-bar values per object (method `fit`), after [`COVERAGE_METRICS`] (1 inside,
 /// 0 outside): the squared Mahalanobis distance of the true centroid and the standardised
-/// errors of length, breadth and height.
-pub const ERROR_BAR_METRICS: [&str; 4] = [
+/// errors of length, breadth, height and yaw.
+pub const ERROR_BAR_METRICS: [&str; 5] = [
     "centroid_mahalanobis_sq",
     "length_z",
     "breadth_z",
     "height_z",
+    "yaw_z",
 ];
+
+/// The camera's error-bar values per scene (method `fit`), after [`CAMERA_COVERAGE_METRICS`]
+/// (1 within `±2 sd`, 0 outside): the standardised errors of focal length, pitch and roll.
+pub const CAMERA_ERROR_BAR_METRICS: [&str; 3] = ["focal_z", "pitch_z", "roll_z"];
 
 /// Every metric name, in the order of the value columns: the `S_k` object metrics, their
 /// true-scale variants, the scene metrics, `scale_factor`, then the error-bar checks
-/// ([`COVERAGE_METRICS`], 1 or 0) and values ([`ERROR_BAR_METRICS`]), empty without error
-/// bars.
+/// ([`COVERAGE_METRICS`], 1 or 0) and values ([`ERROR_BAR_METRICS`]), and the camera's
+/// ([`CAMERA_COVERAGE_METRICS`], [`CAMERA_ERROR_BAR_METRICS`]), empty without error bars.
 #[must_use]
 pub fn metric_names() -> Vec<String> {
     OBJECT_METRICS
@@ -143,6 +149,8 @@ pub fn metric_names() -> Vec<String> {
         .chain(std::iter::once("scale_factor".to_owned()))
         .chain(COVERAGE_METRICS.iter().map(|m| (*m).to_owned()))
         .chain(ERROR_BAR_METRICS.iter().map(|m| (*m).to_owned()))
+        .chain(CAMERA_COVERAGE_METRICS.iter().map(|m| (*m).to_owned()))
+        .chain(CAMERA_ERROR_BAR_METRICS.iter().map(|m| (*m).to_owned()))
         .collect()
 }
 
@@ -153,9 +161,13 @@ pub(super) const SCENE_BASE: usize = 2 * OBJECT_METRICS.len();
 /// `scale_factor`).
 pub(super) const COVERAGE_BASE: usize = SCENE_BASE + SCENE_METRICS.len() + 1;
 
+/// Index of the first camera error-bar check in [`metric_names`].
+pub(super) const CAMERA_COVERAGE_BASE: usize =
+    COVERAGE_BASE + COVERAGE_METRICS.len() + ERROR_BAR_METRICS.len();
+
 /// Whether the metric at index `k` of [`metric_names`] is one value per scene.
 pub(super) fn per_scene(k: usize) -> bool {
-    (SCENE_BASE..COVERAGE_BASE).contains(&k)
+    (SCENE_BASE..COVERAGE_BASE).contains(&k) || k >= CAMERA_COVERAGE_BASE
 }
 
 /// Every value of one scene's evaluation in [`metric_names`] order: per object the object
@@ -165,7 +177,7 @@ pub(super) fn object_row(ev: &MapEvaluation, object: usize) -> Vec<f64> {
         return Vec::new();
     };
     let flag = |b: Option<bool>| b.map_or(f64::NAN, |b| if b { 1.0 } else { 0.0 });
-    let (within, bars) = o.coverage.map_or(([f64::NAN; 4], [f64::NAN; 4]), |c| {
+    let (within, bars) = o.coverage.map_or(([f64::NAN; 5], [f64::NAN; 5]), |c| {
         (
             c.within().map(flag),
             [
@@ -173,9 +185,18 @@ pub(super) fn object_row(ev: &MapEvaluation, object: usize) -> Vec<f64> {
                 c.length_z.unwrap_or(f64::NAN),
                 c.breadth_z.unwrap_or(f64::NAN),
                 c.height_z.unwrap_or(f64::NAN),
+                c.yaw_z.unwrap_or(f64::NAN),
             ],
         )
     });
+    let (camera_within, camera_bars) =
+        ev.camera_coverage
+            .map_or(([f64::NAN; 3], [f64::NAN; 3]), |c| {
+                (
+                    c.within().map(flag),
+                    c.values().map(|z| z.unwrap_or(f64::NAN)),
+                )
+            });
     o.sk.values()
         .into_iter()
         .chain(o.true_scale.values())
@@ -183,6 +204,8 @@ pub(super) fn object_row(ev: &MapEvaluation, object: usize) -> Vec<f64> {
         .chain(std::iter::once(ev.scale_factor))
         .chain(within)
         .chain(bars)
+        .chain(camera_within)
+        .chain(camera_bars)
         .collect()
 }
 
@@ -349,5 +372,11 @@ mod tests {
             assert_eq!(d.name, m);
         }
         assert_eq!(metric_names()[SCENE_BASE], SCENE_METRICS[0]);
+        assert_eq!(metric_names()[COVERAGE_BASE], COVERAGE_METRICS[0]);
+        assert_eq!(
+            metric_names()[CAMERA_COVERAGE_BASE],
+            CAMERA_COVERAGE_METRICS[0]
+        );
+        assert!(per_scene(CAMERA_COVERAGE_BASE) && !per_scene(COVERAGE_BASE));
     }
 }

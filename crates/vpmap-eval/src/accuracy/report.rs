@@ -6,10 +6,12 @@ use std::collections::BTreeMap;
 use std::fmt::Write as _;
 
 use vpmap_metrology::calibration::Perspective;
-use vpmap_metrology::eval::{COVERAGE_METRICS, OBJECT_METRICS, VpEdges};
+use vpmap_metrology::eval::{CAMERA_COVERAGE_METRICS, COVERAGE_METRICS, OBJECT_METRICS, VpEdges};
 use vpmap_metrology::synth::Annotation;
 
-use super::collect::{COVERAGE_BASE, Collected, DESCRIBED, Group, Refusals, SCENE_BASE};
+use super::collect::{
+    CAMERA_COVERAGE_BASE, COVERAGE_BASE, Collected, DESCRIBED, Group, Refusals, SCENE_BASE,
+};
 use super::config::Config;
 use crate::stats::Summary;
 
@@ -317,7 +319,50 @@ fn coverage_section(config: &Config, c: &Collected) -> String {
         return String::new();
     }
     format!(
-        "\n### Error-bar coverage\n\nFor the objects a method gives error bars for (the fit's, computed for the true σ), at the true scale: the share (%) whose true centroid lies inside the reported 95 % ellipse (squared Mahalanobis distance with the reported centroid covariance at most 5.991, the 95 % point of χ² with 2 degrees of freedom), and whose true length, breadth and height lie within ±2 standard deviations of the reported ones (length: the map's longer side, against the true length of the same side). Calibrated error bars give about 95 % in every column and a median squared distance of 1.39 (χ² with 2 degrees of freedom); fewer mean the error bars are too small.\n\n| method | σ (px) | perspective | objects | centroid in 95 % ellipse | length within ±2σ | breadth within ±2σ | height within ±2σ | median d² |\n|---|---|---|---|---|---|---|---|---|\n{rows}"
+        "\n### Error-bar coverage\n\nFor the objects a method gives error bars for (the fit's, computed for the true σ), at the true scale: the share (%) whose true centroid lies inside the reported 95 % ellipse (squared Mahalanobis distance with the reported centroid covariance at most 5.991, the 95 % point of χ² with 2 degrees of freedom), and whose true length, breadth, height and yaw lie within ±2 standard deviations of the reported ones (length: the map's longer side, against the true length of the same side; yaw: that side's direction). Calibrated error bars give about 95 % in every column and a median squared distance of 1.39 (χ² with 2 degrees of freedom); fewer mean the error bars are too small.\n\n| method | σ (px) | perspective | objects | centroid in 95 % ellipse | length within ±2σ | breadth within ±2σ | height within ±2σ | yaw within ±2σ | median d² |\n|---|---|---|---|---|---|---|---|---|---|\n{rows}{}",
+        camera_coverage_table(config, c)
+    )
+}
+
+/// The camera's error-bar coverage: per method with error bars, noise level above zero and
+/// perspective, the share of scenes whose true focal length, pitch and roll lie within
+/// `±2 sd` of the fitted camera's.
+fn camera_coverage_table(config: &Config, c: &Collected) -> String {
+    let mut rows = String::new();
+    for (m, method) in config.methods.iter().enumerate() {
+        for (s, sigma) in config.sigmas.iter().enumerate() {
+            if *sigma <= 0.0 {
+                continue;
+            }
+            for p in perspectives(config) {
+                let g = Group::Perspective(p);
+                let cells: Vec<Option<Summary>> = (0..CAMERA_COVERAGE_METRICS.len())
+                    .map(|k| c.summary(config, m, s, g, CAMERA_COVERAGE_BASE + k))
+                    .collect();
+                let Some(scenes) = cells.iter().flatten().map(|x| x.count).max() else {
+                    continue;
+                };
+                let _ = write!(
+                    rows,
+                    "| {method} | {} | {} | {scenes}",
+                    sigma_text(*sigma),
+                    p.name().to_uppercase()
+                );
+                for cell in &cells {
+                    let text = cell
+                        .as_ref()
+                        .map_or_else(|| "(held)".to_owned(), |x| format!("{:.1}", 100.0 * x.mean));
+                    let _ = write!(rows, " | {text}");
+                }
+                rows.push_str(" |\n");
+            }
+        }
+    }
+    if rows.is_empty() {
+        return String::new();
+    }
+    format!(
+        "\nThe camera's error bars, per scene: the share (%) of the scenes a method built whose true focal length, pitch and roll lie within ±2 standard deviations of the fitted camera's (`camera.uncertainty` in map.json). A two-point photo's pitch is held at 0, not estimated: it has no error bar.\n\n| method | σ (px) | perspective | scenes | focal within ±2σ | pitch within ±2σ | roll within ±2σ |\n|---|---|---|---|---|---|---|\n{rows}"
     )
 }
 

@@ -2,7 +2,7 @@
 
 use serde::Serialize;
 
-use super::coverage::{Coverage, coverage};
+use super::coverage::{CameraCoverage, Coverage, camera_coverage, coverage};
 use super::metrics::{ObjectErrors, object_errors, percent_error, rectangle_size, scale_factor};
 use crate::error::{MetrologyError, Result};
 use crate::map::{FloorMap, MapPoint, Units};
@@ -58,6 +58,9 @@ pub struct MapEvaluation {
     pub camera_height_error_pct: f64,
     /// Per object, in scene order.
     pub objects: Vec<ObjectEvaluation>,
+    /// Whether the true camera lies within the camera's error bars (method `fit`; `None`
+    /// otherwise).
+    pub camera_coverage: Option<CameraCoverage>,
 }
 
 impl MapEvaluation {
@@ -158,5 +161,6 @@ pub fn evaluate_map(map: &FloorMap, truth: &Truth) -> Result<MapEvaluation> {
         },
         camera_height_error_pct: percent_error(map.camera.height, truth.camera.height / s_k),
         objects,
+        camera_coverage: camera_coverage(&map.camera, &truth.camera),
     })
 }

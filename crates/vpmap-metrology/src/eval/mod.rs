@@ -41,7 +41,10 @@
 //! reported centroid covariance (inside the 95 % ellipse when at most [`CHI2_2DOF_95`]), and
 //! the standardised errors `(m - a) / sd` of the box's length, breadth and height (within
 //! `±2 sd` when at most 2 in magnitude). The length is the map's longer side, compared with the
-//! true length of the same side (the sides correspond by their corners).
+//! true length of the same side (the sides correspond by their corners); so is the yaw (the
+//! longer side's direction against the true direction of the same side, wrapped to
+//! `[-90, 90)` degrees). [`CameraCoverage`] does the same for the camera's focal length,
+//! pitch and roll, once per scene.
 //!
 //! Per scene: `pitch_error_deg`, `roll_error_deg` (estimate minus truth) and
 //! `focal_error_pct` (`(f_m - f_a) / f_a * 100`; the focal length is estimated from the
@@ -106,7 +109,9 @@ mod room_visibility;
 mod setups;
 mod trial;
 
-pub use coverage::{CHI2_2DOF_95, COVERAGE_METRICS, Coverage};
+pub use coverage::{
+    CAMERA_COVERAGE_METRICS, CHI2_2DOF_95, COVERAGE_METRICS, CameraCoverage, Coverage,
+};
 pub use evaluate::{CameraErrors, MapEvaluation, ObjectEvaluation, SCENE_METRICS, evaluate_map};
 pub use metrics::{
     OBJECT_METRICS, ObjectErrors, TRUE_SCALE_SUFFIX, object_errors, percent_error, rectangle_size,

@@ -10,7 +10,7 @@ use vpmap_metrology::scene::Scene;
 #[derive(Clone, Deserialize)]
 pub(crate) struct RoomTruth {
     pub(crate) objects: Vec<TruthObject>,
-    cameras: Vec<TruthCamera>,
+    pub(crate) cameras: Vec<TruthCamera>,
 }
 
 #[derive(Clone, Deserialize)]
@@ -21,13 +21,14 @@ pub(crate) struct TruthObject {
 }
 
 #[derive(Clone, Deserialize)]
-struct TruthCamera {
-    position: [f64; 2],
-    height: f64,
-    focal_px: f64,
-    pitch_deg: f64,
-    roll_deg: f64,
-    yaw_deg_in_frame: f64,
+pub(crate) struct TruthCamera {
+    pub(crate) position: [f64; 2],
+    pub(crate) height: f64,
+    pub(crate) focal_px: f64,
+    pub(crate) pitch_deg: f64,
+    pub(crate) roll_deg: f64,
+    /// Clockwise from `+y` (the map's heading turns counter-clockwise).
+    pub(crate) yaw_deg_in_frame: f64,
 }
 
 pub(crate) fn shared(sub: &str) -> PathBuf {

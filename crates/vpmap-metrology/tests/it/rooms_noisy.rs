@@ -5,7 +5,9 @@
 use vpmap_metrology::map::{BuildOptions, build_map};
 use vpmap_metrology::scene::Scene;
 
-use crate::rooms::{footprint_error, mahalanobis_sq, permutations, shared, shared_room};
+use crate::rooms::{
+    TruthCamera, footprint_error, mahalanobis_sq, permutations, shared, shared_room,
+};
 
 /// How the noisy trials of the shared rooms give each photo its vanishing points.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -86,6 +88,45 @@ struct NoisyCount {
     centroid_errors_m: Vec<f64>,
     /// Every object's 95 % ellipse's major semi-axis, m.
     major_95_m: Vec<f64>,
+    /// The cameras' error bars: per quantity of [`CAMERA_QUANTITIES`], how many had one and
+    /// how many held the truth within `±2 sd`.
+    camera_counted: [usize; 7],
+    camera_within: [usize; 7],
+}
+
+/// The camera quantities whose error bars `map.json` reports (`cameras[].uncertainty`), in
+/// the order of [`NoisyCount::camera_within`]: every photo's focal length, pitch and roll;
+/// photos 2..n's height, station point (x, y) and heading.
+const CAMERA_QUANTITIES: [&str; 7] = ["focal", "pitch", "roll", "height", "x", "y", "heading"];
+
+impl NoisyCount {
+    /// Count where the true camera `t` lies in the error bars of the map's camera `m`.
+    fn count_camera(&mut self, m: &vpmap_metrology::map::CameraReport, t: &TruthCamera) {
+        let u = m.uncertainty.as_ref().unwrap();
+        // The simulator turns its yaw clockwise from +y; the map's heading turns
+        // counter-clockwise.
+        let heading = m
+            .heading_deg
+            .map(|h| (h + t.yaw_deg_in_frame + 540.0).rem_euclid(360.0) - 180.0);
+        let position = u.position_sd;
+        let errors = [
+            Some((m.focal_px - t.focal_px, u.focal_px_sd)),
+            Some((m.pitch_deg - t.pitch_deg, u.pitch_deg_sd)),
+            Some((m.roll_deg - t.roll_deg, u.roll_deg_sd)),
+            Some((m.height - t.height, u.height_sd)),
+            position.map(|sd| (m.position[0] - t.position[0], sd[0])),
+            position.map(|sd| (m.position[1] - t.position[1], sd[1])),
+            heading.zip(u.heading_deg_sd),
+        ];
+        for (k, e) in errors.into_iter().enumerate() {
+            // A value the fit holds (sd 0: a two-point photo's pitch, the first photo's height
+            // and place) has no error bar.
+            if let Some((e, sd)) = e.filter(|(_, sd)| *sd > 0.0) {
+                self.camera_counted[k] += 1;
+                self.camera_within[k] += usize::from(e.abs() <= 2.0 * sd);
+            }
+        }
+    }
 }
 
 fn noisy_shared_rooms(sigma_px: f64, trials: u64, vps: VpSource) -> NoisyCount {
@@ -98,9 +139,16 @@ fn noisy_shared_rooms(sigma_px: f64, trials: u64, vps: VpSource) -> NoisyCount {
             let mut scene = noisy_room(&room, sigma_px, 1000 * r as u64 + t, vps);
             // Photos 2..n in an order of the trial's own.
             let orders = permutations(&scene.other_photos);
-            scene
-                .other_photos
-                .clone_from(&orders[(t as usize * 7 + r) % orders.len()]);
+            let order = (t as usize * 7 + r) % orders.len();
+            scene.other_photos.clone_from(&orders[order]);
+            // Which photo of the file each of the map's cameras is.
+            let photos: Vec<usize> = std::iter::once(0)
+                .chain(
+                    permutations(&(1..=scene.other_photos.len()).collect::<Vec<_>>())[order]
+                        .iter()
+                        .copied(),
+                )
+                .collect();
             match build_map(&scene, &BuildOptions::default()) {
                 Err(e) => count.refused.push(format!("mv0{r} trial {t}: {e}")),
                 Ok(map) => {
@@ -143,6 +191,9 @@ fn noisy_shared_rooms(sigma_px: f64, trials: u64, vps: VpSource) -> NoisyCount {
                         count.centroid_errors_m.push(d[0].hypot(d[1]));
                         count.major_95_m.push(major_95);
                         count.inside += usize::from(d2 <= CHI2_2_95);
+                    }
+                    for (m, &k) in map.cameras.iter().zip(&photos) {
+                        count.count_camera(m, &truth.cameras[k]);
                     }
                     count.worst_m = count.worst_m.max(worst);
                     count.worst_d2 = count.worst_d2.max(worst_d2);
@@ -203,6 +254,15 @@ fn shared_data_rooms_with_noisy_clicks_are_mapped_not_refused() {
             "  median centroid error {:.4} m, median 95 % major semi-axis {:.4} m",
             median(&c.centroid_errors_m),
             median(&c.major_95_m)
+        );
+        let cameras: Vec<String> = CAMERA_QUANTITIES
+            .iter()
+            .zip(c.camera_within.iter().zip(&c.camera_counted))
+            .map(|(q, (w, n))| format!("{q} {w} of {n}"))
+            .collect();
+        println!(
+            "  the cameras' error bars, the truth within +-2 sd: {}",
+            cameras.join(", ")
         );
         for b in &c.beyond_quarter_metre {
             println!("  a box > 0.25 m: {b}");

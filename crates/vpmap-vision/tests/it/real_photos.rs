@@ -4,6 +4,8 @@
 //! for at least 80 % of the objects, none beyond a Mahalanobis distance squared of 20, the
 //! median error at most 3 % of the distance. The truth is loose by a few centimetres, and photo
 //! 000002's roll by about 2 degrees (its README), which is why the bounds are not tighter.
+//! The camera's focal length, pitch and roll are printed against the truth's, with their
+//! standardised errors.
 
 use std::path::PathBuf;
 
@@ -51,6 +53,20 @@ fn measure(dir: &std::path::Path) -> Vec<(String, String, f64, f64, f64)> {
         let truth: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(folder.join("truth.json")).unwrap())
                 .unwrap();
+        let (cam, u) = (&map.camera, map.camera.uncertainty.unwrap());
+        let z = |key: &str, value: f64, sd: f64| {
+            let t = truth["camera"][key].as_f64().unwrap();
+            format!(
+                "{key} {value:.2} +- {sd:.2} (true {t:.2}, z {:.2})",
+                (value - t) / sd
+            )
+        };
+        eprintln!(
+            "{id} camera: {}, {}, {}",
+            z("focal_px", cam.focal_px, u.focal_px_sd),
+            z("pitch_deg", cam.pitch_deg, u.pitch_deg_sd),
+            z("roll_deg", cam.roll_deg, u.roll_deg_sd)
+        );
         for t in truth["objects"].as_array().unwrap() {
             let name = t["name"].as_str().unwrap();
             let o = map.objects.iter().find(|o| o.name == name).unwrap();
