@@ -245,8 +245,9 @@ impl PyDetection {
 
     /// The camera the scene gives before any click, with standard deviations (the joint fit
     /// of its vanishing points and the principal point's prior): a dict of ``focal_px``,
-    /// ``focal_sd_px``, ``principal_point``, ``pitch_deg``, ``pitch_sd_deg``, ``roll_deg``,
-    /// ``roll_sd_deg`` and ``horizon_sd_px``; ``None`` when that fit fails.
+    /// ``focal_sd_px``, ``principal_point``, ``principal_point_sd_px`` (``(x, y)``, or ``None``
+    /// when the fit held it), ``pitch_deg``, ``pitch_sd_deg``, ``roll_deg``, ``roll_sd_deg``
+    /// and ``horizon_sd_px``; ``None`` when that fit fails.
     #[getter]
     fn camera_estimate<'py>(&self, py: Python<'py>) -> PyResult<Option<Bound<'py, PyDict>>> {
         let Some(c) = self.scene.camera_estimate() else {
@@ -258,6 +259,10 @@ impl PyDetection {
         d.set_item(
             "principal_point",
             (c.principal_point_px[0], c.principal_point_px[1]),
+        )?;
+        d.set_item(
+            "principal_point_sd_px",
+            c.principal_point_sd_px.map(|[x, y]| (x, y)),
         )?;
         d.set_item("pitch_deg", c.pitch_deg)?;
         d.set_item("pitch_sd_deg", c.pitch_sd_deg)?;

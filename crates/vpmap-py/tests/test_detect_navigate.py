@@ -174,6 +174,12 @@ def test_detect_reports_how_sure_it_is():
     assert cam is not None and cam["focal_sd_px"] > 0
     assert abs(cam["focal_px"] - focal) <= 1.96 * cam["focal_sd_px"]
     assert abs(abs(cam["pitch_deg"]) - pitch) <= 1.96 * cam["pitch_sd_deg"]
+    # Pitched 20 degrees, three finite vanishing points: the fit places the principal point
+    # (the image centre in truth) and says how well.
+    sd = cam["principal_point_sd_px"]
+    assert sd is not None and min(sd) > 0
+    for got, true, s in zip(cam["principal_point"], (240.0, 180.0), sd):
+        assert abs(got - true) <= 1.96 * s
 
 
 def test_detect_takes_the_lens_as_told():

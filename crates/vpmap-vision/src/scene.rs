@@ -77,6 +77,9 @@ pub struct CameraEstimate {
     pub focal_sd_px: f64,
     /// Principal point, pixels.
     pub principal_point_px: [f64; 2],
+    /// Its standard deviations `[x, y]`, pixels, when the fit placed it (a written prior and
+    /// three finite vanishing points); `None` when it was held.
+    pub principal_point_sd_px: Option<[f64; 2]>,
     /// Pitch (positive looking down), degrees.
     pub pitch_deg: f64,
     /// Its standard deviation, degrees.
@@ -141,6 +144,7 @@ impl DetectedScene {
             focal_px: cal.focal_px,
             focal_sd_px: u.camera.focal_px_sd,
             principal_point_px: [cal.frame.origin_px.x, cal.frame.origin_px.y],
+            principal_point_sd_px: u.camera.principal_point_px_sd,
             pitch_deg: pitch.to_degrees(),
             pitch_sd_deg: u.camera.pitch_deg_sd,
             roll_deg: cal.roll_rad.to_degrees(),

@@ -128,8 +128,15 @@ pub const ERROR_BAR_METRICS: [&str; 5] = [
 ];
 
 /// The camera's error-bar values per scene (method `fit`), after [`CAMERA_COVERAGE_METRICS`]
-/// (1 within `±2 sd`, 0 outside): the standardised errors of focal length, pitch and roll.
-pub const CAMERA_ERROR_BAR_METRICS: [&str; 3] = ["focal_z", "pitch_z", "roll_z"];
+/// (1 within `±2 sd`, 0 outside): the standardised errors of focal length, pitch, roll and
+/// the principal point's two coordinates.
+pub const CAMERA_ERROR_BAR_METRICS: [&str; 5] = [
+    "focal_z",
+    "pitch_z",
+    "roll_z",
+    "principal_point_x_z",
+    "principal_point_y_z",
+];
 
 /// Every metric name, in the order of the value columns: the `S_k` object metrics, their
 /// true-scale variants, the scene metrics, `scale_factor`, then the error-bar checks
@@ -191,7 +198,7 @@ pub(super) fn object_row(ev: &MapEvaluation, object: usize) -> Vec<f64> {
     });
     let (camera_within, camera_bars) =
         ev.camera_coverage
-            .map_or(([f64::NAN; 3], [f64::NAN; 3]), |c| {
+            .map_or(([f64::NAN; 5], [f64::NAN; 5]), |c| {
                 (
                     c.within().map(flag),
                     c.values().map(|z| z.unwrap_or(f64::NAN)),

@@ -325,10 +325,18 @@ fn coverage_section(config: &Config, c: &Collected) -> String {
 }
 
 /// The camera's error-bar coverage: per method with error bars, noise level above zero and
-/// perspective, the share of scenes whose true focal length, pitch and roll lie within
-/// `±2 sd` of the fitted camera's.
+/// perspective, the share of scenes whose true focal length, pitch, roll and principal point
+/// lie within `±2 sd` of the fitted camera's.
 fn camera_coverage_table(config: &Config, c: &Collected) -> String {
-    let mut rows = String::new();
+    /// The columns' headings, in the order of `CAMERA_COVERAGE_METRICS`.
+    const HEADINGS: [&str; 5] = [
+        "focal within ±2σ",
+        "pitch within ±2σ",
+        "roll within ±2σ",
+        "principal point x within ±2σ",
+        "principal point y within ±2σ",
+    ];
+    let mut rows = Vec::new();
     for (m, method) in config.methods.iter().enumerate() {
         for (s, sigma) in config.sigmas.iter().enumerate() {
             if *sigma <= 0.0 {
@@ -342,28 +350,40 @@ fn camera_coverage_table(config: &Config, c: &Collected) -> String {
                 let Some(scenes) = cells.iter().flatten().map(|x| x.count).max() else {
                     continue;
                 };
-                let _ = write!(
-                    rows,
+                let label = format!(
                     "| {method} | {} | {} | {scenes}",
                     sigma_text(*sigma),
                     p.name().to_uppercase()
                 );
-                for cell in &cells {
-                    let text = cell
-                        .as_ref()
-                        .map_or_else(|| "(held)".to_owned(), |x| format!("{:.1}", 100.0 * x.mean));
-                    let _ = write!(rows, " | {text}");
-                }
-                rows.push_str(" |\n");
+                rows.push((label, cells));
             }
         }
     }
+    // A quantity no scene estimated (the principal point, which the scenes give) is left out.
+    let columns: Vec<usize> = (0..HEADINGS.len())
+        .filter(|&k| rows.iter().any(|(_, cells)| cells[k].is_some()))
+        .collect();
     if rows.is_empty() {
         return String::new();
     }
-    format!(
-        "\nThe camera's error bars, per scene: the share (%) of the scenes a method built whose true focal length, pitch and roll lie within ±2 standard deviations of the fitted camera's (`camera.uncertainty` in map.json). A two-point photo's pitch is held at 0, not estimated: it has no error bar.\n\n| method | σ (px) | perspective | scenes | focal within ±2σ | pitch within ±2σ | roll within ±2σ |\n|---|---|---|---|---|---|---|\n{rows}"
-    )
+    let mut md = "\nThe camera's error bars, per scene: the share (%) of the scenes a method built whose true focal length, pitch and roll (and principal point, each coordinate, where a fit estimated it) lie within ±2 standard deviations of the fitted camera's (`camera.uncertainty` in map.json). A two-point photo's pitch is held at 0, not estimated: it has no error bar (\"held\").\n\n| method | σ (px) | perspective | scenes |".to_owned();
+    for &k in &columns {
+        let _ = write!(md, " {} |", HEADINGS[k]);
+    }
+    md.push_str("\n|---|---|---|---|");
+    md.push_str(&"---|".repeat(columns.len()));
+    md.push('\n');
+    for (label, cells) in &rows {
+        md.push_str(label);
+        for &k in &columns {
+            let text = cells[k]
+                .as_ref()
+                .map_or_else(|| "(held)".to_owned(), |x| format!("{:.1}", 100.0 * x.mean));
+            let _ = write!(md, " | {text}");
+        }
+        md.push_str(" |\n");
+    }
+    md
 }
 
 /// Per set-up at the plots' noise level: refusals, true-scale overlap and centroid shift,

@@ -395,6 +395,7 @@ fn run_one(
                 .as_ref()
                 .filter(|_| which == Intrinsics::Estimated)
                 .and_then(|s| coverage::focal_z(s, label)),
+            camera_z: scene.as_ref().and_then(|s| coverage::camera_z(s, label)),
             focal_px: det.intrinsics.focal_px,
             focal_error: (which == Intrinsics::Estimated)
                 .then(|| (det.intrinsics.focal_px - label.focal_px).abs() / label.focal_px),

@@ -120,6 +120,9 @@ pub struct Summary {
     /// Of the photos whose scene gives a camera, the share whose labelled focal length lies
     /// inside its 95 % interval, and how many there were (estimated runs only).
     pub focal_coverage: Option<(f64, usize)>,
+    /// Of the photos whose scene gives a camera, the share whose labelled camera lies within
+    /// the estimate's 95 % intervals ([`CameraCoverage`]).
+    pub camera_coverage: Option<CameraCoverage>,
     /// The lens estimates' consistency over the photos (one camera, one `k`;
     /// [`super::coverage::lens_consistency`]), and their median `k`.
     pub lens: Option<(super::coverage::LensConsistency, f64)>,
@@ -129,6 +132,46 @@ pub struct Summary {
     /// Over the photos whose labels hold orthogonalised directions (`None`: none do): the
     /// frame against them, the own points against them, and they against the labels.
     pub orthogonal: Option<[Accuracy; 3]>,
+}
+
+/// Where the labelled cameras lie in the written scenes' camera estimates: the share within
+/// `±1.96 sd` ([`super::coverage::CameraZ`]), against each labelled horizon (the vertical's,
+/// the horizontals').
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CameraCoverage {
+    /// Photos counted.
+    pub photos: usize,
+    /// Pitch, against each labelled horizon.
+    pub pitch: [f64; 2],
+    /// Roll.
+    pub roll: [f64; 2],
+    /// The horizon's offset at the principal point (the overlay's band).
+    pub horizon: [f64; 2],
+    /// The principal point `[x, y]` and the photos where the fit placed it.
+    pub principal_point: Option<([f64; 2], usize)>,
+}
+
+/// The shares of [`CameraCoverage`] over `zs` (`None` for none).
+fn camera_coverage(zs: &[super::coverage::CameraZ]) -> Option<CameraCoverage> {
+    if zs.is_empty() {
+        return None;
+    }
+    let inside = |f: &dyn Fn(&super::coverage::CameraZ) -> f64| {
+        let v: Vec<f64> = zs.iter().map(|z| f(z).abs()).collect();
+        fraction_at_most(&v, super::coverage::Z_95)
+    };
+    let pp: Vec<[f64; 2]> = zs.iter().filter_map(|z| z.principal_point).collect();
+    let pp_inside = |i: usize| {
+        let v: Vec<f64> = pp.iter().map(|z| z[i].abs()).collect();
+        fraction_at_most(&v, super::coverage::Z_95)
+    };
+    Some(CameraCoverage {
+        photos: zs.len(),
+        pitch: [0, 1].map(|k| inside(&|z| z.pitch[k])),
+        roll: [0, 1].map(|k| inside(&|z| z.roll[k])),
+        horizon: [0, 1].map(|k| inside(&|z| z.horizon[k])),
+        principal_point: (!pp.is_empty()).then(|| ([pp_inside(0), pp_inside(1)], pp.len())),
+    })
 }
 
 /// Summarise one kind of run.
@@ -146,10 +189,12 @@ pub fn summarise(results: &[ImageResult], which: Intrinsics) -> Summary {
     let mut d2s = Vec::new();
     let mut zs = Vec::new();
     let mut lenses = Vec::new();
+    let mut cameras = Vec::new();
     for r in results {
         if let Ok(ok) = &r.runs[slot].outcome {
             d2s.extend(ok.ellipse_d2.iter().flatten().copied());
             zs.extend(ok.focal_z);
+            cameras.extend(ok.camera_z);
             lenses.extend(ok.lens);
         }
         let run = &r.runs[slot];
@@ -200,6 +245,7 @@ pub fn summarise(results: &[ImageResult], which: Intrinsics) -> Summary {
         ),
         focal_coverage: (which == Intrinsics::Estimated && !zs.is_empty())
             .then(|| (fraction_at_most(&zs, super::coverage::Z_95), zs.len())),
+        camera_coverage: camera_coverage(&cameras),
         lens: super::coverage::lens_consistency(&lenses).map(|c| {
             let ks: Vec<f64> = lenses.iter().map(|l| l[0]).collect();
             (c, quantile_of(&ks, 0.5).unwrap_or(f64::NAN))
@@ -207,6 +253,42 @@ pub fn summarise(results: &[ImageResult], which: Intrinsics) -> Summary {
         own: accuracy(&own),
         orthogonal: (!orthogonal[0].is_empty()).then(|| orthogonal.map(|o| accuracy(&o))),
     }
+}
+
+/// The rows of the camera estimates' coverage ([`CameraCoverage`]).
+fn camera_rows(rows: &mut Vec<(String, [String; 2], String)>, summaries: &[Summary; 2]) {
+    let cells = |f: &dyn Fn(&CameraCoverage) -> String| {
+        summaries
+            .each_ref()
+            .map(|s| s.camera_coverage.as_ref().map_or_else(|| "-".to_owned(), f))
+    };
+    for (name, pick) in [
+        (
+            "pitch",
+            (|c: &CameraCoverage| c.pitch) as fn(&CameraCoverage) -> [f64; 2],
+        ),
+        ("roll", |c| c.roll),
+        ("horizon (the overlay's band)", |c| c.horizon),
+    ] {
+        rows.push((
+            format!("labelled {name} inside the 95 % interval (vertical's horizon / horizontals')"),
+            cells(&|c| {
+                let [a, b] = pick(c);
+                format!("{} / {} of {}", pct(a), pct(b), c.photos)
+            }),
+            "target 90-98 %".to_owned(),
+        ));
+    }
+    rows.push((
+        "labelled principal point inside the 95 % interval (x / y)".to_owned(),
+        cells(&|c| {
+            c.principal_point.map_or_else(
+                || "(given)".to_owned(),
+                |([x, y], n)| format!("{} / {} of {n}", pct(x), pct(y)),
+            )
+        }),
+        "target 90-98 %".to_owned(),
+    ));
 }
 
 /// A short name of a run for messages.
@@ -282,6 +364,7 @@ fn rows(summaries: &[Summary; 2]) -> Vec<(String, [String; 2], String)> {
         }),
         "target 90-98 %".to_owned(),
     ));
+    camera_rows(&mut rows, summaries);
     rows.push((
         "lens k (division model), median".to_owned(),
         cells(&|s| {
@@ -595,6 +678,14 @@ fn summary_json(s: &Summary) -> serde_json::Value {
             "auc_against_labelled_horizontal_vps": s.horizon_auc_of_horizontals,
         }),
         "time_ms": s.time_ms.map(|(m, p)| json!({"median": m, "p90": p})),
+        "camera_inside_95": s.camera_coverage.map(|c| json!({
+            "photos": c.photos,
+            "pitch_against_vertical_and_horizontals": c.pitch,
+            "roll_against_vertical_and_horizontals": c.roll,
+            "horizon_against_vertical_and_horizontals": c.horizon,
+            "principal_point_xy": c.principal_point.map(|(p, _)| p),
+            "principal_point_photos": c.principal_point.map(|(_, n)| n),
+        })),
         "lens": s.lens.map(|(c, median)| json!({
             "median_k": median,
             "mean_k": c.mean_k,
@@ -648,6 +739,12 @@ pub fn json(ctx: &Context, results: &[ImageResult], summaries: &[Summary; 2]) ->
                         "lens_k": ok.lens.map(|l| l[0]),
                         "lens_k_sd": ok.lens.map(|l| l[1]),
                         "lens_k_sd_segments": ok.lens_segments_sd,
+                        "camera_z": ok.camera_z.map(|z| json!({
+                            "pitch_against_vertical_and_horizontals": z.pitch,
+                            "roll_against_vertical_and_horizontals": z.roll,
+                            "horizon_against_vertical_and_horizontals": z.horizon,
+                            "principal_point_xy": z.principal_point,
+                        })),
                     }),
                     Err(e) => json!({"time_ms": run.time_ms, "refused": e}),
                 };
@@ -703,6 +800,7 @@ mod tests {
                 against_orthogonal_deg: Some([errors, [Some(0.1), None, Some(0.2)]]),
                 ellipse_d2: [Some(1.0), Some(7.0), None],
                 focal_z: (which == Intrinsics::Estimated).then_some(10.0 * focal_error),
+                camera_z: None,
                 focal_px: 500.0,
                 focal_error: (which == Intrinsics::Estimated).then_some(focal_error),
                 principal_point_px: [1.0, 2.0],

@@ -51,6 +51,9 @@ pub struct RunOk {
     /// The labelled focal length's distance from the written scene's estimate, in its
     /// standard deviations (estimated runs only; [`super::coverage::focal_z`]).
     pub focal_z: Option<f64>,
+    /// Where the labelled camera (pitch, roll, horizon, principal point) lies in the error
+    /// bars of the written scene's camera ([`super::coverage::camera_z`]).
+    pub camera_z: Option<super::coverage::CameraZ>,
     /// Focal length used, pixels.
     pub focal_px: f64,
     /// Relative focal error `|f - f_true| / f_true` (only when estimated).

@@ -123,6 +123,14 @@ fn run(
             // Distances squared that some ellipses hold (5.991 at 95 %) and some do not.
             ellipse_d2: errors_deg.map(|e| e.map(|e| 4.0 * e * e)),
             focal_z: focal_error.map(|e| 40.0 * e),
+            // Standardised camera errors, some beyond 1.96 and some not; the principal point
+            // only where the focal length was estimated.
+            camera_z: Some(vpmap_eval::detection::coverage::CameraZ {
+                pitch: [3.0 * time_ms.sin(), 0.5],
+                roll: [0.3, -2.5 * time_ms.cos()],
+                horizon: [2.5 * time_ms.sin(), 0.4],
+                principal_point: focal_error.map(|e| [30.0 * e, -1.0]),
+            }),
             focal_px: 700.0,
             focal_error,
             principal_point_px: [320.0, 240.0],

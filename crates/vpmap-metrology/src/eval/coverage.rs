@@ -1,6 +1,6 @@
 //! Error-bar coverage: where the truth lies in a fitted object's own error bars (the 95 %
 //! centroid ellipse, `±2 sd` on its sizes, height and yaw), and in the camera's (`±2 sd` on
-//! its focal length, pitch and roll).
+//! its focal length, pitch, roll and principal point).
 
 use geo::Centroid;
 use serde::Serialize;
@@ -82,32 +82,48 @@ pub struct CameraCoverage {
     pub pitch_z: Option<f64>,
     /// The roll's.
     pub roll_z: Option<f64>,
+    /// The principal point's, `[x, y]` (`None` where the fit held it: fewer than three finite
+    /// vanishing points).
+    pub principal_point_z: Option<[f64; 2]>,
 }
 
 impl CameraCoverage {
     /// Per quantity (the order of [`CAMERA_COVERAGE_METRICS`]), whether the truth lies within
     /// `±2 sd` (`None` for a held value).
     #[must_use]
-    pub fn within(&self) -> [Option<bool>; 3] {
+    pub fn within(&self) -> [Option<bool>; 5] {
         self.values().map(within_2sd)
     }
 
     /// The standardised errors in the order of [`CAMERA_COVERAGE_METRICS`].
     #[must_use]
-    pub fn values(&self) -> [Option<f64>; 3] {
-        [self.focal_z, self.pitch_z, self.roll_z]
+    pub fn values(&self) -> [Option<f64>; 5] {
+        let pp = self.principal_point_z;
+        [
+            self.focal_z,
+            self.pitch_z,
+            self.roll_z,
+            pp.map(|z| z[0]),
+            pp.map(|z| z[1]),
+        ]
     }
 }
 
 /// Names of the camera's coverage checks, in the order of [`CameraCoverage::within`].
-pub const CAMERA_COVERAGE_METRICS: [&str; 3] =
-    ["focal_within_2sd", "pitch_within_2sd", "roll_within_2sd"];
+pub const CAMERA_COVERAGE_METRICS: [&str; 5] = [
+    "focal_within_2sd",
+    "pitch_within_2sd",
+    "roll_within_2sd",
+    "principal_point_x_within_2sd",
+    "principal_point_y_within_2sd",
+];
 
 /// The coverage of a fitted camera against the true one (`None` without error bars).
 pub(super) fn camera_coverage(
     m: &crate::map::CameraReport,
     t: &crate::synth::TruthCamera,
 ) -> Option<CameraCoverage> {
+    let true_pp = t.pinhole(m.image).principal_point_px;
     let u = m.uncertainty.as_ref()?;
     let z = |modelled: f64, actual: f64, sd: f64| {
         (sd > 0.0)
@@ -118,6 +134,12 @@ pub(super) fn camera_coverage(
         focal_z: z(m.focal_px, t.focal_px, u.focal_px_sd),
         pitch_z: z(m.pitch_deg, t.pitch_deg, u.pitch_deg_sd),
         roll_z: z(m.roll_deg, t.roll_deg, u.roll_deg_sd),
+        principal_point_z: u.principal_point_px_sd.and_then(|sd| {
+            Some([
+                z(m.principal_point[0], true_pp.x, sd[0])?,
+                z(m.principal_point[1], true_pp.y, sd[1])?,
+            ])
+        }),
     })
 }
 

@@ -11,6 +11,8 @@ use vpmap_metrology::scene::Scene;
 pub(crate) struct RoomTruth {
     pub(crate) objects: Vec<TruthObject>,
     pub(crate) cameras: Vec<TruthCamera>,
+    /// The room's rectangle, its sides along the room's axes (metres, photo 1's plan frame).
+    pub(crate) room: Vec<[f64; 2]>,
 }
 
 #[derive(Clone, Deserialize)]

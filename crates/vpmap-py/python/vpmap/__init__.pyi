@@ -164,7 +164,7 @@ class Detection:
     def principal_point(self) -> Tuple[float, float]: ...
     @property
     def camera_estimate(self) -> Optional[Dict[str, Any]]:
-        """focal_px, focal_sd_px, principal_point, pitch_deg, pitch_sd_deg, roll_deg, roll_sd_deg, horizon_sd_px."""
+        """focal_px, focal_sd_px, principal_point, principal_point_sd_px (None when held), pitch_deg, pitch_sd_deg, roll_deg, roll_sd_deg, horizon_sd_px."""
     @property
     def lens(self) -> Optional[Dict[str, Any]]:
         """k (division model, barrel negative), k_sd, segments_k_sd; None with lens="none"."""

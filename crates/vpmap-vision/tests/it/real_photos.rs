@@ -4,8 +4,8 @@
 //! for at least 80 % of the objects, none beyond a Mahalanobis distance squared of 20, the
 //! median error at most 3 % of the distance. The truth is loose by a few centimetres, and photo
 //! 000002's roll by about 2 degrees (its README), which is why the bounds are not tighter.
-//! The camera's focal length, pitch and roll are printed against the truth's, with their
-//! standardised errors.
+//! The camera's focal length, pitch, roll, principal point and room yaw are printed against
+//! the truth's, with their standardised errors.
 
 use std::path::PathBuf;
 
@@ -61,11 +61,33 @@ fn measure(dir: &std::path::Path) -> Vec<(String, String, f64, f64, f64)> {
                 (value - t) / sd
             )
         };
+        let pp = u.principal_point_px_sd.map_or_else(
+            || "principal point held".to_owned(),
+            |sd| {
+                let t = &truth["camera"]["principal_point"];
+                let axis = |k: usize| {
+                    let t = t[k].as_f64().unwrap();
+                    let v = cam.principal_point[k];
+                    format!(
+                        "{v:.1} +- {:.1} (true {t:.1}, z {:.2})",
+                        sd[k],
+                        (v - t) / sd[k]
+                    )
+                };
+                format!("principal point x {}, y {}", axis(0), axis(1))
+            },
+        );
+        // The room's yaw modulo a quarter turn (detect's VP1 may be the truth's second).
+        let true_yaw = truth["camera"]["room_yaw_deg"].as_f64().unwrap();
+        let yaw_error = (cam.room_yaw_deg - true_yaw + 45.0).rem_euclid(90.0) - 45.0;
         eprintln!(
-            "{id} camera: {}, {}, {}",
+            "{id} camera: {}, {}, {}, {pp}, room yaw {:.2} +- {:.2} (true {true_yaw:.2}, z {:.2})",
             z("focal_px", cam.focal_px, u.focal_px_sd),
             z("pitch_deg", cam.pitch_deg, u.pitch_deg_sd),
-            z("roll_deg", cam.roll_deg, u.roll_deg_sd)
+            z("roll_deg", cam.roll_deg, u.roll_deg_sd),
+            cam.room_yaw_deg,
+            u.room_yaw_deg_sd,
+            yaw_error / u.room_yaw_deg_sd
         );
         for t in truth["objects"].as_array().unwrap() {
             let name = t["name"].as_str().unwrap();

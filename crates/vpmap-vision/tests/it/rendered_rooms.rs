@@ -329,7 +329,8 @@ fn error(map: &FloorMap, t: &vpmap_metrology::synth::TruthObject) -> Option<(f64
     Some((d[0].hypot(d[1]), d2))
 }
 
-/// Per error bar the map reports (the camera's focal length, pitch and roll; every object's
+/// Per error bar the map reports (the camera's focal length, pitch, roll and principal point
+/// (the image centre in truth and in detect's prior); every object's
 /// sizes, height and yaw), how often the truth lies within `±2 sd` with the detected vanishing
 /// points: `inside of counted`.
 fn print_error_bar_coverage(cameras: &[CameraCoverage], objects: &[Coverage]) {
@@ -341,10 +342,12 @@ fn print_error_bar_coverage(cameras: &[CameraCoverage], objects: &[Coverage]) {
     let camera = |k: usize| count(cameras.iter().map(|c| c.within()[k]).collect());
     let object = |k: usize| count(objects.iter().map(|c| c.within()[k]).collect());
     eprintln!(
-        "rendered rooms, within +-2 sd with the detected vanishing points: focal {}, pitch {}, roll {}; length {}, breadth {}, height {}, yaw {}",
+        "rendered rooms, within +-2 sd with the detected vanishing points: focal {}, pitch {}, roll {}, principal point x {}, y {}; length {}, breadth {}, height {}, yaw {}",
         camera(0),
         camera(1),
         camera(2),
+        camera(3),
+        camera(4),
         object(1),
         object(2),
         object(3),
