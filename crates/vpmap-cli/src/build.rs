@@ -136,10 +136,11 @@ fn add_pictures(built: &mut Built, style: &FloorPlanStyle) -> Result<()> {
 }
 
 /// What `build` and `demo` print of the map ([`vpmap_pipeline::map_summary`]), and its
-/// warnings on stderr.
+/// warnings on stderr (many objects placed poorly in one line:
+/// [`vpmap_pipeline::printed_warnings`]).
 fn print_summary(built: &Built) {
     print!("{}", vpmap_pipeline::map_summary(&built.map, &built.grid));
-    for w in &built.map.warnings {
+    for w in vpmap_pipeline::printed_warnings(&built.map) {
         eprintln!("warning: {w}");
     }
 }

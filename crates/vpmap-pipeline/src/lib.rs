@@ -69,7 +69,7 @@ pub use smooth::{
     SmoothDriveReport, navigate_smooth_json, navigate_smooth_svg, no_path_reason, smooth_json,
     smooth_options, smooth_text,
 };
-pub use summary::map_summary;
+pub use summary::{GROUPED_PLACE_WARNINGS, map_summary, printed_warnings};
 pub use text::{num, units_name};
 
 /// The README's example, compiled and run as a doc test.

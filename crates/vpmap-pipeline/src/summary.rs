@@ -155,3 +155,133 @@ fn object_and_floor_lines(out: &mut String, map: &FloorMap) {
         map.free_space.len()
     );
 }
+
+/// More objects named as placed poorly than this, and [`printed_warnings`] names them in one
+/// line instead of one each.
+pub const GROUPED_PLACE_WARNINGS: usize = 3;
+
+/// The map's warnings as `vpmap build` prints them: each as it is, except the objects a warning
+/// names as placed poorly ("its place is uncertain", "its outline is uncertain";
+/// [`FloorMap::warns_uncertain`]) when there are more than [`GROUPED_PLACE_WARNINGS`]: those
+/// become one line, after the others, naming each object with its standard deviation in the
+/// order of the map ("box4 +-0.15 m", "box10 +-0.08 m at a corner"). `map.json` keeps every
+/// warning whole, with each one's direction.
+#[must_use]
+pub fn printed_warnings(map: &FloorMap) -> Vec<String> {
+    // (name, the warning's "+-S m" and whether it is a corner's), in the map's order.
+    let placed: Vec<(usize, &str, String, bool)> = map
+        .objects
+        .iter()
+        .filter_map(|o| {
+            let prefix = format!("object {:?}: its ", o.name);
+            map.warnings.iter().enumerate().find_map(|(i, w)| {
+                let rest = w.strip_prefix(&prefix)?;
+                let (corner, rest) = if let Some(r) = rest.strip_prefix("outline is uncertain by ")
+                {
+                    (true, r)
+                } else {
+                    (false, rest.strip_prefix("place is uncertain by ")?)
+                };
+                let sd = rest.split(" m").next()?.to_owned();
+                Some((i, o.name.as_str(), sd, corner))
+            })
+        })
+        .collect();
+    if placed.len() <= GROUPED_PLACE_WARNINGS {
+        return map.warnings.clone();
+    }
+    let grouped: Vec<usize> = placed.iter().map(|p| p.0).collect();
+    let mut out: Vec<String> = map
+        .warnings
+        .iter()
+        .enumerate()
+        .filter(|(i, _)| !grouped.contains(i))
+        .map(|(_, w)| w.clone())
+        .collect();
+    let names: Vec<String> = placed
+        .iter()
+        .map(|(_, name, sd, corner)| {
+            format!("{name} {sd} m{}", if *corner { " at a corner" } else { "" })
+        })
+        .collect();
+    let sigma = map.fit.as_ref().map_or_else(String::new, |f| {
+        format!(", for {:.2} px clicks", f.click_sigma_px)
+    });
+    let every_photo = if map.cameras.len() > 1 {
+        " in every photo that shows them"
+    } else {
+        ""
+    };
+    out.push(format!(
+        "{} of {} objects may lie more than {} m off (1 sigma along each one's least certain direction{sigma}): {}; snap their corners and click all they show{every_photo}, or add a photo that sees them from nearer (map.json's warnings give each one's direction)",
+        placed.len(),
+        map.objects.len(),
+        vpmap_metrology::map::WARN_POSITION_M,
+        names.join(", ")
+    ));
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use vpmap_metrology::synth::{SynthOptions, synthesize};
+
+    /// A built map of `boxes` boxes whose warnings are `warnings(names)`.
+    fn map_warning(boxes: usize, warnings: impl Fn(&[String]) -> Vec<String>) -> FloorMap {
+        let (scene, _) = synthesize(&SynthOptions {
+            boxes,
+            ..SynthOptions::default()
+        })
+        .unwrap();
+        let mut map = crate::build(&scene, &crate::MapOptions::default())
+            .unwrap()
+            .map;
+        let names: Vec<String> = map.objects.iter().map(|o| o.name.clone()).collect();
+        map.warnings = warnings(&names);
+        map
+    }
+
+    fn place(name: &str, sd: &str) -> String {
+        format!(
+            "object {name:?}: its place is uncertain by +-{sd} m (1 sigma along its least certain direction, 90 degrees from +x, for 2.00 px clicks), so it may lie more than 0.25 m off; snap its corners"
+        )
+    }
+
+    #[test]
+    fn a_few_objects_placed_poorly_are_named_one_by_one() {
+        let map = map_warning(4, |n| vec![place(&n[0], "0.12"), "other".to_owned()]);
+        assert_eq!(printed_warnings(&map), map.warnings);
+    }
+
+    #[test]
+    fn many_objects_placed_poorly_are_named_in_one_line() {
+        let map = map_warning(5, |n| {
+            vec![
+                place(&n[3], "0.20"),
+                "a vanishing point disagrees".to_owned(),
+                place(&n[0], "0.12"),
+                format!(
+                    "object {:?}: its outline is uncertain by +-0.09 m at its least certain corner (...)",
+                    n[1]
+                ),
+                place(&n[4], "0.30"),
+            ]
+        });
+        let names: Vec<&str> = map.objects.iter().map(|o| o.name.as_str()).collect();
+        let printed = printed_warnings(&map);
+        assert_eq!(printed.len(), 2, "{printed:?}");
+        assert_eq!(printed[0], "a vanishing point disagrees");
+        let expected = format!(
+            "4 of {} objects may lie more than 0.25 m off",
+            map.objects.len()
+        );
+        assert!(printed[1].starts_with(&expected), "{}", printed[1]);
+        // In the map's order, the corner said.
+        let listed = format!(
+            ": {} +-0.12 m, {} +-0.09 m at a corner, {} +-0.20 m, {} +-0.30 m; snap",
+            names[0], names[1], names[3], names[4]
+        );
+        assert!(printed[1].contains(&listed), "{}", printed[1]);
+    }
+}
