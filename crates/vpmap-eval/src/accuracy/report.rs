@@ -281,39 +281,71 @@ fn share(mean: f64, count: usize) -> String {
     format!("{:.1} % of {count}", 100.0 * mean)
 }
 
+/// One row of the error-bar tables: a method, a noise level above zero and a perspective
+/// (indices into the run's [`Config`]).
+struct NoisyCell {
+    method: usize,
+    sigma: usize,
+    perspective: Perspective,
+}
+
+impl NoisyCell {
+    /// The row's first three cells, `| fit | 1 | 3PP`.
+    fn label(&self, config: &Config) -> String {
+        format!(
+            "| {} | {} | {}",
+            config.methods[self.method],
+            sigma_text(config.sigmas[self.sigma]),
+            self.perspective.name().to_uppercase()
+        )
+    }
+}
+
+/// Every method, noise level above zero and perspective of the run, in the tables' order.
+fn noisy_cells(config: &Config) -> Vec<NoisyCell> {
+    let mut out = Vec::new();
+    for method in 0..config.methods.len() {
+        for (sigma, value) in config.sigmas.iter().enumerate() {
+            if *value > 0.0 {
+                out.extend(
+                    perspectives(config)
+                        .into_iter()
+                        .map(|perspective| NoisyCell {
+                            method,
+                            sigma,
+                            perspective,
+                        }),
+                );
+            }
+        }
+    }
+    out
+}
+
 /// The error-bar coverage table: per method with error bars, noise level above zero and
 /// perspective.
 fn coverage_section(config: &Config, c: &Collected) -> String {
     let mut rows = String::new();
-    for (m, method) in config.methods.iter().enumerate() {
-        for (s, sigma) in config.sigmas.iter().enumerate() {
-            if *sigma <= 0.0 {
-                continue;
-            }
-            for p in perspectives(config) {
-                let g = Group::Perspective(p);
-                let Some(centroid) = c.summary(config, m, s, g, COVERAGE_BASE) else {
-                    continue;
-                };
-                let _ = write!(
-                    rows,
-                    "| {method} | {} | {} | {}",
-                    sigma_text(*sigma),
-                    p.name().to_uppercase(),
-                    centroid.count
-                );
-                for k in 0..COVERAGE_METRICS.len() {
-                    let cell = c
-                        .summary(config, m, s, g, COVERAGE_BASE + k)
-                        .map_or_else(|| "-".to_owned(), |x| format!("{:.1}", 100.0 * x.mean));
-                    let _ = write!(rows, " | {cell}");
-                }
-                let d2 = c
-                    .summary(config, m, s, g, COVERAGE_BASE + COVERAGE_METRICS.len())
-                    .map_or_else(|| "-".to_owned(), |x| fmt(x.median));
-                let _ = writeln!(rows, " | {d2} |");
-            }
+    for cell in noisy_cells(config) {
+        let (m, s, g) = (
+            cell.method,
+            cell.sigma,
+            Group::Perspective(cell.perspective),
+        );
+        let Some(centroid) = c.summary(config, m, s, g, COVERAGE_BASE) else {
+            continue;
+        };
+        let _ = write!(rows, "{} | {}", cell.label(config), centroid.count);
+        for k in 0..COVERAGE_METRICS.len() {
+            let cell = c
+                .summary(config, m, s, g, COVERAGE_BASE + k)
+                .map_or_else(|| "-".to_owned(), |x| format!("{:.1}", 100.0 * x.mean));
+            let _ = write!(rows, " | {cell}");
         }
+        let d2 = c
+            .summary(config, m, s, g, COVERAGE_BASE + COVERAGE_METRICS.len())
+            .map_or_else(|| "-".to_owned(), |x| fmt(x.median));
+        let _ = writeln!(rows, " | {d2} |");
     }
     if rows.is_empty() {
         return String::new();
@@ -337,27 +369,19 @@ fn camera_coverage_table(config: &Config, c: &Collected) -> String {
         "principal point y within ±2σ",
     ];
     let mut rows = Vec::new();
-    for (m, method) in config.methods.iter().enumerate() {
-        for (s, sigma) in config.sigmas.iter().enumerate() {
-            if *sigma <= 0.0 {
-                continue;
-            }
-            for p in perspectives(config) {
-                let g = Group::Perspective(p);
-                let cells: Vec<Option<Summary>> = (0..CAMERA_COVERAGE_METRICS.len())
-                    .map(|k| c.summary(config, m, s, g, CAMERA_COVERAGE_BASE + k))
-                    .collect();
-                let Some(scenes) = cells.iter().flatten().map(|x| x.count).max() else {
-                    continue;
-                };
-                let label = format!(
-                    "| {method} | {} | {} | {scenes}",
-                    sigma_text(*sigma),
-                    p.name().to_uppercase()
-                );
-                rows.push((label, cells));
-            }
-        }
+    for cell in noisy_cells(config) {
+        let (m, s, g) = (
+            cell.method,
+            cell.sigma,
+            Group::Perspective(cell.perspective),
+        );
+        let cells: Vec<Option<Summary>> = (0..CAMERA_COVERAGE_METRICS.len())
+            .map(|k| c.summary(config, m, s, g, CAMERA_COVERAGE_BASE + k))
+            .collect();
+        let Some(scenes) = cells.iter().flatten().map(|x| x.count).max() else {
+            continue;
+        };
+        rows.push((format!("{} | {scenes}", cell.label(config)), cells));
     }
     // A quantity no scene estimated (the principal point, which the scenes give) is left out.
     let columns: Vec<usize> = (0..HEADINGS.len())
