@@ -38,6 +38,20 @@ fn move_pixel(from: &DivisionModel, to: &DivisionModel, p: &mut Vector2<f64>) ->
 }
 
 impl Fitted {
+    /// The fit's cost at its answer: the clicks' squared residuals (whitened by their
+    /// covariances where they have one) plus the weighed evidence's chi-square times the
+    /// square of the click noise it is expressed in, pixels squared.
+    pub(crate) fn cost(&self) -> f64 {
+        use super::solve::Model as _;
+        self.problem.cost(&self.x)
+    }
+
+    /// How many residuals the fit's cost sums.
+    pub(crate) fn problem_residual_count(&self) -> usize {
+        use super::solve::Model as _;
+        self.problem.residual_count()
+    }
+
     /// The fit again with the clicks undistorted by the lens `to` instead of `from` (the lens
     /// its clicks were undistorted by), from this fit's answer. `scene` is the photo as a
     /// pinhole camera would have seen it with `to` (its floor outline is the map's).

@@ -66,10 +66,54 @@ pub fn build_map_until(
         map.camera.lens_distortion = scene.lens_distortion;
         return Ok(map);
     }
+    let (fitted, mut map) = single_photo(scene, &pinhole, options, interrupt)?;
+    // A lens the clicks reject gives way to the one they agree on (map/lens_refine.rs).
+    let refined = fitted.as_ref().and_then(|f| {
+        let report = map.fit.as_ref()?;
+        let noise = if report.click_sigma_source == "residuals" {
+            super::lens_refine::ClickNoise::Estimated
+        } else {
+            super::lens_refine::ClickNoise::Known(report.click_sigma_px)
+        };
+        super::lens_refine::refine_lens(scene, f, noise, interrupt)
+    });
+    crate::fit::stop_if_interrupted(scene, interrupt)?;
+    if let Some(r) = refined {
+        let mut again = scene.clone();
+        again.lens_distortion = Some(r.lens);
+        let (_, mut refined_map) = single_photo(&again, &again.undistorted(), options, interrupt)?;
+        refined_map.warnings.insert(
+            0,
+            format!(
+                "the clicks disagree with the lens distortion the scene gives, k = {} +- {}: they fit k = {:.5} +- {:.5} better by a chi-square of {:.1} (over {:.2}, the 95 % point of one degree of freedom), so the map is built with it",
+                r.given[0],
+                r.given[1],
+                r.lens.k,
+                r.lens.k_sd.unwrap_or(0.0),
+                r.chi2_drop,
+                super::lens_refine::LENS_REJECTED_CHI2
+            ),
+        );
+        map = refined_map;
+    }
+    Ok(map)
+}
+
+/// One photo's map (`pinhole` is `scene` undistorted by its lens) and the fit behind it
+/// (method `fit`), with the lens's spread in its error bars.
+///
+/// # Errors
+/// As [`build_map`]; [`crate::MetrologyError::Interrupted`] when `interrupt` fires.
+fn single_photo(
+    scene: &Scene,
+    pinhole: &Scene,
+    options: &BuildOptions,
+    interrupt: &Interrupt,
+) -> Result<(Option<crate::fit::Fitted>, FloorMap)> {
     let fitted = if options.method == Method::Fit {
         // The given click noise also weighs the evidence that has its own uncertainty.
         Some(fit_scene_until(
-            &pinhole,
+            pinhole,
             &FitOptions {
                 click_sigma_px: options.click_sigma_px,
             },
@@ -78,7 +122,7 @@ pub fn build_map_until(
     } else {
         None
     };
-    let mut map = photo_map(&pinhole, options, fitted.as_ref(), true)?;
+    let mut map = photo_map(pinhole, options, fitted.as_ref(), true)?;
     map.camera.lens_distortion = scene.lens_distortion;
     if let Some(fitted) = &fitted {
         // The fit again at k +- k_sd from its own answer (fit/lens.rs), mapped alike.
@@ -89,7 +133,7 @@ pub fn build_map_until(
     }
     // The lens's spread leaves out a fit that failed; one that was interrupted is no map.
     crate::fit::stop_if_interrupted(scene, interrupt)?;
-    Ok(map)
+    Ok((fitted, map))
 }
 
 /// The map of one photo as a pinhole camera saw it (clicks undistorted): from `fitted` (method

@@ -15,6 +15,7 @@
 mod build;
 mod cameras;
 mod lens;
+mod lens_refine;
 mod options;
 mod reconstruction;
 mod regions;
