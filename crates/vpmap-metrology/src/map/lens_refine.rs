@@ -12,13 +12,17 @@
 //! error bars do): `cost(k)` the clicks' squared residuals plus the weighed evidence, `sigma`
 //! the fit's click noise; when that noise is estimated from the residuals (which a wrong lens
 //! inflates), `m ln(cost(k) + m s0^2)` over the `m` residuals in place of `cost(k) / sigma^2`,
-//! the profile likelihood over the noise with the clicks' rounding `s0` added. The minimum is found on whole steps of `k_sd`, then by
-//! parabolas through three refits at the profile's own width, twice. When the best `k` lowers `J` below `J(k0)` by more than the
-//! chi-square quantile of one degree of freedom at 95 % ([`LENS_REJECTED_CHI2`]: a likelihood
-//! ratio test of the given `k`), the map is built again with the best `k` and the standard
-//! deviation the profile's curvature gives (never more than `k_sd`); otherwise the given lens
-//! stands. Exact clicks through the given lens leave it exactly as it is (`J` is least at
-//! `k0`), and so do clicks that cannot tell one lens from another.
+//! the profile likelihood over the noise with the clicks' rounding `s0` added.
+//!
+//! The minimum is found on whole steps of `k_sd` (the search ends there when their parabola's
+//! vertex is not half the test's chi-square below `J(k0)`), then by parabolas through three
+//! refits at the profile's own width, twice. When the best `k` lowers `J` below `J(k0)` by
+//! more than the chi-square quantile of one degree of freedom at 95 %
+//! ([`LENS_REJECTED_CHI2`]: a likelihood ratio test of the given `k`), the map is built again
+//! with the best `k` and the standard deviation the profile's curvature gives (never more than
+//! `k_sd`); otherwise the given lens stands. Exact clicks through the given lens leave it
+//! exactly as it is (`J` is least at `k0`), and so do clicks that cannot tell one lens from
+//! another.
 
 use crate::fit::Fitted;
 use crate::interrupt::Interrupt;
@@ -132,7 +136,14 @@ pub(super) fn refine_lens(
     }
     let &(best, jb) = samples.iter().min_by(|a, b| a.1.total_cmp(&b.1))?;
     let at = |t: i32| samples.iter().find(|s| s.0 == t).map(|s| s.1);
-    let (mut t, mut w) = parabola(f64::from(best), 1.0, at(best - 1)?, jb, at(best + 1)?)?;
+    let (jm, jp) = (at(best - 1)?, at(best + 1)?);
+    let (mut t, mut w) = parabola(f64::from(best), 1.0, jm, jb, jp)?;
+    // Where the whole steps' parabola says the clicks cannot reject the given lens (its
+    // vertex not even half the test's chi-square below J(k0)), the finer search is spared.
+    let vertex = jb - (jp - jm).powi(2) / (8.0 * (jm - 2.0 * jb + jp));
+    if j0 - vertex <= 0.5 * LENS_REJECTED_CHI2 {
+        return None;
+    }
     let (mut t_best, mut j_best) = (f64::from(best), jb);
     // Again at the profile's own scale, twice: a sharp profile is no parabola over whole sds.
     for _ in 0..2 {
