@@ -51,52 +51,96 @@ pub fn build_map_until(
     scene.validate()?;
     let pinhole = scene.undistorted();
     if !scene.other_photos.is_empty() {
-        let fitted = super::room::fit_room_map(&pinhole, options, interrupt)?;
-        let mut map = super::room::room_map(&pinhole, &fitted, options)?;
-        super::lens::add_room_lens_spread(
-            scene,
-            &fitted,
-            &mut map,
-            |s, f| super::room::room_map(s, f, options),
-            interrupt,
-        )?;
-        for (report, photo) in map.cameras.iter_mut().zip(scene.photos()) {
-            report.lens_distortion = photo.lens_distortion;
+        let (fitted, map) = room(scene, &pinhole, options, interrupt)?;
+        // A photo's lens its clicks reject gives way to the one they agree on
+        // (map/lens_refine.rs), the room fitted again from scratch with it.
+        let refined = noise_of(&map).map_or_else(Vec::new, |noise| {
+            super::lens_refine::refine_room_lenses(scene, &fitted, noise, interrupt)
+        });
+        crate::fit::stop_if_interrupted(scene, interrupt)?;
+        if refined.is_empty() {
+            return Ok(map);
         }
-        map.camera.lens_distortion = scene.lens_distortion;
-        return Ok(map);
+        let mut again = scene.clone();
+        for (n, r) in &refined {
+            if *n == 0 {
+                again.lens_distortion = Some(r.lens);
+            } else if let Some(p) = again.other_photos.get_mut(n - 1) {
+                p.lens_distortion = Some(r.lens);
+            }
+        }
+        let (_, mut refined_map) = room(&again, &again.undistorted(), options, interrupt)?;
+        for (i, (n, r)) in refined.iter().enumerate() {
+            refined_map
+                .warnings
+                .insert(i, lens_warning(&format!("photo {}'s", n + 1), r));
+        }
+        return Ok(refined_map);
     }
     let (fitted, mut map) = single_photo(scene, &pinhole, options, interrupt)?;
     // A lens the clicks reject gives way to the one they agree on (map/lens_refine.rs).
-    let refined = fitted.as_ref().and_then(|f| {
-        let report = map.fit.as_ref()?;
-        let noise = if report.click_sigma_source == "residuals" {
-            super::lens_refine::ClickNoise::Estimated
-        } else {
-            super::lens_refine::ClickNoise::Known(report.click_sigma_px)
-        };
-        super::lens_refine::refine_lens(scene, f, noise, interrupt)
-    });
+    let refined = fitted
+        .as_ref()
+        .and_then(|f| super::lens_refine::refine_lens(scene, f, noise_of(&map)?, interrupt));
     crate::fit::stop_if_interrupted(scene, interrupt)?;
     if let Some(r) = refined {
         let mut again = scene.clone();
         again.lens_distortion = Some(r.lens);
         let (_, mut refined_map) = single_photo(&again, &again.undistorted(), options, interrupt)?;
-        refined_map.warnings.insert(
-            0,
-            format!(
-                "the clicks disagree with the lens distortion the scene gives, k = {} +- {}: they fit k = {:.5} +- {:.5} better by a chi-square of {:.1} (over {:.2}, the 95 % point of one degree of freedom), so the map is built with it",
-                r.given[0],
-                r.given[1],
-                r.lens.k,
-                r.lens.k_sd.unwrap_or(0.0),
-                r.chi2_drop,
-                super::lens_refine::LENS_REJECTED_CHI2
-            ),
-        );
+        refined_map.warnings.insert(0, lens_warning("the", &r));
         map = refined_map;
     }
     Ok(map)
+}
+
+/// How the lens's profile weighs the clicks of `map`'s fit (`None` without a fit).
+fn noise_of(map: &FloorMap) -> Option<super::lens_refine::ClickNoise> {
+    let report = map.fit.as_ref()?;
+    Some(if report.click_sigma_source == "residuals" {
+        super::lens_refine::ClickNoise::Estimated
+    } else {
+        super::lens_refine::ClickNoise::Known(report.click_sigma_px)
+    })
+}
+
+/// The warning that the clicks refined a lens: `whose` is "the" (a photo) or "photo 2's".
+fn lens_warning(whose: &str, r: &super::lens_refine::RefinedLens) -> String {
+    format!(
+        "the clicks disagree with {whose} lens distortion the scene gives, k = {} +- {}: they fit k = {:.5} +- {:.5} better by a chi-square of {:.1} (over {:.2}, the 95 % point of one degree of freedom), so the map is built with it",
+        r.given[0],
+        r.given[1],
+        r.lens.k,
+        r.lens.k_sd.unwrap_or(0.0),
+        r.chi2_drop,
+        super::lens_refine::LENS_REJECTED_CHI2
+    )
+}
+
+/// A room's map (`pinhole` is `scene` undistorted by its photos' lenses) and the joint fit
+/// behind it, with each photo's lens spread in its error bars.
+///
+/// # Errors
+/// As [`build_map`]; [`crate::MetrologyError::Interrupted`] when `interrupt` fires.
+fn room(
+    scene: &Scene,
+    pinhole: &Scene,
+    options: &BuildOptions,
+    interrupt: &Interrupt,
+) -> Result<(crate::room::RoomFitted, FloorMap)> {
+    let fitted = super::room::fit_room_map(pinhole, options, interrupt)?;
+    let mut map = super::room::room_map(pinhole, &fitted, options)?;
+    super::lens::add_room_lens_spread(
+        scene,
+        &fitted,
+        &mut map,
+        |s, f| super::room::room_map(s, f, options),
+        interrupt,
+    )?;
+    for (report, photo) in map.cameras.iter_mut().zip(scene.photos()) {
+        report.lens_distortion = photo.lens_distortion;
+    }
+    map.camera.lens_distortion = scene.lens_distortion;
+    Ok((fitted, map))
 }
 
 /// One photo's map (`pinhole` is `scene` undistorted by its lens) and the fit behind it

@@ -26,7 +26,8 @@
 
 use crate::fit::Fitted;
 use crate::interrupt::Interrupt;
-use crate::scene::{LensDistortion, MAX_DIVISION_STRETCH, Scene};
+use crate::room::RoomFitted;
+use crate::scene::{DivisionModel, LensDistortion, MAX_DIVISION_STRETCH, Scene};
 
 /// The chi-square quantile of one degree of freedom at 95 %: how much better than the given
 /// lens the clicks must fit another for the map to take it.
@@ -67,34 +68,28 @@ fn parabola(t0: f64, h: f64, jm: f64, j0: f64, jp: f64) -> Option<(f64, f64)> {
         .then(|| (t0 - 0.5 * (jp - jm) / (h * second), (2.0 / second).sqrt()))
 }
 
-/// The lens `scene`'s clicks agree on, when they reject the given one (see the module
-/// documentation); `None` when they do not, when the scene gives no `k_sd`, or when the
-/// profile cannot be taken (refits that fail around the given `k`).
-pub(super) fn refine_lens(
-    scene: &Scene,
-    fitted: &Fitted,
-    noise: ClickNoise,
-    interrupt: &Interrupt,
-) -> Option<RefinedLens> {
-    let LensDistortion {
-        k: k0,
-        k_sd: Some(sd),
-    } = scene.lens_distortion?
-    else {
-        return None;
-    };
-    if !(sd > 0.0 && sd.is_finite()) {
-        return None;
-    }
-    let from = scene.division_model()?;
-    let m = fitted.problem_residual_count() as f64;
-    let floor = m * crate::fit::MIN_CLICK_SIGMA_PX * crate::fit::MIN_CLICK_SIGMA_PX;
-    let weigh = |cost: f64| match noise {
+/// How a refit's cost enters the profile (see [`ClickNoise`]), with `m` residuals.
+fn weigh(noise: ClickNoise, m: f64, cost: f64) -> f64 {
+    match noise {
         ClickNoise::Known(sigma) => cost / (sigma * sigma),
-        ClickNoise::Estimated => m * (cost + floor).ln(),
-    };
-    let j0 = weigh(fitted.cost());
-    if !j0.is_finite() {
+        ClickNoise::Estimated => {
+            m * (cost + m * crate::fit::MIN_CLICK_SIGMA_PX * crate::fit::MIN_CLICK_SIGMA_PX).ln()
+        }
+    }
+}
+
+/// The profile's minimum over `k = k0 + t sd` (see the module documentation), `cost_at(k)`
+/// the refit's cost at `k` (`None` where it fails), `j0` the profile at `k0`: the lens the
+/// clicks fit when they reject `k0`, and by how much.
+fn profile_minimum(
+    k0: f64,
+    sd: f64,
+    j0: f64,
+    noise: ClickNoise,
+    m: f64,
+    cost_at: impl Fn(f64) -> Option<f64>,
+) -> Option<(LensDistortion, f64)> {
+    if !(sd > 0.0 && sd.is_finite() && j0.is_finite()) {
         return None;
     }
     // J at k0 + t sd.
@@ -102,18 +97,7 @@ pub(super) fn refine_lens(
         if t == 0.0 {
             return Some(j0);
         }
-        let k = k0 + t * sd;
-        let mut s = scene.clone();
-        s.lens_distortion = Some(LensDistortion { k, k_sd: None });
-        let to = s.division_model()?;
-        if to.stretch(s.image) > MAX_DIVISION_STRETCH {
-            return None;
-        }
-        let pinhole = s.undistorted();
-        let refit = fitted
-            .refit_with_lens(&pinhole, &from, &to, interrupt)
-            .ok()?;
-        let j = weigh(refit.cost()) + t * t;
+        let j = weigh(noise, m, cost_at(k0 + t * sd)?) + t * t;
         j.is_finite().then_some(j)
     };
     // Whole steps of sd: from -2 to 2, then outwards while the least is at an end.
@@ -167,12 +151,105 @@ pub(super) fn refine_lens(
     if chi2_drop.is_nan() || chi2_drop <= LENS_REJECTED_CHI2 {
         return None;
     }
-    Some(RefinedLens {
-        given: [k0, sd],
-        lens: LensDistortion {
+    Some((
+        LensDistortion {
             k: k0 + t_best * sd,
             k_sd: Some((w * sd).min(sd)),
         },
         chi2_drop,
+    ))
+}
+
+/// The lens `scene`'s clicks agree on, when they reject the given one (see the module
+/// documentation); `None` when they do not, when the scene gives no `k_sd`, or when the
+/// profile cannot be taken (refits that fail around the given `k`).
+pub(super) fn refine_lens(
+    scene: &Scene,
+    fitted: &Fitted,
+    noise: ClickNoise,
+    interrupt: &Interrupt,
+) -> Option<RefinedLens> {
+    let LensDistortion {
+        k: k0,
+        k_sd: Some(sd),
+    } = scene.lens_distortion?
+    else {
+        return None;
+    };
+    let from = scene.division_model()?;
+    let m = fitted.problem_residual_count() as f64;
+    let cost_at = |k: f64| -> Option<f64> {
+        let mut s = scene.clone();
+        s.lens_distortion = Some(LensDistortion { k, k_sd: None });
+        let to = s.division_model()?;
+        if to.stretch(s.image) > MAX_DIVISION_STRETCH {
+            return None;
+        }
+        let refit = fitted
+            .refit_with_lens(&s.undistorted(), &from, &to, interrupt)
+            .ok()?;
+        Some(refit.cost())
+    };
+    let j0 = weigh(noise, m, fitted.cost());
+    let (lens, chi2_drop) = profile_minimum(k0, sd, j0, noise, m, cost_at)?;
+    Some(RefinedLens {
+        given: [k0, sd],
+        lens,
+        chi2_drop,
     })
+}
+
+/// For each photo of a room with a `k_sd`, the lens its clicks agree on when they reject the
+/// given one ([`refine_lens`] for one photo of the joint fit: the room refitted with that
+/// photo's clicks through other lenses, every placement as chosen, the others' lenses as
+/// given): `(photo, refined)`.
+pub(super) fn refine_room_lenses(
+    scene: &Scene,
+    fitted: &RoomFitted,
+    noise: ClickNoise,
+    interrupt: &Interrupt,
+) -> Vec<(usize, RefinedLens)> {
+    let m = fitted.problem_residual_count() as f64;
+    let j0 = weigh(noise, m, fitted.cost());
+    let mut out = Vec::new();
+    for (n, photo) in scene.photos().enumerate() {
+        let Some(LensDistortion {
+            k: k0,
+            k_sd: Some(sd),
+        }) = photo.lens_distortion
+        else {
+            continue;
+        };
+        let Some(from) = photo.division_model() else {
+            continue;
+        };
+        let cost_at = |k: f64| -> Option<f64> {
+            let lens = LensDistortion { k, k_sd: None };
+            let to = DivisionModel::new(k, photo.image, photo.principal_point);
+            if to.stretch(photo.image) > MAX_DIVISION_STRETCH {
+                return None;
+            }
+            let mut s = scene.clone();
+            if n == 0 {
+                s.lens_distortion = Some(lens);
+            } else {
+                s.other_photos.get_mut(n - 1)?.lens_distortion = Some(lens);
+            }
+            let refit = fitted
+                .refit_with_lens(&s.undistorted(), n, &from, &to, interrupt)
+                .ok()?;
+            Some(refit.cost())
+        };
+        if let Some((lens, chi2_drop)) = profile_minimum(k0, sd, j0, noise, m, cost_at) {
+            out.push((
+                n,
+                RefinedLens {
+                    given: [k0, sd],
+                    lens,
+                    chi2_drop,
+                },
+            ));
+        }
+    }
+    out
 }

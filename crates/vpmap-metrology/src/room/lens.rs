@@ -28,6 +28,18 @@ fn unmovable(photo: usize, k: f64) -> MetrologyError {
 }
 
 impl RoomFitted {
+    /// The joint fit's cost at its answer (as [`crate::fit::Fitted`]'s), pixels squared.
+    pub(crate) fn cost(&self) -> f64 {
+        use crate::fit::solve::Model as _;
+        self.problem.cost(&self.x)
+    }
+
+    /// How many residuals the joint fit's cost sums.
+    pub(crate) fn problem_residual_count(&self) -> usize {
+        use crate::fit::solve::Model as _;
+        self.problem.residual_count()
+    }
+
     /// The joint fit again with photo `photo`'s clicks undistorted by the lens `to` instead of
     /// `from` (the lens its clicks in this fit were undistorted by), every photo's placement
     /// as chosen here. `scene` is the room as a pinhole camera would have seen it with `to`

@@ -93,7 +93,7 @@ fn a_room_s_error_bars_carry_what_each_photo_s_k_sd_may_move() {
         click_sigma_px: Some(NOISE_PX),
         ..BuildOptions::default()
     };
-    let (mut with, mut without) = (Vec::new(), Vec::new());
+    let (mut with, mut without, mut refined) = (Vec::new(), Vec::new(), 0usize);
     for trial in 0..TRIALS {
         let (mut scene, truth) = synthesize_room(&RoomSynthOptions {
             seed: 500 + trial,
@@ -125,6 +125,12 @@ fn a_room_s_error_bars_carry_what_each_photo_s_k_sd_may_move() {
             map.warnings
         );
         with.extend(distances(&map, &truth));
+        // Photos whose clicks rejected the given lens for the one they fit.
+        refined += map
+            .warnings
+            .iter()
+            .filter(|w| w.starts_with("the clicks disagree with photo"))
+            .count();
         // The same clicks with k taken as exact: the error bars of the fit alone.
         let exact = Some(LensDistortion { k: K, k_sd: None });
         scene.lens_distortion = exact;
@@ -139,8 +145,9 @@ fn a_room_s_error_bars_carry_what_each_photo_s_k_sd_may_move() {
     let share = hit as f64 / with.len() as f64;
     let share_before = hit_before as f64 / without.len() as f64;
     eprintln!(
-        "room lens coverage: with k_sd {hit} of {} inside the 95 % ellipses (mean d^2 {mean:.2}); k taken as exact {hit_before} of {} (mean d^2 {mean_before:.2})",
+        "room lens coverage: with k_sd {hit} of {} inside the 95 % ellipses (mean d^2 {mean:.2}; {refined} of {} photos' lenses refined by their clicks); k taken as exact {hit_before} of {} (mean d^2 {mean_before:.2})",
         with.len(),
+        3 * TRIALS,
         without.len()
     );
     assert!(
@@ -153,4 +160,54 @@ fn a_room_s_error_bars_carry_what_each_photo_s_k_sd_may_move() {
         "without k_sd {hit_before} of {} were inside already: the test cannot tell",
         without.len()
     );
+}
+
+#[test]
+fn a_room_photo_whose_clicks_see_another_lens_refines_it() {
+    // Exact clicks; photo 2 taken through a lens 3 sd from the one the room file gives it:
+    // its clicks reject the given k, the room is fitted again with the one they fit, and its
+    // boxes land nearer the truth (inside their ellipses). The other photos' lenses are right
+    // and stay as given.
+    const K: f64 = -0.08;
+    const K_SD: f64 = 0.02;
+    let mut rng = ChaCha8Rng::seed_from_u64(5);
+    let (mut scene, truth) = synthesize_room(&RoomSynthOptions {
+        seed: 77,
+        photos: 3,
+        boxes: 6,
+        vanishing_points: VanishingPointForm::Lines,
+        ..RoomSynthOptions::default()
+    })
+    .unwrap();
+    for n in 0..scene.photo_count() {
+        let p = if n == 0 {
+            &mut scene
+        } else {
+            &mut scene.other_photos[n - 1]
+        };
+        let k = if n == 1 { K + 3.0 * K_SD } else { K };
+        through_lens(p, k, 0.0, &mut rng);
+        p.lens_distortion = Some(LensDistortion {
+            k: K,
+            k_sd: Some(K_SD),
+        });
+    }
+    let map = build_map(&scene, &BuildOptions::default()).unwrap();
+    assert!(
+        map.warnings[0]
+            .starts_with("the clicks disagree with photo 2's lens distortion the scene gives"),
+        "{:?}",
+        map.warnings
+    );
+    let used = map.cameras[1].lens_distortion.unwrap();
+    let sd = used.k_sd.unwrap();
+    assert!(
+        sd < K_SD && (used.k - (K + 3.0 * K_SD)).abs() <= 1.96 * sd,
+        "photo 2's lens {used:?}"
+    );
+    for c in [&map.cameras[0], &map.cameras[2]] {
+        assert_eq!(c.lens_distortion.unwrap().k, K);
+    }
+    let d2 = distances(&map, &truth);
+    assert!(d2.iter().all(|d| *d <= 5.991), "{d2:?}");
 }
