@@ -206,7 +206,13 @@ fn a_room_photo_whose_clicks_see_another_lens_refines_it() {
         "photo 2's lens {used:?}"
     );
     for c in [&map.cameras[0], &map.cameras[2]] {
-        assert_eq!(c.lens_distortion.unwrap().k, K);
+        assert_eq!(
+            c.lens_distortion,
+            Some(LensDistortion {
+                k: K,
+                k_sd: Some(K_SD)
+            })
+        );
     }
     let d2 = distances(&map, &truth);
     assert!(d2.iter().all(|d| *d <= 5.991), "{d2:?}");
