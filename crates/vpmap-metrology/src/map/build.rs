@@ -55,7 +55,7 @@ pub fn build_map_until(
         // A photo's lens its clicks reject gives way to the one they agree on
         // (map/lens_refine.rs), the room fitted again from scratch with it.
         let refined = noise_of(&map).map_or_else(Vec::new, |noise| {
-            super::lens_refine::refine_room_lenses(scene, &fitted, noise, interrupt)
+            super::lens_refine::refine_room_lenses(scene, &fitted.0, &fitted.1, noise, interrupt)
         });
         crate::fit::stop_if_interrupted(scene, interrupt)?;
         if refined.is_empty() {
@@ -79,9 +79,9 @@ pub fn build_map_until(
     }
     let (fitted, mut map) = single_photo(scene, &pinhole, options, interrupt)?;
     // A lens the clicks reject gives way to the one they agree on (map/lens_refine.rs).
-    let refined = fitted
-        .as_ref()
-        .and_then(|f| super::lens_refine::refine_lens(scene, f, noise_of(&map)?, interrupt));
+    let refined = fitted.as_ref().and_then(|(f, costs)| {
+        super::lens_refine::refine_lens(scene, f, costs, noise_of(&map)?, interrupt)
+    });
     crate::fit::stop_if_interrupted(scene, interrupt)?;
     if let Some(r) = refined {
         let mut again = scene.clone();
@@ -117,7 +117,8 @@ fn lens_warning(whose: &str, r: &super::lens_refine::RefinedLens) -> String {
 }
 
 /// A room's map (`pinhole` is `scene` undistorted by its photos' lenses) and the joint fit
-/// behind it, with each photo's lens spread in its error bars.
+/// behind it with, per photo, the costs of its lens spread's refits; each photo's spread in the
+/// error bars.
 ///
 /// # Errors
 /// As [`build_map`]; [`crate::MetrologyError::Interrupted`] when `interrupt` fires.
@@ -126,10 +127,10 @@ fn room(
     pinhole: &Scene,
     options: &BuildOptions,
     interrupt: &Interrupt,
-) -> Result<(crate::room::RoomFitted, FloorMap)> {
+) -> Result<((crate::room::RoomFitted, Vec<LensCosts>), FloorMap)> {
     let fitted = super::room::fit_room_map(pinhole, options, interrupt)?;
     let mut map = super::room::room_map(pinhole, &fitted, options)?;
-    super::lens::add_room_lens_spread(
+    let costs = super::lens::add_room_lens_spread(
         scene,
         &fitted,
         &mut map,
@@ -140,11 +141,15 @@ fn room(
         report.lens_distortion = photo.lens_distortion;
     }
     map.camera.lens_distortion = scene.lens_distortion;
-    Ok((fitted, map))
+    Ok(((fitted, costs), map))
 }
 
+/// The costs of refits at other lenses a build has already paid for (the lens spread's):
+/// `(k, cost)`.
+type LensCosts = Vec<(f64, f64)>;
+
 /// One photo's map (`pinhole` is `scene` undistorted by its lens) and the fit behind it
-/// (method `fit`), with the lens's spread in its error bars.
+/// (method `fit`) with the costs of its lens spread's refits, the spread in its error bars.
 ///
 /// # Errors
 /// As [`build_map`]; [`crate::MetrologyError::Interrupted`] when `interrupt` fires.
@@ -153,7 +158,7 @@ fn single_photo(
     pinhole: &Scene,
     options: &BuildOptions,
     interrupt: &Interrupt,
-) -> Result<(Option<crate::fit::Fitted>, FloorMap)> {
+) -> Result<(Option<(crate::fit::Fitted, LensCosts)>, FloorMap)> {
     let fitted = if options.method == Method::Fit {
         // The given click noise also weighs the evidence that has its own uncertainty.
         Some(fit_scene_until(
@@ -168,16 +173,19 @@ fn single_photo(
     };
     let mut map = photo_map(pinhole, options, fitted.as_ref(), true)?;
     map.camera.lens_distortion = scene.lens_distortion;
+    let costs = std::cell::RefCell::new(Vec::new());
     if let Some(fitted) = &fitted {
-        // The fit again at k +- k_sd from its own answer (fit/lens.rs), mapped alike.
+        // The fit again at k +- k_sd from its own answer (fit/lens.rs), mapped alike; each
+        // refit's cost kept for the lens's profile.
         super::lens::add_lens_spread(scene, &mut map, |shifted, from, to| {
             let refit = fitted.refit_with_lens(shifted, from, to, interrupt)?;
+            costs.borrow_mut().push((to.k, refit.cost()));
             photo_map(shifted, options, Some(&refit), false)
         });
     }
     // The lens's spread leaves out a fit that failed; one that was interrupted is no map.
     crate::fit::stop_if_interrupted(scene, interrupt)?;
-    Ok((fitted, map))
+    Ok((fitted.map(|f| (f, costs.into_inner())), map))
 }
 
 /// The map of one photo as a pinhole camera saw it (clicks undistorted): from `fitted` (method

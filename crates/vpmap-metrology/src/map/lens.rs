@@ -223,6 +223,9 @@ pub(super) fn add_lens_spread(
 /// whose model would fold the image, whose refit fails or whose map differs in what it
 /// reports is left out; with neither side, the error bars stay and a warning names the photo.
 ///
+/// Returns, per photo, the refits' `(k, cost)` (for the lens's profile,
+/// [`super::lens_refine`]).
+///
 /// # Errors
 /// [`MetrologyError::Interrupted`] when `interrupt` fires during a refit; no other (a refit's
 /// error leaves its side out).
@@ -232,9 +235,10 @@ pub(super) fn add_room_lens_spread(
     map: &mut FloorMap,
     map_of: impl Fn(&Scene, &RoomFitted) -> Result<FloorMap>,
     interrupt: &Interrupt,
-) -> Result<()> {
+) -> Result<Vec<Vec<(f64, f64)>>> {
+    let mut costs = vec![Vec::new(); scene.photo_count()];
     if map.objects.iter().all(|o| o.uncertainty.is_none()) {
-        return Ok(());
+        return Ok(costs);
     }
     for (n, photo) in scene.photos().enumerate() {
         let Some(LensDistortion { k, k_sd: Some(sd) }) = photo.lens_distortion else {
@@ -243,6 +247,8 @@ pub(super) fn add_room_lens_spread(
         let Some(from) = photo.division_model().filter(|_| sd > 0.0) else {
             continue;
         };
+        // The refits' costs, for the lens's profile.
+        let found = std::cell::RefCell::new(Vec::new());
         let shifted = |dk: f64| -> Result<Option<FloorMap>> {
             let lens = LensDistortion {
                 k: k + dk,
@@ -260,14 +266,18 @@ pub(super) fn add_room_lens_spread(
             }
             let pinhole = s.undistorted();
             match fitted.refit_with_lens(&pinhole, n, &from, &to, interrupt) {
-                Ok(refitted) => Ok(map_of(&pinhole, &refitted)
-                    .ok()
-                    .filter(|m| comparable(map, m))),
+                Ok(refitted) => {
+                    found.borrow_mut().push((lens.k, refitted.cost()));
+                    Ok(map_of(&pinhole, &refitted)
+                        .ok()
+                        .filter(|m| comparable(map, m)))
+                }
                 Err(e @ MetrologyError::Interrupted { .. }) => Err(e),
                 Err(_) => Ok(None),
             }
         };
         let (plus, minus) = (shifted(sd)?, shifted(-sd)?);
+        costs[n] = found.into_inner();
         let Some((hi, lo, scale)) = sides(map, plus.as_ref(), minus.as_ref()) else {
             map.warnings.push(format!(
                 "photo {}'s lens distortion sd ({sd}) is not in the error bars: the room could not be refitted with its k = {} or {}",
@@ -280,7 +290,7 @@ pub(super) fn add_room_lens_spread(
         let (hi, lo) = (hi.clone(), lo.clone());
         add_spread(map, &hi, &lo, scale);
     }
-    Ok(())
+    Ok(costs)
 }
 
 #[cfg(test)]

@@ -14,9 +14,10 @@
 //! inflates), `m ln(cost(k) + m s0^2)` over the `m` residuals in place of `cost(k) / sigma^2`,
 //! the profile likelihood over the noise with the clicks' rounding `s0` added.
 //!
-//! The minimum is found on whole steps of `k_sd` (the search ends there when their parabola's
-//! vertex is not half the test's chi-square below `J(k0)`), then by parabolas through three
-//! refits at the profile's own width, twice. When the best `k` lowers `J` below `J(k0)` by
+//! The minimum is found on whole steps of `k_sd`, then by parabolas through three refits at
+//! the profile's own width, twice. The first steps, `k0 +- k_sd`, are the lens spread's own
+//! refits (`super::lens`), and the search ends there when their parabola's vertex is not half
+//! the test's chi-square below `J(k0)`: a lens its clicks do not reject costs no refit more. When the best `k` lowers `J` below `J(k0)` by
 //! more than the chi-square quantile of one degree of freedom at 95 %
 //! ([`LENS_REJECTED_CHI2`]: a likelihood ratio test of the given `k`), the map is built again
 //! with the best `k` and the standard deviation the profile's curvature gives (never more than
@@ -87,23 +88,43 @@ fn profile_minimum(
     j0: f64,
     noise: ClickNoise,
     m: f64,
+    known: &[(f64, f64)],
     cost_at: impl Fn(f64) -> Option<f64>,
 ) -> Option<(LensDistortion, f64)> {
     if !(sd > 0.0 && sd.is_finite() && j0.is_finite()) {
         return None;
     }
-    // J at k0 + t sd.
+    // J at k0 + t sd; a refit the lens's spread already made is not made again.
     let profile = |t: f64| -> Option<f64> {
         if t == 0.0 {
             return Some(j0);
         }
-        let j = weigh(noise, m, cost_at(k0 + t * sd)?) + t * t;
+        let k = k0 + t * sd;
+        let cost = known
+            .iter()
+            .find(|(kk, _)| (kk - k).abs() <= 1e-12 * sd)
+            .map(|(_, c)| *c)
+            .or_else(|| cost_at(k))?;
+        let j = weigh(noise, m, cost) + t * t;
         j.is_finite().then_some(j)
     };
-    // Whole steps of sd: from -2 to 2, then outwards while the least is at an end.
-    let mut samples: Vec<(i32, f64)> = (-2..=2)
+    // Whole steps of sd: -1 to 1 first (the spread's refits), the screening below; then -2 and
+    // 2, and outwards while the least is at an end.
+    let mut samples: Vec<(i32, f64)> = (-1..=1)
         .filter_map(|t| profile(f64::from(t)).map(|j| (t, j)))
         .collect();
+    let [(-1, jm), (0, jz), (1, jp)] = samples[..] else {
+        return None;
+    };
+    if screened_out(j0, jm, jz, jp) {
+        return None;
+    }
+    samples.extend(
+        [-2, 2]
+            .into_iter()
+            .filter_map(|t| profile(f64::from(t)).map(|j| (t, j))),
+    );
+    samples.sort_by_key(|s| s.0);
     loop {
         let &(best, _) = samples.iter().min_by(|a, b| a.1.total_cmp(&b.1))?;
         let (lo, hi) = (samples.first()?.0, samples.last()?.0);
@@ -122,10 +143,7 @@ fn profile_minimum(
     let at = |t: i32| samples.iter().find(|s| s.0 == t).map(|s| s.1);
     let (jm, jp) = (at(best - 1)?, at(best + 1)?);
     let (mut t, mut w) = parabola(f64::from(best), 1.0, jm, jb, jp)?;
-    // Where the whole steps' parabola says the clicks cannot reject the given lens (its
-    // vertex not even half the test's chi-square below J(k0)), the finer search is spared.
-    let vertex = jb - (jp - jm).powi(2) / (8.0 * (jm - 2.0 * jb + jp));
-    if j0 - vertex <= 0.5 * LENS_REJECTED_CHI2 {
+    if screened_out(j0, jm, jb, jp) {
         return None;
     }
     let (mut t_best, mut j_best) = (f64::from(best), jb);
@@ -160,12 +178,27 @@ fn profile_minimum(
     ))
 }
 
+/// Whether the parabola through `J` at three whole steps `jm`, `jz`, `jp` says the clicks
+/// cannot reject the given lens (`J(k0) = j0`): its vertex not even half the test's
+/// chi-square below `j0` (or no vertex, the three not opening upwards, with none of them
+/// that far below). Spares the refits of the finer search.
+fn screened_out(j0: f64, jm: f64, jz: f64, jp: f64) -> bool {
+    let second = jm - 2.0 * jz + jp;
+    let least = if second > 0.0 {
+        jz - (jp - jm).powi(2) / (8.0 * second)
+    } else {
+        jm.min(jz).min(jp)
+    };
+    j0 - least <= 0.5 * LENS_REJECTED_CHI2
+}
+
 /// The lens `scene`'s clicks agree on, when they reject the given one (see the module
 /// documentation); `None` when they do not, when the scene gives no `k_sd`, or when the
 /// profile cannot be taken (refits that fail around the given `k`).
 pub(super) fn refine_lens(
     scene: &Scene,
     fitted: &Fitted,
+    known: &[(f64, f64)],
     noise: ClickNoise,
     interrupt: &Interrupt,
 ) -> Option<RefinedLens> {
@@ -191,7 +224,7 @@ pub(super) fn refine_lens(
         Some(refit.cost())
     };
     let j0 = weigh(noise, m, fitted.cost());
-    let (lens, chi2_drop) = profile_minimum(k0, sd, j0, noise, m, cost_at)?;
+    let (lens, chi2_drop) = profile_minimum(k0, sd, j0, noise, m, known, cost_at)?;
     Some(RefinedLens {
         given: [k0, sd],
         lens,
@@ -206,6 +239,7 @@ pub(super) fn refine_lens(
 pub(super) fn refine_room_lenses(
     scene: &Scene,
     fitted: &RoomFitted,
+    known: &[Vec<(f64, f64)>],
     noise: ClickNoise,
     interrupt: &Interrupt,
 ) -> Vec<(usize, RefinedLens)> {
@@ -240,7 +274,8 @@ pub(super) fn refine_room_lenses(
                 .ok()?;
             Some(refit.cost())
         };
-        if let Some((lens, chi2_drop)) = profile_minimum(k0, sd, j0, noise, m, cost_at) {
+        let known = known.get(n).map_or(&[][..], Vec::as_slice);
+        if let Some((lens, chi2_drop)) = profile_minimum(k0, sd, j0, noise, m, known, cost_at) {
             out.push((
                 n,
                 RefinedLens {
