@@ -141,6 +141,11 @@ for p in sixteen["photos"]:
 while len(sixteen["photos"]) < 16:
     sixteen["photos"].append(copy.deepcopy(sixteen["photos"][len(sixteen["photos"]) % 4]))
 json.dump(sixteen, open(f"{tmp}/room-16.json", "w"))
+# The same with a lens whose k has an sd on every photo (its spread: the joint fit twice more a
+# photo; the clicks' profile of k adds no refit when they do not reject it).
+for p in sixteen["photos"]:
+    p["lens_distortion"] = {"k": 0.0, "k_sd": 0.01}
+json.dump(sixteen, open(f"{tmp}/room-16-lens.json", "w"))
 # One photo of 500 objects (the limit): the room's first photo, its objects repeated under new
 # names, with a lens whose k has an sd (three fits).
 photo = copy.deepcopy(room["photos"][0])
@@ -157,6 +162,7 @@ row "\`build\`, one photo of 500 objects (the limit) and a lens with an sd" "$VP
 row "\`build\`, a room of 4 photos and 99 boxes (385 objects in all)" "$VPMAP" build "$tmp/room4.json" --out "$tmp/room-out"
 row "\`build\`, a room of 10 photos, 979 objects in all (within the limit)" "$VPMAP" build "$tmp/room-most.json" --out "$tmp/room-out"
 row "\`build\`, a room of 16 photos, 992 objects in all (16 x 100 took 50 s)" "$VPMAP" build "$tmp/room-16.json" --out "$tmp/room-out"
+row "\`build\`, the room of 16 photos with a lens k_sd on every photo" "$VPMAP" build "$tmp/room-16-lens.json" --out "$tmp/room-out"
 row "\`build\`, a room of 11 photos, 1078 objects in all (over the limit)" "$VPMAP" build "$tmp/room-over.json" --out "$tmp/room-out"
 # A footprint of 1,000 vertices (the limit): the synthetic scene's chair clicked as an ellipse of
 # 1,000 points, alone in one photo and added to the bundled room's first photo (before
