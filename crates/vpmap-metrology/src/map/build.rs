@@ -63,9 +63,7 @@ pub fn build_map_until(
         }
         let mut again = scene.clone();
         for (n, r) in &refined {
-            if *n == 0 {
-                again.lens_distortion = Some(r.lens);
-            } else if let Some(p) = again.other_photos.get_mut(n - 1) {
+            if let Some(p) = again.photo_mut(*n) {
                 p.lens_distortion = Some(r.lens);
             }
         }

@@ -259,9 +259,7 @@ pub(super) fn add_room_lens_spread(
                 return Ok(None);
             }
             let mut s = scene.clone();
-            if n == 0 {
-                s.lens_distortion = Some(lens);
-            } else if let Some(p) = s.other_photos.get_mut(n - 1) {
+            if let Some(p) = s.photo_mut(n) {
                 p.lens_distortion = Some(lens);
             }
             let pinhole = s.undistorted();

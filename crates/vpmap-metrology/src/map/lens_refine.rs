@@ -264,11 +264,7 @@ pub(super) fn refine_room_lenses(
                 return None;
             }
             let mut s = scene.clone();
-            if n == 0 {
-                s.lens_distortion = Some(lens);
-            } else {
-                s.other_photos.get_mut(n - 1)?.lens_distortion = Some(lens);
-            }
+            s.photo_mut(n)?.lens_distortion = Some(lens);
             let refit = fitted
                 .refit_with_lens(&s.undistorted(), n, &from, &to, interrupt)
                 .ok()?;

@@ -62,6 +62,15 @@ impl Scene {
         std::iter::once(self).chain(self.other_photos.iter())
     }
 
+    /// Photo `n` of the room (0 is this scene itself, as in [`Scene::photos`]), to change;
+    /// `None` beyond the last.
+    pub fn photo_mut(&mut self, n: usize) -> Option<&mut Scene> {
+        match n {
+            0 => Some(self),
+            _ => self.other_photos.get_mut(n - 1),
+        }
+    }
+
     /// Number of photos: 1 for a single-photo scene.
     #[must_use]
     pub fn photo_count(&self) -> usize {
