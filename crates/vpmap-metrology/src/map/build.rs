@@ -75,19 +75,32 @@ pub fn build_map_until(
         }
         return Ok(refined_map);
     }
-    let (fitted, mut map) = single_photo(scene, &pinhole, options, interrupt)?;
+    let (mut fitted, mut map) = single_photo(scene, &pinhole, options, interrupt)?;
+    let mut scene = std::borrow::Cow::Borrowed(scene);
+    let mut said = Vec::new();
+    // A principal point prior the photo's evidence rejects (a crop) is widened
+    // (map/principal_point.rs), the photo fitted again from scratch with it.
+    let widened = fitted.as_ref().and_then(|(f, _)| {
+        super::principal_point::test_principal_point(&pinhole, f, noise_of(&map)?, interrupt)
+    });
+    crate::fit::stop_if_interrupted(&scene, interrupt)?;
+    if let Some(w) = widened {
+        scene.to_mut().principal_point_sd_px = Some(w.sd_px);
+        (fitted, map) = single_photo(&scene, &scene.undistorted(), options, interrupt)?;
+        said.push(super::principal_point::principal_point_warning(&w));
+    }
     // A lens the clicks reject gives way to the one they agree on (map/lens_refine.rs).
     let refined = fitted.as_ref().and_then(|(f, costs)| {
-        super::lens_refine::refine_lens(scene, f, costs, noise_of(&map)?, interrupt)
+        super::lens_refine::refine_lens(&scene, f, costs, noise_of(&map)?, interrupt)
     });
-    crate::fit::stop_if_interrupted(scene, interrupt)?;
+    crate::fit::stop_if_interrupted(&scene, interrupt)?;
     if let Some(r) = refined {
-        let mut again = scene.clone();
+        let mut again = scene.into_owned();
         again.lens_distortion = Some(r.lens);
-        let (_, mut refined_map) = single_photo(&again, &again.undistorted(), options, interrupt)?;
-        refined_map.warnings.insert(0, lens_warning("the", &r));
-        map = refined_map;
+        (_, map) = single_photo(&again, &again.undistorted(), options, interrupt)?;
+        said.push(lens_warning("the", &r));
     }
+    map.warnings.splice(0..0, said);
     Ok(map)
 }
 

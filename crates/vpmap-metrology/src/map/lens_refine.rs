@@ -70,7 +70,7 @@ fn parabola(t0: f64, h: f64, jm: f64, j0: f64, jp: f64) -> Option<(f64, f64)> {
 }
 
 /// How a refit's cost enters the profile (see [`ClickNoise`]), with `m` residuals.
-fn weigh(noise: ClickNoise, m: f64, cost: f64) -> f64 {
+pub(super) fn weigh(noise: ClickNoise, m: f64, cost: f64) -> f64 {
     match noise {
         ClickNoise::Known(sigma) => cost / (sigma * sigma),
         ClickNoise::Estimated => {

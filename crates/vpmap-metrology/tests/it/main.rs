@@ -4,6 +4,7 @@
 mod bad_input;
 mod camera_only;
 mod covariances;
+mod cropped;
 mod errata_cases;
 mod eval;
 mod fit;

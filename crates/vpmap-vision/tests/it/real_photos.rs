@@ -6,7 +6,8 @@
 //! 000002's roll by about 2 degrees (its README), which is why the bounds are not tighter.
 //! The camera's focal length, pitch, roll, principal point and room yaw are printed against
 //! the truth's, with their standardised errors. `VPMAP_SUNRGBD_SCENES=DIR` writes each scene
-//! built (`000003x4-scene.json`: photo 000003 enlarged four times) for `vpmap build`.
+//! built (`000003x4-scene.json`: photo 000003 enlarged four times) for `vpmap build`. The same
+//! photos enlarged four times and cropped off their centres are checked too.
 
 use std::path::PathBuf;
 
@@ -31,14 +32,30 @@ fn sunrgbd() -> Option<PathBuf> {
     }
 }
 
+/// One object: (photo, name, error m, Mahalanobis distance squared, distance from the camera m).
+type Row = (String, String, f64, f64, f64);
+
 /// Per object: (photo, name, error m, Mahalanobis distance squared, distance from the camera m),
-/// with each photo enlarged `scale` times (Lanczos) and its clicks with it.
-fn measure(dir: &std::path::Path, scale: u32) -> Vec<(String, String, f64, f64, f64)> {
+/// with each photo enlarged `scale` times (Lanczos) and its clicks with it;
+/// and the photos whose principal point prior the map widened (map/principal_point.rs).
+/// With `crop`, each photo is cropped ([`crop_of`]) before anything else.
+fn measure(
+    dir: &std::path::Path,
+    scale: u32,
+    crop: bool,
+) -> (Vec<Row>, Vec<String>) {
     let mut out = Vec::new();
+    let mut widened = Vec::new();
     for id in ["000002", "000003", "000004"] {
         let folder = dir.join(id);
         let bytes = std::fs::read(folder.join(format!("{id}.jpg"))).unwrap();
         let mut photo = decode_photo(&bytes, &PhotoLimits::default()).unwrap().image;
+        let [cx, cy, cw, ch] = if crop {
+            crop_of(id)
+        } else {
+            [0, 0, photo.width(), photo.height()]
+        };
+        photo = photo.crop_imm(cx, cy, cw, ch);
         if scale > 1 {
             photo = photo.resize_exact(
                 scale * photo.width(),
@@ -65,18 +82,31 @@ fn measure(dir: &std::path::Path, scale: u32) -> Vec<(String, String, f64, f64, 
             assert!(set_scene_click(
                 &mut scene,
                 click.place,
-                [factor * p[0], factor * p[1]]
+                [
+                    factor * (p[0] - f64::from(cx)),
+                    factor * (p[1] - f64::from(cy))
+                ]
             ));
         }
         if let Some(d) = std::env::var_os("VPMAP_SUNRGBD_SCENES") {
             std::fs::write(
-                std::path::Path::new(&d).join(format!("{id}x{scale}-scene.json")),
+                std::path::Path::new(&d).join(format!(
+                    "{id}x{scale}{}-scene.json",
+                    if crop { "-cropped" } else { "" }
+                )),
                 scene.to_json_string(),
             )
             .unwrap();
         }
         // vpmap build's map: the lens undistorted, its uncertainty in the error bars.
         let map = build_map(&scene, &BuildOptions::default()).unwrap();
+        if map
+            .warnings
+            .iter()
+            .any(|w| w.starts_with("the photo's edges and clicks put the principal point"))
+        {
+            widened.push(id.to_owned());
+        }
         let truth: serde_json::Value =
             serde_json::from_str(&std::fs::read_to_string(folder.join("truth.json")).unwrap())
                 .unwrap();
@@ -93,7 +123,7 @@ fn measure(dir: &std::path::Path, scale: u32) -> Vec<(String, String, f64, f64, 
             |sd| {
                 let t = &truth["camera"]["principal_point"];
                 let axis = |k: usize| {
-                    let t = t[k].as_f64().unwrap();
+                    let t = t[k].as_f64().unwrap() - f64::from([cx, cy][k]);
                     let v = cam.principal_point[k];
                     format!(
                         "{v:.1} +- {:.1} (true {t:.1}, z {:.2})",
@@ -131,14 +161,55 @@ fn measure(dir: &std::path::Path, scale: u32) -> Vec<(String, String, f64, f64, 
             out.push((id.to_owned(), name.to_owned(), e.norm(), d2, tc.norm()));
         }
     }
-    out
+    (out, widened)
+}
+
+/// A crop of photo `id` keeping every click, `[left, top, width, height]`: the true principal
+/// point 50-75 px (7-10 % of the crop's diagonal) off the crop's centre.
+fn crop_of(id: &str) -> [u32; 4] {
+    match id {
+        "000002" => [150, 0, 580, 530],
+        "000003" => [0, 100, 730, 430],
+        _ => [0, 0, 600, 450],
+    }
 }
 
 #[test]
 #[ignore = "needs ../shared/data (run with -- --ignored shared_data)"]
 fn shared_data_sunrgbd_detected_vanishing_points_error_bars_hold_the_truth() {
     let Some(dir) = sunrgbd() else { return };
-    check_sunrgbd(&measure(&dir, 1));
+    let (rows, widened) = measure(&dir, 1, false);
+    check_sunrgbd(&rows);
+    assert!(widened.is_empty(), "whole photos widened: {widened:?}");
+}
+
+/// The same photos cropped off their centres ([`crop_of`]), their clicks with them: detect's
+/// prior puts the principal point at the crop's centre, 50-75 px from the truth (7-10 sd).
+/// Held there, photos 000002 and 000004 put their boxes 61-89 cm off at a Mahalanobis distance
+/// squared up to 47; a photo whose evidence rejects the prior must be built with it widened,
+/// and hold the truth.
+#[test]
+#[ignore = "needs ../shared/data (run with -- --ignored shared_data)"]
+fn shared_data_sunrgbd_cropped_off_centre_error_bars_hold_the_truth() {
+    let Some(dir) = sunrgbd() else { return };
+    let (rows, widened) = measure(&dir, 1, true);
+    eprintln!("principal point prior widened for {widened:?}");
+    for (id, name, e, d2, dist) in rows.iter().filter(|r| !widened.contains(&r.0)) {
+        eprintln!(
+            "{id} {name:15} error {:5.1} cm ({:.1} % of {dist:.2} m), Mahalanobis^2 {d2:.2}: not widened",
+            100.0 * e,
+            100.0 * e / dist
+        );
+    }
+    // Photo 000002's evidence of its principal point is too weak to reject the prior (a
+    // chi-square of 5.6 against 9.21; docs/results.md): at least the other two must be found,
+    // and their maps hold the truth.
+    assert!(widened.len() >= 2, "widened only {widened:?}");
+    let kept: Vec<_> = rows
+        .into_iter()
+        .filter(|r| widened.contains(&r.0))
+        .collect();
+    check_sunrgbd(&kept);
 }
 
 /// The same photos enlarged four times (2920 x 2120, a phone's size), their clicks with them:
@@ -148,13 +219,15 @@ fn shared_data_sunrgbd_detected_vanishing_points_error_bars_hold_the_truth() {
 #[ignore = "needs ../shared/data (run with -- --ignored shared_data)"]
 fn shared_data_sunrgbd_enlarged_four_times_error_bars_hold_the_truth() {
     let Some(dir) = sunrgbd() else { return };
-    check_sunrgbd(&measure(&dir, 4));
+    let (rows, widened) = measure(&dir, 4, false);
+    check_sunrgbd(&rows);
+    assert!(widened.is_empty(), "whole photos widened: {widened:?}");
 }
 
 /// Issue 37's bounds on the SUN RGB-D objects of [`measure`]: the truth inside the 95 %
 /// ellipse for at least 80 %, none beyond a Mahalanobis distance squared of 20, the median
 /// error at most 3 % of the distance.
-fn check_sunrgbd(rows: &[(String, String, f64, f64, f64)]) {
+fn check_sunrgbd(rows: &[Row]) {
     for (id, name, e, d2, dist) in rows {
         eprintln!(
             "{id} {name:15} error {:5.1} cm ({:.1} % of {dist:.2} m), Mahalanobis^2 {d2:.2}",
@@ -162,7 +235,7 @@ fn check_sunrgbd(rows: &[(String, String, f64, f64, f64)]) {
             100.0 * e / dist
         );
     }
-    assert_eq!(rows.len(), 8);
+    assert!(!rows.is_empty());
     let inside = rows.iter().filter(|r| r.3 <= CHI2_2DOF_95).count();
     assert!(
         inside * 10 >= rows.len() * 8,
@@ -173,6 +246,7 @@ fn check_sunrgbd(rows: &[(String, String, f64, f64, f64)]) {
     assert!(worst <= 20.0, "Mahalanobis distance squared up to {worst}");
     let mut relative: Vec<f64> = rows.iter().map(|r| r.2 / r.4).collect();
     relative.sort_by(f64::total_cmp);
-    let median = 0.5 * (relative[3] + relative[4]);
+    let n = relative.len();
+    let median = 0.5 * (relative[(n - 1) / 2] + relative[n / 2]);
     assert!(median <= 0.03, "median error {:.1} %", 100.0 * median);
 }
