@@ -6,13 +6,12 @@
 //! The fit's problem is kept as the fit left it (the vanishing-point reading, the click noise it
 //! estimated, every widening of disagreeing evidence): only the standard deviation of the
 //! principal point's prior changes. One Levenberg-Marquardt run from the fit's answer, as the
-//! lens's refits (`fit/lens.rs`).
+//! lens's refits (`fit/lens.rs`); only its cost and principal point are kept (the test needs no
+//! more, and a map built with the wider prior is fitted from scratch).
 
 use super::model::VpEvidence;
-use super::{Fitted, Solved, finish, minimise};
-use crate::error::{MetrologyError, Result};
+use super::{Fitted, minimise};
 use crate::interrupt::Interrupt;
-use crate::scene::Scene;
 
 impl Fitted {
     /// The standard deviation of the fit's prior on the principal point, pixels (`None` when
@@ -28,21 +27,14 @@ impl Fitted {
     }
 
     /// The fit again with the principal point's prior widened to `sd_px` (same centre), from
-    /// this fit's answer. `scene` is the photo the fit was of.
-    ///
-    /// # Errors
-    /// A fit without a prior on its principal point; a refit that does not converge or fails
-    /// the fit's final checks; [`MetrologyError::Interrupted`] when `interrupt` fires.
-    pub(crate) fn refit_with_principal_point_sd(
+    /// this fit's answer: its cost (as [`Fitted`]'s `cost`) and principal point, pixels.
+    /// `None` when the fit has no prior on its principal point, when the refit does not
+    /// converge, or when `interrupt` fires (the caller asks it).
+    pub(crate) fn cost_with_principal_point_sd(
         &self,
-        scene: &Scene,
         sd_px: f64,
         interrupt: &Interrupt,
-    ) -> Result<Fitted> {
-        let degenerate = |reason: String| MetrologyError::Degenerate {
-            field: "principal_point_sd_px".to_owned(),
-            reason,
-        };
+    ) -> Option<(f64, [f64; 2])> {
         let mut problem = self.problem.clone();
         let mut found = false;
         for e in &mut problem.vps {
@@ -56,48 +48,19 @@ impl Fitted {
             }
         }
         if !found {
-            return Err(degenerate(
-                "the fit has no prior on the principal point to widen".to_owned(),
-            ));
+            return None;
         }
         problem.interrupt = interrupt.clone();
-        let solution = minimise(&problem, self.x.clone());
-        if let Some(reason) = interrupt.check() {
-            return Err(MetrologyError::Interrupted {
-                work: format!(
-                    "the fit of a photo of {} objects with the principal point's prior {sd_px} px",
-                    scene.objects.len()
-                ),
-                reason,
-            });
+        let solution = minimise(&problem, self.x.clone()).filter(|s| s.converged)?;
+        if interrupt.check().is_some() {
+            return None;
         }
-        problem.interrupt = Interrupt::default();
-        let solution = solution.filter(|s| s.converged).ok_or_else(|| {
-            degenerate(format!(
-                "the fit with the principal point's prior {sd_px} px does not converge"
-            ))
-        })?;
-        finish(
-            scene,
-            Solved {
-                problem,
-                x: solution.x,
-                cost: solution.cost,
-                iterations: solution.iterations,
-            },
-            self.object_parts.clone(),
-            self.floor_distance_parts,
-        )
+        let p = problem.camera(&solution.x).principal_point_px;
+        Some((solution.cost, [p.x, p.y]))
     }
 }
 
 impl Fitted {
-    /// The fitted principal point, pixels.
-    pub(crate) fn principal_point_px(&self) -> [f64; 2] {
-        let p = self.problem.camera(&self.x).principal_point_px;
-        [p.x, p.y]
-    }
-
     /// The centre of the fit's prior on the principal point, pixels (`None` without one).
     pub(crate) fn principal_point_prior_px(&self) -> Option<[f64; 2]> {
         self.problem.vps.iter().find_map(|e| match e {

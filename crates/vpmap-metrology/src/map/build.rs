@@ -51,29 +51,47 @@ pub fn build_map_until(
     scene.validate()?;
     let pinhole = scene.undistorted();
     if !scene.other_photos.is_empty() {
-        let (fitted, map) = room(scene, &pinhole, options, interrupt)?;
+        let (mut fitted, mut map) = room(scene, &pinhole, options, interrupt)?;
+        let mut scene = std::borrow::Cow::Borrowed(scene);
+        let mut said = Vec::new();
+        // A photo's principal point prior the room's evidence rejects (a crop) is widened
+        // (map/principal_point.rs), the room fitted again from scratch with it.
+        let widened = noise_of(&map).map_or_else(Vec::new, |noise| {
+            super::principal_point::test_room_principal_points(
+                &pinhole, &fitted.0, noise, interrupt,
+            )
+        });
+        crate::fit::stop_if_interrupted(&scene, interrupt)?;
+        if !widened.is_empty() {
+            for (n, w) in &widened {
+                if let Some(p) = scene.to_mut().photo_mut(*n) {
+                    p.principal_point_sd_px = Some(w.sd_px);
+                }
+                said.push(super::principal_point::principal_point_warning(
+                    &format!("photo {}'s", n + 1),
+                    w,
+                ));
+            }
+            (fitted, map) = room(&scene, &scene.undistorted(), options, interrupt)?;
+        }
         // A photo's lens its clicks reject gives way to the one they agree on
         // (map/lens_refine.rs), the room fitted again from scratch with it.
         let refined = noise_of(&map).map_or_else(Vec::new, |noise| {
-            super::lens_refine::refine_room_lenses(scene, &fitted.0, &fitted.1, noise, interrupt)
+            super::lens_refine::refine_room_lenses(&scene, &fitted.0, &fitted.1, noise, interrupt)
         });
-        crate::fit::stop_if_interrupted(scene, interrupt)?;
-        if refined.is_empty() {
-            return Ok(map);
-        }
-        let mut again = scene.clone();
-        for (n, r) in &refined {
-            if let Some(p) = again.photo_mut(*n) {
-                p.lens_distortion = Some(r.lens);
+        crate::fit::stop_if_interrupted(&scene, interrupt)?;
+        if !refined.is_empty() {
+            let mut again = scene.into_owned();
+            for (n, r) in &refined {
+                if let Some(p) = again.photo_mut(*n) {
+                    p.lens_distortion = Some(r.lens);
+                }
+                said.push(lens_warning(&format!("photo {}'s", n + 1), r));
             }
+            (_, map) = room(&again, &again.undistorted(), options, interrupt)?;
         }
-        let (_, mut refined_map) = room(&again, &again.undistorted(), options, interrupt)?;
-        for (i, (n, r)) in refined.iter().enumerate() {
-            refined_map
-                .warnings
-                .insert(i, lens_warning(&format!("photo {}'s", n + 1), r));
-        }
-        return Ok(refined_map);
+        map.warnings.splice(0..0, said);
+        return Ok(map);
     }
     let (mut fitted, mut map) = single_photo(scene, &pinhole, options, interrupt)?;
     let mut scene = std::borrow::Cow::Borrowed(scene);
@@ -87,7 +105,10 @@ pub fn build_map_until(
     if let Some(w) = widened {
         scene.to_mut().principal_point_sd_px = Some(w.sd_px);
         (fitted, map) = single_photo(&scene, &scene.undistorted(), options, interrupt)?;
-        said.push(super::principal_point::principal_point_warning(&w));
+        said.push(super::principal_point::principal_point_warning(
+            "the photo's",
+            &w,
+        ));
     }
     // A lens the clicks reject gives way to the one they agree on (map/lens_refine.rs).
     let refined = fitted.as_ref().and_then(|(f, costs)| {

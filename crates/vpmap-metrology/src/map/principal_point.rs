@@ -30,6 +30,7 @@
 use super::lens_refine::{ClickNoise, weigh};
 use crate::fit::Fitted;
 use crate::interrupt::Interrupt;
+use crate::room::RoomFitted;
 use crate::scene::Scene;
 
 /// The chi-square quantile of two degrees of freedom at 99 %: how much better the photo's
@@ -70,25 +71,64 @@ pub(super) fn test_principal_point(
     if s0.partial_cmp(&wide) != Some(std::cmp::Ordering::Less) {
         return None;
     }
-    let refit = fitted
-        .refit_with_principal_point_sd(scene, wide, interrupt)
-        .ok()?;
+    let (cost, found_px) = fitted.cost_with_principal_point_sd(wide, interrupt)?;
     let m = fitted.problem_residual_count() as f64;
-    let chi2_drop = weigh(noise, m, fitted.cost()) - weigh(noise, m, refit.cost());
+    let chi2_drop = weigh(noise, m, fitted.cost()) - weigh(noise, m, cost);
     // A NaN drop is no evidence against the prior.
-    (chi2_drop > PRINCIPAL_POINT_REJECTED_CHI2).then(|| WidenedPrincipalPoint {
+    (chi2_drop > PRINCIPAL_POINT_REJECTED_CHI2).then_some(WidenedPrincipalPoint {
         given: (centre, s0),
-        found_px: refit.principal_point_px(),
+        found_px,
         sd_px: wide,
         chi2_drop,
     })
 }
 
-/// The warning that the principal point's prior was widened.
-pub(super) fn principal_point_warning(w: &WidenedPrincipalPoint) -> String {
+/// For each photo of a room whose principal point has a prior, the widened one when the joint
+/// fit rejects the prior ([`test_principal_point`] for one photo of the joint fit: the room
+/// refitted with that photo's prior widened, every placement as chosen, the other photos'
+/// priors as given): `(photo, widened)`. `scene` is the room the fit was of.
+pub(super) fn test_room_principal_points(
+    scene: &Scene,
+    fitted: &RoomFitted,
+    noise: ClickNoise,
+    interrupt: &Interrupt,
+) -> Vec<(usize, WidenedPrincipalPoint)> {
+    let m = fitted.problem_residual_count() as f64;
+    let j0 = weigh(noise, m, fitted.cost());
+    let mut out = Vec::new();
+    for (n, photo) in scene.photos().enumerate() {
+        let Some((centre, s0)) = fitted.principal_point_prior(n) else {
+            continue;
+        };
+        let wide = CROPPED_PRINCIPAL_POINT_SD_DIAGONALS * photo.image.diagonal();
+        if s0.partial_cmp(&wide) != Some(std::cmp::Ordering::Less) {
+            continue;
+        }
+        let Some((cost, found_px)) = fitted.cost_with_principal_point_sd(n, wide, interrupt) else {
+            continue;
+        };
+        let chi2_drop = j0 - weigh(noise, m, cost);
+        if chi2_drop > PRINCIPAL_POINT_REJECTED_CHI2 {
+            out.push((
+                n,
+                WidenedPrincipalPoint {
+                    given: (centre, s0),
+                    found_px,
+                    sd_px: wide,
+                    chi2_drop,
+                },
+            ));
+        }
+    }
+    out
+}
+
+/// The warning that the principal point's prior was widened: `whose` is "the photo's" or
+/// "photo 2's".
+pub(super) fn principal_point_warning(whose: &str, w: &WidenedPrincipalPoint) -> String {
     let (c, s0) = w.given;
     format!(
-        "the photo's edges and clicks put the principal point at ({:.0}, {:.0}), {:.0} px from where the scene's prior holds it, ({:.0}, {:.0}) +- {s0:.1} px: better by a chi-square of {:.1} (over {:.2}, the 99 % point of two degrees of freedom), as in a photo cropped off its centre, so the map is built with that prior widened to +- {:.0} px",
+        "{whose} edges and clicks put the principal point at ({:.0}, {:.0}), {:.0} px from where the scene's prior holds it, ({:.0}, {:.0}) +- {s0:.1} px: better by a chi-square of {:.1} (over {:.2}, the 99 % point of two degrees of freedom), as in a photo cropped off its centre, so the map is built with that prior widened to +- {:.0} px",
         w.found_px[0],
         w.found_px[1],
         (w.found_px[0] - c[0]).hypot(w.found_px[1] - c[1]),

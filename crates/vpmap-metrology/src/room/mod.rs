@@ -37,6 +37,7 @@ mod fit;
 mod hypotheses;
 mod lens;
 mod model;
+mod prior;
 mod uncertainty;
 
 pub use consistency::LEVEL as CONSISTENCY_LEVEL;

@@ -39,11 +39,7 @@ type Row = (String, String, f64, f64, f64);
 /// with each photo enlarged `scale` times (Lanczos) and its clicks with it;
 /// and the photos whose principal point prior the map widened (map/principal_point.rs).
 /// With `crop`, each photo is cropped ([`crop_of`]) before anything else.
-fn measure(
-    dir: &std::path::Path,
-    scale: u32,
-    crop: bool,
-) -> (Vec<Row>, Vec<String>) {
+fn measure(dir: &std::path::Path, scale: u32, crop: bool) -> (Vec<Row>, Vec<String>) {
     let mut out = Vec::new();
     let mut widened = Vec::new();
     for id in ["000002", "000003", "000004"] {
