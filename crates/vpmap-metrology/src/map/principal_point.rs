@@ -6,7 +6,7 @@
 //! have it there. A photo cropped off its centre does not, and with the prior as given the fit
 //! holds the principal point near the crop's centre, bends the focal length and the pitch
 //! around it, and reports error bars as tight as for a whole photo (SUN RGB-D's photos cropped
-//! 50-75 px off: boxes 24-89 cm off at a Mahalanobis distance squared up to 47).
+//! 50-75 px off: boxes 19-89 cm off at a Mahalanobis distance squared up to 47).
 //!
 //! The test: the fit again with the prior widened to [`CROPPED_PRINCIPAL_POINT_SD_DIAGONALS`]
 //! of the diagonal (the principal point anywhere in the photo, as a crop can put it), from the
