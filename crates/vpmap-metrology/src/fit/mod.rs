@@ -26,7 +26,7 @@ mod fitted;
 mod init;
 mod lens;
 pub(crate) mod model;
-mod prior;
+pub(crate) mod prior;
 pub(crate) mod solve;
 pub(crate) mod uncertainty;
 

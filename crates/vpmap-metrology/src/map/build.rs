@@ -54,20 +54,18 @@ pub fn build_map_until(
         let (mut fitted, mut map) = room(scene, &pinhole, options, interrupt)?;
         let mut scene = std::borrow::Cow::Borrowed(scene);
         let mut said = Vec::new();
-        // A photo's principal point prior the room's evidence rejects (a crop) is widened
-        // (map/principal_point.rs), the room fitted again from scratch with it.
+        // A photo's intrinsics priors the room's evidence rejects (a crop) are widened
+        // (map/priors.rs), the room fitted again from scratch with them.
         let widened = noise_of(&map).map_or_else(Vec::new, |noise| {
-            super::principal_point::test_room_principal_points(
-                &pinhole, &fitted.0, noise, interrupt,
-            )
+            super::priors::test_room_priors(&pinhole, &fitted.0, noise, interrupt)
         });
         crate::fit::stop_if_interrupted(&scene, interrupt)?;
         if !widened.is_empty() {
             for (n, w) in &widened {
                 if let Some(p) = scene.to_mut().photo_mut(*n) {
-                    p.principal_point_sd_px = Some(w.sd_px);
+                    super::priors::widen(p, w);
                 }
-                said.push(super::principal_point::principal_point_warning(
+                said.push(super::priors::priors_warning(
                     &format!("photo {}'s", n + 1),
                     w,
                 ));
@@ -96,19 +94,16 @@ pub fn build_map_until(
     let (mut fitted, mut map) = single_photo(scene, &pinhole, options, interrupt)?;
     let mut scene = std::borrow::Cow::Borrowed(scene);
     let mut said = Vec::new();
-    // A principal point prior the photo's evidence rejects (a crop) is widened
-    // (map/principal_point.rs), the photo fitted again from scratch with it.
+    // Intrinsics priors the photo's evidence rejects (a crop) are widened (map/priors.rs),
+    // the photo fitted again from scratch with them.
     let widened = fitted.as_ref().and_then(|(f, _)| {
-        super::principal_point::test_principal_point(&pinhole, f, noise_of(&map)?, interrupt)
+        super::priors::test_photo_priors(&pinhole, f, noise_of(&map)?, interrupt)
     });
     crate::fit::stop_if_interrupted(&scene, interrupt)?;
     if let Some(w) = widened {
-        scene.to_mut().principal_point_sd_px = Some(w.sd_px);
+        super::priors::widen(scene.to_mut(), &w);
         (fitted, map) = single_photo(&scene, &scene.undistorted(), options, interrupt)?;
-        said.push(super::principal_point::principal_point_warning(
-            "the photo's",
-            &w,
-        ));
+        said.push(super::priors::priors_warning("the photo's", &w));
     }
     // A lens the clicks reject gives way to the one they agree on (map/lens_refine.rs).
     let refined = fitted.as_ref().and_then(|(f, costs)| {

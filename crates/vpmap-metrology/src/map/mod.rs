@@ -17,7 +17,7 @@ mod cameras;
 mod lens;
 mod lens_refine;
 mod options;
-mod principal_point;
+mod priors;
 mod reconstruction;
 mod regions;
 mod room;

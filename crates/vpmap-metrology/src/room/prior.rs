@@ -1,55 +1,41 @@
-//! The joint fit again with one photo's principal point prior widened, the placement held:
-//! what the map's test of that prior needs ([`crate::map::build_map`], a cropped photo in a
-//! room), as `room/lens.rs` refits a photo at another lens. Only the refit's cost and the
-//! photo's principal point are kept: a room built with the wider prior is fitted from scratch.
+//! The joint fit again with one photo's intrinsics' priors widened, the placement held: what
+//! the map's test of those priors needs ([`crate::map::build_map`], a cropped photo in a room),
+//! as `room/lens.rs` refits a photo at another lens. Only the refit's cost and the photo's
+//! intrinsics are kept: a room built with wider priors is fitted from scratch.
 
 use super::fit::RoomFitted;
-use crate::fit::model::VpEvidence;
+use crate::fit::prior::{IntrinsicsPriors, PriorRefit, intrinsics_priors, widen_priors};
 use crate::fit::solve::minimise;
 use crate::interrupt::Interrupt;
 
 impl RoomFitted {
-    /// Photo `photo`'s prior on its principal point: its centre and standard deviation, pixels
-    /// (`None` when the principal point is held or has no prior).
-    pub(crate) fn principal_point_prior(&self, photo: usize) -> Option<([f64; 2], f64)> {
+    /// The priors on photo `photo`'s intrinsics.
+    pub(crate) fn intrinsics_priors(&self, photo: usize) -> IntrinsicsPriors {
         self.problem
             .photos
-            .get(photo)?
-            .vps
-            .iter()
-            .find_map(|e| match e {
-                VpEvidence::Intrinsics {
-                    principal_point_px: Some((p, sd)),
-                    ..
-                } => Some(([p.x, p.y], *sd)),
-                _ => None,
-            })
+            .get(photo)
+            .map(|b| intrinsics_priors(&b.vps))
+            .unwrap_or_default()
     }
 
-    /// The joint fit again with photo `photo`'s principal point prior widened to `sd_px` (same
-    /// centre), every photo's placement as chosen here, from this fit's answer: its cost (as
-    /// [`RoomFitted`]'s `cost`) and that photo's principal point, pixels. `None` when the photo
-    /// has no prior on its principal point, when the refit does not converge, or when
-    /// `interrupt` fires (the caller asks it).
-    pub(crate) fn cost_with_principal_point_sd(
+    /// The joint fit again with photo `photo`'s principal point prior widened to
+    /// `principal_point_sd_px` and its focal length's to `focal_sd_px` where given (same
+    /// centres), every photo's placement as chosen here, from this fit's answer. `None` when a
+    /// prior asked for is not there, when the refit does not converge, or when `interrupt`
+    /// fires (the caller asks it).
+    pub(crate) fn cost_with_priors_widened(
         &self,
         photo: usize,
-        sd_px: f64,
+        principal_point_sd_px: Option<f64>,
+        focal_sd_px: Option<f64>,
         interrupt: &Interrupt,
-    ) -> Option<(f64, [f64; 2])> {
+    ) -> Option<PriorRefit> {
         let mut problem = self.problem.clone();
-        let mut found = false;
-        for e in &mut problem.photos.get_mut(photo)?.vps {
-            if let VpEvidence::Intrinsics {
-                principal_point_px: Some((_, sd)),
-                ..
-            } = e
-            {
-                *sd = sd_px;
-                found = true;
-            }
-        }
-        if !found {
+        if !widen_priors(
+            &mut problem.photos.get_mut(photo)?.vps,
+            principal_point_sd_px,
+            focal_sd_px,
+        ) {
             return None;
         }
         problem.interrupt = interrupt.clone();
@@ -57,7 +43,11 @@ impl RoomFitted {
         if interrupt.check().is_some() {
             return None;
         }
-        let p = problem.camera(&solution.x, photo).principal_point_px;
-        Some((solution.cost, [p.x, p.y]))
+        let cam = problem.camera(&solution.x, photo);
+        Some(PriorRefit {
+            cost: solution.cost,
+            principal_point_px: [cam.principal_point_px.x, cam.principal_point_px.y],
+            focal_px: cam.focal_px,
+        })
     }
 }

@@ -1,8 +1,9 @@
-//! A photo cropped off its centre (map/principal_point.rs): the scene's prior puts the
-//! principal point at the crop's centre, where it is not; the clicks reject that prior, the map
-//! widens it and its error bars hold the truth. A whole photo keeps its prior. Checked against
-//! the independent synthetic pinhole camera (`vpmap_metrology::synth`), its clicks shifted as a
-//! crop shifts them.
+//! A photo cropped off its centre (map/priors.rs): the scene's prior puts the principal point
+//! at the crop's centre, where it is not, and an EXIF focal length converted by the crop's
+//! diagonal is short; the clicks reject those priors, the map widens them and its error bars
+//! hold the truth. A whole photo keeps its priors; a whole photo whose EXIF focal length alone
+//! is wrong widens that prior alone. Checked against the independent synthetic pinhole camera
+//! (`vpmap_metrology::synth`), its clicks shifted as a crop shifts them.
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -87,6 +88,13 @@ fn widened(map: &FloorMap) -> bool {
         .any(|w| w.starts_with("the photo's edges and clicks put the principal point"))
 }
 
+/// Whether `map` says it widened the focal length's prior.
+fn focal_widened(map: &FloorMap) -> bool {
+    map.warnings.iter().any(|w| {
+        w.starts_with("the photo's edges and clicks put") && w.contains("the focal length at")
+    })
+}
+
 #[test]
 fn a_photo_cropped_off_its_centre_widens_its_principal_point_and_holds_the_truth() {
     let options = BuildOptions {
@@ -131,6 +139,100 @@ fn a_photo_cropped_off_its_centre_widens_its_principal_point_and_holds_the_truth
         inside_as_given * 4 < total_as_given,
         "{inside_as_given} of {total_as_given}"
     );
+}
+
+#[test]
+fn a_cropped_photo_with_its_whole_frame_s_exif_focal_length_widens_both_priors() {
+    // The crop above with a focal length prior as `vpmap detect` writes it from EXIF: the 35 mm
+    // equivalent converted by the image's diagonal, the crop's, so 26 % short of the true
+    // focal length (6.5 of its 4 % sds).
+    let options = BuildOptions {
+        click_sigma_px: Some(1.0),
+        ..BuildOptions::default()
+    };
+    let (mut inside, mut total, mut both) = (0usize, 0usize, 0usize);
+    for seed in 0..60u64 {
+        let (mut scene, truth) = cropped(seed, [480, 240, 1120, 960], 1.0);
+        let f = 1100.0 * scene.image.diagonal() / 2000.0;
+        scene.focal_px = Some(f);
+        scene.focal_sd_px = Some(0.04 * f);
+        let map = build_map(&scene, &options).unwrap();
+        both += usize::from(widened(&map) && focal_widened(&map));
+        for d2 in d2s(&map, &truth) {
+            total += 1;
+            inside += usize::from(d2 <= 5.991);
+        }
+    }
+    eprintln!(
+        "cropped with the whole frame's EXIF focal length: both priors widened in {both} of 60; {inside} of {total} centroids inside"
+    );
+    assert!(both >= 57, "both widened in {both} of 60");
+    let share = inside as f64 / total as f64;
+    assert!((0.92..=0.98).contains(&share), "{inside} of {total} inside");
+}
+
+#[test]
+fn a_whole_photo_with_its_exif_focal_length_keeps_its_priors() {
+    let options = BuildOptions {
+        click_sigma_px: Some(1.0),
+        ..BuildOptions::default()
+    };
+    let (mut widened_count, mut inside, mut total) = (0usize, 0usize, 0usize);
+    let mut rng = ChaCha8Rng::seed_from_u64(3);
+    for seed in 0..60u64 {
+        let (mut scene, truth) = cropped(200 + seed, [0, 0, 1600, 1200], 1.0);
+        // EXIF's focal length, off by a draw of its stated 4 %.
+        let z: f64 = rand_distr::Distribution::sample(&rand_distr::StandardNormal, &mut rng);
+        scene.focal_px = Some(1100.0 * (1.0 + 0.04 * z));
+        scene.focal_sd_px = Some(0.04 * 1100.0);
+        let map = build_map(&scene, &options).unwrap();
+        widened_count += usize::from(widened(&map) || focal_widened(&map));
+        for d2 in d2s(&map, &truth) {
+            total += 1;
+            inside += usize::from(d2 <= 5.991);
+        }
+    }
+    eprintln!(
+        "whole photos with EXIF: {widened_count} of 60 widened; {inside} of {total} centroids inside"
+    );
+    assert!(
+        widened_count <= 3,
+        "{widened_count} of 60 whole photos widened"
+    );
+    let share = inside as f64 / total as f64;
+    assert!((0.92..=0.98).contains(&share), "{inside} of {total} inside");
+}
+
+#[test]
+fn a_whole_photo_whose_exif_focal_length_is_wrong_widens_that_prior_only() {
+    // A whole photo whose EXIF focal length misses a digital zoom: 40 % short (15 of its 4 %
+    // sds); its principal point prior is right. The nested tests must widen the focal
+    // length's prior and keep the principal point's.
+    let options = BuildOptions {
+        click_sigma_px: Some(1.0),
+        ..BuildOptions::default()
+    };
+    let (mut focal_only, mut inside, mut total) = (0usize, 0usize, 0usize);
+    for seed in 0..60u64 {
+        let (mut scene, truth) = cropped(300 + seed, [0, 0, 1600, 1200], 1.0);
+        scene.focal_px = Some(0.6 * 1100.0);
+        scene.focal_sd_px = Some(0.04 * 0.6 * 1100.0);
+        let map = build_map(&scene, &options).unwrap();
+        focal_only += usize::from(focal_widened(&map) && !widened(&map));
+        for d2 in d2s(&map, &truth) {
+            total += 1;
+            inside += usize::from(d2 <= 5.991);
+        }
+    }
+    eprintln!(
+        "whole photos with a wrong EXIF focal length: only it widened in {focal_only} of 60; {inside} of {total} centroids inside"
+    );
+    assert!(
+        focal_only >= 54,
+        "only the focal length widened in {focal_only} of 60"
+    );
+    let share = inside as f64 / total as f64;
+    assert!((0.92..=0.98).contains(&share), "{inside} of {total} inside");
 }
 
 #[test]
@@ -215,7 +317,7 @@ fn a_cropped_photo_in_a_room_widens_its_own_principal_point_only() {
         for w in &map.warnings {
             if w.starts_with("photo 2's edges and clicks put the principal point") {
                 cropped_widened += 1;
-            } else if w.contains("edges and clicks put the principal point") {
+            } else if w.contains("edges and clicks put the") {
                 whole_widened += 1;
             }
         }
