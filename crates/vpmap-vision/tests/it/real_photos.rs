@@ -37,7 +37,7 @@ type Row = (String, String, f64, f64, f64);
 
 /// Per object: (photo, name, error m, Mahalanobis distance squared, distance from the camera m),
 /// with each photo enlarged `scale` times (Lanczos) and its clicks with it;
-/// and the photos whose principal point prior the map widened (map/principal_point.rs).
+/// and the photos whose principal point prior the map widened (map/priors.rs).
 /// With `crop`, each photo is cropped ([`crop_of`]) before anything else.
 fn measure(dir: &std::path::Path, scale: u32, crop: bool) -> (Vec<Row>, Vec<String>) {
     let mut out = Vec::new();
