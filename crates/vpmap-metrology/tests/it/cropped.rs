@@ -7,11 +7,11 @@
 
 use rand::SeedableRng;
 use rand_chacha::ChaCha8Rng;
-use vpmap_metrology::map::{BuildOptions, FloorMap, build_map};
+use vpmap_metrology::fit::CHI2_2DOF_95;
+use vpmap_metrology::map::{BuildOptions, FloorMap, MapObject, build_map};
 use vpmap_metrology::scene::{ImageSize, Scene};
 use vpmap_metrology::synth::{
-    RoomSynthOptions, RoomTruth, SynthOptions, Truth, VanishingPointForm, synthesize,
-    synthesize_room,
+    RoomSynthOptions, SynthOptions, Truth, VanishingPointForm, synthesize, synthesize_room,
 };
 
 /// The prior `vpmap detect` writes: the image centre, 1.5 % of the diagonal.
@@ -63,25 +63,20 @@ fn crop_photo(p: &mut Scene, crop: [u32; 4]) {
     p.principal_point_sd_px = Some(PRIOR_SD_DIAGONALS * p.image.diagonal());
 }
 
-/// The centroids' squared Mahalanobis distances from the truth's.
-fn d2s(map: &FloorMap, truth: &Truth) -> Vec<f64> {
-    map.objects
-        .iter()
-        .zip(&truth.objects)
-        .map(|(o, t)| {
-            let m = o.uncertainty.as_ref().unwrap().centroid_covariance;
-            let n = t.footprint.len() as f64;
-            let c = [
-                t.footprint.iter().map(|p| p[0]).sum::<f64>() / n,
-                t.footprint.iter().map(|p| p[1]).sum::<f64>() / n,
-            ];
-            let d = [o.centroid[0] - c[0], o.centroid[1] - c[1]];
-            let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
-            (m[1][1] * d[0] * d[0] - 2.0 * m[0][1] * d[0] * d[1] + m[0][0] * d[1] * d[1]) / det
-        })
-        .collect()
+/// The squared Mahalanobis distance of `o`'s centroid from the centroid of `footprint`.
+fn centroid_d2(o: &MapObject, footprint: &[[f64; 2]]) -> f64 {
+    let m = o.uncertainty.as_ref().unwrap().centroid_covariance;
+    let n = footprint.len() as f64;
+    let c = [
+        footprint.iter().map(|p| p[0]).sum::<f64>() / n,
+        footprint.iter().map(|p| p[1]).sum::<f64>() / n,
+    ];
+    let d = [o.centroid[0] - c[0], o.centroid[1] - c[1]];
+    let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
+    (m[1][1] * d[0] * d[0] - 2.0 * m[0][1] * d[0] * d[1] + m[0][0] * d[1] * d[1]) / det
 }
 
+/// Whether `map` says it widened the principal point's prior.
 fn widened(map: &FloorMap) -> bool {
     map.warnings
         .iter()
@@ -95,112 +90,114 @@ fn focal_widened(map: &FloorMap) -> bool {
     })
 }
 
-#[test]
-fn a_photo_cropped_off_its_centre_widens_its_principal_point_and_holds_the_truth() {
+/// Sixty photos `photo(seed)` built with their 1 px clicks: how many maps `says` holds for,
+/// how many true centres lie inside their 95 % ellipses, of how many, and the mean squared
+/// Mahalanobis distance.
+fn over_sixty(
+    photo: impl Fn(u64) -> (Scene, Truth),
+    says: impl Fn(&FloorMap) -> bool,
+) -> (usize, usize, usize, f64) {
     let options = BuildOptions {
         click_sigma_px: Some(1.0),
         ..BuildOptions::default()
     };
-    let (mut inside, mut total, mut widened_count, mut sum_d2) = (0usize, 0usize, 0usize, 0.0);
-    let (mut inside_as_given, mut total_as_given) = (0usize, 0usize);
-    for seed in 0..60u64 {
-        // The right 70 % and the lower 80 % of the photo: the principal point 240 px left of
-        // the crop's centre and 120 px above it, about 14 and 7 of the prior's sds.
-        let (scene, truth) = cropped(seed, [480, 240, 1120, 960], 1.0);
-        let map = build_map(&scene, &options).unwrap();
-        widened_count += usize::from(widened(&map));
-        for d2 in d2s(&map, &truth) {
-            sum_d2 += d2;
+    let (mut said, mut inside, mut total, mut sum) = (0, 0, 0, 0.0);
+    for seed in 0..60 {
+        let (scene, truth) = photo(seed);
+        let Ok(map) = build_map(&scene, &options) else {
+            continue;
+        };
+        said += usize::from(says(&map));
+        for (o, t) in map.objects.iter().zip(&truth.objects) {
+            let d2 = centroid_d2(o, &t.footprint);
+            sum += d2;
             total += 1;
-            inside += usize::from(d2 <= 5.991);
-        }
-        // The same scene with the principal point held at the crop's centre: a map built
-        // around the wrong principal point.
-        let mut held = scene.clone();
-        let c = held.image.centre();
-        held.principal_point = Some([c.x, c.y]);
-        held.principal_point_sd_px = None;
-        if let Ok(map) = build_map(&held, &options) {
-            for d2 in d2s(&map, &truth) {
-                total_as_given += 1;
-                inside_as_given += usize::from(d2 <= 5.991);
-            }
+            inside += usize::from(d2 <= CHI2_2DOF_95);
         }
     }
-    eprintln!(
-        "cropped: {widened_count} of 60 widened; {inside} of {total} centroids inside (mean d^2 {:.2}); with the principal point held at the crop's centre {inside_as_given} of {total_as_given}",
-        sum_d2 / total as f64
-    );
-    assert!(widened_count >= 57, "{widened_count} of 60 widened");
+    (said, inside, total, sum / total as f64)
+}
+
+/// Asserts that `inside` of `total` lies within 92-98 %.
+fn assert_calibrated(inside: usize, total: usize) {
     let share = inside as f64 / total as f64;
     assert!((0.92..=0.98).contains(&share), "{inside} of {total} inside");
-    // Held at the crop's centre, the map misses nearly every box.
+}
+
+/// The right 70 % and the lower 80 % of the photo: the principal point 240 px left of the
+/// crop's centre and 120 px above it, about 14 and 7 of the prior's sds.
+const CROP: [u32; 4] = [480, 240, 1120, 960];
+/// The whole photo.
+const WHOLE: [u32; 4] = [0, 0, 1600, 1200];
+
+#[test]
+fn a_photo_cropped_off_its_centre_widens_its_principal_point_and_holds_the_truth() {
+    let (n, inside, total, mean) = over_sixty(|seed| cropped(seed, CROP, 1.0), widened);
+    // The same photos with the principal point held at the crop's centre: maps built around
+    // the wrong principal point.
+    let (_, inside_held, total_held, _) = over_sixty(
+        |seed| {
+            let (mut scene, truth) = cropped(seed, CROP, 1.0);
+            let c = scene.image.centre();
+            scene.principal_point = Some([c.x, c.y]);
+            scene.principal_point_sd_px = None;
+            (scene, truth)
+        },
+        |_| false,
+    );
+    eprintln!(
+        "cropped: {n} of 60 widened; {inside} of {total} centroids inside (mean d^2 {mean:.2}); with the principal point held at the crop's centre {inside_held} of {total_held}"
+    );
+    assert!(n >= 57, "{n} of 60 widened");
+    assert_calibrated(inside, total);
     assert!(
-        inside_as_given * 4 < total_as_given,
-        "{inside_as_given} of {total_as_given}"
+        inside_held * 4 < total_held,
+        "{inside_held} of {total_held}"
     );
 }
 
 #[test]
 fn a_cropped_photo_with_its_whole_frame_s_exif_focal_length_widens_both_priors() {
-    // The crop above with a focal length prior as `vpmap detect` writes it from EXIF: the 35 mm
+    // The crop with a focal length prior as `vpmap detect` writes it from EXIF: the 35 mm
     // equivalent converted by the image's diagonal, the crop's, so 26 % short of the true
     // focal length (6.5 of its 4 % sds).
-    let options = BuildOptions {
-        click_sigma_px: Some(1.0),
-        ..BuildOptions::default()
-    };
-    let (mut inside, mut total, mut both) = (0usize, 0usize, 0usize);
-    for seed in 0..60u64 {
-        let (mut scene, truth) = cropped(seed, [480, 240, 1120, 960], 1.0);
-        let f = 1100.0 * scene.image.diagonal() / 2000.0;
-        scene.focal_px = Some(f);
-        scene.focal_sd_px = Some(0.04 * f);
-        let map = build_map(&scene, &options).unwrap();
-        both += usize::from(widened(&map) && focal_widened(&map));
-        for d2 in d2s(&map, &truth) {
-            total += 1;
-            inside += usize::from(d2 <= 5.991);
-        }
-    }
-    eprintln!(
-        "cropped with the whole frame's EXIF focal length: both priors widened in {both} of 60; {inside} of {total} centroids inside"
+    let (n, inside, total, mean) = over_sixty(
+        |seed| {
+            let (mut scene, truth) = cropped(seed, CROP, 1.0);
+            let f = 1100.0 * scene.image.diagonal() / 2000.0;
+            scene.focal_px = Some(f);
+            scene.focal_sd_px = Some(0.04 * f);
+            (scene, truth)
+        },
+        |map| widened(map) && focal_widened(map),
     );
-    assert!(both >= 57, "both widened in {both} of 60");
-    let share = inside as f64 / total as f64;
-    assert!((0.92..=0.98).contains(&share), "{inside} of {total} inside");
+    eprintln!(
+        "cropped with the whole frame's EXIF focal length: both priors widened in {n} of 60; {inside} of {total} centroids inside (mean d^2 {mean:.2})"
+    );
+    assert!(n >= 57, "both widened in {n} of 60");
+    assert_calibrated(inside, total);
 }
 
 #[test]
 fn a_whole_photo_with_its_exif_focal_length_keeps_its_priors() {
-    let options = BuildOptions {
-        click_sigma_px: Some(1.0),
-        ..BuildOptions::default()
-    };
-    let (mut widened_count, mut inside, mut total) = (0usize, 0usize, 0usize);
-    let mut rng = ChaCha8Rng::seed_from_u64(3);
-    for seed in 0..60u64 {
-        let (mut scene, truth) = cropped(200 + seed, [0, 0, 1600, 1200], 1.0);
-        // EXIF's focal length, off by a draw of its stated 4 %.
-        let z: f64 = rand_distr::Distribution::sample(&rand_distr::StandardNormal, &mut rng);
-        scene.focal_px = Some(1100.0 * (1.0 + 0.04 * z));
-        scene.focal_sd_px = Some(0.04 * 1100.0);
-        let map = build_map(&scene, &options).unwrap();
-        widened_count += usize::from(widened(&map) || focal_widened(&map));
-        for d2 in d2s(&map, &truth) {
-            total += 1;
-            inside += usize::from(d2 <= 5.991);
-        }
-    }
+    // EXIF's focal length off by a draw of its stated 4 %.
+    let (n, inside, total, mean) = over_sixty(
+        |seed| {
+            let (mut scene, truth) = cropped(200 + seed, WHOLE, 1.0);
+            let mut rng = ChaCha8Rng::seed_from_u64(1000 + seed);
+            let z: f64 = rand_distr::Distribution::sample(&rand_distr::StandardNormal, &mut rng);
+            scene.focal_px = Some(1100.0 * (1.0 + 0.04 * z));
+            scene.focal_sd_px = Some(0.04 * 1100.0);
+            (scene, truth)
+        },
+        |map| widened(map) || focal_widened(map),
+    );
     eprintln!(
-        "whole photos with EXIF: {widened_count} of 60 widened; {inside} of {total} centroids inside"
+        "whole photos with EXIF: {n} of 60 widened; {inside} of {total} centroids inside (mean d^2 {mean:.2})"
     );
-    assert!(
-        widened_count <= 3,
-        "{widened_count} of 60 whole photos widened"
-    );
-    let share = inside as f64 / total as f64;
-    assert!((0.92..=0.98).contains(&share), "{inside} of {total} inside");
+    // The 99 % point of the test: about 0.6 of 60 when the priors are exactly right.
+    assert!(n <= 3, "{n} of 60 whole photos widened");
+    assert_calibrated(inside, total);
 }
 
 #[test]
@@ -208,78 +205,32 @@ fn a_whole_photo_whose_exif_focal_length_is_wrong_widens_that_prior_only() {
     // A whole photo whose EXIF focal length misses a digital zoom: 40 % short (15 of its 4 %
     // sds); its principal point prior is right. The nested tests must widen the focal
     // length's prior and keep the principal point's.
-    let options = BuildOptions {
-        click_sigma_px: Some(1.0),
-        ..BuildOptions::default()
-    };
-    let (mut focal_only, mut inside, mut total) = (0usize, 0usize, 0usize);
-    for seed in 0..60u64 {
-        let (mut scene, truth) = cropped(300 + seed, [0, 0, 1600, 1200], 1.0);
-        scene.focal_px = Some(0.6 * 1100.0);
-        scene.focal_sd_px = Some(0.04 * 0.6 * 1100.0);
-        let map = build_map(&scene, &options).unwrap();
-        focal_only += usize::from(focal_widened(&map) && !widened(&map));
-        for d2 in d2s(&map, &truth) {
-            total += 1;
-            inside += usize::from(d2 <= 5.991);
-        }
-    }
+    let (n, inside, total, mean) = over_sixty(
+        |seed| {
+            let (mut scene, truth) = cropped(300 + seed, WHOLE, 1.0);
+            scene.focal_px = Some(0.6 * 1100.0);
+            scene.focal_sd_px = Some(0.04 * 0.6 * 1100.0);
+            (scene, truth)
+        },
+        |map| focal_widened(map) && !widened(map),
+    );
     eprintln!(
-        "whole photos with a wrong EXIF focal length: only it widened in {focal_only} of 60; {inside} of {total} centroids inside"
+        "whole photos with a wrong EXIF focal length: only it widened in {n} of 60; {inside} of {total} centroids inside (mean d^2 {mean:.2})"
     );
-    assert!(
-        focal_only >= 54,
-        "only the focal length widened in {focal_only} of 60"
-    );
-    let share = inside as f64 / total as f64;
-    assert!((0.92..=0.98).contains(&share), "{inside} of {total} inside");
+    assert!(n >= 54, "only the focal length widened in {n} of 60");
+    assert_calibrated(inside, total);
 }
 
 #[test]
 fn a_whole_photo_keeps_its_principal_point_prior() {
-    let options = BuildOptions {
-        click_sigma_px: Some(1.0),
-        ..BuildOptions::default()
-    };
-    let (mut widened_count, mut inside, mut total) = (0usize, 0usize, 0usize);
-    for seed in 0..60u64 {
-        let (scene, truth) = cropped(100 + seed, [0, 0, 1600, 1200], 1.0);
-        let map = build_map(&scene, &options).unwrap();
-        widened_count += usize::from(widened(&map));
-        for d2 in d2s(&map, &truth) {
-            total += 1;
-            inside += usize::from(d2 <= 5.991);
-        }
-    }
-    eprintln!("whole photos: {widened_count} of 60 widened; {inside} of {total} centroids inside");
-    let share = inside as f64 / total as f64;
-    assert!((0.92..=0.98).contains(&share), "{inside} of {total} inside");
+    let (n, inside, total, mean) = over_sixty(|seed| cropped(100 + seed, WHOLE, 1.0), widened);
+    eprintln!(
+        "whole photos: {n} of 60 widened; {inside} of {total} centroids inside (mean d^2 {mean:.2})"
+    );
     // The 99 % point of the test: about 0.6 of 60 when the prior is exactly right; the prior
     // here is wider than the truth's spread (none), so fewer.
-    assert!(
-        widened_count <= 3,
-        "{widened_count} of 60 whole photos widened"
-    );
-}
-
-/// The room's centroids' squared Mahalanobis distances from the truth's.
-fn room_d2s(map: &FloorMap, truth: &RoomTruth) -> Vec<f64> {
-    truth
-        .objects
-        .iter()
-        .map(|t| {
-            let o = map.objects.iter().find(|o| o.name == t.name).unwrap();
-            let m = o.uncertainty.as_ref().unwrap().centroid_covariance;
-            let n = t.footprint.len() as f64;
-            let c = [
-                t.footprint.iter().map(|p| p[0]).sum::<f64>() / n,
-                t.footprint.iter().map(|p| p[1]).sum::<f64>() / n,
-            ];
-            let d = [o.centroid[0] - c[0], o.centroid[1] - c[1]];
-            let det = m[0][0] * m[1][1] - m[0][1] * m[1][0];
-            (m[1][1] * d[0] * d[0] - 2.0 * m[0][1] * d[0] * d[1] + m[0][0] * d[1] * d[1]) / det
-        })
-        .collect()
+    assert!(n <= 3, "{n} of 60 whole photos widened");
+    assert_calibrated(inside, total);
 }
 
 #[test]
@@ -321,9 +272,10 @@ fn a_cropped_photo_in_a_room_widens_its_own_principal_point_only() {
                 whole_widened += 1;
             }
         }
-        for d2 in room_d2s(&map, &truth) {
+        for t in &truth.objects {
+            let o = map.objects.iter().find(|o| o.name == t.name).unwrap();
             total += 1;
-            inside += usize::from(d2 <= 5.991);
+            inside += usize::from(centroid_d2(o, &t.footprint) <= CHI2_2DOF_95);
         }
     }
     eprintln!(
@@ -335,6 +287,5 @@ fn a_cropped_photo_in_a_room_widens_its_own_principal_point_only() {
         whole_widened <= 3,
         "whole photos widened {whole_widened} times"
     );
-    let share = inside as f64 / total as f64;
-    assert!((0.92..=0.98).contains(&share), "{inside} of {total} inside");
+    assert_calibrated(inside, total);
 }
