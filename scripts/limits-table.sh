@@ -141,6 +141,13 @@ for p in sixteen["photos"]:
 while len(sixteen["photos"]) < 16:
     sixteen["photos"].append(copy.deepcopy(sixteen["photos"][len(sixteen["photos"]) % 4]))
 json.dump(sixteen, open(f"{tmp}/room-16.json", "w"))
+# The same with a principal point prior on every photo, as `vpmap detect` writes it (its test,
+# map/priors.rs: the joint fit once more a photo, from its answer).
+priors = copy.deepcopy(sixteen)
+for p in priors["photos"]:
+    w, h = p["image"]["width"], p["image"]["height"]
+    p["principal_point_sd_px"] = round(0.015 * (w * w + h * h) ** 0.5, 3)
+json.dump(priors, open(f"{tmp}/room-16-priors.json", "w"))
 # The same with a lens whose k has an sd on every photo (its spread: the joint fit twice more a
 # photo; the clicks' profile of k adds no refit when they do not reject it).
 for p in sixteen["photos"]:
@@ -163,6 +170,7 @@ row "\`build\`, a room of 4 photos and 99 boxes (385 objects in all)" "$VPMAP" b
 row "\`build\`, a room of 10 photos, 979 objects in all (within the limit)" "$VPMAP" build "$tmp/room-most.json" --out "$tmp/room-out"
 row "\`build\`, a room of 16 photos, 992 objects in all (16 x 100 took 50 s)" "$VPMAP" build "$tmp/room-16.json" --out "$tmp/room-out"
 row "\`build\`, the room of 16 photos with a lens k_sd on every photo" "$VPMAP" build "$tmp/room-16-lens.json" --out "$tmp/room-out"
+row "\`build\`, the room of 16 photos with a principal point prior on every photo" "$VPMAP" build "$tmp/room-16-priors.json" --out "$tmp/room-out"
 row "\`build\`, a room of 11 photos, 1078 objects in all (over the limit)" "$VPMAP" build "$tmp/room-over.json" --out "$tmp/room-out"
 # A footprint of 1,000 vertices (the limit): the synthetic scene's chair clicked as an ellipse of
 # 1,000 points, alone in one photo and added to the bundled room's first photo (before
