@@ -8,9 +8,12 @@
 //! map from the reconstruction and its scale (`map/reconstruction.rs`), the regions on the
 //! floor (`map/regions.rs`), the warnings (`map/warnings.rs`), the camera's report
 //! (`map/cameras.rs`) and what the lens distortion's uncertainty adds (`map/lens.rs`); a room
-//! of several photos is built by `map/room.rs` in the first photo's frame. Files in that
-//! order, each importing only files before it: `types` and `options`, then `reconstruction`,
-//! `regions`, `warnings`, `cameras`, `lens`, then `room`, then `build`.
+//! of several photos is built by `map/room.rs` in the first photo's frame. After the fit,
+//! `map/priors.rs` tests the intrinsics' priors (a cropped photo) and `map/lens_refine.rs` the
+//! lens against the clicks, and `build` fits again with what they reject widened or refined.
+//! Files in that order, each importing only files before it: `types` and `options`, then
+//! `reconstruction`, `regions`, `warnings`, `cameras`, `lens`, `lens_refine`, `priors`, then
+//! `room`, then `build`.
 
 mod build;
 mod cameras;
