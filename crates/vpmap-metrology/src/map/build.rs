@@ -61,16 +61,30 @@ pub fn build_map_until(
         });
         crate::fit::stop_if_interrupted(&scene, interrupt)?;
         if !widened.is_empty() {
+            let mut wide = scene.clone().into_owned();
             for (n, w) in &widened {
-                if let Some(p) = scene.to_mut().photo_mut(*n) {
+                if let Some(p) = wide.photo_mut(*n) {
                     super::priors::widen(p, w);
                 }
-                said.push(super::priors::priors_warning(
-                    &format!("photo {}'s", n + 1),
-                    w,
-                ));
             }
-            (fitted, map) = room(&scene, &scene.undistorted(), options, interrupt)?;
+            let whose = |n: usize| format!("photo {}'s", n + 1);
+            match room(&wide, &wide.undistorted(), options, interrupt) {
+                Ok(again) => {
+                    (fitted, map) = again;
+                    scene = std::borrow::Cow::Owned(wide);
+                    said.extend(
+                        widened
+                            .iter()
+                            .map(|(n, w)| super::priors::priors_warning(&whose(*n), w)),
+                    );
+                }
+                Err(e @ crate::MetrologyError::Interrupted { .. }) => return Err(e),
+                Err(e) => said.extend(
+                    widened
+                        .iter()
+                        .map(|(n, w)| super::priors::priors_kept_warning(&whose(*n), w, &e)),
+                ),
+            }
         }
         // A photo's lens its clicks reject gives way to the one they agree on
         // (map/lens_refine.rs), the room fitted again from scratch with it.
@@ -101,9 +115,17 @@ pub fn build_map_until(
     });
     crate::fit::stop_if_interrupted(&scene, interrupt)?;
     if let Some(w) = widened {
-        super::priors::widen(scene.to_mut(), &w);
-        (fitted, map) = single_photo(&scene, &scene.undistorted(), options, interrupt)?;
-        said.push(super::priors::priors_warning("the photo's", &w));
+        let mut wide = scene.clone().into_owned();
+        super::priors::widen(&mut wide, &w);
+        match single_photo(&wide, &wide.undistorted(), options, interrupt) {
+            Ok(again) => {
+                (fitted, map) = again;
+                scene = std::borrow::Cow::Owned(wide);
+                said.push(super::priors::priors_warning("the photo's", &w));
+            }
+            Err(e @ crate::MetrologyError::Interrupted { .. }) => return Err(e),
+            Err(e) => said.push(super::priors::priors_kept_warning("the photo's", &w, &e)),
+        }
     }
     // A lens the clicks reject gives way to the one they agree on (map/lens_refine.rs).
     let refined = fitted.as_ref().and_then(|(f, costs)| {

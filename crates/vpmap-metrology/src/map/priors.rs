@@ -209,6 +209,20 @@ pub(super) fn widen(scene: &mut Scene, w: &WidenedPriors) {
     }
 }
 
+/// The warning that priors were rejected but the fit with them widened failed (`why`), so the
+/// map keeps them: `whose` is "the photo's" or "photo 2's".
+pub(super) fn priors_kept_warning(
+    whose: &str,
+    w: &WidenedPriors,
+    why: &crate::MetrologyError,
+) -> String {
+    format!(
+        "{whose} edges and clicks reject the scene's priors on the intrinsics (a chi-square of {:.1} over {:.2}), but the fit with them widened fails ({why}): the map keeps them, and its error bars may be too tight",
+        w.chi2_drop,
+        rejected_chi2(w.dof())
+    )
+}
+
 /// The warning that priors were widened: `whose` is "the photo's" or "photo 2's".
 pub(super) fn priors_warning(whose: &str, w: &WidenedPriors) -> String {
     let mut found = Vec::new();
