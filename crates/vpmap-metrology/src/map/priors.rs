@@ -263,3 +263,128 @@ pub(super) fn priors_warning(whose: &str, w: &WidenedPriors) -> String {
         widths.join(" and ")
     )
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const DIAGONAL: f64 = 1000.0;
+
+    fn priors(pp: bool, focal_sd_fraction: Option<f64>) -> IntrinsicsPriors {
+        IntrinsicsPriors {
+            principal_point: pp.then_some(([400.0, 300.0], 15.0)),
+            focal: focal_sd_fraction.map(|s| (800.0, s * 800.0)),
+        }
+    }
+
+    /// The test with `J` of the fit 100 and of each refit as `j_of(pp widened, focal widened)`
+    /// (`J` = cost here); which priors it widens, if any.
+    fn widened_by(
+        priors: IntrinsicsPriors,
+        j_of: impl Fn(bool, bool) -> f64,
+    ) -> Option<(bool, bool)> {
+        test_priors(
+            priors,
+            DIAGONAL,
+            100.0,
+            |cost| cost,
+            |pp, focal| {
+                Some(PriorRefit {
+                    cost: j_of(pp.is_some(), focal.is_some()),
+                    principal_point_px: [0.0; 2],
+                    focal_px: 0.0,
+                })
+            },
+        )
+        .map(|w| (w.principal_point_sd_px.is_some(), w.focal_sd_px.is_some()))
+    }
+
+    #[test]
+    fn priors_are_widened_only_beyond_the_99_percent_point_of_their_degrees_of_freedom() {
+        // The principal point alone: two degrees of freedom, 9.21.
+        assert_eq!(widened_by(priors(true, None), |_, _| 91.0), None);
+        assert_eq!(
+            widened_by(priors(true, None), |_, _| 90.0),
+            Some((true, false))
+        );
+        // The focal length alone: one, 6.63.
+        assert_eq!(widened_by(priors(false, Some(0.04)), |_, _| 94.0), None);
+        assert_eq!(
+            widened_by(priors(false, Some(0.04)), |_, _| 93.0),
+            Some((false, true))
+        );
+        // A drop that is no number is no evidence.
+        assert_eq!(widened_by(priors(true, None), |_, _| f64::NAN), None);
+    }
+
+    #[test]
+    fn a_calibrated_focal_length_or_a_prior_already_wide_is_not_tested() {
+        // 0.1 % (a calibration): only the principal point is tested.
+        assert_eq!(
+            widened_by(priors(true, Some(0.001)), |pp, focal| {
+                assert!(!focal, "a calibrated focal length was widened");
+                if pp { 50.0 } else { 100.0 }
+            }),
+            Some((true, false))
+        );
+        assert_eq!(widened_by(priors(false, Some(0.001)), |_, _| 0.0), None);
+        // A principal point prior as wide as the widened one.
+        let wide = IntrinsicsPriors {
+            principal_point: Some(([400.0, 300.0], 0.2 * DIAGONAL)),
+            focal: None,
+        };
+        assert_eq!(widened_by(wide, |_, _| 0.0), None);
+    }
+
+    #[test]
+    fn with_both_priors_nested_tests_keep_the_widening_the_evidence_needs() {
+        // Only the principal point is wrong: widening the focal length alone barely helps.
+        assert_eq!(
+            widened_by(priors(true, Some(0.04)), |pp, focal| match (pp, focal) {
+                (true, true) => 80.0,
+                (true, false) => 81.0,
+                _ => 99.0,
+            }),
+            Some((true, false))
+        );
+        // Only the focal length is wrong.
+        assert_eq!(
+            widened_by(priors(true, Some(0.04)), |pp, focal| match (pp, focal) {
+                (true, true) => 80.0,
+                (false, true) => 80.5,
+                _ => 99.0,
+            }),
+            Some((false, true))
+        );
+        // Both are wrong: each alone leaves much of the drop.
+        assert_eq!(
+            widened_by(priors(true, Some(0.04)), |pp, focal| match (pp, focal) {
+                (true, true) => 60.0,
+                (true, false) => 80.0,
+                (false, true) => 85.0,
+                _ => 100.0,
+            }),
+            Some((true, true))
+        );
+        // Either alone explains it: the better one.
+        assert_eq!(
+            widened_by(priors(true, Some(0.04)), |pp, focal| match (pp, focal) {
+                (true, true) => 80.0,
+                (true, false) => 82.0,
+                (false, true) => 81.0,
+                _ => 100.0,
+            }),
+            Some((false, true))
+        );
+        // Jointly rejected (3 dof, 11.34) but no single widening rejects on its own: both.
+        assert_eq!(
+            widened_by(priors(true, Some(0.04)), |pp, focal| match (pp, focal) {
+                (true, true) => 88.0,
+                (true, false) => 92.0,
+                (false, true) => 94.0,
+                _ => 100.0,
+            }),
+            Some((true, true))
+        );
+    }
+}
