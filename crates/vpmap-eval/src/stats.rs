@@ -98,6 +98,25 @@ pub fn auc(errors: &[f64], limit: f64) -> f64 {
         / n
 }
 
+/// The largest [`auc`] up to `limit_high` that any errors can reach when their [`auc`] up to
+/// `limit_low` (`0 < limit_low <= limit_high`) is `auc_low`.
+///
+/// `1 - auc(e, L)` is the mean of `min(e, L) / L`, and `min(e, limit_high) >= min(e,
+/// limit_low)`, so `1 - auc(e, limit_high) >= (limit_low / limit_high) (1 - auc(e,
+/// limit_low))`. A published triple of AA@3/5/10 that breaks this was not measured as the area
+/// under one error curve (docs/detection.md, "Against GlobustVP").
+///
+/// # Example
+/// ```
+/// use vpmap_eval::stats::auc_ceiling;
+/// // Errors whose AUC@3 is 67.6 % have an AUC@10 of at most 90.3 %.
+/// assert!((auc_ceiling(0.676, 3.0, 10.0) - 0.9028).abs() < 1e-12);
+/// ```
+#[must_use]
+pub fn auc_ceiling(auc_low: f64, limit_low: f64, limit_high: f64) -> f64 {
+    1.0 - limit_low / limit_high * (1.0 - auc_low)
+}
+
 /// Order statistics of a sample, the figures of a box plot: quantiles by [`quantile`].
 #[derive(Debug, Clone, Copy, PartialEq, Serialize)]
 pub struct Summary {
@@ -156,6 +175,36 @@ impl Summary {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    proptest! {
+        /// The ceiling holds for any errors (misses included): checked against `auc` itself on
+        /// random samples, the two limits drawn too.
+        #[test]
+        fn no_errors_beat_the_auc_ceiling(
+            errors in proptest::collection::vec(prop_oneof![0.0..20.0f64, Just(f64::INFINITY)], 1..40),
+            limit_low in 0.5..10.0f64,
+            factor in 1.0..4.0f64,
+        ) {
+            let limit_high = limit_low * factor;
+            let ceiling = auc_ceiling(auc(&errors, limit_low), limit_low, limit_high);
+            prop_assert!(auc(&errors, limit_high) <= ceiling + 1e-12);
+        }
+    }
+
+    #[test]
+    fn the_auc_ceiling_is_reached_by_errors_at_zero_or_beyond_the_higher_limit() {
+        // Errors all at 3 give AUC@3 = 0 and AUC@10 = 0.7, exactly the ceiling. Half the
+        // errors exact and half beyond 10 give AUC@3 = AUC@10 = 0.5, far below the ceiling
+        // 1 - 0.3 * 0.5 = 0.85.
+        let at_three = [3.0; 4];
+        assert!(close(
+            auc(&at_three, 10.0),
+            auc_ceiling(auc(&at_three, 3.0), 3.0, 10.0)
+        ));
+        let split = [0.0, 0.0, 12.0, f64::INFINITY];
+        assert!(auc(&split, 10.0) < auc_ceiling(auc(&split, 3.0), 3.0, 10.0) - 0.3);
+    }
 
     fn close(a: f64, b: f64) -> bool {
         (a - b).abs() <= 1e-12
