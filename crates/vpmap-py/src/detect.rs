@@ -296,6 +296,14 @@ impl PyDetection {
         self.det.focal_estimated
     }
 
+    /// Whether the photo's edges put the principal point off the image centre, as in a photo
+    /// cropped off its centre: the scene then carries the principal point's prior widened, and
+    /// ``warnings`` says so.
+    #[getter]
+    fn principal_point_off_centre(&self) -> bool {
+        self.det.principal_point_off_centre
+    }
+
     /// The camera's pitch, degrees (down is positive), as ``vpmap build`` recovers it from
     /// the scene.
     #[getter]
@@ -343,8 +351,8 @@ impl PyDetection {
         Ok(PyArray2::from_owned_array(py, array))
     }
 
-    /// Warnings ``vpmap detect`` prints: vanishing points resting on few segments, and the
-    /// calibration's.
+    /// Warnings ``vpmap detect`` prints: vanishing points resting on few segments, a principal
+    /// point the edges put off the image centre (a cropped photo), and the calibration's.
     #[getter]
     fn warnings(&self) -> Vec<String> {
         let mut out: Vec<String> = self
@@ -353,6 +361,7 @@ impl PyDetection {
             .into_iter()
             .map(|(name, n)| format!("{name} rests on only {n} segments; check it"))
             .collect();
+        out.extend(self.scene.off_centre_warning(&self.det));
         out.extend(self.scene.calibration.warnings.iter().cloned());
         out
     }

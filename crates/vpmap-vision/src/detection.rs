@@ -66,6 +66,9 @@ pub struct OwnPoint {
 }
 
 /// What [`detect`](crate::detect) found.
+// Four yes-or-no facts of one detection (the focal length estimated; the principal point
+// estimated, given, or found off the centre), each read on its own by the callers.
+#[allow(clippy::struct_excessive_bools)]
 #[derive(Clone, Debug, PartialEq)]
 pub struct Detection {
     /// Image size, pixels `[width, height]` (of the input, not of any internal downscale).
@@ -81,6 +84,12 @@ pub struct Detection {
     pub focal_estimated: bool,
     /// Whether the principal point was estimated (not given).
     pub principal_point_estimated: bool,
+    /// Whether the edges put the principal point off the image centre, as in a photo cropped
+    /// off its centre: in clear three-point perspective a second search about the principal
+    /// point the first found, with its prior widened, explains the edges clearly better
+    /// ([`manhattan::OFF_CENTRE_SCORE_GAIN`](crate::manhattan::OFF_CENTRE_SCORE_GAIN)). The
+    /// scene file then carries a widened prior ([`scene`](crate::scene)).
+    pub principal_point_off_centre: bool,
     /// Whether the principal point was given ([`DetectOptions::principal_point_px`]); when
     /// neither given nor estimated it is the image centre.
     pub principal_point_given: bool,

@@ -184,6 +184,7 @@ pub fn detect_from_segments(
         intrinsics: k,
         focal_estimated: opts.focal_px.is_none(),
         principal_point_estimated: estimate.principal_point_estimated,
+        principal_point_off_centre: estimate.principal_point_off_centre,
         principal_point_given: opts.principal_point_px.is_some(),
         focal_prior: opts.focal_prior.filter(|_| opts.focal_px.is_none()),
         perspective: if tilt_deg < opts.two_point_tolerance_deg {
@@ -212,8 +213,19 @@ mod tests {
     /// 12 down), with seeded endpoint noise of `noise_px`; and the families' true directions
     /// (camera frame, y down).
     fn skewed_segments(skew_deg: f64, noise_px: f64) -> (Vec<Segment>, [Vector3<f64>; 3]) {
-        let (f, c) = (650.0, [400.0, 300.0]);
-        let (yaw, pitch) = (35f64.to_radians(), 12f64.to_radians());
+        camera_segments(skew_deg, noise_px, [400.0, 300.0], 12.0)
+    }
+
+    /// As [`skewed_segments`], from a camera with its principal point at `c` (pixels; a photo
+    /// cropped off its centre when not `(400, 300)`) pitched `pitch_deg` down.
+    fn camera_segments(
+        skew_deg: f64,
+        noise_px: f64,
+        c: [f64; 2],
+        pitch_deg: f64,
+    ) -> (Vec<Segment>, [Vector3<f64>; 3]) {
+        let f = 650.0;
+        let (yaw, pitch) = (35f64.to_radians(), pitch_deg.to_radians());
         // World: x and z horizontal, y down; the second horizontal turned by `skew_deg`
         // about the vertical, so 90 - skew_deg degrees from the first.
         let skew = skew_deg.to_radians();
@@ -326,6 +338,45 @@ mod tests {
                 assert!(
                     (p.from_frame_deg - line_angle_deg(d, v.direction_camera.into())).abs() < 1e-9
                 );
+            }
+        }
+    }
+
+    /// A photo cropped off its centre, in clear three-point perspective (pitched 25 degrees):
+    /// the true principal point 150 px left of the image centre and 100 px above it (1.9 and
+    /// 1.2 of the first pass's prior sd, 80 px). The second pass finds it and says so; the
+    /// same photo uncropped is left alone. The truth is the camera that drew the segments.
+    #[test]
+    fn a_photo_cropped_off_its_centre_is_seen_by_its_edges() {
+        let opts = DetectOptions {
+            lens: LensOption::Pinhole,
+            ..DetectOptions::default()
+        };
+        for (c, cropped) in [([250.0, 200.0], true), ([400.0, 300.0], false)] {
+            let (segments, truth) = camera_segments(0.0, 0.3, c, 25.0);
+            let found = detect_from_segments(segments, [800, 600], &opts)
+                .unwrap_or_else(|e| panic!("detect: {e}"));
+            assert_eq!(
+                found.principal_point_off_centre, cropped,
+                "{c:?}: {found:?}"
+            );
+            let [x, y] = found.intrinsics.principal_point_px;
+            assert!(
+                (x - c[0]).hypot(y - c[1]) < 15.0,
+                "principal point ({x}, {y}) against {c:?}"
+            );
+            assert!(
+                (found.intrinsics.focal_px - 650.0).abs() < 15.0,
+                "focal {}",
+                found.intrinsics.focal_px
+            );
+            for t in &truth {
+                let best = found
+                    .vanishing_points
+                    .iter()
+                    .map(|v| line_angle_deg(v.direction_camera, *t))
+                    .fold(f64::INFINITY, f64::min);
+                assert!(best < 0.5, "{c:?}: direction {t:?} off by {best} deg");
             }
         }
     }

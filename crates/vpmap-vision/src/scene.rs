@@ -29,6 +29,10 @@
 //!   `principal_point_sd_px` = [`PRINCIPAL_POINT_PRIOR_SD`] of the image diagonal (the fit refines
 //!   it with the vanishing points and the clicks), unless the detection was given one
 //!   ([`crate::DetectOptions::principal_point_px`]: a calibration), which is written as known;
+//!   when the edges put it off the centre ([`Detection::principal_point_off_centre`]: a photo
+//!   cropped off its centre, in clear three-point perspective) the prior's sd is
+//!   [`CROPPED_PRINCIPAL_POINT_SD_DIAGONALS`] of the diagonal instead, as wide as `vpmap build`
+//!   makes a prior its clicks reject, with a warning ([`DetectedScene::off_centre_warning`]);
 //!   `focal_px` is the detector's estimate, a starting value the fit refines (its information
 //!   is in the vanishing points already, so no prior is written for it, which would count it
 //!   twice), or the given one with `focal_sd_px` [`GIVEN_FOCAL_SD`] of it;
@@ -40,7 +44,7 @@ use crate::detection::{Detection, Segment};
 use crate::uncertainty::{VpCovariance, vp_covariance};
 use nalgebra::{Vector2, Vector3};
 use vpmap_metrology::calibration::{Calibration, Perspective};
-use vpmap_metrology::map::calibrate;
+use vpmap_metrology::map::{CROPPED_PRINCIPAL_POINT_SD_DIAGONALS, calibrate};
 use vpmap_metrology::scene::{Scene, VpChart};
 
 /// Farthest a written vanishing point may lie from the principal point, pixels.
@@ -151,6 +155,23 @@ impl DetectedScene {
             roll_sd_deg: u.camera.roll_deg_sd,
             horizon_sd_px,
         })
+    }
+
+    /// The warning for a photo whose edges put the principal point off its centre
+    /// ([`Detection::principal_point_off_centre`]): where they put it, and the widened prior
+    /// the scene carries instead of the centre's.
+    #[must_use]
+    pub fn off_centre_warning(&self, det: &Detection) -> Option<String> {
+        if !det.principal_point_off_centre {
+            return None;
+        }
+        let ([cx, cy], sd) = self.principal_point_px;
+        let [x, y] = det.intrinsics.principal_point_px;
+        Some(format!(
+            "the edges put the principal point at ({x:.1}, {y:.1}), {:.0} px from the image centre ({cx:.1}, {cy:.1}): the photo looks cropped off its centre, so the scene's prior on the principal point is widened to +- {:.1} px (1 sd) for vpmap build to place it with the clicks",
+            (x - cx).hypot(y - cy),
+            sd.unwrap_or(0.0)
+        ))
     }
 
     /// The written vanishing points resting on fewer than [`FEW_SEGMENTS`] segments of `det`,
@@ -441,9 +462,14 @@ pub fn detected_scene(det: &Detection) -> Result<DetectedScene, SceneError> {
         ([round_to(c[0], 3), round_to(c[1], 3)], None)
     } else {
         let diagonal = f64::from(w).hypot(f64::from(h));
+        let sd = if det.principal_point_off_centre {
+            CROPPED_PRINCIPAL_POINT_SD_DIAGONALS
+        } else {
+            PRINCIPAL_POINT_PRIOR_SD
+        };
         (
             [0.5 * f64::from(w), 0.5 * f64::from(h)],
-            Some(round_to(PRINCIPAL_POINT_PRIOR_SD * diagonal, 3)),
+            Some(round_to(sd * diagonal, 3)),
         )
     };
     // The focal length: given (a calibration, held), or from EXIF (an independent prior the
@@ -539,6 +565,7 @@ mod tests {
             },
             focal_estimated: true,
             principal_point_estimated: true,
+            principal_point_off_centre: false,
             principal_point_given: false,
             focal_prior: None,
             perspective,
@@ -583,6 +610,28 @@ mod tests {
             panic!("no horizontal points: {:?}", s.points_px);
         };
         Vector3::new(a[0], a[1], 1.0).cross(&Vector3::new(b[0], b[1], 1.0))
+    }
+
+    #[test]
+    fn a_principal_point_off_the_centre_is_written_with_a_widened_prior_and_said() {
+        // The detector's principal point 60 px left of the centre: with the flag the prior
+        // about the centre is widened to 0.2 of the 800 px diagonal, with a warning naming
+        // where the edges put it; without it, 1.5 % and no warning.
+        let mut det = detection(world_axes(0.5, 0.3), Perspective::ThreePoint);
+        det.intrinsics.principal_point_px = [260.0, 240.0];
+        for (flag, sd) in [(false, 12.0), (true, 160.0)] {
+            det.principal_point_off_centre = flag;
+            let s = detected_scene(&det).unwrap_or_else(|e| panic!("{e}"));
+            assert_eq!(s.principal_point_px, ([320.0, 240.0], Some(sd)));
+            let scene = Scene::from_json_str(&s.json).unwrap_or_else(|e| panic!("{e}"));
+            assert_eq!(scene.principal_point_sd_px, Some(sd));
+            let warning = s.off_centre_warning(&det);
+            assert_eq!(warning.is_some(), flag, "{warning:?}");
+            if let Some(w) = warning {
+                assert!(w.contains("(260.0, 240.0), 60 px"), "{w}");
+                assert!(w.contains("+- 160.0 px"), "{w}");
+            }
+        }
     }
 
     #[test]

@@ -251,7 +251,11 @@ pub fn run_detect(args: &DetectArgs) -> Result<()> {
         };
         eprintln!("warning: {name} rests on only {n} segments; check it{drawn}");
     }
-    for w in &scene.calibration.warnings {
+    for w in scene
+        .off_centre_warning(&det)
+        .iter()
+        .chain(&scene.calibration.warnings)
+    {
         eprintln!("warning: {w}");
     }
     Ok(())

@@ -31,6 +31,7 @@ pub use crate::camera::{MapPoint, calibrate, room_yaw_rad, rotation_map_from_cam
 pub use crate::uncertainty::{CameraUncertainty, Ellipse, ObjectUncertainty};
 pub use build::{build_map, build_map_until};
 pub use options::BuildOptions;
+pub use priors::CROPPED_PRINCIPAL_POINT_SD_DIAGONALS;
 pub use reconstruction::{MAX_RANGE_CAMERA_HEIGHTS, meters_per_camera_height, reconstruct_scene};
 pub use regions::{free_space, occlusion_shadow, to_polygons};
 pub use types::{

@@ -88,6 +88,7 @@ fn detection(k: f64) -> Detection {
         },
         focal_estimated: false,
         principal_point_estimated: false,
+        principal_point_off_centre: false,
         principal_point_given: true,
         focal_prior: None,
         perspective: Perspective::ThreePoint,

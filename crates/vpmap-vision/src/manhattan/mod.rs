@@ -14,7 +14,11 @@
 //! 3. `refine.rs`: the best few hypotheses refined by a Cauchy-reweighted Levenberg-Marquardt
 //!    fit (`lm.rs`) of the rotation, focal length and, in clear three-point perspective, the
 //!    principal point; the refined hypothesis with the best score wins;
-//! 4. here: which direction is vertical, their support, and pixels again.
+//! 4. here, in clear three-point perspective (the principal point freed), a second pass for a
+//!    photo cropped off its centre: steps 2-3 again about the principal point the first found,
+//!    with its prior widened to [`OFF_CENTRE_PRIOR_SIGMA`], twice; its frame is taken when it
+//!    scores [`OFF_CENTRE_SCORE_GAIN`] times the first's or more;
+//! 5. here: which direction is vertical, their support, and pixels again.
 //!
 //! # Which one is vertical
 //! The direction closest to the image's `y` axis (largest `|d_y|` in the camera frame); the
@@ -38,10 +42,10 @@ use model::{Frame, Normaliser, Seg, vertical_index};
 pub use problem::{
     CAUCHY_SCALE_PX, FOCAL_PRIOR, FOCAL_PRIOR_SIGMA_REFINE, FOCAL_PRIOR_SIGMA_SEARCH,
     INLIER_ANGLE_DEG, INLIER_DISTANCE_PX, MAX_SEGMENTS, MIN_SEGMENT_LENGTH_PX, MIN_SEGMENTS,
-    PRINCIPAL_POINT_MIN_TILT_DEG, PRINCIPAL_POINT_PRIOR_SIGMA, SCORE_TOLERANCE_DEG,
-    SCORE_WEIGHT_CAP_PX,
+    OFF_CENTRE_PRIOR_SIGMA, OFF_CENTRE_SCORE_GAIN, PRINCIPAL_POINT_MIN_TILT_DEG,
+    PRINCIPAL_POINT_PRIOR_SIGMA, SCORE_TOLERANCE_DEG, SCORE_WEIGHT_CAP_PX,
 };
-use problem::{FOCAL_STEP, FocalPrior, Problem};
+use problem::{FOCAL_STEP, FocalPrior, OFF_CENTRE_PASSES, Problem};
 use refine::best_support;
 
 /// What the estimation found, in input pixels.
@@ -55,6 +59,9 @@ pub(crate) struct Estimate {
     pub intrinsics: Intrinsics,
     /// Whether the principal point was estimated.
     pub principal_point_estimated: bool,
+    /// Whether the frame is the second pass's, the edges putting the principal point off the
+    /// image centre ([`Problem::off_centre`]).
+    pub principal_point_off_centre: bool,
 }
 
 /// Estimate the Manhattan frame and the camera from `segments` (input pixels) of an image of
@@ -105,28 +112,69 @@ pub(crate) fn estimate(
                 },
             ),
         all: segments,
+        search_pp: principal_point_px.map_or([0.0, 0.0], |p| norm.norm_from_px(p)),
+        pp_sigma: PRINCIPAL_POINT_PRIOR_SIGMA,
     };
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let hypotheses = problem.search(&mut rng);
-    let mut best: Option<(f64, Frame, bool)> = None;
-    for hypothesis in hypotheses {
-        let (frame, pp_free) = problem.refine(hypothesis);
-        let score = problem.penalised_score(&frame);
-        if best.as_ref().is_none_or(|b| score > b.0) {
-            best = Some((score, frame, pp_free));
-        }
+    let mut best = problem.best_frame(&mut rng);
+    let mut off_centre = false;
+    if problem.known_pp.is_none()
+        && let Some((first_score, first, true)) = best
+        && let Some(second) = problem.off_centre(first, &mut rng)
+        && second.0 > OFF_CENTRE_SCORE_GAIN * first_score
+    {
+        best = Some(second);
+        off_centre = true;
     }
     let Some((_, frame, pp_free)) = best else {
         return Err(VisionError::NoOrthogonalDirections {
             segments: problem.segs.len(),
         });
     };
-    problem.finish(&frame, pp_free)
+    problem.finish(&frame, pp_free, off_centre)
 }
 
 impl Problem<'_> {
+    /// The best refined hypothesis by the penalised score: its score, frame and whether the
+    /// principal point was freed.
+    fn best_frame(&self, rng: &mut ChaCha8Rng) -> Option<(f64, Frame, bool)> {
+        let mut best: Option<(f64, Frame, bool)> = None;
+        for hypothesis in self.search(rng) {
+            let (frame, pp_free) = self.refine(hypothesis);
+            let score = self.penalised_score(&frame);
+            if best.as_ref().is_none_or(|b| score > b.0) {
+                best = Some((score, frame, pp_free));
+            }
+        }
+        best
+    }
+
+    /// The second pass, for a photo that may be cropped off its centre: the search and the
+    /// refinement again, [`OFF_CENTRE_PASSES`] times, each about the principal point the last
+    /// found, with its prior widened to [`OFF_CENTRE_PRIOR_SIGMA`]. The first pass builds its
+    /// hypotheses about the image centre and holds the principal point near it, so on a crop
+    /// its frame is a compromise between the three directions (the renders cropped by a
+    /// quarter: points 1.4-24 degrees off). The best frame of the last pass, when its
+    /// principal point was freed.
+    fn off_centre(&self, first: Frame, rng: &mut ChaCha8Rng) -> Option<(f64, Frame, bool)> {
+        let mut at = first;
+        let mut found = None;
+        for _ in 0..OFF_CENTRE_PASSES {
+            let pass = Problem {
+                segs: self.segs.clone(),
+                search_pp: at.cam.pp,
+                pp_sigma: OFF_CENTRE_PRIOR_SIGMA,
+                ..*self
+            };
+            let best = pass.best_frame(rng)?;
+            at = best.1;
+            found = Some(best);
+        }
+        found.filter(|f| f.2)
+    }
+
     /// Order the directions, check their support and convert to pixels.
-    fn finish(&self, frame: &Frame, pp_free: bool) -> Result<Estimate> {
+    fn finish(&self, frame: &Frame, pp_free: bool, off_centre: bool) -> Result<Estimate> {
         let vertical = vertical_index(&frame.rot);
         let mut horizontals: Vec<usize> = (0..3).filter(|&k| k != vertical).collect();
         let dirs: Vec<Vector3<f64>> = (0..3)
@@ -174,6 +222,7 @@ impl Problem<'_> {
                 principal_point_px: self.norm.px_from_norm(frame.cam.pp),
             },
             principal_point_estimated: pp_free,
+            principal_point_off_centre: off_centre,
         })
     }
 }

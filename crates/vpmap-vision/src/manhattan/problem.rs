@@ -35,6 +35,17 @@ pub const FOCAL_PRIOR_SIGMA_REFINE: f64 = 1.0;
 /// Standard deviation of the principal point's prior around the image centre, in units of
 /// the longer side.
 pub const PRINCIPAL_POINT_PRIOR_SIGMA: f64 = 0.1;
+/// The sd of the principal point's prior in the second pass (a photo cropped off its centre;
+/// step 4 of the module's description), in units of the longer side: wide enough to let the
+/// edges put it anywhere in the photo.
+pub const OFF_CENTRE_PRIOR_SIGMA: f64 = 0.5;
+/// The second pass's frame replaces the first only when its score is higher by this factor:
+/// on whole photos the freer principal point gains at most 0.5 % (the 16 cluttered renders;
+/// the one York Urban photo in clear three-point perspective loses 0.1 %), on the renders
+/// cropped off their centre 1.7-15 % where it finds the true one (`docs/detection.md`).
+pub const OFF_CENTRE_SCORE_GAIN: f64 = 1.01;
+/// Searches of the second pass, each about the principal point the last one found.
+pub(super) const OFF_CENTRE_PASSES: usize = 2;
 /// The principal point is estimated only when the vertical direction is tilted from the image
 /// plane by at least this, degrees.
 pub const PRINCIPAL_POINT_MIN_TILT_DEG: f64 = 15.0;
@@ -80,6 +91,11 @@ pub(super) struct Problem<'a> {
     pub(super) focal_prior: FocalPrior,
     /// Every segment, input pixels.
     pub(super) all: &'a [Segment],
+    /// The principal point the search builds its hypotheses about (normalised): the known
+    /// one or the image centre, or the first pass's in the second ([`super::estimate`]).
+    pub(super) search_pp: [f64; 2],
+    /// The sd of the refinement's principal point prior about the image centre, longer sides.
+    pub(super) pp_sigma: f64,
 }
 
 impl Problem<'_> {

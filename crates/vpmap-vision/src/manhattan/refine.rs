@@ -23,7 +23,7 @@ use super::lm::levenberg_marquardt;
 use super::model::{Frame, Seg, vertical_index};
 use super::problem::{
     CAUCHY_SCALE_PX, INLIER_ANGLE_DEG, INLIER_DISTANCE_PX, LM_ITERATIONS,
-    PRINCIPAL_POINT_MIN_TILT_DEG, PRINCIPAL_POINT_PRIOR_SIGMA, Problem, REFINE_ROUNDS,
+    PRINCIPAL_POINT_MIN_TILT_DEG, Problem, REFINE_ROUNDS,
 };
 
 impl Problem<'_> {
@@ -107,8 +107,8 @@ impl Problem<'_> {
                     );
                 }
                 if pp_free {
-                    out.push((f.cam.pp[0] - pp_centre[0]) / PRINCIPAL_POINT_PRIOR_SIGMA);
-                    out.push((f.cam.pp[1] - pp_centre[1]) / PRINCIPAL_POINT_PRIOR_SIGMA);
+                    out.push((f.cam.pp[0] - pp_centre[0]) / self.pp_sigma);
+                    out.push((f.cam.pp[1] - pp_centre[1]) / self.pp_sigma);
                 }
             };
             let dims = 3 + usize::from(focal_free) + 2 * usize::from(pp_free);

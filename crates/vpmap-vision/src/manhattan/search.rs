@@ -146,7 +146,7 @@ impl Problem<'_> {
     /// The best few hypotheses, distinct from each other.
     pub(super) fn search(&self, rng: &mut ChaCha8Rng) -> Vec<Frame> {
         let candidates = self.candidates(rng);
-        let pp = self.default_pp();
+        let pp = self.search_pp;
         let mut hypotheses: Vec<(f64, Frame)> = Vec::new();
         let sin2_excl = (3.0 * SCORE_TOLERANCE_DEG).to_radians().sin().powi(2);
         for v1 in &candidates {

@@ -28,7 +28,7 @@ use vpmap_metrology::eval::{CameraCoverage, Coverage, evaluate_map};
 use vpmap_metrology::map::{BuildOptions, FloorMap, build_map};
 use vpmap_metrology::scene::{ImageSize, LensDistortion, Scene};
 use vpmap_metrology::synth::{SynthOptions, Truth, synthesize};
-use vpmap_vision::clicks::{scene_clicks, set_scene_click};
+use vpmap_vision::clicks::{ClickPlace, scene_clicks, set_scene_click};
 use vpmap_vision::scene::detected_scene;
 use vpmap_vision::snap::scene::{snap_scene, write_snapped};
 use vpmap_vision::snap::{SnapImage, SnapOptions};
@@ -103,6 +103,12 @@ fn room(seed: u64) -> Option<RoomResult> {
     let image = SnapImage::new(&rendered.image);
     // Detected: the scene detect writes, with the clicks added and snapped.
     let det = detect(&rendered.image, &DetectOptions::default()).ok()?;
+    // A whole photo: its edges must not put the principal point off its centre.
+    assert!(
+        !det.principal_point_off_centre,
+        "room {seed}: principal point {:?} taken as off-centre",
+        det.intrinsics.principal_point_px
+    );
     let written = detected_scene(&det).ok()?;
     if let Some(l) = &det.lens {
         eprintln!(
@@ -431,5 +437,141 @@ fn bars_across_the_photo_do_not_choose_the_frame() {
     assert!(
         off.iter().all(|d| *d < 1.0),
         "directions off by {off:?} degrees"
+    );
+}
+
+/// The rendered rooms without the lens (a crop moves a lens's centre off the photo's centre,
+/// which the division model does not follow), each photo cropped to its right 75 % and lower
+/// 80 %: the true principal point 100 px left of the crop's centre and 60 px above it (7.8 and
+/// 4.7 of the scene prior's sds). Detect, snapping and `vpmap build`'s defaults as above; the
+/// objects with a corner beyond the crop are left out (nobody can click it), and a room keeping
+/// fewer than two is not counted.
+///
+/// What must hold: every room counted builds; where detect sees the crop
+/// (`Detection::principal_point_off_centre`) the map's 95 % ellipses hold at least 92 % of the
+/// true centres; and detect sees it in at least two thirds of the rooms pitched 15 degrees or
+/// more (clear three-point perspective, where the vanishing points fix the principal point).
+/// The figures over every room, seen or not, are printed and published (docs/detection.md):
+/// a crop detect misses is still built about the wrong centre.
+#[test]
+#[ignore = "issue 37's rendered rooms cropped, 16 renders (docs/detection.md): run with --release -- --ignored rendered_rooms"]
+fn rendered_rooms_cropped_off_centre_keep_their_error_bars_honest_where_detect_sees_the_crop() {
+    let [left, top, width, height]: [u32; 4] = [200, 120, 600, 480];
+    let true_pp = [f64::from(400 - left), f64::from(300 - top)];
+    let (mut all, mut seen, mut errors) = (Vec::new(), Vec::new(), Vec::new());
+    let (mut counted, mut built, mut steep, mut steep_seen) = (0, 0, 0, 0);
+    for seed in 0..16 {
+        let (scene, truth) = synthesize(&SynthOptions {
+            seed,
+            image: ImageSize {
+                width: 800,
+                height: 600,
+            },
+            focal_px: 620.0,
+            pitch_deg: 12.0 + 4.0 * (seed % 4) as f64,
+            ..SynthOptions::default()
+        })
+        .unwrap();
+        let options = PhotoOptions {
+            distortion_k: 0.0,
+            ..PhotoOptions::cluttered(seed)
+        };
+        let rendered = render_photo(&scene, &truth, &options).unwrap();
+        let photo = rendered.image.crop_imm(left, top, width, height);
+        let det = detect(&photo, &DetectOptions::default()).unwrap();
+        let mut detected = Scene::from_json_str(&detected_scene(&det).unwrap().json).unwrap();
+        detected.objects.clone_from(&scene.objects);
+        detected.scale.clone_from(&scene.scale);
+        detected.floor.clone_from(&scene.floor);
+        // The clicks, 1 px off; every object with a corner beyond the crop is left out.
+        let mut rng = ChaCha8Rng::seed_from_u64(seed + 500);
+        let noise = Normal::new(0.0, CLICK_SIGMA_PX).unwrap();
+        let mut outside = std::collections::BTreeSet::new();
+        for (click, corner) in scene_clicks(&scene).iter().zip(&rendered.corners) {
+            let p = [
+                corner.point_px[0] - f64::from(left) + noise.sample(&mut rng),
+                corner.point_px[1] - f64::from(top) + noise.sample(&mut rng),
+            ];
+            let inside = (0.0..=f64::from(width)).contains(&p[0])
+                && (0.0..=f64::from(height)).contains(&p[1]);
+            match click.place {
+                ClickPlace::BoxCorner { object, .. }
+                | ClickPlace::FootprintVertex { object, .. }
+                | ClickPlace::FootprintTop { object, .. }
+                    if !inside =>
+                {
+                    outside.insert(object);
+                }
+                _ if inside => assert!(set_scene_click(&mut detected, click.place, p)),
+                _ => {}
+            }
+        }
+        // The floor's outline is left out too (its corners lie beyond the crop).
+        detected.floor.clear();
+        for o in outside.iter().rev() {
+            detected.objects.remove(*o);
+        }
+        if detected.objects.len() < 2 {
+            continue;
+        }
+        counted += 1;
+        let steep_room = truth.camera.pitch_deg >= 15.0;
+        steep += usize::from(steep_room);
+        steep_seen += usize::from(steep_room && det.principal_point_off_centre);
+        let [x, y] = det.intrinsics.principal_point_px;
+        let with_detected = snapped(&SnapImage::new(&photo), &detected);
+        let map = match build_map(&with_detected, &BuildOptions::default()) {
+            Ok(m) => m,
+            Err(e) => {
+                eprintln!("cropped room {seed}: not built: {e}");
+                continue;
+            }
+        };
+        built += 1;
+        let room: Vec<(f64, f64)> = truth
+            .objects
+            .iter()
+            .filter_map(|t| error(&map, t))
+            .collect();
+        eprintln!(
+            "cropped room {seed} (pitch {:.0} deg): detect's principal point ({x:.1}, {y:.1}), {:.0} px from the true one, off-centre seen {}; {}",
+            truth.camera.pitch_deg,
+            (x - true_pp[0]).hypot(y - true_pp[1]),
+            det.principal_point_off_centre,
+            room.iter()
+                .map(|(e, d2)| format!("{:.1} cm (d2 {d2:.1})", 100.0 * e))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+        if std::env::var_os("VPMAP_ROOM_WARNINGS").is_some() {
+            eprintln!("  warnings:\n  {}", map.warnings.join("\n  "));
+        }
+        for (e, d2) in room {
+            errors.push(e);
+            all.push(d2);
+            if det.principal_point_off_centre {
+                seen.push(d2);
+            }
+        }
+    }
+    let inside = |d2s: &[f64]| d2s.iter().filter(|d| **d <= CHI2_2DOF_95).count();
+    eprintln!(
+        "rendered rooms cropped: {built} of {counted} rooms built; the crop seen by detect in {steep_seen} of the {steep} pitched 15 degrees or more; inside the 95 % ellipse {} of {} where it is seen, {} of {} in all; median error {:.1} cm",
+        inside(&seen),
+        seen.len(),
+        inside(&all),
+        all.len(),
+        100.0 * median(errors)
+    );
+    assert_eq!(built, counted, "{built} of {counted} rooms built");
+    assert!(
+        3 * steep_seen >= 2 * steep,
+        "the crop seen in {steep_seen} of {steep} steep rooms"
+    );
+    assert!(
+        inside(&seen) as f64 >= 0.92 * seen.len() as f64,
+        "{} of {} inside where the crop is seen",
+        inside(&seen),
+        seen.len()
     );
 }

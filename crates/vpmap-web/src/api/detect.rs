@@ -190,6 +190,7 @@ fn warnings(det: &Detection, scene: &DetectedScene) -> Vec<String> {
         .into_iter()
         .map(|(name, n)| format!("{name} rests on only {n} segments; check it"))
         .collect();
+    out.extend(scene.off_centre_warning(det));
     out.extend(scene.calibration.warnings.iter().cloned());
     out
 }
