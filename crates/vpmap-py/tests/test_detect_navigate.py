@@ -10,18 +10,25 @@ import vpmap
 from conftest import REPO, YUD
 
 
-def rotation(pitch_deg):
-    p = math.radians(pitch_deg)
-    # Camera frame: x right, y down, z forward; pitched down by p about x.
-    return np.array([[1, 0, 0], [0, math.cos(p), -math.sin(p)], [0, math.sin(p), math.cos(p)]])
+def rotation(pitch_deg, yaw_deg=0.0):
+    p, t = math.radians(pitch_deg), math.radians(yaw_deg)
+    # Camera frame: x right, y down, z forward; turned by t about the vertical, then pitched
+    # down by p about x.
+    pitch = np.array([[1, 0, 0], [0, math.cos(p), -math.sin(p)], [0, math.sin(p), math.cos(p)]])
+    yaw = np.array([[math.cos(t), 0, math.sin(t)], [0, 1, 0], [-math.sin(t), 0, math.cos(t)]])
+    return pitch @ yaw
 
 
-def drawn_photo(width=480, height=360, focal=400.0, pitch_deg=20.0, seed=3):
+def drawn_photo(
+    width=480, height=360, focal=400.0, pitch_deg=20.0, seed=3, centre=None, yaw_deg=0.0
+):
     """Dark lines on a light ground, each pointing at one of three orthogonal vanishing
-    points of a known camera (a Manhattan scene drawn as its edges)."""
+    points of a known camera (a Manhattan scene drawn as its edges); the camera's principal
+    point at `centre`, the image centre by default (elsewhere: a photo cropped off its centre)."""
     rng = np.random.default_rng(seed)
-    k = np.array([[focal, 0, width / 2], [0, focal, height / 2], [0, 0, 1.0]])
-    r = rotation(pitch_deg)
+    cx, cy = centre if centre is not None else (width / 2, height / 2)
+    k = np.array([[focal, 0, cx], [0, focal, cy], [0, 0, 1.0]])
+    r = rotation(pitch_deg, yaw_deg)
     image = np.full((height, width), 230.0)
     yy, xx = np.mgrid[0:height, 0:width] + 0.5
     for axis in range(3):
@@ -57,6 +64,24 @@ def test_detect_finds_the_drawn_camera():
     # Grey and Fortran-ordered arrays are photos too.
     grey = np.asfortranarray(rgb[:, :, 0])
     assert vpmap.detect(grey).focal_px == pytest.approx(det.focal_px, rel=1e-9)
+
+
+def test_detect_sees_a_photo_cropped_off_its_centre():
+    # The principal point 90 px left of the centre and 60 px above it, the camera turned 35
+    # degrees and pitched 25: detect finds it, says so, and the scene carries the widened prior
+    # (0.2 of the 600 px diagonal).
+    rgb, _, _ = drawn_photo(pitch_deg=25.0, yaw_deg=35.0, centre=(150.0, 120.0))
+    det = vpmap.detect(rgb, lens="none")
+    assert det.principal_point_off_centre
+    x, y = det.principal_point
+    assert math.hypot(x - 150.0, y - 120.0) < 25.0
+    assert any("cropped off its centre" in w for w in det.warnings)
+    assert det.scene()["principal_point_sd_px"] == pytest.approx(120.0)
+    # The same drawing about the image centre is a whole photo.
+    whole = vpmap.detect(drawn_photo(pitch_deg=25.0, yaw_deg=35.0)[0], lens="none")
+    assert not whole.principal_point_off_centre
+    assert whole.scene()["principal_point_sd_px"] == pytest.approx(9.0)
+    assert not any("cropped off its centre" in w for w in whole.warnings)
 
 
 def test_detect_reads_a_photo_file(tmp_path):

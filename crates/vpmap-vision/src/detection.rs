@@ -85,10 +85,12 @@ pub struct Detection {
     /// Whether the principal point was estimated (not given).
     pub principal_point_estimated: bool,
     /// Whether the edges put the principal point off the image centre, as in a photo cropped
-    /// off its centre: in clear three-point perspective a second search about the principal
-    /// point the first found, with its prior widened, explains the edges clearly better
-    /// ([`manhattan::OFF_CENTRE_SCORE_GAIN`](crate::manhattan::OFF_CENTRE_SCORE_GAIN)). The
-    /// scene file then carries a widened prior ([`scene`](crate::scene)).
+    /// off its centre: estimated (clear three-point perspective) farther from the centre than
+    /// [`PRINCIPAL_POINT_PRIOR_SIGMA`](crate::manhattan::PRINCIPAL_POINT_PRIOR_SIGMA) of the
+    /// longer side, the search's prior sd (calibrated cameras' principal points lie within
+    /// about 1.4 % of the diagonal). On a crop the search finds it with a second pass about the
+    /// principal point the first found ([`manhattan`](crate::manhattan), step 4). The scene file
+    /// then carries a widened prior ([`scene`](crate::scene)).
     pub principal_point_off_centre: bool,
     /// Whether the principal point was given ([`DetectOptions::principal_point_px`]); when
     /// neither given nor estimated it is the image centre.

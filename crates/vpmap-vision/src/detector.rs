@@ -177,6 +177,14 @@ pub fn detect_from_segments(
         })
         .collect();
     let tilt_deg = estimate.directions[2][2].abs().min(1.0).asin().to_degrees();
+    // A principal point the edges put more than the search's prior sd (a tenth of the longer
+    // side) from the centre: farther than calibrated cameras' lie (1.4 % of the diagonal).
+    let [cx, cy] = k.principal_point_px;
+    let from_centre_px =
+        (cx - 0.5 * f64::from(image_size_px[0])).hypot(cy - 0.5 * f64::from(image_size_px[1]));
+    let longer_px = f64::from(image_size_px[0].max(image_size_px[1]));
+    let off_centre = estimate.principal_point_estimated
+        && from_centre_px > manhattan::PRINCIPAL_POINT_PRIOR_SIGMA * longer_px;
     Ok(Detection {
         image_size_px,
         segments,
@@ -184,7 +192,7 @@ pub fn detect_from_segments(
         intrinsics: k,
         focal_estimated: opts.focal_px.is_none(),
         principal_point_estimated: estimate.principal_point_estimated,
-        principal_point_off_centre: estimate.principal_point_off_centre,
+        principal_point_off_centre: off_centre,
         principal_point_given: opts.principal_point_px.is_some(),
         focal_prior: opts.focal_prior.filter(|_| opts.focal_px.is_none()),
         perspective: if tilt_deg < opts.two_point_tolerance_deg {

@@ -17,7 +17,8 @@
 //! 4. here, in clear three-point perspective (the principal point freed), a second pass for a
 //!    photo cropped off its centre: steps 2-3 again about the principal point the first found,
 //!    with its prior widened to [`OFF_CENTRE_PRIOR_SIGMA`], twice; its frame is taken when it
-//!    scores [`OFF_CENTRE_SCORE_GAIN`] times the first's or more;
+//!    scores [`OFF_CENTRE_SCORE_GAIN`] times the first's or more (`detect` then judges the
+//!    principal point found, [`crate::Detection::principal_point_off_centre`]);
 //! 5. here: which direction is vertical, their support, and pixels again.
 //!
 //! # Which one is vertical
@@ -59,9 +60,6 @@ pub(crate) struct Estimate {
     pub intrinsics: Intrinsics,
     /// Whether the principal point was estimated.
     pub principal_point_estimated: bool,
-    /// Whether the frame is the second pass's, the edges putting the principal point off the
-    /// image centre ([`Problem::off_centre`]).
-    pub principal_point_off_centre: bool,
 }
 
 /// Estimate the Manhattan frame and the camera from `segments` (input pixels) of an image of
@@ -117,21 +115,19 @@ pub(crate) fn estimate(
     };
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     let mut best = problem.best_frame(&mut rng);
-    let mut off_centre = false;
     if problem.known_pp.is_none()
         && let Some((first_score, first, true)) = best
         && let Some(second) = problem.off_centre(first, &mut rng)
         && second.0 > OFF_CENTRE_SCORE_GAIN * first_score
     {
         best = Some(second);
-        off_centre = true;
     }
     let Some((_, frame, pp_free)) = best else {
         return Err(VisionError::NoOrthogonalDirections {
             segments: problem.segs.len(),
         });
     };
-    problem.finish(&frame, pp_free, off_centre)
+    problem.finish(&frame, pp_free)
 }
 
 impl Problem<'_> {
@@ -174,7 +170,7 @@ impl Problem<'_> {
     }
 
     /// Order the directions, check their support and convert to pixels.
-    fn finish(&self, frame: &Frame, pp_free: bool, off_centre: bool) -> Result<Estimate> {
+    fn finish(&self, frame: &Frame, pp_free: bool) -> Result<Estimate> {
         let vertical = vertical_index(&frame.rot);
         let mut horizontals: Vec<usize> = (0..3).filter(|&k| k != vertical).collect();
         let dirs: Vec<Vector3<f64>> = (0..3)
@@ -222,7 +218,6 @@ impl Problem<'_> {
                 principal_point_px: self.norm.px_from_norm(frame.cam.pp),
             },
             principal_point_estimated: pp_free,
-            principal_point_off_centre: off_centre,
         })
     }
 }

@@ -42,7 +42,8 @@ pub const OFF_CENTRE_PRIOR_SIGMA: f64 = 0.5;
 /// The second pass's frame replaces the first only when its score is higher by this factor:
 /// on whole photos the freer principal point gains at most 0.5 % (the 16 cluttered renders;
 /// the one York Urban photo in clear three-point perspective loses 0.1 %), on the renders
-/// cropped off their centre 1.7-15 % where it finds the true one (`docs/detection.md`).
+/// cropped off their centre 1.7-15 % where it finds the true one (`docs/detection.md`, "Photos
+/// cropped off their centres").
 pub const OFF_CENTRE_SCORE_GAIN: f64 = 1.01;
 /// Searches of the second pass, each about the principal point the last one found.
 pub(super) const OFF_CENTRE_PASSES: usize = 2;

@@ -479,7 +479,14 @@ fn rendered_rooms_cropped_off_centre_keep_their_error_bars_honest_where_detect_s
         let rendered = render_photo(&scene, &truth, &options).unwrap();
         let photo = rendered.image.crop_imm(left, top, width, height);
         let det = detect(&photo, &DetectOptions::default()).unwrap();
-        let mut detected = Scene::from_json_str(&detected_scene(&det).unwrap().json).unwrap();
+        let written = detected_scene(&det).unwrap();
+        if std::env::var_os("VPMAP_ROOM_WARNINGS").is_some() {
+            eprintln!(
+                "cropped room {seed}: {:?}",
+                written.off_centre_warning(&det)
+            );
+        }
+        let mut detected = Scene::from_json_str(&written.json).unwrap();
         detected.objects.clone_from(&scene.objects);
         detected.scale.clone_from(&scene.scale);
         detected.floor.clone_from(&scene.floor);
