@@ -59,6 +59,11 @@ struct Row {
 /// Room `seed` of the renders: the synthetic scene, its truth and its photo rendered with what
 /// real photos have (`PhotoOptions::cluttered`). `None` when the scene cannot be drawn.
 fn rendered_room(seed: u64) -> Option<(Scene, Truth, RenderedPhoto)> {
+    rendered_room_with(seed, PhotoOptions::cluttered(seed))
+}
+
+/// Room `seed` rendered with `options`.
+fn rendered_room_with(seed: u64, options: PhotoOptions) -> Option<(Scene, Truth, RenderedPhoto)> {
     let (scene, truth) = synthesize(&SynthOptions {
         seed,
         image: ImageSize {
@@ -70,7 +75,7 @@ fn rendered_room(seed: u64) -> Option<(Scene, Truth, RenderedPhoto)> {
         ..SynthOptions::default()
     })
     .ok()?;
-    let rendered = render_photo(&scene, &truth, &PhotoOptions::cluttered(seed)).ok()?;
+    let rendered = render_photo(&scene, &truth, &options).ok()?;
     Some((scene, truth, rendered))
 }
 
@@ -445,7 +450,7 @@ fn bars_across_the_photo_do_not_choose_the_frame() {
 /// 80 %: the true principal point 100 px left of the crop's centre and 60 px above it (7.8 and
 /// 4.7 of the scene prior's sds). Detect, snapping and `vpmap build`'s defaults as above; the
 /// objects with a corner beyond the crop are left out (nobody can click it), and a room keeping
-/// fewer than two is not counted.
+/// fewer than two is not counted. `VPMAP_ROOM_PNG=DIR` writes each cropped photo there.
 ///
 /// What must hold: every room counted builds; where detect sees the crop
 /// (`Detection::principal_point_off_centre`) the map's 95 % ellipses hold at least 92 % of the
@@ -461,23 +466,16 @@ fn rendered_rooms_cropped_off_centre_keep_their_error_bars_honest_where_detect_s
     let (mut all, mut seen, mut errors) = (Vec::new(), Vec::new(), Vec::new());
     let (mut counted, mut built, mut steep, mut steep_seen) = (0, 0, 0, 0);
     for seed in 0..16 {
-        let (scene, truth) = synthesize(&SynthOptions {
-            seed,
-            image: ImageSize {
-                width: 800,
-                height: 600,
-            },
-            focal_px: 620.0,
-            pitch_deg: 12.0 + 4.0 * (seed % 4) as f64,
-            ..SynthOptions::default()
-        })
-        .unwrap();
         let options = PhotoOptions {
             distortion_k: 0.0,
             ..PhotoOptions::cluttered(seed)
         };
-        let rendered = render_photo(&scene, &truth, &options).unwrap();
+        let (scene, truth, rendered) = rendered_room_with(seed, options).unwrap();
         let photo = rendered.image.crop_imm(left, top, width, height);
+        if let Some(dir) = std::env::var_os("VPMAP_ROOM_PNG") {
+            let path = std::path::Path::new(&dir).join(format!("room{seed}-cropped.png"));
+            photo.save(&path).unwrap();
+        }
         let det = detect(&photo, &DetectOptions::default()).unwrap();
         let written = detected_scene(&det).unwrap();
         if std::env::var_os("VPMAP_ROOM_WARNINGS").is_some() {
